@@ -1,0 +1,1 @@
+"""Benchmarks reproducing both papers' evaluations side by side with peers."""

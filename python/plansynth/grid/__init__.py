@@ -1,0 +1,1 @@
+"""Reactive grid controllers (Chasins & Newcomb, SYNT 2016)."""
