@@ -1,0 +1,344 @@
+"""Controller programs: the grammar of Listing 1 of Chasins & Newcomb (SYNT 2016).
+
+A controller is a term over the integer inputs ``rx ry o0x o0y ...``::
+
+    Start  ::= MoveId | (ite B Start Start)
+    B      ::= (and B B) | (or B B) | (not B) | (<= T T) | (= T T)
+    T      ::= rx | ry | o0x | ... | (+ T T) | (- T T) | -1 | 0 | ... | d-1
+
+This module holds the AST, a parser and printer for SyGuS-IF v2 terms (including
+``(define-fun move (...) Int TERM)``), evaluation, the paper's depth measure (a
+coordinate, written ``(get-x p)`` in the paper, has depth 2), size, and export as
+Python and C source that a robot could run.
+
+>>> prog = parse_program("(ite (<= rx 3) 2 1)")
+>>> print(prog, depth(prog), size(prog))
+(ite (<= rx 3) 2 1) 4 6
+>>> evaluate(prog, {"rx": 4})
+1
+>>> print(parse_program("(ite (= ry (- 1)) 0 1)"))
+(ite (= ry (- 1)) 0 1)
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Union
+
+from plansynth.errors import PlansynthError
+
+
+class ProgramSyntaxError(PlansynthError):
+    """Text that is not a term of the controller grammar."""
+
+
+# -- AST -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Const:
+    """An integer literal: a move number in Start position, a constant in T position."""
+
+    value: int
+
+    def __str__(self) -> str:
+        return f"(- {-self.value})" if self.value < 0 else str(self.value)
+
+
+@dataclass(frozen=True)
+class Var:
+    """A coordinate input: ``rx``, ``ry``, ``o0x``, ``o0y``, ..."""
+
+    name: str
+
+    def __str__(self) -> str:
+        return self.name
+
+
+@dataclass(frozen=True)
+class App:
+    """An operator application: ``ite``, ``and``, ``or``, ``not``, ``<=``, ``=``, ``+``, ``-``."""
+
+    op: str
+    args: tuple["Term", ...]
+
+    def __str__(self) -> str:
+        return f"({self.op} {' '.join(str(a) for a in self.args)})"
+
+
+Term = Union[Const, Var, App]
+
+#: Operator -> (argument sorts, result sort); sorts are "S" (Start), "B", "T".
+SIGNATURES: dict[str, tuple[tuple[str, ...], str]] = {
+    "ite": (("B", "S", "S"), "S"),
+    "and": (("B", "B"), "B"),
+    "or": (("B", "B"), "B"),
+    "not": (("B",), "B"),
+    "<=": (("T", "T"), "B"),
+    "=": (("T", "T"), "B"),
+    "+": (("T", "T"), "T"),
+    "-": (("T", "T"), "T"),
+}
+
+
+def ite(c: Term, t: Term, e: Term) -> App:
+    return App("ite", (c, t, e))
+
+
+# -- measures --------------------------------------------------------------------------
+
+
+def depth(t: Term) -> int:
+    """The paper's depth: literal 1, coordinate 2, application 1 + deepest argument."""
+    if isinstance(t, Const):
+        return 1
+    if isinstance(t, Var):
+        return 2
+    return 1 + max(depth(a) for a in t.args)
+
+
+def size(t: Term) -> int:
+    """Number of AST nodes."""
+    if isinstance(t, App):
+        return 1 + sum(size(a) for a in t.args)
+    return 1
+
+
+def subterms(t: Term) -> Iterator[Term]:
+    yield t
+    if isinstance(t, App):
+        for a in t.args:
+            yield from subterms(a)
+
+
+def variables_of(t: Term) -> frozenset[str]:
+    return frozenset(s.name for s in subterms(t) if isinstance(s, Var))
+
+
+def reads_obstacles(t: Term) -> bool:
+    """True when the program looks at some obstacle coordinate."""
+    return any(v.startswith("o") for v in variables_of(t))
+
+
+# -- grammar check ---------------------------------------------------------------------
+
+
+def check_program(t: Term, variables: Sequence[str], n_moves: int, max_constant: int) -> None:
+    """Raise :class:`ProgramSyntaxError` unless ``t`` is a Start term of the grammar.
+
+    Move numbers must lie in 0..n_moves-1, constants in -1..max_constant, and every
+    coordinate must be one of ``variables``.
+    """
+    _check(t, "S", frozenset(variables), n_moves, max_constant)
+
+
+def _check(t: Term, sort: str, names: frozenset[str], m: int, dmax: int) -> None:
+    if isinstance(t, Const):
+        if sort == "S" and not 0 <= t.value < m:
+            raise ProgramSyntaxError(f"move number {t.value} is not in 0..{m - 1}")
+        if sort == "T" and not -1 <= t.value <= dmax:
+            raise ProgramSyntaxError(f"constant {t.value} is not in -1..{dmax}")
+        if sort == "B":
+            raise ProgramSyntaxError(f"integer {t.value} where a condition is expected")
+        return
+    if isinstance(t, Var):
+        if sort != "T":
+            raise ProgramSyntaxError(f"coordinate {t.name} where a {'move' if sort == 'S' else 'condition'} is expected")
+        if t.name not in names:
+            raise ProgramSyntaxError(f"unknown input {t.name!r} (inputs: {' '.join(sorted(names))})")
+        return
+    arg_sorts, result = SIGNATURES[t.op]
+    if result != sort:
+        raise ProgramSyntaxError(f"({t.op} ...) where a {'move' if sort == 'S' else sort} term is expected")
+    for a, s in zip(t.args, arg_sorts):
+        _check(a, s, names, m, dmax)
+
+
+# -- parsing ---------------------------------------------------------------------------
+
+_TOKEN = re.compile(r"\s*(?:(;[^\n]*)|(\()|(\))|([^\s()]+))")
+
+
+def _tokens(text: str) -> list[str]:
+    out = []
+    pos = 0
+    text = text.strip()
+    while pos < len(text):
+        m = _TOKEN.match(text, pos)
+        if not m or m.end() == pos:
+            raise ProgramSyntaxError(f"cannot read {text[pos:pos + 20]!r}")
+        pos = m.end()
+        if m.group(1):
+            continue
+        out.append(m.group(2) or m.group(3) or m.group(4))
+    return out
+
+
+def _sexpr(tokens: list[str], i: int) -> tuple[object, int]:
+    if i >= len(tokens):
+        raise ProgramSyntaxError("unexpected end of text")
+    tok = tokens[i]
+    if tok == "(":
+        items = []
+        i += 1
+        while i < len(tokens) and tokens[i] != ")":
+            item, i = _sexpr(tokens, i)
+            items.append(item)
+        if i >= len(tokens):
+            raise ProgramSyntaxError("missing ')'")
+        return items, i + 1
+    if tok == ")":
+        raise ProgramSyntaxError("unexpected ')'")
+    return tok, i + 1
+
+
+def parse_sexpr(text: str) -> object:
+    """Parse one s-expression into nested lists of strings."""
+    tokens = _tokens(text)
+    value, i = _sexpr(tokens, 0)
+    if i != len(tokens):
+        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i:i + 5])}")
+    return value
+
+
+def parse_program(text: str) -> Term:
+    """Parse a controller: a bare term or ``(define-fun move (...) Int TERM)``.
+
+    Also accepts a solver's answer wrapped in parentheses, as cvc5 prints it:
+    ``((define-fun move ...))``. n-ary ``and``/``or``/``+`` are folded to binary.
+    """
+    sx = parse_sexpr(text)
+    # Unwrap "((define-fun ...))" as printed by `(check-synth)`.
+    while isinstance(sx, list) and len(sx) == 1 and isinstance(sx[0], list):
+        sx = sx[0]
+    if isinstance(sx, list) and sx and sx[0] == "define-fun":
+        if len(sx) != 5:
+            raise ProgramSyntaxError("define-fun needs a name, parameters, a sort and a body")
+        sx = sx[4]
+    return _term(sx)
+
+
+def _term(sx: object) -> Term:
+    if isinstance(sx, str):
+        if re.fullmatch(r"-?\d+", sx):
+            return Const(int(sx))
+        if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", sx) and sx not in SIGNATURES:
+            return Var(sx)
+        raise ProgramSyntaxError(f"unexpected token {sx!r}")
+    if not isinstance(sx, list) or not sx or not isinstance(sx[0], str):
+        raise ProgramSyntaxError(f"unexpected term {sx!r}")
+    op, rest = sx[0], sx[1:]
+    if op == "-" and len(rest) == 1 and isinstance(rest[0], str) and rest[0].isdigit():
+        return Const(-int(rest[0]))  # SyGuS writes the constant -1 as (- 1)
+    if op not in SIGNATURES:
+        raise ProgramSyntaxError(f"unknown operator {op!r}")
+    args = tuple(_term(a) for a in rest)
+    arity = len(SIGNATURES[op][0])
+    if op in ("and", "or", "+") and len(args) > 2:
+        folded = args[0]
+        for a in args[1:]:
+            folded = App(op, (folded, a))
+        return folded
+    if len(args) != arity:
+        raise ProgramSyntaxError(f"{op} takes {arity} arguments, got {len(args)}")
+    return App(op, args)
+
+
+# -- evaluation and export -------------------------------------------------------------
+
+_PY = {"and": "and", "or": "or", "<=": "<=", "=": "==", "+": "+", "-": "-"}
+
+
+def _expr(t: Term, lang: str) -> str:
+    if isinstance(t, Const):
+        return str(t.value) if t.value >= 0 else f"({t.value})"
+    if isinstance(t, Var):
+        return t.name
+    a = [_expr(x, lang) for x in t.args]
+    if t.op == "ite":
+        if lang == "c":
+            return f"({a[0]} ? {a[1]} : {a[2]})"
+        return f"({a[1]} if {a[0]} else {a[2]})"
+    if t.op == "not":
+        return f"(!{a[0]})" if lang == "c" else f"(not {a[0]})"
+    if lang == "c":
+        op = {"and": "&&", "or": "||", "=": "=="}.get(t.op, t.op)
+    else:
+        op = _PY[t.op]
+    return f"({a[0]} {op} {a[1]})"
+
+
+def to_python(t: Term, variables: Sequence[str], name: str = "move") -> str:
+    """Python source of the controller as a function of the spec's inputs.
+
+    >>> print(to_python(parse_program("(ite (<= rx 3) 2 1)"), ["rx", "ry"]))
+    def move(rx: int, ry: int) -> int:
+        \"\"\"Controller synthesized by plansynth: returns the robot's move number.\"\"\"
+        return (2 if (rx <= 3) else 1)
+    <BLANKLINE>
+    """
+    params = ", ".join(f"{v}: int" for v in variables)
+    return (
+        f"def {name}({params}) -> int:\n"
+        f'    """Controller synthesized by plansynth: returns the robot\'s move number."""\n'
+        f"    return {_expr(t, 'py')}\n"
+    )
+
+
+def to_c(t: Term, variables: Sequence[str], name: str = "move") -> str:
+    """C source of the controller.
+
+    >>> print(to_c(parse_program("(ite (<= rx 3) 2 1)"), ["rx", "ry"]))
+    /* Controller synthesized by plansynth: returns the robot's move number. */
+    int move(int rx, int ry) {
+        return ((rx <= 3) ? 2 : 1);
+    }
+    <BLANKLINE>
+    """
+    params = ", ".join(f"int {v}" for v in variables) or "void"
+    return (
+        "/* Controller synthesized by plansynth: returns the robot's move number. */\n"
+        f"int {name}({params}) {{\n"
+        f"    return {_expr(t, 'c')};\n"
+        "}\n"
+    )
+
+
+def to_define_fun(t: Term, variables: Sequence[str], name: str = "move") -> str:
+    """The controller as a SyGuS-IF v2 ``define-fun``."""
+    params = " ".join(f"({v} Int)" for v in variables)
+    return f"(define-fun {name} ({params}) Int {t})"
+
+
+def compile_program(t: Term, variables: Sequence[str]) -> Callable[..., int]:
+    """A fast Python callable taking the inputs positionally in ``variables`` order."""
+    namespace: dict[str, object] = {}
+    exec(to_python(t, variables, "_controller"), namespace)  # noqa: S102 - our own printer's output
+    return namespace["_controller"]  # type: ignore[return-value]
+
+
+def evaluate(t: Term, env: Mapping[str, int]) -> int | bool:
+    """Evaluate a term under an assignment of the inputs (a reference interpreter)."""
+    if isinstance(t, Const):
+        return t.value
+    if isinstance(t, Var):
+        return env[t.name]
+    op, args = t.op, t.args
+    if op == "ite":
+        return evaluate(args[1], env) if evaluate(args[0], env) else evaluate(args[2], env)
+    if op == "and":
+        return bool(evaluate(args[0], env)) and bool(evaluate(args[1], env))
+    if op == "or":
+        return bool(evaluate(args[0], env)) or bool(evaluate(args[1], env))
+    if op == "not":
+        return not evaluate(args[0], env)
+    x, y = (evaluate(a, env) for a in args)
+    if op == "<=":
+        return x <= y
+    if op == "=":
+        return x == y
+    if op == "+":
+        return x + y
+    return x - y
