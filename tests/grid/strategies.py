@@ -1,0 +1,187 @@
+"""Hypothesis strategies shared by every grid test: random small problems and programs.
+
+``problem_documents()`` draws spec documents (dicts as a YAML file would give them) for
+grids 2..5 wide and high, 0..2 obstacles with 1..3 moves each (built-in moves and custom
+moves with ``to``/``via`` offsets), walls, and a fixed path length l in 1..5;
+``grid_problems()`` loads them through :func:`grid_problem_from_dict`, so every drawn
+problem has passed the loader's validation. ``programs(problem, max_depth)`` draws terms
+of the controller grammar over the problem's inputs whose paper depth is at most
+``max_depth``; ``problems_and_programs()`` draws both together.
+
+Everything is small on purpose: the brute-force oracles in ``plansynth.grid.reference``
+enumerate every joint obstacle choice, and the whole grid test suite must stay fast.
+
+Use from a test module in ``tests/grid/`` (a package, so that its test file names cannot
+clash with other parts' tests)::
+
+    from .strategies import grid_problems, programs, problems_and_programs
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from hypothesis import strategies as st
+
+from plansynth.grid.problem import BUILTIN_MOVES, GridProblem, grid_problem_from_dict
+from plansynth.grid.programs import App, Const, Term, Var
+
+#: The built-in move names (a problem file may use any of them).
+BUILTIN_NAMES: tuple[str, ...] = tuple(BUILTIN_MOVES)
+
+_offset = st.tuples(st.integers(-2, 2), st.integers(-2, 2))
+
+
+@st.composite
+def custom_moves(draw: st.DrawFn, name: str) -> dict[str, Any]:
+    """A custom move ``{name, to, via}`` with offsets in -2..2 and 0..2 ``via`` cells."""
+    to = draw(_offset)
+    via = draw(st.lists(_offset, max_size=2))
+    d: dict[str, Any] = {"name": name, "to": list(to)}
+    if via or draw(st.booleans()):
+        d["via"] = [list(v) for v in via]
+    return d
+
+
+@st.composite
+def move_lists(draw: st.DrawFn, min_size: int = 1, max_size: int = 3) -> list[Any]:
+    """A list of distinct-named moves: built-in names and custom mappings mixed."""
+    n = draw(st.integers(min_size, max_size))
+    out: list[Any] = []
+    used: set[str] = set()
+    for i in range(n):
+        if draw(st.integers(0, 3)) == 0:
+            name = f"m{i}"
+            out.append(draw(custom_moves(name)))
+        else:
+            name = draw(st.sampled_from([b for b in BUILTIN_NAMES if b not in used]))
+            out.append(name)
+        used.add(name)
+    return out
+
+
+_cells_of = lambda w, h: st.tuples(st.integers(0, w - 1), st.integers(0, h - 1))  # noqa: E731
+
+
+@st.composite
+def problem_documents(
+    draw: st.DrawFn,
+    *,
+    max_side: int = 5,
+    max_obstacles: int = 2,
+    max_obstacle_moves: int = 3,
+    max_robot_moves: int = 5,
+    max_steps: int = 5,
+    walls: bool = True,
+) -> dict[str, Any]:
+    """A valid problem document (spec: grid-problem.md) of a small random problem."""
+    w = draw(st.integers(2, max_side))
+    h = draw(st.integers(2, max_side))
+    cell = _cells_of(w, h)
+    start = draw(cell)
+    goal = draw(cell)
+    wall_cells: list[tuple[int, int]] = []
+    if walls:
+        wall_cells = draw(
+            st.lists(cell.filter(lambda c: c not in (start, goal)), max_size=min(3, w * h - 2), unique=True)
+        )
+    robot_moves = draw(move_lists(1, max_robot_moves))
+    # Half the problems give the robot `stay` first, so that winning programs are common.
+    if "stay" not in robot_moves and len(robot_moves) < max_robot_moves and draw(st.booleans()):
+        robot_moves.insert(0, "stay")
+    obstacles = [
+        {"start": list(draw(cell)), "moves": draw(move_lists(1, max_obstacle_moves))}
+        for _ in range(draw(st.integers(0, max_obstacles)))
+    ]
+    doc: dict[str, Any] = {
+        "grid": [w, h],
+        "robot": {"start": list(start), "goal": list(goal), "moves": robot_moves},
+        "obstacles": obstacles,
+        "steps": draw(st.integers(1, max_steps)),
+    }
+    if wall_cells or draw(st.booleans()):
+        doc["walls"] = [list(c) for c in wall_cells]
+    return doc
+
+
+def grid_problems(**kwargs: Any) -> st.SearchStrategy[GridProblem]:
+    """Small random :class:`GridProblem` values (see :func:`problem_documents`)."""
+    return problem_documents(**kwargs).map(lambda d: grid_problem_from_dict(d, source="<hypothesis>"))
+
+
+# -- programs -------------------------------------------------------------------------
+#
+# Budgets follow the paper's depth (programs.depth): a literal has depth 1, a coordinate
+# depth 2, an application 1 + its deepest argument. So a T term needs budget >= 1, a
+# coordinate or (+ T T) budget >= 2, (<= T T) budget >= 2, (not B) / (and B B) budget
+# >= 3 and (ite B S S) budget >= 3.
+
+
+@st.composite
+def t_terms(draw: st.DrawFn, variables: tuple[str, ...], max_constant: int, budget: int) -> Term:
+    """An integer term (T) of depth <= budget (budget >= 1)."""
+    kinds = ["const"]
+    if budget >= 2 and variables:
+        kinds += ["var", "var"]
+    if budget >= 2:
+        kinds += ["+", "-"]
+    kind = draw(st.sampled_from(kinds))
+    if kind == "const":
+        return Const(draw(st.integers(-1, max_constant)))
+    if kind == "var":
+        return Var(draw(st.sampled_from(variables)))
+    a = draw(t_terms(variables, max_constant, budget - 1))
+    b = draw(t_terms(variables, max_constant, budget - 1))
+    return App(kind, (a, b))
+
+
+@st.composite
+def b_terms(draw: st.DrawFn, variables: tuple[str, ...], max_constant: int, budget: int) -> Term:
+    """A condition (B) of depth <= budget (budget >= 2)."""
+    kinds = ["<=", "<=", "=", "="]
+    if budget >= 3:
+        kinds += ["not", "and", "or"]
+    kind = draw(st.sampled_from(kinds))
+    if kind in ("<=", "="):
+        a = draw(t_terms(variables, max_constant, budget - 1))
+        b = draw(t_terms(variables, max_constant, budget - 1))
+        return App(kind, (a, b))
+    if kind == "not":
+        return App("not", (draw(b_terms(variables, max_constant, budget - 1)),))
+    a = draw(b_terms(variables, max_constant, budget - 1))
+    b = draw(b_terms(variables, max_constant, budget - 1))
+    return App(kind, (a, b))
+
+
+@st.composite
+def start_terms(
+    draw: st.DrawFn, variables: tuple[str, ...], n_moves: int, max_constant: int, budget: int
+) -> Term:
+    """A controller (Start) of depth <= budget (budget >= 1)."""
+    if budget < 3 or draw(st.integers(0, 2)) == 0:
+        return Const(draw(st.integers(0, n_moves - 1)))
+    c = draw(b_terms(variables, max_constant, budget - 1))
+    t = draw(start_terms(variables, n_moves, max_constant, budget - 1))
+    e = draw(start_terms(variables, n_moves, max_constant, budget - 1))
+    return App("ite", (c, t, e))
+
+
+def programs(problem: GridProblem, max_depth: int = 5) -> st.SearchStrategy[Term]:
+    """Controllers of ``problem``'s grammar (its inputs, move count, constants), depth <= max_depth."""
+    return start_terms(problem.variables, len(problem.robot.moves), problem.max_constant, max_depth)
+
+
+@st.composite
+def problems_and_programs(draw: st.DrawFn, max_depth: int = 5, **kwargs: Any) -> tuple[GridProblem, Term]:
+    """A random small problem together with a random program of its grammar."""
+    p = draw(grid_problems(**kwargs))
+    return p, draw(programs(p, max_depth))
+
+
+@st.composite
+def states_of(draw: st.DrawFn, problem: GridProblem):
+    """An arbitrary :class:`~plansynth.grid.semantics.State` of ``problem`` (any cells in the grid)."""
+    from plansynth.grid.semantics import State
+
+    cell = _cells_of(problem.width, problem.height)
+    return State(draw(cell), tuple(draw(cell) for _ in problem.obstacles))
