@@ -1,0 +1,557 @@
+"""Convex decomposition of the free space with region adjacency (paper, Section III,
+Algorithm 1 line 1: the discrete abstraction).
+
+The workspace minus the obstacles is cut into convex regions with pairwise disjoint
+interiors whose union is exactly the free space. Two regions are *adjacent* when they
+share a boundary piece of positive (d-1)-measure; the SAT part of the planner walks
+this graph. The decomposition is obstacle-based and coarse (not a grid): fewer regions
+make the Boolean search smaller, so several constructions are tried and the one with
+the fewest regions is kept (``method="auto"``):
+
+``hertel-mehlhorn``  2-D: shapely's constrained Delaunay triangulation of the free
+                     polygon, then Hertel-Mehlhorn removal of every diagonal whose two
+                     sides stay convex (at most 4x the optimal number of pieces).
+``slab-y``, ``slab-x`` 2-D: trapezoids between consecutive vertex coordinates along the
+                     sweep axis, then greedy merging of neighbours whose union is convex.
+``boxes``            2-D and 3-D when every obstacle is a box: the grid of all obstacle
+                     coordinates, free cells grown greedily into maximal boxes (the
+                     best of all axis orders).
+
+Adjacency is never computed by floating-point geometry on the final regions: each
+construction starts from elementary pieces whose contacts are known combinatorially
+(triangles of one triangulation sharing an edge; trapezoids whose intervals on a common
+sweep line overlap; grid cells sharing a face), merges only pieces whose union is
+convex (checked with exact orientation predicates), and lifts piece contacts to regions.
+
+>>> from plansynth.reach.families import maze
+>>> a = abstract(maze(1))
+>>> len(a.regions), a.adjacency, a.start_regions, a.goal_regions
+(3, ((1,), (0, 2), (1,)), (0,), (2,))
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import cached_property
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon as ShPolygon
+
+from plansynth.reach.problem import Box, ReachProblem, polygon_halfspaces, shape_to_shapely
+
+__all__ = ["Region", "Abstraction", "abstract", "METHODS"]
+
+METHODS = ("auto", "hertel-mehlhorn", "slab-y", "slab-x", "boxes")
+
+Pt = tuple[float, float]
+
+
+# --------------------------------------------------------------------------- results
+
+
+@dataclass(frozen=True, eq=False)
+class Region:
+    """A convex, full-dimensional region ``{p : H p <= h}`` (rows of H have unit norm).
+
+    ``vertices``: in 2-D the CCW polygon (v x 2), in 3-D the 8 box corners.
+    Regions compare by identity (they hold arrays).
+    """
+
+    index: int
+    H: np.ndarray
+    h: np.ndarray
+    vertices: np.ndarray
+
+    @property
+    def dim(self) -> int:
+        return int(self.H.shape[1])
+
+    @cached_property
+    def center(self) -> np.ndarray:
+        """A point strictly inside: the area centroid (2-D) or the box centre (3-D)."""
+        v = self.vertices
+        if self.dim != 2:
+            return (v.min(axis=0) + v.max(axis=0)) / 2
+        x, y = v[:, 0], v[:, 1]
+        xn, yn = np.roll(x, -1), np.roll(y, -1)
+        cross = x * yn - xn * y
+        a = cross.sum() / 2
+        return np.array([((x + xn) * cross).sum() / (6 * a), ((y + yn) * cross).sum() / (6 * a)])
+
+    def contains(self, p: Sequence[float], tol: float = 1e-9) -> bool:
+        """Closed containment with tolerance ``tol``."""
+        return bool(np.all(self.H @ np.asarray(p, dtype=float) <= self.h + tol))
+
+    def measure(self) -> float:
+        """Area (2-D) or volume (3-D)."""
+        v = self.vertices
+        if self.dim != 2:
+            return float(np.prod(v.max(axis=0) - v.min(axis=0)))
+        return float(ShPolygon(v).area)
+
+
+@dataclass(frozen=True, eq=False)
+class Abstraction:
+    """The discrete abstraction: regions, their adjacency graph, start and goal regions.
+
+    ``adjacency[i]`` is the sorted tuple of neighbours of region i (symmetric, no
+    self-loops). ``start_regions``: regions whose closure contains the start position;
+    ``goal_regions``: regions meeting the goal in positive measure. ``method`` says
+    which construction won; ``candidates`` gives the region count of each one tried.
+    """
+
+    regions: tuple[Region, ...]
+    adjacency: tuple[tuple[int, ...], ...]
+    start_regions: tuple[int, ...]
+    goal_regions: tuple[int, ...]
+    seconds: float
+    method: str = ""
+    candidates: tuple[tuple[str, int], ...] = ()
+
+    @property
+    def n_regions(self) -> int:
+        return len(self.regions)
+
+    @property
+    def n_edges(self) -> int:
+        """Number of undirected adjacency edges."""
+        return sum(len(a) for a in self.adjacency) // 2
+
+    def regions_containing(self, p: Sequence[float], tol: float = 1e-9) -> tuple[int, ...]:
+        return tuple(r.index for r in self.regions if r.contains(p, tol))
+
+
+# --------------------------------------------------------------- exact predicates
+
+
+def _orient(a: Pt, b: Pt, c: Pt) -> int:
+    """Sign of the turn a -> b -> c (+1 left/CCW, 0 collinear, -1 right), exact."""
+    det = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+    scale = (abs(b[0] - a[0]) + abs(b[1] - a[1])) * (abs(c[0] - b[0]) + abs(c[1] - b[1]))
+    if abs(det) > 1e-12 * scale:
+        return 1 if det > 0 else -1
+    fa = (Fraction(a[0]), Fraction(a[1]))
+    fb = (Fraction(b[0]), Fraction(b[1]))
+    fc = (Fraction(c[0]), Fraction(c[1]))
+    e = (fb[0] - fa[0]) * (fc[1] - fb[1]) - (fb[1] - fa[1]) * (fc[0] - fb[0])
+    return (e > 0) - (e < 0)
+
+
+def _drop_collinear(cycle: list[Pt]) -> list[Pt]:
+    """Remove repeated and (exactly) collinear vertices of a closed cycle."""
+    pts = [p for i, p in enumerate(cycle) if p != cycle[i - 1]] if len(cycle) > 1 else list(cycle)
+    changed = True
+    while changed and len(pts) > 3:
+        changed = False
+        for i in range(len(pts)):
+            a, b, c = pts[i - 1], pts[i], pts[(i + 1) % len(pts)]
+            if _orient(a, b, c) == 0:
+                del pts[i]
+                changed = True
+                break
+    return pts
+
+
+def _signed_area(cycle: Sequence[Pt]) -> float:
+    s = 0.0
+    for i in range(len(cycle)):
+        (x0, y0), (x1, y1) = cycle[i - 1], cycle[i]
+        s += x0 * y1 - x1 * y0
+    return s / 2
+
+
+def _ccw(cycle: list[Pt]) -> list[Pt]:
+    return cycle if _signed_area(cycle) >= 0 else cycle[::-1]
+
+
+# ------------------------------------------------------------- free space (2-D)
+
+
+def _free_polygons(problem: ReachProblem) -> list[ShPolygon]:
+    ws = shape_to_shapely(problem.workspace)
+    free = ws
+    if problem.obstacles:
+        free = ws.difference(shapely.union_all([shape_to_shapely(o) for o in problem.obstacles]))
+    polys = [g for g in getattr(free, "geoms", [free]) if isinstance(g, ShPolygon) and not g.is_empty]
+    out = []
+    tiny = 1e-12 * ws.area
+    for g in polys:
+        shell = _drop_collinear([tuple(c) for c in g.exterior.coords[:-1]])
+        holes = [_drop_collinear([tuple(c) for c in r.coords[:-1]]) for r in g.interiors]
+        q = ShPolygon(shell, [h for h in holes if len(h) >= 3])
+        if q.area > tiny:
+            out.append(q)
+    return out
+
+
+def _rings(polys: Iterable[ShPolygon]) -> list[list[Pt]]:
+    rings = []
+    for g in polys:
+        rings.append([tuple(c) for c in g.exterior.coords[:-1]])
+        rings.extend([tuple(c) for c in r.coords[:-1]] for r in g.interiors)
+    return rings
+
+
+# ------------------------------------------------------------- merging (2-D)
+
+
+class _Pieces:
+    """Convex pieces (CCW vertex cycles) with exact piece contacts; greedy convex merging.
+
+    Two pieces can merge only along an edge that is a full edge of both (the shared
+    chord of a convex union always is); the union is convex iff the turns at the two
+    ends of the edge are not right turns.
+    """
+
+    def __init__(self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]]) -> None:
+        self.cycles: dict[int, list[Pt]] = {i: c for i, c in enumerate(cycles)}
+        self.parent = list(range(len(cycles)))
+        self.contacts = {(min(a, b), max(a, b)) for a, b in contacts if a != b}
+
+    def find(self, i: int) -> int:
+        while self.parent[i] != i:
+            self.parent[i] = self.parent[self.parent[i]]
+            i = self.parent[i]
+        return i
+
+    def merge_all(self) -> None:
+        while self._merge_pass():
+            pass
+
+    def _merge_pass(self) -> bool:
+        owner: dict[tuple[Pt, Pt], int] = {}
+        for pid, cyc in self.cycles.items():
+            for i in range(len(cyc)):
+                owner[(cyc[i], cyc[(i + 1) % len(cyc)])] = pid
+        diagonals = [
+            (u, v) for (u, v), pid in owner.items() if (v, u) in owner and owner[(v, u)] != pid and u < v
+        ]
+        diagonals.sort(key=lambda e: -math.hypot(e[1][0] - e[0][0], e[1][1] - e[0][1]))
+        merged_any = False
+        for u, v in diagonals:
+            p, q = owner.get((u, v)), owner.get((v, u))
+            if p is None or q is None or p == q or p not in self.cycles or q not in self.cycles:
+                continue
+            new = self._try_merge(self.cycles[p], self.cycles[q], u, v)
+            if new is None:
+                continue
+            del self.cycles[q]
+            self.cycles[p] = new
+            self.parent[q] = p
+            for i in range(len(new)):
+                owner[(new[i], new[(i + 1) % len(new)])] = p
+            merged_any = True
+        return merged_any
+
+    @staticmethod
+    def _try_merge(P: list[Pt], Q: list[Pt], u: Pt, v: Pt) -> list[Pt] | None:
+        """Union of P (with edge u->v) and Q (with edge v->u) if convex, else None."""
+        if (u not in P) or (v not in Q):
+            return None
+        i = P.index(v)
+        Pr = P[i:] + P[:i]  # v ... u
+        j = Q.index(u)
+        Qr = Q[j:] + Q[:j]  # u ... v
+        if Pr[-1] != u or Qr[-1] != v:
+            return None
+        # turn at u: Pr[-2] -> u -> Qr[1]; at v: Qr[-2] -> v -> Pr[1]
+        tu = _orient(Pr[-2], u, Qr[1])
+        tv = _orient(Qr[-2], v, Pr[1])
+        if tu < 0 or tv < 0:
+            return None
+        cyc = Pr[:-1] + [u] + Qr[1:-1]
+        if tu == 0:
+            cyc.remove(u)
+        if tv == 0:
+            cyc.remove(v)
+        return cyc
+
+    def result(self) -> tuple[list[list[Pt]], set[tuple[int, int]]]:
+        ids = sorted(self.cycles)
+        pos = {pid: k for k, pid in enumerate(ids)}
+        adj = set()
+        for a, b in self.contacts:
+            ra, rb = pos[self.find(a)], pos[self.find(b)]
+            if ra != rb:
+                adj.add((min(ra, rb), max(ra, rb)))
+        return [self.cycles[i] for i in ids], adj
+
+
+# ------------------------------------------------------------- 2-D constructions
+
+
+def _hertel_mehlhorn(polys: list[ShPolygon]) -> tuple[list[list[Pt]], set[tuple[int, int]]]:
+    cycles: list[list[Pt]] = []
+    for g in polys:
+        tris = shapely.constrained_delaunay_triangles(g)
+        for t in getattr(tris, "geoms", []):
+            c = [tuple(x) for x in t.exterior.coords[:-1]]
+            if len(c) != 3 or _orient(c[0], c[1], c[2]) == 0:
+                continue
+            cycles.append(_ccw(c))
+    edge_owner: dict[frozenset, list[int]] = {}
+    for i, c in enumerate(cycles):
+        for k in range(3):
+            edge_owner.setdefault(frozenset((c[k], c[(k + 1) % 3])), []).append(i)
+    contacts = [(o[0], o[1]) for o in edge_owner.values() if len(o) == 2]
+    pieces = _Pieces(cycles, contacts)
+    pieces.merge_all()
+    return pieces.result()
+
+
+def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple[int, int]]]:
+    """Trapezoids between consecutive vertex coordinates along ``axis`` (1: horizontal
+    lines, sweeping y; 0: vertical lines, sweeping x)."""
+    s_of = (lambda p: p[axis])
+    r_of = (lambda p: p[1 - axis])
+
+    def point(s: float, r: float) -> Pt:
+        return (r, s) if axis == 1 else (s, r)
+
+    edges = []
+    for ring in _rings(polys):
+        for i in range(len(ring)):
+            a, b = ring[i], ring[(i + 1) % len(ring)]
+            if s_of(a) == s_of(b):
+                continue
+            if s_of(a) > s_of(b):
+                a, b = b, a
+            edges.append((a, b))
+    levels = sorted({s_of(p) for ring in _rings(polys) for p in ring})
+
+    def r_at(e: tuple[Pt, Pt], s: float) -> float:
+        a, b = e
+        if s == s_of(a):
+            return r_of(a)
+        if s == s_of(b):
+            return r_of(b)
+        t = (s - s_of(a)) / (s_of(b) - s_of(a))
+        return r_of(a) + t * (r_of(b) - r_of(a))
+
+    cycles: list[list[Pt]] = []
+    contacts: list[tuple[int, int]] = []
+    prev: list[tuple[int, float, float]] = []  # (piece, r_lo, r_hi) on the previous level
+    for s0, s1 in zip(levels, levels[1:]):
+        mid = (s0 + s1) / 2
+        active = [e for e in edges if s_of(e[0]) <= s0 and s_of(e[1]) >= s1]
+        active.sort(key=lambda e: r_at(e, mid))
+        bottom: list[tuple[int, float, float]] = []
+        top: list[tuple[int, float, float]] = []
+        for lo_e, hi_e in zip(active[0::2], active[1::2]):
+            a0, b0 = r_at(lo_e, s0), r_at(hi_e, s0)
+            a1, b1 = r_at(lo_e, s1), r_at(hi_e, s1)
+            cyc = [point(s0, a0), point(s0, b0), point(s1, b1), point(s1, a1)]
+            cyc = _drop_collinear(_ccw(cyc))
+            if len(cyc) < 3 or abs(_signed_area(cyc)) == 0.0:
+                continue
+            pid = len(cycles)
+            cycles.append(cyc)
+            bottom.append((pid, a0, b0))
+            top.append((pid, a1, b1))
+        for pid, a, b in bottom:
+            for qid, c, d in prev:
+                if max(a, c) < min(b, d):
+                    contacts.append((pid, qid))
+        prev = top
+    pieces = _Pieces(cycles, contacts)
+    pieces.merge_all()
+    return pieces.result()
+
+
+# ------------------------------------------------------------- boxes (2-D and 3-D)
+
+
+def _boxes(problem: ReachProblem) -> tuple[list[tuple[np.ndarray, np.ndarray]], set[tuple[int, int]]]:
+    """Free grid cells of all obstacle coordinates, grown greedily into maximal boxes.
+
+    Every axis order is tried; the one giving fewest boxes wins.
+    """
+    ws = problem.workspace
+    d = ws.dim
+    cuts = []
+    for k in range(d):
+        vals = {ws.lo[k], ws.hi[k]}
+        for ob in problem.obstacles:
+            assert isinstance(ob, Box)
+            for v in (ob.lo[k], ob.hi[k]):
+                if ws.lo[k] < v < ws.hi[k]:
+                    vals.add(v)
+        cuts.append(np.array(sorted(vals)))
+    shape = tuple(len(c) - 1 for c in cuts)
+    free = np.ones(shape, dtype=bool)
+    for ob in problem.obstacles:
+        assert isinstance(ob, Box)
+        sl = []
+        for k in range(d):
+            i0 = int(np.searchsorted(cuts[k], max(ob.lo[k], ws.lo[k]), side="left"))
+            i1 = int(np.searchsorted(cuts[k], min(ob.hi[k], ws.hi[k]), side="left"))
+            sl.append(slice(i0, max(i0, i1)))
+        free[tuple(sl)] = False
+
+    best = None
+    for order in itertools.permutations(range(d)):
+        label = _grow_boxes(free, order)
+        count = int(label.max()) + 1
+        if best is None or count < best[0]:
+            best = (count, label)
+    assert best is not None
+    count, label = best
+    boxes = []
+    for b in range(count):
+        idx = np.argwhere(label == b)
+        lo_i, hi_i = idx.min(axis=0), idx.max(axis=0) + 1
+        boxes.append((np.array([cuts[k][lo_i[k]] for k in range(d)]), np.array([cuts[k][hi_i[k]] for k in range(d)])))
+    adj = set()
+    for k in range(d):
+        a = np.moveaxis(label, k, 0)
+        x, y = a[:-1].ravel(), a[1:].ravel()
+        mask = (x >= 0) & (y >= 0) & (x != y)
+        for i, j in zip(x[mask].tolist(), y[mask].tolist()):
+            adj.add((min(i, j), max(i, j)))
+    return boxes, adj
+
+
+def _grow_boxes(free: np.ndarray, order: tuple[int, ...]) -> np.ndarray:
+    """Label free cells with box ids: from each unassigned free cell (in scan order),
+    grow along ``order[0]``, then ``order[1]``, ... while the slab stays free+unassigned."""
+    label = np.full(free.shape, -1, dtype=np.int64)
+    d = free.ndim
+    scan = np.argwhere(free)
+    nb = 0
+    for cell in scan:
+        cell = tuple(int(c) for c in cell)
+        if label[cell] >= 0:
+            continue
+        lo = list(cell)
+        hi = [c + 1 for c in cell]
+        for k in order:
+            while hi[k] < free.shape[k]:
+                sl = tuple(slice(lo[j], hi[j]) if j != k else slice(hi[k], hi[k] + 1) for j in range(d))
+                if np.all(free[sl]) and np.all(label[sl] < 0):
+                    hi[k] += 1
+                else:
+                    break
+        label[tuple(slice(lo[j], hi[j]) for j in range(d))] = nb
+        nb += 1
+    return label
+
+
+# --------------------------------------------------------------------- assembly
+
+
+def _region_from_cycle(index: int, cyc: list[Pt]) -> Region:
+    v = np.array(_drop_collinear(_ccw(list(cyc))), dtype=float)
+    H, h = polygon_halfspaces(v)
+    return Region(index=index, H=_ro(H), h=_ro(h), vertices=_ro(v))
+
+
+def _region_from_box(index: int, lo: np.ndarray, hi: np.ndarray) -> Region:
+    d = len(lo)
+    eye = np.eye(d)
+    H = np.vstack([eye, -eye])
+    h = np.concatenate([hi, -lo])
+    if d == 2:
+        v = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
+    else:
+        v = np.array([[(lo, hi)[bx][0], (lo, hi)[by][1], (lo, hi)[bz][2]] for bz in (0, 1) for by in (0, 1) for bx in (0, 1)])
+    return Region(index=index, H=_ro(H), h=_ro(h), vertices=_ro(v.astype(float)))
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+def _candidates(problem: ReachProblem, method: str) -> list[tuple[str, list[Region], set[tuple[int, int]]]]:
+    all_boxes = all(isinstance(o, Box) for o in problem.obstacles)
+    if problem.dim == 3:
+        if method not in ("auto", "boxes"):
+            raise ValueError(f"3-D workspaces are decomposed with method 'boxes', not {method!r}")
+        boxes, adj = _boxes(problem)
+        return [("boxes", [_region_from_box(i, lo, hi) for i, (lo, hi) in enumerate(boxes)], adj)]
+    if method == "boxes" and not all_boxes:
+        raise ValueError("method 'boxes' needs every obstacle to be a box")
+    if method not in METHODS:
+        raise ValueError(f"unknown decomposition method {method!r} (known: {', '.join(METHODS)})")
+    out = []
+    if method in ("auto", "boxes") and all_boxes:
+        boxes, adj = _boxes(problem)
+        out.append(("boxes", [_region_from_box(i, lo, hi) for i, (lo, hi) in enumerate(boxes)], adj))
+    if method != "boxes":
+        polys = _free_polygons(problem)
+        builders = {
+            "slab-y": lambda: _slabs(polys, 1),
+            "slab-x": lambda: _slabs(polys, 0),
+            "hertel-mehlhorn": lambda: _hertel_mehlhorn(polys),
+        }
+        for name, build in builders.items():
+            if method in ("auto", name):
+                cycles, adj = build()
+                out.append((name, [_region_from_cycle(i, c) for i, c in enumerate(cycles)], adj))
+    return out
+
+
+def abstract(problem: ReachProblem, *, method: str = "auto") -> Abstraction:
+    """Decompose the free space of ``problem`` into convex regions (Section III).
+
+    ``method="auto"`` tries every applicable construction (see the module doc) and
+    keeps the one with the fewest regions; ties go to the earlier of
+    ``boxes, slab-y, slab-x, hertel-mehlhorn``.
+    """
+    t0 = time.perf_counter()
+    cands = _candidates(problem, method)
+    name, regions, adj = min(cands, key=lambda c: len(c[1]))
+    # number regions bottom-up (last axis first), for readable pictures and logs
+    order = sorted(range(len(regions)), key=lambda i: tuple(regions[i].center[::-1].round(9)))
+    new_index = {old: new for new, old in enumerate(order)}
+    regions = [Region(index=k, H=regions[o].H, h=regions[o].h, vertices=regions[o].vertices) for k, o in enumerate(order)]
+    adj = {(min(new_index[i], new_index[j]), max(new_index[i], new_index[j])) for i, j in adj}
+    nbrs: list[list[int]] = [[] for _ in regions]
+    for i, j in adj:
+        nbrs[i].append(j)
+        nbrs[j].append(i)
+    adjacency = tuple(tuple(sorted(set(n))) for n in nbrs)
+
+    scale = max(h - l for l, h in zip(problem.workspace.lo, problem.workspace.hi))
+    start = problem.start_position
+    start_regions = tuple(r.index for r in regions if r.contains(start, 1e-9 * scale))
+    goal_regions = _goal_regions(problem, regions)
+    return Abstraction(
+        regions=tuple(regions),
+        adjacency=adjacency,
+        start_regions=start_regions,
+        goal_regions=goal_regions,
+        seconds=time.perf_counter() - t0,
+        method=name,
+        candidates=tuple((n, len(r)) for n, r, _ in cands),
+    )
+
+
+def _goal_regions(problem: ReachProblem, regions: Sequence[Region]) -> tuple[int, ...]:
+    goal = problem.goal
+    out = []
+    if problem.dim == 2:
+        g = shape_to_shapely(goal)
+        gb = g.bounds
+        for r in regions:
+            v = r.vertices
+            if v[:, 0].max() <= gb[0] or v[:, 0].min() >= gb[2] or v[:, 1].max() <= gb[1] or v[:, 1].min() >= gb[3]:
+                continue
+            a = ShPolygon(v).intersection(g).area
+            if a > 1e-9 * min(g.area, r.measure()):
+                out.append(r.index)
+        return tuple(out)
+    assert isinstance(goal, Box)
+    for r in regions:
+        lo, hi = r.vertices.min(axis=0), r.vertices.max(axis=0)
+        ext = np.minimum(hi, goal.hi) - np.maximum(lo, goal.lo)
+        if np.all(ext > 0) and float(np.prod(ext)) > 1e-9 * min(goal.volume(), r.measure()):
+            out.append(r.index)
+    return tuple(out)

@@ -1,0 +1,277 @@
+"""Benchmark families and the example problems (paper, Section VI; project spec
+"Benchmark families from the papers").
+
+* :func:`maze` -- the n-passage maze of Section VI (Table I) with the double integrator,
+  or with an integrator chain of any order (the scalability study, Figure 4).
+* :func:`cluttered` -- non-convex polygon obstacles (an example beyond the paper).
+* :func:`dubins_example` -- Section VI-A: a unicycle through its feedback-linearised
+  form, a double integrator on (x, y) (see :mod:`plansynth.reach.dubins`).
+* :func:`random_workspace` -- small random workspaces for property tests.
+
+``python -m plansynth.reach.families DIR`` (re)writes the example files of
+``examples/reach``.
+
+>>> p = maze(2)
+>>> len(p.obstacles), p.goal, p.start.tolist()
+(4, Box(lo=(27.0, 27.0), hi=(29.0, 29.0)), [1.0, 1.0, 0.0, 0.0])
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import shapely
+import yaml
+
+from plansynth.reach.dynamics import integrator_chain
+from plansynth.reach.problem import Box, Polygon, ReachProblem, Shape, reach_problem_to_dict, shape_to_shapely
+
+__all__ = ["maze", "cluttered", "dubins_example", "random_workspace", "examples", "write_examples"]
+
+MAZE_SIZE = 30.0
+WALL_THICKNESS = 1.0
+RIGHT_GAP = (27.0, 29.0)
+LEFT_GAP = (1.0, 3.0)
+DERIVATIVE_BOUND = 2.0
+
+
+def maze(n_passages: int, order: int = 2, *, dt: float = 0.5, input_bound: float = 1.0) -> ReachProblem:
+    """The maze with ``n_passages`` walls (Section VI, Table I).
+
+    Workspace [0,30]^2; wall i (1 m thick) centred at y = 30 i / (n+1), spanning the
+    width except a 2 m gap, alternately at x in [27, 29] (first) and [1, 3]. Start
+    (1, 1) at rest; goal the 2 x 2 box at y in [27, 29] at the end opposite the last
+    gap. Robot: ``order`` integrators per axis (2: the paper's double integrator),
+    dt = 0.5, |u| <= 1, every derivative bounded by 2, position by the workspace.
+
+    >>> maze(1).obstacles
+    (Box(lo=(0.0, 14.5), hi=(27.0, 15.5)), Box(lo=(29.0, 14.5), hi=(30.0, 15.5)))
+    >>> maze(3, order=4).dynamics.n_states
+    8
+    """
+    if n_passages < 0:
+        raise ValueError(f"n_passages must be >= 0, got {n_passages}")
+    if order < 1:
+        raise ValueError(f"order must be >= 1, got {order}")
+    S = MAZE_SIZE
+    walls: list[Shape] = []
+    for i in range(1, n_passages + 1):
+        y = S * i / (n_passages + 1)
+        y0, y1 = y - WALL_THICKNESS / 2, y + WALL_THICKNESS / 2
+        g0, g1 = RIGHT_GAP if i % 2 == 1 else LEFT_GAP
+        walls.append(Box((0.0, y0), (g0, y1)))
+        walls.append(Box((g1, y0), (S, y1)))
+    last_gap_right = n_passages % 2 == 1
+    gx = LEFT_GAP if (last_gap_right or n_passages == 0) else RIGHT_GAP
+    goal = Box((gx[0], 27.0), (gx[1], 29.0))
+    dyn = integrator_chain(order, 2, dt)
+    start = np.zeros(dyn.n_states)
+    start[:2] = (1.0, 1.0)
+    lo = [0.0, 0.0] + [-DERIVATIVE_BOUND] * (2 * (order - 1))
+    hi = [S, S] + [DERIVATIVE_BOUND] * (2 * (order - 1))
+    name = f"maze-{n_passages}" if order == 2 else f"chain{order}-maze-{n_passages}"
+    return ReachProblem(
+        workspace=Box((0.0, 0.0), (S, S)),
+        obstacles=tuple(walls),
+        goal=goal,
+        dynamics=dyn,
+        start=start,
+        input_bound=input_bound,
+        state_bounds=Box(tuple(lo), tuple(hi)),
+        name=name,
+    )
+
+
+def cluttered() -> ReachProblem:
+    """A 20 x 20 m room with several non-convex polygon obstacles (an L, a U, a
+    star, a zig-zag wall, a triangle) and the paper's double integrator.
+
+    >>> p = cluttered()
+    >>> sum(isinstance(o, Polygon) for o in p.obstacles)
+    5
+    """
+    L = Polygon(((3, 3), (8, 3), (8, 5), (5, 5), (5, 9), (3, 9)))
+    U = Polygon(((11, 2), (17, 2), (17, 8), (15, 8), (15, 4), (13, 4), (13, 8), (11, 8)))
+    star = Polygon(tuple(
+        (6 + (2.6 if k % 2 == 0 else 1.1) * math.cos(math.pi / 2 + k * math.pi / 5),
+         14 + (2.6 if k % 2 == 0 else 1.1) * math.sin(math.pi / 2 + k * math.pi / 5))
+        for k in range(10)
+    ))
+    zigzag = Polygon(((9, 10), (12, 13), (14, 11), (17, 14), (17, 15.5), (14, 12.5), (12, 14.5), (9, 11.5)))
+    tri = Polygon(((12, 17), (15, 19), (10, 19.5)))
+    dyn = integrator_chain(2, 2, 0.5)
+    return ReachProblem(
+        workspace=Box((0.0, 0.0), (20.0, 20.0)),
+        obstacles=(L, U, star, zigzag, tri),
+        goal=Box((17.0, 17.0), (19.0, 19.0)),
+        dynamics=dyn,
+        start=np.array([1.0, 1.0, 0.0, 0.0]),
+        input_bound=1.0,
+        state_bounds=Box((0.0, 0.0, -2.0, -2.0), (20.0, 20.0, 2.0, 2.0)),
+        name="cluttered",
+    )
+
+
+def dubins_example() -> ReachProblem:
+    """Section VI-A: a Dubins-like car (unicycle with speed as a state) planned through
+    its feedback-linearised form, a double integrator on (x, y).
+
+    The car starts moving east at 1 m/s (speed 0 is where the linearisation is
+    singular, see :mod:`plansynth.reach.dubins`) and must reach the far corner of a
+    15 x 15 m yard with two offset walls.
+
+    >>> dubins_example().start.tolist()
+    [1.0, 2.0, 1.0, 0.0]
+    """
+    dyn = integrator_chain(2, 2, 0.5)
+    return ReachProblem(
+        workspace=Box((0.0, 0.0), (15.0, 15.0)),
+        obstacles=(Box((0.0, 5.0), (10.0, 6.0)), Box((5.0, 9.5), (15.0, 10.5)), Polygon(((11, 1), (13, 1), (12, 3)))),
+        goal=Box((1.0, 12.0), (3.0, 14.0)),
+        dynamics=dyn,
+        start=np.array([1.0, 2.0, 1.0, 0.0]),
+        input_bound=1.0,
+        state_bounds=Box((0.0, 0.0, -2.0, -2.0), (15.0, 15.0, 2.0, 2.0)),
+        name="dubins",
+    )
+
+
+def random_workspace(
+    seed: int,
+    n_obstacles: int = 5,
+    *,
+    dim: int = 2,
+    size: float = 10.0,
+    polygons: bool = True,
+    order: int = 1,
+    dt: float = 1.0,
+    input_bound: float = 1.0,
+) -> ReachProblem:
+    """A small random problem: ``n_obstacles`` random boxes (and, in 2-D with
+    ``polygons``, random star-shaped non-convex polygons) in ``[0, size]^dim``; start
+    and goal drawn in free space (the goal is a small box around a free point).
+
+    Deterministic in ``seed``.
+
+    >>> p = random_workspace(3, 4)
+    >>> len(p.obstacles), p.dim
+    (4, 2)
+    """
+    if dim not in (2, 3):
+        raise ValueError("dim must be 2 or 3")
+    rng = np.random.default_rng(seed)
+    obstacles: list[Shape] = []
+    for _ in range(n_obstacles):
+        if dim == 2 and polygons and rng.random() < 0.5:
+            obstacles.append(_random_star(rng, size))
+        else:
+            lo = rng.uniform(0, size * 0.85, dim)
+            ext = rng.uniform(size * 0.05, size * 0.35, dim)
+            obstacles.append(Box(tuple(np.round(lo, 3)), tuple(np.round(np.minimum(lo + ext, size * 1.05), 3))))
+    ws = Box((0.0,) * dim, (size,) * dim)
+    free_pt = _free_point_sampler(rng, ws, obstacles)
+    start_pos = free_pt()
+    goal_pos = free_pt()
+    half = size * 0.04
+    goal = Box(tuple(goal_pos - half), tuple(goal_pos + half))
+    dyn = integrator_chain(order, dim, dt)
+    start = np.zeros(dyn.n_states)
+    start[:dim] = start_pos
+    return ReachProblem(
+        workspace=ws,
+        obstacles=tuple(obstacles),
+        goal=goal,
+        dynamics=dyn,
+        start=start,
+        input_bound=input_bound,
+        name=f"random-{dim}d-{seed}",
+    )
+
+
+def _random_star(rng: np.random.Generator, size: float) -> Polygon:
+    k = int(rng.integers(3, 9))
+    c = rng.uniform(size * 0.1, size * 0.9, 2)
+    angles = np.sort(rng.uniform(0, 2 * math.pi, k))
+    # keep angular gaps below pi so the centre stays inside: star-shaped, simple
+    while np.max(np.diff(np.concatenate([angles, [angles[0] + 2 * math.pi]]))) >= math.pi * 0.9:
+        angles = np.sort(rng.uniform(0, 2 * math.pi, k))
+    radii = rng.uniform(size * 0.04, size * 0.2, k)
+    vs = tuple((round(float(c[0] + r * math.cos(a)), 3), round(float(c[1] + r * math.sin(a)), 3)) for a, r in zip(angles, radii))
+    return Polygon(vs)
+
+
+def _free_point_sampler(rng: np.random.Generator, ws: Box, obstacles: list[Shape]):
+    d = ws.dim
+    geom = None
+    if d == 2 and obstacles:
+        geom = shapely.union_all([shape_to_shapely(o) for o in obstacles])
+
+    def inside(p: np.ndarray) -> bool:
+        if d == 2:
+            return geom is not None and geom.distance(shapely.Point(p)) < ws.hi[0] * 0.005 or (
+                geom is not None and geom.contains(shapely.Point(p))
+            )
+        return any(all(o.lo[k] - 0.05 <= p[k] <= o.hi[k] + 0.05 for k in range(d)) for o in obstacles)  # type: ignore[union-attr]
+
+    def sample() -> np.ndarray:
+        for _ in range(10_000):
+            p = np.round(rng.uniform(np.array(ws.lo) + 0.5, np.array(ws.hi) - 0.5), 3)
+            if not inside(p):
+                return p
+        raise RuntimeError("no free point found; too many obstacles for the workspace")
+
+    return sample
+
+
+def examples() -> dict[str, ReachProblem]:
+    """The example problems written to ``examples/reach`` (file stem -> problem)."""
+    out = {f"maze-{n}": maze(n) for n in range(1, 5)}
+    chain = maze(2, order=3)
+    out["chain-maze-2"] = ReachProblem(**{**_fields(chain), "name": "chain-maze-2"})
+    out["dubins"] = dubins_example()
+    out["cluttered"] = cluttered()
+    return out
+
+
+def _fields(p: ReachProblem) -> dict:
+    return {k: getattr(p, k) for k in p.__dataclass_fields__}
+
+
+_HEADERS = {
+    "maze": "Maze with {n} passage(s): Shoukry et al., CDC 2016, Section VI (Table I).\nDouble integrator, dt = 0.5 s, |u| <= 1 m/s^2, |v| <= 2 m/s per axis.",
+    "chain-maze-2": "Maze with 2 passages and a chain of 3 integrators per axis (jerk input):\nthe scalability study of Shoukry et al., CDC 2016, Figure 4.",
+    "dubins": "Dubins-like car (unicycle with speed as a state) through its feedback-linearised\nform: a double integrator on (x, y) (Shoukry et al., CDC 2016, Section VI-A).\nplansynth.reach.dubins maps the planned trajectory back to speed, heading and turn rate.",
+    "cluttered": "A room with five non-convex polygon obstacles, double-integrator robot.",
+}
+
+
+def write_examples(directory: str | Path) -> list[Path]:
+    """(Re)write every example problem as ``<directory>/<name>.yaml``; return the paths."""
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for stem, p in examples().items():
+        key = "maze" if stem.startswith("maze-") else stem
+        header = _HEADERS[key].format(n=stem.split("-")[-1])
+        comment = "".join(f"# {line}\n" for line in header.splitlines())
+        comment += "# Generated by `python -m plansynth.reach.families examples/reach`.\n"
+        doc = reach_problem_to_dict(p)
+        text = comment + yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100)
+        path = d / f"{stem}.yaml"
+        path.write_text(text, encoding="utf-8")
+        paths.append(path)
+    return paths
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = sys.argv[1:] if argv is None else argv
+    directory = args[0] if args else "examples/reach"
+    for path in write_examples(directory):
+        print(path)
+
+
+if __name__ == "__main__":
+    main()
