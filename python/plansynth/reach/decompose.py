@@ -252,7 +252,8 @@ class _Pieces:
     @staticmethod
     def _try_merge(P: list[Pt], Q: list[Pt], u: Pt, v: Pt) -> list[Pt] | None:
         """Union of P (with edge u->v) and Q (with edge v->u) if convex, else None."""
-        if (u not in P) or (v not in Q):
+        # the owner map may hold edges that collinear-vertex removal has since dissolved
+        if v not in P or u not in Q:
             return None
         i = P.index(v)
         Pr = P[i:] + P[:i]  # v ... u

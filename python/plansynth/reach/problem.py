@@ -400,8 +400,6 @@ def _check_problem(p: ReachProblem) -> None:
             raise InvalidProblem(src, "robot.state_bounds", f"must be {n}-dimensional like the state, got {sb.dim}")
         if any(not l <= h for l, h in zip(sb.lo, sb.hi)):
             raise InvalidProblem(src, "robot.state_bounds", f"min {sb.lo} exceeds max {sb.hi}")
-        if not sb.contains(p.start):
-            raise InvalidProblem(src, "robot.start", f"state {_fmt(p.start)} violates robot.state_bounds")
     if isinstance(p.max_horizon, bool) or not isinstance(p.max_horizon, int) or p.max_horizon <= 0:
         raise InvalidProblem(src, "max_horizon", f"must be a positive integer, got {p.max_horizon!r}")
 
@@ -411,6 +409,8 @@ def _check_problem(p: ReachProblem) -> None:
     for i, ob in enumerate(p.obstacles):
         if point_in_interior(ob, pos):
             raise InvalidProblem(src, "robot.start", f"position {_fmt(pos)} lies inside obstacles[{i}]")
+    if p.state_bounds is not None and not p.state_bounds.contains(p.start):
+        raise InvalidProblem(src, "robot.start", f"state {_fmt(p.start)} violates robot.state_bounds")
     if free_measure(ws, p.obstacles, p.goal) <= 0.0:
         reason = "lies outside the workspace" if _measure_in_workspace(ws, p.goal) <= 0.0 else "lies inside obstacles"
         raise InvalidProblem(src, "goal", f"unreachable: it {reason} (no free area/volume)")
