@@ -1,0 +1,308 @@
+"""Benchmark families as code (and, through :func:`write_family_files`, as files).
+
+Grid families reproduce Chasins & Newcomb (SYNT 2016, Section 4.1; the spec's
+``benchmarks.md``): ``figure1``, ``depth``, ``steps``, ``obstacles``, ``dimensions``.
+In those the obstacles rarely come near the robot, so three reactive families of our
+own complement them, with answers known by construction:
+
+- ``crossing`` (realizable): the robot must cross a one-lane road on which N cars drive
+  right at speed 1 or 2 (adversarially chosen, never stopping). A controller that goes
+  straight is hit; one that waits at the kerb until the cars have passed its column
+  wins, and must read the cars' positions to know when.
+- ``crossing-stall`` (unrealizable): the same road, but cars may stop (moves ``stay``
+  and ``right``): a car can park just left of the robot's column and shadow it, and the
+  road has an end, so no controller crosses safely at any length.
+- ``patrol`` (realizable): a guard walks up and down (it must move every step) in the
+  column the robot has to cross; the robot walks, and can sprint two cells vertically,
+  so it can outrun the guard and cross where the guard cannot reach in time.
+- ``patrol-walk`` (unrealizable): the same without the sprint: the guard shadows the
+  robot's row forever.
+
+Reach families reproduce Shoukry et al. (CDC 2016, Section VI): ``maze`` (n passages,
+double integrator; Table I), ``chain`` (the same mazes with integrator chains of order
+k, i.e. 2k states; Figure 4), and ``random`` workspaces (random boxes and non-convex
+polygons, from :func:`plansynth.reach.families.random_workspace`).
+
+>>> [i.name for i in grid_family("steps", [5, 10])]
+['steps-5', 'steps-10']
+>>> grid_family("depth")[0].build().robot.goal
+(5, 0)
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "Instance",
+    "GRID_FAMILIES",
+    "REACH_FAMILIES",
+    "grid_family",
+    "reach_family",
+    "family",
+    "instance_from_task",
+    "write_family_files",
+]
+
+UP_DOWN = ["up", "down"]
+ALL_MOVES = ["stay", "up", "right", "down", "left"]
+
+
+@dataclass(frozen=True)
+class Instance:
+    """One benchmark problem: ``kind`` is "grid" or "reach"; ``params`` rebuild it.
+
+    ``expected`` is the answer known by construction (``realizable``/``unrealizable``
+    for grid, ``found`` for reach problems with a known solution), else None.
+    ``paper_seconds`` is the time the paper reports for it, when it does.
+    """
+
+    kind: str
+    family: str
+    name: str
+    params: Mapping[str, Any] = field(default_factory=dict)
+    expected: str | None = None
+    paper_seconds: float | None = None
+
+    @property
+    def key(self) -> str:
+        return f"{self.kind}/{self.family}/{self.name}"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "family": self.family, "name": self.name, "params": dict(self.params),
+                "expected": self.expected, "paper_seconds": self.paper_seconds}
+
+    def document(self) -> dict[str, Any]:
+        """The problem as a spec document (grid-problem.md / reach-problem.md)."""
+        if self.kind == "grid":
+            return _GRID_BUILDERS[self.family](**self.params)
+        from plansynth.reach.problem import reach_problem_to_dict
+
+        return reach_problem_to_dict(self.build())
+
+    def build(self) -> Any:
+        """The problem object (GridProblem or ReachProblem)."""
+        if self.kind == "grid":
+            from plansynth.grid.problem import grid_problem_from_dict
+
+            return grid_problem_from_dict(self.document(), source=f"<bench {self.key}>", name=self.name)
+        return _REACH_BUILDERS[self.family](**self.params)
+
+
+# ---------------------------------------------------------------------------- grid
+
+
+def _grid_doc(width: int, height: int, start: Sequence[int], goal: Sequence[int], obstacles: list[dict[str, Any]],
+              *, steps: int | None = None, max_steps: int | None = None, walls: Iterable[Sequence[int]] = (),
+              robot_moves: list[Any] | None = None, name: str = "") -> dict[str, Any]:
+    doc: dict[str, Any] = {
+        "name": name,
+        "grid": [width, height],
+        "robot": {"start": list(start), "goal": list(goal), "moves": robot_moves or list(ALL_MOVES)},
+        "obstacles": obstacles,
+    }
+    walls = [list(w) for w in walls]
+    if walls:
+        doc["walls"] = walls
+    if steps is not None:
+        doc["steps"] = steps
+    if max_steps is not None:
+        doc["max_steps"] = max_steps
+    return doc
+
+
+def _figure1() -> dict[str, Any]:
+    return _grid_doc(5, 7, (1, 1), (4, 4), [{"start": [2, 5], "moves": UP_DOWN},
+                                            {"start": [3, 5], "moves": ["stay", "up", "down"]}],
+                     max_steps=12, name="figure1")
+
+
+_DEPTH = {1: ((0, 0), (5, 0)), 4: ((0, 0), (4, 0)), 5: ((1, 0), (4, 1)), 6: ((3, 0), (3, 2))}
+
+
+def _depth(d: int) -> dict[str, Any]:
+    start, goal = _DEPTH[d]
+    obstacles = [{"start": [x, 1], "moves": ["stay"]} for x in range(4)]
+    return _grid_doc(6, 6, start, goal, obstacles, steps=5, name=f"depth-{d}")
+
+
+def _five_up_down() -> list[dict[str, Any]]:
+    return [{"start": [0, y], "moves": UP_DOWN} for y in range(5)]
+
+
+def _steps(L: int) -> dict[str, Any]:
+    return _grid_doc(20, 20, (1, 1), (3, 1), _five_up_down(), steps=L, name=f"steps-{L}")
+
+
+def _obstacles(N: int) -> dict[str, Any]:
+    obstacles = [{"start": [i % 20, 19 - i // 20], "moves": UP_DOWN} for i in range(N)]
+    return _grid_doc(20, 20, (0, 0), (2, 3), obstacles, steps=5, name=f"obstacles-{N}")
+
+
+def _dimensions(S: int) -> dict[str, Any]:
+    return _grid_doc(S, S, (1, 0), (4, 2), _five_up_down(), steps=5, name=f"dimensions-{S}")
+
+
+_FAST = {"name": "fast", "to": [2, 0], "via": [[1, 0]]}
+
+
+def _crossing(cars: int, width: int = 7, steps: int = 12, stall: bool = False) -> dict[str, Any]:
+    """Road in row 2 of a width x 5 grid; robot (3,0) -> (3,4); cars start at 0..cars-1."""
+    moves = ["stay", "right"] if stall else ["right", _FAST]
+    obstacles = [{"start": [i, 2], "moves": moves} for i in range(cars)]
+    name = f"crossing-stall-{cars}" if stall else f"crossing-{cars}"
+    return _grid_doc(width, 5, (3, 0), (3, 4), obstacles, steps=steps, name=name)
+
+
+_SPRINT = [{"name": "sprint-up", "to": [0, 2], "via": [[0, 1]]}, {"name": "sprint-down", "to": [0, -2], "via": [[0, -1]]}]
+
+
+def _patrol(height: int, steps: int = 14, sprint: bool = True) -> dict[str, Any]:
+    """Guard in column 2 of a 5 x height grid, starting mid-height; robot (0, mid) -> (4, mid)."""
+    mid = height // 2
+    moves: list[Any] = list(ALL_MOVES) + (list(_SPRINT) if sprint else [])
+    name = f"patrol-{height}" if sprint else f"patrol-walk-{height}"
+    return _grid_doc(5, height, (0, mid), (4, mid), [{"start": [2, mid], "moves": UP_DOWN}], steps=steps,
+                     robot_moves=moves, name=name)
+
+
+_GRID_BUILDERS: dict[str, Any] = {
+    "figure1": lambda: _figure1(),
+    "depth": lambda d: _depth(d),
+    "steps": lambda L: _steps(L),
+    "obstacles": lambda N: _obstacles(N),
+    "dimensions": lambda S: _dimensions(S),
+    "crossing": lambda cars, steps=12: _crossing(cars, steps=steps),
+    "crossing-stall": lambda cars, steps=12: _crossing(cars, steps=steps, stall=True),
+    "patrol": lambda height, steps=14: _patrol(height, steps=steps),
+    "patrol-walk": lambda height, steps=14: _patrol(height, steps=steps, sprint=False),
+}
+
+# Paper's times (s), Enumerative 2015 (benchmarks.md).
+_PAPER_GRID = {
+    "depth": {1: 0.061, 4: 0.225, 5: 477.0, 6: None},
+    "steps": {5: 4.2, 10: 46.6, 15: 218.0, 20: 798.0, 25: 6026.0},
+    "obstacles": dict(zip(range(5, 55, 5), [38, 243, 576, 1208, 1816, 3357, 4923, 7379, 8704, 9538])),
+    "dimensions": dict(zip([5, 15, 25, 35, 45, 55], [17.1, 27.3, 30.5, 44.9, 65.5, 84.6])),
+}
+
+GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
+    # family: (parameter name, default values, expected answer)
+    "figure1": ("", [0], "realizable"),
+    "depth": ("d", [1, 4, 5, 6], None),
+    "steps": ("L", [5, 10, 15, 20, 25], None),
+    "obstacles": ("N", list(range(5, 55, 5)), None),
+    "dimensions": ("S", [5, 15, 25, 35, 45, 55], None),
+    "crossing": ("cars", [1, 2, 3], "realizable"),
+    "crossing-stall": ("cars", [1, 2], "unrealizable"),
+    "patrol": ("height", [5, 7, 9], "realizable"),
+    "patrol-walk": ("height", [5, 7], "unrealizable"),
+}
+
+
+def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance]:
+    """Instances of grid family ``name`` (optionally only the given parameter values)."""
+    if name not in GRID_FAMILIES:
+        raise KeyError(f"unknown grid family {name!r}; choose one of {', '.join(GRID_FAMILIES)}")
+    pname, defaults, expected = GRID_FAMILIES[name]
+    out = []
+    for v in (values if values is not None else defaults):
+        if name == "figure1":
+            out.append(Instance("grid", "figure1", "figure1", {}, expected))
+            continue
+        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height"}[pname]
+        params = {builder_key: int(v)}
+        inst_name = f"{name}-{v}"
+        paper = _PAPER_GRID.get(name, {}).get(int(v))
+        out.append(Instance("grid", name, inst_name, params, expected, paper))
+    return out
+
+
+# ---------------------------------------------------------------------------- reach
+
+
+def _maze(n: int) -> Any:
+    from plansynth.reach.families import maze
+
+    return maze(n, 2)
+
+
+def _chain(n: int, k: int) -> Any:
+    from plansynth.reach.families import maze
+
+    return maze(n, k)
+
+
+def _random(seed: int, obstacles: int = 6) -> Any:
+    from plansynth.reach.families import random_workspace
+
+    return random_workspace(seed, obstacles)
+
+
+_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random}
+
+# Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
+PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
+    1: {"abstraction": 1.998, "dis-plan": 0.136, "con-plan": 0.254, "rrt": 10.44, "ltl-opt": "> 7200"},
+    2: {"abstraction": 7.146, "dis-plan": 1.129, "con-plan": 0.929, "rrt": 122.3, "ltl-opt": "time out"},
+    3: {"abstraction": 19.33, "dis-plan": 3.650, "con-plan": 1.005, "rrt": 423.7, "ltl-opt": "time out"},
+    4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
+}
+
+REACH_FAMILIES = ("maze", "chain", "random")
+
+
+def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequence[int] = (1, 2, 3, 5)) -> list[Instance]:
+    """Instances of reach family ``name``.
+
+    ``maze``: values are passage counts (default 1..4). ``chain``: values are passage
+    counts, crossed with ``orders`` (the chain order k; 2k states). ``random``: values
+    are seeds (default 0..4).
+    """
+    out = []
+    if name == "maze":
+        for n in values or [1, 2, 3, 4]:
+            tot = sum(float(v) for k, v in PAPER_TABLE_I[int(n)].items() if k in ("abstraction", "dis-plan", "con-plan"))
+            out.append(Instance("reach", "maze", f"maze-{n}", {"n": int(n)}, "found", tot if int(n) in PAPER_TABLE_I else None))
+    elif name == "chain":
+        for n in values or [1, 2, 3, 4]:
+            for k in orders:
+                out.append(Instance("reach", "chain", f"chain-{n}-k{k}", {"n": int(n), "k": int(k)}, "found"))
+    elif name == "random":
+        for s in values or [0, 1, 2, 3, 4]:
+            out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))
+    else:
+        raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
+    return out
+
+
+def family(kind: str, name: str, values: Sequence[Any] | None = None, **kw: Any) -> list[Instance]:
+    return grid_family(name, values) if kind == "grid" else reach_family(name, values, **kw)
+
+
+def instance_from_task(task: Mapping[str, Any]) -> Instance:
+    """Rebuild an :class:`Instance` from the dict a task carries (``Instance.to_dict``)."""
+    d = task["instance"]
+    return Instance(d["kind"], d["family"], d["name"], dict(d["params"]), d.get("expected"), d.get("paper_seconds"))
+
+
+def write_family_files(directory: str | Path, instances: Iterable[Instance]) -> list[Path]:
+    """Write each instance as a problem file (YAML) under ``directory/<kind>/<family>/``."""
+    import yaml
+
+    written = []
+    for inst in instances:
+        path = Path(directory) / inst.kind / inst.family / f"{inst.name}.yaml"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        doc = inst.document()
+        header = f"# plansynth bench family {inst.family!r}, instance {inst.name!r} (generated by `plansynth bench families`)\n"
+        if inst.expected:
+            header += f"# expected answer: {inst.expected}\n"
+        path.write_text(header + yaml.safe_dump(json.loads(json.dumps(doc)), sort_keys=False, default_flow_style=None),
+                        encoding="utf-8")
+        written.append(path)
+    return written
