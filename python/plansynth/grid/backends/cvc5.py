@@ -1,0 +1,156 @@
+"""The ``cvc5`` grid backend: the compiled SyGuS-IF v2 text, solved by cvc5's Python API.
+
+For each path length the problem is compiled by :func:`plansynth.grid.sygus.compile_sygus`
+and the *exact text* is handed to cvc5's parser (``cvc5.InputParser`` reading a string),
+so what the solver sees is what ``--keep-sl DIR`` writes and what a user can rerun by
+hand (``python -m plansynth.grid.backends.cvc5_cli FILE``, or a cvc5 binary with
+``--lang=sygus2``). The solver runs in a child process (:mod:`plansynth.grid.isolate`),
+so the time budget really stops it and a crash costs one answer, not the session.
+
+cvc5 answers ``(check-synth)`` with a ``define-fun`` (realizable), ``infeasible`` (no
+program of the grammar wins: unrealizable, relative to the depth bound if one is given)
+or ``fail`` (unknown). cvc5 options are passed by name, as on its command line without
+the dashes, e.g. ``{"sygus-enum": "fast"}``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import cvc5
+
+from plansynth.budget import Budget
+from plansynth.errors import InvalidProblem
+from plansynth.grid.isolate import Crash, Finished, run_isolated
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
+from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
+from plansynth.grid.sygus import compile_sygus
+
+__all__ = ["Cvc5Backend", "run_sygus_text", "cvc5_version", "parse_options", "check_options"]
+
+
+def cvc5_version() -> str:
+    """The version of the cvc5 Python package, as cvc5 reports it."""
+    v = cvc5.Solver(cvc5.TermManager()).getVersion()
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def parse_options(items: Sequence[str] | Mapping[str, Any] | None) -> dict[str, str]:
+    """cvc5 options from ``KEY=VALUE`` strings (``--KEY=VALUE`` and bare ``KEY`` also work)
+    or a mapping; the values are strings as on cvc5's command line.
+
+    >>> parse_options(["--sygus-enum=fast", "sygus-simple-sym-break=none", "stats"])
+    {'sygus-enum': 'fast', 'sygus-simple-sym-break': 'none', 'stats': 'true'}
+    """
+    if items is None:
+        return {}
+    if isinstance(items, Mapping):
+        return {str(k).lstrip("-"): _value(v) for k, v in items.items()}
+    out: dict[str, str] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        out[key.strip().lstrip("-")] = value.strip() if sep else "true"
+    return out
+
+
+def _value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+def _new_solver(options: Mapping[str, str]) -> cvc5.Solver:
+    solver = cvc5.Solver(cvc5.TermManager())
+    solver.setOption("sygus", "true")
+    for key, value in options.items():
+        solver.setOption(key, value)
+    return solver
+
+
+def check_options(options: Mapping[str, str]) -> None:
+    """Raise :class:`InvalidProblem` naming the option cvc5 rejects, if any."""
+    solver = cvc5.Solver(cvc5.TermManager())
+    for key, value in options.items():
+        try:
+            solver.setOption(key, value)
+        except RuntimeError as exc:
+            raise InvalidProblem(None, f"cvc5 option {key}", str(exc).strip()) from None
+
+
+def run_sygus_text(text: str, options: Mapping[str, str] | None = None, name: str = "input.sl") -> str:
+    """Run SyGuS-IF v2 ``text`` through cvc5's parser and solver, as the cvc5 binary would;
+    return everything the commands print (the ``(check-synth)`` answer included).
+
+    This runs in the calling process; the backend calls it in a child process.
+
+    >>> print(run_sygus_text('''(set-logic LIA)
+    ... (synth-fun f ((x Int)) Int ((Start Int)) ((Start Int (x 0 1 (+ Start Start)))))
+    ... (declare-var x Int)
+    ... (constraint (= (f x) (+ x 1)))
+    ... (check-synth)''').strip())
+    (
+    (define-fun f ((x Int)) Int (+ x 1))
+    )
+    """
+    solver = _new_solver(options or {})
+    symbols = cvc5.SymbolManager(solver.getTermManager())
+    parser = cvc5.InputParser(solver, symbols)
+    parser.setStringInput(cvc5.InputLanguage.SYGUS_2_1, text, name)
+    printed: list[str] = []
+    while True:
+        command = parser.nextCommand()
+        if command.isNull():
+            break
+        out = command.invoke(solver, symbols)
+        if out:
+            printed.append(out)
+    return "".join(printed)
+
+
+class Cvc5Backend:
+    """Solve one path length with cvc5 (see the module docstring).
+
+    ``options``: cvc5 options (mapping or ``KEY=VALUE`` strings). ``keep_sl``: a
+    directory in which to keep the .sl file of every attempt.
+    """
+
+    name = "cvc5"
+
+    def __init__(self, options: Sequence[str] | Mapping[str, Any] | None = None, keep_sl: str | Path | None = None) -> None:
+        self.options = parse_options(options)
+        check_options(self.options)
+        self.keep_sl = keep_sl
+
+    def version(self) -> str:
+        return cvc5_version()
+
+    def solve_length(
+        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+    ) -> LengthOutcome:
+        start = time.perf_counter()
+        text = compile_sygus(problem, steps, depth_bound)
+        artefact = keep_file(self.keep_sl, problem, steps, depth_bound, text)
+        counters: dict[str, Any] = {
+            "universal_variables": steps * len(problem.obstacles),
+            "sl_chars": len(text),
+        }
+        outcome = run_isolated(
+            run_sygus_text, text, self.options, sl_file_name(problem, steps, depth_bound),
+            timeout=budget.seconds, memory_mb=budget.memory_mb,
+        )
+        seconds = time.perf_counter() - start
+        if isinstance(outcome, Finished):
+            counters["solver_seconds"] = round(outcome.seconds, 6)
+            return outcome_from_answer(problem, steps, outcome.value, "cvc5", seconds, counters, artefact)
+        if isinstance(outcome, Crash):
+            return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
+                                 message=f"cvc5 crashed: {outcome.describe()}", artefact=artefact)
+        return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
+                             message=f"cvc5 ran out of the time budget ({budget.seconds:.3g} s)", artefact=artefact)
+
+
+register_backend("cvc5", Cvc5Backend)

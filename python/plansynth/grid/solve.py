@@ -1,0 +1,146 @@
+"""Search the path length and report only verified controllers.
+
+A grid problem fixes the path length l exactly (``steps``) or bounds it (``max_steps``);
+a controller must bring the robot to the goal at exactly l steps (Chasins & Newcomb,
+SYNT 2016, Section 3.1). Success is not monotone in l (an obstacle may block the goal at
+one time and not at the next), so :func:`solve` tries every l of
+``problem.path_lengths()`` in order until one is realizable, and calls the whole search
+unrealizable only when every l was proved unrealizable.
+
+Every program a backend returns is checked by the independent verifier
+(:func:`plansynth.grid.verify.verify`) before it is reported. A program that fails the
+check is a backend bug: that l becomes ``unknown`` with a loud message and the
+counterexample, and the program is never reported as a controller.
+
+>>> from plansynth.grid.problem import grid_problem_from_dict
+>>> p = grid_problem_from_dict({"grid": [3, 1], "max_steps": 3,
+...     "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]}})
+>>> r = solve(p, "cvc5", Budget(seconds=60))
+>>> r.status.value, r.steps, r.verified, [a.status.value for a in r.attempts]
+('realizable', 2, True, ['unrealizable', 'realizable'])
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from plansynth.budget import Budget
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.result import GridResult, GridStatus, LengthOutcome, get_backend
+
+__all__ = ["solve", "Progress"]
+
+#: Called after each path length with (l, what the backend said, after verification).
+Progress = Callable[[int, LengthOutcome], None]
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, (str, int, float, bool)) or value is None:
+        return value
+    if isinstance(value, Path):
+        return str(value)
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return repr(value)
+
+
+def solve(
+    problem: GridProblem,
+    solver: str = "native",
+    budget: Budget = Budget(),
+    *,
+    depth_bound: int | None = None,
+    progress: Progress | None = None,
+    **solver_options: Any,
+) -> GridResult:
+    """Find the smallest path length with a winning controller, and a verified controller.
+
+    ``solver`` names a registered backend (``native``, ``cvc5``, ``external``);
+    ``solver_options`` go to its constructor (for example ``options=[...]`` and
+    ``keep_sl=DIR`` for cvc5, ``command=...`` for external). The ``budget`` is shared by
+    the whole search: each backend call gets the time that is left, and
+    ``budget.iterations`` caps the number of path lengths tried. With ``depth_bound``
+    the backends search programs of depth <= D only, and ``unrealizable`` is relative
+    to that bound.
+
+    The result is ``realizable`` with a verified program for the first l that has one;
+    ``unrealizable`` if every l tried was proved unrealizable (and the budget allowed
+    every l); ``unknown`` otherwise.
+    """
+    from plansynth.grid.verify import verify
+
+    backend = get_backend(solver, **solver_options)
+    clock = budget.clock()
+    lengths = list(problem.path_lengths())
+    attempts: list[LengthOutcome] = []
+    notes: list[str] = []
+
+    def result(status: GridStatus, **kw: Any) -> GridResult:
+        return GridResult(
+            status=status,
+            steps=kw.pop("steps", problem.steps),
+            program=kw.pop("program", None),
+            solver=backend.name,
+            seconds=clock.elapsed(),
+            verified=kw.pop("verified", None),
+            depth_bound=depth_bound,
+            attempts=tuple(attempts),
+            solver_version=backend.version(),
+            options=_jsonable(solver_options),
+            problem=problem.source or problem.name,
+            **kw,
+        )
+
+    for l in lengths:
+        if clock.exhausted():
+            notes.append(f"the budget ran out before l = {l}")
+            break
+        remaining = clock.remaining()
+        sub = Budget(seconds=None if math.isinf(remaining) else max(remaining, 1e-3), memory_mb=budget.memory_mb)
+        outcome = backend.solve_length(problem, l, sub, depth_bound=depth_bound)
+        clock.tick()
+        if outcome.status is GridStatus.REALIZABLE:
+            assert outcome.program is not None, f"backend {backend.name} said realizable without a program"
+            started = time.perf_counter()
+            verdict = verify(problem, outcome.program, l)
+            counters = {**outcome.counters, "verify_seconds": round(time.perf_counter() - started, 6),
+                        "verify_states": verdict.states_explored}
+            if verdict.wins:
+                outcome = replace(outcome, counters=counters)
+                attempts.append(outcome)
+                if progress is not None:
+                    progress(l, outcome)
+                return result(
+                    GridStatus.REALIZABLE, steps=l, program=outcome.program, verified=True,
+                    message=f"verified by the independent verifier ({verdict.states_explored} states explored)",
+                )
+            cex = verdict.counterexample
+            reason = cex.reason if cex is not None else "no counterexample given"
+            moves = "" if cex is None else f"; obstacle moves {[list(m) for m in cex.obstacle_moves]}"
+            outcome = replace(
+                outcome,
+                status=GridStatus.UNKNOWN,
+                counters=counters,
+                message=(
+                    f"BACKEND BUG: {backend.name} returned {outcome.program} for l = {l}, but the independent "
+                    f"verifier refutes it: {reason}{moves}. The program is not reported."
+                ),
+                witness=cex,
+            )
+        attempts.append(outcome)
+        if progress is not None:
+            progress(l, outcome)
+
+    bound = "" if depth_bound is None else f" (programs of depth <= {depth_bound})"
+    searched = f"l = {lengths[0]}" if len(lengths) == 1 else f"every l in {lengths[0]}..{lengths[-1]}"
+    if len(attempts) == len(lengths) and all(a.status is GridStatus.UNREALIZABLE for a in attempts):
+        return result(GridStatus.UNREALIZABLE, message=f"no controller{bound} wins at {searched}")
+    unknown = [f"l = {a.steps}: {a.message or 'no answer'}" for a in attempts if a.status is GridStatus.UNKNOWN]
+    return result(GridStatus.UNKNOWN, message="; ".join(unknown + notes) or "no answer")
