@@ -1,0 +1,13 @@
+"""The native grid engine: exact, fast answers for the reactive grid problems of
+Chasins & Newcomb (SYNT 2016) without a SyGuS solver.
+
+Modules: :mod:`bitgrid` (cell sets as integers), :mod:`cone` (cone of influence),
+:mod:`arena` (the bounded game), :mod:`stationary` (position-only strategies by SAT),
+:mod:`conditions` (bottom-up condition enumeration), :mod:`synth` (smallest decision
+tree programs), :mod:`engine` (the stages together), :mod:`explain` (why no controller
+exists), :mod:`fast` (the compiled core behind the same signatures).
+"""
+
+from plansynth.grid.native.engine import Engine, Refutation, program_wins
+
+__all__ = ["Engine", "Refutation", "program_wins"]

@@ -1,0 +1,235 @@
+"""The bounded game between the robot and the obstacles, explored as sets of cells.
+
+A joint state is the robot's cell and the cells of the obstacles the controller
+*reads*. Obstacles that matter but are not read are folded into a per-step danger mask
+(the cells they may sweep in that step): a controller that does not look at an
+obstacle must avoid everything that obstacle can do, and this is exact because every
+obstacle moves independently of everything else (spec, Semantics).
+
+The game is explored per obstacle configuration: for each time t and tuple of read
+obstacle cells, the set of robot cells is one integer mask, so a step of the robot is a
+few shifts (:mod:`plansynth.grid.native.bitgrid`). The obstacles' successor
+configurations are the product of each read obstacle's end cells.
+
+Backward induction over this graph (:meth:`Arena.solve_game`) decides the game in which
+the controller may also see the time: a necessary condition for a controller program to
+exist (the paper's controllers see positions only, Section 3.1).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+from plansynth.budget import Clock
+from plansynth.grid.native.bitgrid import AgentGeometry, bits, cell_mask
+from plansynth.grid.native.cone import Cone, robot_live
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.semantics import CompiledSemantics, obstacle_move, robot_move
+
+Config = tuple[int, ...]  # cell indices of the read obstacles
+
+
+class BudgetExhausted(Exception):
+    """Raised inside the engine when the clock runs out; the backend answers unknown."""
+
+
+@dataclass
+class Arena:
+    """The explored game for one path length and one set of read obstacles.
+
+    ``layers[t]`` maps each obstacle configuration reachable at time t to the mask of
+    robot cells reachable with it (pruned to cells that can still reach the goal).
+    After :meth:`solve_game`, ``win[t]`` holds the states from which the robot wins the
+    time-dependent game.
+    """
+
+    problem: GridProblem
+    steps: int
+    read: tuple[int, ...]
+    abstract_danger: tuple[int, ...]
+    sem: CompiledSemantics
+    robot: AgentGeometry
+    live: tuple[int, ...]
+    layers: list[dict[Config, int]] = field(default_factory=list)
+    win: list[dict[Config, int]] = field(default_factory=list)
+    _succ: dict[Config, tuple[Config, ...]] = field(default_factory=dict)
+    _danger: dict[Config, int] = field(default_factory=dict)
+    _hits: dict[tuple[Config, int], tuple[int, ...]] = field(default_factory=dict)
+    _ends: list[list[tuple[int, ...]]] = field(default_factory=list)
+    _obs_danger: list[list[int]] = field(default_factory=list)
+    _robot_end: dict[tuple[int, int], int] = field(default_factory=dict)
+
+    # -- construction --------------------------------------------------------------
+    @classmethod
+    def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True) -> "Arena":
+        """Explore the states reachable from the start that can still reach the goal."""
+        sem = CompiledSemantics(problem)
+        robot = AgentGeometry.robot(problem)
+        abstract = [0] * steps
+        for i in cone.relevant:
+            if i not in read:
+                for t in range(steps):
+                    abstract[t] |= cone.danger[i][t]
+        start = cell_mask(problem, problem.robot.start)
+        goal = cell_mask(problem, problem.robot.goal)
+        live = robot_live(robot, start, goal, steps, tuple(abstract))
+        a = cls(problem, steps, tuple(read), tuple(abstract), sem, robot, live)
+        a._ends = [_LazyCells(problem, i, ends=True) for i in read]
+        a._obs_danger = [_LazyCells(problem, i, ends=False) for i in read]
+        if explore:
+            a._explore(clock, max_states)
+        return a
+
+    def _explore(self, clock: Clock | None, max_states: int | None) -> None:
+        oc0: Config = tuple(self.sem.index(self.problem.obstacles[i].start) for i in self.read)
+        first = cell_mask(self.problem, self.problem.robot.start) & self.live[0]
+        self.layers = [{oc0: first} if first else {}]
+        count = 1
+        for t in range(self.steps):
+            nxt: dict[Config, int] = {}
+            for oc, r in self.layers[t].items():
+                img = 0
+                for k, safe in enumerate(self.safe_sources(t, oc)):
+                    img |= self.robot.image(r & safe, k)
+                img &= self.live[t + 1]
+                if not img:
+                    continue
+                for oc2 in self.successors(oc):
+                    nxt[oc2] = nxt.get(oc2, 0) | img
+                if clock is not None and clock.exhausted():
+                    raise BudgetExhausted(f"exploring step {t}")
+            self.layers.append(nxt)
+            count += len(nxt)
+            if max_states is not None and count > max_states:
+                raise BudgetExhausted(f"more than {max_states} obstacle configurations")
+
+    # -- local facts ---------------------------------------------------------------
+    def successors(self, oc: Config) -> tuple[Config, ...]:
+        """Obstacle configurations one step after ``oc`` (every joint obstacle move)."""
+        s = self._succ.get(oc)
+        if s is None:
+            s = tuple(itertools.product(*(self._ends[j][c] for j, c in enumerate(oc))))
+            self._succ[oc] = s
+        return s
+
+    def config_danger(self, oc: Config) -> int:
+        """Cells the read obstacles may sweep in one step from ``oc``."""
+        d = self._danger.get(oc)
+        if d is None:
+            d = _or(self._obs_danger[j][c] for j, c in enumerate(oc))
+            self._danger[oc] = d
+        return d
+
+    def safe_sources(self, t: int, oc: Config) -> tuple[int, ...]:
+        """Per robot move k: cells from which k collides with nothing in step t."""
+        h = self._hits.get((oc, t))
+        if h is None:
+            danger = self.config_danger(oc) | self.abstract_danger[t]
+            h = tuple(
+                self.robot.free[k] & ~self.robot.hit_sources(danger, k) & self.robot.full
+                for k in range(len(self.robot.moves))
+            )
+            if len(self._hits) > 200_000:
+                self._hits.clear()
+            self._hits[(oc, t)] = h
+        return h
+
+    def robot_end(self, r: int, k: int) -> int:
+        key = (r, k)
+        e = self._robot_end.get(key)
+        if e is None:
+            end, _ = robot_move(self.problem, self.sem.cell(r), k)
+            e = self._robot_end[key] = self.sem.index(end)
+        return e
+
+    def winning_moves(self, t: int, oc: Config) -> tuple[int, ...]:
+        """Per robot move k: robot cells (of ``layers[t][oc]``) from which k wins at t.
+
+        Needs :meth:`solve_game` first. A move wins if it is safe and every successor
+        state is winning at t + 1 (exactly the goal at t + 1 = l).
+        """
+        target = self._target(t, oc)
+        safe = self.safe_sources(t, oc)
+        r = self.layers[t].get(oc, 0)
+        return tuple(self.robot.pre(target, k) & safe[k] & r for k in range(len(self.robot.moves)))
+
+    def _target(self, t: int, oc: Config) -> int:
+        nxt = self.win[t + 1]
+        m = -1
+        for oc2 in self.successors(oc):
+            m &= nxt.get(oc2, 0)
+            if not m:
+                return 0
+        return m
+
+    # -- the time-dependent game ---------------------------------------------------
+    def solve_game(self, clock: Clock | None = None) -> bool:
+        """Backward induction; True iff the robot wins when it may also see the time."""
+        goal = cell_mask(self.problem, self.problem.robot.goal)
+        self.win = [dict() for _ in range(self.steps + 1)]
+        self.win[self.steps] = {oc: r & goal for oc, r in self.layers[self.steps].items() if r & goal}
+        for t in range(self.steps - 1, -1, -1):
+            layer = {}
+            for oc in self.layers[t]:
+                w = 0
+                for m in self.winning_moves(t, oc):
+                    w |= m
+                if w:
+                    layer[oc] = w
+                if clock is not None and clock.exhausted():
+                    raise BudgetExhausted(f"solving the game at step {t}")
+            self.win[t] = layer
+        oc0 = next(iter(self.layers[0]), None)
+        return oc0 is not None and bool(self.win[0].get(oc0, 0) & cell_mask(self.problem, self.problem.robot.start))
+
+    def state_count(self) -> int:
+        return sum(bin(r).count("1") for layer in self.layers for r in layer.values())
+
+    def inputs(self, r: int, oc: Config) -> tuple[int, ...]:
+        """Controller inputs of a state, over :meth:`variables`."""
+        out = list(self.sem.cell(r))
+        for c in oc:
+            out.extend(self.sem.cell(c))
+        return tuple(out)
+
+    def variables(self) -> tuple[str, ...]:
+        names = ["rx", "ry"]
+        for i in self.read:
+            names += [f"o{i}x", f"o{i}y"]
+        return tuple(names)
+
+    def cells_of(self, mask: int) -> list[int]:
+        return bits(mask)
+
+
+def _or(masks) -> int:
+    out = 0
+    for m in masks:
+        out |= m
+    return out
+
+
+class _LazyCells:
+    """Per-cell facts of one obstacle, computed on first use (grids can be large and
+    an obstacle visits few cells): its distinct end cells, or the mask it may sweep."""
+
+    def __init__(self, problem: GridProblem, i: int, ends: bool) -> None:
+        self.problem, self.i, self.ends = problem, i, ends
+        self.cache: dict[int, object] = {}
+
+    def __getitem__(self, c: int):
+        v = self.cache.get(c)
+        if v is None:
+            p, w = self.problem, self.problem.width
+            cell = (c % w, c // w)
+            outs = [obstacle_move(p, self.i, cell, k) for k in range(len(p.obstacles[self.i].moves))]
+            if self.ends:
+                v = tuple(dict.fromkeys(e[1] * w + e[0] for e, _ in outs))
+            else:
+                v = 0
+                for _, swept in outs:
+                    for x, y in swept:
+                        v |= 1 << (y * w + x)
+            self.cache[c] = v
+        return v

@@ -1,0 +1,324 @@
+"""The native engine for one path length: cone, blind plan, game, stationary SAT, program.
+
+Stages, cheapest first (each exact for what it claims):
+
+1. **Cone of influence** (:mod:`cone`): drop obstacles that can never meet the robot.
+2. **Blind controller**: a program that reads no obstacle must avoid every cell any
+   relevant obstacle may sweep at each step; deciding whether one exists is a small
+   stationary SAT over robot cells. The paper's four families are all solved here.
+3. **Game**: explore the joint states of the robot and the relevant obstacles and
+   decide the time-dependent game by backward induction. Losing it proves that no
+   controller exists (the witness is the obstacles' winning strategy, :mod:`explain`).
+4. **Stationary SAT** (:mod:`stationary`): exact existence of a position-only strategy.
+5. **Program** (:mod:`synth`): the smallest decision tree over enumerated conditions
+   that picks an allowed move in every state the strategy reaches; it is checked on the
+   game graph (:func:`program_wins`) before it is returned.
+
+Obstacles outside the cone may still work as a *clock* when the adversary cannot keep
+them still (a program could read their coordinates to learn the time). Dropping them is
+exact when each one can stay on its start cell; otherwise an ``unrealizable`` from step
+4 is re-checked with strategies that may depend on the time until all of them can park
+(see :func:`_clock_label`), and the answer is ``unknown`` if that check does not close.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+from plansynth.budget import Budget, Clock
+from plansynth.grid.native.arena import Arena, BudgetExhausted
+from plansynth.grid.native.bitgrid import bits, cell_mask
+from plansynth.grid.native.conditions import Enumeration, conditions_upto
+from plansynth.grid.native.cone import Cone, influence_cone
+from plansynth.grid.native.stationary import Strategy, encode_stationary, solve_clauses, stationary_strategy
+from plansynth.grid.native.synth import TreeEncoding, conditions_by_level, greedy_program, program_depths, tree_levels, tree_program
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.programs import Term, compile_program, depth
+from plansynth.grid.result import GridStatus, LengthOutcome
+
+#: Conditions are enumerated up to this depth by default (programs may be deeper).
+CONDITION_DEPTH = 4
+#: Largest program depth the tree SAT tries before the greedy tree takes over.
+MAX_TREE_DEPTH = 9
+#: Obstacle configurations explored before the joint game gives up (answer unknown).
+MAX_CONFIGS = 2_000_000
+
+
+@dataclass(frozen=True)
+class Refutation:
+    """Why no controller exists at this length: ``kind`` is ``goal`` (the goal cannot
+    be reached in exactly l steps even without obstacles), ``game`` (the obstacles win
+    even against time-dependent strategies; the arena holds their strategy) or
+    ``stationary`` (time-dependent strategies win, position-only ones do not)."""
+
+    kind: str
+    steps: int
+    arena: Arena | None = None
+    detail: str = ""
+
+
+@dataclass
+class Engine:
+    """Options of the native engine (the backend's options)."""
+
+    condition_depth: int = CONDITION_DEPTH
+    max_tree_depth: int = MAX_TREE_DEPTH
+    max_configs: int = MAX_CONFIGS
+    minimize: bool = False
+    use_rust: bool | None = None
+    improve: bool = True
+    counters: dict[str, Any] = field(default_factory=dict)
+
+    # -- the entry point -------------------------------------------------------------
+    def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+        clock = budget.clock()
+        t0 = time.perf_counter()
+        self.counters = {}
+        try:
+            status, program, message, witness = self._solve(problem, steps, clock, depth_bound)
+        except BudgetExhausted as exc:
+            status, program, message, witness = GridStatus.UNKNOWN, None, f"budget exhausted: {exc}", None
+        return LengthOutcome(
+            status=status,
+            steps=steps,
+            program=program,
+            seconds=time.perf_counter() - t0,
+            counters=dict(self.counters),
+            message=message,
+            witness=witness,
+        )
+
+    def _solve(self, problem: GridProblem, steps: int, clock: Clock, depth_bound: int | None):
+        cone = influence_cone(problem, steps)
+        self.counters["relevant_obstacles"] = len(cone.relevant)
+        self.counters["dropped_obstacles"] = len(problem.obstacles) - len(cone.relevant)
+        if not cone.goal_reachable:
+            ref = Refutation("goal", steps, detail=f"the goal cannot be reached in exactly {steps} steps even without obstacles")
+            return GridStatus.UNREALIZABLE, None, ref.detail, ref
+        exact_bound = self.minimize or depth_bound is not None
+
+        # Stage 2: a controller that reads no obstacle.
+        blind = Arena.build(problem, steps, cone, (), clock)
+        if blind.layers[0] and blind.solve_game(clock):
+            strategy = stationary_strategy(blind, clock)
+            if strategy is not None:
+                self.counters["stage"] = "blind"
+                program = self._program(blind, strategy, clock, depth_bound)
+                if program is not None and not exact_bound:
+                    return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
+                if program is not None and depth_bound is not None and not self.minimize and depth(program) <= depth_bound:
+                    return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
+
+        # Stages 3-4: the joint game over the relevant obstacles.
+        arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs)
+        self.counters["configurations"] = sum(len(x) for x in arena.layers)
+        self.counters["states"] = arena.state_count()
+        if not arena.layers[0] or not arena.solve_game(clock):
+            ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
+            return GridStatus.UNREALIZABLE, None, ref.detail, ref
+        if exact_bound:
+            return self._bounded(problem, arena, cone, clock, depth_bound)
+        strategy = stationary_strategy(arena, clock)
+        if strategy is None:
+            return self._stationary_refuted(problem, arena, cone, clock)
+        self.counters["stage"] = "joint"
+        self.counters.update(strategy.counters)
+        program = self._program(arena, strategy, clock, None)
+        assert program is not None
+        return GridStatus.REALIZABLE, program, "controller reads obstacles" if arena.read else "", None
+
+    # -- no stationary strategy --------------------------------------------------------
+    def _stationary_refuted(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock):
+        label = _clock_label(problem, cone)
+        if label is not None:
+            if stationary_strategy(arena, clock, label) is not None:
+                return GridStatus.UNKNOWN, None, (
+                    "no position-only strategy over the relevant obstacles, but obstacles outside the "
+                    "cone of influence cannot be kept still and might serve a controller as a clock"
+                ), None
+        ref = Refutation("stationary", steps := arena.steps, arena,
+                         "controllers that see the time would win, but no controller that sees only positions does")
+        return GridStatus.UNREALIZABLE, None, ref.detail, ref
+
+    # -- programs ----------------------------------------------------------------------
+    def _conditions(self, states: list[tuple[int, ...]], variables, problem: GridProblem, max_depth: int) -> Enumeration:
+        limit = 200_000
+        e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=limit, use_rust=self.use_rust)
+        self.counters["conditions"] = len(e.conditions)
+        return e
+
+    def _program(self, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
+        """The smallest tree (by depth, then as found) over the strategy's allowed moves."""
+        states = sorted(strategy.allowed)
+        allowed = [strategy.allowed[s] for s in states]
+        inputs = [arena.inputs(r, oc) for r, oc in states]
+        self.counters["program_states"] = len(states)
+        cdepth = self.condition_depth if len(states) <= 5000 else 3
+        enum = self._conditions(inputs, arena.variables(), arena.problem, cdepth)
+        n_moves = len(arena.robot.moves)
+        top = self.max_tree_depth if depth_bound is None else min(depth_bound, self.max_tree_depth)
+        program = None
+        for d in program_depths(top):
+            try:
+                program = tree_program(allowed, enum.conditions, d, n_moves, clock)
+            except BudgetExhausted:
+                if clock.exhausted():
+                    raise
+                break
+            if program is not None:
+                break
+        if program is None:
+            if depth_bound is not None:
+                return None
+            program = greedy_program(allowed, enum.conditions, n_moves)
+        if depth(program) > 1 and self.improve:
+            # The model's strategy is one of many: look for a smaller program over every
+            # winning strategy, when that search is small enough.
+            try:
+                better, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem, max_clauses=2_000_000)
+            except BudgetExhausted:
+                if clock.exhausted():
+                    raise
+                better = None
+            if better is not None:
+                program = better
+        if not program_wins(arena.problem, arena.steps, program, clock):
+            raise AssertionError(f"native engine bug: synthesized program {program} does not win")
+        self.counters["program_depth"] = depth(program)
+        return program
+
+    def _bounded(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock, depth_bound: int | None):
+        """Smallest program depth over all stationary winning strategies (exact when the
+        conditions are enumerated completely to the depths that matter)."""
+        found, proved, d_used = minimal_program(arena, clock, depth_bound, self, problem)
+        parkable = all(cone.parkable[i] for i in range(len(problem.obstacles)) if i not in cone.relevant)
+        if found is not None:
+            if not program_wins(problem, arena.steps, found, clock):
+                raise AssertionError(f"native engine bug: program {found} does not win")
+            self.counters["program_depth"] = depth(found)
+            self.counters["minimal_depth_proved"] = bool(proved and parkable)
+            msg = f"depth {depth(found)} is minimal (proved)" if proved and parkable else f"depth {depth(found)}; smaller depths not excluded"
+            return GridStatus.REALIZABLE, found, msg, None
+        if proved and parkable:
+            return GridStatus.UNREALIZABLE, None, f"no program of depth <= {d_used} wins", None
+        return GridStatus.UNKNOWN, None, f"no program of depth <= {d_used} found; conditions not enumerated completely", None
+
+
+def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine: Engine, problem: GridProblem, max_clauses: int | None = None):
+    """Search program depths 1, 4, 5, ... for a winning program over the whole game.
+
+    Returns ``(program or None, proved, last depth tried)``; ``proved`` is True when
+    every smaller depth was refuted with a complete condition enumeration.
+    """
+    clauses, ids, fwd = encode_stationary(arena, clock)
+    states = sorted({(r, oc) for layer in fwd[:-1] for oc, m in layer.items() for r in bits(m)})
+    index = {s: i for i, s in enumerate(states)}
+    inputs = [arena.inputs(r, oc) for r, oc in states]
+    engine.counters["universe_states"] = len(states)
+    top = depth_bound if depth_bound is not None else engine.max_tree_depth
+    need = max(3, min(top - 1, engine.condition_depth + 1))
+    enum = engine._conditions(inputs, arena.variables(), problem, min(need, 5))
+    n_moves = len(arena.robot.moves)
+    proved = True
+    last = 0
+    for d in program_depths(top):
+        last = d
+        by_level = conditions_by_level(enum.conditions, d)
+        if max_clauses is not None:
+            est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
+            if est > max_clauses:
+                raise BudgetExhausted(f"depth-{d} search of about {est} clauses")
+        enc = TreeEncoding(tree_levels(d), by_level, len(states), n_moves, len(ids), list(clauses))
+
+        def out_lit(s: int, k: int, states=states):
+            r, oc = states[s]
+            v = ids.get(("m", r, oc, 0, k))
+            return False if v is None else v
+
+        enc.build(out_lit)
+        model = solve_clauses(enc.clauses, clock)
+        if model is not None:
+            return enc.program(model), proved, d
+        if d >= 4 and enum.complete_to < d - 1:
+            proved = False
+    return None, proved, last
+
+
+def _clock_label(problem: GridProblem, cone: Cone):
+    """The time label that accounts for dropped obstacles that cannot stay put.
+
+    Returns None when every dropped obstacle can be kept on its start cell; otherwise
+    ``t -> min(t, K)`` where by time K the adversary can have parked all of them.
+    """
+    from plansynth.grid.native.bitgrid import AgentGeometry
+
+    k_all = 0
+    for i in range(len(problem.obstacles)):
+        if i in cone.relevant or cone.parkable[i]:
+            continue
+        g = AgentGeometry.obstacle(problem, i)
+        park_cells = 0
+        for c in bits(g.full):
+            m = 1 << c
+            if any(g.image(m, k) == m for k in range(len(g.moves))):
+                park_cells |= m
+        k_i = next((t for t, pos in enumerate(cone.positions[i]) if pos & park_cells), cone.steps)
+        k_all = max(k_all, k_i)
+    if k_all == 0:
+        return None
+    return lambda t, K=k_all: min(t, K)
+
+
+def program_wins(problem: GridProblem, steps: int, program: Term, clock: Clock | None = None) -> bool:
+    """Exact check of a program on the game (the engine's own; the solve loop also runs
+    the independent verifier). Obstacles the program reads are tracked jointly, the other
+    relevant ones are folded into per-step danger, irrelevant ones never collide."""
+    from plansynth.grid.programs import variables_of
+
+    cone = influence_cone(problem, steps)
+    names = variables_of(program)
+    read = tuple(i for i in cone.relevant if f"o{i}x" in names or f"o{i}y" in names)
+    for i in range(len(problem.obstacles)):
+        if i not in cone.relevant and (f"o{i}x" in names or f"o{i}y" in names):
+            read += (i,)  # read but harmless: still tracked, its cells are inputs
+    read = tuple(sorted(read))
+    full = Arena.build(problem, steps, _with_relevant(cone, read), read, clock, explore=False)
+    variables = problem.variables
+    f = compile_program(program, variables)
+    n_moves = len(problem.robot.moves)
+    goal = full.sem.index(problem.robot.goal)
+    start = full.sem.index(problem.robot.start)
+    oc0 = tuple(full.sem.index(problem.obstacles[i].start) for i in read)
+    frontier = {(start, oc0)}
+    base = [0] * len(variables)
+    pos = {i: 2 + 2 * i for i in range(len(problem.obstacles))}
+    for t in range(steps):
+        nxt = set()
+        for r, oc in frontier:
+            env = list(base)
+            env[0], env[1] = full.sem.cell(r)
+            for j, i in enumerate(read):
+                env[pos[i]], env[pos[i] + 1] = full.sem.cell(oc[j])
+            for i in range(len(problem.obstacles)):
+                if i not in read:
+                    env[pos[i]], env[pos[i] + 1] = problem.obstacles[i].start  # unread: value irrelevant
+            k = f(*env)
+            if not isinstance(k, int) or not 0 <= k < n_moves:
+                return False
+            if not full.safe_sources(t, oc)[k] >> r & 1:
+                return False
+            e = full.robot_end(r, k)
+            for oc2 in full.successors(oc):
+                nxt.add((e, oc2))
+        frontier = nxt
+        if clock is not None and clock.exhausted():
+            raise BudgetExhausted("checking the program")
+    return all(r == goal for r, _ in frontier)
+
+
+def _with_relevant(cone: Cone, read: tuple[int, ...]) -> Cone:
+    from dataclasses import replace
+
+    return replace(cone, relevant=tuple(sorted(set(cone.relevant) | set(read))))

@@ -1,0 +1,8 @@
+"""The compiled core (``plansynth._core``), behind the same signatures as the pure-Python
+references it replaces (STYLE.md, point 6)."""
+
+from __future__ import annotations
+
+
+def available() -> bool:
+    return False

@@ -1,0 +1,205 @@
+"""Does a *stationary* winning strategy exist? An exact SAT encoding.
+
+The paper's controller (Chasins & Newcomb, SYNT 2016, Section 3.1) sees positions, not
+the time: the same joint state met at two different times must get the same move. So a
+win of the time-dependent game (:meth:`Arena.solve_game`) is necessary but not
+sufficient. This module decides the stationary question exactly over the states the
+game leaves winning, with CaDiCaL through PySAT:
+
+* ``reach[t, s]``: state s is reached at time t under the strategy,
+* ``move[s, k]``: the strategy may play move k in state s (several may hold; every
+  move that holds must be winning, so any choice among them is a winning strategy),
+* ``reach[0, s0]``; ``reach[t, s] -> OR_k move[s, k]`` over moves winning at (t, s);
+  ``reach[t, s] -> not move[s, k]`` for moves not winning at (t, s);
+  ``reach[t, s] & move[s, k] -> reach[t+1, s']`` for every obstacle reply s'.
+
+The controller only has to be defined on states it reaches itself, which the reach
+variables capture. A model gives reach sets R(t) closed under the allowed moves; the
+*allowed* moves of a state are all moves that stay inside R and win at every time the
+state is in R, which leaves the program synthesiser as much freedom as possible.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from pysat.solvers import Solver
+
+from plansynth.budget import Clock
+from plansynth.grid.native.arena import Arena, BudgetExhausted, Config
+from plansynth.grid.native.bitgrid import bits, cell_mask
+
+State = tuple[int, Config]  # (robot cell index, read obstacle cells)
+SAT_SOLVER = "cadical195"
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """A stationary winning strategy: allowed moves per state, and where it goes.
+
+    ``reach[t]`` maps configurations to robot-cell masks of the states it may visit at
+    time t; ``allowed[s]`` is never empty and every choice among it wins.
+    """
+
+    allowed: dict[State, tuple[int, ...]]
+    reach: tuple[dict[Config, int], ...]
+    counters: dict[str, int]
+
+
+def winning_forward(arena: Arena) -> list[dict[Config, int]]:
+    """States reachable from the start using only moves that win the game."""
+    oc0 = next(iter(arena.layers[0]))
+    start = cell_mask(arena.problem, arena.problem.robot.start)
+    out: list[dict[Config, int]] = [{oc0: start}]
+    for t in range(arena.steps):
+        nxt: dict[Config, int] = {}
+        for oc, r in out[t].items():
+            img = 0
+            for k, wm in enumerate(arena.winning_moves(t, oc)):
+                img |= arena.robot.image(r & wm, k)
+            if img:
+                for oc2 in arena.successors(oc):
+                    nxt[oc2] = nxt.get(oc2, 0) | img
+        out.append(nxt)
+    return out
+
+
+def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None):
+    """The clauses of the stationary question and the variable map.
+
+    Returns ``(clauses, ids, fwd)``: keys of ``ids`` are ``("r", t, r, oc)`` (reach)
+    and ``("m", r, oc, label, k)`` (move); ``fwd`` are the winning-forward layers.
+    """
+    lab = label or (lambda t: 0)
+    fwd = winning_forward(arena)
+    steps = arena.steps
+    n_moves = len(arena.robot.moves)
+    ids: dict[tuple, int] = {}
+
+    def var(key: tuple) -> int:
+        v = ids.get(key)
+        if v is None:
+            v = len(ids) + 1
+            ids[key] = v
+        return v
+
+    clauses: list[list[int]] = []
+    oc0 = next(iter(fwd[0]))
+    r0 = arena.sem.index(arena.problem.robot.start)
+    clauses.append([var(("r", 0, r0, oc0))])
+    for t in range(steps):
+        for oc, rmask in fwd[t].items():
+            wm = arena.winning_moves(t, oc)
+            succ = arena.successors(oc)
+            for r in bits(rmask):
+                rv = var(("r", t, r, oc))
+                mv = [var(("m", r, oc, lab(t), k)) for k in range(n_moves)]
+                good = [k for k in range(n_moves) if wm[k] >> r & 1]
+                clauses.append([-rv] + [mv[k] for k in good])
+                for k in range(n_moves):
+                    if not wm[k] >> r & 1:
+                        clauses.append([-rv, -mv[k]])
+                    elif t + 1 < steps:
+                        e = arena.robot_end(r, k)
+                        for oc2 in succ:
+                            clauses.append([-rv, -mv[k], var(("r", t + 1, e, oc2))])
+            if clock is not None and clock.exhausted():
+                raise BudgetExhausted(f"encoding the stationary strategy at step {t}")
+    return clauses, ids, fwd
+
+
+def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None) -> Strategy | None:
+    """A stationary winning strategy, or None when none exists (exact).
+
+    Requires :meth:`Arena.solve_game` to have returned True. ``label`` optionally adds
+    a time label to the states the strategy must be stationary on (used to account for
+    obstacles outside the cone of influence that work as a clock).
+    Raises :class:`BudgetExhausted` when the clock runs out.
+    """
+    clauses, ids, fwd = encode_stationary(arena, clock, label)
+    steps = arena.steps
+    n_moves = len(arena.robot.moves)
+    counters = {"sat_vars": len(ids), "sat_clauses": len(clauses)}
+    model = solve_clauses(clauses, clock, phases=[-v for k, v in ids.items() if k[0] == "r"])
+    if model is None:
+        return None
+    truth = set(v for v in model if v > 0)
+    reach: list[dict[Config, int]] = [dict() for _ in range(steps + 1)]
+    for key, v in ids.items():
+        if key[0] == "r" and v in truth:
+            _, t, r, oc = key
+            reach[t][oc] = reach[t].get(oc, 0) | (1 << r)
+    allowed = _allowed(arena, reach)
+    if label is None:
+        # Keep only what the allowed moves actually reach (the solver may set reach
+        # variables it did not need), which leaves more freedom per state.
+        reach = _closure(arena, allowed)
+        allowed = _allowed(arena, reach)
+        assert all(allowed.values()), "a SAT model must leave every reached state a move"
+    final = {s: tuple(sorted(a)) for s, a in allowed.items()}
+    return Strategy(final, tuple(reach), counters)
+
+
+def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[int]]:
+    """Moves of each reached state that win and stay inside ``reach`` at every time."""
+    steps = arena.steps
+    n_moves = len(arena.robot.moves)
+    allowed: dict[State, set[int]] = {}
+    for t in range(steps):
+        for oc, rmask in reach[t].items():
+            wm = arena.winning_moves(t, oc)
+            succ = arena.successors(oc)
+            for r in bits(rmask):
+                ok = set()
+                for k in range(n_moves):
+                    if not wm[k] >> r & 1:
+                        continue
+                    if t + 1 < steps:
+                        e = arena.robot_end(r, k)
+                        if not all(reach[t + 1].get(oc2, 0) >> e & 1 for oc2 in succ):
+                            continue
+                    ok.add(k)
+                prev = allowed.get((r, oc))
+                allowed[(r, oc)] = ok if prev is None else prev & ok
+    return allowed
+
+
+def _closure(arena: Arena, allowed: dict[State, set[int]]) -> list[dict[Config, int]]:
+    """States reached from the start when every state may play any of its allowed moves."""
+    oc0 = next(iter(arena.layers[0]))
+    out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
+    for t in range(arena.steps):
+        nxt: dict[Config, int] = {}
+        for oc, rmask in out[t].items():
+            ends = 0
+            for r in bits(rmask):
+                for k in allowed[(r, oc)]:
+                    ends |= 1 << arena.robot_end(r, k)
+            for oc2 in arena.successors(oc):
+                nxt[oc2] = nxt.get(oc2, 0) | ends
+        out.append(nxt)
+    return out
+
+
+def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[int] | None = None) -> list[int] | None:
+    """Solve with CaDiCaL, interrupted when the clock runs out (then BudgetExhausted)."""
+    with Solver(name=SAT_SOLVER, bootstrap_with=clauses) as s:
+        if phases:
+            s.set_phases(phases)
+        remaining = None if clock is None else clock.remaining()
+        if remaining is not None and remaining != float("inf"):
+            if remaining <= 0:
+                raise BudgetExhausted("no time left for SAT")
+            timer = threading.Timer(remaining, s.interrupt)
+            timer.start()
+            try:
+                answer = s.solve_limited(expect_interrupt=True)
+            finally:
+                timer.cancel()
+        else:
+            answer = s.solve()
+        if answer is None:
+            raise BudgetExhausted("SAT solver interrupted")
+        return s.get_model() if answer else None

@@ -1,0 +1,238 @@
+"""From a winning strategy to the smallest program of the grammar.
+
+A program of the grammar (Chasins & Newcomb, SYNT 2016, Listing 1) is a decision tree:
+``(ite B S S)`` nodes over conditions B and move numbers at the leaves. Its depth is
+the paper's: a tree node whose condition has depth c and whose subtrees have depth
+at most e has depth ``1 + max(c, e)``; a move has depth 1. So a program of depth at
+most D is a complete binary tree of ``D - 3`` levels of conditions (depth 4 needs a
+comparison of coordinates or constants, which has depth 3), where a condition at level
+i has depth at most ``D - 1 - i``. Depths 2 and 3 add nothing over depth 1: an ``ite``
+of depth 3 can only test constants.
+
+:func:`tree_program` decides, with SAT, whether such a tree maps every state to one of
+its allowed moves. The conditions come from :mod:`conditions` (one per behaviour on the
+states), so the answer is exact for conditions up to the depth they were enumerated
+completely. :func:`greedy_program` is the fallback when the SAT instance would be too
+large: a top-down tree that always exists (any two distinct states are told apart by an
+``=`` test of one coordinate).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from plansynth.budget import Clock
+from plansynth.grid.native.arena import BudgetExhausted
+from plansynth.grid.native.conditions import Condition
+from plansynth.grid.native.stationary import solve_clauses
+from plansynth.grid.programs import App, Const, Term, depth, size
+
+#: Valid program depths in increasing order (2 and 3 cannot beat 1).
+def program_depths(max_depth: int) -> list[int]:
+    return [1] + list(range(4, max_depth + 1))
+
+
+def tree_levels(d: int) -> int:
+    """Levels of conditions in a tree program of depth ``d``."""
+    return max(0, d - 3)
+
+
+@dataclass
+class TreeEncoding:
+    """The SAT variables of a decision tree over conditions, linked to per-state moves.
+
+    Nodes are numbered heap-style: node n has children 2n+1, 2n+2; internal nodes are
+    ``0 .. 2**levels - 2``, leaves follow. ``out(s, k)`` literals say "the tree answers k
+    in state s"; callers constrain them (allowed moves, or winning-strategy clauses).
+    """
+
+    levels: int
+    conds_at: list[list[Condition]]
+    n_states: int
+    n_moves: int
+    next_var: int
+    clauses: list[list[int]]
+
+    def __post_init__(self) -> None:
+        self.sel: dict[tuple[int, int], int] = {}
+        self.at: dict[tuple[int, int], int] = {}
+        self.leaf: dict[tuple[int, int], int] = {}
+
+    def new(self) -> int:
+        self.next_var += 1
+        return self.next_var
+
+    @property
+    def n_internal(self) -> int:
+        return 2**self.levels - 1
+
+    def build(self, out_lit) -> None:
+        """Emit the tree's clauses; ``out_lit(s, k)`` gives the literal 'state s plays k'."""
+        internal = self.n_internal
+        leaves = range(internal, 2 * internal + 1)
+        for n in range(internal):
+            conds = self.conds_at[_level(n)]
+            self.clauses.append([self._sel(n, j) for j in range(len(conds))])
+        for s in range(self.n_states):
+            self.clauses.append([self._at(0, s)])
+        for n in range(internal):
+            conds = self.conds_at[_level(n)]
+            for s in range(self.n_states):
+                a = self._at(n, s)
+                left, right = self._at(2 * n + 1, s), self._at(2 * n + 2, s)
+                for j, c in enumerate(conds):
+                    child = left if c.mask >> s & 1 else right
+                    self.clauses.append([-a, -self._sel(n, j), child])
+        for n in leaves:
+            self.clauses.append([self._leaf(n, k) for k in range(self.n_moves)])
+            for s in range(self.n_states):
+                a = self._at(n, s)
+                for k in range(self.n_moves):
+                    lit = out_lit(s, k)
+                    if lit is True:
+                        continue
+                    if lit is False:
+                        self.clauses.append([-a, -self._leaf(n, k)])
+                    else:
+                        self.clauses.append([-a, -self._leaf(n, k), lit])
+
+    def _sel(self, n: int, j: int) -> int:
+        key = (n, j)
+        v = self.sel.get(key)
+        if v is None:
+            v = self.sel[key] = self.new()
+        return v
+
+    def _at(self, n: int, s: int) -> int:
+        key = (n, s)
+        v = self.at.get(key)
+        if v is None:
+            v = self.at[key] = self.new()
+        return v
+
+    def _leaf(self, n: int, k: int) -> int:
+        key = (n, k)
+        v = self.leaf.get(key)
+        if v is None:
+            v = self.leaf[key] = self.new()
+        return v
+
+    def program(self, model: Sequence[int]) -> Term:
+        truth = set(v for v in model if v > 0)
+
+        def node(n: int) -> Term:
+            if n >= self.n_internal:
+                for k in range(self.n_moves):
+                    if self._leaf(n, k) in truth:
+                        return Const(k)
+                raise AssertionError("a leaf without a move")
+            conds = self.conds_at[_level(n)]
+            for j, c in enumerate(conds):
+                if self._sel(n, j) in truth:
+                    return simplify_ite(c, node(2 * n + 1), node(2 * n + 2), self.n_states)
+            raise AssertionError("a node without a condition")
+
+        return node(0)
+
+
+def _level(n: int) -> int:
+    return (n + 1).bit_length() - 1
+
+
+def simplify_ite(c: Condition, then: Term, other: Term, n_states: int) -> Term:
+    full = (1 << n_states) - 1
+    if c.mask == full or then == other:
+        return then
+    if c.mask == 0:
+        return other
+    return App("ite", (c.term, then, other))
+
+
+def conditions_by_level(conds: Sequence[Condition], d: int) -> list[list[Condition]]:
+    """For a tree of depth d, the conditions allowed at each level (depth <= d - 1 - i)."""
+    return [[c for c in conds if c.depth <= d - 1 - i] for i in range(tree_levels(d))]
+
+
+def tree_program(
+    allowed: Sequence[Sequence[int]],
+    conds: Sequence[Condition],
+    d: int,
+    n_moves: int,
+    clock: Clock | None = None,
+    max_clauses: int = 3_000_000,
+) -> Term | None:
+    """A program of depth <= ``d`` choosing an allowed move in every state, or None.
+
+    ``allowed[s]`` are the moves permitted in state s; ``conds`` the condition
+    behaviours over the same states. Exact relative to ``conds``. Raises
+    :class:`BudgetExhausted` if the instance is larger than ``max_clauses`` or the
+    clock runs out.
+    """
+    n = len(allowed)
+    if d < 4:
+        common = set(range(n_moves))
+        for a in allowed:
+            common &= set(a)
+        return Const(min(common)) if common else None
+    by_level = conditions_by_level(conds, d)
+    est = sum(len(by_level[_level(i)]) for i in range(2 ** tree_levels(d) - 1)) * n
+    if est > max_clauses:
+        raise BudgetExhausted(f"tree SAT instance of about {est} clauses")
+    enc = TreeEncoding(tree_levels(d), by_level, n, n_moves, 0, [])
+    sets = [set(a) for a in allowed]
+    enc.build(lambda s, k: k in sets[s])
+    model = solve_clauses(enc.clauses, clock)
+    return None if model is None else enc.program(model)
+
+
+def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, max_nodes: int = 10_000) -> Term:
+    """A top-down decision tree (always exists; not minimal): pick, at each node, the
+    condition after which most states can share a move on each side."""
+    n = len(states_allowed)
+    sets = [frozenset(a) for a in states_allowed]
+    budget = [max_nodes]
+
+    def best_common(members: int) -> tuple[int, int]:
+        counts = [0] * n_moves
+        for s in _bits(members):
+            for k in sets[s]:
+                counts[k] += 1
+        k = max(range(n_moves), key=lambda m: counts[m])
+        return k, counts[k]
+
+    def grow(members: int) -> Term:
+        total = bin(members).count("1")
+        k, c = best_common(members)
+        if c == total:
+            return Const(k)
+        budget[0] -= 1
+        if budget[0] < 0:
+            raise BudgetExhausted("greedy tree too large")
+        best = None
+        for cond in conds:
+            left = members & cond.mask
+            right = members & ~cond.mask
+            if not left or not right:
+                continue
+            score = best_common(left)[1] + best_common(right)[1]
+            key = (score, -cond.depth, -size(cond.term))
+            if best is None or key > best[0]:
+                best = (key, cond, left, right)
+        if best is None:
+            raise AssertionError("no condition separates states with disjoint allowed moves")
+        _, cond, left, right = best
+        return simplify_ite(cond, grow(left), grow(right), n)
+
+    return grow((1 << n) - 1)
+
+
+def _bits(mask: int):
+    while mask:
+        low = mask & -mask
+        yield low.bit_length() - 1
+        mask ^= low
+
+
+def program_depth(t: Term) -> int:
+    return depth(t)
