@@ -201,6 +201,10 @@ def _rings(polys: Iterable[ShPolygon]) -> list[list[Pt]]:
 # ------------------------------------------------------------- merging (2-D)
 
 
+def _longest_first(e: tuple[Pt, Pt]) -> float:
+    return -math.hypot(e[1][0] - e[0][0], e[1][1] - e[0][1])
+
+
 class _Pieces:
     """Convex pieces (CCW vertex cycles) with exact piece contacts; greedy convex merging.
 
@@ -209,7 +213,8 @@ class _Pieces:
     ends of the edge are not right turns.
     """
 
-    def __init__(self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]]) -> None:
+    def __init__(self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]], order=None) -> None:
+        self.order = order or _longest_first
         self.cycles: dict[int, list[Pt]] = {i: c for i, c in enumerate(cycles)}
         self.parent = list(range(len(cycles)))
         self.contacts = {(min(a, b), max(a, b)) for a, b in contacts if a != b}
@@ -232,7 +237,7 @@ class _Pieces:
         diagonals = [
             (u, v) for (u, v), pid in owner.items() if (v, u) in owner and owner[(v, u)] != pid and u < v
         ]
-        diagonals.sort(key=lambda e: -math.hypot(e[1][0] - e[0][0], e[1][1] - e[0][1]))
+        diagonals.sort(key=self.order)
         merged_any = False
         for u, v in diagonals:
             p, q = owner.get((u, v)), owner.get((v, u))
@@ -287,7 +292,7 @@ class _Pieces:
 # ------------------------------------------------------------- 2-D constructions
 
 
-def _hertel_mehlhorn(polys: list[ShPolygon]) -> tuple[list[list[Pt]], set[tuple[int, int]]]:
+def _hertel_mehlhorn(polys: list[ShPolygon], order=None) -> tuple[list[list[Pt]], set[tuple[int, int]]]:
     cycles: list[list[Pt]] = []
     for g in polys:
         tris = shapely.constrained_delaunay_triangles(g)
@@ -301,7 +306,7 @@ def _hertel_mehlhorn(polys: list[ShPolygon]) -> tuple[list[list[Pt]], set[tuple[
         for k in range(3):
             edge_owner.setdefault(frozenset((c[k], c[(k + 1) % 3])), []).append(i)
     contacts = [(o[0], o[1]) for o in edge_owner.values() if len(o) == 2]
-    pieces = _Pieces(cycles, contacts)
+    pieces = _Pieces(cycles, contacts, order)
     pieces.merge_all()
     return pieces.result()
 
@@ -422,23 +427,30 @@ def _grow_boxes(free: np.ndarray, order: tuple[int, ...]) -> np.ndarray:
     """Label free cells with box ids: from each unassigned free cell (in scan order),
     grow along ``order[0]``, then ``order[1]``, ... while the slab stays free+unassigned."""
     label = np.full(free.shape, -1, dtype=np.int64)
+    avail = free.copy()  # free and not yet in a box
+    flat = avail.reshape(-1)  # a view: updated with avail
     d = free.ndim
-    scan = np.argwhere(free)
     nb = 0
-    for cell in scan:
-        cell = tuple(int(c) for c in cell)
-        if label[cell] >= 0:
-            continue
-        lo = list(cell)
-        hi = [c + 1 for c in cell]
+    ptr = 0
+    while True:
+        rest = flat[ptr:]
+        k0 = int(np.argmax(rest))
+        if not rest[k0]:
+            break
+        ptr += k0
+        cell = np.unravel_index(ptr, free.shape)
+        lo = [int(c) for c in cell]
+        hi = [c + 1 for c in lo]
         for k in order:
             while hi[k] < free.shape[k]:
                 sl = tuple(slice(lo[j], hi[j]) if j != k else slice(hi[k], hi[k] + 1) for j in range(d))
-                if np.all(free[sl]) and np.all(label[sl] < 0):
+                if np.all(avail[sl]):
                     hi[k] += 1
                 else:
                     break
-        label[tuple(slice(lo[j], hi[j]) for j in range(d))] = nb
+        box = tuple(slice(lo[j], hi[j]) for j in range(d))
+        label[box] = nb
+        avail[box] = False
         nb += 1
     return label
 
