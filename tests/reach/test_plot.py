@@ -118,9 +118,20 @@ def test_animation_has_one_frame_per_sample(tmp_path: Path) -> None:
     p = single_integrator_version(maze(1))
     a = abstract(p)
     seq = region_path(a)
-    t = walk(p, a, seq, step=6.0)
+    t = walk(p, a, seq, step=10.0)
     out = animate(p, a, t, seq, tmp_path / "run.gif", fps=5)
     with Image.open(out) as im:
         assert im.format == "GIF" and im.n_frames == t.horizon + 1
         im.seek(im.n_frames - 1)
         assert im.width > 200
+
+
+def test_animation_subsamples_long_trajectories(tmp_path: Path) -> None:
+    p = single_integrator_version(maze(1))
+    a = abstract(p)
+    seq = region_path(a)
+    t = walk(p, a, seq, step=1.0)
+    assert t.horizon + 1 > 5
+    out = animate(p, a, t, seq, tmp_path / "short.gif", max_frames=5, dpi=40)
+    with Image.open(out) as im:
+        assert im.n_frames == 5
