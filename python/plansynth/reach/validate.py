@@ -42,7 +42,7 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.problem import Box, Polygon, ReachProblem, Shape, halfspaces
+from plansynth.reach.problem import Box, ReachProblem, Shape, halfspaces
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["Violation", "ValidationReport", "validate", "VIOLATION_KINDS"]
