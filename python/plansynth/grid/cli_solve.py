@@ -1,9 +1,184 @@
-"""CLI commands (registered on the `plansynth grid` app by :mod:`plansynth.grid.cli`)."""
+"""``plansynth grid solve`` and ``plansynth grid compile``: thin shells over
+:func:`plansynth.grid.solve.solve` and :func:`plansynth.grid.sygus.compile_sygus`
+(STYLE.md, point 12). Registered on the ``plansynth grid`` app by :mod:`plansynth.grid.cli`.
+"""
 
 from __future__ import annotations
 
+from dataclasses import replace
+from pathlib import Path
+from typing import Any, Optional
+
 import typer
+from rich.console import Console
+from rich.markup import escape
+
+from plansynth.budget import Budget
+from plansynth.errors import PlansynthError
+from plansynth.grid.problem import GridProblem, load_grid_problem
+from plansynth.grid.programs import size, to_python
+from plansynth.grid.result import GridResult, GridStatus, LengthOutcome
+
+#: Exit statuses of ``solve``.
+EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+
+_STATUS_STYLE = {
+    GridStatus.REALIZABLE: "bold green",
+    GridStatus.UNREALIZABLE: "bold red",
+    GridStatus.UNKNOWN: "bold yellow",
+}
+
+SOLVE_EPILOG = """\
+Examples:
+
+  plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json
+
+  plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --steps 6 -O sygus-enum=fast --keep-sl sl/
+
+  plansynth grid solve p.yaml --solver external --command "cvc5 --lang=sygus2 {file}" --timeout 600
+
+  plansynth grid solve p.yaml --solver cvc5 --depth-bound 4 --max-steps 8
+
+Exit status: 0 realizable (verified controller), 1 unrealizable, 2 bad input or solver unavailable, 3 unknown (budget ran out or a solver gave no answer).
+"""
+
+COMPILE_EPILOG = """\
+Examples:
+
+  plansynth grid compile examples/grid/figure1.yaml --steps 6 -o figure1-l6.sl
+
+  plansynth grid compile examples/grid/figure1.yaml --steps 6 --depth-bound 4
+
+  python -m plansynth.grid.backends.cvc5_cli figure1-l6.sl    # solve it by hand
+"""
+
+
+def _load(file: Path, steps: int | None, max_steps: int | None) -> GridProblem:
+    problem = load_grid_problem(file)
+    if max_steps is not None:
+        problem = replace(problem, steps=None, max_steps=max_steps)
+    if steps is not None:
+        problem = replace(problem, steps=steps)
+    return problem
+
+
+def _solver_options(solver: str, command: str | None, option: list[str], keep_sl: Path | None) -> dict[str, Any]:
+    sygus = solver in ("cvc5", "external")
+    if command is not None and solver != "external":
+        raise typer.BadParameter("--command is for --solver external", param_hint="--command")
+    if keep_sl is not None and not sygus:
+        raise typer.BadParameter("--keep-sl is for the SyGuS solvers (cvc5, external)", param_hint="--keep-sl")
+    if option and solver == "external":
+        raise typer.BadParameter("put the external solver's options in --command", param_hint="--option")
+    kwargs: dict[str, Any] = {}
+    if solver == "external":
+        kwargs["command"] = command
+    if option:
+        kwargs["options"] = list(option)
+    if keep_sl is not None:
+        kwargs["keep_sl"] = str(keep_sl)
+    return kwargs
+
+
+def _print_result(console: Console, problem: GridProblem, r: GridResult) -> None:
+    style = _STATUS_STYLE[r.status]
+    where = f" at l = {r.steps}" if r.status is GridStatus.REALIZABLE else ""
+    console.print(f"[{style}]{r.status.value}[/{style}]{where} ({r.solver} {escape(r.solver_version)}, {r.seconds:.2f} s)")
+    if r.status is GridStatus.REALIZABLE and r.program is not None:
+        console.print(f"controller (depth {r.depth}, size {size(r.program)}):")
+        console.print(f"  {escape(str(r.program))}", highlight=False)
+        console.print(escape(to_python(r.program, problem.variables)).rstrip(), highlight=False)
+        if r.verified:
+            console.print(f"[green]{escape(r.message)}[/green]", highlight=False)
+    elif r.message:
+        console.print(escape(r.message), highlight=False)
+
+
+def solve_command(
+    file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
+    solver: str = typer.Option("native", "--solver", "-s", help="Backend: native, cvc5 or external."),
+    command: Optional[str] = typer.Option(None, "--command", help='External SyGuS-IF v2 solver command; {file} is the .sl path, e.g. "cvc5 --lang=sygus2 {file}".'),
+    option: list[str] = typer.Option([], "--option", "-O", help="Solver option KEY=VALUE, repeatable (cvc5: its option names, e.g. sygus-enum=fast)."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Solve for exactly this path length (overrides the file)."),
+    max_steps: Optional[int] = typer.Option(None, "--max-steps", min=1, help="Search l = 1..N (overrides the file's steps/max_steps)."),
+    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", help="Wall-clock budget in seconds for the whole search."),
+    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, help="Memory limit of a solver process, in MB."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
+    keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
+) -> None:
+    """Synthesize a controller: try path lengths l in order, report the first verified one."""
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    from plansynth.grid.solve import solve
+
+    console = Console()
+    err = Console(stderr=True)
+    try:
+        if timeout is not None and timeout <= 0:
+            raise typer.BadParameter("must be positive", param_hint="--timeout")
+        problem = _load(file, steps, max_steps)
+        kwargs = _solver_options(solver, command, option, keep_sl)
+        budget = Budget(seconds=timeout, memory_mb=memory_mb)
+        lengths = list(problem.path_lengths())
+        with Progress(
+            SpinnerColumn(),
+            TextColumn("[progress.description]{task.description}"),
+            TimeElapsedColumn(),
+            console=err,
+            transient=True,
+        ) as bar:
+            task = bar.add_task(f"{solver}: l = {lengths[0]} ({1}/{len(lengths)})", total=len(lengths))
+
+            def progress(l: int, o: LengthOutcome) -> None:
+                style = _STATUS_STYLE[o.status]
+                note = f"  {escape(o.message)}" if o.message and o.status is not GridStatus.UNREALIZABLE else ""
+                bar.console.print(f"l = {l:>3}  [{style}]{o.status.value:<12}[/{style}] {o.seconds:8.2f} s{note}", highlight=False)
+                i = lengths.index(l) + 1
+                nxt = f"l = {lengths[i]} ({i + 1}/{len(lengths)})" if i < len(lengths) else "done"
+                bar.update(task, advance=1, description=f"{solver}: {nxt}")
+
+            result = solve(problem, solver, budget, depth_bound=depth_bound, progress=progress, **kwargs)
+    except typer.BadParameter:
+        raise
+    except PlansynthError as exc:
+        err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    _print_result(console, problem, result)
+    if out is not None:
+        result.write(out)
+        console.print(f"result written to {escape(str(out))}", highlight=False)
+    code = {GridStatus.REALIZABLE: EXIT_REALIZABLE, GridStatus.UNREALIZABLE: EXIT_UNREALIZABLE}
+    raise typer.Exit(code.get(result.status, EXIT_UNKNOWN))
+
+
+def compile_command(
+    file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l (default: the file's steps)."),
+    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, help="Unroll the grammar to programs of depth <= D."),
+    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the .sl here (default: stdout)."),
+) -> None:
+    """Write the SyGuS-IF v2 specification of a problem at one path length (paper §3.2)."""
+    from plansynth.grid.sygus import compile_sygus
+
+    err = Console(stderr=True)
+    try:
+        problem = load_grid_problem(file)
+        l = steps if steps is not None else problem.steps
+        if l is None:
+            raise typer.BadParameter("the file fixes no path length; give --steps N", param_hint="--steps")
+        text = compile_sygus(problem, l, depth_bound)
+    except PlansynthError as exc:
+        err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+        raise typer.Exit(EXIT_BAD_INPUT) from None
+    if output is None:
+        typer.echo(text, nl=False)
+    else:
+        output.write_text(text, encoding="utf-8")
+        err.print(f"wrote {escape(str(output))} ({len(text)} characters)", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
-    """Add this module's commands to ``app``."""
+    """Add ``solve`` and ``compile`` to the ``plansynth grid`` app."""
+    app.command("solve", epilog=SOLVE_EPILOG)(solve_command)
+    app.command("compile", epilog=COMPILE_EPILOG)(compile_command)

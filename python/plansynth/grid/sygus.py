@@ -273,7 +273,7 @@ def _helpers(problem: GridProblem) -> list[str]:
 
     # The three predicates of §3.2.
     cs = " ".join(f"(c{i} Int)" for i in range(n))
-    allow = _conj([f"(<= 0 c{i}) (<= c{i} {len(o.moves) - 1})" for i, o in enumerate(p.obstacles)])
+    allow = _conj([b for i, o in enumerate(p.obstacles) for b in (f"(<= 0 c{i})", f"(<= c{i} {len(o.moves) - 1})")])
     add(
         "\n; -- §3.2: the obstacles' choices at one step are moves they have\n"
         f"(define-fun obstaclePositionsAllowable ({cs}) Bool\n  {allow})"
@@ -300,13 +300,11 @@ def _constraint(problem: GridProblem, steps: int) -> tuple[list[str], str, str]:
     if steps < 1:
         raise InvalidProblem(p.source, "steps", f"must be >= 1, got {steps}")
     choices = [choice_variable(i, t) for t in range(steps) for i in range(n)]
-    ante = _conj(
-        [
-            f"(obstaclePositionsAllowable {' '.join(choice_variable(i, t) for i in range(n))})"
-            for t in range(steps)
-        ]
-        if n
-        else []
+    allowable = [
+        f"(obstaclePositionsAllowable {' '.join(choice_variable(i, t) for i in range(n))})" for t in range(steps)
+    ] if n else []
+    ante = "true" if not allowable else allowable[0] if len(allowable) == 1 else (
+        "(and " + "\n                    ".join(allowable) + ")"
     )
 
     def pos(t: int) -> list[str]:
@@ -321,11 +319,11 @@ def _constraint(problem: GridProblem, steps: int) -> tuple[list[str], str, str]:
         lines.append(f"(let ((k{t} (move {' '.join(here)})))")
         obs = " ".join(f"o{i}x{t} o{i}y{t} {choice_variable(i, t)}" for i in range(n))
         lines.append(f"(and (noIntersection rx{t} ry{t} k{t}{' ' + obs if obs else ''})")
-        nxt = [f"(rx{t + 1} (robot-x rx{t} ry{t} k{t}))", f"(ry{t + 1} (robot-y rx{t} ry{t} k{t}))"]
+        nxt = [f"(rx{t + 1} (robot-x rx{t} ry{t} k{t})) (ry{t + 1} (robot-y rx{t} ry{t} k{t}))"]
         for i in range(n):
             args = f"o{i}x{t} o{i}y{t} {choice_variable(i, t)}"
-            nxt += [f"(o{i}x{t + 1} (o{i}-x {args}))", f"(o{i}y{t + 1} (o{i}-y {args}))"]
-        lines.append("(let (" + " ".join(nxt) + ")")
+            nxt.append(f"(o{i}x{t + 1} (o{i}-x {args})) (o{i}y{t + 1} (o{i}-y {args}))")
+        lines.append("(let (" + "\n          ".join(nxt) + ")")
         closers += 3
     lines.append(f"(correctFinalPosition rx{steps} ry{steps})" + ")" * closers)
     return choices, ante, "\n    ".join(lines)

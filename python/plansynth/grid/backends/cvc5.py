@@ -24,13 +24,13 @@ import cvc5
 
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem
+from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
 from plansynth.grid.isolate import Crash, Finished, run_isolated
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
 from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
 from plansynth.grid.sygus import compile_sygus
 
-__all__ = ["Cvc5Backend", "run_sygus_text", "cvc5_version", "parse_options", "check_options"]
+__all__ = ["Cvc5Backend", "run_sygus_text", "run_smt_text", "cvc5_version", "parse_options", "check_options"]
 
 
 def cvc5_version() -> str:
@@ -63,14 +63,6 @@ def _value(v: Any) -> str:
     return str(v)
 
 
-def _new_solver(options: Mapping[str, str]) -> cvc5.Solver:
-    solver = cvc5.Solver(cvc5.TermManager())
-    solver.setOption("sygus", "true")
-    for key, value in options.items():
-        solver.setOption(key, value)
-    return solver
-
-
 def check_options(options: Mapping[str, str]) -> None:
     """Raise :class:`InvalidProblem` naming the option cvc5 rejects, if any."""
     solver = cvc5.Solver(cvc5.TermManager())
@@ -78,7 +70,7 @@ def check_options(options: Mapping[str, str]) -> None:
         try:
             solver.setOption(key, value)
         except RuntimeError as exc:
-            raise InvalidProblem(None, f"cvc5 option {key}", str(exc).strip()) from None
+            raise InvalidProblem("cvc5 options", key, str(exc).strip()) from None
 
 
 def run_sygus_text(text: str, options: Mapping[str, str] | None = None, name: str = "input.sl") -> str:
@@ -96,10 +88,26 @@ def run_sygus_text(text: str, options: Mapping[str, str] | None = None, name: st
     (define-fun f ((x Int)) Int (+ x 1))
     )
     """
-    solver = _new_solver(options or {})
+    return _run_text(text, {"sygus": "true", **(options or {})}, cvc5.InputLanguage.SYGUS_2_1, name)
+
+
+def run_smt_text(text: str, options: Mapping[str, str] | None = None, name: str = "input.smt2") -> str:
+    """Run SMT-LIB 2.6 ``text`` (for example :func:`plansynth.grid.sygus.compile_check`'s)
+    with cvc5 in the calling process; return what the commands print.
+
+    >>> run_smt_text("(set-logic LIA) (declare-fun x () Int) (assert (< x x)) (check-sat)")
+    'unsat\\n'
+    """
+    return _run_text(text, dict(options or {}), cvc5.InputLanguage.SMT_LIB_2_6, name)
+
+
+def _run_text(text: str, options: Mapping[str, str], lang: Any, name: str) -> str:
+    solver = cvc5.Solver(cvc5.TermManager())
+    for key, value in options.items():
+        solver.setOption(key, value)
     symbols = cvc5.SymbolManager(solver.getTermManager())
     parser = cvc5.InputParser(solver, symbols)
-    parser.setStringInput(cvc5.InputLanguage.SYGUS_2_1, text, name)
+    parser.setStringInput(lang, text, name)
     printed: list[str] = []
     while True:
         command = parser.nextCommand()
