@@ -112,8 +112,8 @@ def solve_command(
 
     from plansynth.grid.solve import solve
 
-    console = Console()
-    err = Console(stderr=True)
+    console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
     try:
         if timeout is not None and timeout <= 0:
             raise typer.BadParameter("must be positive", param_hint="--timeout")
@@ -133,7 +133,11 @@ def solve_command(
             def progress(l: int, o: LengthOutcome) -> None:
                 style = _STATUS_STYLE[o.status]
                 note = f"  {escape(o.message)}" if o.message and o.status is not GridStatus.UNREALIZABLE else ""
-                bar.console.print(f"l = {l:>3}  [{style}]{o.status.value:<12}[/{style}] {o.seconds:8.2f} s{note}", highlight=False)
+                cpu = o.counters.get("solver_cpu_seconds")
+                cpu_note = f" (solver cpu {cpu:.2f} s)" if isinstance(cpu, (int, float)) else ""
+                bar.console.print(
+                    f"l = {l:>3}  [{style}]{o.status.value:<12}[/{style}] {o.seconds:8.2f} s{cpu_note}{note}", highlight=False
+                )
                 i = lengths.index(l) + 1
                 nxt = f"l = {lengths[i]} ({i + 1}/{len(lengths)})" if i < len(lengths) else "done"
                 bar.update(task, advance=1, description=f"{solver}: {nxt}")
@@ -161,7 +165,7 @@ def compile_command(
     """Write the SyGuS-IF v2 specification of a problem at one path length (paper §3.2)."""
     from plansynth.grid.sygus import compile_sygus
 
-    err = Console(stderr=True)
+    err = Console(stderr=True, soft_wrap=True)
     try:
         problem = load_grid_problem(file)
         l = steps if steps is not None else problem.steps

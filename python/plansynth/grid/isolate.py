@@ -143,7 +143,9 @@ def run_isolated(
         return Timeout(timeout, 0.0)
     ctx = multiprocessing.get_context(method)
     receive, send = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_child, args=(send, fn, args, kwargs, memory_mb), daemon=True)
+    # Not a daemon, so that fn may start its own multiprocessing children; the finally
+    # clause below kills the child whatever happens (timeout, KeyboardInterrupt, ...).
+    proc = ctx.Process(target=_child, args=(send, fn, args, kwargs, memory_mb), daemon=False)
     proc.start()
     send.close()
     try:

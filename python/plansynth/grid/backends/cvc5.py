@@ -119,6 +119,14 @@ def _run_text(text: str, options: Mapping[str, str], lang: Any, name: str) -> st
     return "".join(printed)
 
 
+def _timed_run(text: str, options: Mapping[str, str], name: str) -> tuple[str, float]:
+    """Child-process body: the solver's output and the CPU seconds it took (the wall
+    clock says little on a loaded machine)."""
+    cpu = time.process_time()
+    out = run_sygus_text(text, options, name)
+    return out, time.process_time() - cpu
+
+
 class Cvc5Backend:
     """Solve one path length with cvc5 (see the module docstring).
 
@@ -147,16 +155,19 @@ class Cvc5Backend:
             "sl_chars": len(text),
         }
         outcome = run_isolated(
-            run_sygus_text, text, self.options, sl_file_name(problem, steps, depth_bound),
+            _timed_run, text, self.options, sl_file_name(problem, steps, depth_bound),
             timeout=budget.seconds, memory_mb=budget.memory_mb,
         )
         seconds = time.perf_counter() - start
         if isinstance(outcome, Finished):
+            output, cpu = outcome.value
             counters["solver_seconds"] = round(outcome.seconds, 6)
-            return outcome_from_answer(problem, steps, outcome.value, "cvc5", seconds, counters, artefact)
+            counters["solver_cpu_seconds"] = round(cpu, 6)
+            return outcome_from_answer(problem, steps, output, "cvc5", seconds, counters, artefact)
         if isinstance(outcome, Crash):
+            limit = "" if budget.memory_mb is None else f" (memory limit {budget.memory_mb} MB)"
             return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
-                                 message=f"cvc5 crashed: {outcome.describe()}", artefact=artefact)
+                                 message=f"cvc5 crashed: {outcome.describe()}{limit}", artefact=artefact)
         return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
                              message=f"cvc5 ran out of the time budget ({budget.seconds:.3g} s)", artefact=artefact)
 
