@@ -5,18 +5,20 @@ Grid families reproduce Chasins & Newcomb (SYNT 2016, Section 4.1; the spec's
 In those the obstacles rarely come near the robot, so three reactive families of our
 own complement them, with answers known by construction:
 
-- ``crossing`` (realizable): the robot must cross a one-lane road on which N cars drive
-  right at speed 1 or 2 (adversarially chosen, never stopping). A controller that goes
-  straight is hit; one that waits at the kerb until the cars have passed its column
-  wins, and must read the cars' positions to know when.
+- ``crossing`` (realizable): the robot must cross a one-lane road at a zebra crossing
+  (walls elsewhere) while N cars drive right at speed 1 or 2 (adversarially chosen,
+  never stopping). A controller that goes straight is hit; one that waits at the kerb
+  until every car has passed the crossing wins, and must read the cars' positions.
 - ``crossing-stall`` (unrealizable): the same road, but cars may stop (moves ``stay``
   and ``right``): a car can park just left of the robot's column and shadow it, and the
   road has an end, so no controller crosses safely at any length.
-- ``patrol`` (realizable): a guard walks up and down (it must move every step) in the
-  column the robot has to cross; the robot walks, and can sprint two cells vertically,
-  so it can outrun the guard and cross where the guard cannot reach in time.
-- ``patrol-walk`` (unrealizable): the same without the sprint: the guard shadows the
-  robot's row forever.
+- ``patrol``: a guard walks up and down (it must move every step) in the column the
+  robot has to cross; the robot can also sprint two cells vertically. Crossing at row r
+  is safe only when the guard is 3 or more rows away, and the guard keeps within 2 rows
+  of whichever border row the robot heads for as long as it can cover the distance:
+  unrealizable for heights up to 13 (5 and 7 here); height 15 is left open (expected
+  answer unknown) as a hard instance.
+- ``patrol-walk`` (unrealizable): the same without the sprint.
 
 Reach families reproduce Shoukry et al. (CDC 2016, Section VI): ``maze`` (n passages,
 double integrator; Table I), ``chain`` (the same mazes with integrator chains of order
@@ -151,11 +153,13 @@ _FAST = {"name": "fast", "to": [2, 0], "via": [[1, 0]]}
 
 
 def _crossing(cars: int, width: int = 7, steps: int = 12, stall: bool = False) -> dict[str, Any]:
-    """Road in row 2 of a width x 5 grid; robot (3,0) -> (3,4); cars start at 0..cars-1."""
+    """Road in row 2 of a width x 5 grid; robot (3,0) -> (3,4) along the zebra crossing
+    (column 3; every other cell of rows 0-1 and 3-4 is a wall); cars start at 0..cars-1."""
     moves = ["stay", "right"] if stall else ["right", _FAST]
     obstacles = [{"start": [i, 2], "moves": moves} for i in range(cars)]
+    walls = [(x, y) for x in range(width) for y in (0, 1, 3, 4) if x != 3]
     name = f"crossing-stall-{cars}" if stall else f"crossing-{cars}"
-    return _grid_doc(width, 5, (3, 0), (3, 4), obstacles, steps=steps, name=name)
+    return _grid_doc(width, 5, (3, 0), (3, 4), obstacles, steps=steps, walls=walls, name=name)
 
 
 _SPRINT = [{"name": "sprint-up", "to": [0, 2], "via": [[0, 1]]}, {"name": "sprint-down", "to": [0, -2], "via": [[0, -1]]}]
@@ -178,7 +182,7 @@ _GRID_BUILDERS: dict[str, Any] = {
     "dimensions": lambda S: _dimensions(S),
     "crossing": lambda cars, steps=12: _crossing(cars, steps=steps),
     "crossing-stall": lambda cars, steps=12: _crossing(cars, steps=steps, stall=True),
-    "patrol": lambda height, steps=14: _patrol(height, steps=steps),
+    "patrol": lambda height, steps=None: _patrol(height, steps=steps or (24 if height > 13 else 14)),
     "patrol-walk": lambda height, steps=14: _patrol(height, steps=steps, sprint=False),
 }
 
@@ -199,7 +203,7 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "dimensions": ("S", [5, 15, 25, 35, 45, 55], None),
     "crossing": ("cars", [1, 2, 3], "realizable"),
     "crossing-stall": ("cars", [1, 2], "unrealizable"),
-    "patrol": ("height", [5, 7, 9], "realizable"),
+    "patrol": ("height", [5, 7, 15], "unrealizable"),
     "patrol-walk": ("height", [5, 7], "unrealizable"),
 }
 
@@ -218,7 +222,8 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = _PAPER_GRID.get(name, {}).get(int(v))
-        out.append(Instance("grid", name, inst_name, params, expected, paper))
+        known = None if (name == "patrol" and int(v) > 13) else expected
+        out.append(Instance("grid", name, inst_name, params, known, paper))
     return out
 
 

@@ -82,7 +82,8 @@ def run_task(task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.bench.execute import execute
     from plansynth.grid.isolate import Crash, Finished, run_isolated
 
-    limit = float(task["timeout"]) + grace(float(task["timeout"]))
+    extra = task.get("grace")
+    limit = float(task["timeout"]) + (grace(float(task["timeout"])) if extra is None else float(extra))
     proc = multiprocessing.current_process()
     was_daemon = proc._config.get("daemon")  # type: ignore[attr-defined]
     if was_daemon:
@@ -159,7 +160,11 @@ def run_sweep(
     db = ResultsDB(db_path)
     try:
         machine = machine_info()
-        db.set_info({"machine": machine, "last_sweep": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())})
+        info = db.info()
+        planned = {tuple(k) for k in json.loads(info.get("planned", "[]"))}
+        planned |= {(t["experiment"], t["solver"], int(t["repeat"])) for t in tasks}
+        db.set_info({"machine": machine, "last_sweep": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+                     "planned": sorted(planned)})
         done = db.done_keys()
         todo = [t for t in tasks if (t["experiment"], t["solver"], int(t["repeat"])) not in done]
         counts: dict[str, int] = {"skipped": len(tasks) - len(todo), "done": 0}

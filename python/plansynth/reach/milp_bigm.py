@@ -299,7 +299,7 @@ def plan_milp_bigm(
                 status=ReachStatus.FOUND if ok else ReachStatus.UNKNOWN, planner="milp-bigm",
                 seconds=timings["total"], trajectory=traj if ok else None, regions=None,
                 segment_safe=bool(report.segment_safe), horizon=N, counters=counters, timings=timings,
-                options=options, validated=ok, validation=report,
+                options=options, guarantee="samples", validated=ok, validation=report,
                 message="" if ok else f"MILP trajectory failed validation: {report.summary()}",
             )
         if outcome == "infeasible":
@@ -313,6 +313,6 @@ def plan_milp_bigm(
     timings["total"] = time.perf_counter() - t0
     return ReachResult(
         status=ReachStatus.UNKNOWN, planner="milp-bigm", seconds=timings["total"], trajectory=None, regions=None,
-        segment_safe=None, horizon=None, counters=counters, timings=timings, options=options,
+        segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="samples",
         validated=None, validation=None, message=message,
     )

@@ -43,6 +43,8 @@ __all__ = ["PLANNERS", "plan_rrt", "ompl_version", "DEFAULT_STATE_SPAN"]
 #: Bound used for non-position state components when the problem gives no state bounds.
 DEFAULT_STATE_SPAN = 10.0
 
+_SEEDED: int | None = None
+
 #: OMPL control planners offered here (our name -> OMPL class name).
 PLANNERS: dict[str, str] = {"rrt": "RRT", "est": "EST", "kpiece": "KPIECE1"}
 
@@ -216,7 +218,13 @@ def plan_rrt(
     for i in range(n):
         start[i] = float(problem.start[i])
     ss.setStartState(start)
-    ou.RNG.setSeed(int(seed) + 1)  # OMPL treats seed 0 as "unset"
+    global _SEEDED
+    seeded = _SEEDED is None
+    if _SEEDED is None:
+        # OMPL seeds its generators once per process; later calls are ignored (with an
+        # error message), so a reproducible run needs a fresh process (as the bench runs).
+        ou.RNG.setSeed(int(seed) + 1)  # +1: OMPL reads seed 0 as "unset"
+        _SEEDED = int(seed)
     planner_obj = getattr(oc, PLANNERS[planner])(si)
     if goal_bias is not None and hasattr(planner_obj, "setGoalBias"):
         planner_obj.setGoalBias(goal_bias)
@@ -233,14 +241,14 @@ def plan_rrt(
         counters["tree_states"] = int(pdata.numVertices())
     except Exception:  # planner data is a counter only
         pass
-    options = {"planner": PLANNERS[planner], "seed": seed, "step": step, "goal_bias": goal_bias, "ompl": ompl_version()}
+    options = {"planner": PLANNERS[planner], "seed": seed, "seed_applied": seeded, "step": step, "goal_bias": goal_bias, "ompl": ompl_version()}
     timings = {"plan": plan_s, "setup": setup_s}
     name = planner
     if not exact:
         timings["total"] = time.perf_counter() - t0
         return ReachResult(
             status=ReachStatus.UNKNOWN, planner=name, seconds=timings["total"], trajectory=None, regions=None,
-            segment_safe=None, horizon=None, counters=counters, timings=timings, options=options,
+            segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="samples",
             validated=None, validation=None,
             message=f"OMPL {PLANNERS[planner]} ended without an exact solution ({_status_text(status)}) after {plan_s:.2f} s",
         )
@@ -264,7 +272,7 @@ def plan_rrt(
         status=ReachStatus.FOUND if ok else ReachStatus.UNKNOWN,
         planner=name, seconds=timings["total"], trajectory=traj if ok else None, regions=None,
         segment_safe=bool(report.segment_safe), horizon=traj.horizon, counters=counters, timings=timings,
-        options=options, validated=ok, validation=report,
+        options=options, guarantee="samples", validated=ok, validation=report,
         message="" if ok else f"OMPL path failed validation: {report.summary()}",
     )
 

@@ -1,0 +1,560 @@
+"""``bench report``: Markdown tables and log-scale PNG plots from a results database.
+
+For every figure and table of the two papers the report puts the paper's number beside
+ours and beside the peers' from the same run:
+
+- grid (Chasins & Newcomb, SYNT 2016): Figure 2 (time vs program depth: ``depth``),
+  Figure 3 (time vs path length: ``steps``), Figure 4 (time vs number of obstacles:
+  ``obstacles``), Figure 5 (time vs grid size: ``dimensions``), Figure 6 (solver
+  comparison on steps-20), plus ``figure1`` and our reactive families;
+- reach (Shoukry et al., CDC 2016): Table I (mazes: lazy SMT vs RRT vs MILP) and
+  Figure 4 (time vs number of states, integrator chains).
+
+Times are medians over the repeats that solved; a cell is ``> T`` when no repeat solved
+within the limit T (then the status counts say why), and ratio columns compare two
+backends on the same instance (``a/b`` > 1 means ``b`` was faster). Ratios with an
+unsolved side are bounds, marked ``>`` or ``<``.
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+import time
+from collections import defaultdict
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from plansynth.bench.db import ResultsDB
+from plansynth.bench.families import PAPER_TABLE_I
+
+__all__ = ["Cell", "summarise", "write_report", "headline"]
+
+GRID_FIGURES = [
+    ("depth", "Figure 2: time vs program depth", "d"),
+    ("steps", "Figure 3: time vs number of steps", "L"),
+    ("obstacles", "Figure 4: time vs number of obstacles", "N"),
+    ("dimensions", "Figure 5: time vs grid size", "S"),
+]
+REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk"]
+PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0, "Enumerative 2015": 805.0}
+
+
+@dataclass(frozen=True)
+class Cell:
+    """Aggregate of the repeats of one (instance, solver)."""
+
+    runs: int
+    solved: int
+    median: float | None  # median time of the solved repeats
+    worst: float | None
+    limit: float | None
+    statuses: dict[str, int]
+    depth: int | None = None
+    steps: int | None = None
+    horizon: int | None = None
+    extra: dict[str, Any] | None = None
+
+    @property
+    def all_solved(self) -> bool:
+        return self.runs > 0 and self.solved == self.runs
+
+    def text(self) -> str:
+        if self.solved == 0:
+            if set(self.statuses) <= {"unrealizable", "infeasible"}:
+                return f"{_fmt(self.median_any)} ({next(iter(self.statuses))})"
+            lim = f"> {_fmt(self.limit)}" if self.limit else "-"
+            return f"{lim} ({_status_summary(self.statuses)})"
+        s = _fmt(self.median)
+        if self.solved < self.runs:
+            s += f" ({self.solved}/{self.runs} solved; {_status_summary(self.statuses)})"
+        return s
+
+    @property
+    def median_any(self) -> float | None:
+        return (self.extra or {}).get("median_any")
+
+    def decided_time(self) -> float | None:
+        """Median time when every repeat gave a definite answer (solved or proved)."""
+        if self.runs and set(self.statuses) <= {"solved", "unrealizable", "infeasible"}:
+            return self.median if self.solved else self.median_any
+        return None
+
+
+def _fmt(x: float | None) -> str:
+    if x is None:
+        return "-"
+    if isinstance(x, str):
+        return x
+    if x >= 1000:
+        return f"{x:.0f}"
+    if x >= 0.01:
+        return f"{x:.3g}"
+    return f"{x:.1e}"
+
+
+def _status_summary(statuses: Mapping[str, int]) -> str:
+    return ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
+
+
+def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
+    """(experiment, planner) -> :class:`Cell`."""
+    groups: dict[tuple[str, str], list[Mapping[str, Any]]] = defaultdict(list)
+    for r in runs:
+        groups[(r["experiment"], r["planner"])].append(r)
+    out = {}
+    for key, rs in groups.items():
+        solved = [r for r in rs if r["solved"]]
+        times = [float(r["time"]) for r in solved if r["time"] is not None]
+        all_times = [float(r["time"]) for r in rs if r["time"] is not None]
+        statuses: dict[str, int] = defaultdict(int)
+        for r in rs:
+            statuses[r["status"]] += 1
+        first = solved[0] if solved else rs[0]
+        out[key] = Cell(
+            runs=len(rs), solved=len(solved),
+            median=statistics.median(times) if times else None,
+            worst=max(times) if times else None,
+            limit=max((r["timelimit"] or 0) for r in rs) or None,
+            statuses=dict(statuses),
+            depth=first.get("depth"), steps=first.get("steps"), horizon=first.get("horizon"),
+            extra={"median_any": statistics.median(all_times) if all_times else None,
+                   "family": rs[0]["family"], "instance": rs[0]["instance"], "setup": rs[0]["setup"],
+                   "lp_calls": first.get("lp_calls"), "sat_calls": first.get("sat_calls"),
+                   "timings": (first.get("attributes") or {}).get("timings", {}),
+                   "expected": (rs[0]["setup"] or {}).get("expected"),
+                   "program": (first.get("attributes") or {}).get("program")},
+        )
+    return out
+
+
+def _ratio(a: Cell | None, b: Cell | None) -> str:
+    """time(a) / time(b) on one instance, with bounds when one side did not finish."""
+    if a is None or b is None:
+        return "-"
+    ta, tb = a.decided_time(), b.decided_time()
+    if ta is not None and tb is not None:
+        return f"{ta / max(tb, 1e-6):.3g}"
+    if ta is None and tb is not None and a.limit:
+        return f"> {a.limit / max(tb, 1e-6):.3g}"
+    if tb is None and ta is not None and b.limit:
+        return f"< {ta / b.limit:.3g}"
+    return "-"
+
+
+def _ratio_value(a: Cell | None, b: Cell | None) -> tuple[float, str] | None:
+    if a is None or b is None:
+        return None
+    ta, tb = a.decided_time(), b.decided_time()
+    if ta is not None and tb is not None:
+        return ta / max(tb, 1e-6), "="
+    if ta is None and tb is not None and a.limit:
+        return a.limit / max(tb, 1e-6), ">"
+    if tb is None and ta is not None and b.limit:
+        return ta / b.limit, "<"
+    return None
+
+
+def _param(cell_or_setup: Mapping[str, Any]) -> float:
+    params = cell_or_setup.get("params") or {}
+    for k in ("d", "L", "N", "S", "cars", "height", "n", "seed"):
+        if k in params:
+            return float(params[k])
+    return 0.0
+
+
+def _instances(cells: Mapping[tuple[str, str], Cell], family: str) -> list[tuple[str, dict[str, Any]]]:
+    seen: dict[str, dict[str, Any]] = {}
+    for (exp, _), c in cells.items():
+        if c.extra and c.extra["family"] == family:
+            seen.setdefault(exp, c.extra["setup"])
+    return sorted(seen.items(), key=lambda kv: (_param(kv[1]), kv[1].get("params", {}).get("k", 0)))
+
+
+def _planners(cells: Mapping[tuple[str, str], Cell], kind_prefix: str, order: Sequence[str]) -> list[str]:
+    ps = {p for (exp, p) in cells if exp.startswith(kind_prefix)}
+    return [p for p in order if p in ps] + sorted(ps - set(order))
+
+
+def headline(cells: Mapping[tuple[str, str], Cell], a: str, b: str, prefix: str) -> dict[str, Any]:
+    """Median and worst of time(a)/time(b) over instances of ``prefix`` both decided."""
+    vals = []
+    bounds = []
+    for (exp, p), c in cells.items():
+        if p != a or not exp.startswith(prefix):
+            continue
+        rv = _ratio_value(c, cells.get((exp, b)))
+        if rv is None:
+            continue
+        (vals if rv[1] == "=" else bounds).append((rv[0], exp, rv[1]))
+    if not vals and not bounds:
+        return {"n": 0}
+    exact = sorted(v for v, _, _ in vals)
+    return {
+        "n": len(vals),
+        "median": statistics.median(exact) if exact else None,
+        "worst_for_b": max(vals)[0:2] if vals else None,  # largest a/b
+        "best_for_b": min(vals)[0:2] if vals else None,
+        "bounds": [(round(v, 3), e, s) for v, e, s in bounds],
+    }
+
+
+# ------------------------------------------------------------------------------ plots
+
+
+def _plot_family(cells: Mapping[tuple[str, str], Cell], family: str, planners: Sequence[str], title: str,
+                 xlabel: str, path: Path, paper: Mapping[float, float] | None = None,
+                 xkey: Any = None) -> bool:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    insts = _instances(cells, family)
+    if not insts:
+        return False
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    markers = "osD^v<>p*"
+    for i, p in enumerate(planners):
+        xs, ys, xu, yu = [], [], [], []
+        for exp, setup in insts:
+            c = cells.get((exp, p))
+            if c is None:
+                continue
+            x = xkey(setup) if xkey else _param(setup)
+            t = c.decided_time()
+            if t is not None:
+                xs.append(x)
+                ys.append(max(t, 1e-3))
+            elif c.limit:
+                xu.append(x)
+                yu.append(c.limit)
+        if xs or xu:
+            line = ax.plot(xs, ys, marker=markers[i % len(markers)], label=p)[0]
+            if xu:
+                ax.plot(xu, yu, linestyle="none", marker=markers[i % len(markers)], mfc="none",
+                        color=line.get_color(), label=f"{p}: no answer within limit")
+    if paper:
+        px = sorted(k for k, v in paper.items() if v is not None)
+        ax.plot(px, [paper[k] for k in px], "k--", marker="x", label="paper (Enumerative 2015, 2016 machine)")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("time (s, log scale)")
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
+def _plot_bars(groups: Sequence[str], series: Mapping[str, Sequence[float | None]], title: str, path: Path,
+               limits: Mapping[str, Sequence[bool]] | None = None) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, ax = plt.subplots(figsize=(7.0, 4.2))
+    k = len(series)
+    width = 0.8 / max(1, k)
+    x = np.arange(len(groups))
+    for i, (name, vals) in enumerate(series.items()):
+        v = [np.nan if t is None else max(t, 1e-3) for t in vals]
+        bars = ax.bar(x + (i - (k - 1) / 2) * width, v, width, label=name)
+        if limits and name in limits:
+            for b, lim in zip(bars, limits[name]):
+                if lim:
+                    b.set_hatch("//")
+                    b.set_alpha(0.5)
+    ax.set_xticks(x, groups)
+    ax.set_yscale("log")
+    ax.set_ylabel("time (s, log); hatched: no answer in limit")
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# ------------------------------------------------------------------------------ report
+
+
+def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plansynth benchmark report",
+                 planned: Sequence[tuple[str, str, int]] | None = None, image_prefix: str = "") -> Path:
+    """Write ``out_dir/REPORT.md`` and its PNG figures from the database; returns the path.
+
+    ``planned`` (resume keys) lets the report list the runs that are missing. Images
+    are referred to as ``image_prefix + name`` (for a report that lives elsewhere).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    with ResultsDB(db_path) as db:
+        runs = db.runs()
+        info = db.info()
+        if planned is None and "planned" in info:
+            planned = [tuple(k) for k in json.loads(info["planned"])]  # type: ignore[misc]
+        done = db.done_keys()
+    cells = summarise(runs)
+    machine = json.loads(info.get("machine", "{}"))
+    L: list[str] = [f"# {title}", ""]
+    L.append(f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from `{Path(db_path).name}` "
+             f"({len(runs)} runs). Machine: {machine.get('cpuinfo', '?')}; Python {machine.get('python', '?')}; "
+             + ", ".join(f"{k} {v}" for k, v in (machine.get("versions") or {}).items() if v) + ".")
+    L.append("")
+    L.append("Times are medians over repeats, in seconds, measured by each solver around its own solve "
+             "(problem construction and process start excluded). `> T` means no repeat answered within the "
+             "limit T; the statuses say what happened (`unknown`: the solver's budget ran out; `timeout`: "
+             "killed by the runner; `crash`/`memout`: the child died). A result counts as solved only if the "
+             "independent checker accepted it (grid: `plansynth.grid.verify`; reach: `plansynth.reach.validate`). "
+             "Paper numbers were measured in 2016 on the authors' machines; they are context, not a comparison.")
+    L.append("")
+    if planned:
+        missing = [k for k in planned if tuple(k) not in done]
+        L.append(f"Runs planned: {len(planned)}; finished: {len(planned) - len(missing)}; missing: {len(missing)}.")
+        if missing:
+            L.append("")
+            L.append("<details><summary>Missing runs</summary>")
+            L.append("")
+            for e, p, r in missing[:400]:
+                L.append(f"- {e} {p} #{r}")
+            L.append("")
+            L.append("</details>")
+        L.append("")
+
+    figs: list[str] = []
+    # ---------------------------------------------------------------- grid
+    grid_planners = _planners(cells, "grid/", ["native", "cvc5", "external"])
+    if grid_planners:
+        L.append("## Grid: reactive controllers (Chasins & Newcomb, SYNT 2016)")
+        L.append("")
+        if "native" in grid_planners and "cvc5" in grid_planners:
+            h = headline(cells, "cvc5", "native", "grid/")
+            if h["n"]:
+                L.append(f"**Headline: cvc5 / native time ratio** over {h['n']} instances both decided: "
+                         f"median {h['median']:.3g}, largest {h['worst_for_b'][0]:.3g} ({h['worst_for_b'][1]}), "
+                         f"smallest {h['best_for_b'][0]:.3g} ({h['best_for_b'][1]}).")
+            if h.get("bounds"):
+                L.append(f"Instances decided by one side only (ratio bounds from the time limit): "
+                         + "; ".join(f"{e}: {s} {v}" for v, e, s in h["bounds"]) + ".")
+            L.append("")
+        from plansynth.bench.families import _PAPER_GRID
+
+        for fam, caption, pname in GRID_FIGURES:
+            insts = _instances(cells, fam)
+            if not insts:
+                continue
+            L.append(f"### {caption} (family `{fam}`)")
+            L.append("")
+            L.extend(_grid_table(cells, insts, grid_planners, paper=True))
+            L.append("")
+            png = f"grid-{fam}.png"
+            paper = {float(k): v for k, v in _PAPER_GRID[fam].items() if v is not None}
+            if _plot_family(cells, fam, grid_planners, f"Grid, {caption} ({fam})", pname, out / png, paper):
+                L.append(f"![{caption}]({image_prefix}{png})")
+                figs.append(png)
+                L.append("")
+        # Figure 6
+        exp6 = "grid/steps/steps-20"
+        if any(e == exp6 for e, _ in cells):
+            L.append("### Figure 6: solvers on steps-20")
+            L.append("")
+            L.append("| solver | time (s) | source |")
+            L.append("|---|---|---|")
+            for k, v in PAPER_FIG6.items():
+                L.append(f"| {k} | {_fmt(v) if not isinstance(v, str) else v} | paper |")
+            for p in grid_planners:
+                c = cells.get((exp6, p))
+                if c:
+                    L.append(f"| {p} | {c.text()} | this run |")
+            L.append("")
+            series = {p: [cells[(exp6, p)].decided_time() if (exp6, p) in cells else None] for p in grid_planners}
+            lim = {p: [cells[(exp6, p)].decided_time() is None] if (exp6, p) in cells else [False] for p in grid_planners}
+            for p in grid_planners:
+                if series[p][0] is None and (exp6, p) in cells:
+                    series[p] = [cells[(exp6, p)].limit]
+            series["Enumerative 2014 (paper)"] = [1003.0]
+            series["Enumerative 2015 (paper)"] = [805.0]
+            series["Stochastic 2014 (paper, time out)"] = [1800.0]
+            lim["Stochastic 2014 (paper, time out)"] = [True]
+            _plot_bars(["steps-20"], series, "Grid, Figure 6: solver comparison on steps-20", out / "grid-figure6.png", lim)
+            L.append(f"![Figure 6]({image_prefix}grid-figure6.png)")
+            figs.append("grid-figure6.png")
+            L.append("")
+        react = [f for f in REACTIVE if _instances(cells, f)]
+        if react:
+            L.append("### Figure 1 and reactive families (ours: obstacles cross the robot's way)")
+            L.append("")
+            for fam in react:
+                L.append(f"Family `{fam}`:")
+                L.append("")
+                L.extend(_grid_table(cells, _instances(cells, fam), grid_planners, paper=False, expected=True))
+                L.append("")
+
+    # ---------------------------------------------------------------- reach
+    reach_planners = _planners(cells, "reach/", ["lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece"])
+    if reach_planners:
+        L.append("## Reach-avoid: lazy SMT planning (Shoukry et al., CDC 2016)")
+        L.append("")
+        mazes = _instances(cells, "maze")
+        if mazes:
+            L.append("### Table I: mazes (double integrator)")
+            L.append("")
+            hdr = ["passages", "paper: abstraction + DIS-PLAN + CON-PLAN", "paper: RRT", "paper: LTL OPT"]
+            hdr += [f"{p}" for p in reach_planners]
+            base = "lazy-smt" if "lazy-smt" in reach_planners else None
+            others = [p for p in reach_planners if p != base]
+            if base:
+                hdr += [f"{p} / {base}" for p in others]
+            L.append("| " + " | ".join(hdr) + " |")
+            L.append("|" + "---|" * len(hdr))
+            groups, series, lims = [], defaultdict(list), defaultdict(list)
+            for exp, setup in mazes:
+                n = int(setup["params"]["n"])
+                pap = PAPER_TABLE_I.get(n, {})
+                tot = sum(float(pap[k]) for k in ("abstraction", "dis-plan", "con-plan")) if pap else None
+                row = [str(n), _fmt(tot), _fmt(pap.get("rrt")), str(pap.get("ltl-opt", "-"))]
+                for p in reach_planners:
+                    c = cells.get((exp, p))
+                    row.append(c.text() if c else "-")
+                if base:
+                    for p in others:
+                        row.append(_ratio(cells.get((exp, p)), cells.get((exp, base))))
+                L.append("| " + " | ".join(row) + " |")
+                groups.append(f"maze-{n}")
+                for p in reach_planners:
+                    c = cells.get((exp, p))
+                    t = None if c is None else c.decided_time()
+                    series[p].append(t if t is not None else (c.limit if c else None))
+                    lims[p].append(c is not None and t is None)
+                series["paper lazy SMT (total)"].append(tot)
+                lims["paper lazy SMT (total)"].append(False)
+                series["paper RRT"].append(float(pap["rrt"]) if pap else None)
+                lims["paper RRT"].append(False)
+            L.append("")
+            if base:
+                L.append("**Headline ratios (per maze):** " + "; ".join(
+                    f"maze-{int(s['params']['n'])}: " + ", ".join(
+                        f"{p}/lazy-smt {_ratio(cells.get((e, p)), cells.get((e, base)))}" for p in others)
+                    for e, s in mazes) + ".")
+                L.append("")
+            # lazy-smt breakdown
+            if base:
+                L.append("Lazy SMT phases (median run): abstraction / SAT / LP seconds, SAT and LP calls, horizon:")
+                L.append("")
+                L.append("| maze | paper abstraction | paper DIS-PLAN | paper CON-PLAN | abstraction | sat | lp | SAT calls | LP calls | horizon |")
+                L.append("|---|---|---|---|---|---|---|---|---|---|")
+                for exp, setup in mazes:
+                    c = cells.get((exp, base))
+                    n = int(setup["params"]["n"])
+                    pap = PAPER_TABLE_I.get(n, {})
+                    tm = (c.extra or {}).get("timings", {}) if c else {}
+                    L.append(f"| {n} | {_fmt(pap.get('abstraction'))} | {_fmt(pap.get('dis-plan'))} | {_fmt(pap.get('con-plan'))} | "
+                             f"{_fmt(tm.get('abstraction'))} | {_fmt(tm.get('sat'))} | {_fmt(tm.get('lp'))} | "
+                             f"{(c.extra or {}).get('sat_calls') if c else '-'} | {(c.extra or {}).get('lp_calls') if c else '-'} | "
+                             f"{c.horizon if c else '-'} |")
+                L.append("")
+            _plot_bars(groups, dict(series), "Reach, Table I: mazes (log scale)", out / "reach-table1.png", dict(lims))
+            L.append(f"![Table I]({image_prefix}reach-table1.png)")
+            figs.append("reach-table1.png")
+            L.append("")
+        chains = _instances(cells, "chain")
+        if chains:
+            L.append("### Figure 4: scalability with the number of states (integrator chains)")
+            L.append("")
+            L.append("The paper reports 1.64 s (1 passage) to 152 s (4 passages) at n = 50 states, with random A, B; "
+                     "we use integrator chains of order k (n = 2k states).")
+            L.append("")
+            used = [p for p in reach_planners if any((e, p) in cells for e, _ in chains)]
+            hdr = ["passages", "k", "states n"] + used
+            L.append("| " + " | ".join(hdr) + " |")
+            L.append("|" + "---|" * len(hdr))
+            for exp, setup in chains:
+                n, k = int(setup["params"]["n"]), int(setup["params"]["k"])
+                row = [str(n), str(k), str(2 * k)] + [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]
+                L.append("| " + " | ".join(row) + " |")
+            L.append("")
+            _plot_chain(cells, chains, used, out / "reach-figure4.png")
+            L.append(f"![Figure 4]({image_prefix}reach-figure4.png)")
+            figs.append("reach-figure4.png")
+            L.append("")
+        rnd = _instances(cells, "random")
+        if rnd:
+            L.append("### Random workspaces")
+            L.append("")
+            used = [p for p in reach_planners if any((e, p) in cells for e, _ in rnd)]
+            hdr = ["instance"] + used
+            L.append("| " + " | ".join(hdr) + " |")
+            L.append("|" + "---|" * len(hdr))
+            for exp, setup in rnd:
+                L.append("| " + " | ".join([setup["name"]] + [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]) + " |")
+            L.append("")
+    report = out / "REPORT.md"
+    report.write_text("\n".join(L) + "\n", encoding="utf-8")
+    return report
+
+
+def _grid_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str, dict[str, Any]]],
+                planners: Sequence[str], *, paper: bool, expected: bool = False) -> list[str]:
+    hdr = ["instance"] + (["paper (s)"] if paper else []) + (["expected"] if expected else [])
+    for p in planners:
+        hdr += [f"{p} (s)", f"{p} depth / l"]
+    pairs = [(a, b) for a in planners for b in planners if a != b and b == "native"]
+    hdr += [f"{a} / {b}" for a, b in pairs]
+    out = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
+    for exp, setup in insts:
+        row = [setup["name"]]
+        if paper:
+            row.append(_fmt(setup.get("paper_seconds")))
+        if expected:
+            row.append(str(setup.get("expected") or "-"))
+        for p in planners:
+            c = cells.get((exp, p))
+            row.append(c.text() if c else "-")
+            row.append(f"{c.depth if c and c.depth is not None else '-'} / {c.steps if c and c.steps is not None else '-'}")
+        for a, b in pairs:
+            row.append(_ratio(cells.get((exp, a)), cells.get((exp, b))))
+        out.append("| " + " | ".join(row) + " |")
+    return out
+
+
+def _plot_chain(cells: Mapping[tuple[str, str], Cell], chains: Sequence[tuple[str, dict[str, Any]]],
+                planners: Sequence[str], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    by: dict[tuple[str, int], list[tuple[int, float, bool]]] = defaultdict(list)
+    for exp, setup in chains:
+        n, k = int(setup["params"]["n"]), int(setup["params"]["k"])
+        for p in planners:
+            c = cells.get((exp, p))
+            if c is None:
+                continue
+            t = c.decided_time()
+            by[(p, n)].append((2 * k, t if t is not None else (c.limit or 0.0), t is None))
+    styles = ["-", "--", ":", "-."]
+    for i, ((p, n), pts) in enumerate(sorted(by.items())):
+        pts.sort()
+        line = ax.plot([x for x, _, _ in pts], [max(y, 1e-3) for _, y, _ in pts], linestyle=styles[planners.index(p) % 4],
+                       marker="o", label=f"{p}, {n} passage{'s' if n > 1 else ''}")[0]
+        unl = [(x, y) for x, y, u in pts if u]
+        if unl:
+            ax.plot([x for x, _ in unl], [y for _, y in unl], "x", color=line.get_color())
+    ax.plot([50, 50], [1.64, 152], "k|", markersize=12, label="paper at n = 50: 1.64 s .. 152 s")
+    ax.set_yscale("log")
+    ax.set_xlabel("number of states n (= 2k)")
+    ax.set_ylabel("time (s, log scale); x: no answer within the limit")
+    ax.set_title("Reach, Figure 4: scalability with the number of states", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

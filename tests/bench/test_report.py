@@ -1,0 +1,56 @@
+"""Report generation on a small hand-made database: tables, ratios, plots."""
+
+from __future__ import annotations
+
+from plansynth.bench.db import ResultsDB
+from plansynth.bench.families import grid_family, reach_family
+from plansynth.bench.report import headline, summarise, write_report
+
+
+def _fill(path):
+    with ResultsDB(path) as db:
+        for inst, t_native, t_cvc5 in zip(grid_family("steps", [5, 10, 15]), [0.1, 0.2, 0.4], [1.0, 4.0, None]):
+            e = db.experiment(inst.key, kind="grid", family="steps", instance=inst.name, setup=inst.to_dict(), timelimit=60)
+            pn, pc = db.planner("native", {}), db.planner("cvc5", {})
+            db.add_run(e, pn, 0, {"time": t_native, "status": "solved", "solved": 1, "valid": 1, "depth": 4, "steps": 5})
+            if t_cvc5 is None:
+                db.add_run(e, pc, 0, {"time": 60.0, "status": "timeout", "solved": 0})
+            else:
+                db.add_run(e, pc, 0, {"time": t_cvc5, "status": "solved", "solved": 1, "valid": 1, "depth": 4, "steps": 5})
+        (maze,) = reach_family("maze", [1])
+        e = db.experiment(maze.key, kind="reach", family="maze", instance=maze.name, setup=maze.to_dict(), timelimit=60)
+        for name, t in [("lazy-smt", 0.5), ("rrt", 5.0), ("milp-bigm", 50.0)]:
+            db.add_run(e, db.planner(name, {}), 0, {"time": t, "status": "solved", "solved": 1, "valid": 1,
+                                                     "horizon": 40, "lp_calls": 3, "sat_calls": 4,
+                                                     "attributes": {"timings": {"abstraction": 0.01, "sat": 0.2, "lp": 0.3}}})
+        for k in (1, 2):
+            (ch,) = [i for i in reach_family("chain", [1], orders=[k])]
+            e = db.experiment(ch.key, kind="reach", family="chain", instance=ch.name, setup=ch.to_dict(), timelimit=60)
+            db.add_run(e, db.planner("lazy-smt", {}), 0, {"time": 0.5 * k, "status": "solved", "solved": 1, "valid": 1})
+
+
+def test_summary_and_headline_ratios(tmp_path):
+    _fill(tmp_path / "r.db")
+    with ResultsDB(tmp_path / "r.db") as db:
+        cells = summarise(db.runs())
+    h = headline(cells, "cvc5", "native", "grid/")
+    assert h["n"] == 2
+    assert h["median"] == 15.0  # ratios 10 and 20
+    assert h["worst_for_b"] == (20.0, "grid/steps/steps-10")
+    assert h["bounds"] == [(150.0, "grid/steps/steps-15", ">")]  # 60 s limit / 0.4 s
+
+
+def test_report_tables_and_plots(tmp_path):
+    _fill(tmp_path / "r.db")
+    out = tmp_path / "rep"
+    path = write_report(tmp_path / "r.db", out, planned=[("grid/steps/steps-20", "native", 0)])
+    text = path.read_text()
+    assert "Figure 3: time vs number of steps" in text
+    assert "| steps-5 | 4.2 |" in text  # the paper's number beside ours
+    assert "> 60 (1 timeout)" in text
+    assert "| 10 |" in text or "10 |" in text  # cvc5 / native ratio column
+    assert "Table I" in text and "| 1 | 2.39 | 10.4 | > 7200 |" in text
+    assert "rrt/lazy-smt 10" in text
+    assert "missing: 1" in text and "grid/steps/steps-20 native #0" in text
+    for png in ("grid-steps.png", "reach-table1.png", "reach-figure4.png"):
+        assert (out / png).stat().st_size > 5000

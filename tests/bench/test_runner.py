@@ -1,0 +1,71 @@
+"""The runner: isolation (hang -> timeout, crash -> crash), results kept, resume."""
+
+from __future__ import annotations
+
+import pytest
+
+from plansynth.bench.db import ResultsDB
+from plansynth.bench.families import grid_family
+from plansynth.bench.runner import make_tasks, run_sweep
+
+
+def _tasks(solvers, repeat=1):
+    tasks = make_tasks(grid_family("depth", [1]), solvers, repeat=repeat, timeout=0.5, memory_mb=2048)
+    for t in tasks:
+        t["grace"] = 1.0  # keep the hung child's kill quick
+    return tasks
+
+
+def _by_solver(db_path):
+    with ResultsDB(db_path) as db:
+        return {(r["planner"], r["repeat"]): r for r in db.runs()}
+
+
+def test_hang_and_crash_are_recorded_and_others_survive(tmp_path):
+    db = tmp_path / "r.db"
+    counts = run_sweep(db, _tasks(["debug-sleep", "debug-crash", "debug-raise", "debug-ok"]), jobs=2, progress=False)
+    runs = _by_solver(db)
+    assert counts["done"] == 4
+    assert runs[("debug-sleep", 0)]["status"] == "timeout"
+    assert runs[("debug-sleep", 0)]["solved"] == 0
+    assert runs[("debug-crash", 0)]["status"] == "crash"
+    assert "SIGSEGV" in runs[("debug-crash", 0)]["message"]
+    assert runs[("debug-raise", 0)]["status"] == "crash"
+    assert "debug-raise: a solver bug" in runs[("debug-raise", 0)]["message"]
+    ok = runs[("debug-ok", 0)]
+    assert (ok["status"], ok["solved"], ok["valid"]) == ("solved", 1, 1)
+    assert ok["memory"] > 0 and ok["wall"] > 0
+
+
+def test_interrupted_sweep_resumes_and_skips_done_runs(tmp_path):
+    db = tmp_path / "r.db"
+    tasks = _tasks(["debug-ok"], repeat=4)
+    seen = []
+
+    def interrupt_after_two(task, attrs):
+        seen.append(task["repeat"])
+        if len(seen) == 2:
+            raise KeyboardInterrupt  # as if the user pressed Ctrl-C mid-sweep
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(db, tasks, progress=False, on_result=interrupt_after_two)
+    with ResultsDB(db) as d:
+        done_before = d.done_keys()
+    assert len(done_before) == 2
+    counts = run_sweep(db, tasks, progress=False)
+    assert counts["skipped"] == 2 and counts["done"] == 2
+    with ResultsDB(db) as d:
+        assert {k[2] for k in d.done_keys()} == {0, 1, 2, 3}
+        assert len(d.runs()) == 4
+    # a third invocation has nothing left to do
+    assert run_sweep(db, tasks, progress=False) == {"skipped": 4, "done": 0}
+
+
+def test_real_grid_solver_run_is_verified(tmp_path):
+    db = tmp_path / "r.db"
+    tasks = make_tasks(grid_family("depth", [4]), ["native"], timeout=20)
+    run_sweep(db, tasks, progress=False)
+    (run,) = _by_solver(db).values()
+    assert run["status"] == "solved" and run["valid"] == 1
+    assert run["depth"] == 4 and run["steps"] == 5
+    assert run["attributes"]["program"]
