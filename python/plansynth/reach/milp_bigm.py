@@ -12,8 +12,9 @@ is that peer, solved with HiGHS:
   ``{p : H p <= h}`` (boxes and convex polygons as they are, non-convex polygons by a
   constrained Delaunay triangulation); for each step t and piece, binaries ``z_{t,j}``
   with ``sum_j z_{t,j} >= 1`` select a face j whose half-plane the position leaves:
-  ``H_j p_t >= h_j - M_j (1 - z_{t,j})``, with ``M_j`` the largest violation over the
-  workspace box (a tight, per-face constant);
+  ``H_j p_t >= h_j + margin - M_j (1 - z_{t,j})``, with ``M_j`` the largest violation
+  over the workspace box (a tight, per-face constant) and a small ``margin`` (1e-4)
+  that keeps positions off the pieces' shared edges;
 - the final position lies in the goal: ``H_g p_N <= h_g``.
 
 Like the paper's sampled semantics, only the positions x_t are constrained; the result
@@ -132,7 +133,14 @@ class _Rows:
                 self.value.append(v)
 
 
-def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str) -> tuple[str, Trajectory | None, dict[str, Any]]:
+#: Positions keep this distance outside the obstacle pieces. It must exceed the MILP's
+#: feasibility tolerance, and it excludes the shared edges of the pieces of a
+#: non-convex obstacle (interior points of the obstacle that lie in no open piece).
+MARGIN = 1e-4
+
+
+def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str,
+                   margin: float = MARGIN) -> tuple[str, Trajectory | None, dict[str, Any]]:
     import highspy
 
     inf = highspy.kHighsInf
@@ -196,11 +204,11 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
                 n_bin += 1
                 bin_cols.append(col)
                 choose[col] = 1.0
-                # H_r p >= h_r - M (1 - z)  <=>  H_r p - M z >= h_r - M
-                M = max(0.0, float(np.max(h[r] - corners @ H[r]))) + 1.0
+                # H_r p >= h_r + margin - M (1 - z)  <=>  H_r p - M z >= h_r + margin - M
+                M = max(0.0, float(np.max(h[r] + margin - corners @ H[r]))) + 1.0
                 coefs = {xi(t, pos[a]): float(H[r, a]) for a in range(d)}
                 coefs[col] = -M
-                rows.add(float(h[r]) - M, inf, coefs)
+                rows.add(float(h[r]) + margin - M, inf, coefs)
             del first
             rows.add(1.0, inf, choose)
     h = highspy.Highs()

@@ -1,0 +1,116 @@
+"""The reach baselines: OMPL kinodynamic RRT and the one-shot big-M MILP."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from plansynth.budget import Budget
+from plansynth.reach.dynamics import double_integrator, single_integrator
+from plansynth.reach.problem import Box, Polygon, ReachProblem, shape_to_shapely
+from plansynth.reach.result import ReachStatus
+from plansynth.reach.validate import validate
+
+
+def _open_problem(obstacles=()):
+    dyn = double_integrator(2, 0.5)
+    return ReachProblem(
+        workspace=Box((0.0, 0.0), (10.0, 10.0)), obstacles=tuple(obstacles), goal=Box((8.0, 8.0), (9.0, 9.0)),
+        dynamics=dyn, start=np.array([1.0, 1.0, 0.0, 0.0]), input_bound=1.0,
+        state_bounds=Box((0.0, 0.0, -2.0, -2.0), (10.0, 10.0, 2.0, 2.0)), max_horizon=60, name="open")
+
+
+def test_rrt_finds_a_valid_trajectory_in_an_open_workspace():
+    from plansynth.reach.rrt import plan_rrt
+
+    p = _open_problem()
+    r = plan_rrt(p, Budget(seconds=20), seed=3)
+    assert r.status == ReachStatus.FOUND and r.validated is True
+    assert r.planner == "rrt" and r.guarantee == "samples"
+    assert r.horizon == r.trajectory.horizon > 0
+    assert validate(p, r.trajectory).ok  # the same independent check, once more
+    assert r.counters["propagations"] >= r.horizon
+    assert r.options["planner"] == "RRT" and r.options["seed"] == 3
+
+
+def test_kpiece_and_est_are_offered():
+    from plansynth.reach.rrt import PLANNERS, plan_rrt
+
+    assert set(PLANNERS) == {"rrt", "est", "kpiece"}
+    r = plan_rrt(_open_problem(), Budget(seconds=20), seed=1, planner="kpiece")
+    assert r.status == ReachStatus.FOUND and r.validated is True
+
+
+def test_rrt_gives_unknown_never_infeasible_when_the_goal_is_walled_off():
+    from plansynth.reach.rrt import plan_rrt
+
+    # the goal (8..9)^2 is cut off by an L of walls 2.5 m thick (one step covers at most
+    # 1.25 m, so sampled positions cannot hop over them)
+    p = _open_problem([Box((4.0, 4.0), (10.0, 6.5)), Box((4.0, 4.0), (6.5, 10.0))])
+    r = plan_rrt(p, Budget(seconds=0.5), seed=1)
+    assert r.status == ReachStatus.UNKNOWN and r.trajectory is None
+
+
+def test_bigm_milp_finds_a_valid_trajectory_around_a_nonconvex_obstacle():
+    from plansynth.reach.milp_bigm import plan_milp_bigm
+
+    L = Polygon(((3.0, 3.0), (7.0, 3.0), (7.0, 4.0), (4.0, 4.0), (4.0, 7.0), (3.0, 7.0)))
+    p = _open_problem([L])
+    r = plan_milp_bigm(p, Budget(seconds=30))
+    assert r.status == ReachStatus.FOUND and r.validated is True
+    assert r.planner == "milp-bigm"
+    rep = validate(p, r.trajectory)
+    assert rep.ok
+    poly = shape_to_shapely(L)
+    pos = r.trajectory.states[:, :2]
+    assert not any(poly.contains(shapely.Point(*q)) for q in pos)
+    assert r.counters["binaries"] > 0
+
+
+def test_bigm_milp_fixed_horizon_too_short_is_unknown():
+    from plansynth.reach.milp_bigm import plan_milp_bigm
+
+    r = plan_milp_bigm(_open_problem(), Budget(seconds=10), horizon=2)
+    assert r.status == ReachStatus.UNKNOWN
+    assert r.counters["horizons_infeasible"] == 1
+
+
+def test_convex_pieces_cover_a_nonconvex_polygon_exactly():
+    from plansynth.reach.milp_bigm import convex_pieces
+
+    L = Polygon(((0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)))
+    pieces = convex_pieces(L)
+    rng = np.random.default_rng(0)
+    for q in rng.uniform(-0.5, 2.5, size=(300, 2)):
+        inside_piece = any(np.all(H @ q < h - 1e-9) for H, h in pieces)
+        in_poly = shape_to_shapely(L).contains(shapely.Point(*q))
+        if inside_piece:
+            assert in_poly
+    assert sum(shapely.Polygon(_vertices(H, h)).area for H, h in pieces) == pytest.approx(3.0)
+
+
+def _vertices(H, h):
+    # vertices of a 2-D convex polygon {H p <= h}: pairwise line intersections that satisfy all
+    pts = []
+    for i in range(len(h)):
+        for j in range(i + 1, len(h)):
+            M = np.array([H[i], H[j]])
+            if abs(np.linalg.det(M)) < 1e-12:
+                continue
+            p = np.linalg.solve(M, [h[i], h[j]])
+            if np.all(H @ p <= h + 1e-9):
+                pts.append(tuple(p))
+    c = np.mean(pts, axis=0)
+    return sorted(set(pts), key=lambda p: np.arctan2(p[1] - c[1], p[0] - c[0]))
+
+
+def test_single_integrator_is_supported_by_both():
+    from plansynth.reach.milp_bigm import plan_milp_bigm
+    from plansynth.reach.rrt import plan_rrt
+
+    p = ReachProblem(workspace=Box((0.0, 0.0), (5.0, 5.0)), obstacles=(Box((2.0, 0.0), (3.0, 4.0)),),
+                     goal=Box((4.0, 0.0), (5.0, 1.0)), dynamics=single_integrator(2, 1.0),
+                     start=np.array([0.5, 0.5]), input_bound=1.0, name="wall")
+    for r in (plan_milp_bigm(p, Budget(seconds=20)), plan_rrt(p, Budget(seconds=20), seed=2)):
+        assert r.status == ReachStatus.FOUND and validate(p, r.trajectory).ok
