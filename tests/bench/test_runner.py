@@ -69,3 +69,13 @@ def test_real_grid_solver_run_is_verified(tmp_path):
     assert run["status"] == "solved" and run["valid"] == 1
     assert run["depth"] == 4 and run["steps"] == 5
     assert run["attributes"]["program"]
+
+
+def test_retry_reruns_only_runs_with_the_given_statuses(tmp_path):
+    db = tmp_path / "r.db"
+    tasks = _tasks(["debug-raise", "debug-ok"])
+    run_sweep(db, tasks, progress=False)
+    counts = run_sweep(db, tasks, progress=False, retry=["crash"])
+    assert counts["skipped"] == 1 and counts["done"] == 1 and counts["crash"] == 1
+    with ResultsDB(db) as d:
+        assert len(d.runs()) == 2  # the rerun replaced the crashed row

@@ -45,7 +45,8 @@ def _split(text: str) -> list[str]:
 
 
 def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[str], *, orders: list[int],
-           timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int) -> None:
+           timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
+           retry: str = "") -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import make_tasks, run_sweep
 
@@ -64,7 +65,7 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
         console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed)
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
-    counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True)
+    counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True, retry=_split(retry))
     console.print("finished: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
 
 
@@ -80,11 +81,12 @@ def grid_cmd(
     memory: int = typer.Option(8192, "--memory", help="Memory limit per run, MB."),
     cluster: Optional[str] = typer.Option(None, "--cluster", help="Dask scheduler address (tcp://host:8786); default: local pool."),
     seed: int = typer.Option(0, "--seed"),
+    retry: str = typer.Option("", "--retry", help="Rerun recorded runs with these statuses, e.g. crash,timeout."),
 ) -> None:
     """Run grid families with several backends into the results database."""
     fams = [x for f in family for x in _split(f)]
     _sweep("grid", fams, values, _split(solvers), orders=[], timeout=timeout, repeat=repeat, db=db, jobs=jobs,
-           memory=memory, cluster=cluster, seed=seed)
+           memory=memory, cluster=cluster, seed=seed, retry=retry)
 
 
 @app.command("reach", epilog=REACH_EPILOG)
@@ -100,11 +102,12 @@ def reach_cmd(
     memory: int = typer.Option(8192, "--memory"),
     cluster: Optional[str] = typer.Option(None, "--cluster"),
     seed: int = typer.Option(0, "--seed", help="Base seed of the sampling planners (repeat r uses seed + r)."),
+    retry: str = typer.Option("", "--retry", help="Rerun recorded runs with these statuses, e.g. crash,timeout."),
 ) -> None:
     """Run reach-avoid families with several planners into the results database."""
     fams = [x for f in family for x in _split(f)]
     _sweep("reach", fams, values, _split(planners), orders=[int(k) for k in _split(orders)], timeout=timeout,
-           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed)
+           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry)
 
 
 @app.command("report")

@@ -208,12 +208,18 @@ class ResultsDB:
 
     # ------------------------------------------------------------------ reading
 
-    def done_keys(self) -> set[tuple[str, str, int]]:
-        """(experiment name, planner name, repeat) of every recorded run: the resume key."""
-        rows = self.conn.execute(
-            'SELECT e.name, p.name, r."repeat" FROM runs r JOIN experiments e ON r.experimentid = e.id'
-            " JOIN plannerConfigs p ON r.plannerid = p.id"
-        )
+    def done_keys(self, retry: Iterable[str] = ()) -> set[tuple[str, str, int]]:
+        """(experiment name, planner name, repeat) of every recorded run: the resume key.
+
+        Runs whose status is in ``retry`` (for example ``crash``) are left out, so that a
+        resumed sweep runs them again (the new row replaces the old one).
+        """
+        retry = tuple(retry)
+        q = ('SELECT e.name, p.name, r."repeat" FROM runs r JOIN experiments e ON r.experimentid = e.id'
+             " JOIN plannerConfigs p ON r.plannerid = p.id")
+        if retry:
+            q += f" WHERE r.status NOT IN ({', '.join('?' for _ in retry)})"
+        rows = self.conn.execute(q, retry)
         return {(a, b, int(c)) for a, b, c in rows}
 
     def runs(self, kind: str | None = None) -> list[dict[str, Any]]:

@@ -79,10 +79,11 @@ def main() -> None:  # pragma: no cover - used to run one part in the background
     ap.add_argument("--part", choices=["all", "grid", "reach"], default="all")
     ap.add_argument("--grid-timeout", type=float, default=60.0)
     ap.add_argument("--reach-timeout", type=float, default=60.0)
+    ap.add_argument("--retry", default="", help="comma-separated statuses to rerun, e.g. crash")
     a = ap.parse_args()
     tasks = published_tasks(a.grid_timeout, a.reach_timeout, a.part)
     t0 = time.time()
-    counts = run_sweep(a.db, tasks, progress=False,
+    counts = run_sweep(a.db, tasks, progress=False, retry=[s for s in a.retry.split(",") if s],
                        on_result=lambda t, r: print(json.dumps({"run": [t["experiment"], t["solver"], t["repeat"]],
                                                                 "status": r.get("status"), "time": r.get("time")}),
                                                     flush=True))

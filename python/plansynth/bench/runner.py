@@ -151,11 +151,13 @@ def run_sweep(
     cluster: str | Any | None = None,
     progress: bool = True,
     on_result: Callable[[Mapping[str, Any], Mapping[str, Any]], None] | None = None,
+    retry: Sequence[str] = (),
 ) -> dict[str, int]:
     """Run the tasks not yet in the database; returns counts (done, skipped, per status).
 
     ``cluster`` is a Dask scheduler address (or a ``distributed.Client``); without it, a
-    local pool of ``jobs`` concurrent children runs the tasks.
+    local pool of ``jobs`` concurrent children runs the tasks. Recorded runs whose status
+    is in ``retry`` (e.g. ``("crash", "timeout")``) are run again.
     """
     db = ResultsDB(db_path)
     try:
@@ -165,7 +167,7 @@ def run_sweep(
         planned |= {(t["experiment"], t["solver"], int(t["repeat"])) for t in tasks}
         db.set_info({"machine": machine, "last_sweep": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
                      "planned": sorted(planned)})
-        done = db.done_keys()
+        done = db.done_keys(retry)
         todo = [t for t in tasks if (t["experiment"], t["solver"], int(t["repeat"])) not in done]
         counts: dict[str, int] = {"skipped": len(tasks) - len(todo), "done": 0}
         ids: dict[tuple[str, str], tuple[int, int]] = {}

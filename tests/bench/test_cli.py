@@ -1,0 +1,45 @@
+"""`plansynth bench` commands, end to end on tiny sweeps."""
+
+from __future__ import annotations
+
+from typer.testing import CliRunner
+
+from plansynth.bench.db import ResultsDB
+from plansynth.cli import app
+
+runner = CliRunner()
+
+
+def test_grid_sweep_then_report(tmp_path):
+    db = tmp_path / "b.db"
+    r = runner.invoke(app, ["bench", "grid", "--family", "depth", "--values", "1,4", "--solvers", "native",
+                            "--timeout", "20", "--db", str(db)])
+    assert r.exit_code == 0, r.output
+    assert "2 runs" in r.output and "solved 2" in r.output
+    # rerunning resumes: nothing left to do
+    r = runner.invoke(app, ["bench", "grid", "--family", "depth", "--values", "1,4", "--solvers", "native",
+                            "--timeout", "20", "--db", str(db)])
+    assert "skipped 2" in r.output and "done 0" in r.output
+    with ResultsDB(db) as d:
+        assert {row["status"] for row in d.runs()} == {"solved"}
+    out = tmp_path / "rep"
+    r = runner.invoke(app, ["bench", "report", "--db", str(db), "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    text = (out / "REPORT.md").read_text()
+    assert "Figure 2: time vs program depth" in text and "| depth-1 | 0.061 |" in text
+    assert (out / "grid-depth.png").exists()
+
+
+def test_bad_family_and_missing_db_are_exit_2(tmp_path):
+    r = runner.invoke(app, ["bench", "grid", "--family", "nope", "--db", str(tmp_path / "b.db")])
+    assert r.exit_code == 2 and "unknown grid family" in r.output
+    r = runner.invoke(app, ["bench", "report", "--db", str(tmp_path / "none.db")])
+    assert r.exit_code == 2
+
+
+def test_families_writes_problem_files(tmp_path):
+    r = runner.invoke(app, ["bench", "families", "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "grid" / "steps" / "steps-25.yaml").exists()
+    assert (tmp_path / "grid" / "crossing" / "crossing-2.yaml").read_text().startswith("# plansynth bench family")
+    assert (tmp_path / "reach" / "maze" / "maze-4.yaml").exists()
