@@ -27,7 +27,7 @@ def test_rrt_finds_a_valid_trajectory_in_an_open_workspace():
     p = _open_problem()
     r = plan_rrt(p, Budget(seconds=20), seed=3)
     assert r.status == ReachStatus.FOUND and r.validated is True
-    assert r.planner == "rrt" and r.guarantee == "samples"
+    assert r.planner == "rrt" and r.guarantee == "segments"
     assert r.horizon == r.trajectory.horizon > 0
     assert validate(p, r.trajectory).ok  # the same independent check, once more
     assert r.counters["propagations"] >= r.horizon
@@ -61,7 +61,7 @@ def test_bigm_milp_finds_a_valid_trajectory_around_a_nonconvex_obstacle():
     assert r.status == ReachStatus.FOUND and r.validated is True
     assert r.planner == "milp-bigm"
     rep = validate(p, r.trajectory)
-    assert rep.ok
+    assert rep.ok and rep.segment_safe and r.guarantee == "segments"
     poly = shape_to_shapely(L)
     pos = r.trajectory.states[:, :2]
     assert not any(poly.contains(shapely.Point(*q)) for q in pos)
@@ -114,3 +114,16 @@ def test_single_integrator_is_supported_by_both():
                      start=np.array([0.5, 0.5]), input_bound=1.0, name="wall")
     for r in (plan_milp_bigm(p, Budget(seconds=20)), plan_rrt(p, Budget(seconds=20), seed=2)):
         assert r.status == ReachStatus.FOUND and validate(p, r.trajectory).ok
+
+
+def test_rrt_edges_do_not_hop_over_a_thin_wall_unless_asked():
+    from plansynth.reach.rrt import plan_rrt
+
+    # a 0.2 m wall with a gap at the top: one step can carry the robot across it
+    p = _open_problem([Box((5.0, 0.0), (5.2, 9.0))])
+    safe = plan_rrt(p, Budget(seconds=20), seed=4)
+    assert safe.status == ReachStatus.FOUND and validate(p, safe.trajectory).segment_safe
+    assert safe.guarantee == "segments"
+    loose = plan_rrt(p, Budget(seconds=20), seed=4, segment_safe=False)
+    assert loose.status == ReachStatus.FOUND and loose.guarantee == "samples"
+    assert validate(p, loose.trajectory).ok

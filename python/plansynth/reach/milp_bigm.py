@@ -17,8 +17,9 @@ is that peer, solved with HiGHS:
   that keeps positions off the pieces' shared edges;
 - the final position lies in the goal: ``H_g p_N <= h_g``.
 
-Like the paper's sampled semantics, only the positions x_t are constrained; the result
-records whether the segments are also safe. The horizon is not known in advance, so the
+By default whole segments are kept off the obstacles (both end points of segment t
+outside the same face), the guarantee the lazy SMT planner gives; ``segment_safe=False``
+constrains only the positions x_t (the paper's sampled semantics). The horizon is not known in advance, so the
 solver tries a growing sequence of horizons ``N`` (each a full MILP), starting from a
 lower bound on the number of steps; ``infeasible`` is never claimed (a proof would need
 every N up to ``max_horizon``); the objective is feasibility (0), or the L1 norm of the
@@ -140,7 +141,7 @@ MARGIN = 1e-4
 
 
 def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str,
-                   margin: float = MARGIN) -> tuple[str, Trajectory | None, dict[str, Any]]:
+                   margin: float = MARGIN, segment_safe: bool = True) -> tuple[str, Trajectory | None, dict[str, Any]]:
     import highspy
 
     inf = highspy.kHighsInf
@@ -195,9 +196,12 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
     pieces = [p for o in problem.obstacles for p in convex_pieces(o)]
     n_bin = 0
     bin_cols: list[int] = []
-    for t in range(1, N + 1):
+    # samples: one disjunction per position p_t (t >= 1); segments: one per segment
+    # (p_t, p_{t+1}), whose chosen face must have both end points outside it, so the
+    # whole segment avoids the (convex) piece.
+    spans = [(t, t + 1) for t in range(N)] if segment_safe else [(t, t) for t in range(1, N + 1)]
+    for a_t, b_t in spans:
         for H, h in pieces:
-            first = n_cont + n_bin
             choose: dict[int, float] = {}
             for r in range(H.shape[0]):
                 col = n_cont + n_bin
@@ -206,10 +210,10 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
                 choose[col] = 1.0
                 # H_r p >= h_r + margin - M (1 - z)  <=>  H_r p - M z >= h_r + margin - M
                 M = max(0.0, float(np.max(h[r] + margin - corners @ H[r]))) + 1.0
-                coefs = {xi(t, pos[a]): float(H[r, a]) for a in range(d)}
-                coefs[col] = -M
-                rows.add(float(h[r]) + margin - M, inf, coefs)
-            del first
+                for t in sorted({a_t, b_t}):
+                    coefs = {xi(t, pos[a]): float(H[r, a]) for a in range(d)}
+                    coefs[col] = -M
+                    rows.add(float(h[r]) + margin - M, inf, coefs)
             rows.add(1.0, inf, choose)
     h = highspy.Highs()
     h.setOptionValue("output_flag", False)
@@ -264,11 +268,14 @@ def plan_milp_bigm(
     horizon: int | None = None,
     objective: str = "feasibility",
     growth: float = 1.5,
+    segment_safe: bool = True,
 ) -> Any:
     """Solve ``problem`` by one big-M MILP per horizon (HiGHS) within ``budget``.
 
     With ``horizon`` given, only that horizon is tried. Returns a ReachResult whose
-    status is ``found`` only if the validator accepted the trajectory.
+    status is ``found`` only if the validator accepted the trajectory. With
+    ``segment_safe`` (default, as the lazy SMT planner) whole segments avoid the
+    obstacles; otherwise only the sampled positions (the paper's semantics).
     """
     from plansynth.reach.result import ReachResult, ReachStatus
 
@@ -279,7 +286,8 @@ def plan_milp_bigm(
     horizons = [horizon] if horizon is not None else horizon_schedule(problem, growth)
     counters: dict[str, Any] = {"milp_calls": 0, "binaries": 0, "mip_nodes": 0, "horizons_infeasible": 0}
     timings: dict[str, float] = {"milp": 0.0}
-    options = {"objective": objective, "growth": growth, "horizon": horizon, "highs": highs_version()}
+    options = {"objective": objective, "growth": growth, "horizon": horizon, "segment_safe": segment_safe,
+               "highs": highs_version()}
     message = ""
     last = "unknown"
     for N in horizons:
@@ -290,7 +298,8 @@ def plan_milp_bigm(
         clock.tick()
         ts = time.perf_counter()
         remaining = clock.remaining()
-        outcome, traj, stats = _solve_horizon(problem, N, 1e6 if math.isinf(remaining) else remaining, objective)
+        outcome, traj, stats = _solve_horizon(problem, N, 1e6 if math.isinf(remaining) else remaining, objective,
+                                             segment_safe=segment_safe)
         timings["milp"] += time.perf_counter() - ts
         counters["milp_calls"] += 1
         counters["binaries"] = stats["binaries"]
@@ -307,7 +316,7 @@ def plan_milp_bigm(
                 status=ReachStatus.FOUND if ok else ReachStatus.UNKNOWN, planner="milp-bigm",
                 seconds=timings["total"], trajectory=traj if ok else None, regions=None,
                 segment_safe=bool(report.segment_safe), horizon=N, counters=counters, timings=timings,
-                options=options, guarantee="samples", validated=ok, validation=report,
+                options=options, guarantee="segments" if segment_safe else "samples", validated=ok, validation=report,
                 message="" if ok else f"MILP trajectory failed validation: {report.summary()}",
             )
         if outcome == "infeasible":
@@ -321,6 +330,6 @@ def plan_milp_bigm(
     timings["total"] = time.perf_counter() - t0
     return ReachResult(
         status=ReachStatus.UNKNOWN, planner="milp-bigm", seconds=timings["total"], trajectory=None, regions=None,
-        segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="samples",
+        segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
         validated=None, validation=None, message=message,
     )

@@ -11,8 +11,10 @@ This module is that peer, built on OMPL (Sucan, Moll and Kavraki, 2012):
   and the propagation step is set so that one control step is one discrete step
   (minimum and maximum control duration 1): every edge of the tree is one time step;
 - a state is valid when it satisfies the state bounds, its position lies in the
-  workspace and outside every obstacle's interior (sampled positions, as Definition
-  2.3 requires; the validator reports separately whether segments are safe);
+  workspace and outside every obstacle's interior (Definition 2.3); by default an edge
+  whose straight segment enters an obstacle is rejected as well, so that the RRT gives
+  the same segment guarantee as the lazy SMT planner (``segment_safe=False``: samples
+  only, the paper's semantics);
 - the goal is the region of states whose position lies in the goal shape;
 - OMPL's random number generator is seeded, so a run is reproducible up to timing.
 
@@ -110,6 +112,43 @@ def _free_test(problem: ReachProblem) -> Callable[[np.ndarray], bool]:
     return free
 
 
+def _segment_test(problem: ReachProblem) -> Callable[[np.ndarray, np.ndarray], bool]:
+    """``blocked(p, q)``: the segment p -> q enters some obstacle's interior."""
+    boxes = [o for o in problem.obstacles if isinstance(o, Box)]
+    box_lo = np.array([b.lo for b in boxes], dtype=float) if boxes else None
+    box_hi = np.array([b.hi for b in boxes], dtype=float) if boxes else None
+    polys = [o for o in problem.obstacles if isinstance(o, Polygon)]
+    union = None
+    if polys:
+        import shapely
+
+        union = shapely.union_all([shape_to_shapely(p) for p in polys])
+
+    def blocked(p: np.ndarray, q: np.ndarray) -> bool:
+        if box_lo is not None:
+            d = q - p
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t1 = (box_lo - p) / d
+                t2 = (box_hi - p) / d
+            lo_t = np.where(d == 0, np.where((box_lo < p) & (p < box_hi), -np.inf, np.inf), np.minimum(t1, t2))
+            hi_t = np.where(d == 0, np.where((box_lo < p) & (p < box_hi), np.inf, -np.inf), np.maximum(t1, t2))
+            tmin = lo_t.max(axis=1)
+            tmax = hi_t.min(axis=1)
+            if np.any((tmin < tmax) & (tmin < 1.0) & (tmax > 0.0)):
+                return True
+        if union is not None:
+            import shapely
+
+            seg = shapely.LineString([(float(p[0]), float(p[1])), (float(q[0]), float(q[1]))])
+            if seg.length == 0:
+                return bool(union.contains(shapely.Point(float(p[0]), float(p[1]))))
+            if union.relate_pattern(seg, "T********"):
+                return True
+        return False
+
+    return blocked
+
+
 def _goal_distance(problem: ReachProblem) -> Callable[[np.ndarray], float]:
     goal = problem.goal
     if isinstance(goal, Box):
@@ -137,6 +176,7 @@ def plan_rrt(
     planner: str = "rrt",
     *,
     goal_bias: float | None = None,
+    segment_safe: bool = True,
 ) -> "Any":
     """Plan with OMPL's kinodynamic ``planner`` ("rrt", "est" or "kpiece") within ``budget``.
 
@@ -144,6 +184,9 @@ def plan_rrt(
     when the validator accepted the trajectory; sampling never proves infeasibility, so
     otherwise the status is ``unknown``. ``budget.seconds`` bounds the planning time
     (default 60 s when absent); ``budget.iterations`` is not used by OMPL's planners.
+    With ``segment_safe`` (the default, as the lazy SMT planner) an edge whose segment
+    enters an obstacle is rejected during propagation; without it only the sampled
+    positions are checked (the paper's semantics, which lets a step hop over a thin wall).
     """
     from plansynth.reach.result import ReachResult, ReachStatus
 
@@ -183,10 +226,13 @@ def plan_rrt(
         x = np.fromiter((state[i] for i in range(n)), dtype=float, count=n)
         u = np.fromiter((control[j] for j in range(m)), dtype=float, count=m)
         y = A @ x + B @ u
+        if segment_safe and blocked(x[pos], y[pos]):
+            y = lo - 1.0  # outside the state bounds: the validity checker rejects the edge
         for i in range(n):
             result[i] = float(y[i])
 
     free = _free_test(problem)
+    blocked = _segment_test(problem)
 
     def valid(state: Any) -> bool:
         counters["validity_checks"] += 1
@@ -241,14 +287,14 @@ def plan_rrt(
         counters["tree_states"] = int(pdata.numVertices())
     except Exception:  # planner data is a counter only
         pass
-    options = {"planner": PLANNERS[planner], "seed": seed, "seed_applied": seeded, "step": step, "goal_bias": goal_bias, "ompl": ompl_version()}
+    options = {"planner": PLANNERS[planner], "seed": seed, "seed_applied": seeded, "segment_safe": segment_safe, "step": step, "goal_bias": goal_bias, "ompl": ompl_version()}
     timings = {"plan": plan_s, "setup": setup_s}
     name = planner
     if not exact:
         timings["total"] = time.perf_counter() - t0
         return ReachResult(
             status=ReachStatus.UNKNOWN, planner=name, seconds=timings["total"], trajectory=None, regions=None,
-            segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="samples",
+            segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
             validated=None, validation=None,
             message=f"OMPL {PLANNERS[planner]} ended without an exact solution ({_status_text(status)}) after {plan_s:.2f} s",
         )
@@ -272,7 +318,7 @@ def plan_rrt(
         status=ReachStatus.FOUND if ok else ReachStatus.UNKNOWN,
         planner=name, seconds=timings["total"], trajectory=traj if ok else None, regions=None,
         segment_safe=bool(report.segment_safe), horizon=traj.horizon, counters=counters, timings=timings,
-        options=options, guarantee="samples", validated=ok, validation=report,
+        options=options, guarantee="segments" if segment_safe else "samples", validated=ok, validation=report,
         message="" if ok else f"OMPL path failed validation: {report.summary()}",
     )
 
