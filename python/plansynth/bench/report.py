@@ -65,12 +65,21 @@ class Cell:
         if self.solved == 0:
             if set(self.statuses) <= {"unrealizable", "infeasible"}:
                 return f"{_fmt(self.median_any)} ({next(iter(self.statuses))})"
-            lim = f"> {_fmt(self.limit)}" if self.limit else "-"
-            return f"{lim} ({_status_summary(self.statuses)})"
+            if self.out_of_time:
+                lim = f"> {_fmt(self.limit)}" if self.limit else "-"
+                return f"{lim} ({_status_summary(self.statuses)})"
+            return _status_summary(self.statuses)
         s = _fmt(self.median)
+        if (self.extra or {}).get("samples_only"):
+            s += " (samples only: a segment crosses an obstacle)"
         if self.solved < self.runs:
             s += f" ({self.solved}/{self.runs} solved; {_status_summary(self.statuses)})"
         return s
+
+    @property
+    def out_of_time(self) -> bool:
+        """No answer because time ran out (not a crash or an invalid plan)."""
+        return self.solved == 0 and set(self.statuses) <= {"unknown", "timeout"}
 
     @property
     def median_any(self) -> float | None:
@@ -125,6 +134,7 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
                    "lp_calls": first.get("lp_calls"), "sat_calls": first.get("sat_calls"),
                    "timings": (first.get("attributes") or {}).get("timings", {}),
                    "expected": (rs[0]["setup"] or {}).get("expected"),
+                   "samples_only": any(r.get("segment_safe") == 0 for r in solved),
                    "program": (first.get("attributes") or {}).get("program")},
         )
     return out
@@ -134,14 +144,10 @@ def _ratio(a: Cell | None, b: Cell | None) -> str:
     """time(a) / time(b) on one instance, with bounds when one side did not finish."""
     if a is None or b is None:
         return "-"
-    ta, tb = a.decided_time(), b.decided_time()
-    if ta is not None and tb is not None:
-        return f"{ta / max(tb, 1e-6):.3g}"
-    if ta is None and tb is not None and a.limit:
-        return f"> {a.limit / max(tb, 1e-6):.3g}"
-    if tb is None and ta is not None and b.limit:
-        return f"< {ta / b.limit:.3g}"
-    return "-"
+    rv = _ratio_value(a, b)
+    if rv is None:
+        return "-"
+    return f"{'' if rv[1] == '=' else rv[1] + ' '}{rv[0]:.3g}"
 
 
 def _ratio_value(a: Cell | None, b: Cell | None) -> tuple[float, str] | None:
@@ -150,9 +156,9 @@ def _ratio_value(a: Cell | None, b: Cell | None) -> tuple[float, str] | None:
     ta, tb = a.decided_time(), b.decided_time()
     if ta is not None and tb is not None:
         return ta / max(tb, 1e-6), "="
-    if ta is None and tb is not None and a.limit:
+    if ta is None and tb is not None and a.limit and a.out_of_time:
         return a.limit / max(tb, 1e-6), ">"
-    if tb is None and ta is not None and b.limit:
+    if tb is None and ta is not None and b.limit and b.out_of_time:
         return ta / b.limit, "<"
     return None
 
@@ -197,7 +203,7 @@ def headline(cells: Mapping[tuple[str, str], Cell], a: str, b: str, prefix: str)
         "median": statistics.median(exact) if exact else None,
         "worst_for_b": max(vals)[0:2] if vals else None,  # largest a/b
         "best_for_b": min(vals)[0:2] if vals else None,
-        "bounds": [(round(v, 3), e, s) for v, e, s in bounds],
+        "bounds": [(float(f"{v:.3g}"), e, s) for v, e, s in bounds],
     }
 
 
@@ -436,6 +442,10 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 lims["paper lazy SMT (total)"].append(False)
                 series["paper RRT"].append(float(pap["rrt"]) if pap else None)
                 lims["paper RRT"].append(False)
+            L.append("")
+            L.append("`milp` is the region-graph MILP planner; `milp-bigm` the one-shot big-M MILP over the horizon "
+                     "(the paper's LTL OPT stand-in); `rrt`, `est`, `kpiece` are OMPL's kinodynamic planners with the "
+                     "exact discrete dynamics. All keep whole segments off the obstacles unless marked `samples only`.")
             L.append("")
             if base:
                 L.append("**Headline ratios (per maze):** " + "; ".join(
