@@ -136,6 +136,25 @@ def solver_version(solver: str) -> str:
         return pkg
 
 
+def _reach_planner(problem: Any, solver: str, budget: Budget, options: dict[str, Any]) -> Any:
+    """R2's planners through :func:`plansynth.reach.solve`; while that entry point does not
+    exist yet, ``lazy-smt`` is run through :func:`plansynth.reach.lazy.plan_lazy` (the
+    trajectory is validated below either way)."""
+    try:
+        from plansynth.reach import solve  # type: ignore[attr-defined]
+    except ImportError:
+        solve = None
+    if solve is not None:
+        return solve(problem, planner=solver, budget=budget, **options)
+    if solver == "lazy-smt":
+        from plansynth.reach.lazy import plan_lazy
+
+        return plan_lazy(problem, budget, **options)
+    from plansynth.errors import SolverUnavailable
+
+    raise SolverUnavailable(solver, "plansynth.reach.solve is not available in this checkout")
+
+
 def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.reach.validate import validate
 
@@ -153,9 +172,7 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
 
         res = plan_milp_bigm(problem, budget, **options)
     else:
-        from plansynth.reach import solve
-
-        res = solve(problem, planner=solver, budget=budget, **options)
+        res = _reach_planner(problem, solver, budget, options)
     status_value = getattr(res.status, "value", str(res.status))
     valid = None
     segment_safe = None
