@@ -3,6 +3,8 @@
 //! This crate knows nothing of Python (rustworkx-core's rule): plain data in, plain
 //! data out. The PyO3 binding lives in `plansynth-py`.
 
+pub mod conditions;
+
 /// Version of the core, reported in results so a run can be traced to its build.
 pub fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")

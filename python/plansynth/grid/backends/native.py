@@ -23,7 +23,7 @@ class NativeBackend:
     name = "native"
 
     def __init__(self, **options: Any) -> None:
-        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve"}
+        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds"}
         if unknown:
             raise TypeError(f"unknown native solver option(s): {', '.join(sorted(unknown))}")
         self.options = dict(options)

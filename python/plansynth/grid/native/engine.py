@@ -33,7 +33,15 @@ from plansynth.grid.native.bitgrid import bits, cell_mask
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
 from plansynth.grid.native.stationary import Strategy, encode_stationary, solve_clauses, stationary_strategy
-from plansynth.grid.native.synth import TreeEncoding, conditions_by_level, greedy_program, program_depths, tree_levels, tree_program
+from plansynth.grid.native.synth import (
+    TreeEncoding,
+    conditions_by_level,
+    greedy_program,
+    program_depths,
+    tree_levels,
+    tree_program,
+    useful_conditions,
+)
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term, compile_program, depth
 from plansynth.grid.result import GridStatus, LengthOutcome
@@ -69,6 +77,11 @@ class Engine:
     minimize: bool = False
     use_rust: bool | None = None
     improve: bool = True
+    conflicts: int = 100_000
+    attempt_seconds: float = 0.5
+    improve_seconds: float = 3.0
+    tree_conditions: int = 400
+    max_clauses: int = 1_000_000
     counters: dict[str, Any] = field(default_factory=dict)
 
     # -- the entry point -------------------------------------------------------------
@@ -150,40 +163,52 @@ class Engine:
         return e
 
     def _program(self, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
-        """The smallest tree (by depth, then as found) over the strategy's allowed moves."""
+        """A small program choosing an allowed move in every state the strategy reaches.
+
+        The greedy tree gives an upper bound at once; then trees of smaller depth are
+        sought with SAT (each attempt with a conflict allowance, so a hard refutation
+        does not eat the budget), first over this strategy's allowed moves and then,
+        when the game is small, over every winning strategy.
+        """
         states = sorted(strategy.allowed)
         allowed = [strategy.allowed[s] for s in states]
         inputs = [arena.inputs(r, oc) for r, oc in states]
         self.counters["program_states"] = len(states)
-        cdepth = self.condition_depth if len(states) <= 5000 else 3
+        cdepth = self.condition_depth if len(states) <= 2000 else 3
         enum = self._conditions(inputs, arena.variables(), arena.problem, cdepth)
         n_moves = len(arena.robot.moves)
-        top = self.max_tree_depth if depth_bound is None else min(depth_bound, self.max_tree_depth)
-        program = None
-        for d in program_depths(top):
+        program = greedy_program(allowed, enum.conditions, n_moves)
+        top = depth(program) - 1 if depth_bound is None else min(depth_bound, depth(program) - 1)
+        useful = useful_conditions(allowed, enum.conditions, n_moves, self.tree_conditions)
+        started = time.perf_counter()
+        for d in program_depths(min(top, self.max_tree_depth)):
+            if time.perf_counter() - started > self.improve_seconds:
+                break
             try:
-                program = tree_program(allowed, enum.conditions, d, n_moves, clock)
+                better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
+                                      max_conflicts=self.conflicts, max_seconds=self.attempt_seconds)
             except BudgetExhausted:
                 if clock.exhausted():
                     raise
+                continue
+            if better is not None:
+                program = better
                 break
-            if program is not None:
-                break
-        if program is None:
-            if depth_bound is not None:
-                return None
-            program = greedy_program(allowed, enum.conditions, n_moves)
-        if depth(program) > 1 and self.improve:
+        if depth(program) > 1 and self.improve and time.perf_counter() - started <= self.improve_seconds:
             # The model's strategy is one of many: look for a smaller program over every
             # winning strategy, when that search is small enough.
             try:
-                better, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem, max_clauses=2_000_000)
+                better, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem,
+                                               cond_depth=self.condition_depth, max_clauses=self.max_clauses, max_conflicts=self.conflicts,
+                                               max_seconds=self.attempt_seconds)
             except BudgetExhausted:
                 if clock.exhausted():
                     raise
                 better = None
             if better is not None:
                 program = better
+        if depth_bound is not None and depth(program) > depth_bound:
+            return None
         if not program_wins(arena.problem, arena.steps, program, clock):
             raise AssertionError(f"native engine bug: synthesized program {program} does not win")
         self.counters["program_depth"] = depth(program)
@@ -206,7 +231,8 @@ class Engine:
         return GridStatus.UNKNOWN, None, f"no program of depth <= {d_used} found; conditions not enumerated completely", None
 
 
-def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine: Engine, problem: GridProblem, max_clauses: int | None = None):
+def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine: Engine, problem: GridProblem,
+                    cond_depth: int | None = None, max_clauses: int | None = None, max_conflicts: int | None = None, max_seconds: float | None = None):
     """Search program depths 1, 4, 5, ... for a winning program over the whole game.
 
     Returns ``(program or None, proved, last depth tried)``; ``proved`` is True when
@@ -218,18 +244,20 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     inputs = [arena.inputs(r, oc) for r, oc in states]
     engine.counters["universe_states"] = len(states)
     top = depth_bound if depth_bound is not None else engine.max_tree_depth
-    need = max(3, min(top - 1, engine.condition_depth + 1))
+    need = max(3, min(top - 1, engine.condition_depth + 1)) if cond_depth is None else min(cond_depth, max(3, top - 1))
+    if max_clauses is not None and len(states) * 2 ** tree_levels(min(top, 5)) > max_clauses // 50:
+        raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
     enum = engine._conditions(inputs, arena.variables(), problem, min(need, 5))
     n_moves = len(arena.robot.moves)
     proved = True
     last = 0
     for d in program_depths(top):
         last = d
-        by_level = conditions_by_level(enum.conditions, d)
-        if max_clauses is not None:
-            est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
-            if est > max_clauses:
-                raise BudgetExhausted(f"depth-{d} search of about {est} clauses")
+        by_level = conditions_by_level(enum.conditions, d, len(states))
+        est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
+        engine.counters["exact_search_clauses"] = est
+        if max_clauses is not None and est > max_clauses:
+            raise BudgetExhausted(f"depth-{d} search of about {est} clauses")
         enc = TreeEncoding(tree_levels(d), by_level, len(states), n_moves, len(ids), list(clauses))
 
         def out_lit(s: int, k: int, states=states):
@@ -238,7 +266,7 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
             return False if v is None else v
 
         enc.build(out_lit)
-        model = solve_clauses(enc.clauses, clock)
+        model = solve_clauses(enc.clauses, clock, max_conflicts=max_conflicts, max_seconds=max_seconds)
         if model is not None:
             return enc.program(model), proved, d
         if d >= 4 and enum.complete_to < d - 1:

@@ -21,7 +21,6 @@ state is in R, which leaves the program synthesiser as much freedom as possible.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -183,23 +182,33 @@ def _closure(arena: Arena, allowed: dict[State, set[int]]) -> list[dict[Config, 
     return out
 
 
-def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[int] | None = None) -> list[int] | None:
-    """Solve with CaDiCaL, interrupted when the clock runs out (then BudgetExhausted)."""
+class ConflictLimit(BudgetExhausted):
+    """The SAT call used up its conflict allowance (the caller may try something else)."""
+
+
+def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[int] | None = None,
+                  max_conflicts: int | None = None, max_seconds: float | None = None) -> list[int] | None:
+    """Solve with CaDiCaL; BudgetExhausted when the clock runs out, ConflictLimit after
+    ``max_conflicts`` conflicts or ``max_seconds`` seconds of this call."""
+    import time
+
+    t0 = time.perf_counter()
     with Solver(name=SAT_SOLVER, bootstrap_with=clauses) as s:
         if phases:
             s.set_phases(phases)
-        remaining = None if clock is None else clock.remaining()
-        if remaining is not None and remaining != float("inf"):
-            if remaining <= 0:
-                raise BudgetExhausted("no time left for SAT")
-            timer = threading.Timer(remaining, s.interrupt)
-            timer.start()
-            try:
-                answer = s.solve_limited(expect_interrupt=True)
-            finally:
-                timer.cancel()
-        else:
-            answer = s.solve()
-        if answer is None:
-            raise BudgetExhausted("SAT solver interrupted")
+        # CaDiCaL cannot be interrupted from another thread through PySAT, but it
+        # honours conflict budgets: solve in slices and look at the clock in between.
+        used = 0
+        while True:
+            if clock is not None and clock.exhausted():
+                raise BudgetExhausted("SAT solving")
+            if max_conflicts is not None and used >= max_conflicts:
+                raise ConflictLimit(f"more than {max_conflicts} conflicts")
+            if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
+                raise ConflictLimit(f"more than {max_seconds} s")
+            s.conf_budget(2_000)
+            used += 2_000
+            answer = s.solve_limited()
+            if answer is not None:
+                break
         return s.get_model() if answer else None

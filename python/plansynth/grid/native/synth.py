@@ -149,8 +149,19 @@ def simplify_ite(c: Condition, then: Term, other: Term, n_states: int) -> Term:
     return App("ite", (c.term, then, other))
 
 
-def conditions_by_level(conds: Sequence[Condition], d: int) -> list[list[Condition]]:
-    """For a tree of depth d, the conditions allowed at each level (depth <= d - 1 - i)."""
+def conditions_by_level(conds: Sequence[Condition], d: int, n_states: int | None = None) -> list[list[Condition]]:
+    """For a tree of depth d, the conditions allowed at each level (depth <= d - 1 - i).
+
+    With ``n_states``, a condition whose complement is already listed at no greater
+    depth is left out: ``(ite c a b)`` and ``(ite (not c) b a)`` are the same tree.
+    """
+    if n_states is not None:
+        full = (1 << n_states) - 1
+        kept: dict[int, Condition] = {}
+        for c in sorted(conds, key=lambda c: c.depth):
+            if c.mask not in kept and (full ^ c.mask) not in kept:
+                kept[c.mask] = c
+        conds = list(kept.values())
     return [[c for c in conds if c.depth <= d - 1 - i] for i in range(tree_levels(d))]
 
 
@@ -161,6 +172,8 @@ def tree_program(
     n_moves: int,
     clock: Clock | None = None,
     max_clauses: int = 3_000_000,
+    max_conflicts: int | None = None,
+    max_seconds: float | None = None,
 ) -> Term | None:
     """A program of depth <= ``d`` choosing an allowed move in every state, or None.
 
@@ -175,15 +188,36 @@ def tree_program(
         for a in allowed:
             common &= set(a)
         return Const(min(common)) if common else None
-    by_level = conditions_by_level(conds, d)
+    by_level = conditions_by_level(conds, d, n)
     est = sum(len(by_level[_level(i)]) for i in range(2 ** tree_levels(d) - 1)) * n
     if est > max_clauses:
         raise BudgetExhausted(f"tree SAT instance of about {est} clauses")
     enc = TreeEncoding(tree_levels(d), by_level, n, n_moves, 0, [])
     sets = [set(a) for a in allowed]
     enc.build(lambda s, k: k in sets[s])
-    model = solve_clauses(enc.clauses, clock)
+    model = solve_clauses(enc.clauses, clock, max_conflicts=max_conflicts, max_seconds=max_seconds)
     return None if model is None else enc.program(model)
+
+
+def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, keep: int) -> list[Condition]:
+    """The ``keep`` conditions that best split the states by a shared allowed move:
+    score = states served by the best move on each side (the greedy tree's measure).
+    Used to keep the tree SAT small when exactness is not asked for."""
+    n = len(allowed)
+    full = (1 << n) - 1
+    by_move = [0] * n_moves
+    for s, a in enumerate(allowed):
+        for k in a:
+            by_move[k] |= 1 << s
+    scored = []
+    for c in conds:
+        inside, outside = c.mask & full, full & ~c.mask
+        if not inside or not outside:
+            continue
+        score = max((inside & m).bit_count() for m in by_move) + max((outside & m).bit_count() for m in by_move)
+        scored.append((-score, c.depth, size(c.term), len(scored), c))
+    scored.sort()
+    return [x[-1] for x in scored[:keep]]
 
 
 def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, max_nodes: int = 10_000) -> Term:
