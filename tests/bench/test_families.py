@@ -32,6 +32,14 @@ def test_paper_parameters():
     assert s.build().steps == 20 and s.paper_seconds == 798
 
 
+def test_reach_instances_round_trip_through_files(tmp_path):
+    from plansynth.reach.problem import load_reach_problem
+
+    insts = reach_family("maze", [1, 3]) + reach_family("chain", [2], orders=[2])
+    for inst, path in zip(insts, write_family_files(tmp_path, insts)):
+        assert load_reach_problem(path) == inst.build()
+
+
 def test_reach_instances_build():
     m = reach_family("maze", [2])[0].build()
     assert m.dynamics.n_states == 4 and len(m.obstacles) >= 2

@@ -26,6 +26,7 @@ __all__ = ["published_tasks", "publish"]
 GRID_SOLVERS = ["native", "cvc5"]
 MAZE_PLANNERS = ["lazy-smt", "rrt", "milp-bigm", "milp"]
 CHAIN_ORDERS = [1, 2, 3, 5, 10]
+RRT_REPEATS = 3
 
 
 def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, part: str = "all") -> list[dict[str, Any]]:
@@ -33,6 +34,9 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
     tasks: list[dict[str, Any]] = []
     if part in ("all", "reach"):
         tasks += make_tasks(family("reach", "maze"), MAZE_PLANNERS, timeout=reach_timeout)
+        # the sampling planners vary with the seed: more repeats (seed + repeat)
+        tasks += [t for t in make_tasks(family("reach", "maze"), ["rrt"], repeat=RRT_REPEATS, timeout=reach_timeout)
+                  if t["repeat"] > 0]
         tasks += make_tasks(family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout)
         tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS), ["lazy-smt"], timeout=reach_timeout)
     if part in ("all", "grid"):
