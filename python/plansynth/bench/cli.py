@@ -22,6 +22,8 @@ Examples:
 
   plansynth bench grid --family all --solvers native,cvc5 --timeout 60 --cluster tcp://10.0.0.5:8786
 
+  plansynth bench grid --family depth --solvers native,external -O "external:command=cvc5 --lang=sygus2 {file}"
+
 Families: figure1, depth, steps, obstacles, dimensions (the paper's), crossing, crossing-stall, patrol, patrol-walk (reactive, ours), or all.
 Rerunning the same command resumes: runs already in the database are skipped.
 """
@@ -44,9 +46,22 @@ def _split(text: str) -> list[str]:
     return [t.strip() for t in text.split(",") if t.strip()]
 
 
+def _options(items: list[str]) -> dict[str, dict[str, str]]:
+    """``solver:key=value`` items -> {solver: {key: value}}."""
+    out: dict[str, dict[str, str]] = {}
+    for item in items:
+        solver, sep, kv = item.partition(":")
+        key, eq, value = kv.partition("=")
+        if not (sep and eq and solver and key):
+            console.print(f"[red]bad --option {item!r}: expected SOLVER:KEY=VALUE")
+            raise typer.Exit(2)
+        out.setdefault(solver, {})[key] = value
+    return out
+
+
 def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[str], *, orders: list[int],
            timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
-           retry: str = "") -> None:
+           retry: str = "", options: Optional[list[str]] = None) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import make_tasks, run_sweep
 
@@ -63,7 +78,8 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
         insts += family(kind, f, vals, **kw)
     if kind == "reach" and "milp" in solvers:
         console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
-    tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed)
+    tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
+                       options=_options(options or []))
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
     counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True, retry=_split(retry))
     console.print("finished: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
@@ -82,11 +98,12 @@ def grid_cmd(
     cluster: Optional[str] = typer.Option(None, "--cluster", help="Dask scheduler address (tcp://host:8786); default: local pool."),
     seed: int = typer.Option(0, "--seed"),
     retry: str = typer.Option("", "--retry", help="Rerun recorded runs with these statuses, e.g. crash,timeout."),
+    option: list[str] = typer.Option([], "--option", "-O", help='Solver option SOLVER:KEY=VALUE, e.g. "external:command=cvc5 --lang=sygus2 {file}".'),
 ) -> None:
     """Run grid families with several backends into the results database."""
     fams = [x for f in family for x in _split(f)]
     _sweep("grid", fams, values, _split(solvers), orders=[], timeout=timeout, repeat=repeat, db=db, jobs=jobs,
-           memory=memory, cluster=cluster, seed=seed, retry=retry)
+           memory=memory, cluster=cluster, seed=seed, retry=retry, options=option)
 
 
 @app.command("reach", epilog=REACH_EPILOG)
