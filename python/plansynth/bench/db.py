@@ -26,7 +26,7 @@ Schema
     repeat INTEGER                              -- the repeat index (resume key part)
     time REAL                                   -- seconds the solver reported (wall clock of the child if none)
     wall REAL                                   -- wall-clock seconds of the child process
-    status TEXT                                 -- solved | unrealizable | infeasible | unknown | timeout | memout | crash | invalid
+    status TEXT                                 -- solved | unrealizable | infeasible | unknown | timeout | memout | crash | invalid | unavailable
     solved INTEGER                              -- 1 iff a plan/controller was returned AND independently validated
     valid INTEGER                               -- validator verdict on a returned plan (NULL if none)
     memory REAL                                 -- peak resident memory of the child, MB

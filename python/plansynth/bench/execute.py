@@ -44,14 +44,16 @@ def execute(task: Mapping[str, Any]) -> dict[str, Any]:
     solver = task["solver"]
     _allow_children()
     t0 = time.perf_counter()
-    if solver.startswith("debug-"):
-        attrs = _debug(solver, task)
-    else:
-        inst = instance_from_task(task)
-        if inst.kind == "grid":
-            attrs = _grid(inst, task)
+    from plansynth.errors import SolverUnavailable
+
+    try:
+        if solver.startswith("debug-"):
+            attrs = _debug(solver, task)
         else:
-            attrs = _reach(inst, task)
+            inst = instance_from_task(task)
+            attrs = _grid(inst, task) if inst.kind == "grid" else _reach(inst, task)
+    except SolverUnavailable as exc:
+        attrs = {"status": "unavailable", "solved": 0, "message": str(exc)}
     attrs.setdefault("wall", time.perf_counter() - t0)
     attrs["memory"] = _peak_memory_mb()
     return attrs
