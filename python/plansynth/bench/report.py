@@ -33,10 +33,10 @@ from plansynth.bench.families import PAPER_TABLE_I
 __all__ = ["Cell", "summarise", "write_report", "headline"]
 
 GRID_FIGURES = [
-    ("depth", "Figure 2: time vs program depth", "d"),
-    ("steps", "Figure 3: time vs number of steps", "L"),
-    ("obstacles", "Figure 4: time vs number of obstacles", "N"),
-    ("dimensions", "Figure 5: time vs grid size", "S"),
+    ("depth", "Figure 2: time vs program depth", "program depth d of the paper's instance depth-d"),
+    ("steps", "Figure 3: time vs number of steps", "number of steps L"),
+    ("obstacles", "Figure 4: time vs number of obstacles", "number of obstacles N"),
+    ("dimensions", "Figure 5: time vs grid size", "grid size S (S x S)"),
 ]
 REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk"]
 PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0, "Enumerative 2015": 805.0}
@@ -234,7 +234,7 @@ def _plot_family(cells: Mapping[tuple[str, str], Cell], family: str, planners: S
             if t is not None:
                 xs.append(x)
                 ys.append(max(t, 1e-3))
-            elif c.limit:
+            elif c.limit and c.out_of_time:
                 xu.append(x)
                 yu.append(c.limit)
         if xs or xu:
@@ -436,8 +436,9 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 for p in reach_planners:
                     c = cells.get((exp, p))
                     t = None if c is None else c.decided_time()
-                    series[p].append(t if t is not None else (c.limit if c else None))
-                    lims[p].append(c is not None and t is None)
+                    timed_out = c is not None and t is None and c.out_of_time
+                    series[p].append(t if t is not None else (c.limit if timed_out else None))
+                    lims[p].append(timed_out)
                 series["paper lazy SMT (total)"].append(tot)
                 lims["paper lazy SMT (total)"].append(False)
                 series["paper RRT"].append(float(pap["rrt"]) if pap else None)
