@@ -82,7 +82,7 @@ def test_isolate_kills_on_timeout() -> None:
 
 def test_isolate_kills_the_whole_process_group(tmp_path: Path) -> None:
     pid_file = tmp_path / "pid"
-    out = run_isolated(_spawn_grandchild_and_hang, str(pid_file), timeout=2)
+    out = run_isolated(_spawn_grandchild_and_hang, str(pid_file), timeout=3)
     assert isinstance(out, Timeout)
     pid = int(pid_file.read_text())
     for _ in range(50):  # the grandchild is gone (or a zombie reaped by init) shortly

@@ -16,7 +16,8 @@ with them. The memory limit is ``RLIMIT_AS`` set in the child before ``fn`` runs
 
 ``fn`` and its arguments must be picklable (a module-level function). Children are
 started with the ``forkserver`` method (fast, and safe when the parent has threads);
-``spawn`` is available too.
+``spawn`` is available too. A child imports the modules ``fn`` needs; :func:`preload`
+makes the fork server import heavy ones once (for cvc5: 0.5 s less per call).
 
 >>> run_isolated(pow, 2, 10, timeout=30)
 Finished(value=1024, seconds=...)
@@ -35,7 +36,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar, Union
 
-__all__ = ["Finished", "Timeout", "Crash", "Outcome", "run_isolated"]
+__all__ = ["Finished", "Timeout", "Crash", "Outcome", "run_isolated", "preload"]
 
 T = TypeVar("T")
 
@@ -84,6 +85,21 @@ class Crash:
 
 
 Outcome = Union[Finished[T], Timeout, Crash]
+
+
+_PRELOAD: list[str] = ["__main__"]  # multiprocessing's default for the fork server
+
+
+def preload(*modules: str) -> None:
+    """Have the ``forkserver`` import ``modules`` once, so that children start with them.
+
+    Takes effect if called before this process starts its first forkserver child
+    (later calls are harmless and do nothing until a new fork server starts).
+    """
+    for m in modules:
+        if m not in _PRELOAD:
+            _PRELOAD.append(m)
+    multiprocessing.get_context("forkserver").set_forkserver_preload(list(_PRELOAD))
 
 
 def _child(conn: Any, fn: Callable[..., Any], args: tuple, kwargs: dict, memory_mb: int | None) -> None:

@@ -218,7 +218,11 @@ def _helpers(problem: GridProblem) -> list[str]:
     )
 
     def possible(move: Move, ok: str) -> str:
-        return _conj([f"({ok} {_shift('x', dx)} {_shift('y', dy)})" for dx, dy in _away(move)])
+        """Every cell the move sweeps is on the grid (robot) or free (obstacle). An
+        obstacle's own cell counts too: one that starts on a wall never moves."""
+        cells = [f"({ok} {_shift('x', dx)} {_shift('y', dy)})" for dx, dy in _away(move)]
+        own = ["(not (wall x y))"] if ok == "free" and p.walls and cells else []
+        return _conj(own + cells)
 
     def end(moves: Sequence[Move], axis: int, var: str, choice: str, ok: str) -> str:
         expr = var
@@ -256,7 +260,8 @@ def _helpers(problem: GridProblem) -> list[str]:
         names = ", ".join(f"{k} {m.name}" for k, m in enumerate(o.moves))
         add(
             f"\n; -- obstacle {i}, from ({o.start[0]}, {o.start[1]}): moves {names}.\n"
-            "; A move that would sweep a cell off the grid or a wall leaves it at (x, y)."
+            "; A move that would sweep a cell off the grid or a wall leaves it at (x, y)"
+            + (" (a wall under\n; the obstacle's own cell included)." if p.walls else ".")
         )
         om = o.moves
         add(f"(define-fun o{i}-x ((x Int) (y Int) (c Int)) Int\n  {end(om, 0, 'x', 'c', 'free')})")

@@ -46,33 +46,35 @@
       (and (= k 4) (in-grid (+ x 1) (+ y 1)) (wall (+ x 1) (+ y 1)))))
 
 ; -- obstacle 0, from (3, 0): moves 0 stay, 1 left, 2 leap.
-; A move that would sweep a cell off the grid or a wall leaves it at (x, y).
+; A move that would sweep a cell off the grid or a wall leaves it at (x, y) (a wall under
+; the obstacle's own cell included).
 (define-fun o0-x ((x Int) (y Int) (c Int)) Int
-  (ite (and (= c 1) (free (- x 1) y)) (- x 1)
-  (ite (and (= c 2) (free (- x 2) y) (free (- x 1) y)) (- x 2)
+  (ite (and (= c 1) (not (wall x y)) (free (- x 1) y)) (- x 1)
+  (ite (and (= c 2) (not (wall x y)) (free (- x 2) y) (free (- x 1) y)) (- x 2)
   x)))
 (define-fun o0-y ((x Int) (y Int) (c Int)) Int
   y)
 ; does obstacle 0, moving by c from (x, y), sweep a cell the robot sweeps moving by k from (rx, ry)?
 (define-fun o0-hits ((x Int) (y Int) (c Int) (rx Int) (ry Int) (k Int)) Bool
   (or (robot-sweeps rx ry k x y)
-      (and (= c 1) (free (- x 1) y) (robot-sweeps rx ry k (- x 1) y))
-      (and (= c 2) (free (- x 2) y) (free (- x 1) y) (or (robot-sweeps rx ry k (- x 2) y) (robot-sweeps rx ry k (- x 1) y)))))
+      (and (= c 1) (not (wall x y)) (free (- x 1) y) (robot-sweeps rx ry k (- x 1) y))
+      (and (= c 2) (not (wall x y)) (free (- x 2) y) (free (- x 1) y) (or (robot-sweeps rx ry k (- x 2) y) (robot-sweeps rx ry k (- x 1) y)))))
 
 ; -- obstacle 1, from (3, 1): moves 0 down, 1 stay, 2 up-right.
-; A move that would sweep a cell off the grid or a wall leaves it at (x, y).
+; A move that would sweep a cell off the grid or a wall leaves it at (x, y) (a wall under
+; the obstacle's own cell included).
 (define-fun o1-x ((x Int) (y Int) (c Int)) Int
-  (ite (and (= c 2) (free (+ x 1) (+ y 1))) (+ x 1)
+  (ite (and (= c 2) (not (wall x y)) (free (+ x 1) (+ y 1))) (+ x 1)
   x))
 (define-fun o1-y ((x Int) (y Int) (c Int)) Int
-  (ite (and (= c 0) (free x (- y 1))) (- y 1)
-  (ite (and (= c 2) (free (+ x 1) (+ y 1))) (+ y 1)
+  (ite (and (= c 0) (not (wall x y)) (free x (- y 1))) (- y 1)
+  (ite (and (= c 2) (not (wall x y)) (free (+ x 1) (+ y 1))) (+ y 1)
   y)))
 ; does obstacle 1, moving by c from (x, y), sweep a cell the robot sweeps moving by k from (rx, ry)?
 (define-fun o1-hits ((x Int) (y Int) (c Int) (rx Int) (ry Int) (k Int)) Bool
   (or (robot-sweeps rx ry k x y)
-      (and (= c 0) (free x (- y 1)) (robot-sweeps rx ry k x (- y 1)))
-      (and (= c 2) (free (+ x 1) (+ y 1)) (robot-sweeps rx ry k (+ x 1) (+ y 1)))))
+      (and (= c 0) (not (wall x y)) (free x (- y 1)) (robot-sweeps rx ry k x (- y 1)))
+      (and (= c 2) (not (wall x y)) (free (+ x 1) (+ y 1)) (robot-sweeps rx ry k (+ x 1) (+ y 1)))))
 
 ; -- §3.2: the obstacles' choices at one step are moves they have
 (define-fun obstaclePositionsAllowable ((c0 Int) (c1 Int)) Bool

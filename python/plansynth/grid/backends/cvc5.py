@@ -25,7 +25,7 @@ import cvc5
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
-from plansynth.grid.isolate import Crash, Finished, run_isolated
+from plansynth.grid.isolate import Crash, Finished, preload, run_isolated
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
 from plansynth.grid.sygus import compile_sygus
@@ -140,6 +140,7 @@ class Cvc5Backend:
         self.options = parse_options(options)
         check_options(self.options)
         self.keep_sl = keep_sl
+        preload(__name__)  # children start with cvc5 imported
 
     def version(self) -> str:
         return cvc5_version()
