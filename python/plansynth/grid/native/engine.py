@@ -244,15 +244,19 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     inputs = [arena.inputs(r, oc) for r, oc in states]
     engine.counters["universe_states"] = len(states)
     top = depth_bound if depth_bound is not None else engine.max_tree_depth
-    need = max(3, min(top - 1, engine.condition_depth + 1)) if cond_depth is None else min(cond_depth, max(3, top - 1))
+    cap = min(5, engine.condition_depth + 1) if cond_depth is None else cond_depth
     if max_clauses is not None and len(states) * 2 ** tree_levels(min(top, 5)) > max_clauses // 50:
         raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
-    enum = engine._conditions(inputs, arena.variables(), problem, min(need, 5))
     n_moves = len(arena.robot.moves)
     proved = True
     last = 0
+    enums: dict[int, Enumeration] = {}
     for d in program_depths(top):
         last = d
+        need = max(2, min(d - 1, cap))  # the root's conditions have depth <= d - 1
+        if need not in enums:
+            enums[need] = engine._conditions(inputs, arena.variables(), problem, need)
+        enum = enums[need]
         by_level = conditions_by_level(enum.conditions, d, len(states))
         est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
         engine.counters["exact_search_clauses"] = est
