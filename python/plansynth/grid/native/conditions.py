@@ -13,7 +13,7 @@ coordinate 2, an application 1 + its deepest argument.
 
 >>> conds = enumerate_conditions([(0, 0), (1, 0), (2, 0)], ("rx", "ry"), 2, 3)
 >>> [(str(c.term), bin(c.mask), c.depth) for c in conds if c.mask == 0b001]
-[('(<= rx 0)', '0b1', 3)]
+[('(= 0 rx)', '0b1', 3)]
 >>> len({c.mask for c in conds}) == len(conds)
 True
 """

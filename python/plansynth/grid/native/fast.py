@@ -5,7 +5,7 @@ references it replaces (STYLE.md, point 6). Property tests compare the two.
 True
 >>> e = enumerate_conditions([(0, 0), (1, 0), (2, 0)], ("rx", "ry"), 2, 3, None)
 >>> [str(c.term) for c in e.conditions if c.mask == 0b001]
-['(<= rx 0)']
+['(= 0 rx)']
 """
 
 from __future__ import annotations
