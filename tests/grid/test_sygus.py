@@ -156,9 +156,14 @@ def test_bounded_grammar_block() -> None:
 
 
 def test_depth_bound_answers_are_relative_to_the_bound() -> None:
-    # Figure 1 needs a test on the robot's position: no program of depth <= 3 (in
-    # effect a constant move) wins at l = 6, and one of depth <= 4 does.
-    assert read_synth_answer(run_sygus_text(compile_sygus(FIGURE1, 6, 3))).kind == "infeasible"
+    # Right, then up: no constant move does it, and a program of depth <= 3 is in
+    # effect a constant; (ite (<= rx 0) 2 1) of depth 4 does it.
+    corner = grid_problem_from_dict(
+        {"grid": [3, 2], "robot": {"start": [0, 0], "goal": [1, 1], "moves": ["stay", "up", "right"]}}
+    )
+    assert read_synth_answer(run_sygus_text(compile_sygus(corner, 2, 3))).kind == "infeasible"
+    answer = read_synth_answer(run_sygus_text(compile_sygus(corner, 2, 4)))
+    assert answer.kind == "solution" and depth(parse_program(answer.definition)) == 4
 
 
 # -- compile_check ----------------------------------------------------------------------
