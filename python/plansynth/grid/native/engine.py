@@ -114,6 +114,7 @@ class Engine:
 
         # Stage 2: a controller that reads no obstacle.
         blind = Arena.build(problem, steps, cone, (), clock)
+        blind_program = None
         if blind.layers[0] and blind.solve_game(clock):
             strategy = stationary_strategy(blind, clock)
             if strategy is not None:
@@ -123,16 +124,33 @@ class Engine:
                     return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
                 if program is not None and depth_bound is not None and not self.minimize and depth(program) <= depth_bound:
                     return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
+                if self.minimize:
+                    blind_program = self._blind_minimal(problem, blind, clock, program)
+                    if blind_program is not None and depth(blind_program) <= 4:
+                        # Depth 1 is a constant move, which reads nothing: the blind
+                        # search refuted it exactly, so depth 4 (or 1) is minimal.
+                        self.counters["program_depth"] = depth(blind_program)
+                        self.counters["minimal_depth_proved"] = True
+                        return GridStatus.REALIZABLE, blind_program, f"depth {depth(blind_program)} is minimal (proved)", None
 
         # Stages 3-4: the joint game over the relevant obstacles.
-        arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs)
-        self.counters["configurations"] = sum(len(x) for x in arena.layers)
-        self.counters["states"] = arena.state_count()
-        if not arena.layers[0] or not arena.solve_game(clock):
-            ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
-            return GridStatus.UNREALIZABLE, None, ref.detail, ref
-        if exact_bound:
-            return self._bounded(problem, arena, cone, clock, depth_bound)
+        try:
+            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs)
+            self.counters["configurations"] = sum(len(x) for x in arena.layers)
+            self.counters["states"] = arena.state_count()
+            if not arena.layers[0] or not arena.solve_game(clock):
+                ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
+                return GridStatus.UNREALIZABLE, None, ref.detail, ref
+            if exact_bound:
+                return self._bounded(problem, arena, cone, clock, depth_bound)
+        except BudgetExhausted as exc:
+            if blind_program is None:
+                raise
+            self.counters["program_depth"] = depth(blind_program)
+            self.counters["minimal_depth_proved"] = False
+            return GridStatus.REALIZABLE, blind_program, (
+                f"obstacle-blind controller of depth {depth(blind_program)}; smaller programs reading obstacles "
+                f"not excluded ({exc})"), None
         strategy = stationary_strategy(arena, clock)
         if strategy is None:
             return self._stationary_refuted(problem, arena, cone, clock)
@@ -141,6 +159,20 @@ class Engine:
         program = self._program(arena, strategy, clock, None)
         assert program is not None
         return GridStatus.REALIZABLE, program, "controller reads obstacles" if arena.read else "", None
+
+    def _blind_minimal(self, problem: GridProblem, blind: Arena, clock: Clock, program: Term | None) -> Term | None:
+        """The smallest obstacle-blind program (exact over blind programs when it ends)."""
+        top = depth(program) if program is not None else self.max_tree_depth
+        try:
+            found, _, _ = minimal_program(blind, clock, top, self, problem)
+        except BudgetExhausted:
+            if clock.exhausted():
+                raise
+            found = None
+        best = found if found is not None else program
+        if best is not None and not program_wins(problem, blind.steps, best, clock):
+            raise AssertionError(f"native engine bug: program {best} does not win")
+        return best
 
     # -- no stationary strategy --------------------------------------------------------
     def _stationary_refuted(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock):

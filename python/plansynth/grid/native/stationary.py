@@ -121,7 +121,7 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     counters = {"sat_vars": len(ids), "sat_clauses": len(clauses)}
-    model = solve_clauses(clauses, clock, phases=[-v for k, v in ids.items() if k[0] == "r"])
+    model = solve_clauses(clauses, clock, phases=_phases(arena, ids))
     if model is None:
         return None
     truth = set(v for v in model if v > 0)
@@ -139,6 +139,23 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
         assert all(allowed.values()), "a SAT model must leave every reached state a move"
     final = {s: tuple(sorted(a)) for s, a in allowed.items()}
     return Strategy(final, tuple(reach), counters)
+
+
+def _phases(arena: Arena, ids: dict[tuple, int]) -> list[int]:
+    """Preferred polarities that steer the solver towards simple strategies: reach as
+    few states as possible, and in each state head for the goal (or stay there)."""
+    gx, gy = arena.problem.robot.goal
+    out = []
+    for key, v in ids.items():
+        if key[0] == "r":
+            out.append(-v)
+            continue
+        _, r, _, _, k = key
+        x, y = arena.sem.cell(r)
+        e = arena.sem.cell(arena.robot_end(r, k))
+        before, after = abs(x - gx) + abs(y - gy), abs(e[0] - gx) + abs(e[1] - gy)
+        out.append(v if after < before or (before == 0 and after == 0) else -v)
+    return out
 
 
 def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[int]]:

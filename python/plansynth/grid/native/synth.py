@@ -25,7 +25,11 @@ from dataclasses import dataclass
 from plansynth.budget import Clock
 from plansynth.grid.native.arena import BudgetExhausted
 from plansynth.grid.native.conditions import Condition
-from plansynth.grid.native.stationary import solve_clauses
+import time
+
+from pysat.solvers import Solver
+
+from plansynth.grid.native.stationary import SAT_SOLVER, ConflictLimit, solve_clauses
 from plansynth.grid.programs import App, Const, Term, depth, size
 
 #: Valid program depths in increasing order (2 and 3 cannot beat 1).
@@ -69,33 +73,59 @@ class TreeEncoding:
 
     def build(self, out_lit) -> None:
         """Emit the tree's clauses; ``out_lit(s, k)`` gives the literal 'state s plays k'."""
+        self.structure()
+        for s in range(self.n_states):
+            self.add_state(s, out_lit)
+
+    def structure(self) -> None:
+        """Every node picks a condition, every leaf a move."""
         internal = self.n_internal
-        leaves = range(internal, 2 * internal + 1)
         for n in range(internal):
             conds = self.conds_at[_level(n)]
             self.clauses.append([self._sel(n, j) for j in range(len(conds))])
-        for s in range(self.n_states):
-            self.clauses.append([self._at(0, s)])
+        for n in range(internal, 2 * internal + 1):
+            self.clauses.append([self._leaf(n, k) for k in range(self.n_moves)])
+
+    def add_state(self, s: int, out_lit) -> None:
+        """Route state ``s`` through the tree and constrain the move at its leaf."""
+        internal = self.n_internal
+        self.clauses.append([self._at(0, s)])
         for n in range(internal):
             conds = self.conds_at[_level(n)]
-            for s in range(self.n_states):
-                a = self._at(n, s)
-                left, right = self._at(2 * n + 1, s), self._at(2 * n + 2, s)
-                for j, c in enumerate(conds):
-                    child = left if c.mask >> s & 1 else right
-                    self.clauses.append([-a, -self._sel(n, j), child])
-        for n in leaves:
-            self.clauses.append([self._leaf(n, k) for k in range(self.n_moves)])
-            for s in range(self.n_states):
-                a = self._at(n, s)
-                for k in range(self.n_moves):
-                    lit = out_lit(s, k)
-                    if lit is True:
-                        continue
-                    if lit is False:
-                        self.clauses.append([-a, -self._leaf(n, k)])
-                    else:
-                        self.clauses.append([-a, -self._leaf(n, k), lit])
+            a = self._at(n, s)
+            left, right = self._at(2 * n + 1, s), self._at(2 * n + 2, s)
+            for j, c in enumerate(conds):
+                child = left if c.mask >> s & 1 else right
+                self.clauses.append([-a, -self._sel(n, j), child])
+        for n in range(internal, 2 * internal + 1):
+            a = self._at(n, s)
+            for k in range(self.n_moves):
+                lit = out_lit(s, k)
+                if lit is True:
+                    continue
+                if lit is False:
+                    self.clauses.append([-a, -self._leaf(n, k)])
+                else:
+                    self.clauses.append([-a, -self._leaf(n, k), lit])
+
+    def leaves_of(self, model) -> list[tuple[int, int]]:
+        """For a model: (mask of states reaching the leaf, its move), per leaf."""
+        truth = set(v for v in model if v > 0)
+        full = (1 << self.n_states) - 1
+        out = []
+
+        def walk(n: int, mask: int) -> None:
+            if n >= self.n_internal:
+                k = next(k for k in range(self.n_moves) if self._leaf(n, k) in truth)
+                out.append((mask, k))
+                return
+            conds = self.conds_at[_level(n)]
+            c = next(c for j, c in enumerate(conds) if self._sel(n, j) in truth)
+            walk(2 * n + 1, mask & c.mask)
+            walk(2 * n + 2, mask & ~c.mask & full)
+
+        walk(0, full)
+        return out
 
     def _sel(self, n: int, j: int) -> int:
         key = (n, j)
@@ -192,11 +222,53 @@ def tree_program(
     est = sum(len(by_level[_level(i)]) for i in range(2 ** tree_levels(d) - 1)) * n
     if est > max_clauses:
         raise BudgetExhausted(f"tree SAT instance of about {est} clauses")
-    enc = TreeEncoding(tree_levels(d), by_level, n, n_moves, 0, [])
     sets = [set(a) for a in allowed]
-    enc.build(lambda s, k: k in sets[s])
-    model = solve_clauses(enc.clauses, clock, max_conflicts=max_conflicts, max_seconds=max_seconds)
-    return None if model is None else enc.program(model)
+    enc = TreeEncoding(tree_levels(d), by_level, n, n_moves, 0, [])
+    out_lit = lambda s, k: k in sets[s]  # noqa: E731
+    enc.structure()
+    # Counterexample-guided: start from one state per distinct allowed set, add the
+    # states the candidate tree gets wrong. UNSAT on a subset is UNSAT on all states.
+    seen: dict[frozenset[int], int] = {}
+    for i, a in enumerate(sets):
+        seen.setdefault(frozenset(a), i)
+    for i in seen.values():
+        enc.add_state(i, out_lit)
+    added = set(seen.values())
+    t0 = time.perf_counter()
+    with Solver(name=SAT_SOLVER) as solver:
+        while True:
+            for c in enc.clauses:
+                solver.add_clause(c)
+            enc.clauses.clear()
+            left = None if max_seconds is None else max_seconds - (time.perf_counter() - t0)
+            model = _solve(solver, clock, max_conflicts, left)
+            if model is None:
+                return None
+            wrong = [s for mask, k in enc.leaves_of(model) for s in _bits(mask) if k not in sets[s]]
+            if not wrong:
+                return enc.program(model)
+            for s in wrong[:8]:
+                if s not in added:
+                    added.add(s)
+                    enc.add_state(s, out_lit)
+
+
+def _solve(solver, clock: Clock | None, max_conflicts: int | None, max_seconds: float | None) -> list[int] | None:
+    """One incremental CaDiCaL call in conflict slices, honouring the clock."""
+    t0 = time.perf_counter()
+    used = 0
+    while True:
+        if clock is not None and clock.exhausted():
+            raise BudgetExhausted("SAT solving")
+        if max_conflicts is not None and used >= max_conflicts:
+            raise ConflictLimit(f"more than {max_conflicts} conflicts")
+        if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
+            raise ConflictLimit(f"more than {max_seconds:.2f} s")
+        solver.conf_budget(2_000)
+        used += 2_000
+        answer = solver.solve_limited()
+        if answer is not None:
+            return solver.get_model() if answer else None
 
 
 def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, keep: int) -> list[Condition]:
