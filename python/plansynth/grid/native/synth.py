@@ -296,33 +296,32 @@ def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Cond
     """A top-down decision tree (always exists; not minimal): pick, at each node, the
     condition after which most states can share a move on each side."""
     n = len(states_allowed)
-    sets = [frozenset(a) for a in states_allowed]
+    by_move = [0] * n_moves
+    for i, a in enumerate(states_allowed):
+        for k in a:
+            by_move[k] |= 1 << i
     budget = [max_nodes]
+    sizes = [size(c.term) for c in conds]
 
     def best_common(members: int) -> tuple[int, int]:
-        counts = [0] * n_moves
-        for s in _bits(members):
-            for k in sets[s]:
-                counts[k] += 1
-        k = max(range(n_moves), key=lambda m: counts[m])
-        return k, counts[k]
+        return max(((members & m).bit_count(), -k) for k, m in enumerate(by_move))
 
     def grow(members: int) -> Term:
-        total = bin(members).count("1")
-        k, c = best_common(members)
+        total = members.bit_count()
+        c, negk = best_common(members)
         if c == total:
-            return Const(k)
+            return Const(-negk)
         budget[0] -= 1
         if budget[0] < 0:
             raise BudgetExhausted("greedy tree too large")
         best = None
-        for cond in conds:
+        for cond, sz in zip(conds, sizes):
             left = members & cond.mask
-            right = members & ~cond.mask
-            if not left or not right:
+            if not left or left == members:
                 continue
-            score = best_common(left)[1] + best_common(right)[1]
-            key = (score, -cond.depth, -size(cond.term))
+            right = members & ~cond.mask
+            score = best_common(left)[0] + best_common(right)[0]
+            key = (score, -cond.depth, -sz)
             if best is None or key > best[0]:
                 best = (key, cond, left, right)
         if best is None:
