@@ -81,3 +81,11 @@ def test_solve_with_the_minimize_option_through_the_solve_loop():
     r = solve(problem, "native", Budget(seconds=60), minimize=True)
     assert r.status is GridStatus.REALIZABLE and r.steps == 7 and r.verified
     assert r.attempts[-1].counters["minimal_depth_proved"] is True
+
+
+def test_solve_cli_passes_native_options():
+    r = CliRunner().invoke(app, ["grid", "solve", str(EXAMPLES / "figure1.yaml"), "-O", "minimize=true"])
+    assert r.exit_code == 0, r.output
+    assert "(ite (<= 4 rx) 1 2)" in r.output
+    bad = CliRunner().invoke(app, ["grid", "solve", str(EXAMPLES / "figure1.yaml"), "-O", "bogus=1"])
+    assert bad.exit_code == 2 and "unknown native solver option" in bad.output
