@@ -189,3 +189,24 @@ def test_blind_program_reads_no_obstacle_on_the_paper_families():
     assert not reads_obstacles(out.program)
     arena = Arena.build(problem, 5, influence_cone(problem, 5), ())
     assert arena.solve_game()
+
+
+STATIONARY_REFUTED = [
+    # The robot must come back to its start in 3 steps without `stay`: with the time it
+    # can (down, down clamped at the border, up); with positions only, the cell it
+    # reaches after one step would need two different moves.
+    {"grid": [3, 4], "robot": {"start": [1, 1], "goal": [1, 1], "moves": ["up", "right", "down", "left"]},
+     "obstacles": [{"start": [2, 0], "moves": ["up", "down"]}], "steps": 3},
+    {"grid": [3, 2], "robot": {"start": [2, 1], "goal": [1, 1], "moves": ["right", "left"]},
+     "obstacles": [{"start": [1, 0], "moves": ["down"]}], "steps": 4},
+]
+
+
+@pytest.mark.parametrize("doc", STATIONARY_REFUTED)
+def test_time_dependent_wins_but_no_stationary_controller_does(doc):
+    problem = grid_problem_from_dict(doc)
+    out = Engine().solve_length(problem, problem.steps, Budget(seconds=10))
+    assert out.status is GridStatus.UNREALIZABLE
+    assert out.witness.kind == "stationary"
+    assert reference.game_won(problem, problem.steps)
+    assert reference.stationary_exists(problem, problem.steps) is False
