@@ -67,6 +67,9 @@ class Cell:
                 return f"{_fmt(self.median_any)} ({next(iter(self.statuses))})"
             if self.out_of_time:
                 lim = f"> {_fmt(self.limit)}" if self.limit else "-"
+                t = self.median_any
+                if t is not None and self.limit and t < 0.9 * self.limit:
+                    return f"no answer ({_status_summary(self.statuses)} after {_fmt(t)} s of {_fmt(self.limit)})"
                 return f"{lim} ({_status_summary(self.statuses)})"
             return _status_summary(self.statuses)
         s = _fmt(self.median)
