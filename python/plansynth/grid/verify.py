@@ -32,6 +32,14 @@ There is no alternation to preserve: the program is fixed, so the question is wh
    compares against a threshold (``(<= o0y 3)``) splits a set in two; only relational
    comparisons between obstacles (``(<= o0y o1y)``) approach explicit enumeration.
 
+Two shortcuts only make losses cheaper to find: a robot farther from the goal (in robot
+moves, obstacles ignored) than the steps left has lost whatever the obstacles do, and a
+short depth-first probe (:data:`PROBE_NODES` expansions, obstacles nearest the robot
+first) runs before the exhaustive layered search. Move tables are filled lazily from
+:func:`~plansynth.grid.semantics.robot_move` and
+:func:`~plansynth.grid.semantics.obstacle_move`, so a 64 x 64 grid costs only the cells
+visited.
+
 When the controller loses, the verdict carries a concrete :class:`Counterexample`: the
 obstacles' joint moves, the states visited and the program's choices, which replay
 through :func:`~plansynth.grid.semantics.step` to the loss it describes.
@@ -49,10 +57,10 @@ collision at step 1 in cell (2, 0) with obstacle 0
 
 from __future__ import annotations
 
-import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import product
 
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.programs import (
@@ -62,6 +70,7 @@ from plansynth.grid.programs import (
     Term,
     Var,
     check_program,
+    compile_program,
     evaluate,
     variables_of,
 )
@@ -136,31 +145,52 @@ def verify(problem: GridProblem, program: Term, steps: int) -> Verdict:
 
 #: A set of cells (indices ``y * width + x``) one read obstacle may occupy.
 Cells = frozenset[int]
-#: An abstract state below time ``steps``: (robot index, one cell set per read obstacle).
-Box = tuple[int, tuple[Cells, ...]]
+Sets = tuple[Cells, ...]
+
+
+class _Node:
+    """An abstract state at one time: the robot's cell and a product of read-obstacle
+    cell sets, every combination of which is reachable with the robot there.
+
+    ``parents`` lists (node, part, robot move) one time earlier whose images make up
+    ``sets``; counterexamples are rebuilt through them.
+    """
+
+    __slots__ = ("r", "sets", "parents")
+
+    def __init__(self, r: int, sets: Sets, parents: list[tuple["_Node", Sets, int]]) -> None:
+        self.r = r
+        self.sets = sets
+        self.parents = parents
 
 
 @dataclass(frozen=True)
 class _Loss:
-    """A losing path of abstract states.
-
-    ``boxes[t]`` is the abstract state in which the robot took ``robot_moves[t]`` (after
-    splitting, so the program's choice is constant on it); for ``kind == "goal"`` there
-    is one more box, the state after the last step. ``kind`` is "wall", "unread",
-    "read" (read obstacle ``obstacle`` can collide at the last step) or "goal".
-    """
+    """Where the search lost: in ``node`` (at time ``t``), on ``part`` with robot move
+    ``move``. ``kind`` is "wall", "unread", "read" (read obstacle slot ``obstacle`` can
+    collide) or "doomed" (the robot can no longer stand on the goal at time ``steps``;
+    ``part`` is the whole node and no move is taken at ``t``)."""
 
     kind: str
-    robot_moves: tuple[int, ...]
-    boxes: tuple[Box, ...]
+    t: int
+    node: _Node
+    part: Sets
+    move: int = -1
     obstacle: int = -1
 
 
 _UNDECIDED = None
 
+#: Expansions the depth-first probe may spend before the exact layered search starts.
+PROBE_NODES = 500
+
+
+class _ProbeExhausted(Exception):
+    pass
+
 
 class _Search:
-    """Depth-first exploration of (t, robot cell, read obstacles' cell sets).
+    """Breadth-first exploration of (t, robot cell, read obstacles' cell sets).
 
     Given the robot's history, the read obstacles' possible positions form a product
     set: the obstacles move independently, and the image of a product set under their
@@ -170,26 +200,37 @@ class _Search:
     (reduction 3 of the module docstring; all-singleton sets are plain enumeration).
     On each part, a read obstacle can collide iff one of its cells has a move sweeping
     the robot's swept cells, exactly as for unread obstacles.
+
+    Time is explored layer by layer (so the loss found is a shortest one, unless the
+    depth-first probe run first already found one). The robot's future depends only on its cell and the obstacles' cells, not on how it got
+    there, so the products reaching the same (t, robot cell) are merged where they
+    differ in one factor (S x T and S' x T make (S | S') x T) or one contains another.
     """
 
     def __init__(self, problem: GridProblem, program: Term, steps: int) -> None:
         self.problem = problem
         self.program = program
         self.steps = steps
-        self.sem = CompiledSemantics(problem)
+        self.sem = CompiledSemantics(problem)  # cell indices and the wall mask
+        # Move tables over cell indices, filled lazily: a 64 x 64 grid has 4096 cells
+        # and the robot and obstacles visit few of them.
+        self.robot = _Rows(problem, lambda c, k: robot_move(problem, c, k), len(problem.robot.moves))
+        self.obstacle = [
+            _Rows(problem, lambda c, k, i=i: obstacle_move(problem, i, c, k), len(o.moves))
+            for i, o in enumerate(problem.obstacles)
+        ]
         self.width = problem.width
         self.goal = self.sem.index(problem.robot.goal)
         self.read = read_obstacles(program, len(problem.obstacles))
         self.unread = tuple(i for i in range(len(problem.obstacles)) if i not in self.read)
-        self.slot = {i: j for j, i in enumerate(self.read)}
         self.explored = 0
         self.reach, self.danger = self._unread_reach()
+        self.distance = self._goal_distances()
         # Per read obstacle: cell set -> (successor set, every cell it can sweep).
         self._image: list[dict[Cells, tuple[Cells, int]]] = [{} for _ in self.read]
         self._bounds: dict[Cells, tuple[int, int, int, int]] = {}
         # (robot, sets) -> parts on which the program's choice is constant, with it.
         self._parts: dict[tuple[int, tuple[Cells, ...]], tuple[tuple[tuple[Cells, ...], int], ...]] = {}
-        self.safe: set[tuple[int, int, tuple[Cells, ...]]] = set()
 
     # -- unread obstacles ------------------------------------------------------------
 
@@ -199,7 +240,7 @@ class _Search:
         danger = [0] * self.steps
         reach: list[list[Cells]] = []
         for i in self.unread:
-            succ = self.sem.obstacle_successors[i]
+            succ = self.obstacle[i].successors
             # A set of cells determines its successor set and its swept cells, and the
             # sequence of sets is often periodic (an up/down obstacle alternates), so
             # each distinct set is expanded once.
@@ -215,13 +256,38 @@ class _Search:
             reach.append(sets)
         return reach, danger
 
+    def goal_distance(self, r: int) -> int:
+        """Fewest robot moves from cell ``r`` to the goal (obstacles and walls ignored;
+        ``steps + 1`` when more than ``steps``)."""
+        return self.distance.get(r, self.steps + 1)
+
+    def _goal_distances(self) -> dict[int, int]:
+        """Breadth-first search back from the goal over the robot's moves, to depth ``steps``."""
+        p = self.problem
+        w = self.width
+        dist = {self.goal: 0}
+        frontier = [self.goal]
+        for d in range(1, self.steps + 1):
+            nxt = []
+            for e in frontier:
+                ex, ey = e % w, e // w
+                for m in p.robot.moves:
+                    c = (ex - m.to[0], ey - m.to[1])
+                    if p.in_grid(c):
+                        ci = c[1] * w + c[0]
+                        if ci not in dist and any(end == e for end, _ in self.robot[ci]):
+                            dist[ci] = d
+                            nxt.append(ci)
+            frontier = nxt
+        return dist
+
     # -- read obstacles: images, bounds, and the program's choice on a product set ----
 
     def image(self, j: int, cells: Cells) -> tuple[Cells, int]:
         """Successor set and swept-cells mask of read obstacle number ``j`` (slot) on ``cells``."""
         cache = self._image[j]
         if cells not in cache:
-            cache[cells] = _image(self.sem.obstacle_successors[self.read[j]], cells)
+            cache[cells] = _image(self.obstacle[self.read[j]].successors, cells)
         return cache[cells]
 
     def bounds(self, cells: Cells) -> tuple[int, int, int, int]:
@@ -259,7 +325,13 @@ class _Search:
                 out.append((part, found))
             else:
                 stack.extend(self._split(found, r, part, env, known))
-        result = tuple(out)
+        # Splits are hierarchical, so the parts with one move usually reassemble into
+        # fewer products (often the whole set, when both branches of an undecided ite
+        # choose alike); fewer, larger parts keep the next layer small.
+        by_move: dict[int, dict[Sets, list]] = {}
+        for part, k in out:
+            by_move.setdefault(k, {})[part] = []
+        result = tuple((part, k) for k, group in by_move.items() for part in _merge(group))
         self._parts[key] = result
         return result
 
@@ -304,93 +376,273 @@ class _Search:
     # -- exploration -----------------------------------------------------------------
 
     def run(self) -> _Loss | None:
+        """None if the controller wins, else a loss (a shortest one unless the probe found one)."""
         r0 = self.sem.index(self.problem.robot.start)
         s0 = tuple(frozenset((self.sem.index(self.problem.obstacles[i].start),)) for i in self.read)
-        limit = sys.getrecursionlimit()
-        if limit < self.steps + 200:
-            sys.setrecursionlimit(self.steps + 200)
-        try:
-            return self._explore(0, r0, s0)
-        finally:
-            sys.setrecursionlimit(limit)
+        if self.read:
+            try:
+                return self._probe(_Node(r0, s0, []), 0, set())
+            except _ProbeExhausted:
+                pass
+        return self._layers(_Node(r0, s0, []))
 
-    def _explore(self, t: int, r: int, sets: tuple[Cells, ...]) -> _Loss | None:
-        """None if the controller wins from every state in (t, r, sets); else a losing path."""
-        if t == self.steps:
-            return None if r == self.goal else _Loss("goal", (), ((r, sets),))
-        key = (t, r, sets)
-        if key in self.safe:
+    def _step(self, t: int, node: _Node, part: Sets, k: int) -> _Loss | tuple[int, list[Cells]]:
+        """Take move ``k`` on ``part`` at time ``t``: a loss, or (robot end, successor sets)."""
+        self.explored += 1
+        r_end, r_mask = self.robot[node.r][k]
+        if r_mask & self.sem.walls:
+            return _Loss("wall", t, node, part, k)
+        if r_mask & self.danger[t]:
+            return _Loss("unread", t, node, part, k)
+        nxt = []
+        for j, cells in enumerate(part):
+            succ, swept = self.image(j, cells)
+            if swept & r_mask:
+                return _Loss("read", t, node, part, k, j)
+            nxt.append(succ)
+        return r_end, nxt
+
+    def _doomed(self, t: int, node: _Node) -> _Loss | None:
+        # Whatever the obstacles do, the robot can no longer stand on the goal at time
+        # `steps` (at t == steps this is the goal check itself).
+        if self.goal_distance(node.r) > self.steps - t:
+            return _Loss("doomed", t, node, node.sets)
+        return None
+
+    def _layers(self, root: _Node) -> _Loss | None:
+        """The exact search: time layer by layer, products merged per (t, robot cell)."""
+        layer = [root]
+        for t in range(self.steps + 1):
+            successors: dict[int, dict[Sets, list[tuple[_Node, Sets, int]]]] = {}
+            for node in layer:
+                loss = self._doomed(t, node)
+                if loss is not None:
+                    return loss
+                if t == self.steps:
+                    continue
+                for part, k in self.parts(node.r, node.sets):
+                    out = self._step(t, node, part, k)
+                    if isinstance(out, _Loss):
+                        return out
+                    r_end, nxt = out
+                    successors.setdefault(r_end, {}).setdefault(tuple(nxt), []).append((node, part, k))
+            layer = [
+                _Node(r, sets, parents) for r, boxes in successors.items() for sets, parents in _merge(boxes).items()
+            ]
+        return None
+
+    def _probe(self, node: _Node, t: int, safe: set) -> _Loss | None:
+        """A cheap depth-first hunt for a loss over single combinations, given up after
+        PROBE_NODES expansions (a losing program is often caught long before the exact
+        layered search would reach its last layer). Raises _ProbeExhausted when given up."""
+        loss = self._doomed(t, node)
+        if loss is not None or t == self.steps:
+            return loss
+        key = (t, node.r, node.sets)
+        if key in safe:
             return None
-        for part, k in self.parts(r, sets):
-            self.explored += 1
-            here = ((r, part),)
-            r_end, r_mask = self.sem.robot[r][k]
-            if r_mask & self.sem.walls:
-                return _Loss("wall", (k,), here)
-            if r_mask & self.danger[t]:
-                return _Loss("unread", (k,), here)
-            nxt = []
-            for j, cells in enumerate(part):
-                succ, swept = self.image(j, cells)
-                if swept & r_mask:
-                    return _Loss("read", (k,), here, j)
-                nxt.append(succ)
-            sub = self._explore(t + 1, r_end, tuple(nxt))
-            if sub is not None:
-                return _Loss(sub.kind, (k, *sub.robot_moves), here + sub.boxes, sub.obstacle)
-        self.safe.add(key)
+        if self.explored >= PROBE_NODES or t > 500:
+            raise _ProbeExhausted
+        # Heuristic order: moves that leave the robot farthest from the goal first, and
+        # obstacle cells nearest to the robot first.
+        robot = self.robot[node.r]
+        parts = sorted(self.parts(node.r, node.sets), key=lambda pk: -self.goal_distance(robot[pk[1]][0]))
+        for part, k in parts:
+            out = self._step(t, node, part, k)
+            if isinstance(out, _Loss):
+                return out
+            r_end, nxt = out
+            rx, ry = r_end % self.width, r_end // self.width
+            near = lambda c: abs(c % self.width - rx) + abs(c // self.width - ry)  # noqa: E731
+            for combo in product(*(sorted(c, key=near) for c in nxt)):
+                child = _Node(r_end, tuple(frozenset((c,)) for c in combo), [(node, part, k)])
+                loss = self._probe(child, t + 1, safe)
+                if loss is not None:
+                    return loss
+        safe.add(key)
         return None
 
     # -- counterexamples -------------------------------------------------------------
 
     def counterexample(self, loss: _Loss) -> Counterexample:
-        """Turn a losing path of abstract states into a run of all obstacles and replay it."""
+        """Turn a loss into a concrete run of all obstacles, and replay it with step()."""
         p = self.problem
-        n = len(loss.robot_moves)  # steps taken (the last one loses unless kind == "goal")
-        joint: list[list[int]] = [[0] * len(p.obstacles) for _ in range(n)]
-        last = n - 1
-        r_mask = self.sem.robot[loss.boxes[last][0]][loss.robot_moves[last]][1]
-        for j, i in enumerate(self.read):
-            table = self.sem.obstacle[i]
-            if loss.kind == "goal":
-                # Any cell of the final set, reached through the sets before it.
-                cell, tail = min(loss.boxes[n][1][j]), []
-            else:
-                final = loss.boxes[last][1][j]
-                cell, k = min(final), 0
-                if loss.kind == "read" and j == loss.obstacle:
-                    cell, k = next((c, k) for c in sorted(final) for k, (_, m) in enumerate(table[c]) if m & r_mask)
-                tail = [k]
-            n_back = n if loss.kind == "goal" else last
-            moves = _walk_back(table, [b[1][j] for b in loss.boxes[:n_back]], cell)
-            for s, k in enumerate(moves + tail):
-                joint[s][i] = k
+        steps_taken = loss.t if loss.kind == "doomed" else loss.t + 1
+        joint: list[list[int]] = [[0] * len(p.obstacles) for _ in range(steps_taken)]
+        robot_moves = [0] * steps_taken
+        # Cells of the read obstacles at time loss.t (and their moves then, if a step is taken).
+        cells = [min(s) for s in loss.part]
+        if loss.kind != "doomed":
+            robot_moves[loss.t] = loss.move
+            r_mask = self.robot[loss.node.r][loss.move][1]
+            if loss.kind == "read":
+                j = loss.obstacle
+                table = self.obstacle[self.read[j]]
+                cells[j], joint[loss.t][self.read[j]] = next(
+                    (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c]) if m & r_mask
+                )
+        # Walk back through the parents: a parent part whose image holds the cells, and
+        # for each obstacle a cell there with a move into its current cell.
+        node, t = loss.node, loss.t
+        while t > 0:
+            for parent, part, k in node.parents:
+                back = self._preimage(part, cells)
+                if back is not None:
+                    break
+            else:  # pragma: no cover - the parents' images make up the node's sets
+                raise AssertionError("verifier bug: no parent leads to the losing state")
+            t -= 1
+            robot_moves[t] = k
+            cells = []
+            for j, (c, m) in enumerate(back):
+                cells.append(c)
+                joint[t][self.read[j]] = m
+            node = parent
         if loss.kind == "unread":
             # Steer one unread obstacle into the robot's swept cells at the last step.
             for u, i in enumerate(self.unread):
-                hit = self._unread_hit(u, i, last, r_mask)
+                hit = self._unread_hit(u, i, loss.t, r_mask)
                 if hit is not None:
                     for s, k in enumerate(hit):
                         joint[s][i] = k
                     break
             else:  # pragma: no cover - the danger mask promised a hit
                 raise AssertionError("verifier bug: no unread obstacle realises the danger mask")
-        robot_moves = tuple(loss.robot_moves)
+        if loss.kind == "doomed":
+            # Any continuation loses: run the program on, every obstacle taking move 0.
+            state = _replay(p, robot_moves, joint, self.steps)[0][-1]
+            controller = compile_program(self.program, p.variables)
+            for _ in range(loss.t, self.steps):
+                k = controller(*state.inputs())
+                zero = (0,) * len(p.obstacles)
+                robot_moves.append(k)
+                joint.append(list(zero))
+                state, collided = step(p, state, k, zero)
+                if collided:
+                    break
+        moves = tuple(robot_moves)
         obstacle_moves = tuple(tuple(j) for j in joint)
-        states, reason = _replay(p, robot_moves, obstacle_moves, self.steps)
+        states, reason = _replay(p, moves, obstacle_moves, self.steps)
         if reason is None:  # pragma: no cover - would mean the search and step() disagree
             raise AssertionError("verifier bug: the counterexample does not lose when replayed")
-        return Counterexample(obstacle_moves, states, robot_moves, reason)
+        return Counterexample(obstacle_moves, states, moves, reason)
+
+    def _preimage(self, part: Sets, cells: list[int]) -> list[tuple[int, int]] | None:
+        """Per read obstacle, a (cell in ``part``, move) ending in ``cells``; None if some
+        obstacle cannot get there from ``part``."""
+        out = []
+        for j, target in enumerate(cells):
+            table = self.obstacle[self.read[j]]
+            found = next(
+                ((c, k) for c in sorted(part[j]) for k, (e, _) in enumerate(table[c]) if e == target), None
+            )
+            if found is None:
+                return None
+            out.append(found)
+        return out
 
     def _unread_hit(self, u: int, i: int, t: int, r_mask: int) -> list[int] | None:
         """Moves of unread obstacle ``i`` for steps 0..t that sweep ``r_mask`` at step t."""
-        table = self.sem.obstacle[i]
+        table = self.obstacle[i]
         sets = self.reach[u]
         for c in sorted(sets[t]):
             for k, (_, mask) in enumerate(table[c]):
                 if mask & r_mask:
                     return _walk_back(table, sets[:t], c) + [k]
         return None
+
+
+def _merge(boxes: dict[Sets, list]) -> dict[Sets, list]:
+    """Merge products that differ in one factor, and drop products inside another.
+
+    The result covers exactly the same combinations; each product keeps the parents
+    of the products merged into it.
+    """
+    if len(boxes) < 2:
+        return boxes
+    n = len(next(iter(boxes)))
+    if len(boxes) > 256 and sum(_volume(b) for b in boxes) <= 4 * len(boxes):
+        # Many small overlapping products: fall back to the combinations themselves,
+        # so there are never many more products than reachable states.
+        single: dict[Sets, list] = {}
+        for sets, parents in boxes.items():
+            for combo in product(*sets):
+                single.setdefault(tuple(frozenset((c,)) for c in combo), []).extend(parents)
+        boxes = single
+    changed = True
+    while changed and len(boxes) > 1:
+        changed = False
+        for j in range(n):
+            groups: dict[Sets, list[Sets]] = {}
+            for sets in boxes:
+                groups.setdefault(sets[:j] + sets[j + 1 :], []).append(sets)
+            if len(groups) == len(boxes):
+                continue
+            merged: dict[Sets, list] = {}
+            for rest, members in groups.items():
+                union = frozenset().union(*(m[j] for m in members))
+                key = rest[:j] + (union,) + rest[j:]
+                parents = merged.setdefault(key, [])
+                for m in members:
+                    parents.extend(boxes[m])
+            boxes = merged
+            changed = True
+    if 1 < len(boxes) <= 64:
+        keys = sorted(boxes, key=lambda s: -sum(len(c) for c in s))
+        kept: dict[Sets, list] = {}
+        for sets in keys:
+            if not any(all(a <= b for a, b in zip(sets, big)) for big in kept):
+                kept[sets] = boxes[sets]
+        boxes = kept
+    return boxes
+
+
+class _Rows:
+    """``rows[c][k]``: (end index, swept-cells mask) of move k from cell index c, computed
+    on first use from :mod:`plansynth.grid.semantics` (the same numbers as
+    :class:`~plansynth.grid.semantics.CompiledSemantics`, without building every row)."""
+
+    def __init__(self, problem: GridProblem, move, n_moves: int) -> None:
+        self.width = problem.width
+        self.move = move
+        self.n_moves = n_moves
+        self.rows: dict[int, tuple[tuple[int, int], ...]] = {}
+        self.successors = _Distinct(self)
+
+    def __getitem__(self, ci: int) -> tuple[tuple[int, int], ...]:
+        row = self.rows.get(ci)
+        if row is None:
+            w = self.width
+            out = []
+            for k in range(self.n_moves):
+                end, swept = self.move((ci % w, ci // w), k)
+                mask = 0
+                for x, y in swept:
+                    mask |= 1 << (y * w + x)
+                out.append((end[1] * w + end[0], mask))
+            row = self.rows[ci] = tuple(out)
+        return row
+
+
+class _Distinct:
+    """``successors[c]``: the distinct (end, mask) pairs of a :class:`_Rows` row."""
+
+    def __init__(self, rows: _Rows) -> None:
+        self.of = rows
+        self.cache: dict[int, tuple[tuple[int, int], ...]] = {}
+
+    def __getitem__(self, ci: int) -> tuple[tuple[int, int], ...]:
+        row = self.cache.get(ci)
+        if row is None:
+            row = self.cache[ci] = tuple(dict.fromkeys(self.of[ci]))
+        return row
+
+
+def _volume(sets: Sets) -> int:
+    v = 1
+    for c in sets:
+        v *= len(c)
+    return v
 
 
 def _image(succ: Sequence[Sequence[tuple[int, int]]], cells: Cells) -> tuple[Cells, int]:
