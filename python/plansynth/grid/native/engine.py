@@ -81,7 +81,7 @@ class Engine:
     attempt_seconds: float = 0.5
     improve_seconds: float = 3.0
     tree_conditions: int = 400
-    max_clauses: int = 1_000_000
+    max_clauses: int = 3_000_000
     counters: dict[str, Any] = field(default_factory=dict)
 
     # -- the entry point -------------------------------------------------------------

@@ -78,11 +78,21 @@ class TreeEncoding:
             self.add_state(s, out_lit)
 
     def structure(self) -> None:
-        """Every node picks a condition, every leaf a move."""
+        """Every node picks exactly one condition, every leaf a move."""
         internal = self.n_internal
         for n in range(internal):
-            conds = self.conds_at[_level(n)]
-            self.clauses.append([self._sel(n, j) for j in range(len(conds))])
+            sels = [self._sel(n, j) for j in range(len(self.conds_at[_level(n)]))]
+            self.clauses.append(sels)
+            # at most one (sequential counter): a state's branch is then read off the
+            # chosen condition with two clauses per node instead of one per condition
+            prev = None
+            for x in sels:
+                cur = self.new()
+                self.clauses.append([-x, cur])
+                if prev is not None:
+                    self.clauses.append([-prev, cur])
+                    self.clauses.append([-prev, -x])
+                prev = cur
         for n in range(internal, 2 * internal + 1):
             self.clauses.append([self._leaf(n, k) for k in range(self.n_moves)])
 
@@ -93,10 +103,11 @@ class TreeEncoding:
         for n in range(internal):
             conds = self.conds_at[_level(n)]
             a = self._at(n, s)
-            left, right = self._at(2 * n + 1, s), self._at(2 * n + 2, s)
-            for j, c in enumerate(conds):
-                child = left if c.mask >> s & 1 else right
-                self.clauses.append([-a, -self._sel(n, j), child])
+            val = self.new()  # the chosen condition holds in state s
+            self.clauses.append([-val] + [self._sel(n, j) for j, c in enumerate(conds) if c.mask >> s & 1])
+            self.clauses.append([val] + [self._sel(n, j) for j, c in enumerate(conds) if not c.mask >> s & 1])
+            self.clauses.append([-a, -val, self._at(2 * n + 1, s)])
+            self.clauses.append([-a, val, self._at(2 * n + 2, s)])
         for n in range(internal, 2 * internal + 1):
             a = self._at(n, s)
             for k in range(self.n_moves):
