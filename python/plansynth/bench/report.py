@@ -129,7 +129,7 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
             runs=len(rs), solved=len(solved),
             median=statistics.median(times) if times else None,
             worst=max(times) if times else None,
-            limit=max((r["timelimit"] or 0) for r in rs) or None,
+            limit=max(((r.get("attributes") or {}).get("timelimit") or r["timelimit"] or 0) for r in rs) or None,
             statuses=dict(statuses),
             depth=first.get("depth"), steps=first.get("steps"), horizon=first.get("horizon"),
             extra={"median_any": statistics.median(all_times) if all_times else None,

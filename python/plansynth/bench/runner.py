@@ -189,6 +189,8 @@ def run_sweep(
 
         def record(task: Mapping[str, Any], attrs: Mapping[str, Any]) -> None:
             eid, pid = ids[(task["experiment"], task["solver"])]
+            attrs = dict(attrs)
+            attrs["attributes"] = {**dict(attrs.get("attributes") or {}), "timelimit": float(task["timeout"])}
             db.add_run(eid, pid, int(task["repeat"]), attrs)
             counts["done"] += 1
             counts[attrs.get("status", "?")] = counts.get(attrs.get("status", "?"), 0) + 1
