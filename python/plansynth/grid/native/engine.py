@@ -32,7 +32,7 @@ from plansynth.grid.native.arena import Arena, BudgetExhausted
 from plansynth.grid.native.bitgrid import bits, cell_mask
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
-from plansynth.grid.native.stationary import Strategy, encode_stationary, solve_clauses, stationary_strategy
+from plansynth.grid.native.stationary import Strategy, encode_stationary, solve_clauses, stationary_strategy, winning_forward
 from plansynth.grid.native.synth import (
     TreeEncoding,
     conditions_by_level,
@@ -270,8 +270,12 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     Returns ``(program or None, proved, last depth tried)``; ``proved`` is True when
     every smaller depth was refuted with a complete condition enumeration.
     """
-    clauses, ids, fwd = encode_stationary(arena, clock)
+    fwd = winning_forward(arena)
     states = sorted({(r, oc) for layer in fwd[:-1] for oc, m in layer.items() for r in bits(m)})
+    top_ = depth_bound if depth_bound is not None else engine.max_tree_depth
+    if max_clauses is not None and len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50:
+        raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
+    clauses, ids, fwd = encode_stationary(arena, clock, fwd=fwd)
     index = {s: i for i, s in enumerate(states)}
     inputs = [arena.inputs(r, oc) for r, oc in states]
     engine.counters["universe_states"] = len(states)

@@ -65,14 +65,14 @@ def winning_forward(arena: Arena) -> list[dict[Config, int]]:
     return out
 
 
-def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None):
+def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None, fwd=None):
     """The clauses of the stationary question and the variable map.
 
     Returns ``(clauses, ids, fwd)``: keys of ``ids`` are ``("r", t, r, oc)`` (reach)
     and ``("m", r, oc, label, k)`` (move); ``fwd`` are the winning-forward layers.
     """
     lab = label or (lambda t: 0)
-    fwd = winning_forward(arena)
+    fwd = winning_forward(arena) if fwd is None else fwd
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     ids: dict[tuple, int] = {}
@@ -89,21 +89,27 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
     r0 = arena.sem.index(arena.problem.robot.start)
     clauses.append([var(("r", 0, r0, oc0))])
     for t in range(steps):
+        label_t = lab(t)
         for oc, rmask in fwd[t].items():
             wm = arena.winning_moves(t, oc)
             succ = arena.successors(oc)
+            goes: dict[int, int] = {}  # end cell -> "every obstacle reply from oc is reached"
             for r in bits(rmask):
                 rv = var(("r", t, r, oc))
-                mv = [var(("m", r, oc, lab(t), k)) for k in range(n_moves)]
-                good = [k for k in range(n_moves) if wm[k] >> r & 1]
-                clauses.append([-rv] + [mv[k] for k in good])
+                mv = [var(("m", r, oc, label_t, k)) for k in range(n_moves)]
+                clauses.append([-rv] + [mv[k] for k in range(n_moves) if wm[k] >> r & 1])
                 for k in range(n_moves):
                     if not wm[k] >> r & 1:
                         clauses.append([-rv, -mv[k]])
                     elif t + 1 < steps:
                         e = arena.robot_end(r, k)
-                        for oc2 in succ:
-                            clauses.append([-rv, -mv[k], var(("r", t + 1, e, oc2))])
+                        g = goes.get(e)
+                        if g is None:
+                            # shared by every (r, k) of this configuration that ends in e
+                            g = goes[e] = var(("g", t, e, oc))
+                            for oc2 in succ:
+                                clauses.append([-g, var(("r", t + 1, e, oc2))])
+                        clauses.append([-rv, -mv[k], g])
             if clock is not None and clock.exhausted():
                 raise BudgetExhausted(f"encoding the stationary strategy at step {t}")
     return clauses, ids, fwd
@@ -147,7 +153,7 @@ def _phases(arena: Arena, ids: dict[tuple, int]) -> list[int]:
     gx, gy = arena.problem.robot.goal
     out = []
     for key, v in ids.items():
-        if key[0] == "r":
+        if key[0] != "m":
             out.append(-v)
             continue
         _, r, _, _, k = key
