@@ -210,3 +210,26 @@ def test_time_dependent_wins_but_no_stationary_controller_does(doc):
     assert out.witness.kind == "stationary"
     assert reference.game_won(problem, problem.steps)
     assert reference.stationary_exists(problem, problem.steps) is False
+
+
+def test_an_obstacle_outside_the_cone_can_serve_as_a_clock():
+    """The first stationary refutation again, plus a far-away obstacle that can only move
+    up: it never meets the robot, but its height tells the time, so a program that reads
+    it wins (and the engine finds it rather than answering unrealizable)."""
+    doc = dict(STATIONARY_REFUTED[0])
+    doc["grid"] = [3, 8]
+    doc["obstacles"] = doc["obstacles"] + [{"start": [0, 4], "moves": ["up"]}]
+    problem = grid_problem_from_dict(doc)
+    out = Engine().solve_length(problem, 3, Budget(seconds=10))
+    assert out.status is GridStatus.REALIZABLE
+    assert "o1y" in str(out.program)
+    assert verify(problem, out.program, 3).wins
+    assert reference.stationary_exists(problem, 3)
+    # and if the far obstacle can stay put, it tells nothing: unrealizable again
+    doc["obstacles"][1]["moves"] = ["up", "stay"]
+    parked = grid_problem_from_dict(doc)
+    out = Engine().solve_length(parked, 3, Budget(seconds=10))
+    assert out.status is GridStatus.UNREALIZABLE and out.witness.kind == "stationary"
+    small = grid_problem_from_dict(dict(doc, grid=[3, 5]))  # same game, fewer far cells
+    assert Engine().solve_length(small, 3, Budget(seconds=10)).status is GridStatus.UNREALIZABLE
+    assert reference.stationary_exists(small, 3, limit=50_000) is False

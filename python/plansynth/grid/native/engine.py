@@ -177,13 +177,20 @@ class Engine:
     # -- no stationary strategy --------------------------------------------------------
     def _stationary_refuted(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock):
         label = _clock_label(problem, cone)
-        if label is not None:
-            if stationary_strategy(arena, clock, label) is not None:
-                return GridStatus.UNKNOWN, None, (
-                    "no position-only strategy over the relevant obstacles, but obstacles outside the "
-                    "cone of influence cannot be kept still and might serve a controller as a clock"
-                ), None
-        ref = Refutation("stationary", steps := arena.steps, arena,
+        if label is not None and stationary_strategy(arena, clock, label) is not None:
+            # Obstacles outside the cone that cannot stay put might tell a controller the
+            # time. Decide exactly by reading them too (they never collide).
+            clocks = tuple(i for i in range(len(problem.obstacles)) if i not in cone.relevant and not cone.parkable[i])
+            read = tuple(sorted(cone.relevant + clocks))
+            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs)
+            self.counters["clock_obstacles"] = len(clocks)
+            if full.layers[0] and full.solve_game(clock):
+                strategy = stationary_strategy(full, clock)
+                if strategy is not None:
+                    self.counters["stage"] = "joint+clock"
+                    program = self._program(full, strategy, clock, None)
+                    return GridStatus.REALIZABLE, program, "controller reads obstacles outside the cone as a clock", None
+        ref = Refutation("stationary", arena.steps, arena,
                          "controllers that see the time would win, but no controller that sees only positions does")
         return GridStatus.UNREALIZABLE, None, ref.detail, ref
 
