@@ -93,6 +93,8 @@ class Engine:
             status, program, message, witness = self._solve(problem, steps, clock, depth_bound)
         except BudgetExhausted as exc:
             status, program, message, witness = GridStatus.UNKNOWN, None, f"budget exhausted: {exc}", None
+        except AssertionError as exc:  # an engine bug must never become an answer
+            status, program, message, witness = GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: {exc}", None
         return LengthOutcome(
             status=status,
             steps=steps,
