@@ -102,3 +102,15 @@ def test_compile_uses_the_files_steps(tmp_path: Path) -> None:
     p.write_text("grid: [3, 1]\nrobot: {start: [0, 0], goal: [2, 0], moves: [stay, right]}\nsteps: 2\n")
     res = runner.invoke(app, ["grid", "compile", str(p)])
     assert res.exit_code == 0 and "path length l = 2" in res.output
+
+
+def test_solve_minimize_proves_the_paper_depth_5(tmp_path: Path) -> None:
+    # depth-5 of the paper's depth family: no program of depth 1 or 4 wins at l = 5.
+    out = tmp_path / "r.json"
+    res = runner.invoke(app, ["grid", "solve", str(EXAMPLES / "depth-5.yaml"), "--minimize", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "depth 5 is minimal (proved)" in res.output
+    doc = json.loads(out.read_text())
+    assert doc["depth"] == 5 and doc["verified"] is True
+    res = runner.invoke(app, ["grid", "solve", str(EXAMPLES / "depth-5.yaml"), "--minimize", "-s", "cvc5"])
+    assert res.exit_code == 2 and "--minimize needs --solver native" in res.output

@@ -31,6 +31,10 @@ _STATUS_STYLE = {
 SOLVE_EPILOG = """\
 Examples:
 
+  plansynth grid solve examples/grid/figure1.yaml                      # native engine (default)
+
+  plansynth grid solve examples/grid/depth-5.yaml --minimize           # smallest depth, proved minimal
+
   plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json
 
   plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --steps 6 -O sygus-enum=fast --keep-sl sl/
@@ -62,8 +66,14 @@ def _load(file: Path, steps: int | None, max_steps: int | None) -> GridProblem:
     return problem
 
 
-def _solver_options(solver: str, command: str | None, option: list[str], keep_sl: Path | None) -> dict[str, Any]:
+def _solver_options(
+    solver: str, command: str | None, option: list[str], keep_sl: Path | None, minimize: bool = False
+) -> dict[str, Any]:
     sygus = solver in ("cvc5", "external")
+    if minimize:
+        if solver != "native":
+            raise typer.BadParameter("--minimize needs --solver native (the only backend that proves minimal depth)", param_hint="--minimize")
+        option = [*option, "minimize=true"]
     if command is not None and solver != "external":
         raise typer.BadParameter("--command is for --solver external", param_hint="--command")
     if keep_sl is not None and not sygus:
@@ -106,6 +116,7 @@ def solve_command(
     memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, help="Memory limit of a solver process, in MB."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
+    minimize: bool = typer.Option(False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."),
 ) -> None:
     """Synthesize a controller: try path lengths l in order, report the first verified one."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -118,7 +129,7 @@ def solve_command(
         if timeout is not None and timeout <= 0:
             raise typer.BadParameter("must be positive", param_hint="--timeout")
         problem = _load(file, steps, max_steps)
-        kwargs = _solver_options(solver, command, option, keep_sl)
+        kwargs = _solver_options(solver, command, option, keep_sl, minimize)
         budget = Budget(seconds=timeout, memory_mb=memory_mb)
         lengths = list(problem.path_lengths())
         with Progress(
