@@ -345,12 +345,14 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
         if "native" in grid_planners and "cvc5" in grid_planners:
             h = headline(cells, "cvc5", "native", "grid/")
             if h["n"]:
-                L.append(f"**Headline: cvc5 / native time ratio** over {h['n']} instances both decided: "
-                         f"median {h['median']:.3g}, largest {h['worst_for_b'][0]:.3g} ({h['worst_for_b'][1]}), "
-                         f"smallest {h['best_for_b'][0]:.3g} ({h['best_for_b'][1]}).")
+                L.append(f"**Headline: native vs cvc5** (time ratio cvc5 / native on the same instance, {h['n']} "
+                         f"instances both decided): median {h['median']:.3g}x; worst case for native (smallest ratio) "
+                         f"{h['best_for_b'][0]:.3g}x on {h['best_for_b'][1]}; largest {h['worst_for_b'][0]:.3g}x on "
+                         f"{h['worst_for_b'][1]}.")
             if h.get("bounds"):
-                L.append(f"Instances decided by one side only (ratio bounds from the time limit): "
-                         + "; ".join(f"{e}: {s} {v}" for v, e, s in h["bounds"]) + ".")
+                L.append("")
+                L.append(f"Decided by one side only ({len(h['bounds'])} instances; ratio bounds from the time limit): "
+                         + "; ".join(f"{e.split('/')[-1]} {s} {v:.3g}x" for v, e, s in h["bounds"]) + ".")
             L.append("")
         from plansynth.bench.families import _PAPER_GRID
 
