@@ -1,0 +1,896 @@
+"""CON-PLAN: the continuous half of the lazy planner (Shoukry et al., CDC 2016, Section V).
+
+Given a region sequence r_0..r_N from DIS-PLAN, CON-PLAN looks for a trajectory that
+follows it, with HiGHS linear programs over x_0..x_N, u_0..u_{N-1}:
+
+* ``x_0 = start``, ``x_{t+1} = A x_t + B u_t``, ``|u_t|_inf <= input_bound``, state
+  bounds, positions in the workspace;
+* ``H_{r_t} p_t <= h_{r_t}`` (the position at time t lies in region r_t) and, with
+  segment safety (the default), ``H_{r_t} p_{t+1} <= h_{r_t}`` too, so the whole
+  segment [p_t, p_{t+1}] lies in the convex region r_t: the trajectory is safe between
+  samples, not only at them (the paper guarantees samples only);
+* ``H_goal p_N <= h_goal`` (and p_N in r_N).
+
+When the sequence is infeasible, CON-PLAN returns a counterexample (Theorem 5.3), a
+:class:`~plansynth.reach.displan.Conflict`. Three strategies (``counterexample=``):
+
+``zeroprefix`` (default, the paper's): Problem 5.2, the LP with a slack s_t >= 0 on
+    every constraint on p_t, ordered ``s_0 <= s_1 <= ... <= s_N`` and minimised
+    (``slack_weights="uniform"``: the paper's plain sum; ``"geometric"``, the default:
+    weights decaying from 1 to 1e-4 along the horizon, which pushes violations later);
+    ZEROPREFIX (Algorithm 2) finds the longest zero-slack prefix 0..k-1 by binary
+    search, and the counterexample blocks r_0..r_k at times 0..k. The slack optimum
+    only *suggests* that k is the earliest infeasible step (another trajectory might
+    realise the prefix 0..k at the price of more slack later), so the prefix is
+    confirmed by a feasibility LP, and when it is feasible the earliest infeasible
+    prefix is found by binary search (prefix feasibility is monotone). Every clause is
+    therefore backed by an infeasible LP: sound.
+``trivial``: one feasibility LP; block the whole sequence (at this horizon only).
+``iis``: one feasibility LP; on infeasibility, HiGHS's irreducible infeasible subsystem
+    (``getIis``); its rows map back to time steps, and only the regions at those steps
+    are blocked. The IIS is re-checked by an LP over exactly the constraints the clause
+    claims (the whole sequence is blocked if that LP were feasible).
+
+With ``generalize=True`` (beyond the paper), a conflict is shrunk to the support of the
+Farkas certificate (dual ray) of its infeasible LP, re-checked in floating point (or by
+an LP), and then HiGHS tries to drop the start state: a conflict whose proof uses
+neither x_0 = start nor the goal holds at every time shift, and DIS-PLAN adds every
+shifted copy.
+
+**One LP per horizon, edited in place.** All LPs for a horizon N share one layout
+(:class:`_Layout`): per time step a block of region rows and a block of segment rows
+(padded to the largest region), the goal rows and the slack columns. Which regions
+apply, whether the goal, the start and the slacks count, is set through row and
+column bounds (a row that does not apply is free), so HiGHS re-solves from the previous
+basis (dual simplex warm start); coefficients change only where a time step moves to a
+region with a different H. A "prefix" LP is the plan LP with the rows after the prefix
+freed: it also asks that the trajectory can continue within the bounds up to N, which
+every plan of horizon >= N must do, so its clause holds for every horizon >= N.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import highspy
+import numpy as np
+
+from plansynth.budget import Clock
+from plansynth.reach.decompose import Abstraction
+from plansynth.reach.displan import Conflict
+from plansynth.reach.problem import Box, ReachProblem, halfspaces
+from plansynth.reach.trajectory import Trajectory
+
+__all__ = [
+    "ConPlan",
+    "Feasible",
+    "LpBudgetExhausted",
+    "LpStats",
+    "zero_prefix",
+    "step_reach",
+    "physical_lower_bound",
+    "time_windows",
+    "TimeWindows",
+    "COUNTEREXAMPLES",
+    "ZERO_SLACK",
+]
+
+COUNTEREXAMPLES = ("zeroprefix", "trivial", "iis")
+SLACK_WEIGHTS = ("geometric", "uniform")
+ZERO_SLACK = 1e-7  # a slack at most this is zero (HiGHS's primal feasibility tolerance)
+INF = highspy.kHighsInf
+
+# row kinds of the LPs
+DYN, REGION, SEGMENT, GOAL, ORDER = range(5)
+
+
+def zero_prefix(slacks: Sequence[float], tol: float = ZERO_SLACK) -> int:
+    """ZEROPREFIX (Algorithm 2): the length k of the longest all-zero prefix of a
+    nondecreasing slack vector, by binary search; ``slacks[k]`` is the first nonzero
+    slack (k = len(slacks) when all are zero).
+
+    >>> zero_prefix([0, 0, 0, 0.5, 2])
+    3
+    >>> zero_prefix([0, 0]), zero_prefix([1, 1]), zero_prefix([])
+    (2, 0, 0)
+    """
+    lo, hi = 0, len(slacks)  # slacks[:lo] are zero, slacks[hi:] are nonzero
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if slacks[mid] <= tol:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@dataclass(frozen=True)
+class Feasible:
+    """CON-PLAN realised the sequence; ``trajectory`` follows it."""
+
+    trajectory: Trajectory
+
+
+class LpBudgetExhausted(Exception):
+    """HiGHS stopped at the time limit; the lazy loop turns this into ``unknown``."""
+
+
+@dataclass
+class LpStats:
+    """Counters of one CON-PLAN: LP solves by purpose, certificates, seconds in HiGHS."""
+
+    lp_calls: int = 0
+    iis_calls: int = 0
+    ray_calls: int = 0
+    certified: int = 0
+    rejected: int = 0
+    seconds: float = 0.0
+    by_kind: dict[str, int] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Columns and rows of the CON-PLAN LP over the states x_first..x_last.
+
+    Columns: x_t (n each), u_t (m each, t < last), s_t (one per state). Rows: the
+    dynamics (n per step); per time t a block of K rows "p_t in region r_t"; per t <
+    last a block of K rows "p_{t+1} in region r_t" (segment safety); the goal block
+    "p_last in the goal"; the T-1 slack-order rows ``s_t - s_{t+1} <= 0``.
+    """
+
+    first: int
+    last: int
+    n: int
+    m: int
+    d: int
+    K: int
+    Kg: int
+
+    @property
+    def T(self) -> int:
+        return self.last - self.first + 1
+
+    @property
+    def steps(self) -> int:
+        return self.T - 1
+
+    @property
+    def n_x(self) -> int:
+        return self.T * self.n
+
+    @property
+    def n_u(self) -> int:
+        return self.steps * self.m
+
+    @property
+    def n_col(self) -> int:
+        return self.n_x + self.n_u + self.T
+
+    @property
+    def reg0(self) -> int:
+        return self.steps * self.n
+
+    @property
+    def seg0(self) -> int:
+        return self.reg0 + self.T * self.K
+
+    @property
+    def goal0(self) -> int:
+        return self.seg0 + self.steps * self.K
+
+    @property
+    def ord0(self) -> int:
+        return self.goal0 + self.Kg
+
+    @property
+    def n_row(self) -> int:
+        return self.ord0 + self.steps
+
+    def x(self, t: int) -> int:
+        return (t - self.first) * self.n
+
+    def s(self, t: int) -> int:
+        return self.n_x + self.n_u + (t - self.first)
+
+    @cached_property
+    def meta(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per row: its kind, the time of the region literal it belongs to (-1: none),
+        and the latest state time it constrains (-1: none)."""
+        T, steps, K, n = self.T, self.steps, self.K, self.n
+        ts = np.arange(self.first, self.last + 1)
+        kind = np.concatenate([np.full(steps * n, DYN), np.full(T * K, REGION), np.full(steps * K, SEGMENT),
+                               np.full(self.Kg, GOAL), np.full(steps, ORDER)])
+        lit = np.concatenate([np.full(steps * n, -1), np.repeat(ts, K), np.repeat(ts[:-1], K),
+                              np.full(self.Kg, -1), np.full(steps, -1)])
+        state = np.concatenate([np.repeat(ts[1:], n), np.repeat(ts, K), np.repeat(ts[1:], K),
+                                np.full(self.Kg, self.last), np.full(steps, -1)])
+        return kind, lit, state
+
+
+@dataclass
+class _Slot:
+    """A HiGHS instance holding one LP of a layout, edited in place (warm starts)."""
+
+    highs: highspy.Highs
+    layout: _Layout | None = None
+    coef: np.ndarray | None = None  # the region whose H fills each time's blocks
+    coo: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    bounds: "_Bounds | None" = None
+    held: tuple | None = None  # a description of the LP last solved
+
+
+@dataclass
+class _Bounds:
+    row_lo: np.ndarray
+    row_hi: np.ndarray
+    col_lo: np.ndarray
+    col_hi: np.ndarray
+    anchored_start: bool
+
+
+class ConPlan:
+    """The theory solver of the lazy loop for one problem and abstraction.
+
+    ``check(regions)`` returns :class:`Feasible` or a sound
+    :class:`~plansynth.reach.displan.Conflict`.
+    """
+
+    def __init__(
+        self,
+        problem: ReachProblem,
+        abstraction: Abstraction,
+        *,
+        segment_safe: bool = True,
+        counterexample: str = "zeroprefix",
+        generalize: bool = False,
+        slack_weights: str = "geometric",
+        clock: Clock | None = None,
+    ) -> None:
+        if counterexample not in COUNTEREXAMPLES:
+            raise ValueError(f"unknown counterexample strategy {counterexample!r} (known: {', '.join(COUNTEREXAMPLES)})")
+        if slack_weights not in SLACK_WEIGHTS:
+            raise ValueError(f"unknown slack weights {slack_weights!r} (known: {', '.join(SLACK_WEIGHTS)})")
+        self.problem = problem
+        self.segment_safe = segment_safe
+        self.counterexample = counterexample
+        self.generalize = generalize
+        self.slack_weights = slack_weights
+        self.clock = clock
+        dyn = problem.dynamics
+        self.n, self.m = dyn.n_states, dyn.n_inputs
+        self.A, self.B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+        self.pos = np.array(dyn.position, dtype=np.int64)
+        self.d = len(self.pos)
+        self.start = np.asarray(problem.start, dtype=float)
+        # regions padded to K rows (padding rows are 0 <= inf, i.e. free)
+        Hs = [np.asarray(r.H, float) for r in abstraction.regions]
+        hs = [np.asarray(r.h, float) for r in abstraction.regions]
+        self.K = max(H.shape[0] for H in Hs)
+        self.Hpad = np.zeros((len(Hs), self.K, self.d))
+        self.hpad = np.full((len(Hs), self.K), INF)
+        for i, (H, h) in enumerate(zip(Hs, hs)):
+            self.Hpad[i, : H.shape[0]] = H
+            self.hpad[i, : H.shape[0]] = h
+        # regions with equal H share their coefficients (all boxes do)
+        keys: dict[bytes, int] = {}
+        self.hkey = np.array([keys.setdefault(self.Hpad[i].tobytes(), len(keys)) for i in range(len(Hs))])
+        self.Hgoal, self.hgoal = (np.asarray(a, float) for a in halfspaces(problem.goal))
+        lo = np.full(self.n, -INF)
+        hi = np.full(self.n, INF)
+        if problem.state_bounds is not None:
+            lo = np.maximum(lo, problem.state_bounds.lo)
+            hi = np.minimum(hi, problem.state_bounds.hi)
+        lo[self.pos] = np.maximum(lo[self.pos], problem.workspace.lo)
+        hi[self.pos] = np.minimum(hi[self.pos], problem.workspace.hi)
+        self.state_lo, self.state_hi = lo, hi
+        self.stats = LpStats()
+        # persistent, warm-started models: the slack LPs of Problem 5.2 in one, the
+        # feasibility LPs (plan, prefixes, unanchoring) in the other
+        self.slack_slot = _Slot(self._new_highs())
+        self.slot = _Slot(self._new_highs())
+        self.cold = self._new_highs()  # one-off LPs (re-checks, IIS)
+
+    @staticmethod
+    def _new_highs() -> highspy.Highs:
+        h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        h.setOptionValue("threads", 1)
+        # small LPs: presolve costs more than it saves, and the Farkas ray of an
+        # infeasible LP (for shrinking conflicts) is only available without it
+        h.setOptionValue("presolve", "off")
+        return h
+
+    # ------------------------------------------------------------------ assembly
+    def layout(self, first: int, last: int) -> _Layout:
+        return _Layout(first, last, self.n, self.m, self.d, self.K, len(self.hgoal))
+
+    def _matrix(self, lay: _Layout, coef: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """COO entries of the LP matrix; ``coef[t - first]`` is the region whose H fills
+        the region block of time t and the segment block of time t."""
+        n, m, d, K, T, steps = lay.n, lay.m, lay.d, lay.K, lay.T, lay.steps
+        # dynamics x_{t+1} - A x_t - B u_t = 0
+        ai, aj = np.nonzero(self.A)
+        bi, bj = np.nonzero(self.B)
+        r1 = np.concatenate([np.arange(n), ai, bi])
+        tt = np.arange(steps)[:, None]
+        rows = [(tt * n + r1[None, :]).ravel()]
+        cols = [np.concatenate([tt * n + np.concatenate([n + np.arange(n), aj])[None, :],
+                                lay.n_x + tt * m + bj[None, :]], axis=1).ravel()]
+        vals = [np.tile(np.concatenate([np.ones(n), -self.A[ai, aj], -self.B[bi, bj]]), steps)]
+        # region blocks (time b) and segment blocks (rows on p_{b+1}, H of time b)
+        kk = np.repeat(np.arange(K), d)
+        jj = np.tile(self.pos, K)
+        for row0, nblocks, shift in ((lay.reg0, T, 0), (lay.seg0, steps, 1)):
+            b = np.arange(nblocks)[:, None]
+            rows.append((row0 + b * K + kk[None, :]).ravel())
+            cols.append(((b + shift) * n + jj[None, :]).ravel())
+            vals.append(self.Hpad[coef[:nblocks]].reshape(nblocks, K * d).ravel())
+        Kg = lay.Kg
+        rows.append(np.repeat(lay.goal0 + np.arange(Kg), d))
+        cols.append(np.tile((T - 1) * n + self.pos, Kg))
+        vals.append(self.Hgoal.ravel())
+        # slacks: -s_t in every row on p_t; order rows s_t - s_{t+1} <= 0
+        s0 = lay.n_x + lay.n_u
+        rows += [lay.reg0 + np.arange(T * K), lay.seg0 + np.arange(steps * K), lay.goal0 + np.arange(Kg),
+                 lay.ord0 + np.arange(steps), lay.ord0 + np.arange(steps)]
+        cols += [s0 + np.repeat(np.arange(T), K), s0 + 1 + np.repeat(np.arange(steps), K), np.full(Kg, s0 + T - 1),
+                 s0 + np.arange(steps), s0 + 1 + np.arange(steps)]
+        vals += [-np.ones(T * K), -np.ones(steps * K), -np.ones(Kg), np.ones(steps), -np.ones(steps)]
+        return (np.concatenate(rows).astype(np.int64), np.concatenate(cols).astype(np.int64),
+                np.concatenate(vals).astype(float))
+
+    def _lp(self, lay: _Layout, coo: tuple[np.ndarray, np.ndarray, np.ndarray], b: _Bounds, cost: np.ndarray) -> highspy.HighsLp:
+        R, C, V = coo
+        order = np.lexsort((R, C))
+        starts = np.zeros(lay.n_col + 1, dtype=np.int32)
+        np.cumsum(np.bincount(C, minlength=lay.n_col), out=starts[1:])
+        lp = highspy.HighsLp()
+        lp.num_col_ = lay.n_col
+        lp.num_row_ = lay.n_row
+        lp.col_cost_ = cost
+        lp.col_lower_ = b.col_lo
+        lp.col_upper_ = b.col_hi
+        lp.row_lower_ = b.row_lo
+        lp.row_upper_ = b.row_hi
+        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+        lp.a_matrix_.start_ = starts
+        lp.a_matrix_.index_ = R[order].astype(np.int32)
+        lp.a_matrix_.value_ = V[order]
+        return lp
+
+    def _cost(self, lay: _Layout) -> np.ndarray:
+        cost = np.zeros(lay.n_col)
+        if self.slack_weights == "uniform":
+            cost[lay.n_x + lay.n_u :] = 1.0
+        else:
+            cost[lay.n_x + lay.n_u :] = (1e-4 ** (1.0 / max(1, lay.T - 1))) ** np.arange(lay.T)
+        return cost
+
+    def bounds(
+        self, lay: _Layout, assignment: Mapping[int, int], *, goal: bool, anchored_start: bool, slack: bool
+    ) -> _Bounds:
+        """Row and column bounds: region rows of the assigned times (segment rows too,
+        unless the next time has the same region), goal rows, x_first = start, slacks."""
+        row_lo = np.full(lay.n_row, -INF)
+        row_hi = np.full(lay.n_row, INF)
+        row_lo[: lay.reg0] = 0.0
+        row_hi[: lay.reg0] = 0.0
+        K = lay.K
+        for t, r in assignment.items():
+            b = t - lay.first
+            row_hi[lay.reg0 + b * K : lay.reg0 + (b + 1) * K] = self.hpad[r]
+            if self.segment_safe and t < lay.last and assignment.get(t + 1) != r:
+                row_hi[lay.seg0 + b * K : lay.seg0 + (b + 1) * K] = self.hpad[r]
+        if goal:
+            row_hi[lay.goal0 : lay.ord0] = self.hgoal
+        if slack:
+            row_hi[lay.ord0 :] = 0.0
+        col_lo = np.concatenate([np.tile(self.state_lo, lay.T), np.full(lay.n_u, -self.problem.input_bound),
+                                 np.zeros(lay.T)])
+        col_hi = np.concatenate([np.tile(self.state_hi, lay.T), np.full(lay.n_u, self.problem.input_bound),
+                                 np.full(lay.T, INF if slack else 0.0)])
+        if anchored_start:
+            col_lo[: lay.n] = self.start
+            col_hi[: lay.n] = self.start
+        return _Bounds(row_lo, row_hi, col_lo, col_hi, anchored_start)
+
+    def _coef_for(self, lay: _Layout, assignment: Mapping[int, int], base: np.ndarray | None = None) -> np.ndarray:
+        coef = np.zeros(lay.T, dtype=np.int64) if base is None else base.copy()
+        for t, r in assignment.items():
+            coef[t - lay.first] = r
+        return coef
+
+    def _load(self, slot: _Slot, lay: _Layout, assignment: Mapping[int, int], b: _Bounds) -> None:
+        """Make ``slot`` hold the LP of ``lay`` with the H of ``assignment`` and bounds
+        ``b``: in place when the layout is unchanged (warm start)."""
+        h = slot.highs
+        if slot.layout != lay or slot.coef is None or slot.coo is None:
+            slot.layout = lay
+            slot.coef = self._coef_for(lay, assignment)
+            slot.coo = self._matrix(lay, slot.coef)
+            h.passModel(self._lp(lay, slot.coo, b, self._cost(lay)))
+        else:
+            coef = self._coef_for(lay, assignment, slot.coef)
+            changed = np.nonzero(self.hkey[coef] != self.hkey[slot.coef])[0]
+            if changed.size:
+                self._recoefficient(slot, coef, changed)
+            h.changeRowsBounds(lay.n_row, np.arange(lay.n_row, dtype=np.int32), b.row_lo, b.row_hi)
+            h.changeColsBounds(lay.n_col, np.arange(lay.n_col, dtype=np.int32), b.col_lo, b.col_hi)
+        slot.bounds = b
+
+    def _recoefficient(self, slot: _Slot, coef: np.ndarray, changed: np.ndarray) -> None:
+        """Put region H's into the blocks of the ``changed`` times (coefficient edits)."""
+        lay = slot.layout
+        assert lay is not None
+        h = slot.highs
+        K, d, n = lay.K, lay.d, lay.n
+        for b in changed:
+            H = self.Hpad[coef[b]]
+            for row0, state_b, ok in ((lay.reg0, b, True), (lay.seg0, b + 1, b < lay.steps)):
+                if not ok:
+                    continue
+                for i in range(K):
+                    for j in range(d):
+                        h.changeCoeff(int(row0 + b * K + i), int(state_b * n + self.pos[j]), float(H[i, j]))
+        slot.coef = coef
+        slot.coo = self._matrix(lay, coef)
+
+    def _run(self, h: highspy.Highs, purpose: str) -> np.ndarray | None:
+        """Solve the model ``h`` holds: column values when optimal, None when infeasible."""
+        if self.clock is not None:
+            remaining = self.clock.remaining()
+            if remaining <= 0:
+                raise LpBudgetExhausted()
+            h.setOptionValue("time_limit", float(min(remaining, 1e9)))
+        t0 = time.perf_counter()
+        h.run()
+        status = h.getModelStatus()
+        self.stats.seconds += time.perf_counter() - t0
+        self.stats.lp_calls += 1
+        self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
+        S = highspy.HighsModelStatus
+        if status == S.kOptimal:
+            return np.asarray(h.getSolution().col_value)
+        if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
+            # objectives are bounded below (0 or a weighted sum of slacks >= 0)
+            return None
+        if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
+            raise LpBudgetExhausted()
+        raise RuntimeError(f"HiGHS returned {h.modelStatusToString(status)} on a CON-PLAN LP")
+
+    def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
+                     anchored_start: bool = True, slack: bool = False) -> np.ndarray | None:
+        slot = self.slack_slot if slack else self.slot
+        lay = self.layout(0, N)
+        self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
+        col = self._run(slot.highs, purpose)
+        slot.held = (purpose, max(assignment, default=-1), col is not None)
+        return col
+
+    def _trajectory(self, lay: _Layout, col: np.ndarray) -> Trajectory:
+        X = col[: lay.n_x].reshape(lay.T, lay.n)
+        U = col[lay.n_x : lay.n_x + lay.n_u].reshape(lay.steps, lay.m)
+        U = np.clip(U, -self.problem.input_bound, self.problem.input_bound)
+        return Trajectory(states=X, inputs=U)
+
+    # ------------------------------------------------------------------ the theory check
+    def check(self, regions: Sequence[int]) -> Feasible | Conflict:
+        """Realise ``regions`` (r_0..r_N) or return a sound counterexample."""
+        regions = tuple(int(r) for r in regions)
+        N = len(regions) - 1
+        plan = dict(enumerate(regions))
+        if self.counterexample == "iis":
+            return self._check_iis(regions)
+        if self.counterexample == "zeroprefix":
+            out = self._check_zeroprefix(regions)
+        else:
+            col = self._solve_model(N, plan, "plan", goal=True)
+            if col is not None:
+                return Feasible(self._trajectory(self.layout(0, N), col))
+            out = self._whole(regions)
+        if isinstance(out, Conflict) and self.generalize:
+            out = self._unanchor(regions, self._from_ray(regions, out))  # HiGHS holds out's LP
+        return out
+
+    def feasible(self, regions: Sequence[int]) -> Trajectory | None:
+        """The plain feasibility LP of the whole plan (goal included): a trajectory or None."""
+        N = len(regions) - 1
+        col = self._solve_model(N, dict(enumerate(int(r) for r in regions)), "plan", goal=True)
+        return None if col is None else self._trajectory(self.layout(0, N), col)
+
+    def _whole(self, regions: Sequence[int]) -> Conflict:
+        N = len(regions) - 1
+        return Conflict(tuple(enumerate(regions)), anchored_start=True, anchored_goal=True, horizon=N)
+
+    def _prefix(self, regions: Sequence[int], k: int) -> Conflict:
+        N = len(regions) - 1
+        return Conflict(tuple((t, regions[t]) for t in range(k + 1)), anchored_start=True, anchored_goal=False,
+                        horizon=N, last_time=N)
+
+    def prefix_feasible(self, regions: Sequence[int], k: int) -> bool:
+        """Is the prefix r_0..r_k (at times 0..k) realisable, continuing within the
+        bounds up to N? (Monotone: a longer prefix is harder.)"""
+        N = len(regions) - 1
+        return self._solve_model(N, {t: regions[t] for t in range(k + 1)}, "prefix") is not None
+
+    def _check_zeroprefix(self, regions: tuple[int, ...]) -> Feasible | Conflict:
+        N = len(regions) - 1
+        lay = self.layout(0, N)
+        col = self._solve_model(N, dict(enumerate(regions)), "slack", goal=True, slack=True)
+        if col is not None:
+            k = zero_prefix(col[lay.n_x + lay.n_u :])
+            if k == lay.T:
+                return Feasible(self._trajectory(lay, col))
+            # the paper's counterexample r_0..r_k; prefix 0..k-1 has a zero-slack witness
+            if not self.prefix_feasible(regions, k):
+                return self._prefix(regions, k)
+            lo = k + 1
+        else:  # infeasible even with slacks: dynamics and bounds alone; search from 0
+            lo = 0
+        # earliest infeasible prefix in lo..N by binary search (feasibility is monotone)
+        hi = N + 1  # sentinel: "prefix N is feasible"
+        a, b = lo, N
+        while a <= b:
+            mid = (a + b) // 2
+            if self.prefix_feasible(regions, mid):
+                a = mid + 1
+            else:
+                hi, b = mid, mid - 1
+        if hi <= N:
+            if self.slot.held != ("prefix", hi, False):
+                self.prefix_feasible(regions, hi)  # HiGHS must hold the conflict's LP
+            return self._prefix(regions, hi)
+        col = self._solve_model(N, dict(enumerate(regions)), "plan", goal=True)
+        if col is not None:
+            return Feasible(self._trajectory(lay, col))
+        return self._whole(regions)
+
+    # ------------------------------------------------------------------ IIS
+    def _check_iis(self, regions: tuple[int, ...]) -> Feasible | Conflict:
+        N = len(regions) - 1
+        plan = dict(enumerate(regions))
+        lay = self.layout(0, N)
+        b = self.bounds(lay, plan, goal=True, anchored_start=True, slack=False)
+        coo = self._matrix(lay, self._coef_for(lay, plan))
+        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        col = self._run(self.cold, "plan")
+        if col is not None:
+            return Feasible(self._trajectory(lay, col))
+        whole = self._whole(regions)
+        self.cold.setOptionValue("iis_strategy", int(highspy.IisStrategy.kIisStrategyFromLp) | int(highspy.IisStrategy.kIisStrategyIrreducible))
+        t0 = time.perf_counter()
+        status, iis = self.cold.getIis()
+        self.stats.seconds += time.perf_counter() - t0
+        self.stats.iis_calls += 1
+        if status != highspy.HighsStatus.kOk or not iis.valid_ or len(iis.row_index_) == 0:
+            self.stats.rejected += 1
+            return whole
+        rows = np.asarray(list(iis.row_index_), dtype=np.int64)
+        cols = np.asarray(list(iis.col_index_), dtype=np.int64)
+        out = self._shrunk(lay, b, regions, rows, cols, whole, certified=False)
+        if self.generalize:
+            out = self._unanchor(regions, out)
+        return out
+
+    # ------------------------------------------------------------------ shrinking
+    def _from_ray(self, regions: Sequence[int], fallback: Conflict) -> Conflict:
+        """Shrink ``fallback``, whose infeasible LP ``self.slot`` holds, to the
+        support of its Farkas certificate (dual ray): the rows with nonzero multipliers
+        and the bounds of the columns whose combined coefficient is nonzero are
+        infeasible on their own."""
+        lay, b, coo = self.slot.layout, self.slot.bounds, self.slot.coo
+        assert lay is not None and b is not None and coo is not None
+        status, has_ray, ray = self.slot.highs.getDualRay()
+        self.stats.ray_calls += 1
+        y = np.asarray(ray, dtype=float)
+        scale = float(np.max(np.abs(y))) if (has_ray and y.size) else 0.0
+        if status != highspy.HighsStatus.kOk or not scale > 0:
+            self.stats.rejected += 1
+            return fallback
+        y = y / scale
+        rows = np.nonzero(np.abs(y) > 1e-9)[0]
+        R, C, V = coo
+        dcol = np.bincount(C, weights=V * y[R], minlength=lay.n_col)
+        cols = np.nonzero(np.abs(dcol) > 1e-9)[0]
+        certified = _farkas_certifies(b, y, dcol, rows, cols)
+        return self._shrunk(lay, b, regions, rows, cols, fallback, certified=certified)
+
+    def _unanchor(self, regions: Sequence[int], c: Conflict) -> Conflict:
+        """Try to drop the start from a start-anchored conflict: if the LP of its claims
+        with x_0 free (within the state bounds) is infeasible too, shrink that one; a
+        conflict that uses neither the start nor the goal holds at every time shift."""
+        if not c.anchored_start or not c.literals:
+            return c
+        N = len(regions) - 1
+        col = self._solve_model(N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False)
+        if col is not None:
+            return c
+        free = Conflict(c.literals, anchored_start=False, anchored_goal=c.anchored_goal, horizon=c.horizon,
+                        first_time=0, last_time=N)
+        return self._from_ray(regions, free)
+
+    def _shrunk(
+        self, lay: _Layout, b: _Bounds, regions: Sequence[int], rows: np.ndarray, cols: np.ndarray,
+        fallback: Conflict, *, certified: bool,
+    ) -> Conflict:
+        """The conflict of an infeasible subsystem (``rows`` and the bounds of ``cols``):
+        the regions at the times of its region rows, anchored at the start when it uses
+        x_0's fixed bounds, at the goal when it uses a goal row, spanning the states it
+        touches. Returned when ``certified`` (a checked Farkas certificate of exactly
+        these rows and bounds) or when an LP over exactly these claims is infeasible."""
+        kind, lit, state = lay.meta
+        n, m = lay.n, lay.m
+        kinds = kind[rows]
+        lit_times = sorted({int(t) for t in lit[rows] if t >= 0})
+        uses_goal = bool(np.any(kinds == GOAL))
+        x_cols = cols[cols < lay.n_x]
+        u_cols = cols[(cols >= lay.n_x) & (cols < lay.n_x + lay.n_u)]
+        uses_start = b.anchored_start and bool(np.any(x_cols < n))
+        touched = [int(t) for t in state[rows] if t >= 0] + lit_times
+        touched += [int(t) - 1 for t in state[rows[kinds == DYN]]]
+        touched += [int(c) // n + lay.first for c in x_cols]
+        touched += [(int(c) - lay.n_x) // m + lay.first for c in u_cols]
+        conflict = Conflict(
+            tuple((t, regions[t]) for t in lit_times),
+            anchored_start=uses_start,
+            anchored_goal=uses_goal,
+            horizon=len(regions) - 1,
+            first_time=0 if uses_start else min(touched, default=0),
+            last_time=lay.last if uses_goal else max(touched, default=0),
+        )
+        if conflict == fallback:
+            return conflict
+        if certified:
+            self.stats.certified += 1
+            return conflict
+        if self.refutes(conflict):
+            return conflict
+        self.stats.rejected += 1
+        return fallback
+
+    def refutes(self, c: Conflict) -> bool:
+        """Is the LP of exactly what ``c`` claims infeasible? (states c.first_time ..
+        c.last_time, the literals' region and segment rows, the goal and the start as
+        anchored)."""
+        lay = self.layout(c.first_time, c.last_time)
+        assign = dict(c.literals)
+        b = self.bounds(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start, slack=False)
+        coo = self._matrix(lay, self._coef_for(lay, assign))
+        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        return self._run(self.cold, "verify") is None
+
+
+# ---------------------------------------------------------------------------------
+# Relaxations of CON-PLAN that hold for every region sequence: horizon lower bounds
+# and time windows for DIS-PLAN (beyond the paper; every bound is sound).
+
+
+def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
+    """(down, up): the largest position change per step along each workspace axis in
+    the negative and the positive direction that dynamics, input bounds, state bounds
+    and the workspace allow (inf when unbounded). One LP per axis and direction:
+    maximise ``+-(p_{t+1} - p_t)_a`` over ``x_t, u_t`` with ``x_t`` and ``A x_t + B u_t``
+    within the bounds.
+    """
+    dyn = problem.dynamics
+    n, m = dyn.n_states, dyn.n_inputs
+    pos = list(dyn.position)
+    A, B = np.asarray(dyn.A), np.asarray(dyn.B)
+    inf = highspy.kHighsInf
+    lo = np.full(n, -inf)
+    hi = np.full(n, inf)
+    if problem.state_bounds is not None:
+        lo = np.maximum(lo, problem.state_bounds.lo)
+        hi = np.minimum(hi, problem.state_bounds.hi)
+    lo[pos] = np.maximum(lo[pos], problem.workspace.lo)
+    hi[pos] = np.minimum(hi[pos], problem.workspace.hi)
+    # variables [x (n), u (m)]; rows: A x + B u within [lo, hi]
+    M = np.hstack([A, B])
+    lp = highspy.HighsLp()
+    lp.num_col_ = n + m
+    lp.num_row_ = n
+    lp.col_lower_ = np.concatenate([lo, np.full(m, -problem.input_bound)])
+    lp.col_upper_ = np.concatenate([hi, np.full(m, problem.input_bound)])
+    lp.row_lower_ = lo
+    lp.row_upper_ = hi
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kRowwise
+    nz = np.nonzero(M)
+    lp.a_matrix_.start_ = np.concatenate([[0], np.cumsum(np.bincount(nz[0], minlength=n))]).astype(np.int32)
+    lp.a_matrix_.index_ = nz[1].astype(np.int32)
+    lp.a_matrix_.value_ = M[nz]
+    h = highspy.Highs()
+    h.setOptionValue("output_flag", False)
+    down, up = np.zeros(len(pos)), np.zeros(len(pos))
+    for a, i in enumerate(pos):
+        for sign, out in ((1.0, up), (-1.0, down)):
+            cost = sign * (M[i] - np.eye(n + m)[i])  # (A x + B u)_i - x_i
+            lp.col_cost_ = -cost  # HiGHS minimises
+            h.passModel(lp)
+            h.run()
+            status = h.getModelStatus()
+            if status == highspy.HighsModelStatus.kOptimal:
+                out[a] = max(0.0, -h.getInfo().objective_function_value)
+            else:
+                out[a] = math.inf
+    return down, up
+
+
+def physical_lower_bound(problem: ReachProblem) -> int:
+    """A horizon below which no trajectory reaches the goal, obstacles ignored: along
+    every axis, the distance from the start to the goal's bounding box divided by the
+    largest displacement per step (see :func:`step_reach`).
+
+    >>> from plansynth.reach.families import maze
+    >>> physical_lower_bound(maze(1))   # 26 m up at most 1 m (2 m/s x 0.5 s) per step
+    26
+    """
+    down, up = step_reach(problem)
+    s = problem.start_position
+    g = problem.goal
+    g_lo, g_hi = (np.array(g.lo), np.array(g.hi)) if isinstance(g, Box) else (
+        np.min(g.vertices, axis=0), np.max(g.vertices, axis=0))
+    bound = 0
+    for a in range(len(s)):
+        need_up, need_down = g_lo[a] - s[a], s[a] - g_hi[a]
+        for need, reach in ((need_up, up[a]), (need_down, down[a])):
+            if need > 0:
+                if reach <= 0:
+                    return 1 << 30  # cannot move that way at all
+                if math.isfinite(reach):
+                    # shave the LP's tolerance off before rounding up
+                    bound = max(bound, math.ceil(need / reach * (1 - 1e-9) - 1e-9))
+    return bound
+
+
+@dataclass(frozen=True)
+class TimeWindows:
+    """Time windows of the displacement-box relaxation (see :func:`time_windows`).
+
+    ``earliest[j]``: no trajectory is in region j before this step (``math.inf``:
+    never); ``to_go[j]``: from region j the goal is at least this many steps away
+    (``math.inf``: never); ``horizon``: no trajectory reaches the goal in fewer steps.
+    """
+
+    earliest: tuple[float, ...]
+    to_go: tuple[float, ...]
+    horizon: float
+    step_down: tuple[float, ...]
+    step_up: tuple[float, ...]
+
+
+def _box_of(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    v = np.asarray(vertices, dtype=float)
+    return v.min(axis=0), v.max(axis=0)
+
+
+def _sweep(
+    seeds: dict[int, tuple[np.ndarray, np.ndarray]],
+    boxes: Sequence[tuple[np.ndarray, np.ndarray]],
+    adjacency: Sequence[Sequence[int]],
+    grow_lo: np.ndarray,
+    grow_hi: np.ndarray,
+    limit: int,
+    targets: dict[int, tuple[np.ndarray, np.ndarray]] | None = None,
+) -> tuple[list[float], float]:
+    """Grow reach boxes from ``seeds`` by [-grow_lo, grow_hi] per step along region
+    adjacency, clipped to the region boxes, for at most ``limit`` steps (boxes only
+    grow: 0 is a displacement, so a step may stay put). Returns the first step at
+    which each region's box is non-empty, and the first step at which some region's
+    box meets its ``targets`` box (inf: not within ``limit``, or never)."""
+    k = len(boxes)
+    reach: list[tuple[np.ndarray, np.ndarray] | None] = [None] * k
+    first = [math.inf] * k
+    for j, b in seeds.items():
+        reach[j] = b
+        first[j] = 0
+
+    def hits() -> bool:
+        for j, (tlo, thi) in (targets or {}).items():
+            r = reach[j]
+            if r is not None and np.all(np.maximum(r[0], tlo) <= np.minimum(r[1], thi)):
+                return True
+        return False
+
+    hit = 0 if hits() else math.inf
+    for t in range(1, limit + 1):
+        new = list(reach)
+        changed = False
+        for j in range(k):
+            blo, bhi = boxes[j]
+            lo, hi = None, None
+            for i in (j, *adjacency[j]):
+                r = reach[i]
+                if r is None:
+                    continue
+                clo = np.maximum(r[0] - grow_lo, blo)
+                chi = np.minimum(r[1] + grow_hi, bhi)
+                if np.any(clo > chi):
+                    continue
+                lo = clo if lo is None else np.minimum(lo, clo)
+                hi = chi if hi is None else np.maximum(hi, chi)
+            if lo is None:
+                continue
+            old = reach[j]
+            if old is None or np.any(lo < old[0]) or np.any(hi > old[1]):
+                new[j] = (lo, hi) if old is None else (np.minimum(lo, old[0]), np.maximum(hi, old[1]))
+                changed = True
+                if first[j] == math.inf:
+                    first[j] = t
+        reach = new
+        if hit == math.inf and hits():
+            hit = t
+        if not changed:
+            break
+    return first, hit
+
+
+def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) -> TimeWindows:
+    """Reach times of the displacement-box relaxation (beyond the paper).
+
+    Forget the dynamics except that a position moves by at most
+    ``[-step_down, step_up]`` per step (:func:`step_reach`), over-approximate every
+    region by its bounding box and every reachable set by a box: the reach boxes grow
+    along the region graph from the start (``earliest``) and backwards from the goal
+    (``to_go``). Each is an over-approximation of what any trajectory (sampled or
+    segment-safe) can do, so "region j before step ``earliest[j]``" and "region j
+    fewer than ``to_go[j]`` steps before the end" are impossible, and the first step at
+    which a goal region's reach box meets the goal is a lower bound on the horizon.
+
+    >>> from plansynth.reach.families import maze
+    >>> from plansynth.reach.decompose import abstract
+    >>> w = time_windows(maze(1), abstract(maze(1)), 200)
+    >>> w.earliest, w.to_go, w.horizon
+    ((0, 26, 27), (25, 24, 0), 50)
+    """
+    down, up = step_reach(problem)
+    boxes = [_box_of(r.vertices) for r in abstraction.regions]
+    adjacency = abstraction.adjacency
+    s = np.asarray(problem.start_position, dtype=float)
+    g = problem.goal
+    g_lo, g_hi = (np.array(g.lo), np.array(g.hi)) if isinstance(g, Box) else _box_of(np.array(g.vertices))
+    down_f = np.where(np.isfinite(down), down, 1e300)
+    up_f = np.where(np.isfinite(up), up, 1e300)
+    # tolerance: the LP of step_reach and the region boxes are floating point
+    pad = 1e-9 * (1.0 + np.abs(np.array(problem.workspace.hi)) + np.abs(np.array(problem.workspace.lo)))
+    seeds = {j: (s - pad, s + pad) for j in abstraction.start_regions}
+    goal_boxes = {}
+    for j in abstraction.goal_regions:
+        lo, hi = np.maximum(boxes[j][0], g_lo), np.minimum(boxes[j][1], g_hi)
+        if np.all(lo <= hi):
+            goal_boxes[j] = (lo, hi)
+    earliest, horizon = _sweep(seeds, boxes, adjacency, down_f + pad, up_f + pad, limit, goal_boxes)
+    to_go, _ = _sweep(goal_boxes, boxes, adjacency, up_f + pad, down_f + pad, limit)
+    return TimeWindows(tuple(earliest), tuple(to_go), horizon, tuple(down), tuple(up))
+
+
+def _farkas_certifies(b: _Bounds, y: np.ndarray, d: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> bool:
+    """Does ``y`` (zero outside ``rows``) prove that those rows, with the bounds of the
+    columns ``cols`` (the other columns free), have no solution?
+
+    With ``d = A^T y``, every solution has ``y^T (A x) = d^T x``; the row bounds confine
+    the left side to an interval, the column bounds the right side to another, and
+    disjoint intervals (by a safety margin) prove infeasibility. The tiny coefficients
+    of ``d`` outside ``cols`` are charged to the margin with their columns' bounds.
+    """
+    yr = y[rows]
+    lo_r, hi_r = b.row_lo[rows], b.row_hi[rows]
+    with np.errstate(invalid="ignore"):
+        row_min = float(np.where(yr > 0, yr * lo_r, yr * hi_r).sum())
+        row_max = float(np.where(yr > 0, yr * hi_r, yr * lo_r).sum())
+        dc = d[cols]
+        col_min = float(np.where(dc > 0, dc * b.col_lo[cols], dc * b.col_hi[cols]).sum())
+        col_max = float(np.where(dc > 0, dc * b.col_hi[cols], dc * b.col_lo[cols]).sum())
+    if any(math.isnan(v) for v in (row_min, row_max, col_min, col_max)):
+        return False
+    rest = np.setdiff1d(np.nonzero(d)[0], cols)
+    bound = np.maximum(np.abs(b.col_lo[rest]), np.abs(b.col_hi[rest]))
+    if np.any(~np.isfinite(bound)):
+        return False
+    slop = float(np.sum(np.abs(d[rest]) * bound))
+    finite = [abs(v) for v in (row_min, row_max, col_min, col_max) if math.isfinite(v)]
+    margin = 1e-7 * (1.0 + max(finite, default=0.0)) + slop
+    return col_max + margin < row_min or row_max + margin < col_min

@@ -1,0 +1,334 @@
+"""DIS-PLAN: the Boolean half of the lazy planner (Shoukry et al., CDC 2016, Section IV).
+
+Boolean variables ``b[t, i]`` say "the position at time t lies in region i" (for
+t = 0..L, the horizon). The constraints of Section IV:
+
+* exactly one region per time step (a cardinality encoding from :mod:`pysat.card`);
+* the start position's regions at t = 0, a goal region at t = L;
+* transitions only between equal or adjacent regions (``b[t,i] -> OR_{j in N[i]} b[t+1,j]``).
+
+The SAT solver (CaDiCaL through PySAT) proposes a region sequence; CON-PLAN (Section V)
+either realises it or returns a :class:`Conflict`, which becomes a clause here
+(Algorithm 1, line 11). Variables come from an :class:`~pysat.formula.IDPool` keyed by
+``("at", t, i)``, so no index arithmetic leaks into the encoding (STYLE.md, point 8).
+
+**Incremental horizons.** One solver instance serves every horizon. The clauses that
+hold for every horizon (one region per step, transitions, start, conflicts that talk
+about a prefix from time 0) are added unconditionally; the goal at horizon L is guarded
+by an activation literal ``act[L]`` that is assumed while L is tried and fixed false
+once L is refuted. A conflict that involves the goal is guarded by the same literal, so
+every learned clause (and everything CaDiCaL learned from it) survives to the next
+horizon. Conflicts that use neither the start state nor the goal hold at every time
+shift (the dynamics are time-invariant) and are instantiated at every shift.
+
+>>> g = RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(2,))
+>>> d = DisPlan(g)
+>>> d.plan(1) is None            # two steps needed: 0 -> 1 -> 2
+True
+>>> d.plan(2)
+(0, 1, 2)
+>>> d.learn(Conflict(((1, 1),), anchored_start=True, anchored_goal=False, horizon=2))
+>>> d.plan(3)                    # region 1 at time 1 is now excluded
+(0, 0, 1, 2)
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from pysat.card import CardEnc, EncType
+from pysat.formula import IDPool
+from pysat.solvers import Solver
+
+from plansynth.budget import Clock
+from plansynth.reach.decompose import Abstraction
+
+__all__ = ["RegionGraph", "Conflict", "DisPlan", "SatOutcome", "CARDINALITY_ENCODINGS"]
+
+CARDINALITY_ENCODINGS = {
+    "pairwise": EncType.pairwise,
+    "seqcounter": EncType.seqcounter,
+    "ladder": EncType.ladder,
+    "totalizer": EncType.totalizer,
+}
+
+SAT_SOLVER = "cadical195"
+CONFLICTS_PER_SLICE = 20_000  # CaDiCaL cannot be interrupted; it runs in conflict-budget slices
+
+
+@dataclass(frozen=True)
+class RegionGraph:
+    """The discrete abstraction as DIS-PLAN sees it: regions 0..n-1, adjacency lists,
+    start and goal regions (paper, Section III)."""
+
+    n_regions: int
+    adjacency: tuple[tuple[int, ...], ...]
+    start_regions: tuple[int, ...]
+    goal_regions: tuple[int, ...]
+
+    def __post_init__(self) -> None:
+        if len(self.adjacency) != self.n_regions:
+            raise ValueError(f"adjacency has {len(self.adjacency)} lists for {self.n_regions} regions")
+        for i, nbrs in enumerate(self.adjacency):
+            for j in nbrs:
+                if not 0 <= j < self.n_regions or j == i or i not in self.adjacency[j]:
+                    raise ValueError(f"adjacency must be symmetric without self-loops: {i} -> {j}")
+
+    @classmethod
+    def from_abstraction(cls, abstraction: Abstraction) -> "RegionGraph":
+        return cls(len(abstraction.regions), abstraction.adjacency, abstraction.start_regions, abstraction.goal_regions)
+
+    def distances(self, sources: Sequence[int]) -> list[float]:
+        """Breadth-first number of region transitions from ``sources`` (inf: unreachable)."""
+        dist = [math.inf] * self.n_regions
+        queue = deque()
+        for s in sources:
+            dist[s] = 0
+            queue.append(s)
+        while queue:
+            i = queue.popleft()
+            for j in self.adjacency[i]:
+                if dist[j] == math.inf:
+                    dist[j] = dist[i] + 1
+                    queue.append(j)
+        return dist
+
+    def horizon_lower_bound(self) -> float:
+        """The region-graph distance from a start region to a goal region: no region
+        sequence of a shorter horizon exists (inf when the goal is disconnected).
+
+        >>> RegionGraph(3, ((1,), (0, 2), (1,)), (0,), (2,)).horizon_lower_bound()
+        2
+        """
+        dist = self.distances(self.start_regions)
+        return min((dist[g] for g in self.goal_regions), default=math.inf)
+
+
+@dataclass(frozen=True)
+class Conflict:
+    """A set of (time, region) pairs that no trajectory realises together: the clause
+    ``OR_{(t, i)} not b[t, i]`` (the counterexample of Theorem 5.3).
+
+    The flags say which fixed ends the proof used, and therefore where the clause holds:
+
+    * ``anchored_start`` (the proof uses x_0 = start): at the given absolute times;
+      otherwise at every time shift (the dynamics are time-invariant).
+    * ``anchored_goal`` (the proof uses "p_L in the goal"): only for plans whose horizon
+      is ``horizon`` (shifted along with the goal when not start-anchored).
+
+    ``first_time``/``last_time``: the first and last time steps whose states the proof
+    uses (they enclose the literal times); a shifted copy is only added where all of
+    them exist. An empty literal set means that no plan of the given kind exists.
+    """
+
+    literals: tuple[tuple[int, int], ...]
+    anchored_start: bool
+    anchored_goal: bool
+    horizon: int
+    first_time: int | None = None
+    last_time: int | None = None
+
+    def __post_init__(self) -> None:
+        lits = tuple(sorted({(int(t), int(i)) for t, i in self.literals}))
+        object.__setattr__(self, "literals", lits)
+        times = [t for t, _ in lits]
+        first = min(times + ([self.first_time] if self.first_time is not None else []), default=0)
+        last = max(times + ([self.last_time] if self.last_time is not None else []), default=0)
+        if self.anchored_start:
+            first = 0
+        if self.anchored_goal:
+            last = self.horizon
+        object.__setattr__(self, "first_time", first)
+        object.__setattr__(self, "last_time", last)
+        if first < 0 or last > self.horizon:
+            raise ValueError(f"conflict uses times {first}..{last} outside 0..{self.horizon}")
+
+
+class SatOutcome(str, enum.Enum):
+    SAT = "sat"
+    UNSAT = "unsat"
+    INTERRUPTED = "interrupted"
+
+    def __bool__(self) -> bool:
+        raise TypeError("a SatOutcome has no truth value")
+
+
+class DisPlan:
+    """One incremental SAT instance over a growing horizon (paper, Section IV).
+
+    ``cardinality`` names the exactly-one encoding (``pairwise`` or a PySAT encoding
+    such as ``seqcounter``; ``"auto"``: pairwise up to 8 regions). Counters: ``sat_calls``,
+    ``clauses`` (learned conflict clauses, counting shifted copies).
+    """
+
+    def __init__(
+        self,
+        graph: RegionGraph,
+        *,
+        cardinality: str = "auto",
+        earliest: Sequence[float] | None = None,
+        to_go: Sequence[float] | None = None,
+    ) -> None:
+        if cardinality == "auto":
+            cardinality = "pairwise" if graph.n_regions <= 8 else "seqcounter"
+        if cardinality not in CARDINALITY_ENCODINGS:
+            raise ValueError(f"unknown cardinality encoding {cardinality!r} (known: auto, {', '.join(CARDINALITY_ENCODINGS)})")
+        self.graph = graph
+        self.cardinality = cardinality
+        self.pool = IDPool()
+        self.solver = Solver(name=SAT_SOLVER)
+        self.built = -1  # largest time step with variables and step constraints
+        self.goal_added: set[int] = set()
+        self.closed: set[int] = set()
+        self.conflicts: list[Conflict] = []
+        self.sat_calls = 0
+        self.clauses = 0
+        self.sat_clauses_encoding = 0
+        # time windows (sound facts from a relaxation): region i is impossible before
+        # step earliest[i] and fewer than to_go[i] steps before the end
+        self.earliest = list(earliest) if earliest is not None else [0] * graph.n_regions
+        self.to_go = list(to_go) if to_go is not None else [0] * graph.n_regions
+        self.window_clauses = 0
+
+    # -- variables ---------------------------------------------------------------
+    def at(self, t: int, i: int) -> int:
+        """The variable b[t, i]: the position at time t lies in region i."""
+        return self.pool.id(("at", t, i))
+
+    def act(self, horizon: int) -> int:
+        """The activation literal of horizon L (assumed while L is tried)."""
+        return self.pool.id(("horizon", horizon))
+
+    # -- encoding ----------------------------------------------------------------
+    def _add(self, clause: list[int]) -> None:
+        self.solver.add_clause(clause)
+
+    def _extend(self, horizon: int) -> None:
+        g = self.graph
+        for t in range(self.built + 1, horizon + 1):
+            lits = [self.at(t, i) for i in range(g.n_regions)]
+            if self.cardinality == "pairwise":
+                enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool, encoding=EncType.pairwise)
+            else:
+                enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool, encoding=CARDINALITY_ENCODINGS[self.cardinality])
+            for c in enc.clauses:
+                self._add(c)
+            self.sat_clauses_encoding += len(enc.clauses)
+            for i in range(g.n_regions):
+                if t < self.earliest[i]:
+                    self._add([-self.at(t, i)])
+                    self.window_clauses += 1
+            if t == 0:
+                self._add([self.at(0, i) for i in g.start_regions])
+                self.sat_clauses_encoding += 1
+            else:
+                for i in range(g.n_regions):
+                    self._add([-self.at(t - 1, i), self.at(t, i)] + [self.at(t, j) for j in g.adjacency[i]])
+                self.sat_clauses_encoding += g.n_regions
+            old = self.built
+            self.built = t
+            for c in self.conflicts:
+                if not c.anchored_start and not c.anchored_goal:
+                    self._instantiate_free(c, old, t)
+
+    def _ensure_goal(self, horizon: int) -> None:
+        if horizon in self.goal_added:
+            return
+        self.goal_added.add(horizon)
+        act = self.act(horizon)
+        self._add([-act] + [self.at(horizon, i) for i in self.graph.goal_regions])
+        for i in range(self.graph.n_regions):
+            for t in range(max(0, horizon - self.to_go[i] + 1) if self.to_go[i] < math.inf else 0, horizon + 1):
+                if t >= self.earliest[i]:  # earlier steps are excluded for good already
+                    self._add([-act, -self.at(t, i)])
+                    self.window_clauses += 1
+        for c in self.conflicts:
+            if c.anchored_goal and not c.anchored_start:
+                self._instantiate_goal(c, horizon)
+
+    def _clause(self, c: Conflict, shift: int, guard: int | None) -> None:
+        clause = [-self.at(t + shift, i) for t, i in c.literals]
+        if guard is not None:
+            clause.append(-guard)
+        self._add(clause)
+        self.clauses += 1
+
+    def _instantiate_goal(self, c: Conflict, horizon: int) -> None:
+        shift = horizon - c.horizon
+        if c.first_time + shift >= 0 and horizon <= self.built:
+            self._clause(c, shift, self.act(horizon))
+
+    def _instantiate_free(self, c: Conflict, old_built: int, built: int) -> None:
+        """Add the shifted copies of a time-invariant conflict whose last step lands in
+        (old_built, built]."""
+        span = c.last_time - c.first_time
+        for end in range(max(old_built + 1, span), built + 1):
+            self._clause(c, end - c.last_time, None)
+
+    def learn(self, conflict: Conflict) -> None:
+        """Add a counterexample from CON-PLAN (Algorithm 1, line 11)."""
+        self.conflicts.append(conflict)
+        c = conflict
+        if c.anchored_start and not c.anchored_goal:
+            self._extend(c.last_time)
+            self._clause(c, 0, None)
+        elif c.anchored_start and c.anchored_goal:
+            self._extend(c.horizon)
+            self._clause(c, 0, self.act(c.horizon))
+        elif c.anchored_goal:
+            for horizon in sorted(self.goal_added):
+                if horizon not in self.closed:
+                    self._instantiate_goal(c, horizon)
+        else:
+            self._instantiate_free(c, -1, self.built)
+
+    def close(self, horizon: int) -> None:
+        """Horizon L is refuted: fix its activation literal false for good."""
+        self.closed.add(horizon)
+        self._add([-self.act(horizon)])
+
+    # -- solving -----------------------------------------------------------------
+    def solve(self, horizon: int, clock: Clock | None = None) -> tuple[SatOutcome, tuple[int, ...] | None]:
+        """A region sequence r_0..r_L satisfying every clause, or UNSAT, or INTERRUPTED
+        when ``clock`` runs out (checked between slices of CaDiCaL conflicts)."""
+        self._extend(horizon)
+        self._ensure_goal(horizon)
+        self.sat_calls += 1
+        assumptions = [self.act(horizon)]
+        while True:
+            if clock is not None and clock.exhausted():
+                return SatOutcome.INTERRUPTED, None
+            self.solver.conf_budget(CONFLICTS_PER_SLICE)
+            answer = self.solver.solve_limited(assumptions=assumptions)
+            if answer is None:
+                continue
+            if answer is False:
+                return SatOutcome.UNSAT, None
+            break
+        model = self.solver.get_model()
+        true = {v for v in model if v > 0}
+        plan = []
+        for t in range(horizon + 1):
+            regions = [i for i in range(self.graph.n_regions) if self.at(t, i) in true]
+            if len(regions) != 1:  # pragma: no cover - the cardinality encoding forbids it
+                raise AssertionError(f"SAT model puts time {t} in regions {regions}")
+            plan.append(regions[0])
+        return SatOutcome.SAT, tuple(plan)
+
+    def plan(self, horizon: int) -> tuple[int, ...] | None:
+        """Convenience: the region sequence for ``horizon`` or None when UNSAT."""
+        outcome, plan = self.solve(horizon)
+        return plan if outcome is SatOutcome.SAT else None
+
+    def delete(self) -> None:
+        self.solver.delete()
+
+    def __enter__(self) -> "DisPlan":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.delete()

@@ -1,0 +1,129 @@
+"""The answer of a reach-avoid planner and the record of how it was found.
+
+A :class:`ReachResult` carries the status (``found`` / ``infeasible`` / ``unknown``,
+spec "Result file"), the trajectory and region sequence when one was found, and the
+record of the run: planner name, options, seconds, per-phase timings, counters, solver
+versions and the independent validator's report (STYLE.md, points 1 and 3).
+
+>>> ReachStatus.FOUND.value
+'found'
+>>> bool(ReachStatus.UNKNOWN)
+Traceback (most recent call last):
+...
+TypeError: a ReachStatus has no truth value; compare it with ReachStatus.FOUND etc.
+"""
+
+from __future__ import annotations
+
+import enum
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from plansynth.reach.trajectory import Trajectory, trajectory_to_lists
+from plansynth.reach.validate import ValidationReport
+
+__all__ = ["ReachStatus", "ReachResult", "solver_versions"]
+
+
+class ReachStatus(str, enum.Enum):
+    """``found``: a validated trajectory; ``infeasible``: proved, no trajectory of any
+    horizon up to the result's ``horizon``; ``unknown``: a budget ran out (or a found
+    trajectory failed validation). ``unknown`` is never ``false``: no truthiness."""
+
+    FOUND = "found"
+    INFEASIBLE = "infeasible"
+    UNKNOWN = "unknown"
+
+    def __bool__(self) -> bool:
+        raise TypeError("a ReachStatus has no truth value; compare it with ReachStatus.FOUND etc.")
+
+    def __str__(self) -> str:
+        return self.value
+
+
+def solver_versions() -> dict[str, str]:
+    """Versions of plansynth and of the solvers the reach planners call."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {}
+    for dist in ("plansynth", "highspy", "python-sat", "numpy", "shapely"):
+        try:
+            out[dist] = version(dist)
+        except PackageNotFoundError:  # pragma: no cover - depends on the install
+            out[dist] = "not installed"
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class ReachResult:
+    """One planner run on one problem.
+
+    ``horizon``: the number of steps N of the trajectory when ``found``; for
+    ``infeasible``, the largest horizon up to which every horizon was refuted; for
+    ``unknown``, the horizon being searched when the budget ran out (or None).
+    ``regions``: the region sequence r_0..r_N (indices into the abstraction) for the
+    region-based planners. ``segment_safe``: the validator's finding that every segment
+    between consecutive samples avoids the obstacles (None without a trajectory);
+    ``guarantee``: what the planner enforced by construction, ``"segments"`` or
+    ``"samples"`` (the paper's guarantee). ``validated``: the validator accepted the
+    trajectory (None when there is none); ``validation``: its report.
+    """
+
+    status: ReachStatus
+    planner: str
+    seconds: float
+    trajectory: Trajectory | None = None
+    regions: tuple[int, ...] | None = None
+    segment_safe: bool | None = None
+    horizon: int | None = None
+    counters: dict[str, Any] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    options: dict[str, Any] = field(default_factory=dict)
+    validated: bool | None = None
+    validation: ValidationReport | None = None
+    message: str = ""
+    guarantee: str | None = None
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """The result file of the spec (keys status, planner, seconds, states, inputs,
+        regions, segment_safe) plus the record of the run."""
+        states, inputs = (None, None) if self.trajectory is None else trajectory_to_lists(self.trajectory)
+        return {
+            "status": self.status.value,
+            "planner": self.planner,
+            "seconds": self.seconds,
+            "states": states,
+            "inputs": inputs,
+            "regions": None if self.regions is None else [int(r) for r in self.regions],
+            "segment_safe": self.segment_safe,
+            "guarantee": self.guarantee,
+            "horizon": self.horizon,
+            "validated": self.validated,
+            "validation": None if self.validation is None else self.validation.to_json_dict(),
+            "counters": _jsonable(self.counters),
+            "timings": _jsonable(self.timings),
+            "options": _jsonable(self.options),
+            "message": self.message,
+            "versions": solver_versions(),
+        }
+
+    def write_json(self, path: str | Path) -> Path:
+        """Write :meth:`to_json_dict` to ``path`` (indented JSON)."""
+        p = Path(path)
+        p.write_text(json.dumps(self.to_json_dict(), indent=1) + "\n", encoding="utf-8")
+        return p
+
+
+def _jsonable(value: Any) -> Any:
+    """Plain JSON types for the record dictionaries (numpy scalars, tuples, enums)."""
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, enum.Enum):
+        return value.value
+    if hasattr(value, "item") and callable(value.item):  # numpy scalar
+        return value.item()
+    return value
