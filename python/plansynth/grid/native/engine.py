@@ -32,7 +32,14 @@ from plansynth.grid.native.arena import Arena, BudgetExhausted
 from plansynth.grid.native.bitgrid import bits, cell_mask
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
-from plansynth.grid.native.stationary import Strategy, encode_stationary, solve_clauses, stationary_strategy, winning_forward
+from plansynth.grid.native.stationary import (
+    ConflictLimit,
+    Strategy,
+    encode_stationary,
+    solve_clauses,
+    stationary_strategy,
+    winning_forward,
+)
 from plansynth.grid.native.synth import (
     TreeEncoding,
     conditions_by_level,
@@ -77,9 +84,10 @@ class Engine:
     minimize: bool = False
     use_rust: bool | None = None
     improve: bool = True
-    conflicts: int = 100_000
-    attempt_seconds: float = 0.5
-    improve_seconds: float = 3.0
+    conflicts: int = 30_000
+    attempt_seconds: float | None = None
+    improve_states: int = 1000
+    improve_seconds: float = 5.0
     tree_conditions: int = 400
     max_clauses: int = 3_000_000
     counters: dict[str, Any] = field(default_factory=dict)
@@ -219,15 +227,33 @@ class Engine:
         enum = self._conditions(inputs, arena.variables(), arena.problem, cdepth)
         n_moves = len(arena.robot.moves)
         program = greedy_program(allowed, enum.conditions, n_moves)
+        started = time.perf_counter()
+        if depth(program) > 1 and self.improve:
+            # Any winning strategy will do: search the smallest program over all of them
+            # first (when the game is small enough), then over this strategy's moves.
+            # Attempts are bounded by conflicts, so answers do not depend on the load.
+            try:
+                better, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem,
+                                               cond_depth=self.condition_depth, max_clauses=self.max_clauses,
+                                               max_conflicts=self.conflicts, max_seconds=self.attempt_seconds,
+                                               total_seconds=self.improve_seconds, skip_hard=True)
+            except BudgetExhausted:
+                if clock.exhausted():
+                    raise
+                better = None
+            if better is not None:
+                program = better
         top = depth(program) - 1 if depth_bound is None else min(depth_bound, depth(program) - 1)
         useful = useful_conditions(allowed, enum.conditions, n_moves, self.tree_conditions)
-        started = time.perf_counter()
         for d in program_depths(min(top, self.max_tree_depth)):
-            if time.perf_counter() - started > self.improve_seconds:
+            if not self.improve or len(states) > 2 * self.improve_states or time.perf_counter() - started > 2 * self.improve_seconds:
                 break
             try:
+                # small instances: bounded by conflicts only (reproducible); large ones
+                # also by time, so that a hopeless improvement cannot eat the budget
+                cap = self.attempt_seconds if len(states) <= 200 else min(self.attempt_seconds or 1.0, 1.0)
                 better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
-                                      max_conflicts=self.conflicts, max_seconds=self.attempt_seconds)
+                                      max_conflicts=self.conflicts, max_seconds=cap)
             except BudgetExhausted:
                 if clock.exhausted():
                     raise
@@ -235,19 +261,6 @@ class Engine:
             if better is not None:
                 program = better
                 break
-        if depth(program) > 1 and self.improve and time.perf_counter() - started <= self.improve_seconds:
-            # The model's strategy is one of many: look for a smaller program over every
-            # winning strategy, when that search is small enough.
-            try:
-                better, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem,
-                                               cond_depth=self.condition_depth, max_clauses=self.max_clauses, max_conflicts=self.conflicts,
-                                               max_seconds=self.attempt_seconds)
-            except BudgetExhausted:
-                if clock.exhausted():
-                    raise
-                better = None
-            if better is not None:
-                program = better
         if depth_bound is not None and depth(program) > depth_bound:
             return None
         if not program_wins(arena.problem, arena.steps, program, clock):
@@ -273,7 +286,8 @@ class Engine:
 
 
 def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine: Engine, problem: GridProblem,
-                    cond_depth: int | None = None, max_clauses: int | None = None, max_conflicts: int | None = None, max_seconds: float | None = None):
+                    cond_depth: int | None = None, max_clauses: int | None = None, max_conflicts: int | None = None,
+                    max_seconds: float | None = None, total_seconds: float | None = None, skip_hard: bool = False):
     """Search program depths 1, 4, 5, ... for a winning program over the whole game.
 
     Returns ``(program or None, proved, last depth tried)``; ``proved`` is True when
@@ -282,7 +296,7 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     fwd = winning_forward(arena)
     states = sorted({(r, oc) for layer in fwd[:-1] for oc, m in layer.items() for r in bits(m)})
     top_ = depth_bound if depth_bound is not None else engine.max_tree_depth
-    if max_clauses is not None and len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50:
+    if max_clauses is not None and (len(states) > engine.improve_states or len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50):
         raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
     clauses, ids, fwd = encode_stationary(arena, clock, fwd=fwd)
     index = {s: i for i, s in enumerate(states)}
@@ -296,7 +310,10 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     proved = True
     last = 0
     enums: dict[int, Enumeration] = {}
+    started = time.perf_counter()
     for d in program_depths(top):
+        if total_seconds is not None and time.perf_counter() - started > total_seconds:
+            raise BudgetExhausted(f"exact depth search beyond {total_seconds} s")
         last = d
         need = max(2, min(d - 1, cap))  # the root's conditions have depth <= d - 1
         if need not in enums:
@@ -315,7 +332,13 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
             return False if v is None else v
 
         enc.build(out_lit)
-        model = solve_clauses(enc.clauses, clock, max_conflicts=max_conflicts, max_seconds=max_seconds)
+        try:
+            model = solve_clauses(enc.clauses, clock, max_conflicts=max_conflicts, max_seconds=max_seconds)
+        except ConflictLimit:
+            if not skip_hard:
+                raise
+            proved = False  # this depth is left undecided; try the next one
+            continue
         if model is not None:
             return enc.program(model), proved, d
         if d >= 4 and enum.complete_to < d - 1:

@@ -85,6 +85,10 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
         return v
 
     clauses: list[list[int]] = []
+    # Large games share each configuration's replies per end cell (fewer clauses); small
+    # ones keep the direct clauses, which make the exact depth searches easier for SAT.
+    size = sum(m.bit_count() * len(arena.successors(oc)) for layer in fwd[:-1] for oc, m in layer.items())
+    share = size * n_moves > 300_000
     oc0 = next(iter(fwd[0]))
     r0 = arena.sem.index(arena.problem.robot.start)
     clauses.append([var(("r", 0, r0, oc0))])
@@ -103,6 +107,10 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
                         clauses.append([-rv, -mv[k]])
                     elif t + 1 < steps:
                         e = arena.robot_end(r, k)
+                        if not share:
+                            for oc2 in succ:
+                                clauses.append([-rv, -mv[k], var(("r", t + 1, e, oc2))])
+                            continue
                         g = goes.get(e)
                         if g is None:
                             # shared by every (r, k) of this configuration that ends in e

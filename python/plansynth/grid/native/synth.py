@@ -220,8 +220,8 @@ def tree_program(
 
     ``allowed[s]`` are the moves permitted in state s; ``conds`` the condition
     behaviours over the same states. Exact relative to ``conds``. Raises
-    :class:`BudgetExhausted` if the instance is larger than ``max_clauses`` or the
-    clock runs out.
+    :class:`BudgetExhausted` if the instance grows beyond ``max_clauses`` literals or
+    the clock runs out.
     """
     n = len(allowed)
     if d < 4:
@@ -230,9 +230,7 @@ def tree_program(
             common &= set(a)
         return Const(min(common)) if common else None
     by_level = conditions_by_level(conds, d, n)
-    est = sum(len(by_level[_level(i)]) for i in range(2 ** tree_levels(d) - 1)) * n
-    if est > max_clauses:
-        raise BudgetExhausted(f"tree SAT instance of about {est} clauses")
+    per_state = sum(len(by_level[_level(i)]) for i in range(2 ** tree_levels(d) - 1)) + 2 ** tree_levels(d) * n_moves
     sets = [set(a) for a in allowed]
     enc = TreeEncoding(tree_levels(d), by_level, n, n_moves, 0, [])
     out_lit = lambda s, k: k in sets[s]  # noqa: E731
@@ -245,6 +243,8 @@ def tree_program(
     for i in seen.values():
         enc.add_state(i, out_lit)
     added = set(seen.values())
+    if per_state * len(added) > max_clauses:
+        raise BudgetExhausted(f"tree SAT instance of about {per_state * len(added)} literals")
     t0 = time.perf_counter()
     with Solver(name=SAT_SOLVER) as solver:
         while True:
@@ -262,6 +262,8 @@ def tree_program(
                 if s not in added:
                     added.add(s)
                     enc.add_state(s, out_lit)
+            if per_state * len(added) > max_clauses:
+                raise BudgetExhausted(f"tree SAT instance beyond {max_clauses} literals")
 
 
 def _solve(solver, clock: Clock | None, max_conflicts: int | None, max_seconds: float | None) -> list[int] | None:
