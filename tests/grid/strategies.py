@@ -68,6 +68,7 @@ def problem_documents(
     draw: st.DrawFn,
     *,
     max_side: int = 5,
+    min_obstacles: int = 0,
     max_obstacles: int = 2,
     max_obstacle_moves: int = 3,
     max_robot_moves: int = 5,
@@ -91,7 +92,7 @@ def problem_documents(
         robot_moves.insert(0, "stay")
     obstacles = [
         {"start": list(draw(cell)), "moves": draw(move_lists(1, max_obstacle_moves))}
-        for _ in range(draw(st.integers(0, max_obstacles)))
+        for _ in range(draw(st.integers(min_obstacles, max_obstacles)))
     ]
     doc: dict[str, Any] = {
         "grid": [w, h],
@@ -158,7 +159,8 @@ def start_terms(
     draw: st.DrawFn, variables: tuple[str, ...], n_moves: int, max_constant: int, budget: int
 ) -> Term:
     """A controller (Start) of depth <= budget (budget >= 1)."""
-    if budget < 3 or draw(st.integers(0, 2)) == 0:
+    # A leaf half the time keeps the expected size moderate (an ite has two Start children).
+    if budget < 3 or draw(st.booleans()):
         return Const(draw(st.integers(0, n_moves - 1)))
     c = draw(b_terms(variables, max_constant, budget - 1))
     t = draw(start_terms(variables, n_moves, max_constant, budget - 1))
@@ -172,9 +174,41 @@ def programs(problem: GridProblem, max_depth: int = 5) -> st.SearchStrategy[Term
 
 
 @st.composite
-def problems_and_programs(draw: st.DrawFn, max_depth: int = 5, **kwargs: Any) -> tuple[GridProblem, Term]:
-    """A random small problem together with a random program of its grammar."""
+def programs_reading_obstacles(draw: st.DrawFn, problem: GridProblem, max_depth: int = 5) -> Term:
+    """Controllers that read at least one obstacle coordinate (``problem`` needs an
+    obstacle); depth <= max_depth + 1. A program that reads none is put under
+    ``(ite (<= oNc K) program other)`` with a random obstacle coordinate oNc."""
+    assert problem.obstacles, "programs_reading_obstacles needs a problem with obstacles"
+    prog = draw(programs(problem, max_depth))
+    if any(v.startswith("o") for v in _variables(prog)):
+        return prog
+    coord = Var(draw(st.sampled_from(problem.variables[2:])))
+    bound = Const(draw(st.integers(-1, problem.max_constant)))
+    other = draw(programs(problem, max_depth))
+    cond = App(draw(st.sampled_from(["<=", "="])), (coord, bound) if draw(st.booleans()) else (bound, coord))
+    return App("ite", (cond, prog, other))
+
+
+def _variables(t: Term) -> set[str]:
+    if isinstance(t, Var):
+        return {t.name}
+    if isinstance(t, App):
+        return set().union(*(_variables(a) for a in t.args))
+    return set()
+
+
+@st.composite
+def problems_and_programs(
+    draw: st.DrawFn, max_depth: int = 5, reading_obstacles: bool = False, **kwargs: Any
+) -> tuple[GridProblem, Term]:
+    """A random small problem together with a random program of its grammar (with
+    ``reading_obstacles``, one that reads an obstacle: see :func:`programs_reading_obstacles`)."""
+    if reading_obstacles:
+        kwargs.setdefault("min_obstacles", 1)
+        kwargs["max_obstacles"] = max(kwargs.get("max_obstacles", 2), kwargs["min_obstacles"])
     p = draw(grid_problems(**kwargs))
+    if reading_obstacles:
+        return p, draw(programs_reading_obstacles(p, max_depth))
     return p, draw(programs(p, max_depth))
 
 
