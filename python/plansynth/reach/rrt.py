@@ -27,7 +27,6 @@ solution is ``unknown``.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from typing import Any
