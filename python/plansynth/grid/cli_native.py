@@ -29,9 +29,7 @@ def explain_command(
 ) -> None:
     """Explain why no controller exists at path length l.
 
-    Prints the obstacles' strategy that defeats every controller, played against the
-    robot's most stubborn try (a witness of unrealizability), or says that controllers
-    seeing the time would win but none seeing only positions does.
+    Prints the obstacles' strategy that defeats every controller, played against the robot's most stubborn try (a witness of unrealizability, replayed with the spec's semantics), or says that controllers seeing the time would win but none seeing only positions does.
 
     Example: plansynth grid explain examples/grid/crossing.yaml --steps 7 --gif why.gif
     """
@@ -90,9 +88,7 @@ def minimize_command(
 ) -> None:
     """Synthesize a controller of smallest depth, proved minimal.
 
-    Program depths 1, 4, 5, ... are tried in order over every winning strategy (the
-    native engine with its ``minimize`` option); the depth reported is minimal when
-    every smaller depth was refuted with a complete enumeration of conditions.
+    Program depths 1, 4, 5, ... are tried in order over every winning strategy (the native engine with its minimize option, also available as: plansynth grid solve FILE -O minimize=true); the depth is reported minimal when every smaller depth was refuted with a complete enumeration of conditions.
 
     Example: plansynth grid minimize examples/grid/figure1.yaml
     """
