@@ -1,9 +1,261 @@
-"""CLI commands (registered on the `plansynth grid` app by :mod:`plansynth.grid.cli`)."""
+"""``plansynth grid verify``, ``animate`` and ``export``: thin shells over
+:func:`plansynth.grid.verify.verify`, :func:`plansynth.grid.simulate.simulate` with
+:mod:`plansynth.grid.render`, and the exports of :mod:`plansynth.grid.programs`
+(STYLE.md, point 12). Registered on the ``plansynth grid`` app by :mod:`plansynth.grid.cli`.
+
+A controller may be given as a result JSON (spec: Result file), as a file holding a
+term or a ``define-fun`` (``.sl``, ``.txt``, ...), or as a literal term.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Optional
+
 import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from plansynth.errors import PlansynthError
+from plansynth.grid.problem import GridProblem, load_grid_problem
+from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program, to_c, to_define_fun, to_python
+from plansynth.grid.result import load_result
+
+#: Exit statuses of ``verify`` (``animate`` and ``export`` use 0 and 2).
+EXIT_WINS, EXIT_LOSES, EXIT_BAD_INPUT = 0, 1, 2
+
+VERIFY_EPILOG = """\
+Examples:
+
+  plansynth grid verify examples/grid/figure1.yaml "(ite (<= rx 3) 2 1)" --steps 6
+
+  plansynth grid verify examples/grid/figure1.yaml result.json
+
+  plansynth grid verify examples/grid/figure1.yaml controller.sl --steps 6
+
+A result.json comes from `plansynth grid solve -o`; a .sl or .txt file holds a term or a define-fun.
+
+Exit status: 0 the controller wins, 1 it loses (a counterexample is printed), 2 bad input.
+"""
+
+ANIMATE_EPILOG = """\
+Examples:
+
+  plansynth grid animate examples/grid/figure1.yaml result.json -o run.gif
+
+  plansynth grid animate examples/grid/figure1.yaml "(ite (<= rx 1) 2 1)" --steps 6 -o lose.gif
+
+  plansynth grid animate examples/grid/traffic.yaml result.json -o t.gif --obstacles random --seed 3
+
+  plansynth grid animate examples/grid/figure1.yaml result.json -o run.gif --png step2.png --step 2
+
+Adversarial obstacles replay the verifier's counterexample when the controller loses,
+and otherwise stay as close to the robot as they can. Exit status: 0 written, 2 bad input.
+"""
+
+EXPORT_EPILOG = """\
+Examples:
+
+  plansynth grid export result.json --lang python --problem examples/grid/figure1.yaml
+
+  plansynth grid export result.json --lang c -o controller.c --problem examples/grid/figure1.yaml
+
+  plansynth grid export "(ite (<= rx 3) 2 1)" --lang sygus --problem examples/grid/figure1.yaml
+
+Without --problem the result's own "problem" field is used (the path given to solve).
+Exit status: 0 written, 2 bad input.
+"""
+
+
+@dataclass(frozen=True)
+class Controller:
+    """A controller read from the command line, with the path length its result gave."""
+
+    program: Term
+    steps: int | None
+    origin: str
+    problem_path: str | None = None
+
+
+def read_controller(spec: str) -> Controller:
+    """Read RESULT_OR_PROGRAM: a result JSON, a file holding a term, or a literal term."""
+    path = Path(spec)
+    if path.is_file():
+        if path.suffix.lower() == ".json":
+            stored = load_result(path)
+            if stored.program is None:
+                raise _BadInput(f"{spec}: the result has no program (status {stored.status.value})")
+            where = stored.raw.get("problem") or None
+            if where is not None and not Path(where).is_file() and (path.parent / where).is_file():
+                where = str(path.parent / where)
+            return Controller(stored.program, stored.steps, spec, where)
+        text = path.read_text(encoding="utf-8")
+        try:
+            return Controller(parse_program(text), None, spec)
+        except ProgramSyntaxError as exc:
+            raise _BadInput(f"{spec}: not a controller program: {exc}") from exc
+    try:
+        return Controller(parse_program(spec), None, "the command line")
+    except ProgramSyntaxError as exc:
+        hint = "" if "(" in spec or " " not in spec else " (and no such file)"
+        raise _BadInput(f"{spec!r} is neither a file nor a controller term{hint}: {exc}") from exc
+
+
+class _BadInput(Exception):
+    """Bad command-line input: reported and exit status 2."""
+
+
+def _steps(controller: Controller, problem: GridProblem, steps: int | None) -> int:
+    if steps is not None:
+        return steps
+    if controller.steps is not None:
+        return controller.steps
+    if problem.steps is not None:
+        return problem.steps
+    raise _BadInput("no path length: give --steps N (the problem file has no `steps` and no result gave one)")
+
+
+def _fail(err: Console, message: str) -> typer.Exit:
+    err.print(f"[bold red]error:[/bold red] {escape(message)}", highlight=False)
+    return typer.Exit(EXIT_BAD_INPUT)
+
+
+def _cell(c: tuple[int, int]) -> str:
+    return f"({c[0]}, {c[1]})"
+
+
+def verify_command(
+    file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
+    result_or_program: str = typer.Argument(..., metavar="RESULT_OR_PROGRAM", help="A result JSON, a file with a term or define-fun, or a literal term."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l (default: the result's, else the problem's)."),
+) -> None:
+    """Check exactly whether a controller wins against every obstacle behaviour."""
+    from plansynth.grid.verify import verify
+
+    console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
+    try:
+        problem = load_grid_problem(file)
+        controller = read_controller(result_or_program)
+        l = _steps(controller, problem, steps)
+        verdict = verify(problem, controller.program, l)
+    except (PlansynthError, _BadInput) as exc:
+        raise _fail(err, str(exc)) from None
+    stats = f"{verdict.states_explored} states explored in {verdict.seconds:.3f} s"
+    program = escape(str(controller.program))
+    if verdict.wins:
+        console.print(f"[bold green]WINS[/bold green] at l = {l}: {program}  ({stats})", highlight=False)
+        raise typer.Exit(EXIT_WINS)
+    cex = verdict.counterexample
+    assert cex is not None
+    console.print(f"[bold red]LOSES[/bold red] at l = {l}: {program}  ({stats})", highlight=False)
+    console.print(f"counterexample: {escape(cex.reason)}", highlight=False)
+    table = Table(show_edge=False, header_style="bold")
+    table.add_column("step", justify="right")
+    table.add_column("robot")
+    table.add_column("robot move")
+    for i in range(len(problem.obstacles)):
+        table.add_column(f"o{i}")
+    for t, state in enumerate(cex.states):
+        if t < len(cex.robot_moves):
+            k = cex.robot_moves[t]
+            moves = [problem.obstacles[i].moves[j].name for i, j in enumerate(cex.obstacle_moves[t])]
+            row = [str(t), _cell(state.robot), f"{k} {problem.robot.moves[k].name}"]
+            row += [f"{_cell(o)} {m}" for o, m in zip(state.obstacles, moves)]
+        else:
+            row = ["end", _cell(state.robot), ""] + [_cell(o) for o in state.obstacles]
+        table.add_row(*row)
+    console.print(table)
+    raise typer.Exit(EXIT_LOSES)
+
+
+def animate_command(
+    file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
+    result_or_program: str = typer.Argument(..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."),
+    out: Path = typer.Option(..., "--out", "-o", help="The GIF to write."),
+    obstacles: str = typer.Option("adversarial", "--obstacles", help="adversarial (counterexample, else greedy pursuit) or random."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the random obstacles."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l (default: the result's, else the problem's)."),
+    fps: float = typer.Option(3.0, "--fps", min=0.1, help="Frames per second of the GIF."),
+    png: Optional[Path] = typer.Option(None, "--png", help="Also write one step as a PNG."),
+    step: Optional[int] = typer.Option(None, "--step", min=0, help="The step for --png (default: the last state)."),
+) -> None:
+    """Animate one run of a controller as a GIF (and optionally one step as a PNG)."""
+    from plansynth.grid.render import animate, draw_state
+    from plansynth.grid.simulate import MODES, simulate
+
+    console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
+    try:
+        if obstacles not in MODES:
+            raise _BadInput(f"--obstacles must be one of {', '.join(MODES)}, got {obstacles!r}")
+        if step is not None and png is None:
+            raise _BadInput("--step needs --png")
+        problem = load_grid_problem(file)
+        controller = read_controller(result_or_program)
+        l = _steps(controller, problem, steps)
+        run = simulate(problem, controller.program, l, obstacles=obstacles, seed=seed)
+        last = len(run.states) - 1
+        if step is not None and step > last:
+            raise _BadInput(f"--step {step}: the run has states 0..{last}")
+    except (PlansynthError, _BadInput) as exc:
+        raise _fail(err, str(exc)) from None
+    animate(problem, run, out, fps=fps)
+    verdict = "[green]wins[/green]" if run.wins else "[red]loses[/red]"
+    console.print(f"controller {verdict} at l = {l}; this run ({obstacles} obstacles): {escape(run.outcome)}", highlight=False)
+    console.print(f"wrote {escape(str(out))} ({last + 1} states)", highlight=False)
+    if png is not None:
+        t = last if step is None else step
+        draw_state(problem, run, t, png)
+        console.print(f"wrote {escape(str(png))} (state {t})", highlight=False)
+
+
+def export_command(
+    result_or_program: str = typer.Argument(..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."),
+    lang: str = typer.Option(..., "--lang", help="python, c or sygus."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write here (default: standard output)."),
+    problem_file: Optional[Path] = typer.Option(None, "--problem", help="The problem (its obstacle count fixes the inputs); default: the result's."),
+    name: str = typer.Option("move", "--name", help="Function name."),
+) -> None:
+    """Export a controller as Python, C or a SyGuS-IF define-fun."""
+    err = Console(stderr=True, soft_wrap=True)
+    try:
+        if lang not in ("python", "c", "sygus"):
+            raise _BadInput(f"--lang must be python, c or sygus, got {lang!r}")
+        controller = read_controller(result_or_program)
+        where = str(problem_file) if problem_file is not None else controller.problem_path
+        if where is None:
+            raise _BadInput("give --problem FILE: the inputs rx ry o0x o0y ... depend on its obstacles")
+        if problem_file is None and not Path(where).is_file():
+            raise _BadInput(f"the result names the problem {where!r}, which is not a file from here: give --problem FILE")
+        problem = load_grid_problem(where)
+        from plansynth.grid.verify import check_controller
+
+        check_controller(problem, controller.program)
+    except (PlansynthError, _BadInput) as exc:
+        raise _fail(err, str(exc)) from None
+    variables = problem.variables
+    if lang == "python":
+        text = to_python(controller.program, variables, name)
+    elif lang == "c":
+        text = to_c(controller.program, variables, name)
+    else:
+        text = (
+            f"; controller for {problem.name} (depth {depth(controller.program)}), SyGuS-IF v2\n"
+            + to_define_fun(controller.program, variables, name)
+            + "\n"
+        )
+    if out is None:
+        typer.echo(text, nl=False)
+    else:
+        out.write_text(text, encoding="utf-8")
+        Console(soft_wrap=True).print(f"wrote {escape(str(out))}", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
     """Add this module's commands to ``app``."""
+    app.command("verify", epilog=VERIFY_EPILOG)(verify_command)
+    app.command("animate", epilog=ANIMATE_EPILOG)(animate_command)
+    app.command("export", epilog=EXPORT_EPILOG)(export_command)
