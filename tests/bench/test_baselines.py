@@ -127,3 +127,15 @@ def test_rrt_edges_do_not_hop_over_a_thin_wall_unless_asked():
     loose = plan_rrt(p, Budget(seconds=20), seed=4, segment_safe=False)
     assert loose.status == ReachStatus.FOUND and loose.guarantee == "samples"
     assert validate(p, loose.trajectory).ok
+
+
+def test_baselines_are_planners_of_reach_solve():
+    import plansynth.reach.milp_bigm  # noqa: F401 - registers on import
+    import plansynth.reach.rrt  # noqa: F401
+    from plansynth.reach.solve import planners, solve
+
+    assert {"rrt", "est", "kpiece", "milp-bigm"} <= set(planners())
+    p = _open_problem()
+    for name in ("rrt", "milp-bigm"):
+        r = solve(p, planner=name, budget=Budget(seconds=20))
+        assert r.planner == name and r.status == ReachStatus.FOUND and r.validated is True

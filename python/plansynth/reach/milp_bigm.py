@@ -333,3 +333,17 @@ def plan_milp_bigm(
         segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
         validated=None, validation=None, message=message,
     )
+
+
+def register() -> None:
+    """Register ``milp-bigm`` with :func:`plansynth.reach.solve`."""
+    from plansynth.reach.solve import planners, register_planner
+
+    if "milp-bigm" not in planners():
+        register_planner("milp-bigm", plan_milp_bigm)
+
+
+try:  # importing this module makes the planner available by name
+    register()
+except ImportError:  # pragma: no cover - solve() not available in this checkout
+    pass

@@ -327,3 +327,27 @@ def _status_text(status: Any) -> str:
         return str(status.asString())
     except Exception:
         return str(status)
+
+
+def _make_planner(name: str) -> Callable[..., Any]:
+    def planner(problem: ReachProblem, budget: Budget = Budget(seconds=60.0), **options: Any) -> Any:
+        return plan_rrt(problem, budget, planner=name, **options)
+
+    planner.__name__ = f"plan_{name}"
+    planner.__doc__ = f"OMPL {PLANNERS[name]} as a :func:`plansynth.reach.solve` planner (see :func:`plan_rrt`)."
+    return planner
+
+
+def register() -> None:
+    """Register ``rrt``, ``est`` and ``kpiece`` with :func:`plansynth.reach.solve`."""
+    from plansynth.reach.solve import planners, register_planner
+
+    for name in PLANNERS:
+        if name not in planners():
+            register_planner(name, _make_planner(name))
+
+
+try:  # importing this module makes the planners available by name
+    register()
+except ImportError:  # pragma: no cover - solve() not available in this checkout
+    pass
