@@ -10,6 +10,7 @@ from typing import Any
 import pytest
 import yaml
 from hypothesis import given
+from hypothesis import strategies as st
 
 from plansynth.errors import InvalidProblem
 from plansynth.grid.problem import (
@@ -95,11 +96,11 @@ def test_offsets_do_not_repeat_cells() -> None:
     assert m.offsets() == ((0, 0), (1, 0))
 
 
-@given(problem_documents())
-def test_documents_round_trip_through_to_dict(doc: dict[str, Any]) -> None:
-    p = grid_problem_from_dict(doc)
+@given(problem_documents(), st.sampled_from([None, "problem", "fig-1"]))
+def test_documents_round_trip_through_to_dict(doc: dict[str, Any], name: str | None) -> None:
+    p = grid_problem_from_dict(doc if name is None else doc | {"name": name})
     again = grid_problem_from_dict(p.to_dict())
-    assert again == p
+    assert again == p and again.name == p.name
     assert json.loads(json.dumps(p.to_dict())) == p.to_dict()  # plain JSON data
 
 

@@ -160,6 +160,8 @@ class GridProblem:
             d["steps"] = self.steps
         if self.max_steps is not None:
             d["max_steps"] = self.max_steps
+        if self.name != "problem":  # the default label; any other one survives a round trip
+            d["name"] = self.name
         return d
 
 
