@@ -143,9 +143,9 @@ def _reach_planner(problem: Any, solver: str, budget: Budget, options: dict[str,
     exist yet, ``lazy-smt`` is run through :func:`plansynth.reach.lazy.plan_lazy` (the
     trajectory is validated below either way)."""
     try:
-        from plansynth.reach import solve  # type: ignore[attr-defined]
+        from plansynth.reach.solve import solve
     except ImportError:
-        solve = None
+        solve = None  # type: ignore[assignment]
     if solve is not None:
         return solve(problem, planner=solver, budget=budget, **options)
     if solver == "lazy-smt":
