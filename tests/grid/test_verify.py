@@ -10,14 +10,15 @@ from typing import Any
 
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from plansynth.grid.problem import GridProblem, grid_problem_from_dict, load_grid_problem
-from plansynth.grid.programs import ProgramSyntaxError, Term, evaluate, parse_program, reads_obstacles
+from plansynth.grid.programs import App, Const, ProgramSyntaxError, Term, evaluate, parse_program, reads_obstacles
 from plansynth.grid.reference import all_runs, reachable_cells, reference_wins
 from plansynth.grid.semantics import State, initial_state, obstacle_move, step
 from plansynth.grid.verify import Counterexample, Verdict, read_obstacles, verify
 
-from .strategies import grid_problems, problems_and_programs
+from .strategies import b_terms, grid_problems, problem_documents, problems_and_programs
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "grid"
 MOVES = ["stay", "up", "right", "down", "left"]
@@ -66,7 +67,37 @@ def test_verify_agrees_with_brute_force(pp: tuple[GridProblem, Term]) -> None:
 def test_verify_agrees_with_brute_force_on_programs_reading_obstacles(pp: tuple[GridProblem, Term]) -> None:
     p, program = pp
     assert reads_obstacles(program)
-    v = verify(p, program, p.steps)
+    expected = reference_wins(p, program, p.steps)
+    # probe_nodes=0: straight to the exhaustive layered search over product sets.
+    for v in (verify(p, program, p.steps), verify(p, program, p.steps, probe_nodes=0)):
+        assert v.wins == expected
+        if not v.wins:
+            check_counterexample(p, program, p.steps, v.counterexample)
+
+
+@st.composite
+def pinned_robot_cases(draw: st.DrawFn) -> tuple[GridProblem, Term]:
+    """A robot in the corner (0, 0) whose every move keeps it there or steps out, under
+    a program that compares obstacles with each other: it wins often, so the layered
+    search must cover every split product set to say so."""
+    doc = draw(problem_documents(max_side=6, min_obstacles=2, max_obstacles=3, max_steps=8, walls=False))
+    doc["robot"] = {"start": [0, 0], "goal": [0, 0], "moves": ["stay", "left", "down", "right", "up"]}
+    p = grid_problem_from_dict(doc)
+
+    def tree(budget: int) -> Term:
+        if budget < 3 or draw(st.booleans()):
+            return Const(draw(st.sampled_from([0, 0, 1, 2, 3])))
+        cond = draw(b_terms(p.variables[2:], p.max_constant, budget - 1))
+        return App("ite", (cond, tree(budget - 1), tree(budget - 1)))
+
+    return p, tree(6)
+
+
+@settings(max_examples=60)
+@given(pinned_robot_cases())
+def test_layered_search_agrees_with_brute_force_where_controllers_often_win(pp: tuple[GridProblem, Term]) -> None:
+    p, program = pp
+    v = verify(p, program, p.steps, probe_nodes=0)
     assert v.wins == reference_wins(p, program, p.steps)
     if not v.wins:
         check_counterexample(p, program, p.steps, v.counterexample)

@@ -125,8 +125,12 @@ def check_controller(problem: GridProblem, program: Term) -> None:
     check_program(program, problem.variables, len(problem.robot.moves), problem.max_constant)
 
 
-def verify(problem: GridProblem, program: Term, steps: int) -> Verdict:
+def verify(problem: GridProblem, program: Term, steps: int, *, probe_nodes: int | None = None) -> Verdict:
     """Decide exactly whether ``program`` wins ``problem`` at path length ``steps``.
+
+    ``probe_nodes`` bounds the depth-first probe for a quick counterexample that runs
+    before the exhaustive search (default :data:`PROBE_NODES`; 0 disables it). It
+    changes only the time taken and which counterexample is found, never the answer.
 
     Raises :class:`~plansynth.grid.programs.ProgramSyntaxError` when the program is not
     a controller of the problem's grammar (for example a move number with no move).
@@ -135,7 +139,7 @@ def verify(problem: GridProblem, program: Term, steps: int) -> Verdict:
         raise ValueError(f"steps must be >= 1, got {steps}")
     check_controller(problem, program)
     t0 = time.perf_counter()
-    search = _Search(problem, program, steps)
+    search = _Search(problem, program, steps, PROBE_NODES if probe_nodes is None else probe_nodes)
     loss = search.run()
     cex = None if loss is None else search.counterexample(loss)
     return Verdict(loss is None, steps, cex, search.explored, time.perf_counter() - t0)
@@ -207,7 +211,8 @@ class _Search:
     differ in one factor (S x T and S' x T make (S | S') x T) or one contains another.
     """
 
-    def __init__(self, problem: GridProblem, program: Term, steps: int) -> None:
+    def __init__(self, problem: GridProblem, program: Term, steps: int, probe_nodes: int) -> None:
+        self.probe_nodes = probe_nodes
         self.problem = problem
         self.program = program
         self.steps = steps
@@ -379,7 +384,7 @@ class _Search:
         """None if the controller wins, else a loss (a shortest one unless the probe found one)."""
         r0 = self.sem.index(self.problem.robot.start)
         s0 = tuple(frozenset((self.sem.index(self.problem.obstacles[i].start),)) for i in self.read)
-        if self.read:
+        if self.read and self.probe_nodes > 0:
             try:
                 return self._probe(_Node(r0, s0, []), 0, set())
             except _ProbeExhausted:
@@ -441,7 +446,7 @@ class _Search:
         key = (t, node.r, node.sets)
         if key in safe:
             return None
-        if self.explored >= PROBE_NODES or t > 500:
+        if self.explored >= self.probe_nodes or t > 500:
             raise _ProbeExhausted
         # Heuristic order: moves that leave the robot farthest from the goal first, and
         # obstacle cells nearest to the robot first.
