@@ -1,7 +1,238 @@
-"""`plansynth reach` sub-commands."""
+"""``plansynth reach`` sub-commands: a thin shell over :func:`plansynth.reach.solve`,
+:func:`plansynth.reach.validate` and :mod:`plansynth.reach.plot` (STYLE.md, point 12).
+
+Exit status of ``solve``: 0 found (validated trajectory), 1 infeasible, 2 bad input,
+3 unknown (budget ran out, or a trajectory failed validation).
+"""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Any, Optional
+
 import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from plansynth.budget import Budget
+from plansynth.errors import InvalidProblem, PlansynthError
 
 app = typer.Typer(no_args_is_help=True, add_completion=False)
+
+EXIT_FOUND, EXIT_INFEASIBLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+
+SOLVE_EPILOG = """\
+Examples:
+
+  plansynth reach solve examples/reach/maze-3.yaml --out traj.json --plot traj.png
+
+  plansynth reach solve examples/reach/maze-1.yaml --animate run.gif
+
+  plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 60
+
+  plansynth reach solve examples/reach/cluttered.yaml --planner milp --max-horizon 60
+
+  plansynth reach solve p.yaml --no-segment-safe        # the paper's guarantee: samples only
+
+Exit status: 0 found (validated), 1 infeasible up to the max horizon, 2 bad input, 3 unknown (budget ran out).
+"""
+
+VALIDATE_EPILOG = """\
+Examples:
+
+  plansynth reach validate examples/reach/maze-3.yaml traj.json
+
+  plansynth reach validate examples/reach/maze-3.yaml traj.json --segment-safe
+
+Exit status: 0 valid, 1 invalid, 2 bad input.
+"""
+
+PLOT_EPILOG = """\
+Examples:
+
+  plansynth reach plot examples/reach/cluttered.yaml -o regions.png
+
+  plansynth reach plot examples/reach/maze-3.yaml traj.json -o traj.png
+"""
+
+_STYLE = {"found": "bold green", "infeasible": "bold red", "unknown": "bold yellow"}
+
+
+def _fail(err: Console, exc: PlansynthError) -> typer.Exit:
+    err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+    return typer.Exit(EXIT_BAD_INPUT)
+
+
+def _read_result(path: Path) -> dict[str, Any]:
+    from plansynth.io import load_document
+
+    doc, name = load_document(path)
+    if not isinstance(doc, dict):
+        raise InvalidProblem(name, "<document>", "a result file must be a JSON object")
+    return doc
+
+
+def _result_table(result: Any) -> Table:
+    c, t = result.counters, result.timings
+    table = Table(title=f"{result.planner}: {result.status.value}", show_header=False, title_justify="left")
+    table.add_column("item", style="bold")
+    table.add_column("value")
+    style = _STYLE[result.status.value]
+    table.add_row("status", f"[{style}]{result.status.value}[/{style}]")
+    horizon = "-" if result.horizon is None else str(result.horizon)
+    if result.status.value == "infeasible":
+        horizon = f"none up to {result.horizon}"
+    table.add_row("horizon", horizon)
+    for key in ("regions", "first_horizon", "iterations", "sat_calls", "lp_calls", "clauses", "milp_calls", "mip_nodes"):
+        if key in c and c[key] is not None:
+            table.add_row(key.replace("_", " "), str(c[key]))
+    if c.get("lp_calls_by_kind"):
+        table.add_row("LP calls by kind", ", ".join(f"{k} {v}" for k, v in c["lp_calls_by_kind"].items()))
+    phases = [k for k in ("abstraction", "bounds", "sat", "lp", "milp", "validate") if k in t]
+    table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
+    table.add_row("total time", f"{result.seconds:.3f} s")
+    if result.validated is not None:
+        table.add_row("validated", "[green]yes[/green]" if result.validated else "[red]NO[/red]")
+    if result.guarantee is not None:
+        held = "" if result.segment_safe is None else (", segments safe" if result.segment_safe else ", segments NOT safe")
+        table.add_row("guarantee", f"{result.guarantee}{held}")
+    if result.message:
+        table.add_row("message", escape(result.message))
+    return table
+
+
+@app.command("solve", epilog=SOLVE_EPILOG)
+def solve_command(
+    file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
+    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (the paper's Algorithm 1) or milp."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
+    animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", help="Wall-clock budget in seconds (then status unknown)."),
+    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, help="Largest horizon to try (overrides the file)."),
+    counterexample: str = typer.Option("zeroprefix", "--counterexample", help="lazy-smt: zeroprefix (paper), trivial or iis."),
+    generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
+    segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
+) -> None:
+    """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.solve import planners, solve
+
+    console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
+    if planner not in planners():
+        raise typer.BadParameter(f"unknown planner {planner!r} (known: {', '.join(planners())})", param_hint="--planner")
+    if timeout is not None and not timeout > 0:
+        raise typer.BadParameter("must be positive", param_hint="--timeout")
+    options: dict[str, Any] = {"segment_safe": segment_safe}
+    if max_horizon is not None:
+        options["max_horizon"] = max_horizon
+    if planner == "lazy-smt":
+        from plansynth.reach.conplan import COUNTEREXAMPLES
+
+        if counterexample not in COUNTEREXAMPLES:
+            raise typer.BadParameter(f"must be one of {', '.join(COUNTEREXAMPLES)}", param_hint="--counterexample")
+        options.update(counterexample=counterexample, generalize=generalize)
+    try:
+        problem = load_reach_problem(file)
+    except PlansynthError as exc:
+        raise _fail(err, exc) from None
+    with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=err,
+                  transient=True) as bar:
+        task = bar.add_task(f"{planner}: abstraction", total=None)
+
+        def progress(horizon: int, iterations: int) -> None:
+            bar.update(task, description=f"{planner}: horizon {horizon} ({iterations} iterations so far)")
+
+        result = solve(problem, planner, Budget(seconds=timeout), progress=progress, **options)
+    console.print(_result_table(result))
+    if out is not None:
+        result.write_json(out)
+        console.print(f"result written to {escape(str(out))}", highlight=False)
+    if (plot is not None or animate is not None) and result.trajectory is not None:
+        from plansynth.reach.decompose import abstract
+        from plansynth.reach.plot import animate as make_gif
+        from plansynth.reach.plot import plot_problem
+
+        abstraction = abstract(problem)
+        if plot is not None:
+            plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
+                         title=f"{problem.name}: {result.planner}, horizon {result.horizon}, {abstraction.n_regions} regions")
+            console.print(f"picture written to {escape(str(plot))}", highlight=False)
+        if animate is not None:
+            make_gif(problem, abstraction, result.trajectory, result.regions, animate)
+            console.print(f"animation written to {escape(str(animate))}", highlight=False)
+    elif plot is not None or animate is not None:
+        console.print("no trajectory to draw", highlight=False)
+    code = {"found": EXIT_FOUND, "infeasible": EXIT_INFEASIBLE}
+    raise typer.Exit(code.get(result.status.value, EXIT_UNKNOWN))
+
+
+@app.command("validate", epilog=VALIDATE_EPILOG)
+def validate_command(
+    file: Path = typer.Argument(..., help="Reach problem file."),
+    result_file: Path = typer.Argument(..., help="Result JSON with states and inputs."),
+    segment_safe: bool = typer.Option(False, "--segment-safe", help="Also require every segment to avoid the obstacles."),
+    tol: float = typer.Option(1e-6, "--tol", help="Tolerance of every check."),
+) -> None:
+    """Check a trajectory against a problem with the independent validator."""
+    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.trajectory import load_trajectory
+    from plansynth.reach.validate import validate
+
+    console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
+    try:
+        problem = load_reach_problem(file)
+        trajectory = load_trajectory(result_file)
+    except PlansynthError as exc:
+        raise _fail(err, exc) from None
+    report = validate(problem, trajectory, require_segment_safe=segment_safe, tol=tol)
+    style = "bold green" if report.ok else "bold red"
+    console.print(f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False)
+    for v in report.violations[:50]:
+        console.print(f"  {escape(str(v))}", highlight=False)
+    if len(report.violations) > 50:
+        console.print(f"  ... and {len(report.violations) - 50} more", highlight=False)
+    raise typer.Exit(0 if report.ok else 1)
+
+
+@app.command("plot", epilog=PLOT_EPILOG)
+def plot_command(
+    file: Path = typer.Argument(..., help="Reach problem file."),
+    result_file: Optional[Path] = typer.Argument(None, help="Optional result JSON (trajectory and regions)."),
+    output: Path = typer.Option(..., "--output", "-o", help="PNG file to write."),
+) -> None:
+    """Draw the workspace, the convex regions and (with a result) the trajectory."""
+    from plansynth.reach.decompose import abstract
+    from plansynth.reach.plot import plot_problem
+    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.trajectory import trajectory_from_dict
+
+    console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
+    try:
+        problem = load_reach_problem(file)
+        trajectory, regions = None, None
+        if result_file is not None:
+            doc = _read_result(result_file)
+            trajectory = trajectory_from_dict(doc, str(result_file))
+            raw = doc.get("regions")
+            if raw is not None:
+                if not isinstance(raw, list) or not all(isinstance(r, int) and not isinstance(r, bool) for r in raw):
+                    raise InvalidProblem(str(result_file), "regions", "expected a list of region indices")
+                regions = tuple(raw)
+    except PlansynthError as exc:
+        raise _fail(err, exc) from None
+    abstraction = abstract(problem)
+    if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
+        err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
+        raise typer.Exit(EXIT_BAD_INPUT)
+    plot_problem(problem, abstraction, regions, trajectory, path=output)
+    console.print(f"picture written to {escape(str(output))}", highlight=False)
+
+
+__all__ = ["app"]

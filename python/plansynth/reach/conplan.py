@@ -128,6 +128,7 @@ class LpStats:
     ray_calls: int = 0
     certified: int = 0
     rejected: int = 0
+    retries: int = 0
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -291,6 +292,11 @@ class ConPlan:
         # persistent, warm-started models: the slack LPs of Problem 5.2 in one, the
         # feasibility LPs (plan, prefixes, unanchoring) in the other
         self.slack_slot = _Slot(self._new_highs())
+        if self.n > 8:
+            # long integrator chains make the slack LP hard for the simplex method
+            # (tiny coefficients dt^k/k!); the interior-point method copes
+            self.slack_slot.highs.setOptionValue("solver", "ipm")
+            self.slack_slot.highs.setOptionValue("run_crossover", "off")
         self.slot = _Slot(self._new_highs())
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS)
 
@@ -449,6 +455,13 @@ class ConPlan:
         t0 = time.perf_counter()
         h.run()
         status = h.getModelStatus()
+        if status == highspy.HighsModelStatus.kNotset:
+            # HiGHS occasionally refuses a warm start after in-place edits (the run
+            # returns an error before any iteration); solve again from scratch
+            self.stats.retries += 1
+            h.clearSolver()
+            h.run()
+            status = h.getModelStatus()
         self.stats.seconds += time.perf_counter() - t0
         self.stats.lp_calls += 1
         self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1

@@ -64,7 +64,7 @@ def plan_lazy(
     max_horizon: int | None = None,
     counterexample: str = "zeroprefix",
     segment_safe: bool = True,
-    generalize: bool = False,
+    generalize: bool = True,
     slack_weights: str = "geometric",
     cardinality: str = "auto",
     lower_bound: bool = True,
@@ -73,7 +73,13 @@ def plan_lazy(
     """Algorithm 1 on ``problem`` within ``budget``; the trajectory is *not* yet
     validated here (:func:`plansynth.reach.solve` does that).
 
-    ``max_horizon`` overrides the problem's. ``lower_bound=False`` starts at horizon 0.
+    ``max_horizon`` overrides the problem's. ``counterexample``, ``generalize`` and
+    ``slack_weights`` choose how CON-PLAN explains an infeasible sequence (see
+    :mod:`plansynth.reach.conplan`; ``counterexample="zeroprefix", generalize=False,
+    slack_weights="uniform"`` is the paper's method as published). ``segment_safe``
+    constrains whole segments, not only samples. ``lower_bound=False`` starts at
+    horizon 0 without time windows. ``progress(L, iterations)`` is called when a
+    horizon starts.
     """
     t_start = time.perf_counter()
     clock = budget.clock()
@@ -135,6 +141,7 @@ def plan_lazy(
             ray_calls=st.ray_calls,
             certified=st.certified,
             rejected=st.rejected,
+            lp_retries=st.retries,
             horizon=horizon,
         )
         timings["highs"] = st.seconds

@@ -1,0 +1,266 @@
+"""The one-shot MILP over the same region graph: the cross-check oracle of the lazy
+planner (and a baseline in the spirit of the paper's "LTL OPT" column, Section VI).
+
+For a horizon N, one mixed-integer program with HiGHS decides region sequence and
+trajectory together:
+
+* binaries ``z[t, i]`` ("p_t in region i"), ``sum_i z[t, i] = 1``, start regions at
+  t = 0, goal regions at t = N, and transitions ``z[t, i] <= sum_{j in N[i] + i}
+  z[t+1, j]`` -- the constraints of DIS-PLAN (Section IV);
+* the dynamics, input, state and workspace bounds of CON-PLAN (Section V);
+* big-M region membership ``H_i p_t <= h_i + M_i (1 - z[t, i])`` with a per-row
+  ``M_i`` (the row's largest violation over the workspace box, so the relaxation is as
+  tight as a big-M can be), and with segment safety also ``H_i p_{t+1} <= ...``;
+* ``H_goal p_N <= h_goal``.
+
+Horizons are tried upwards from the region-graph distance (BFS), so the first horizon
+with a solution is the shortest one -- the same quantity the lazy planner computes,
+which makes the two comparable horizon by horizon. ``infeasible`` means every horizon
+up to ``max_horizon`` has no solution. MIP tolerances let a big-M row slip by
+``M * 1e-6``, so the trajectory is not taken from the MILP: its region sequence is
+re-solved as an LP (the CON-PLAN feasibility LP) and only that trajectory is reported.
+
+>>> from plansynth.reach.families import maze
+>>> r = plan_milp(maze(1), max_horizon=57, start_horizon=57)
+>>> r.status.value, r.horizon
+('found', 57)
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+
+import highspy
+import numpy as np
+
+from plansynth.budget import Budget, Clock
+from plansynth.reach.conplan import ConPlan
+from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.displan import RegionGraph
+from plansynth.reach.problem import ReachProblem, halfspaces
+from plansynth.reach.result import ReachResult, ReachStatus
+
+__all__ = ["plan_milp", "solve_horizon"]
+
+ProgressFn = Callable[[int, int], None]
+
+
+def _big_m(H: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Per row, the largest ``H_row p - h_row`` over the box [lo, hi] (at least 0)."""
+    return np.maximum(0.0, np.maximum(H * lo, H * hi).sum(axis=1) - h)
+
+
+def solve_horizon(
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    N: int,
+    *,
+    segment_safe: bool = True,
+    seconds: float = math.inf,
+) -> tuple[str, tuple[int, ...] | None, dict]:
+    """One MILP at horizon ``N``: ``("found", regions, stats)``, ``("infeasible", None,
+    stats)`` or ``("unknown", None, stats)`` (time limit)."""
+    dyn = problem.dynamics
+    n, m = dyn.n_states, dyn.n_inputs
+    A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+    pos = np.array(dyn.position)
+    d = len(pos)
+    R = len(abstraction.regions)
+    graph = RegionGraph.from_abstraction(abstraction)
+    ws_lo, ws_hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
+    T = N + 1
+    n_x, n_u, n_z = T * n, N * m, T * R
+    n_col = n_x + n_u + n_z
+
+    def x(t: int) -> int:
+        return t * n
+
+    def z(t: int, i: int) -> int:
+        return n_x + n_u + t * R + i
+
+    rows: list[np.ndarray] = []
+    cols: list[np.ndarray] = []
+    vals: list[np.ndarray] = []
+    lo: list[np.ndarray] = []
+    hi: list[np.ndarray] = []
+    r0 = 0
+
+    def add(rr: np.ndarray, cc: np.ndarray, vv: np.ndarray, l: np.ndarray, h: np.ndarray) -> None:
+        nonlocal r0
+        rows.append(r0 + rr)
+        cols.append(cc)
+        vals.append(vv)
+        lo.append(l)
+        hi.append(h)
+        r0 += len(l)
+
+    # dynamics x_{t+1} - A x_t - B u_t = 0
+    ai, aj = np.nonzero(A)
+    bi, bj = np.nonzero(B)
+    for t in range(N):
+        add(np.concatenate([np.arange(n), ai, bi]),
+            np.concatenate([x(t + 1) + np.arange(n), x(t) + aj, n_x + t * m + bj]),
+            np.concatenate([np.ones(n), -A[ai, aj], -B[bi, bj]]), np.zeros(n), np.zeros(n))
+    # one region per step
+    for t in range(T):
+        add(np.zeros(R, dtype=np.int64), z(t, 0) + np.arange(R), np.ones(R), np.ones(1), np.ones(1))
+    # transitions z[t,i] - sum_{j in N[i] + i} z[t+1,j] <= 0
+    for t in range(N):
+        for i in range(R):
+            nb = (i, *graph.adjacency[i])
+            add(np.zeros(1 + len(nb), dtype=np.int64), np.array([z(t, i)] + [z(t + 1, j) for j in nb]),
+                np.array([1.0] + [-1.0] * len(nb)), np.full(1, -np.inf), np.zeros(1))
+    # big-M membership (and segments)
+    for i, reg in enumerate(abstraction.regions):
+        H, h = np.asarray(reg.H, float), np.asarray(reg.h, float)
+        M = _big_m(H, h, ws_lo, ws_hi)
+        k = H.shape[0]
+        rr = np.concatenate([np.repeat(np.arange(k), d), np.arange(k)])
+        for t in range(T):
+            for state_t in ((t, t + 1) if (segment_safe and t < N) else (t,)):
+                cc = np.concatenate([np.tile(x(state_t) + pos, k), np.full(k, z(t, i))])
+                add(rr, cc, np.concatenate([H.ravel(), M]), np.full(k, -np.inf), h + M)
+    # goal
+    Hg, hg = (np.asarray(a, float) for a in halfspaces(problem.goal))
+    kg = Hg.shape[0]
+    add(np.repeat(np.arange(kg), d), np.tile(x(N) + pos, kg), Hg.ravel(), np.full(kg, -np.inf), hg)
+
+    col_lo = np.full(n_col, -np.inf)
+    col_hi = np.full(n_col, np.inf)
+    s_lo = np.full(n, -np.inf)
+    s_hi = np.full(n, np.inf)
+    if problem.state_bounds is not None:
+        s_lo, s_hi = np.array(problem.state_bounds.lo), np.array(problem.state_bounds.hi)
+    s_lo[pos] = np.maximum(s_lo[pos], ws_lo)
+    s_hi[pos] = np.minimum(s_hi[pos], ws_hi)
+    col_lo[:n_x] = np.tile(s_lo, T)
+    col_hi[:n_x] = np.tile(s_hi, T)
+    col_lo[:n] = col_hi[:n] = problem.start
+    col_lo[n_x : n_x + n_u] = -problem.input_bound
+    col_hi[n_x : n_x + n_u] = problem.input_bound
+    col_lo[n_x + n_u :] = 0.0
+    col_hi[n_x + n_u :] = 1.0
+    for i in range(R):
+        if i not in abstraction.start_regions:
+            col_hi[z(0, i)] = 0.0
+        if i not in abstraction.goal_regions:
+            col_hi[z(N, i)] = 0.0
+
+    Rr = np.concatenate(rows).astype(np.int64)
+    Cc = np.concatenate(cols).astype(np.int64)
+    Vv = np.concatenate(vals).astype(float)
+    order = np.lexsort((Rr, Cc))
+    starts = np.zeros(n_col + 1, dtype=np.int32)
+    np.cumsum(np.bincount(Cc, minlength=n_col), out=starts[1:])
+    lp = highspy.HighsLp()
+    lp.num_col_ = n_col
+    lp.num_row_ = r0
+    lp.col_cost_ = np.zeros(n_col)
+    lp.col_lower_ = col_lo
+    lp.col_upper_ = col_hi
+    lp.row_lower_ = np.concatenate(lo)
+    lp.row_upper_ = np.concatenate(hi)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = starts
+    lp.a_matrix_.index_ = Rr[order].astype(np.int32)
+    lp.a_matrix_.value_ = Vv[order]
+    lp.integrality_ = [highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z
+
+    h = highspy.Highs()
+    h.setOptionValue("output_flag", False)
+    h.setOptionValue("threads", 1)
+    if math.isfinite(seconds):
+        h.setOptionValue("time_limit", max(1e-3, float(seconds)))
+    h.passModel(lp)
+    h.run()
+    status = h.getModelStatus()
+    info = h.getInfo()
+    stats = {"binaries": n_z, "rows": r0, "mip_nodes": int(info.mip_node_count)}
+    S = highspy.HighsModelStatus
+    if status == S.kOptimal:
+        col = np.asarray(h.getSolution().col_value)
+        zz = col[n_x + n_u :].reshape(T, R)
+        return "found", tuple(int(i) for i in np.argmax(zz, axis=1)), stats
+    if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
+        return "infeasible", None, stats
+    return "unknown", None, stats
+
+
+def plan_milp(
+    problem: ReachProblem,
+    budget: Budget = Budget(),
+    *,
+    abstraction: Abstraction | None = None,
+    max_horizon: int | None = None,
+    start_horizon: int | None = None,
+    segment_safe: bool = True,
+    progress: ProgressFn | None = None,
+) -> ReachResult:
+    """MILPs at horizons ``start_horizon`` (default: the region-graph distance) up to
+    ``max_horizon`` within ``budget``; the trajectory is not yet validated here.
+
+    ``infeasible`` is claimed only when every horizon from the BFS bound up to
+    ``max_horizon`` was tried (a ``start_horizon`` above the BFS bound gives ``unknown``
+    instead)."""
+    t_start = time.perf_counter()
+    clock: Clock = budget.clock()
+    L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
+    timings = {"abstraction": 0.0, "milp": 0.0, "lp": 0.0}
+    if abstraction is None:
+        t0 = time.perf_counter()
+        abstraction = abstract(problem)
+        timings["abstraction"] = time.perf_counter() - t0
+    graph = RegionGraph.from_abstraction(abstraction)
+    bfs = graph.horizon_lower_bound()
+    first = int(bfs) if math.isfinite(bfs) else L_max + 1
+    if start_horizon is not None:
+        first = max(first, int(start_horizon))
+    options = {"segment_safe": segment_safe, "max_horizon": L_max, "start_horizon": first,
+               "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+    counters: dict = {"regions": graph.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0,
+                      "bfs_bound": None if math.isinf(bfs) else int(bfs)}
+    guarantee = "segments" if segment_safe else "samples"
+
+    def finish(status: ReachStatus, horizon: int | None, message: str, trajectory=None, regions=None) -> ReachResult:
+        timings["total"] = time.perf_counter() - t_start
+        counters["iterations"] = clock.iterations
+        return ReachResult(status=status, planner="milp", seconds=timings["total"], trajectory=trajectory,
+                           regions=regions, horizon=horizon, counters=counters, timings=timings, options=options,
+                           message=message, guarantee=guarantee)
+
+    if first > L_max:
+        if math.isinf(bfs):
+            return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: the goal regions are not connected to the start regions")
+        if start_horizon is None or first == int(bfs):
+            return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: the region-graph distance is {first}")
+        return finish(ReachStatus.UNKNOWN, None, f"start horizon {first} exceeds max_horizon {L_max}")
+    polish = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample="trivial")
+    for N in range(first, L_max + 1):
+        if progress is not None:
+            progress(N, clock.iterations)
+        if clock.exhausted():
+            return finish(ReachStatus.UNKNOWN, N, f"budget ran out at horizon {N}")
+        clock.tick()
+        t0 = time.perf_counter()
+        outcome, regions, stats = solve_horizon(problem, abstraction, N, segment_safe=segment_safe,
+                                                seconds=clock.remaining())
+        timings["milp"] += time.perf_counter() - t0
+        counters["milp_calls"] += 1
+        counters["mip_nodes"] += stats["mip_nodes"]
+        counters["binaries"] = stats["binaries"]
+        if outcome == "unknown":
+            return finish(ReachStatus.UNKNOWN, N, f"HiGHS stopped without an answer at horizon {N} (time limit)")
+        if outcome == "found":
+            assert regions is not None
+            t0 = time.perf_counter()
+            trajectory = polish.feasible(regions)
+            timings["lp"] += time.perf_counter() - t0
+            if trajectory is None:
+                return finish(ReachStatus.UNKNOWN, N, f"the MILP's region sequence at horizon {N} has no trajectory "
+                              "under exact LP tolerances (numerically borderline instance)", regions=regions)
+            return finish(ReachStatus.FOUND, N, f"found at horizon {N}", trajectory, regions)
+    if start_horizon is not None and first > (int(bfs) if math.isfinite(bfs) else 0):
+        return finish(ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)")
+    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
