@@ -84,6 +84,7 @@ class Engine:
     minimize: bool = False
     use_rust: bool | None = None
     improve: bool = True
+    quick: bool = True
     conflicts: int = 30_000
     attempt_seconds: float | None = None
     improve_states: int = 1000
@@ -126,7 +127,7 @@ class Engine:
         blind = Arena.build(problem, steps, cone, (), clock)
         blind_program = None
         if blind.layers[0] and blind.solve_game(clock):
-            strategy = stationary_strategy(blind, clock)
+            strategy = stationary_strategy(blind, clock, quick=self.quick)
             if strategy is not None:
                 self.counters["stage"] = "blind"
                 program = self._program(blind, strategy, clock, depth_bound)
@@ -161,7 +162,7 @@ class Engine:
             return GridStatus.REALIZABLE, blind_program, (
                 f"obstacle-blind controller of depth {depth(blind_program)}; smaller programs reading obstacles "
                 f"not excluded ({exc})"), None
-        strategy = stationary_strategy(arena, clock)
+        strategy = stationary_strategy(arena, clock, quick=self.quick)
         if strategy is None:
             return self._stationary_refuted(problem, arena, cone, clock)
         self.counters["stage"] = "joint"
@@ -195,7 +196,7 @@ class Engine:
             full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs)
             self.counters["clock_obstacles"] = len(clocks)
             if full.layers[0] and full.solve_game(clock):
-                strategy = stationary_strategy(full, clock)
+                strategy = stationary_strategy(full, clock, quick=self.quick)
                 if strategy is not None:
                     self.counters["stage"] = "joint+clock"
                     program = self._program(full, strategy, clock, None)

@@ -46,12 +46,15 @@ def game_won(problem: GridProblem, steps: int) -> bool:
     return win(0, initial_state(problem))
 
 
-def stationary_exists(problem: GridProblem, steps: int, limit: int = 200_000) -> bool:
+def stationary_exists(problem: GridProblem, steps: int, limit: int = 200_000, max_seconds: float | None = None) -> bool:
     """Is there a map from states to moves (a controller seeing positions only) that
     wins at exactly ``steps``? Backtracking over the states the partial map reaches."""
+    import time
+
     joints = list(obstacle_choices(problem))
     n = len(problem.robot.moves)
     nodes = [0]
+    deadline = None if max_seconds is None else time.perf_counter() + max_seconds
 
     def simulate(f: dict[State, int]):
         frontier = {initial_state(problem)}
@@ -72,6 +75,8 @@ def stationary_exists(problem: GridProblem, steps: int, limit: int = 200_000) ->
         nodes[0] += 1
         if nodes[0] > limit:
             raise TooLarge(f"more than {limit} partial strategies")
+        if deadline is not None and nodes[0] % 64 == 0 and time.perf_counter() > deadline:
+            raise TooLarge(f"more than {max_seconds} s")
         r = simulate(f)
         if r is True or r is False:
             return r

@@ -123,17 +123,24 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
     return clauses, ids, fwd
 
 
-def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None) -> Strategy | None:
+def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None,
+                        quick: bool = True) -> Strategy | None:
     """A stationary winning strategy, or None when none exists (exact).
 
     Requires :meth:`Arena.solve_game` to have returned True. ``label`` optionally adds
     a time label to the states the strategy must be stationary on (used to account for
-    obstacles outside the cone of influence that work as a clock).
+    obstacles outside the cone of influence that work as a clock). With ``quick``, a
+    strategy that can be read off the game (:func:`consistent_strategy`) is returned
+    without SAT.
     Raises :class:`BudgetExhausted` when the clock runs out.
     """
-    clauses, ids, fwd = encode_stationary(arena, clock, label)
+    fwd = winning_forward(arena)
+    if label is None and quick:
+        found = consistent_strategy(arena, fwd, clock)
+        if found is not None:
+            return found
+    clauses, ids, fwd = encode_stationary(arena, clock, label, fwd=fwd)
     steps = arena.steps
-    n_moves = len(arena.robot.moves)
     counters = {"sat_vars": len(ids), "sat_clauses": len(clauses)}
     model = solve_clauses(clauses, clock, phases=_phases(arena, ids))
     if model is None:
@@ -153,6 +160,67 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
         assert all(allowed.values()), "a SAT model must leave every reached state a move"
     final = {s: tuple(sorted(a)) for s, a in allowed.items()}
     return Strategy(final, tuple(reach), counters)
+
+
+def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock | None = None) -> Strategy | None:
+    """A stationary strategy read off the game without SAT, when one is there to read.
+
+    A move that wins at *every* time a state can be met on the winning-forward graph
+    may be played in that state whatever the time. Following one such move per state
+    (preferring moves towards the goal, then staying) from the start either reaches
+    only states that have one -- a stationary winning strategy, found in linear time --
+    or meets a state without one, and then the SAT encoding decides.
+    """
+    steps = arena.steps
+    n_moves = len(arena.robot.moves)
+    bad: dict[Config, list[int]] = {}
+    for t in range(steps):
+        for oc, rmask in fwd[t].items():
+            wm = arena.winning_moves(t, oc)
+            b = bad.setdefault(oc, [0] * n_moves)
+            for k in range(n_moves):
+                b[k] |= rmask & ~wm[k]
+        if clock is not None and clock.exhausted():
+            raise BudgetExhausted("reading a strategy off the game")
+    gx, gy = arena.problem.robot.goal
+    choice: dict[State, int] = {}
+
+    def pick(r: int, oc: Config) -> int | None:
+        key = (r, oc)
+        if key in choice:
+            return choice[key]
+        b = bad[oc]
+        x, y = arena.sem.cell(r)
+        best = None
+        for k in range(n_moves):
+            if b[k] >> r & 1:
+                continue
+            ex, ey = arena.sem.cell(arena.robot_end(r, k))
+            rank = (abs(ex - gx) + abs(ey - gy) - abs(x - gx) - abs(y - gy), k)
+            if best is None or rank < best[0]:
+                best = (rank, k)
+        k = None if best is None else best[1]
+        choice[key] = k
+        return k
+
+    oc0 = next(iter(fwd[0]))
+    reach: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
+    for t in range(steps):
+        nxt: dict[Config, int] = {}
+        for oc, rmask in reach[t].items():
+            ends = 0
+            for r in bits(rmask):
+                k = pick(r, oc)
+                if k is None:
+                    return None
+                ends |= 1 << arena.robot_end(r, k)
+            for oc2 in arena.successors(oc):
+                nxt[oc2] = nxt.get(oc2, 0) | ends
+        reach.append(nxt)
+    allowed = _allowed(arena, reach)
+    assert all(allowed.values()), "a consistent choice must leave every reached state a move"
+    final = {s_: tuple(sorted(a)) for s_, a in allowed.items()}
+    return Strategy(final, tuple(reach), {"sat_vars": 0, "sat_clauses": 0, "consistent": 1})
 
 
 def _phases(arena: Arena, ids: dict[tuple, int]) -> list[int]:
