@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Protocol
 
 from plansynth.budget import Budget, Clock
@@ -42,8 +43,9 @@ from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
+from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["TheoryChecker", "plan_lazy"]
+__all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy"]
 
 ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
@@ -127,7 +129,7 @@ def plan_lazy(
     conplan = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample=counterexample,
                       generalize=generalize, slack_weights=slack_weights, clock=clock)
 
-    def finish(status: ReachStatus, horizon: int | None, message: str, trajectory=None, regions=None) -> ReachResult:
+    def finish(out: LoopOutcome) -> ReachResult:
         st = conplan.stats
         counters.update(
             iterations=clock.iterations,
@@ -142,15 +144,15 @@ def plan_lazy(
             certified=st.certified,
             rejected=st.rejected,
             lp_retries=st.retries,
-            horizon=horizon,
+            horizon=out.horizon,
         )
         timings["highs"] = st.seconds
         timings["total"] = time.perf_counter() - t_start
         displan.delete()
         return ReachResult(
-            status=status, planner="lazy-smt", seconds=timings["total"], trajectory=trajectory,
-            regions=regions, segment_safe=None, horizon=horizon, counters=counters, timings=timings,
-            options=options, message=message, guarantee=guarantee,
+            status=out.status, planner="lazy-smt", seconds=timings["total"], trajectory=out.trajectory,
+            regions=out.regions, segment_safe=None, horizon=out.horizon, counters=counters, timings=timings,
+            options=options, message=out.message, guarantee=guarantee,
         )
 
     if first > L_max:
@@ -160,31 +162,58 @@ def plan_lazy(
             why = f"no position can reach the goal within {L_max} steps of bounded displacement"
         else:
             why = f"the lower bound on the horizon ({first}) exceeds max_horizon"
-        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
+        return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}"))
+    return finish(lazy_loop(displan, conplan, range(first, L_max + 1), clock, timings, progress))
 
+
+@dataclass(frozen=True)
+class LoopOutcome:
+    """What :func:`lazy_loop` ends with (the horizon as in :class:`ReachResult`)."""
+
+    status: ReachStatus
+    horizon: int | None
+    message: str
+    trajectory: Trajectory | None = None
+    regions: tuple[int, ...] | None = None
+
+
+def lazy_loop(
+    displan: DisPlan,
+    theory: TheoryChecker,
+    horizons: range,
+    clock: Clock,
+    timings: dict[str, float],
+    progress: ProgressFn | None = None,
+) -> LoopOutcome:
+    """Algorithm 1, the loop: for each horizon L, ask DIS-PLAN for a region sequence,
+    ask the theory to realise it, learn its counterexample, until a trajectory is found
+    or DIS-PLAN is UNSAT (then the next L). Adds the seconds spent in the SAT solver
+    and in the theory to ``timings["sat"]`` and ``timings["lp"]``."""
+    L = horizons.start
     try:
-        for L in range(first, L_max + 1):
+        for L in horizons:
             if progress is not None:
                 progress(L, clock.iterations)
             while True:
                 if clock.exhausted():
-                    return finish(ReachStatus.UNKNOWN, L, f"budget ran out at horizon {L} after {clock.iterations} iterations")
+                    return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out at horizon {L} after {clock.iterations} iterations")
                 clock.tick()
                 t0 = time.perf_counter()
                 outcome, plan = displan.solve(L, clock)
                 timings["sat"] += time.perf_counter() - t0
                 if outcome is SatOutcome.INTERRUPTED:
-                    return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the SAT solver at horizon {L}")
+                    return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out in the SAT solver at horizon {L}")
                 if outcome is SatOutcome.UNSAT:
                     displan.close(L)
                     break
                 assert plan is not None
                 t0 = time.perf_counter()
-                answer = conplan.check(plan)
+                answer = theory.check(plan)
                 timings["lp"] += time.perf_counter() - t0
                 if isinstance(answer, Feasible):
-                    return finish(ReachStatus.FOUND, L, f"found at horizon {L}", answer.trajectory, plan)
+                    return LoopOutcome(ReachStatus.FOUND, L, f"found at horizon {L}", answer.trajectory, plan)
                 displan.learn(answer)
     except LpBudgetExhausted:
-        return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
-    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: every horizon up to {L_max} refuted")
+        return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
+    top = horizons[-1] if len(horizons) else horizons.start - 1
+    return LoopOutcome(ReachStatus.INFEASIBLE, top, f"infeasible: every horizon up to {top} refuted")

@@ -1,0 +1,122 @@
+"""``plansynth reach solve | validate | plot`` through typer's CliRunner."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from plansynth.cli import app
+from plansynth.reach.families import maze
+from plansynth.reach.problem import reach_problem_to_dict
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def maze1(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("reach") / "maze-1.yaml"
+    path.write_text(yaml.safe_dump(reach_problem_to_dict(maze(1))), encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def solved(maze1: Path, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, object]:
+    d = tmp_path_factory.mktemp("out")
+    out, png = d / "traj.json", d / "traj.png"
+    result = runner.invoke(app, ["reach", "solve", str(maze1), "--out", str(out), "--plot", str(png)])
+    return out, png, result
+
+
+def test_solve_prints_the_record_and_writes_spec_json(solved: tuple[Path, Path, object]) -> None:
+    out, png, result = solved
+    assert result.exit_code == 0, result.output
+    text = result.output
+    for word in ("found", "horizon", "iterations", "sat calls", "lp calls", "time per phase", "validated", "segments"):
+        assert word in text
+    doc = json.loads(out.read_text())
+    for key in ("status", "planner", "seconds", "states", "inputs", "regions", "segment_safe"):
+        assert key in doc
+    assert doc["status"] == "found" and doc["planner"] == "lazy-smt" and doc["segment_safe"] is True
+    assert len(doc["states"]) == len(doc["inputs"]) + 1 == len(doc["regions"])
+    assert doc["validated"] is True and doc["counters"]["lp_calls"] >= 1 and "highspy" in doc["versions"]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_validate_accepts_the_result_and_rejects_a_tampered_one(maze1: Path, solved: tuple[Path, Path, object],
+                                                                tmp_path: Path) -> None:
+    out, _, _ = solved
+    ok = runner.invoke(app, ["reach", "validate", str(maze1), str(out), "--segment-safe"])
+    assert ok.exit_code == 0 and "valid" in ok.output
+    doc = json.loads(out.read_text())
+    doc["states"][5][0] += 0.5  # breaks the dynamics
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    rejected = runner.invoke(app, ["reach", "validate", str(maze1), str(bad)])
+    assert rejected.exit_code == 1 and "INVALID" in rejected.output and "dynamics" in rejected.output
+
+
+def test_plot_with_and_without_result(maze1: Path, solved: tuple[Path, Path, object], tmp_path: Path) -> None:
+    out, _, _ = solved
+    for args in ([str(maze1)], [str(maze1), str(out)]):
+        png = tmp_path / f"p{len(args)}.png"
+        r = runner.invoke(app, ["reach", "plot", *args, "-o", str(png)])
+        assert r.exit_code == 0, r.output
+        assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_bad_problem_file_exits_2_with_the_field(tmp_path: Path) -> None:
+    doc = reach_problem_to_dict(maze(1))
+    doc["robot"]["input_bound"] = -1
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    for cmd in (["reach", "solve", str(path)], ["reach", "plot", str(path), "-o", str(tmp_path / "x.png")]):
+        r = runner.invoke(app, cmd)
+        assert r.exit_code == 2
+        assert "robot.input_bound" in r.output and "bad.yaml" in r.output
+
+
+def test_missing_result_file_exits_2(maze1: Path, tmp_path: Path) -> None:
+    r = runner.invoke(app, ["reach", "validate", str(maze1), str(tmp_path / "none.json")])
+    assert r.exit_code == 2 and "cannot read" in r.output
+
+
+def test_infeasible_and_unknown_exit_codes(maze1: Path) -> None:
+    r = runner.invoke(app, ["reach", "solve", str(maze1), "--max-horizon", "30"])
+    assert r.exit_code == 1 and "infeasible" in r.output and "none up to 30" in r.output
+    r = runner.invoke(app, ["reach", "solve", str(maze1), "--timeout", "0.001"])
+    assert r.exit_code == 3 and "unknown" in r.output
+
+
+def test_options_reach_the_planner(tmp_path: Path) -> None:
+    small = tmp_path / "corridor.yaml"
+    small.write_text(yaml.safe_dump({
+        "workspace": {"min": [0, 0], "max": [10, 4]},
+        "obstacles": [{"min": [4, 0], "max": [5, 3]}],
+        "goal": {"min": [8, 0.5], "max": [9, 1.5]},
+        "robot": {"dynamics": {"model": "double-integrator", "dt": 1.0}, "start": [1, 1, 0, 0], "input_bound": 1.0},
+    }))
+    out = tmp_path / "r.json"
+    r = runner.invoke(app, ["reach", "solve", str(small), "--counterexample", "trivial", "--no-generalize",
+                            "--no-segment-safe", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    doc = json.loads(out.read_text())
+    assert doc["options"]["counterexample"] == "trivial" and doc["options"]["generalize"] is False
+    assert doc["guarantee"] == "samples"
+    r = runner.invoke(app, ["reach", "solve", str(small), "--planner", "milp", "--out", str(out)])
+    assert r.exit_code == 0 and json.loads(out.read_text())["planner"] == "milp"
+
+
+def test_bad_options_exit_2(maze1: Path) -> None:
+    assert runner.invoke(app, ["reach", "solve", str(maze1), "--planner", "astar"]).exit_code == 2
+    assert runner.invoke(app, ["reach", "solve", str(maze1), "--counterexample", "magic"]).exit_code == 2
+    assert runner.invoke(app, ["reach", "solve", str(maze1), "--timeout", "-1"]).exit_code == 2
+
+
+def test_help_shows_examples() -> None:
+    for cmd in ("solve", "validate", "plot"):
+        r = runner.invoke(app, ["reach", cmd, "--help"])
+        assert r.exit_code == 0 and "Examples" in r.output and "plansynth reach" in r.output

@@ -1,0 +1,153 @@
+"""DIS-PLAN (Section IV): the SAT encoding against brute-force enumeration of walks."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from plansynth.reach.displan import CARDINALITY_ENCODINGS, Conflict, DisPlan, RegionGraph, SatOutcome
+
+MAX_MODELS = 400
+
+
+def walks(g: RegionGraph, L: int, earliest=None, to_go=None) -> set[tuple[int, ...]]:
+    """Every region sequence r_0..r_L of the paper's constraints, by brute force."""
+    out = set()
+    for seq in itertools.product(range(g.n_regions), repeat=L + 1):
+        if seq[0] not in g.start_regions or seq[-1] not in g.goal_regions:
+            continue
+        if any(b != a and b not in g.adjacency[a] for a, b in zip(seq, seq[1:])):
+            continue
+        if earliest is not None and any(t < earliest[r] for t, r in enumerate(seq)):
+            continue
+        if to_go is not None and any(L - t < to_go[r] for t, r in enumerate(seq)):
+            continue
+        out.add(seq)
+    return out
+
+
+def models(d: DisPlan, L: int) -> set[tuple[int, ...]]:
+    """Every plan DIS-PLAN proposes at horizon L, each blocked after it is seen."""
+    seen: set[tuple[int, ...]] = set()
+    for _ in range(MAX_MODELS):
+        outcome, plan = d.solve(L)
+        if outcome is SatOutcome.UNSAT:
+            return seen
+        assert outcome is SatOutcome.SAT and plan is not None
+        assert plan not in seen, "a blocked plan came back"
+        seen.add(plan)
+        d.learn(Conflict(tuple(enumerate(plan)), anchored_start=True, anchored_goal=True, horizon=L))
+    raise AssertionError("too many models for a unit test")
+
+
+@st.composite
+def graphs(draw, max_regions: int = 5) -> RegionGraph:
+    k = draw(st.integers(1, max_regions))
+    pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
+    edges = draw(st.lists(st.sampled_from(pairs), unique=True, max_size=len(pairs))) if pairs else []
+    adj = [set() for _ in range(k)]
+    for i, j in edges:
+        adj[i].add(j)
+        adj[j].add(i)
+    start = draw(st.lists(st.integers(0, k - 1), min_size=1, max_size=2, unique=True))
+    goal = draw(st.lists(st.integers(0, k - 1), min_size=1, max_size=2, unique=True))
+    return RegionGraph(k, tuple(tuple(sorted(a)) for a in adj), tuple(sorted(start)), tuple(sorted(goal)))
+
+
+PATH3 = RegionGraph(3, ((1,), (0, 2), (1,)), (0,), (2,))
+TRIANGLE = RegionGraph(3, ((1, 2), (0, 2), (0, 1)), (0,), (1, 2))
+
+
+@pytest.mark.parametrize("graph", [PATH3, TRIANGLE], ids=["path", "triangle"])
+@pytest.mark.parametrize("L", [0, 1, 2, 3, 4])
+def test_models_are_exactly_the_walks(graph: RegionGraph, L: int) -> None:
+    assert models(DisPlan(graph), L) == walks(graph, L)
+
+
+@settings(max_examples=40)
+@given(graphs(), st.integers(0, 3), st.sampled_from(sorted(CARDINALITY_ENCODINGS)))
+def test_models_are_exactly_the_walks_on_random_graphs(graph: RegionGraph, L: int, encoding: str) -> None:
+    assert models(DisPlan(graph, cardinality=encoding), L) == walks(graph, L)
+
+
+@settings(max_examples=25)
+@given(graphs(max_regions=4), st.data())
+def test_time_windows_exclude_exactly_the_early_and_late_visits(graph: RegionGraph, data) -> None:
+    earliest = data.draw(st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions))
+    to_go = data.draw(st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions))
+    d = DisPlan(graph, earliest=earliest, to_go=to_go)
+    for L in range(4):
+        assert models(d, L) == walks(graph, L, earliest, to_go)
+
+
+def test_one_solver_serves_every_horizon_and_keeps_start_anchored_clauses() -> None:
+    d = DisPlan(PATH3)
+    assert d.solve(1) == (SatOutcome.UNSAT, None)  # below the BFS distance
+    d.close(1)
+    assert d.plan(2) == (0, 1, 2)
+    # "region 1 at time 1" is impossible: a start-anchored prefix clause, for every horizon
+    d.learn(Conflict(((0, 0), (1, 1)), anchored_start=True, anchored_goal=False, horizon=2))
+    assert d.plan(2) is None
+    d.close(2)
+    for L in (3, 4):
+        got = models(d, L)
+        assert got == {w for w in walks(PATH3, L) if w[1] != 1}
+    assert d.sat_calls > 0 and d.clauses > 0
+
+
+def test_goal_anchored_conflict_shifts_with_the_goal() -> None:
+    d = DisPlan(PATH3)
+    # "region 1 one step before the end" is impossible, with or without the start
+    d.learn(Conflict(((1, 1),), anchored_start=False, anchored_goal=True, horizon=2))
+    for L in (2, 3, 4):
+        assert models(d, L) == {w for w in walks(PATH3, L) if w[L - 1] != 1}
+
+
+def test_free_conflict_holds_at_every_shift() -> None:
+    d = DisPlan(PATH3)
+    # "region 0 followed immediately by region 1" (at any time) is impossible
+    d.learn(Conflict(((5, 0), (6, 1)), anchored_start=False, anchored_goal=False, horizon=6))
+    for L in (2, 3, 4, 5):
+        assert models(d, L) == set()  # every walk from 0 to 2 must step 0 -> 1 somewhere
+
+
+def test_free_conflict_respects_the_states_its_proof_needs() -> None:
+    d = DisPlan(PATH3)
+    # the proof used states 2..4 around the literal at 3: no copy where they do not exist
+    d.learn(Conflict(((3, 2),), anchored_start=False, anchored_goal=False, horizon=5, first_time=2, last_time=4))
+    assert models(d, 2) == walks(PATH3, 2)  # last_time - first_time = 2: a copy at 0..2 puts
+    # the literal at time 1, where region 2 is unreachable anyway
+    assert models(d, 3) == {w for w in walks(PATH3, 3) if w[1] != 2 and w[2] != 2}
+
+
+def test_empty_conflict_refutes_everything() -> None:
+    d = DisPlan(PATH3)
+    d.learn(Conflict((), anchored_start=True, anchored_goal=False, horizon=2))
+    assert d.plan(2) is None and d.plan(5) is None
+
+
+def test_bad_graphs_and_conflicts_are_rejected() -> None:
+    with pytest.raises(ValueError, match="symmetric"):
+        RegionGraph(2, ((1,), ()), (0,), (1,))
+    with pytest.raises(ValueError, match="lists"):
+        RegionGraph(2, ((1,),), (0,), (1,))
+    with pytest.raises(ValueError, match="outside"):
+        Conflict(((5, 0),), anchored_start=True, anchored_goal=False, horizon=3)
+    with pytest.raises(ValueError, match="unknown cardinality"):
+        DisPlan(PATH3, cardinality="magic")
+
+
+def test_bfs_bound() -> None:
+    assert PATH3.horizon_lower_bound() == 2
+    disconnected = RegionGraph(2, ((), ()), (0,), (1,))
+    assert disconnected.horizon_lower_bound() == math.inf
+    assert all(DisPlan(disconnected).plan(L) is None for L in range(4))
+
+
+def test_status_has_no_truth_value() -> None:
+    with pytest.raises(TypeError):
+        bool(SatOutcome.SAT)

@@ -1,0 +1,179 @@
+"""The lazy loop (Algorithm 1): end to end, infeasibility, budgets, the theory interface."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from plansynth.budget import Budget
+from plansynth.reach import ReachStatus, plan_lazy, solve
+from plansynth.reach.conplan import Feasible
+from plansynth.reach.decompose import abstract
+from plansynth.reach.displan import Conflict, DisPlan, RegionGraph
+from plansynth.reach.dynamics import double_integrator, single_integrator
+from plansynth.reach.families import maze
+from plansynth.reach.lazy import lazy_loop
+from plansynth.reach.milp import solve_horizon
+from plansynth.reach.problem import Box, ReachProblem, load_reach_problem
+from plansynth.reach.trajectory import Trajectory
+
+
+def test_maze1_end_to_end() -> None:
+    p = maze(1)
+    r = solve(p)
+    assert r.status is ReachStatus.FOUND
+    assert r.validated is True and r.validation is not None and r.validation.ok
+    assert r.segment_safe is True and r.guarantee == "segments"
+    assert r.horizon == r.trajectory.horizon == len(r.regions) - 1
+    # the regions follow the abstraction's graph from a start to a goal region
+    ab = abstract(p)
+    assert r.regions[0] in ab.start_regions and r.regions[-1] in ab.goal_regions
+    assert all(b == a or b in ab.adjacency[a] for a, b in zip(r.regions, r.regions[1:]))
+    # every sample lies in its region
+    for t, reg in enumerate(r.regions):
+        assert ab.regions[reg].contains(r.trajectory.states[t][:2], tol=1e-6)
+    c = r.counters
+    assert c["sat_calls"] >= 1 and c["lp_calls"] >= 1 and c["iterations"] >= 1
+    assert c["first_horizon"] <= r.horizon
+    assert set(r.timings) >= {"abstraction", "sat", "lp", "validate", "total"}
+
+
+def test_maze1_horizon_is_minimal_by_the_milp() -> None:
+    p = maze(1)
+    r = plan_lazy(p)
+    ab = abstract(p)
+    assert solve_horizon(p, ab, r.horizon)[0] == "found"
+    assert solve_horizon(p, ab, r.horizon - 1)[0] == "infeasible"
+
+
+def walled_off() -> ReachProblem:
+    """The goal sits in a pocket closed by walls: the region graph is disconnected."""
+    return ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Box((6, 6), (10, 7)), Box((6, 7), (7, 10))),
+        goal=Box((8, 8), (9, 9)),
+        dynamics=single_integrator(2, 1.0),
+        start=[1, 1],
+        input_bound=1.0,
+    )
+
+
+def test_disconnected_goal_is_infeasible_without_search() -> None:
+    r = solve(walled_off())
+    assert r.status is ReachStatus.INFEASIBLE
+    assert r.horizon == 200 and "not connected" in r.message
+    assert r.counters["iterations"] == 0 and r.trajectory is None and r.validated is None
+
+
+def test_too_short_max_horizon_is_infeasible_by_search() -> None:
+    """Connected, but the double integrator needs more than 55 steps around the wall
+    (the MILP test above pins the shortest horizon); searched from horizon 0."""
+    p = maze(1)
+    r = plan_lazy(p, max_horizon=55, lower_bound=False)
+    assert r.status is ReachStatus.INFEASIBLE and r.horizon == 55
+    assert "every horizon up to 55" in r.message
+    assert r.counters["sat_calls"] > 0
+
+
+def test_too_short_max_horizon_is_infeasible_by_the_bound() -> None:
+    r = plan_lazy(maze(1), max_horizon=40)
+    assert r.status is ReachStatus.INFEASIBLE and r.counters["iterations"] == 0
+
+
+def test_iteration_budget_gives_unknown() -> None:
+    r = solve(maze(1), budget=Budget(iterations=2))
+    assert r.status is ReachStatus.UNKNOWN and "budget" in r.message
+    assert r.counters["iterations"] == 2 and r.validated is None
+
+
+def test_time_budget_gives_unknown() -> None:
+    r = solve(maze(2), budget=Budget(seconds=0.05))
+    assert r.status is ReachStatus.UNKNOWN and "budget" in r.message
+
+
+@pytest.mark.parametrize("counterexample", ["zeroprefix", "trivial"])
+@pytest.mark.parametrize("generalize", [False, True])
+def test_strategies_agree_on_the_horizon(counterexample: str, generalize: bool) -> None:
+    p = ReachProblem(workspace=Box((0, 0), (10, 6)), obstacles=(Box((3, 0), (4, 4)), Box((6, 2), (7, 6))),
+                     goal=Box((8.5, 0.5), (9.5, 1.5)), dynamics=double_integrator(2, 1.0), start=[1, 1, 0, 0],
+                     input_bound=1.0, state_bounds=Box((0, 0, -1.5, -1.5), (10, 6, 1.5, 1.5)))
+    r = solve(p, counterexample=counterexample, generalize=generalize)
+    reference = solve(p, counterexample="zeroprefix", generalize=False, slack_weights="uniform")
+    assert r.status is ReachStatus.FOUND and r.validated
+    assert r.horizon == reference.horizon
+
+
+def test_samples_only_mode_may_be_shorter_and_says_so() -> None:
+    p = maze(1)
+    seg = plan_lazy(p)
+    samples = solve(p, segment_safe=False)
+    assert samples.status is ReachStatus.FOUND and samples.validated
+    assert samples.guarantee == "samples" and samples.horizon <= seg.horizon
+    assert isinstance(samples.segment_safe, bool)
+
+
+def test_unknown_planner_is_an_error() -> None:
+    with pytest.raises(ValueError, match="unknown planner"):
+        solve(maze(1), planner="rrt*-magic")
+
+
+class GridTheory:
+    """A toy theory over a path graph 0 - 1 - 2 - 3: a sequence is feasible iff it never
+    stays in region 1 (a "slippery" region) and has at least two steps in region 2."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def check(self, regions: Sequence[int]) -> Feasible | Conflict:
+        self.calls += 1
+        N = len(regions) - 1
+        for t in range(N):
+            if regions[t] == 1 and regions[t + 1] == 1:
+                return Conflict(((t, 1), (t + 1, 1)), anchored_start=False, anchored_goal=False, horizon=N)
+        if sum(r == 2 for r in regions) < 2:
+            return Conflict(tuple(enumerate(regions)), anchored_start=True, anchored_goal=True, horizon=N)
+        return Feasible(Trajectory(states=np.zeros((N + 1, 1)), inputs=np.zeros((N, 1))))
+
+
+def test_loop_with_a_toy_theory() -> None:
+    g = RegionGraph(4, ((1,), (0, 2), (1, 3), (2,)), (0,), (3,))
+    theory = GridTheory()
+    timings = {"sat": 0.0, "lp": 0.0}
+    out = lazy_loop(DisPlan(g), theory, range(0, 10), Budget().clock(), timings)
+    assert out.status is ReachStatus.FOUND and out.horizon == 4
+    assert out.regions is not None and out.regions.count(2) >= 2 and (1, 1) not in zip(out.regions, out.regions[1:])
+    assert theory.calls >= 1 and timings["sat"] > 0
+
+
+def test_loop_with_a_toy_theory_refutes_every_horizon() -> None:
+    g = RegionGraph(4, ((1,), (0, 2), (1, 3), (2,)), (0,), (3,))
+    out = lazy_loop(DisPlan(g), GridTheory(), range(0, 4), Budget().clock(), {"sat": 0.0, "lp": 0.0})
+    assert out.status is ReachStatus.INFEASIBLE and out.horizon == 3
+
+
+def test_bounds_are_recorded() -> None:
+    r = plan_lazy(maze(1))
+    c = r.counters
+    assert c["bfs_bound"] == 2 and c["physical_bound"] == 26
+    assert c["first_horizon"] == max(c["bfs_bound"], c["physical_bound"], c["box_bound"])
+    assert not math.isinf(r.timings["bounds"])
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "reach"
+SLOW_EXAMPLES = {"maze-3", "maze-4"}
+
+
+@pytest.mark.parametrize(
+    "name",
+    [pytest.param(p.stem, marks=pytest.mark.slow) if p.stem in SLOW_EXAMPLES else p.stem
+     for p in sorted(EXAMPLES.glob("*.yaml"))],
+)
+def test_every_example_is_solved_and_validated(name: str) -> None:
+    p = load_reach_problem(EXAMPLES / f"{name}.yaml")
+    r = solve(p, budget=Budget(seconds=300))
+    assert r.status is ReachStatus.FOUND, r.message
+    assert r.validated is True and r.segment_safe is True

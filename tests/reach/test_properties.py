@@ -1,0 +1,176 @@
+"""Property tests on small random workspaces (``families.random_workspace``):
+
+* every trajectory the planners return passes the independent validator;
+* the lazy planner and the region MILP agree: same status, same (shortest) horizon;
+* counterexample soundness: every clause CON-PLAN hands to DIS-PLAN excludes only
+  region sequences that have no trajectory, checked by brute force -- all excluded
+  walks are enumerated and each is refuted by an LP written here from scratch.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterator
+
+import highspy
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from plansynth.reach import ReachStatus, solve
+from plansynth.reach.conplan import ConPlan
+from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.displan import Conflict
+from plansynth.reach.dynamics import double_integrator
+from plansynth.reach.families import random_workspace
+from plansynth.reach.lazy import plan_lazy
+from plansynth.reach.problem import Box, ReachProblem, halfspaces
+
+PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@st.composite
+def problems(draw, max_obstacles: int = 5) -> ReachProblem:
+    seed = draw(st.integers(0, 10**6))
+    dim = draw(st.sampled_from([2, 2, 2, 3]))
+    order = draw(st.sampled_from([1, 2]))
+    n_obstacles = draw(st.integers(1, max_obstacles))
+    try:
+        return random_workspace(seed, n_obstacles, dim=dim, order=order, dt=1.0 if order == 1 else 0.5)
+    except RuntimeError:  # no free point for start or goal: a different seed next time
+        return random_workspace(seed % 97, 2, dim=dim, order=order)
+
+
+@PROPS
+@given(problems(), st.integers(3, 9), st.booleans())
+def test_lazy_and_milp_agree_and_every_trajectory_validates(p: ReachProblem, max_horizon: int, segment_safe: bool) -> None:
+    lazy = solve(p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe)
+    milp = solve(p, "milp", max_horizon=max_horizon, segment_safe=segment_safe)
+    for r in (lazy, milp):
+        assert r.status is not ReachStatus.UNKNOWN, r.message
+        if r.status is ReachStatus.FOUND:
+            assert r.validated is True and r.validation.ok
+            if segment_safe:
+                assert r.segment_safe is True
+    assert lazy.status is milp.status
+    assert lazy.horizon == milp.horizon
+
+
+# ------------------------------------------------------------------ soundness by brute force
+
+
+def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], segment_safe: bool) -> bool:
+    """Is there a trajectory through ``walk``? A direct LP, independent of conplan."""
+    dyn = p.dynamics
+    n, m, N = dyn.n_states, dyn.n_inputs, len(walk) - 1
+    A, B = np.asarray(dyn.A), np.asarray(dyn.B)
+    lo = np.full(n, -highspy.kHighsInf) if p.state_bounds is None else np.array(p.state_bounds.lo, float)
+    hi = np.full(n, highspy.kHighsInf) if p.state_bounds is None else np.array(p.state_bounds.hi, float)
+    h = highspy.Highs()
+    h.silent()
+    X = [[h.addVariable(lb=float(lo[i]), ub=float(hi[i])) for i in range(n)] for _ in range(N + 1)]
+    U = [[h.addVariable(lb=-p.input_bound, ub=p.input_bound) for _ in range(m)] for _ in range(N)]
+    for i in range(n):
+        h.addConstr(X[0][i] == float(p.start[i]))
+    for t in range(N):
+        for i in range(n):
+            rhs = sum(float(A[i, k]) * X[t][k] for k in range(n) if A[i, k] != 0)
+            rhs = rhs + sum(float(B[i, j]) * U[t][j] for j in range(m) if B[i, j] != 0)
+            h.addConstr(X[t + 1][i] - rhs == 0)
+
+    def inside(H: np.ndarray, hh: np.ndarray, t: int) -> None:
+        for row, b in zip(H, hh):
+            h.addConstr(sum(float(c) * X[t][k] for c, k in zip(row, dyn.position)) <= float(b))
+
+    for t, r in enumerate(walk):
+        reg = ab.regions[r]
+        inside(reg.H, reg.h, t)
+        if segment_safe and t < N:
+            inside(reg.H, reg.h, t + 1)
+    inside(*halfspaces(p.goal), N)
+    h.run()
+    return h.getModelStatus() == highspy.HighsModelStatus.kOptimal
+
+
+def walks(ab: Abstraction, N: int) -> Iterator[tuple[int, ...]]:
+    def extend(prefix: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
+        if len(prefix) == N + 1:
+            if prefix[-1] in ab.goal_regions:
+                yield prefix
+            return
+        last = prefix[-1]
+        for nxt in (last, *ab.adjacency[last]):
+            yield from extend(prefix + (nxt,))
+
+    for s in ab.start_regions:
+        yield from extend((s,))
+
+
+def excludes(c: Conflict, walk: tuple[int, ...]) -> bool:
+    """Does the clause of ``c``, as DIS-PLAN instantiates it, exclude ``walk``?"""
+    H = len(walk) - 1
+
+    def matches(shift: int) -> bool:
+        return all(0 <= t + shift <= H and walk[t + shift] == r for t, r in c.literals)
+
+    if c.anchored_start and c.anchored_goal:
+        return H == c.horizon and matches(0)
+    if c.anchored_start:
+        return H >= c.last_time and matches(0)
+    if c.anchored_goal:
+        shift = H - c.horizon
+        return c.first_time + shift >= 0 and matches(shift)
+    return any(matches(s) for s in range(-c.first_time, H - c.last_time + 1))
+
+
+def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, top: int = 4) -> int:
+    """Run the lazy planner up to horizon ``top`` from horizon 0, record every clause it
+    learns, and refute every walk (up to ``top``) a clause excludes by the oracle LP.
+    Returns the number of excluded walks checked."""
+    ab = abstract(p)
+    learned: list[Conflict] = []
+    original = ConPlan.check
+
+    def recording(self: ConPlan, regions):  # type: ignore[no-untyped-def]
+        out = original(self, regions)
+        if isinstance(out, Conflict):
+            learned.append(out)
+        return out
+
+    ConPlan.check = recording  # type: ignore[method-assign]
+    try:
+        plan_lazy(p, abstraction=ab, max_horizon=top, counterexample=strategy, generalize=generalize,
+                  segment_safe=segment_safe, lower_bound=False)
+    finally:
+        ConPlan.check = original  # type: ignore[method-assign]
+    checked = 0
+    for c in learned:
+        for H in range(c.horizon, top + 1):
+            excluded = [w for w in itertools.islice(walks(ab, H), 3000) if excludes(c, w)]
+            for w in excluded[:12]:
+                assert not oracle_feasible(p, ab, w, segment_safe), f"clause {c} excludes the feasible {w}"
+                checked += 1
+    return checked
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(problems(max_obstacles=4), st.sampled_from(["zeroprefix", "trivial", "iis"]), st.booleans(), st.booleans())
+def test_every_learned_clause_excludes_only_infeasible_sequences(p: ReachProblem, strategy: str, generalize: bool,
+                                                                  segment_safe: bool) -> None:
+    soundness_checked(p, strategy, generalize, segment_safe)
+
+
+def detour() -> ReachProblem:
+    """A room with two offset walls: the shortest plans need several region changes, so
+    short horizons produce many counterexamples."""
+    return ReachProblem(workspace=Box((0, 0), (6, 6)), obstacles=(Box((0, 2), (4, 3)), Box((2, 4), (6, 5))),
+                        goal=Box((0.5, 5.2), (1.5, 5.8)), dynamics=double_integrator(2, 1.0), start=[0.5, 0.5, 0, 0],
+                        input_bound=1.5, state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)))
+
+
+@pytest.mark.parametrize("strategy", ["zeroprefix", "trivial", "iis"])
+@pytest.mark.parametrize("generalize", [False, True])
+@pytest.mark.parametrize("segment_safe", [False, True])
+def test_learned_clauses_are_sound_on_a_detour(strategy: str, generalize: bool, segment_safe: bool) -> None:
+    assert soundness_checked(detour(), strategy, generalize, segment_safe, top=5) > 0
