@@ -108,7 +108,7 @@ def main() -> None:
 
     print("\nreactive examples (controllers must read obstacles):")
     reactive = []
-    for name, l in (("crossing", 9), ("traffic", 9), ("patrol", 7)):
+    for name, l in (("crossing", 9), ("traffic", 9), ("patrol", 7), ("door", 10)):
         problem = load_grid_problem(HERE / f"{name}.yaml")
         out, secs, ok = native(problem, l)
         reactive.append({"instance": name, "steps": l, "status": out.status.value, "seconds": secs, "verified": ok,

@@ -20,7 +20,7 @@ from plansynth.grid.verify import verify
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "grid"
 
-REACTIVE = [("crossing.yaml", 9), ("traffic.yaml", 9), ("patrol.yaml", 7)]
+REACTIVE = [("crossing.yaml", 9), ("traffic.yaml", 9), ("patrol.yaml", 7), ("door.yaml", 10)]
 
 
 @pytest.mark.parametrize("name,steps", REACTIVE)
