@@ -120,3 +120,10 @@ def test_help_shows_examples() -> None:
     for cmd in ("solve", "validate", "plot"):
         r = runner.invoke(app, ["reach", cmd, "--help"])
         assert r.exit_code == 0 and "Examples" in r.output and "plansynth reach" in r.output
+
+
+def test_table_runs_the_maze_family() -> None:
+    r = runner.invoke(app, ["reach", "table", "--mazes", "1", "-c", "zeroprefix", "-c", "trivial"])
+    assert r.exit_code == 0, r.output
+    assert "zeroprefix+gen" in r.output and "trivial+gen" in r.output and r.output.count("found") == 2
+    assert runner.invoke(app, ["reach", "table", "--mazes", "one"]).exit_code == 2

@@ -236,3 +236,60 @@ def plot_command(
 
 
 __all__ = ["app"]
+
+
+TABLE_EPILOG = """\
+Examples:
+
+  plansynth reach table                                   # maze-1..4, double integrator, defaults
+
+  plansynth reach table --mazes 1,2 -c zeroprefix -c trivial -c iis --no-generalize --timeout 120
+
+  plansynth reach table --mazes 4 --order 25 --timeout 600  # the scalability study (n = 50 states)
+
+Times are wall clock and process CPU seconds of the whole solve (abstraction, bounds,
+SAT, LP, validation); on a shared machine the CPU column is the steadier one.
+"""
+
+
+@app.command("table", epilog=TABLE_EPILOG)
+def table_command(
+    mazes: str = typer.Option("1,2,3,4", "--mazes", help="Comma-separated passage counts."),
+    order: int = typer.Option(2, "--order", min=1, help="Integrators per axis (2: the paper's double integrator)."),
+    counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Strategies to compare (repeatable)."),
+    generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="Shrink counterexamples (Farkas) and shift them."),
+    slack_weights: str = typer.Option("geometric", "--slack-weights", help="zeroprefix slack LP objective: geometric or uniform (the paper's sum)."),
+    timeout: float = typer.Option(120.0, "--timeout", help="Budget per solve in seconds."),
+) -> None:
+    """Solve the paper's maze family (Section VI, Table I and Figure 4) and print the
+    time of each phase and the SAT/LP call counts, one row per maze and strategy."""
+    import time
+
+    from plansynth.reach.families import maze
+    from plansynth.reach.solve import solve
+
+    console = Console(soft_wrap=True)
+    if not console.is_terminal:
+        console = Console(width=160)
+    try:
+        ns = [int(x) for x in mazes.split(",") if x.strip()]
+    except ValueError:
+        raise typer.BadParameter("expected comma-separated integers", param_hint="--mazes") from None
+    table = Table(title=f"maze-n, integrator chains of order {order} ({2 * order} states)")
+    for col in ("maze", "strategy", "status", "horizon", "abstraction s", "SAT s", "LP s", "total s", "CPU s",
+                "iterations", "SAT calls", "LP calls"):
+        table.add_column(col, justify="right" if col not in ("strategy", "status") else "left")
+    for n in ns:
+        problem = maze(n, order=order)
+        for ce in counterexample:
+            c0 = time.process_time()
+            r = solve(problem, "lazy-smt", Budget(seconds=timeout), counterexample=ce, generalize=generalize,
+                      slack_weights=slack_weights)
+            cpu = time.process_time() - c0
+            t, c = r.timings, r.counters
+            style = _STYLE[r.status.value]
+            table.add_row(str(n), ce + ("+gen" if generalize else ""), f"[{style}]{r.status.value}[/{style}]",
+                          str(r.horizon), f"{t.get('abstraction', 0):.3f}", f"{t.get('sat', 0):.3f}",
+                          f"{t.get('lp', 0):.3f}", f"{r.seconds:.3f}", f"{cpu:.3f}", str(c.get("iterations")),
+                          str(c.get("sat_calls")), str(c.get("lp_calls")))
+    console.print(table)

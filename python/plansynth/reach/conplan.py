@@ -381,16 +381,20 @@ class ConPlan:
     ) -> _Bounds:
         """Row and column bounds: region rows of the assigned times (segment rows too,
         unless the next time has the same region), goal rows, x_first = start, slacks."""
+        reg0, seg0, first, last, K = lay.reg0, lay.seg0, lay.first, lay.last, lay.K
         row_lo = np.full(lay.n_row, -INF)
         row_hi = np.full(lay.n_row, INF)
-        row_lo[: lay.reg0] = 0.0
-        row_hi[: lay.reg0] = 0.0
-        K = lay.K
-        for t, r in assignment.items():
-            b = t - lay.first
-            row_hi[lay.reg0 + b * K : lay.reg0 + (b + 1) * K] = self.hpad[r]
-            if self.segment_safe and t < lay.last and assignment.get(t + 1) != r:
-                row_hi[lay.seg0 + b * K : lay.seg0 + (b + 1) * K] = self.hpad[r]
+        row_lo[:reg0] = 0.0
+        row_hi[:reg0] = 0.0
+        if assignment:
+            ts = np.fromiter(assignment.keys(), dtype=np.int64, count=len(assignment))
+            rs = np.fromiter(assignment.values(), dtype=np.int64, count=len(assignment))
+            blocks = row_hi[reg0:seg0].reshape(lay.T, K)
+            blocks[ts - first] = self.hpad[rs]
+            if self.segment_safe:
+                nxt = np.array([assignment.get(int(t) + 1, -1) for t in ts])
+                seg = (ts < last) & (nxt != rs)
+                row_hi[seg0 : lay.goal0].reshape(lay.steps, K)[ts[seg] - first] = self.hpad[rs[seg]]
         if goal:
             row_hi[lay.goal0 : lay.ord0] = self.hgoal
         if slack:

@@ -310,14 +310,17 @@ class DisPlan:
                 return SatOutcome.UNSAT, None
             break
         model = self.solver.get_model()
-        true = {v for v in model if v > 0}
-        plan = []
-        for t in range(horizon + 1):
-            regions = [i for i in range(self.graph.n_regions) if self.at(t, i) in true]
-            if len(regions) != 1:  # pragma: no cover - the cardinality encoding forbids it
-                raise AssertionError(f"SAT model puts time {t} in regions {regions}")
-            plan.append(regions[0])
-        return SatOutcome.SAT, tuple(plan)
+        plan: list[int | None] = [None] * (horizon + 1)
+        for v in model:
+            if v > 0:
+                key = self.pool.obj(v)
+                if key is not None and key[0] == "at" and key[1] <= horizon:
+                    if plan[key[1]] is not None:  # pragma: no cover - exactly-one forbids it
+                        raise AssertionError(f"SAT model puts time {key[1]} in two regions")
+                    plan[key[1]] = key[2]
+        if any(r is None for r in plan):  # pragma: no cover - exactly-one forbids it
+            raise AssertionError("SAT model leaves a time step without a region")
+        return SatOutcome.SAT, tuple(int(r) for r in plan)  # type: ignore[arg-type]
 
     def plan(self, horizon: int) -> tuple[int, ...] | None:
         """Convenience: the region sequence for ``horizon`` or None when UNSAT."""
