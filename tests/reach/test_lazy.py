@@ -177,3 +177,37 @@ def test_every_example_is_solved_and_validated(name: str) -> None:
     r = solve(p, budget=Budget(seconds=300))
     assert r.status is ReachStatus.FOUND, r.message
     assert r.validated is True and r.segment_safe is True
+
+
+def test_start_in_the_goal_is_horizon_zero() -> None:
+    p = ReachProblem(workspace=Box((0, 0), (4, 4)), obstacles=(Box((2, 2), (3, 3)),), goal=Box((0, 0), (1, 1)),
+                     dynamics=single_integrator(2, 1.0), start=[0.5, 0.5], input_bound=1.0)
+    r = solve(p)
+    assert r.status is ReachStatus.FOUND and r.horizon == 0 and r.validated
+    assert r.trajectory.inputs.shape == (0, 2)
+
+
+def test_explicit_dynamics_without_state_bounds() -> None:
+    """A damped point mass given as explicit discrete-time matrices: no state bounds, so
+    no physical bound on a step; the planner still finds and validates a trajectory."""
+    from plansynth.reach.problem import LinearDynamics
+
+    A = np.array([[1, 0, 0.5, 0], [0, 1, 0, 0.5], [0, 0, 0.8, 0], [0, 0, 0, 0.8]])
+    B = np.array([[0.1, 0], [0, 0.1], [0.5, 0], [0, 0.5]])
+    p = ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(Box((4, 0), (5, 7)),), goal=Box((8, 1), (9, 2)),
+                     dynamics=LinearDynamics(A, B, (0, 1)), start=[1, 1, 0, 0], input_bound=1.0, max_horizon=60)
+    r = solve(p)
+    assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe
+    assert r.counters["physical_bound"] >= 0
+
+
+def test_three_dimensional_boxes() -> None:
+    p = ReachProblem(workspace=Box((0, 0, 0), (4, 4, 4)), obstacles=(Box((0, 1.5, 0), (3, 2.5, 4)),),
+                     goal=Box((0.5, 3, 0.5), (1.5, 3.8, 1.5)), dynamics=double_integrator(3, 0.5),
+                     start=[0.5, 0.5, 0.5, 0, 0, 0], input_bound=1.0,
+                     state_bounds=Box((0, 0, 0, -1, -1, -1), (4, 4, 4, 1, 1, 1)))
+    r = solve(p)
+    milp = solve(p, "milp", max_horizon=r.horizon)
+    assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe
+    assert milp.status is ReachStatus.FOUND and milp.horizon == r.horizon
+    assert np.max(r.trajectory.states[:, 0]) >= 3 - 1e-6  # around the wall's end at x = 3

@@ -455,7 +455,8 @@ class ConPlan:
             remaining = self.clock.remaining()
             if remaining <= 0:
                 raise LpBudgetExhausted()
-            h.setOptionValue("time_limit", float(min(remaining, 1e9)))
+            # HiGHS compares time_limit with the instance's run time summed over runs
+            h.setOptionValue("time_limit", float(h.getRunTime() + min(remaining, 1e9)))
         t0 = time.perf_counter()
         h.run()
         status = h.getModelStatus()
