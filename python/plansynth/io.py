@@ -29,12 +29,42 @@ def load_document(path: str | Path) -> tuple[Any, str]:
         raise InvalidProblem(name, "<file>", f"cannot read: {exc.strerror or exc}") from exc
     try:
         if p.suffix.lower() == ".json":
-            doc = json.loads(text)
+            doc = json.loads(text, object_pairs_hook=_json_object_without_duplicates)
         else:
-            doc = yaml.safe_load(text)
+            doc = yaml.load(text, Loader=_StrictLoader)  # noqa: S506 - a SafeLoader subclass
+    except _DuplicateKey as exc:
+        raise InvalidProblem(name, exc.key, f"duplicated key{exc.where}") from None
     except (yaml.YAMLError, json.JSONDecodeError) as exc:
         raise InvalidProblem(name, "<file>", f"not valid YAML/JSON: {exc}") from exc
     return doc, name
+
+
+class _DuplicateKey(Exception):
+    def __init__(self, key: str, where: str = "") -> None:
+        self.key, self.where = key, where
+
+
+def _json_object_without_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for k, v in pairs:
+        if k in out:
+            raise _DuplicateKey(str(k))
+        out[k] = v
+    return out
+
+
+class _StrictLoader(yaml.SafeLoader):
+    """PyYAML's safe loader, except that a key written twice in one mapping is an error
+    (plain PyYAML silently keeps the last one, hiding a typo in a problem file)."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        seen: set[Any] = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if key in seen:
+                raise _DuplicateKey(str(key), f" (line {key_node.start_mark.line + 1})")
+            seen.add(key)
+        return super().construct_mapping(node, deep=deep)
 
 
 class Fields:
