@@ -555,15 +555,19 @@ def _plot_chain(cells: Mapping[tuple[str, str], Cell], chains: Sequence[tuple[st
             if c is None:
                 continue
             t = c.decided_time()
-            by[(p, n)].append((2 * k, t if t is not None else (c.limit or 0.0), t is None))
+            if t is not None:
+                by[(p, n)].append((2 * k, t, False))
+            elif c.out_of_time and c.limit:
+                by[(p, n)].append((2 * k, c.limit, True))
     styles = ["-", "--", ":", "-."]
-    for i, ((p, n), pts) in enumerate(sorted(by.items())):
+    for (p, n), pts in sorted(by.items()):
         pts.sort()
-        line = ax.plot([x for x, _, _ in pts], [max(y, 1e-3) for _, y, _ in pts], linestyle=styles[planners.index(p) % 4],
+        done = [(x, y) for x, y, u in pts if not u]
+        line = ax.plot([x for x, _ in done], [max(y, 1e-3) for _, y in done], linestyle=styles[planners.index(p) % 4],
                        marker="o", label=f"{p}, {n} passage{'s' if n > 1 else ''}")[0]
         unl = [(x, y) for x, y, u in pts if u]
         if unl:
-            ax.plot([x for x, _ in unl], [y for _, y in unl], "x", color=line.get_color())
+            ax.plot([x for x, _ in unl], [y for _, y in unl], "x", markersize=9, mew=2, color=line.get_color())
     ax.plot([50, 50], [1.64, 152], "k|", markersize=12, label="paper at n = 50: 1.64 s .. 152 s")
     ax.set_yscale("log")
     ax.set_xlabel("number of states n (= 2k)")
