@@ -110,6 +110,19 @@ def run_task(task: Mapping[str, Any]) -> dict[str, Any]:
             "message": f"killed after {out.seconds:.1f} s (limit {limit:.1f} s)"}
 
 
+def scrub_paths(text: str) -> str:
+    """Shorten absolute file paths in tracebacks to what follows ``site-packages/`` or
+    the ``plansynth`` package, so a shared results database names no local directories.
+
+    >>> scrub_paths('File "/home/me/src/python/plansynth/grid/solve.py", line 3')
+    'File ".../plansynth/grid/solve.py", line 3'
+    """
+    import re
+
+    text = re.sub(r'(?:/[^\s"\']+)?/(site-packages|plansynth)/', r".../\1/", text)
+    return re.sub(r'(?<![\w.])/(?:tmp|home|root|work|Users)/[^\s"\']*', "<path>", text)
+
+
 def machine_info() -> dict[str, Any]:
     """Host, CPU, memory and software versions, recorded with every experiment."""
     from importlib.metadata import PackageNotFoundError, version
@@ -190,6 +203,8 @@ def run_sweep(
         def record(task: Mapping[str, Any], attrs: Mapping[str, Any]) -> None:
             eid, pid = ids[(task["experiment"], task["solver"])]
             attrs = dict(attrs)
+            if attrs.get("message"):
+                attrs["message"] = scrub_paths(str(attrs["message"]))
             attrs["attributes"] = {**dict(attrs.get("attributes") or {}), "timelimit": float(task["timeout"])}
             db.add_run(eid, pid, int(task["repeat"]), attrs)
             counts["done"] += 1
