@@ -289,25 +289,32 @@ def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[in
                   max_conflicts: int | None = None, max_seconds: float | None = None) -> list[int] | None:
     """Solve with CaDiCaL; BudgetExhausted when the clock runs out, ConflictLimit after
     ``max_conflicts`` conflicts or ``max_seconds`` seconds of this call."""
-    import time
-
-    t0 = time.perf_counter()
     with Solver(name=SAT_SOLVER, bootstrap_with=clauses) as s:
         if phases:
             s.set_phases(phases)
-        # CaDiCaL cannot be interrupted from another thread through PySAT, but it
-        # honours conflict budgets: solve in slices and look at the clock in between.
-        used = 0
-        while True:
-            if clock is not None and clock.exhausted():
-                raise BudgetExhausted("SAT solving")
-            if max_conflicts is not None and used >= max_conflicts:
-                raise ConflictLimit(f"more than {max_conflicts} conflicts")
-            if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
-                raise ConflictLimit(f"more than {max_seconds} s")
-            s.conf_budget(2_000)
-            used += 2_000
-            answer = s.solve_limited()
-            if answer is not None:
-                break
-        return s.get_model() if answer else None
+        return solve_sliced(s, clock, max_conflicts, max_seconds)
+
+
+def solve_sliced(solver: Solver, clock: Clock | None, max_conflicts: int | None = None,
+                 max_seconds: float | None = None) -> list[int] | None:
+    """One (possibly incremental) CaDiCaL call: a model, or None when unsatisfiable.
+
+    CaDiCaL cannot be interrupted from another thread through PySAT, but it honours
+    conflict budgets: solve in slices and look at the clock in between.
+    """
+    import time
+
+    t0 = time.perf_counter()
+    used = 0
+    while True:
+        if clock is not None and clock.exhausted():
+            raise BudgetExhausted("SAT solving")
+        if max_conflicts is not None and used >= max_conflicts:
+            raise ConflictLimit(f"more than {max_conflicts} conflicts")
+        if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
+            raise ConflictLimit(f"more than {max_seconds:.2f} s")
+        solver.conf_budget(2_000)
+        used += 2_000
+        answer = solver.solve_limited()
+        if answer is not None:
+            return solver.get_model() if answer else None

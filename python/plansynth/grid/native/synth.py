@@ -29,7 +29,7 @@ import time
 
 from pysat.solvers import Solver
 
-from plansynth.grid.native.stationary import SAT_SOLVER, ConflictLimit, solve_clauses
+from plansynth.grid.native.stationary import SAT_SOLVER, ConflictLimit, solve_clauses, solve_sliced
 from plansynth.grid.programs import App, Const, Term, depth, size
 
 #: Valid program depths in increasing order (2 and 3 cannot beat 1).
@@ -252,7 +252,7 @@ def tree_program(
                 solver.add_clause(c)
             enc.clauses.clear()
             left = None if max_seconds is None else max_seconds - (time.perf_counter() - t0)
-            model = _solve(solver, clock, max_conflicts, left)
+            model = solve_sliced(solver, clock, max_conflicts, left)
             if model is None:
                 return None
             wrong = [s for mask, k in enc.leaves_of(model) for s in _bits(mask) if k not in sets[s]]
@@ -264,24 +264,6 @@ def tree_program(
                     enc.add_state(s, out_lit)
             if per_state * len(added) > max_clauses:
                 raise BudgetExhausted(f"tree SAT instance beyond {max_clauses} literals")
-
-
-def _solve(solver, clock: Clock | None, max_conflicts: int | None, max_seconds: float | None) -> list[int] | None:
-    """One incremental CaDiCaL call in conflict slices, honouring the clock."""
-    t0 = time.perf_counter()
-    used = 0
-    while True:
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("SAT solving")
-        if max_conflicts is not None and used >= max_conflicts:
-            raise ConflictLimit(f"more than {max_conflicts} conflicts")
-        if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
-            raise ConflictLimit(f"more than {max_seconds:.2f} s")
-        solver.conf_budget(2_000)
-        used += 2_000
-        answer = solver.solve_limited()
-        if answer is not None:
-            return solver.get_model() if answer else None
 
 
 def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, keep: int) -> list[Condition]:
