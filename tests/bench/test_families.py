@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from plansynth.bench.families import GRID_FAMILIES, family, grid_family, reach_family, write_family_files
@@ -60,3 +62,10 @@ def test_reactive_families_have_the_answer_they_are_built_for(name, value):
     if r.status == GridStatus.REALIZABLE:
         assert r.verified is True
         assert reads_obstacles(r.program)  # the controller must react to the cars
+
+
+def test_scale_64_is_the_example_beyond_the_papers_sizes():
+    (inst,) = grid_family("scale", [64])
+    p, example = inst.build(), load_grid_problem(Path(__file__).parents[2] / "examples" / "grid" / "scale64.yaml")
+    assert (p.width, p.height, p.robot, p.obstacles, p.steps) == (
+        example.width, example.height, example.robot, example.obstacles, example.steps)

@@ -175,6 +175,15 @@ def _patrol(height: int, steps: int = 14, sprint: bool = True) -> dict[str, Any]
                      robot_moves=moves, name=name)
 
 
+def _scale(size: int) -> dict[str, Any]:
+    """Beyond the paper (issue: 64 x 64, l = 60): a size x size grid, robot (2,2) ->
+    (size/2, size/2), eight [stay, up, down] obstacles on a diagonal that can all reach
+    the robot's possible paths in time (examples/grid/scale64.yaml for size 64)."""
+    half = size // 2
+    obstacles = [{"start": [5 + 3 * i, 10 + 3 * i], "moves": ["stay", "up", "down"]} for i in range(8)]
+    return _grid_doc(size, size, (2, 2), (half, half), obstacles, steps=2 * (half - 2), name=f"scale-{size}")
+
+
 _GRID_BUILDERS: dict[str, Any] = {
     "figure1": lambda: _figure1(),
     "depth": lambda d: _depth(d),
@@ -185,6 +194,7 @@ _GRID_BUILDERS: dict[str, Any] = {
     "crossing-stall": lambda cars, steps=12: _crossing(cars, steps=steps, stall=True),
     "patrol": lambda height, steps=None: _patrol(height, steps=steps or (24 if height > 13 else 14)),
     "patrol-walk": lambda height, steps=14: _patrol(height, steps=steps, sprint=False),
+    "scale": lambda size: _scale(size),
 }
 
 # Paper's times (s), Enumerative 2015 (benchmarks.md).
@@ -206,6 +216,7 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "crossing-stall": ("cars", [1, 2], "unrealizable"),
     "patrol": ("height", [5, 7, 15], "unrealizable"),
     "patrol-walk": ("height", [5, 7], "unrealizable"),
+    "scale": ("size", [32, 64], "realizable"),
 }
 
 
@@ -219,7 +230,7 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
         if name == "figure1":
             out.append(Instance("grid", "figure1", "figure1", {}, expected))
             continue
-        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height"}[pname]
+        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size"}[pname]
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = _PAPER_GRID.get(name, {}).get(int(v))
