@@ -69,3 +69,19 @@ def test_scale_64_is_the_example_beyond_the_papers_sizes():
     p, example = inst.build(), load_grid_problem(Path(__file__).parents[2] / "examples" / "grid" / "scale64.yaml")
     assert (p.width, p.height, p.robot, p.obstacles, p.steps) == (
         example.width, example.height, example.robot, example.obstacles, example.steps)
+
+
+def test_door_family_needs_the_panel_and_door_10_is_the_example():
+    from plansynth.grid.programs import reads_obstacles
+    from plansynth.grid.solve import solve
+
+    (d10,) = grid_family("door", [10])
+    p, example = d10.build(), load_grid_problem(Path(__file__).parents[2] / "examples" / "grid" / "door.yaml")
+    assert (p.width, p.height, p.robot, p.obstacles, p.walls, p.steps) == (
+        example.width, example.height, example.robot, example.obstacles, example.walls, example.steps)
+    r = solve(p, "native", Budget(seconds=60))
+    assert r.status is GridStatus.REALIZABLE and r.verified and reads_obstacles(r.program)
+    (d8,) = grid_family("door", [8])
+    assert solve(d8.build(), "native", Budget(seconds=60)).status is GridStatus.UNREALIZABLE
+    for inst in grid_family("door-stall"):
+        assert solve(inst.build(), "native", Budget(seconds=60)).status is GridStatus.UNREALIZABLE

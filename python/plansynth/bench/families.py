@@ -175,6 +175,20 @@ def _patrol(height: int, steps: int = 14, sprint: bool = True) -> dict[str, Any]
                      robot_moves=moves, name=name)
 
 
+def _door(steps: int, stall: bool = False, height: int = 11) -> dict[str, Any]:
+    """A sliding panel runs down the slot (column 3) of a wall with one doorway (3, mid),
+    one or two cells per step (adversarial; with ``stall`` it may also stop). Robot
+    (1, mid) -> (6, mid) in exactly ``steps`` steps (examples/grid/door.yaml is door-10).
+    Realizable controllers must read the panel (o0y); at 8 steps there is no time to
+    wait for it, and a panel that may stop can block the doorway forever."""
+    mid = height // 2
+    walls = [(x, y) for x in (2, 4) for y in range(height) if y != mid]
+    moves: list[Any] = (["stay"] if stall else []) + ["down", {"name": "down2", "to": [0, -2], "via": [[0, -1]]}]
+    name = f"door-stall-{steps}" if stall else f"door-{steps}"
+    return _grid_doc(7, height, (1, mid), (6, mid), [{"start": [3, mid + 5], "moves": moves}], steps=steps,
+                     walls=walls, name=name)
+
+
 def _scale(size: int) -> dict[str, Any]:
     """Beyond the paper (issue: 64 x 64, l = 60): a size x size grid, robot (2,2) ->
     (size/2, size/2), eight [stay, up, down] obstacles on a diagonal that can all reach
@@ -194,6 +208,8 @@ _GRID_BUILDERS: dict[str, Any] = {
     "crossing-stall": lambda cars, steps=12: _crossing(cars, steps=steps, stall=True),
     "patrol": lambda height, steps=None: _patrol(height, steps=steps or (24 if height > 13 else 14)),
     "patrol-walk": lambda height, steps=14: _patrol(height, steps=steps, sprint=False),
+    "door": lambda l: _door(l),
+    "door-stall": lambda l: _door(l, stall=True),
     "scale": lambda size: _scale(size),
 }
 
@@ -216,6 +232,8 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "crossing-stall": ("cars", [1, 2], "unrealizable"),
     "patrol": ("height", [5, 7, 15], "unrealizable"),
     "patrol-walk": ("height", [5, 7], "unrealizable"),
+    "door": ("l", [8, 10, 12], None),
+    "door-stall": ("l", [10, 14], "unrealizable"),
     "scale": ("size", [32, 64], "realizable"),
 }
 
@@ -230,7 +248,7 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
         if name == "figure1":
             out.append(Instance("grid", "figure1", "figure1", {}, expected))
             continue
-        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size"}[pname]
+        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size", "l": "l"}[pname]
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = _PAPER_GRID.get(name, {}).get(int(v))
