@@ -178,3 +178,15 @@ def test_start_outside_every_region_horizon_zero() -> None:
     c = ConPlan(p, a)
     assert isinstance(c.check((0,)), Conflict)  # the start is not in the goal
     assert math.isfinite(c.stats.seconds)
+
+
+def test_stalled_simplex_falls_back_to_the_interior_point_method() -> None:
+    p, a = one_region()
+    c = ConPlan(p, a, generalize=True)
+    c.slot.highs.setOptionValue("simplex_iteration_limit", 0)  # every warm simplex "stalls"
+    c.slack_slot.highs.setOptionValue("simplex_iteration_limit", 0)
+    out = c.check((0, 0, 0))
+    assert isinstance(out, Conflict) and c.refutes(out)
+    assert c.stats.ipm_fallbacks > 0
+    found = c.check((0, 0, 0, 0))
+    assert isinstance(found, Feasible) and validate(p, found.trajectory, require_segment_safe=True).ok

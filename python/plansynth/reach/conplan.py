@@ -69,6 +69,7 @@ __all__ = [
     "ConPlan",
     "Feasible",
     "LpBudgetExhausted",
+    "LpFailure",
     "LpStats",
     "zero_prefix",
     "step_reach",
@@ -119,6 +120,10 @@ class LpBudgetExhausted(Exception):
     """HiGHS stopped at the time limit; the lazy loop turns this into ``unknown``."""
 
 
+class LpFailure(Exception):
+    """HiGHS gave no answer on an LP (numerical trouble); the lazy loop answers ``unknown``."""
+
+
 @dataclass
 class LpStats:
     """Counters of one CON-PLAN: LP solves by purpose, certificates, seconds in HiGHS."""
@@ -129,6 +134,7 @@ class LpStats:
     certified: int = 0
     rejected: int = 0
     retries: int = 0
+    ipm_fallbacks: int = 0
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -292,13 +298,17 @@ class ConPlan:
         # persistent, warm-started models: the slack LPs of Problem 5.2 in one, the
         # feasibility LPs (plan, prefixes, unanchoring) in the other
         self.slack_slot = _Slot(self._new_highs())
+        self.slot = _Slot(self._new_highs())
         if self.n > 8:
             # long integrator chains make the slack LP hard for the simplex method
-            # (tiny coefficients dt^k/k!); the interior-point method copes
+            # (tiny coefficients dt^k/k!); the interior-point method copes. Other LPs
+            # keep the simplex method (for Farkas rays) but fall back to IPM when stuck.
             self.slack_slot.highs.setOptionValue("solver", "ipm")
             self.slack_slot.highs.setOptionValue("run_crossover", "off")
-        self.slot = _Slot(self._new_highs())
-        self.cold = self._new_highs()  # one-off LPs (re-checks, IIS)
+            self.slot.highs.setOptionValue("simplex_iteration_limit", 5000)
+            self.slot.highs.setOptionValue("simplex_scale_strategy", 4)
+        self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
+        self._no_ray = False  # the last infeasible LP was decided outside the persistent model
 
     @staticmethod
     def _new_highs() -> highspy.Highs:
@@ -450,35 +460,60 @@ class ConPlan:
         slot.coo = self._matrix(lay, coef)
 
     def _run(self, h: highspy.Highs, purpose: str) -> np.ndarray | None:
-        """Solve the model ``h`` holds: column values when optimal, None when infeasible."""
-        if self.clock is not None:
-            remaining = self.clock.remaining()
-            if remaining <= 0:
-                raise LpBudgetExhausted()
-            # HiGHS compares time_limit with the instance's run time summed over runs
-            h.setOptionValue("time_limit", float(h.getRunTime() + min(remaining, 1e9)))
+        """Solve the model ``h`` holds: column values when optimal, None when infeasible.
+
+        HiGHS occasionally refuses a warm start after in-place edits (an error before
+        any iteration), and the simplex method can stall on badly conditioned LPs (long
+        integrator chains: coefficients dt^k/k!). Then the LP is solved again from
+        scratch, and then by the interior-point method (no Farkas ray: the conflict is
+        kept unshrunk). If every attempt fails, :class:`LpFailure` is raised and the
+        planner answers ``unknown``.
+        """
+        S = highspy.HighsModelStatus
+        self._no_ray = False
+        answers = (S.kOptimal, S.kInfeasible, S.kUnboundedOrInfeasible, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt)
         t0 = time.perf_counter()
-        h.run()
-        status = h.getModelStatus()
-        if status == highspy.HighsModelStatus.kNotset:
-            # HiGHS occasionally refuses a warm start after in-place edits (the run
-            # returns an error before any iteration); solve again from scratch
-            self.stats.retries += 1
-            h.clearSolver()
+        status = S.kNotset
+        for attempt in ("warm", "cold", "ipm"):
+            if self.clock is not None:
+                remaining = self.clock.remaining()
+                if remaining <= 0:
+                    raise LpBudgetExhausted()
+                # HiGHS compares time_limit with the instance's run time summed over runs
+                h.setOptionValue("time_limit", float(h.getRunTime() + min(remaining, 1e9)))
+            if attempt == "cold":
+                if status == S.kIterationLimit:
+                    continue  # a stalled simplex stalls again: straight to the other method
+                self.stats.retries += 1
+                h.clearSolver()
+            if attempt == "ipm":
+                # a fresh copy of the LP in the one-off instance, by the other method
+                self.stats.ipm_fallbacks += 1
+                other = "ipm" if h.getOptionValue("solver")[1] != "ipm" else "simplex"
+                lp = h.getLp()
+                h = self.cold
+                h.passModel(lp)
+                h.setOptionValue("solver", other)
+                if self.clock is not None:
+                    h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
             h.run()
             status = h.getModelStatus()
+            if attempt == "ipm":
+                h.setOptionValue("solver", "simplex")
+            if status in answers:
+                break
         self.stats.seconds += time.perf_counter() - t0
         self.stats.lp_calls += 1
         self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
-        S = highspy.HighsModelStatus
         if status == S.kOptimal:
             return np.asarray(h.getSolution().col_value)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
             # objectives are bounded below (0 or a weighted sum of slacks >= 0)
+            self._no_ray = h is self.cold  # the persistent model holds no Farkas ray
             return None
         if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
             raise LpBudgetExhausted()
-        raise RuntimeError(f"HiGHS returned {h.modelStatusToString(status)} on a CON-PLAN LP")
+        raise LpFailure(f"HiGHS could not solve a CON-PLAN LP ({purpose}): {h.modelStatusToString(status)}")
 
     def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
                      anchored_start: bool = True, slack: bool = False) -> np.ndarray | None:
@@ -602,6 +637,9 @@ class ConPlan:
         infeasible on their own."""
         lay, b, coo = self.slot.layout, self.slot.bounds, self.slot.coo
         assert lay is not None and b is not None and coo is not None
+        if self._no_ray:  # the LP was decided by the fallback method
+            self.stats.rejected += 1
+            return fallback
         status, has_ray, ray = self.slot.highs.getDualRay()
         self.stats.ray_calls += 1
         y = np.asarray(ray, dtype=float)

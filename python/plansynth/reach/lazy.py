@@ -38,7 +38,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from plansynth.budget import Budget, Clock
-from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, physical_lower_bound, time_windows
+from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound, time_windows
 from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
 from plansynth.reach.problem import ReachProblem
@@ -144,6 +144,7 @@ def plan_lazy(
             certified=st.certified,
             rejected=st.rejected,
             lp_retries=st.retries,
+            ipm_fallbacks=st.ipm_fallbacks,
             horizon=out.horizon,
         )
         timings["highs"] = st.seconds
@@ -215,5 +216,7 @@ def lazy_loop(
                 displan.learn(answer)
     except LpBudgetExhausted:
         return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
+    except LpFailure as exc:
+        return LoopOutcome(ReachStatus.UNKNOWN, L, f"{exc} at horizon {L}")
     top = horizons[-1] if len(horizons) else horizons.start - 1
     return LoopOutcome(ReachStatus.INFEASIBLE, top, f"infeasible: every horizon up to {top} refuted")
