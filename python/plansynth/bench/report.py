@@ -38,7 +38,7 @@ GRID_FIGURES = [
     ("obstacles", "Figure 4: time vs number of obstacles", "number of obstacles N"),
     ("dimensions", "Figure 5: time vs grid size", "grid size S (S x S)"),
 ]
-REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk"]
+REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk", "door", "door-stall", "scale"]
 PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0, "Enumerative 2015": 805.0}
 
 
