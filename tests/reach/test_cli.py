@@ -125,5 +125,5 @@ def test_help_shows_examples() -> None:
 def test_table_runs_the_maze_family() -> None:
     r = runner.invoke(app, ["reach", "table", "--mazes", "1", "-c", "zeroprefix", "-c", "trivial"])
     assert r.exit_code == 0, r.output
-    assert "zeroprefix+gen" in r.output and "trivial+gen" in r.output and r.output.count("found") == 2
+    assert "zeroprefix+gen+min" in r.output and "trivial+gen+min" in r.output and r.output.count("found") == 2
     assert runner.invoke(app, ["reach", "table", "--mazes", "one"]).exit_code == 2

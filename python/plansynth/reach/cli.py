@@ -113,6 +113,7 @@ def solve_command(
     max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, help="Largest horizon to try (overrides the file)."),
     counterexample: str = typer.Option("zeroprefix", "--counterexample", help="lazy-smt: zeroprefix (paper), trivial or iis."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
+    minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
     segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
@@ -135,7 +136,7 @@ def solve_command(
 
         if counterexample not in COUNTEREXAMPLES:
             raise typer.BadParameter(f"must be one of {', '.join(COUNTEREXAMPLES)}", param_hint="--counterexample")
-        options.update(counterexample=counterexample, generalize=generalize)
+        options.update(counterexample=counterexample, generalize=generalize, minimize=minimize)
     try:
         problem = load_reach_problem(file)
     except PlansynthError as exc:
@@ -245,6 +246,8 @@ Examples:
 
   plansynth reach table --mazes 1,2 -c zeroprefix -c trivial -c iis --no-generalize --timeout 120
 
+  plansynth reach table --mazes 1,2 --no-generalize --slack-weights uniform   # the paper's method as published
+
   plansynth reach table --mazes 4 --order 25 --timeout 600  # the scalability study (n = 50 states)
 
 Times are wall clock and process CPU seconds of the whole solve (abstraction, bounds,
@@ -258,6 +261,7 @@ def table_command(
     order: int = typer.Option(2, "--order", min=1, help="Integrators per axis (2: the paper's double integrator)."),
     counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Strategies to compare (repeatable)."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="Shrink counterexamples (Farkas) and shift them."),
+    minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="With --generalize: deletion-filter the literals."),
     slack_weights: str = typer.Option("geometric", "--slack-weights", help="zeroprefix slack LP objective: geometric or uniform (the paper's sum)."),
     timeout: float = typer.Option(120.0, "--timeout", help="Budget per solve in seconds."),
 ) -> None:
@@ -284,11 +288,11 @@ def table_command(
         for ce in counterexample:
             c0 = time.process_time()
             r = solve(problem, "lazy-smt", Budget(seconds=timeout), counterexample=ce, generalize=generalize,
-                      slack_weights=slack_weights)
+                      minimize=minimize, slack_weights=slack_weights)
             cpu = time.process_time() - c0
             t, c = r.timings, r.counters
             style = _STYLE[r.status.value]
-            table.add_row(str(n), ce + ("+gen" if generalize else ""), f"[{style}]{r.status.value}[/{style}]",
+            table.add_row(str(n), ce + ("+gen" if generalize else "") + ("+min" if generalize and minimize else ""), f"[{style}]{r.status.value}[/{style}]",
                           str(r.horizon), f"{t.get('abstraction', 0):.3f}", f"{t.get('sat', 0):.3f}",
                           f"{t.get('lp', 0):.3f}", f"{r.seconds:.3f}", f"{cpu:.3f}", str(c.get("iterations")),
                           str(c.get("sat_calls")), str(c.get("lp_calls")))

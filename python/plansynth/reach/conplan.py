@@ -33,9 +33,15 @@ When the sequence is infeasible, CON-PLAN returns a counterexample (Theorem 5.3)
 
 With ``generalize=True`` (beyond the paper), a conflict is shrunk to the support of the
 Farkas certificate (dual ray) of its infeasible LP, re-checked in floating point (or by
-an LP), and then HiGHS tries to drop the start state: a conflict whose proof uses
-neither x_0 = start nor the goal holds at every time shift, and DIS-PLAN adds every
-shifted copy.
+an LP); with ``minimize=True`` a deletion filter then drops every region literal whose
+rows the infeasibility does not need (one warm LP per literal); finally HiGHS tries to
+drop the start state: a conflict whose proof uses neither x_0 = start nor the goal
+holds at every time shift, and DIS-PLAN adds every shifted copy.
+
+Robustness: a warm start HiGHS refuses is retried from scratch; a simplex run that
+stalls (long integrator chains, whose coefficients dt^k/k! span many decades) is
+re-solved by the interior-point method on a fresh copy (without a Farkas ray, so that
+conflict stays unshrunk); if HiGHS still has no answer the planner says ``unknown``.
 
 **One LP per horizon, edited in place.** All LPs for a horizon N share one layout
 (:class:`_Layout`): per time step a block of region rows and a block of segment rows
@@ -135,6 +141,7 @@ class LpStats:
     rejected: int = 0
     retries: int = 0
     ipm_fallbacks: int = 0
+    slack_failures: int = 0
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -254,6 +261,7 @@ class ConPlan:
         segment_safe: bool = True,
         counterexample: str = "zeroprefix",
         generalize: bool = False,
+        minimize: bool = False,
         slack_weights: str = "geometric",
         clock: Clock | None = None,
     ) -> None:
@@ -265,6 +273,7 @@ class ConPlan:
         self.segment_safe = segment_safe
         self.counterexample = counterexample
         self.generalize = generalize
+        self.minimize = minimize
         self.slack_weights = slack_weights
         self.clock = clock
         dyn = problem.dynamics
@@ -299,16 +308,17 @@ class ConPlan:
         # feasibility LPs (plan, prefixes, unanchoring) in the other
         self.slack_slot = _Slot(self._new_highs())
         self.slot = _Slot(self._new_highs())
+        self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
+        self._no_ray = False  # the last infeasible LP was decided outside the persistent model
         if self.n > 8:
             # long integrator chains make the slack LP hard for the simplex method
             # (tiny coefficients dt^k/k!); the interior-point method copes. Other LPs
             # keep the simplex method (for Farkas rays) but fall back to IPM when stuck.
             self.slack_slot.highs.setOptionValue("solver", "ipm")
             self.slack_slot.highs.setOptionValue("run_crossover", "off")
-            self.slot.highs.setOptionValue("simplex_iteration_limit", 5000)
-            self.slot.highs.setOptionValue("simplex_scale_strategy", 4)
-        self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
-        self._no_ray = False  # the last infeasible LP was decided outside the persistent model
+            for h in (self.slot.highs, self.cold):
+                h.setOptionValue("simplex_iteration_limit", 5000)
+                h.setOptionValue("simplex_scale_strategy", 4)
 
     @staticmethod
     def _new_highs() -> highspy.Highs:
@@ -489,17 +499,20 @@ class ConPlan:
             if attempt == "ipm":
                 # a fresh copy of the LP in the one-off instance, by the other method
                 self.stats.ipm_fallbacks += 1
-                other = "ipm" if h.getOptionValue("solver")[1] != "ipm" else "simplex"
                 lp = h.getLp()
                 h = self.cold
                 h.passModel(lp)
-                h.setOptionValue("solver", other)
+                h.setOptionValue("solver", "ipm")
+                h.setOptionValue("presolve", "on")
+                h.setOptionValue("run_crossover", "off")
                 if self.clock is not None:
                     h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
             h.run()
             status = h.getModelStatus()
             if attempt == "ipm":
                 h.setOptionValue("solver", "simplex")
+                h.setOptionValue("presolve", "off")
+                h.setOptionValue("run_crossover", "on")
             if status in answers:
                 break
         self.stats.seconds += time.perf_counter() - t0
@@ -546,7 +559,10 @@ class ConPlan:
                 return Feasible(self._trajectory(self.layout(0, N), col))
             out = self._whole(regions)
         if isinstance(out, Conflict) and self.generalize:
-            out = self._unanchor(regions, self._from_ray(regions, out))  # HiGHS holds out's LP
+            out = self._from_ray(regions, out)  # HiGHS holds out's LP
+            if self.minimize:
+                out = self._minimize(regions, out)
+            out = self._unanchor(regions, out)
         return out
 
     def feasible(self, regions: Sequence[int]) -> Trajectory | None:
@@ -573,7 +589,11 @@ class ConPlan:
     def _check_zeroprefix(self, regions: tuple[int, ...]) -> Feasible | Conflict:
         N = len(regions) - 1
         lay = self.layout(0, N)
-        col = self._solve_model(N, dict(enumerate(regions)), "slack", goal=True, slack=True)
+        try:
+            col = self._solve_model(N, dict(enumerate(regions)), "slack", goal=True, slack=True)
+        except LpFailure:  # no ZEROPREFIX candidate this time; the search below still decides
+            self.stats.slack_failures += 1
+            col = None
         if col is not None:
             k = zero_prefix(col[lay.n_x + lay.n_u :])
             if k == lay.T:
@@ -582,7 +602,7 @@ class ConPlan:
             if not self.prefix_feasible(regions, k):
                 return self._prefix(regions, k)
             lo = k + 1
-        else:  # infeasible even with slacks: dynamics and bounds alone; search from 0
+        else:  # infeasible even with slacks (dynamics and bounds alone), or no answer
             lo = 0
         # earliest infeasible prefix in lo..N by binary search (feasibility is monotone)
         hi = N + 1  # sentinel: "prefix N is feasible"
@@ -654,6 +674,31 @@ class ConPlan:
         cols = np.nonzero(np.abs(dcol) > 1e-9)[0]
         certified = _farkas_certifies(b, y, dcol, rows, cols)
         return self._shrunk(lay, b, regions, rows, cols, fallback, certified=certified)
+
+    def _minimize(self, regions: Sequence[int], c: Conflict) -> Conflict:
+        """Deletion filter: drop each literal whose region rows the conflict does not
+        need (the LP without them is still infeasible), so that no literal can be
+        dropped from the result; then shrink by the last infeasible LP's certificate."""
+        if len(c.literals) <= 1:
+            return c
+        N = len(regions) - 1
+        keep = list(c.literals)
+        last_infeasible = False
+        for lit in list(keep):
+            trial = [x for x in keep if x != lit]
+            col = self._solve_model(N, dict(trial), "minimize", goal=c.anchored_goal, anchored_start=c.anchored_start)
+            last_infeasible = col is None
+            if last_infeasible:
+                keep = trial
+        if len(keep) == len(c.literals):
+            return c
+        if not last_infeasible:  # HiGHS must hold the kept set's (infeasible) LP
+            if self._solve_model(N, dict(keep), "minimize", goal=c.anchored_goal,
+                                 anchored_start=c.anchored_start) is not None:  # pragma: no cover
+                return c
+        smaller = Conflict(tuple(keep), anchored_start=c.anchored_start, anchored_goal=c.anchored_goal,
+                           horizon=c.horizon, first_time=0, last_time=N)
+        return self._from_ray(regions, smaller)
 
     def _unanchor(self, regions: Sequence[int], c: Conflict) -> Conflict:
         """Try to drop the start from a start-anchored conflict: if the LP of its claims

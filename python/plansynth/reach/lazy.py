@@ -67,6 +67,7 @@ def plan_lazy(
     counterexample: str = "zeroprefix",
     segment_safe: bool = True,
     generalize: bool = True,
+    minimize: bool = True,
     slack_weights: str = "geometric",
     cardinality: str = "auto",
     lower_bound: bool = True,
@@ -90,6 +91,7 @@ def plan_lazy(
         "counterexample": counterexample,
         "segment_safe": segment_safe,
         "generalize": generalize,
+        "minimize": minimize,
         "slack_weights": slack_weights,
         "cardinality": cardinality,
         "max_horizon": L_max,
@@ -127,7 +129,7 @@ def plan_lazy(
         to_go=windows.to_go if windows is not None else None,
     )
     conplan = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample=counterexample,
-                      generalize=generalize, slack_weights=slack_weights, clock=clock)
+                      generalize=generalize, minimize=minimize, slack_weights=slack_weights, clock=clock)
 
     def finish(out: LoopOutcome) -> ReachResult:
         st = conplan.stats
@@ -145,6 +147,7 @@ def plan_lazy(
             rejected=st.rejected,
             lp_retries=st.retries,
             ipm_fallbacks=st.ipm_fallbacks,
+            slack_failures=st.slack_failures,
             horizon=out.horizon,
         )
         timings["highs"] = st.seconds
