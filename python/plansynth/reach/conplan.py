@@ -89,6 +89,7 @@ __all__ = [
 COUNTEREXAMPLES = ("zeroprefix", "trivial", "iis")
 SLACK_WEIGHTS = ("geometric", "uniform")
 ZERO_SLACK = 1e-7  # a slack at most this is zero (HiGHS's primal feasibility tolerance)
+MINIMIZE_MAX_LITERALS = 16
 INF = highspy.kHighsInf
 
 # row kinds of the LPs
@@ -475,44 +476,45 @@ class ConPlan:
         HiGHS occasionally refuses a warm start after in-place edits (an error before
         any iteration), and the simplex method can stall on badly conditioned LPs (long
         integrator chains: coefficients dt^k/k!). Then the LP is solved again from
-        scratch, and then by the interior-point method (no Farkas ray: the conflict is
-        kept unshrunk). If every attempt fails, :class:`LpFailure` is raised and the
-        planner answers ``unknown``.
+        scratch, then on a fresh copy by the interior-point method, then by the simplex
+        method after presolve (no Farkas ray then: the conflict is kept unshrunk). If
+        every attempt fails, :class:`LpFailure` is raised and the planner answers
+        ``unknown``.
         """
         S = highspy.HighsModelStatus
         self._no_ray = False
         answers = (S.kOptimal, S.kInfeasible, S.kUnboundedOrInfeasible, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt)
         t0 = time.perf_counter()
         status = S.kNotset
-        for attempt in ("warm", "cold", "ipm"):
+        fresh = {"ipm": {"solver": "ipm", "presolve": "off", "run_crossover": "on"},
+                 "presolved": {"solver": "simplex", "presolve": "on", "simplex_iteration_limit": 2**31 - 1}}
+        for attempt in ("warm", "cold", "ipm", "presolved"):
             if self.clock is not None:
                 remaining = self.clock.remaining()
                 if remaining <= 0:
                     raise LpBudgetExhausted()
-                # HiGHS compares time_limit with the instance's run time summed over runs
-                h.setOptionValue("time_limit", float(h.getRunTime() + min(remaining, 1e9)))
             if attempt == "cold":
                 if status == S.kIterationLimit:
-                    continue  # a stalled simplex stalls again: straight to the other method
+                    continue  # a stalled simplex stalls again: straight to the other methods
                 self.stats.retries += 1
                 h.clearSolver()
-            if attempt == "ipm":
-                # a fresh copy of the LP in the one-off instance, by the other method
+            if attempt in fresh:
+                # a fresh copy of the LP in the one-off instance, by another method
                 self.stats.ipm_fallbacks += 1
                 lp = h.getLp()
                 h = self.cold
                 h.passModel(lp)
-                h.setOptionValue("solver", "ipm")
-                h.setOptionValue("presolve", "on")
-                h.setOptionValue("run_crossover", "off")
-                if self.clock is not None:
-                    h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
+                saved = {k: h.getOptionValue(k)[1] for k in fresh[attempt]}
+                for k, v in fresh[attempt].items():
+                    h.setOptionValue(k, v)
+            if self.clock is not None:
+                # HiGHS compares time_limit with the instance's run time summed over runs
+                h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
             h.run()
             status = h.getModelStatus()
-            if attempt == "ipm":
-                h.setOptionValue("solver", "simplex")
-                h.setOptionValue("presolve", "off")
-                h.setOptionValue("run_crossover", "on")
+            if attempt in fresh:
+                for k, v in saved.items():
+                    h.setOptionValue(k, v)
             if status in answers:
                 break
         self.stats.seconds += time.perf_counter() - t0
@@ -679,8 +681,8 @@ class ConPlan:
         """Deletion filter: drop each literal whose region rows the conflict does not
         need (the LP without them is still infeasible), so that no literal can be
         dropped from the result; then shrink by the last infeasible LP's certificate."""
-        if len(c.literals) <= 1:
-            return c
+        if not 1 < len(c.literals) <= MINIMIZE_MAX_LITERALS:
+            return c  # long ones (no Farkas ray to shrink them first) would cost an LP each
         N = len(regions) - 1
         keep = list(c.literals)
         last_infeasible = False
