@@ -151,3 +151,49 @@ def test_bfs_bound() -> None:
 def test_status_has_no_truth_value() -> None:
     with pytest.raises(TypeError):
         bool(SatOutcome.SAT)
+
+
+# ------------------------------------------------------------------ horizon windows
+
+
+def line_graph() -> RegionGraph:
+    return RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(2,))
+
+
+def test_a_window_gives_a_plan_of_some_horizon_in_it() -> None:
+    with DisPlan(line_graph()) as d:
+        outcome, plan = d.solve(6, lowest=1)
+        assert outcome is SatOutcome.SAT and plan is not None
+        assert 2 <= len(plan) - 1 <= 6  # horizon 1 has no plan: 0 -> 1 -> 2 takes two steps
+        assert plan[0] == 0 and plan[-1] == 2
+        assert all(b == a or abs(b - a) == 1 for a, b in zip(plan, plan[1:]))
+
+
+def test_a_clause_that_needs_later_states_spares_shorter_plans_in_the_window() -> None:
+    """A start-anchored conflict proved with the states up to time 4 holds only for plans
+    of horizon >= 4; in a window 2..5 the horizon-2 plan (0, 1, 2) must stay possible."""
+    with DisPlan(line_graph()) as d:
+        assert d.solve(5, lowest=2)[0] is SatOutcome.SAT
+        d.learn(Conflict(((1, 1),), anchored_start=True, anchored_goal=False, horizon=4, last_time=4))
+        assert d.solve(2, lowest=2) == (SatOutcome.SAT, (0, 1, 2))
+        outcome, plan = d.solve(5, lowest=4)
+        assert outcome is SatOutcome.SAT and plan is not None and plan[1] != 1
+
+
+def test_closing_a_window_refutes_all_its_horizons() -> None:
+    with DisPlan(line_graph()) as d:
+        d.learn(Conflict(((1, 1),), anchored_start=True, anchored_goal=False, horizon=1))
+        d.learn(Conflict(((2, 1),), anchored_start=True, anchored_goal=False, horizon=2))
+        # region 1 is forbidden at times 1 and 2, so the goal needs horizon >= 4
+        assert d.solve(3, lowest=2)[0] is SatOutcome.UNSAT
+        for h in (2, 3):
+            d.close(h)
+        outcome, plan = d.solve(8, lowest=4)
+        assert outcome is SatOutcome.SAT and plan is not None and len(plan) - 1 >= 4
+
+
+def test_a_window_below_the_first_horizon_is_refused() -> None:
+    with DisPlan(line_graph()) as d:
+        d.solve(3)
+        with pytest.raises(ValueError):
+            d.solve(4, lowest=2)

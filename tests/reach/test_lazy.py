@@ -44,7 +44,8 @@ def test_maze1_end_to_end() -> None:
 
 def test_maze1_horizon_is_minimal_by_the_milp() -> None:
     p = maze(1)
-    r = plan_lazy(p)
+    r = plan_lazy(p, horizon_search="linear")
+    assert r.counters["minimal"] is True
     ab = abstract(p)
     assert solve_horizon(p, ab, r.horizon)[0] == "found"
     assert solve_horizon(p, ab, r.horizon - 1)[0] == "infeasible"

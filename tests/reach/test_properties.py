@@ -19,9 +19,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.conplan import ConPlan
 from plansynth.reach.decompose import Abstraction, abstract
-from plansynth.reach.displan import Conflict
+from plansynth.reach.displan import Conflict, DisPlan
 from plansynth.reach.dynamics import double_integrator
 from plansynth.reach.families import random_workspace
 from plansynth.reach.lazy import plan_lazy
@@ -45,16 +44,26 @@ def problems(draw, max_obstacles: int = 5) -> ReachProblem:
 @PROPS
 @given(problems(), st.integers(3, 9), st.booleans())
 def test_lazy_and_milp_agree_and_every_trajectory_validates(p: ReachProblem, max_horizon: int, segment_safe: bool) -> None:
-    lazy = solve(p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe)
+    lazy = solve(p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="linear")
+    window = solve(p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="window",
+                   window_growth=1.0)
     milp = solve(p, "milp", max_horizon=max_horizon, segment_safe=segment_safe)
-    for r in (lazy, milp):
+    for r in (lazy, window, milp):
         assert r.status is not ReachStatus.UNKNOWN, r.message
         if r.status is ReachStatus.FOUND:
             assert r.validated is True and r.validation.ok
             if segment_safe:
                 assert r.segment_safe is True
-    assert lazy.status is milp.status
-    assert lazy.horizon == milp.horizon
+    assert lazy.status is milp.status is window.status
+    assert lazy.horizon == milp.horizon  # the paper's loop finds the smallest horizon
+    if lazy.status is ReachStatus.FOUND:
+        assert lazy.counters["minimal"] is True
+        # a window may end later; "minimal" is claimed only when it is the smallest
+        assert lazy.horizon <= window.horizon <= max_horizon
+        if window.counters["minimal"]:
+            assert window.horizon == lazy.horizon
+    else:
+        assert window.horizon == lazy.horizon == max_horizon
 
 
 # ------------------------------------------------------------------ soundness by brute force
@@ -124,26 +133,25 @@ def excludes(c: Conflict, walk: tuple[int, ...]) -> bool:
     return any(matches(s) for s in range(-c.first_time, H - c.last_time + 1))
 
 
-def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, top: int = 4) -> int:
+def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, top: int = 4,
+                      search: str = "linear") -> int:
     """Run the lazy planner up to horizon ``top`` from horizon 0, record every clause it
     learns, and refute every walk (up to ``top``) a clause excludes by the oracle LP.
     Returns the number of excluded walks checked."""
     ab = abstract(p)
     learned: list[Conflict] = []
-    original = ConPlan.check
+    original = DisPlan.learn
 
-    def recording(self: ConPlan, regions):  # type: ignore[no-untyped-def]
-        out = original(self, regions)
-        if isinstance(out, Conflict):
-            learned.append(out)
-        return out
+    def recording(self: DisPlan, conflict: Conflict) -> None:  # every clause, from CON-PLAN or the transit layer
+        learned.append(conflict)
+        original(self, conflict)
 
-    ConPlan.check = recording  # type: ignore[method-assign]
+    DisPlan.learn = recording  # type: ignore[method-assign]
     try:
         plan_lazy(p, abstraction=ab, max_horizon=top, counterexample=strategy, generalize=generalize,
-                  segment_safe=segment_safe, lower_bound=False)
+                  segment_safe=segment_safe, lower_bound=False, horizon_search=search, window_growth=2.0)
     finally:
-        ConPlan.check = original  # type: ignore[method-assign]
+        DisPlan.learn = original  # type: ignore[method-assign]
     checked = 0
     for c in learned:
         for H in range(c.horizon, top + 1):
@@ -155,10 +163,11 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(problems(max_obstacles=4), st.sampled_from(["zeroprefix", "trivial", "iis"]), st.booleans(), st.booleans())
+@given(problems(max_obstacles=4), st.sampled_from(["zeroprefix", "trivial", "iis"]), st.booleans(), st.booleans(),
+       st.sampled_from(["linear", "window"]))
 def test_every_learned_clause_excludes_only_infeasible_sequences(p: ReachProblem, strategy: str, generalize: bool,
-                                                                  segment_safe: bool) -> None:
-    soundness_checked(p, strategy, generalize, segment_safe)
+                                                                  segment_safe: bool, search: str) -> None:
+    soundness_checked(p, strategy, generalize, segment_safe, search=search)
 
 
 def detour() -> ReachProblem:
@@ -172,5 +181,6 @@ def detour() -> ReachProblem:
 @pytest.mark.parametrize("strategy", ["zeroprefix", "trivial", "iis"])
 @pytest.mark.parametrize("generalize", [False, True])
 @pytest.mark.parametrize("segment_safe", [False, True])
-def test_learned_clauses_are_sound_on_a_detour(strategy: str, generalize: bool, segment_safe: bool) -> None:
-    assert soundness_checked(detour(), strategy, generalize, segment_safe, top=5) > 0
+@pytest.mark.parametrize("search", ["linear", "window"])
+def test_learned_clauses_are_sound_on_a_detour(strategy: str, generalize: bool, segment_safe: bool, search: str) -> None:
+    assert soundness_checked(detour(), strategy, generalize, segment_safe, top=5, search=search) > 0

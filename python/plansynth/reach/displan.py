@@ -21,6 +21,16 @@ every learned clause (and everything CaDiCaL learned from it) survives to the ne
 horizon. Conflicts that use neither the start state nor the goal hold at every time
 shift (the dynamics are time-invariant) and are instantiated at every shift.
 
+**Horizon windows (beyond the paper).** ``solve(hi, lowest=lo)`` asks for a plan that
+reaches the goal at *some* horizon h in lo..hi: the activation literals of the window
+are assumed as one disjunction, and the plan is cut at the smallest h whose ``act[h]``
+is true. The bits after h are padding (staying in the goal region satisfies them), so
+a clause whose proof needs the states up to time T, which holds only for plans of
+horizon >= T, is guarded by ``before[T]`` ("the plan ends before T"), a literal that a
+chain of clauses allows only when some ``act[h]`` with h < T is true. With one horizon
+at a time (the paper's loop) every horizon below the one tried is closed and the guards
+are never needed.
+
 >>> g = RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(2,))
 >>> d = DisPlan(g)
 >>> d.plan(1) is None            # two steps needed: 0 -> 1 -> 2
@@ -182,6 +192,8 @@ class DisPlan:
         self.pool = IDPool()
         self.solver = Solver(name=SAT_SOLVER)
         self.built = -1  # largest time step with variables and step constraints
+        self.floor: int | None = None  # the first horizon ever tried: no plan is shorter
+        self.open_from: int | None = None  # horizons floor..open_from-1 are closed
         self.goal_added: set[int] = set()
         self.closed: set[int] = set()
         self.conflicts: list[Conflict] = []
@@ -202,6 +214,20 @@ class DisPlan:
     def act(self, horizon: int) -> int:
         """The activation literal of horizon L (assumed while L is tried)."""
         return self.pool.id(("horizon", horizon))
+
+    def before(self, time: int) -> int | None:
+        """The guard ``before[T]``: true only if the plan ends before T (see the module
+        docstring); None when no open horizon lies below T, i.e. no guard is needed."""
+        if self.open_from is None or time <= self.open_from:
+            return None
+        key = ("before", time)
+        if key in self.pool.obj2id:
+            return self.pool.id(key)
+        lit = self.pool.id(key)
+        lower = self.before(time - 1)
+        self._ensure_goal(time - 1)
+        self._add([-lit, self.act(time - 1)] + ([lower] if lower is not None else []))
+        return lit
 
     # -- encoding ----------------------------------------------------------------
     def _add(self, clause: list[int]) -> None:
@@ -251,9 +277,15 @@ class DisPlan:
                 self._instantiate_goal(c, horizon)
 
     def _clause(self, c: Conflict, shift: int, guard: int | None) -> None:
+        """Add ``c`` shifted by ``shift``: under ``act[guard]`` when goal-anchored, else
+        for plans that reach its last time step."""
         clause = [-self.at(t + shift, i) for t, i in c.literals]
         if guard is not None:
             clause.append(-guard)
+        else:
+            short = self.before(c.last_time + shift)
+            if short is not None:
+                clause.append(short)
         self._add(clause)
         self.clauses += 1
 
@@ -290,15 +322,42 @@ class DisPlan:
         """Horizon L is refuted: fix its activation literal false for good."""
         self.closed.add(horizon)
         self._add([-self.act(horizon)])
+        if self.open_from is not None:
+            while self.open_from in self.closed:
+                self.open_from += 1
 
     # -- solving -----------------------------------------------------------------
-    def solve(self, horizon: int, clock: Clock | None = None) -> tuple[SatOutcome, tuple[int, ...] | None]:
-        """A region sequence r_0..r_L satisfying every clause, or UNSAT, or INTERRUPTED
-        when ``clock`` runs out (checked between slices of CaDiCaL conflicts)."""
+    def solve(
+        self, horizon: int, clock: Clock | None = None, *, lowest: int | None = None
+    ) -> tuple[SatOutcome, tuple[int, ...] | None]:
+        """A region sequence r_0..r_h satisfying every clause, with h = ``horizon`` or,
+        given ``lowest``, some h in lowest..horizon (the smallest one the model allows);
+        or UNSAT (no plan of any of these horizons); or INTERRUPTED when ``clock`` runs
+        out (checked between slices of CaDiCaL conflicts)."""
+        lo = horizon if lowest is None else int(lowest)
+        if not 0 <= lo <= horizon:
+            raise ValueError(f"empty horizon window {lo}..{horizon}")
+        if self.floor is None:
+            self.floor = self.open_from = lo
+        elif lo < self.floor:
+            raise ValueError(f"horizon {lo} is below the first horizon tried ({self.floor})")
         self._extend(horizon)
-        self._ensure_goal(horizon)
+        for h in range(self.floor, horizon + 1):
+            self._ensure_goal(h)
         self.sat_calls += 1
-        assumptions = [self.act(horizon)]
+        window = [h for h in range(lo, horizon + 1) if h not in self.closed]
+        if not window:
+            return SatOutcome.UNSAT, None
+        if len(window) == 1:
+            assumptions = [self.act(window[0])]
+        else:
+            select = self.pool.id(("window", lo, horizon))
+            self._add([-select] + [self.act(h) for h in window])
+            assumptions = [select]
+            # prefer short plans: every activation literal is tried false first
+            self.solver.set_phases([-self.act(h) for h in window])
+        # open horizons below the window are not part of this question
+        assumptions += [-self.act(h) for h in range(self.floor, lo) if h not in self.closed]
         while True:
             if clock is not None and clock.exhausted():
                 return SatOutcome.INTERRUPTED, None
@@ -310,6 +369,10 @@ class DisPlan:
                 return SatOutcome.UNSAT, None
             break
         model = self.solver.get_model()
+        true = {v for v in model if v > 0}
+        # the plan ends at the smallest horizon whose activation literal is true: every
+        # guarded clause then holds for it (see before())
+        horizon = next(h for h in range(self.floor, horizon + 1) if self.act(h) in true)
         plan: list[int | None] = [None] * (horizon + 1)
         for v in model:
             if v > 0:

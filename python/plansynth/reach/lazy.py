@@ -9,6 +9,18 @@
             CON-PLAN(r_0..r_L) -> trajectory: done                     (Section V)
                                -> counterexample: add its clause, loop
 
+**Horizon search.** ``horizon_search="linear"`` is the paper's loop above: one horizon
+at a time, so the trajectory found has the smallest horizon any region sequence
+allows, and every shorter horizon is refuted on the way. That refutation is most of
+the work (maze-4: horizons 122..140 cost ~1,700 LPs before 141 succeeds). The default,
+``"window"`` (beyond the paper), asks DIS-PLAN for a plan that reaches the goal at
+*some* horizon in a window lo..hi (windows grow geometrically by ``window_growth``
+from the lower bound), which is monotone in hi: a window that admits a trajectory
+usually yields one after a few counterexamples, and only windows without any are
+refuted whole. The result's ``counters["minimal"]`` says whether the horizon found is
+proved minimal (it is when it equals the window's lower end, and always under
+``"linear"``).
+
 The loop talks to the continuous side only through :class:`TheoryChecker`: ``check``
 maps a region sequence to :class:`~plansynth.reach.conplan.Feasible` or a
 :class:`~plansynth.reach.displan.Conflict` (STYLE.md, point 8). The answer is
@@ -44,8 +56,11 @@ from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.transit import TransitCheck
 
-__all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy"]
+__all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES"]
+
+HORIZON_SEARCHES = ("window", "linear")
 
 ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
@@ -53,8 +68,8 @@ ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 class TheoryChecker(Protocol):
     """The theory side of the lazy loop (CON-PLAN or any other)."""
 
-    def check(self, regions: Sequence[int]) -> Feasible | Conflict:
-        """A trajectory following ``regions`` or a counterexample clause."""
+    def check(self, regions: Sequence[int]) -> Feasible | Conflict | tuple[Conflict, ...]:
+        """A trajectory following ``regions`` or one or more counterexample clauses."""
         ...
 
 
@@ -71,6 +86,9 @@ def plan_lazy(
     slack_weights: str = "geometric",
     cardinality: str = "auto",
     lower_bound: bool = True,
+    horizon_search: str = "window",
+    window_growth: float = 0.25,
+    transit: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """Algorithm 1 on ``problem`` within ``budget``; the trajectory is *not* yet
@@ -81,9 +99,16 @@ def plan_lazy(
     :mod:`plansynth.reach.conplan`; ``counterexample="zeroprefix", generalize=False,
     slack_weights="uniform"`` is the paper's method as published). ``segment_safe``
     constrains whole segments, not only samples. ``lower_bound=False`` starts at
-    horizon 0 without time windows. ``progress(L, iterations)`` is called when a
-    horizon starts.
+    horizon 0 without time windows. ``horizon_search`` (``window`` or ``linear``) and
+    ``window_growth`` choose the horizons tried (see the module docstring).
+    ``transit`` puts :class:`~plansynth.reach.transit.TransitCheck` in front of
+    CON-PLAN (transit-time conflicts without horizon-long LPs).
+    ``progress(L, iterations)`` is called when a horizon (window: its top) starts.
     """
+    if horizon_search not in HORIZON_SEARCHES:
+        raise ValueError(f"unknown horizon search {horizon_search!r} (known: {', '.join(HORIZON_SEARCHES)})")
+    if not window_growth > 0:
+        raise ValueError(f"window_growth must be positive, got {window_growth}")
     t_start = time.perf_counter()
     clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -96,6 +121,9 @@ def plan_lazy(
         "cardinality": cardinality,
         "max_horizon": L_max,
         "lower_bound": lower_bound,
+        "horizon_search": horizon_search,
+        "transit": transit,
+        "window_growth": window_growth,
         "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
     }
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
@@ -131,6 +159,8 @@ def plan_lazy(
     conplan = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample=counterexample,
                       generalize=generalize, minimize=minimize, slack_weights=slack_weights, clock=clock)
 
+    theory: TheoryChecker = TransitCheck(conplan, abstraction) if transit else conplan
+
     def finish(out: LoopOutcome) -> ReachResult:
         st = conplan.stats
         counters.update(
@@ -149,7 +179,11 @@ def plan_lazy(
             ipm_fallbacks=st.ipm_fallbacks,
             slack_failures=st.slack_failures,
             horizon=out.horizon,
+            minimal=out.minimal,
         )
+        if isinstance(theory, TransitCheck):
+            counters.update(transit_conflicts=theory.conflicts, transit_lp_calls=theory.lp_calls,
+                            transit_plans=theory.plans_caught)
         timings["highs"] = st.seconds
         timings["total"] = time.perf_counter() - t_start
         displan.delete()
@@ -167,7 +201,27 @@ def plan_lazy(
         else:
             why = f"the lower bound on the horizon ({first}) exceeds max_horizon"
         return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}"))
-    return finish(lazy_loop(displan, conplan, range(first, L_max + 1), clock, timings, progress))
+    growth = window_growth if horizon_search == "window" else 0.0
+    windows = horizon_windows(first, L_max, growth)
+    return finish(lazy_loop(displan, theory, windows, clock, timings, progress))
+
+
+def horizon_windows(first: int, last: int, growth: float) -> list[tuple[int, int]]:
+    """Consecutive windows lo..hi covering first..last, each ``hi = lo + floor(growth * lo)``
+    (at least lo; ``growth=0``: one horizon at a time, the paper's loop).
+
+    >>> horizon_windows(10, 30, 0.25)
+    [(10, 12), (13, 16), (17, 21), (22, 27), (28, 30)]
+    >>> horizon_windows(3, 5, 0.0)
+    [(3, 3), (4, 4), (5, 5)]
+    """
+    out = []
+    lo = first
+    while lo <= last:
+        hi = min(last, lo + int(growth * lo))
+        out.append((lo, hi))
+        lo = hi + 1
+    return out
 
 
 @dataclass(frozen=True)
@@ -179,47 +233,61 @@ class LoopOutcome:
     message: str
     trajectory: Trajectory | None = None
     regions: tuple[int, ...] | None = None
+    minimal: bool | None = None  # found: is the horizon proved minimal?
 
 
 def lazy_loop(
     displan: DisPlan,
     theory: TheoryChecker,
-    horizons: range,
+    windows: Sequence[tuple[int, int]] | range,
     clock: Clock,
     timings: dict[str, float],
     progress: ProgressFn | None = None,
 ) -> LoopOutcome:
-    """Algorithm 1, the loop: for each horizon L, ask DIS-PLAN for a region sequence,
-    ask the theory to realise it, learn its counterexample, until a trajectory is found
-    or DIS-PLAN is UNSAT (then the next L). Adds the seconds spent in the SAT solver
-    and in the theory to ``timings["sat"]`` and ``timings["lp"]``."""
-    L = horizons.start
+    """Algorithm 1, the loop: for each horizon window lo..hi (a ``range`` means one
+    horizon at a time), ask DIS-PLAN for a region sequence ending at a horizon in the
+    window, ask the theory to realise it, learn its counterexample, until a trajectory
+    is found or DIS-PLAN is UNSAT (then every horizon of the window is refuted: the
+    next window). Adds the seconds spent in the SAT solver and in the theory to
+    ``timings["sat"]`` and ``timings["lp"]``."""
+    if isinstance(windows, range):
+        windows = [(L, L) for L in windows]
+    lo, hi = windows[0] if windows else (0, -1)
     try:
-        for L in horizons:
+        for lo, hi in windows:
             if progress is not None:
-                progress(L, clock.iterations)
+                progress(hi, clock.iterations)
             while True:
                 if clock.exhausted():
-                    return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out at horizon {L} after {clock.iterations} iterations")
+                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out at horizon {_span(lo, hi)} after {clock.iterations} iterations")
                 clock.tick()
                 t0 = time.perf_counter()
-                outcome, plan = displan.solve(L, clock)
+                outcome, plan = displan.solve(hi, clock, lowest=lo)
                 timings["sat"] += time.perf_counter() - t0
                 if outcome is SatOutcome.INTERRUPTED:
-                    return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out in the SAT solver at horizon {L}")
+                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the SAT solver at horizon {_span(lo, hi)}")
                 if outcome is SatOutcome.UNSAT:
-                    displan.close(L)
+                    for L in range(lo, hi + 1):
+                        displan.close(L)
                     break
                 assert plan is not None
                 t0 = time.perf_counter()
                 answer = theory.check(plan)
                 timings["lp"] += time.perf_counter() - t0
                 if isinstance(answer, Feasible):
-                    return LoopOutcome(ReachStatus.FOUND, L, f"found at horizon {L}", answer.trajectory, plan)
-                displan.learn(answer)
+                    h = len(plan) - 1
+                    note = "" if h == lo else f" (horizons below {lo} refuted)"
+                    return LoopOutcome(ReachStatus.FOUND, h, f"found at horizon {h}{note}", answer.trajectory, plan,
+                                       minimal=h == lo)
+                for conflict in answer if isinstance(answer, tuple) else (answer,):
+                    displan.learn(conflict)
     except LpBudgetExhausted:
-        return LoopOutcome(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
+        return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the LP solver at horizon {_span(lo, hi)}")
     except LpFailure as exc:
-        return LoopOutcome(ReachStatus.UNKNOWN, L, f"{exc} at horizon {L}")
-    top = horizons[-1] if len(horizons) else horizons.start - 1
+        return LoopOutcome(ReachStatus.UNKNOWN, hi, f"{exc} at horizon {_span(lo, hi)}")
+    top = windows[-1][1] if windows else -1
     return LoopOutcome(ReachStatus.INFEASIBLE, top, f"infeasible: every horizon up to {top} refuted")
+
+
+def _span(lo: int, hi: int) -> str:
+    return str(hi) if lo == hi else f"{lo}..{hi}"

@@ -1,0 +1,185 @@
+"""Transit times between regions: a cheap theory layer in front of CON-PLAN (beyond the
+paper; it refines the lazy loop's theory check of Shoukry et al., CDC 2016, Section V).
+
+Most region sequences that DIS-PLAN proposes on a maze fail for one reason: the plan
+is in region X at time t1 and in region Y at time t2, and no trajectory gets from X to
+Y in t2 - t1 steps. CON-PLAN finds such a conflict with several LPs over the whole
+horizon, and DIS-PLAN then tries the next gap, one by one. This layer answers those
+questions without the horizon-long LPs:
+
+* ``box`` gaps: a position moves by at most ``step_up``/``step_down`` per step along
+  each axis (:func:`~plansynth.reach.conplan.step_reach`), so fewer steps than the
+  distance between the bounding boxes of X and Y divided by that are impossible (no LP);
+* ``lp`` gaps: just above the box bound, the two-literal LP "p_0 in X, p_k in Y"
+  (dynamics, input and state bounds, segment rows as CON-PLAN writes them) decides gap
+  k exactly; gaps are scanned upwards until the first feasible one, once per pair.
+
+Every conflict reported is the statement "X at t1 and Y at t2 is impossible", which
+uses neither the start nor the goal, so DIS-PLAN adds it at every time shift. All of a
+plan's violations are returned at once. Sequences without a violation go to the wrapped
+theory (CON-PLAN) unchanged, so this layer only saves work; it never decides feasibility.
+
+>>> from plansynth.reach.families import maze
+>>> from plansynth.reach.decompose import abstract
+>>> from plansynth.reach.conplan import ConPlan
+>>> p = maze(1); a = abstract(p)
+>>> tc = TransitCheck(ConPlan(p, a), a)
+>>> tc.box_gap(0, 2)              # region 0 (y <= 14.5) to region 2 (y >= 15.5): 1 m
+1
+>>> plan = (0,) * 20 + (1,) + (2,) * 10
+>>> isinstance(tc.check(plan), tuple)   # a plausible plan goes on to CON-PLAN ...
+False
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from plansynth.reach.conplan import ConPlan, Feasible, step_reach
+from plansynth.reach.decompose import Abstraction
+from plansynth.reach.displan import Conflict
+from plansynth.reach.problem import Box
+
+__all__ = ["TransitCheck", "REFINE_SPAN", "START", "GOAL"]
+
+REFINE_SPAN = 8  # gaps up to this far above the box bound are decided by LPs
+START, GOAL = -1, -2  # pseudo-regions: the start state (at time 0) and the goal (at the horizon)
+
+
+class TransitCheck:
+    """A theory checker (see :class:`plansynth.reach.lazy.TheoryChecker`) that reports
+    transit-time violations of a region sequence and passes the others on to ``inner``.
+
+    A *leg* (a, b) is a pair of regions, or ``START`` and a region (the start state at
+    time 0), or a region and ``GOAL`` (the goal at the plan's horizon). ``first_gap(a, b)``
+    is the smallest number of steps the leg may take: every smaller one is proved
+    impossible (by the box bound, or by an LP each). When a plan violates a leg, the
+    conflicts of *all* impossible gaps of that leg are returned, so DIS-PLAN does not
+    try them one by one.
+
+    Counters: ``conflicts`` (transit conflicts reported), ``lp_calls`` (leg LPs),
+    ``plans_caught`` (sequences refuted without CON-PLAN).
+    """
+
+    def __init__(self, inner: ConPlan, abstraction: Abstraction) -> None:
+        self.inner = inner
+        problem = inner.problem
+        down, up = step_reach(problem)
+        self.step_down, self.step_up = np.asarray(down, float), np.asarray(up, float)
+        self.boxes = {i: (np.min(r.vertices, axis=0), np.max(r.vertices, axis=0))
+                      for i, r in enumerate(abstraction.regions)}
+        s = np.asarray(problem.start_position, float)
+        self.boxes[START] = (s, s)
+        g = problem.goal
+        self.boxes[GOAL] = (np.array(g.lo, float), np.array(g.hi, float)) if isinstance(g, Box) else (
+            np.min(np.asarray(g.vertices, float), axis=0), np.max(np.asarray(g.vertices, float), axis=0))
+        self._first: dict[tuple[int, int], int] = {}
+        self._reported: set[tuple[int, int]] = set()
+        self.conflicts = 0
+        self.lp_calls = 0
+        self.plans_caught = 0
+
+    # ---------------------------------------------------------------- gap bounds
+    def box_gap(self, a: int, b: int) -> int:
+        """The fewest steps of leg (a, b) that the displacement bounds allow."""
+        (alo, ahi), (blo, bhi) = self.boxes[a], self.boxes[b]
+        need = 0
+        for ax in range(len(alo)):
+            for dist, reach in ((blo[ax] - ahi[ax], self.step_up[ax]), (alo[ax] - bhi[ax], self.step_down[ax])):
+                if dist > 0:
+                    if not reach > 0:
+                        return 1 << 30
+                    if math.isfinite(reach):
+                        # shave the LP's tolerance off before rounding up (as physical_lower_bound)
+                        need = max(need, math.ceil(dist / reach * (1 - 1e-9) - 1e-9))
+        return need
+
+    def first_gap(self, a: int, b: int) -> int:
+        """The smallest gap of leg (a, b) not proved impossible: the box bound, then one
+        LP per gap upwards until a feasible one (at most ``REFINE_SPAN`` LPs)."""
+        key = (a, b)
+        if key not in self._first:
+            k = max(self.box_gap(a, b), 1)
+            for _ in range(REFINE_SPAN):
+                self.lp_calls += 1
+                if not self.inner.refutes(self.leg(a, b, k, N=k)):
+                    break
+                k += 1
+            self._first[key] = k
+        return self._first[key]
+
+    def impossible(self, a: int, b: int, gap: int) -> bool:
+        """Is leg (a, b) in ``gap`` steps impossible? (LPs only for gaps near the box bound.)"""
+        box = self.box_gap(a, b)
+        if gap < box:
+            return True
+        if gap >= box + REFINE_SPAN:
+            return False
+        return gap < self.first_gap(a, b)
+
+    @staticmethod
+    def leg(a: int, b: int, gap: int, *, t: int = 0, N: int) -> Conflict:
+        """The conflict "leg (a, b) from time t in ``gap`` steps" in a plan of horizon N.
+
+        The later region sits at the last time the conflict uses, so it has no segment
+        row (as at the end of a plan): the LP asks no more than any plan does."""
+        if a == START:
+            return Conflict(((gap, b),), anchored_start=True, anchored_goal=False, horizon=N, last_time=gap)
+        if b == GOAL:
+            return Conflict(((t, a),), anchored_start=False, anchored_goal=True, horizon=N, first_time=t)
+        return Conflict(((t, a), (t + gap, b)), anchored_start=False, anchored_goal=False, horizon=N,
+                        first_time=t, last_time=t + gap)
+
+    # ---------------------------------------------------------------- the theory check
+    def legs(self, regions: Sequence[int]) -> list[tuple[int, int, int, int]]:
+        """The legs of a plan as (a, b, t, gap): from the start to each region's first
+        visit, from the end of each visit to x to the start of each later visit to
+        y != x (the latest earlier x-visit counts), and from the end of each region's
+        last visit to the goal at the horizon."""
+        N = len(regions) - 1
+        last_end: dict[int, int] = {}
+        out = []
+        t = 0
+        while t <= N:
+            y = regions[t]
+            s = t
+            while t < N and regions[t + 1] == y:
+                t += 1
+            if y not in last_end and s > 0:
+                out.append((START, y, 0, s))
+            for x, e in last_end.items():
+                if x != y:
+                    out.append((x, y, e, s - e))
+            last_end[y] = t
+            t += 1
+        out += [(x, GOAL, e, N - e) for x, e in last_end.items() if e < N]
+        return out
+
+    def violations(self, regions: Sequence[int]) -> list[Conflict]:
+        """The conflicts of every leg the plan gets wrong, for all of its impossible gaps
+        the first time the leg is seen wrong, for the plan's gap afterwards."""
+        N = len(regions) - 1
+        out: list[Conflict] = []
+        for a, b, t, gap in self.legs(regions):
+            if not self.impossible(a, b, gap):
+                continue
+            if (a, b) in self._reported:
+                out.append(self.leg(a, b, gap, t=t, N=N))
+                continue
+            self._reported.add((a, b))
+            first = self.first_gap(a, b) if gap >= self.box_gap(a, b) else max(self.box_gap(a, b), 1)
+            for k in range(1, min(first, N + 1)):  # a pair's conflict holds at every shift
+                out.append(self.leg(a, b, k, t=N - k if b == GOAL else 0, N=N))
+        return out
+
+    def check(self, regions: Sequence[int]) -> Feasible | Conflict | tuple[Conflict, ...]:
+        """All transit violations of ``regions``, or the inner theory's answer."""
+        found = self.violations(regions)
+        if found:
+            self.conflicts += len(found)
+            self.plans_caught += 1
+            return tuple(found)
+        return self.inner.check(regions)
