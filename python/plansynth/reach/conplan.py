@@ -309,6 +309,7 @@ class ConPlan:
         # feasibility LPs (plan, prefixes, unanchoring) in the other
         self.slack_slot = _Slot(self._new_highs())
         self.slot = _Slot(self._new_highs())
+        self.span_slot = _Slot(self._new_highs())  # LPs over a conflict's time span
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
         self._no_ray = False  # the last infeasible LP was decided outside the persistent model
         if self.n > 8:
@@ -317,7 +318,7 @@ class ConPlan:
             # keep the simplex method (for Farkas rays) but fall back to IPM when stuck.
             self.slack_slot.highs.setOptionValue("solver", "ipm")
             self.slack_slot.highs.setOptionValue("run_crossover", "off")
-            for h in (self.slot.highs, self.cold):
+            for h in (self.slot.highs, self.span_slot.highs, self.cold):
                 h.setOptionValue("simplex_iteration_limit", 5000)
                 h.setOptionValue("simplex_scale_strategy", 4)
 
@@ -531,9 +532,12 @@ class ConPlan:
         raise LpFailure(f"HiGHS could not solve a CON-PLAN LP ({purpose}): {h.modelStatusToString(status)}")
 
     def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
-                     anchored_start: bool = True, slack: bool = False) -> np.ndarray | None:
-        slot = self.slack_slot if slack else self.slot
-        lay = self.layout(0, N)
+                     anchored_start: bool = True, slack: bool = False,
+                     span: tuple[int, int] | None = None) -> np.ndarray | None:
+        """Solve the LP of ``assignment`` over the states 0..N, or only over ``span``
+        (first, last) in the span model (for conflicts: a smaller LP that claims no more)."""
+        slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
+        lay = self.layout(0, N) if span is None else self.layout(*span)
         self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
         col = self._run(slot.highs, purpose)
         slot.held = (purpose, max(assignment, default=-1), col is not None)
@@ -652,17 +656,18 @@ class ConPlan:
         return out
 
     # ------------------------------------------------------------------ shrinking
-    def _from_ray(self, regions: Sequence[int], fallback: Conflict) -> Conflict:
-        """Shrink ``fallback``, whose infeasible LP ``self.slot`` holds, to the
-        support of its Farkas certificate (dual ray): the rows with nonzero multipliers
-        and the bounds of the columns whose combined coefficient is nonzero are
-        infeasible on their own."""
-        lay, b, coo = self.slot.layout, self.slot.bounds, self.slot.coo
+    def _from_ray(self, regions: Sequence[int], fallback: Conflict, slot: _Slot | None = None) -> Conflict:
+        """Shrink ``fallback``, whose infeasible LP ``slot`` (default: the plan model)
+        holds, to the support of its Farkas certificate (dual ray): the rows with nonzero
+        multipliers and the bounds of the columns whose combined coefficient is nonzero
+        are infeasible on their own."""
+        slot = self.slot if slot is None else slot
+        lay, b, coo = slot.layout, slot.bounds, slot.coo
         assert lay is not None and b is not None and coo is not None
         if self._no_ray:  # the LP was decided by the fallback method
             self.stats.rejected += 1
             return fallback
-        status, has_ray, ray = self.slot.highs.getDualRay()
+        status, has_ray, ray = slot.highs.getDualRay()
         self.stats.ray_calls += 1
         y = np.asarray(ray, dtype=float)
         scale = float(np.max(np.abs(y))) if (has_ray and y.size) else 0.0
@@ -680,15 +685,18 @@ class ConPlan:
     def _minimize(self, regions: Sequence[int], c: Conflict) -> Conflict:
         """Deletion filter: drop each literal whose region rows the conflict does not
         need (the LP without them is still infeasible), so that no literal can be
-        dropped from the result; then shrink by the last infeasible LP's certificate."""
+        dropped from the result; then shrink by the last infeasible LP's certificate.
+        The LPs span only the conflict's time steps (``c.first_time..c.last_time``)."""
         if not 1 < len(c.literals) <= MINIMIZE_MAX_LITERALS:
             return c  # long ones (no Farkas ray to shrink them first) would cost an LP each
         N = len(regions) - 1
+        span = (c.first_time, c.last_time)
         keep = list(c.literals)
         last_infeasible = False
         for lit in list(keep):
             trial = [x for x in keep if x != lit]
-            col = self._solve_model(N, dict(trial), "minimize", goal=c.anchored_goal, anchored_start=c.anchored_start)
+            col = self._solve_model(N, dict(trial), "minimize", goal=c.anchored_goal,
+                                    anchored_start=c.anchored_start, span=span)
             last_infeasible = col is None
             if last_infeasible:
                 keep = trial
@@ -696,11 +704,11 @@ class ConPlan:
             return c
         if not last_infeasible:  # HiGHS must hold the kept set's (infeasible) LP
             if self._solve_model(N, dict(keep), "minimize", goal=c.anchored_goal,
-                                 anchored_start=c.anchored_start) is not None:  # pragma: no cover
+                                 anchored_start=c.anchored_start, span=span) is not None:  # pragma: no cover
                 return c
         smaller = Conflict(tuple(keep), anchored_start=c.anchored_start, anchored_goal=c.anchored_goal,
-                           horizon=c.horizon, first_time=0, last_time=N)
-        return self._from_ray(regions, smaller)
+                           horizon=c.horizon, first_time=span[0], last_time=span[1])
+        return self._from_ray(regions, smaller, self.span_slot)
 
     def _unanchor(self, regions: Sequence[int], c: Conflict) -> Conflict:
         """Try to drop the start from a start-anchored conflict: if the LP of its claims
@@ -709,12 +717,13 @@ class ConPlan:
         if not c.anchored_start or not c.literals:
             return c
         N = len(regions) - 1
-        col = self._solve_model(N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False)
+        span = (c.first_time, c.last_time)
+        col = self._solve_model(N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False, span=span)
         if col is not None:
             return c
         free = Conflict(c.literals, anchored_start=False, anchored_goal=c.anchored_goal, horizon=c.horizon,
-                        first_time=0, last_time=N)
-        return self._from_ray(regions, free)
+                        first_time=span[0], last_time=span[1])
+        return self._from_ray(regions, free, self.span_slot)
 
     def _shrunk(
         self, lay: _Layout, b: _Bounds, regions: Sequence[int], rows: np.ndarray, cols: np.ndarray,
