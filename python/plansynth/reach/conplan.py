@@ -155,6 +155,12 @@ class _Layout:
     dynamics (n per step); per time t a block of K rows "p_t in region r_t"; per t <
     last a block of K rows "p_{t+1} in region r_t" (segment safety); the goal block
     "p_last in the goal"; the T-1 slack-order rows ``s_t - s_{t+1} <= 0``.
+
+    The LP may use only a window ``lo..hi`` of this frame (default: all of it): rows on
+    states outside the window are free, the goal rows sit on p_hi and the start on x_lo.
+    The columns outside the window then appear in no constraining row, so the LP is the
+    one of the window's layout exactly, but an LP of another window (another horizon)
+    can be loaded into the same HiGHS model in place and warm-started from its basis.
     """
 
     first: int
@@ -164,6 +170,24 @@ class _Layout:
     d: int
     K: int
     Kg: int
+    lo: int = -1  # the window (-1: the frame's ends)
+    hi: int = -1
+
+    @property
+    def t0(self) -> int:
+        return self.first if self.lo < 0 else self.lo
+
+    @property
+    def t1(self) -> int:
+        return self.last if self.hi < 0 else self.hi
+
+    @property
+    def frame(self) -> tuple[int, ...]:
+        return (self.first, self.last, self.n, self.m, self.d, self.K, self.Kg)
+
+    def window(self, lo: int, hi: int) -> "_Layout":
+        assert self.first <= lo <= hi <= self.last
+        return _Layout(*self.frame, lo, hi)
 
     @property
     def T(self) -> int:
@@ -222,7 +246,7 @@ class _Layout:
         lit = np.concatenate([np.full(steps * n, -1), np.repeat(ts, K), np.repeat(ts[:-1], K),
                               np.full(self.Kg, -1), np.full(steps, -1)])
         state = np.concatenate([np.repeat(ts[1:], n), np.repeat(ts, K), np.repeat(ts[1:], K),
-                                np.full(self.Kg, self.last), np.full(steps, -1)])
+                                np.full(self.Kg, self.t1), np.full(steps, -1)])
         return kind, lit, state
 
 
@@ -264,6 +288,7 @@ class ConPlan:
         generalize: bool = False,
         minimize: bool = False,
         slack_weights: str = "geometric",
+        slack_lp: bool | None = None,
         clock: Clock | None = None,
     ) -> None:
         if counterexample not in COUNTEREXAMPLES:
@@ -276,6 +301,10 @@ class ConPlan:
         self.generalize = generalize
         self.minimize = minimize
         self.slack_weights = slack_weights
+        # None: the slack LP only for short state vectors; on long chains it costs
+        # several times a warm feasibility LP (it cannot reuse a basis well), more than
+        # the binary search it saves
+        self.slack_lp = problem.dynamics.n_states <= 8 if slack_lp is None else bool(slack_lp)
         self.clock = clock
         dyn = problem.dynamics
         self.n, self.m = dyn.n_states, dyn.n_inputs
@@ -313,12 +342,10 @@ class ConPlan:
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
         self._no_ray = False  # the last infeasible LP was decided outside the persistent model
         if self.n > 8:
-            # long integrator chains make the slack LP hard for the simplex method
-            # (tiny coefficients dt^k/k!); the interior-point method copes. Other LPs
-            # keep the simplex method (for Farkas rays) but fall back to IPM when stuck.
-            self.slack_slot.highs.setOptionValue("solver", "ipm")
-            self.slack_slot.highs.setOptionValue("run_crossover", "off")
-            for h in (self.slot.highs, self.span_slot.highs, self.cold):
+            # long integrator chains (tiny coefficients dt^k/k!): equilibrate harder, cap
+            # the simplex iterations (at about twice the row count per model, see _load)
+            # and fall back to the interior-point method when stuck
+            for h in (self.slot.highs, self.span_slot.highs, self.slack_slot.highs, self.cold):
                 h.setOptionValue("simplex_iteration_limit", 5000)
                 h.setOptionValue("simplex_scale_strategy", 4)
 
@@ -359,13 +386,13 @@ class ConPlan:
             vals.append(self.Hpad[coef[:nblocks]].reshape(nblocks, K * d).ravel())
         Kg = lay.Kg
         rows.append(np.repeat(lay.goal0 + np.arange(Kg), d))
-        cols.append(np.tile((T - 1) * n + self.pos, Kg))
+        cols.append(np.tile((lay.t1 - lay.first) * n + self.pos, Kg))
         vals.append(self.Hgoal.ravel())
         # slacks: -s_t in every row on p_t; order rows s_t - s_{t+1} <= 0
         s0 = lay.n_x + lay.n_u
         rows += [lay.reg0 + np.arange(T * K), lay.seg0 + np.arange(steps * K), lay.goal0 + np.arange(Kg),
                  lay.ord0 + np.arange(steps), lay.ord0 + np.arange(steps)]
-        cols += [s0 + np.repeat(np.arange(T), K), s0 + 1 + np.repeat(np.arange(steps), K), np.full(Kg, s0 + T - 1),
+        cols += [s0 + np.repeat(np.arange(T), K), s0 + 1 + np.repeat(np.arange(steps), K), np.full(Kg, s0 + lay.t1 - lay.first),
                  s0 + np.arange(steps), s0 + 1 + np.arange(steps)]
         vals += [-np.ones(T * K), -np.ones(steps * K), -np.ones(Kg), np.ones(steps), -np.ones(steps)]
         return (np.concatenate(rows).astype(np.int64), np.concatenate(cols).astype(np.int64),
@@ -392,22 +419,26 @@ class ConPlan:
 
     def _cost(self, lay: _Layout) -> np.ndarray:
         cost = np.zeros(lay.n_col)
+        W = lay.t1 - lay.t0 + 1
+        s0 = lay.s(lay.t0)
         if self.slack_weights == "uniform":
-            cost[lay.n_x + lay.n_u :] = 1.0
+            cost[s0 : s0 + W] = 1.0
         else:
-            cost[lay.n_x + lay.n_u :] = (1e-4 ** (1.0 / max(1, lay.T - 1))) ** np.arange(lay.T)
+            cost[s0 : s0 + W] = (1e-4 ** (1.0 / max(1, W - 1))) ** np.arange(W)
         return cost
 
     def bounds(
         self, lay: _Layout, assignment: Mapping[int, int], *, goal: bool, anchored_start: bool, slack: bool
     ) -> _Bounds:
         """Row and column bounds: region rows of the assigned times (segment rows too,
-        unless the next time has the same region), goal rows, x_first = start, slacks."""
-        reg0, seg0, first, last, K = lay.reg0, lay.seg0, lay.first, lay.last, lay.K
+        unless the next time has the same region), goal rows, x_first = start, slacks;
+        within the layout's window only."""
+        reg0, seg0, first, K, n = lay.reg0, lay.seg0, lay.first, lay.K, lay.n
+        w0, w1 = lay.t0 - first, lay.t1 - first  # the window's steps are w0..w1-1
         row_lo = np.full(lay.n_row, -INF)
         row_hi = np.full(lay.n_row, INF)
-        row_lo[:reg0] = 0.0
-        row_hi[:reg0] = 0.0
+        row_lo[w0 * n : w1 * n] = 0.0
+        row_hi[w0 * n : w1 * n] = 0.0
         if assignment:
             ts = np.fromiter(assignment.keys(), dtype=np.int64, count=len(assignment))
             rs = np.fromiter(assignment.values(), dtype=np.int64, count=len(assignment))
@@ -415,19 +446,20 @@ class ConPlan:
             blocks[ts - first] = self.hpad[rs]
             if self.segment_safe:
                 nxt = np.array([assignment.get(int(t) + 1, -1) for t in ts])
-                seg = (ts < last) & (nxt != rs)
+                seg = (ts < lay.t1) & (nxt != rs)
                 row_hi[seg0 : lay.goal0].reshape(lay.steps, K)[ts[seg] - first] = self.hpad[rs[seg]]
         if goal:
             row_hi[lay.goal0 : lay.ord0] = self.hgoal
+        slack_hi = np.zeros(lay.T)
         if slack:
-            row_hi[lay.ord0 :] = 0.0
+            row_hi[lay.ord0 + w0 : lay.ord0 + w1] = 0.0
+            slack_hi[w0 : w1 + 1] = INF
         col_lo = np.concatenate([np.tile(self.state_lo, lay.T), np.full(lay.n_u, -self.problem.input_bound),
                                  np.zeros(lay.T)])
-        col_hi = np.concatenate([np.tile(self.state_hi, lay.T), np.full(lay.n_u, self.problem.input_bound),
-                                 np.full(lay.T, INF if slack else 0.0)])
+        col_hi = np.concatenate([np.tile(self.state_hi, lay.T), np.full(lay.n_u, self.problem.input_bound), slack_hi])
         if anchored_start:
-            col_lo[: lay.n] = self.start
-            col_hi[: lay.n] = self.start
+            col_lo[w0 * n : (w0 + 1) * n] = self.start
+            col_hi[w0 * n : (w0 + 1) * n] = self.start
         return _Bounds(row_lo, row_hi, col_lo, col_hi, anchored_start)
 
     def _coef_for(self, lay: _Layout, assignment: Mapping[int, int], base: np.ndarray | None = None) -> np.ndarray:
@@ -440,16 +472,33 @@ class ConPlan:
         """Make ``slot`` hold the LP of ``lay`` with the H of ``assignment`` and bounds
         ``b``: in place when the layout is unchanged (warm start)."""
         h = slot.highs
-        if slot.layout != lay or slot.coef is None or slot.coo is None:
+        old = slot.layout
+        if old is None or old.frame != lay.frame or slot.coef is None or slot.coo is None:
             slot.layout = lay
             slot.coef = self._coef_for(lay, assignment)
             slot.coo = self._matrix(lay, slot.coef)
             h.passModel(self._lp(lay, slot.coo, b, self._cost(lay)))
+            if self.n > 8:  # a cold simplex run on a long chain needs ~ a row count of iterations
+                h.setOptionValue("simplex_iteration_limit", max(5000, 2 * lay.n_row))
         else:
             coef = self._coef_for(lay, assignment, slot.coef)
             changed = np.nonzero(self.hkey[coef] != self.hkey[slot.coef])[0]
+            slot.layout = lay
             if changed.size:
                 self._recoefficient(slot, coef, changed)
+            if (old.t0, old.t1) != (lay.t0, lay.t1):
+                if old.t1 != lay.t1:  # move the goal rows (and their slack) to p_t1
+                    for i in range(lay.Kg):
+                        r = lay.goal0 + i
+                        for j in range(lay.d):
+                            h.changeCoeff(r, lay.x(old.t1) + int(self.pos[j]), 0.0)
+                        h.changeCoeff(r, lay.s(old.t1), 0.0)
+                        for j in range(lay.d):
+                            if self.Hgoal[i, j] != 0.0:
+                                h.changeCoeff(r, lay.x(lay.t1) + int(self.pos[j]), float(self.Hgoal[i, j]))
+                        h.changeCoeff(r, lay.s(lay.t1), -1.0)
+                h.changeColsCost(lay.n_col, np.arange(lay.n_col, dtype=np.int32), self._cost(lay))
+                slot.coo = self._matrix(lay, slot.coef)
             h.changeRowsBounds(lay.n_row, np.arange(lay.n_row, dtype=np.int32), b.row_lo, b.row_hi)
             h.changeColsBounds(lay.n_col, np.arange(lay.n_col, dtype=np.int32), b.col_lo, b.col_hi)
         slot.bounds = b
@@ -537,15 +586,29 @@ class ConPlan:
         """Solve the LP of ``assignment`` over the states 0..N, or only over ``span``
         (first, last) in the span model (for conflicts: a smaller LP that claims no more)."""
         slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
-        lay = self.layout(0, N) if span is None else self.layout(*span)
+        lay = self._frame(slot, *((0, N) if span is None else span))
         self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
         col = self._run(slot.highs, purpose)
         slot.held = (purpose, max(assignment, default=-1), col is not None)
         return col
 
+    def _held_layout(self) -> _Layout:
+        assert self.slot.layout is not None
+        return self.slot.layout
+
+    def _frame(self, slot: _Slot, lo: int, hi: int) -> _Layout:
+        """The layout for the states lo..hi in ``slot``: a window of the frame the slot
+        holds when it fits (and is not much longer: free rows cost too), else a new
+        frame a little longer than needed, so that the next horizons fit as well."""
+        cur = slot.layout
+        if cur is not None and cur.first <= lo and hi <= cur.last and 2 * (hi - lo + 1) >= cur.T:
+            return cur.window(lo, hi)
+        return self.layout(lo, hi + (hi - lo) // 16).window(lo, hi)
+
     def _trajectory(self, lay: _Layout, col: np.ndarray) -> Trajectory:
-        X = col[: lay.n_x].reshape(lay.T, lay.n)
-        U = col[lay.n_x : lay.n_x + lay.n_u].reshape(lay.steps, lay.m)
+        a, z = lay.t0 - lay.first, lay.t1 - lay.first
+        X = col[: lay.n_x].reshape(lay.T, lay.n)[a : z + 1]
+        U = col[lay.n_x : lay.n_x + lay.n_u].reshape(lay.steps, lay.m)[a:z]
         U = np.clip(U, -self.problem.input_bound, self.problem.input_bound)
         return Trajectory(states=X, inputs=U)
 
@@ -562,7 +625,7 @@ class ConPlan:
         else:
             col = self._solve_model(N, plan, "plan", goal=True)
             if col is not None:
-                return Feasible(self._trajectory(self.layout(0, N), col))
+                return Feasible(self._trajectory(self._held_layout(), col))
             out = self._whole(regions)
         if isinstance(out, Conflict) and self.generalize:
             out = self._from_ray(regions, out)  # HiGHS holds out's LP
@@ -575,7 +638,7 @@ class ConPlan:
         """The plain feasibility LP of the whole plan (goal included): a trajectory or None."""
         N = len(regions) - 1
         col = self._solve_model(N, dict(enumerate(int(r) for r in regions)), "plan", goal=True)
-        return None if col is None else self._trajectory(self.layout(0, N), col)
+        return None if col is None else self._trajectory(self._held_layout(), col)
 
     def _whole(self, regions: Sequence[int]) -> Conflict:
         N = len(regions) - 1
@@ -594,21 +657,28 @@ class ConPlan:
 
     def _check_zeroprefix(self, regions: tuple[int, ...]) -> Feasible | Conflict:
         N = len(regions) - 1
-        lay = self.layout(0, N)
-        try:
-            col = self._solve_model(N, dict(enumerate(regions)), "slack", goal=True, slack=True)
-        except LpFailure:  # no ZEROPREFIX candidate this time; the search below still decides
-            self.stats.slack_failures += 1
-            col = None
+        col = None
+        if not self.slack_lp:
+            # no slack LP: the plan LP, then the earliest infeasible prefix by binary search
+            plan_col = self._solve_model(N, dict(enumerate(regions)), "plan", goal=True)
+            if plan_col is not None:
+                return Feasible(self._trajectory(self._held_layout(), plan_col))
+        else:
+            try:
+                col = self._solve_model(N, dict(enumerate(regions)), "slack", goal=True, slack=True)
+            except LpFailure:  # no ZEROPREFIX candidate this time; the search below still decides
+                self.stats.slack_failures += 1
         if col is not None:
-            k = zero_prefix(col[lay.n_x + lay.n_u :])
-            if k == lay.T:
+            lay = self.slack_slot.layout
+            assert lay is not None
+            k = zero_prefix(col[lay.s(lay.t0) : lay.s(lay.t1) + 1])
+            if k == N + 1:
                 return Feasible(self._trajectory(lay, col))
             # the paper's counterexample r_0..r_k; prefix 0..k-1 has a zero-slack witness
             if not self.prefix_feasible(regions, k):
                 return self._prefix(regions, k)
             lo = k + 1
-        else:  # infeasible even with slacks (dynamics and bounds alone), or no answer
+        else:  # no slack LP, infeasible even with slacks (dynamics and bounds alone), or no answer
             lo = 0
         # earliest infeasible prefix in lo..N by binary search (feasibility is monotone)
         hi = N + 1  # sentinel: "prefix N is feasible"
@@ -625,7 +695,7 @@ class ConPlan:
             return self._prefix(regions, hi)
         col = self._solve_model(N, dict(enumerate(regions)), "plan", goal=True)
         if col is not None:
-            return Feasible(self._trajectory(lay, col))
+            return Feasible(self._trajectory(self._held_layout(), col))
         return self._whole(regions)
 
     # ------------------------------------------------------------------ IIS
@@ -675,6 +745,9 @@ class ConPlan:
             self.stats.rejected += 1
             return fallback
         y = y / scale
+        # free rows (outside the LP's window, or not applying) take no part in a
+        # certificate; HiGHS may leave round-off on them: drop it (the check below decides)
+        y[(b.row_lo <= -INF) & (b.row_hi >= INF)] = 0.0
         rows = np.nonzero(np.abs(y) > 1e-9)[0]
         R, C, V = coo
         dcol = np.bincount(C, weights=V * y[R], minlength=lay.n_col)
@@ -741,7 +814,8 @@ class ConPlan:
         uses_goal = bool(np.any(kinds == GOAL))
         x_cols = cols[cols < lay.n_x]
         u_cols = cols[(cols >= lay.n_x) & (cols < lay.n_x + lay.n_u)]
-        uses_start = b.anchored_start and bool(np.any(x_cols < n))
+        x_start = lay.x(lay.t0)
+        uses_start = b.anchored_start and bool(np.any((x_cols >= x_start) & (x_cols < x_start + n)))
         touched = [int(t) for t in state[rows] if t >= 0] + lit_times
         touched += [int(t) - 1 for t in state[rows[kinds == DYN]]]
         touched += [int(c) // n + lay.first for c in x_cols]
@@ -752,7 +826,7 @@ class ConPlan:
             anchored_goal=uses_goal,
             horizon=len(regions) - 1,
             first_time=0 if uses_start else min(touched, default=0),
-            last_time=lay.last if uses_goal else max(touched, default=0),
+            last_time=lay.t1 if uses_goal else max(touched, default=0),
         )
         if conflict == fallback:
             return conflict
