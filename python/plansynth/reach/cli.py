@@ -83,8 +83,11 @@ def _result_table(result: Any) -> Table:
     horizon = "-" if result.horizon is None else str(result.horizon)
     if result.status.value == "infeasible":
         horizon = f"none up to {result.horizon}"
+    if result.status.value == "found" and c.get("minimal") is not None:
+        horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     table.add_row("horizon", horizon)
-    for key in ("regions", "first_horizon", "iterations", "sat_calls", "lp_calls", "clauses", "milp_calls", "mip_nodes"):
+    for key in ("regions", "first_horizon", "iterations", "sat_calls", "lp_calls", "transit_conflicts", "clauses",
+                "milp_calls", "mip_nodes"):
         if key in c and c[key] is not None:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
@@ -111,10 +114,16 @@ def solve_command(
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
     timeout: Optional[float] = typer.Option(None, "--timeout", help="Wall-clock budget in seconds (then status unknown)."),
     max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, help="Largest horizon to try (overrides the file)."),
-    counterexample: str = typer.Option("zeroprefix", "--counterexample", help="lazy-smt: zeroprefix (paper), trivial or iis."),
+    counterexample: str = typer.Option("farkas", "--counterexample", help="lazy-smt: farkas (whole-plan LP, shrunk by its Farkas certificate), zeroprefix (paper), trivial or iis."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
     segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
+    horizon_search: str = typer.Option("window", "--horizon-search", help="lazy-smt: window (goal at some step of a growing window) or linear (one horizon at a time, the paper; the horizon found is minimal)."),
+    window_growth: float = typer.Option(0.25, "--window-growth", help="lazy-smt, window search: each window is this fraction longer than its start."),
+    transit: bool = typer.Option(True, "--transit/--no-transit", help="lazy-smt: refute plans with impossible transit times before CON-PLAN."),
+    guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
+    widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
+    paper: bool = typer.Option(False, "--paper", help="lazy-smt: the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); overrides the options above."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -132,11 +141,19 @@ def solve_command(
     if max_horizon is not None:
         options["max_horizon"] = max_horizon
     if planner == "lazy-smt":
-        from plansynth.reach.conplan import COUNTEREXAMPLES
+        from plansynth.reach.lazy import COUNTEREXAMPLES, HORIZON_SEARCHES, PAPER
 
         if counterexample not in COUNTEREXAMPLES:
             raise typer.BadParameter(f"must be one of {', '.join(COUNTEREXAMPLES)}", param_hint="--counterexample")
-        options.update(counterexample=counterexample, generalize=generalize, minimize=minimize)
+        if horizon_search not in HORIZON_SEARCHES:
+            raise typer.BadParameter(f"must be one of {', '.join(HORIZON_SEARCHES)}", param_hint="--horizon-search")
+        if not window_growth > 0:
+            raise typer.BadParameter("must be positive", param_hint="--window-growth")
+        options.update(counterexample=counterexample, generalize=generalize, minimize=minimize,
+                       horizon_search=horizon_search, window_growth=window_growth, transit=transit, guided=guided,
+                       widen=widen)
+        if paper:
+            options.update(PAPER)
     try:
         problem = load_reach_problem(file)
     except PlansynthError as exc:

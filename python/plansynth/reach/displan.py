@@ -385,6 +385,13 @@ class DisPlan:
             raise AssertionError("SAT model leaves a time step without a region")
         return SatOutcome.SAT, tuple(int(r) for r in plan)  # type: ignore[arg-type]
 
+    def prefer(self, plan: Sequence[int]) -> None:
+        """Set the SAT solver's decision phases to ``plan`` (r_0..r_h): b[t, plan[t]]
+        true, the other regions false. Only a hint; no answer depends on it."""
+        self._extend(len(plan) - 1)
+        self.solver.set_phases([self.at(t, i) if i == r else -self.at(t, i)
+                                for t, r in enumerate(plan) for i in range(self.graph.n_regions)])
+
     def plan(self, horizon: int) -> tuple[int, ...] | None:
         """Convenience: the region sequence for ``horizon`` or None when UNSAT."""
         outcome, plan = self.solve(horizon)

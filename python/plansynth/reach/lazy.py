@@ -50,17 +50,25 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from plansynth.budget import Budget, Clock
+from plansynth.reach.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
 from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound, time_windows
 from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.guide import reference_plan
 from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.transit import TransitCheck
 
-__all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES"]
+__all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES",
+           "COUNTEREXAMPLES", "PAPER"]
 
 HORIZON_SEARCHES = ("window", "linear")
+COUNTEREXAMPLES = ("farkas", *CONPLAN_COUNTEREXAMPLES)
+# the paper's loop and counterexamples: the refinements beyond the paper off, except the
+# abstraction, segment safety and the (sound) horizon lower bound, which both modes share
+PAPER = {"counterexample": "zeroprefix", "generalize": False, "slack_weights": "uniform",
+         "horizon_search": "linear", "transit": False, "guided": False, "widen": False}
 
 ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
@@ -79,7 +87,7 @@ def plan_lazy(
     *,
     abstraction: Abstraction | None = None,
     max_horizon: int | None = None,
-    counterexample: str = "zeroprefix",
+    counterexample: str = "farkas",
     segment_safe: bool = True,
     generalize: bool = True,
     minimize: bool = True,
@@ -89,6 +97,8 @@ def plan_lazy(
     horizon_search: str = "window",
     window_growth: float = 0.25,
     transit: bool = True,
+    guided: bool = True,
+    widen: bool = False,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """Algorithm 1 on ``problem`` within ``budget``; the trajectory is *not* yet
@@ -96,15 +106,21 @@ def plan_lazy(
 
     ``max_horizon`` overrides the problem's. ``counterexample``, ``generalize`` and
     ``slack_weights`` choose how CON-PLAN explains an infeasible sequence (see
-    :mod:`plansynth.reach.conplan`; ``counterexample="zeroprefix", generalize=False,
-    slack_weights="uniform"`` is the paper's method as published). ``segment_safe``
-    constrains whole segments, not only samples. ``lower_bound=False`` starts at
-    horizon 0 without time windows. ``horizon_search`` (``window`` or ``linear``) and
-    ``window_growth`` choose the horizons tried (see the module docstring).
-    ``transit`` puts :class:`~plansynth.reach.transit.TransitCheck` in front of
-    CON-PLAN (transit-time conflicts without horizon-long LPs).
+    :mod:`plansynth.reach.conplan`): ``"farkas"`` (the default, beyond the paper) is one
+    feasibility LP over the whole plan whose Farkas certificate shrinks the trivial
+    counterexample to the literals the proof needs (``trivial`` with ``generalize``);
+    ``"zeroprefix"`` is the paper's (``generalize=False, slack_weights="uniform"``: as
+    published; :data:`PAPER` has the paper's whole loop). ``segment_safe`` constrains
+    whole segments, not only samples. ``lower_bound=False`` starts at horizon 0 without
+    time windows. ``horizon_search`` (``window`` or ``linear``) and ``window_growth``
+    choose the horizons tried (see the module docstring). ``transit`` puts
+    :class:`~plansynth.reach.transit.TransitCheck` in front of CON-PLAN (transit-time
+    conflicts without horizon-long LPs; ``widen`` also widens LP conflicts in time);
+    ``guided`` sets DIS-PLAN's phases to :func:`~plansynth.reach.guide.reference_plan`.
     ``progress(L, iterations)`` is called when a horizon (window: its top) starts.
     """
+    if counterexample not in COUNTEREXAMPLES:
+        raise ValueError(f"unknown counterexample strategy {counterexample!r} (known: {', '.join(COUNTEREXAMPLES)})")
     if horizon_search not in HORIZON_SEARCHES:
         raise ValueError(f"unknown horizon search {horizon_search!r} (known: {', '.join(HORIZON_SEARCHES)})")
     if not window_growth > 0:
@@ -123,6 +139,8 @@ def plan_lazy(
         "lower_bound": lower_bound,
         "horizon_search": horizon_search,
         "transit": transit,
+        "guided": guided,
+        "widen": widen,
         "window_growth": window_growth,
         "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
     }
@@ -156,10 +174,12 @@ def plan_lazy(
         earliest=windows.earliest if windows is not None else None,
         to_go=windows.to_go if windows is not None else None,
     )
+    if counterexample == "farkas":
+        counterexample, generalize = "trivial", True
     conplan = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample=counterexample,
                       generalize=generalize, minimize=minimize, slack_weights=slack_weights, clock=clock)
 
-    theory: TheoryChecker = TransitCheck(conplan, abstraction) if transit else conplan
+    theory: TheoryChecker = TransitCheck(conplan, abstraction, widen=widen) if transit else conplan
 
     def finish(out: LoopOutcome) -> ReachResult:
         st = conplan.stats
@@ -183,7 +203,7 @@ def plan_lazy(
         )
         if isinstance(theory, TransitCheck):
             counters.update(transit_conflicts=theory.conflicts, transit_lp_calls=theory.lp_calls,
-                            transit_plans=theory.plans_caught)
+                            transit_plans=theory.plans_caught, widened_conflicts=theory.widened)
         timings["highs"] = st.seconds
         timings["total"] = time.perf_counter() - t_start
         displan.delete()
@@ -203,7 +223,8 @@ def plan_lazy(
         return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}"))
     growth = window_growth if horizon_search == "window" else 0.0
     windows = horizon_windows(first, L_max, growth)
-    return finish(lazy_loop(displan, theory, windows, clock, timings, progress))
+    guide = (lambda L: reference_plan(problem, abstraction, L)) if guided else None
+    return finish(lazy_loop(displan, theory, windows, clock, timings, progress, guide))
 
 
 def horizon_windows(first: int, last: int, growth: float) -> list[tuple[int, int]]:
@@ -243,6 +264,7 @@ def lazy_loop(
     clock: Clock,
     timings: dict[str, float],
     progress: ProgressFn | None = None,
+    guide: Callable[[int], Sequence[int] | None] | None = None,
 ) -> LoopOutcome:
     """Algorithm 1, the loop: for each horizon window lo..hi (a ``range`` means one
     horizon at a time), ask DIS-PLAN for a region sequence ending at a horizon in the
@@ -257,6 +279,10 @@ def lazy_loop(
         for lo, hi in windows:
             if progress is not None:
                 progress(hi, clock.iterations)
+            if guide is not None:
+                ref = guide(hi)
+                if ref is not None:
+                    displan.prefer(ref)
             while True:
                 if clock.exhausted():
                     return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out at horizon {_span(lo, hi)} after {clock.iterations} iterations")

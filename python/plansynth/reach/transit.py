@@ -26,9 +26,12 @@ theory (CON-PLAN) unchanged, so this layer only saves work; it never decides fea
 >>> tc = TransitCheck(ConPlan(p, a), a)
 >>> tc.box_gap(0, 2)              # region 0 (y <= 14.5) to region 2 (y >= 15.5): 1 m
 1
->>> plan = (0,) * 20 + (1,) + (2,) * 10
->>> isinstance(tc.check(plan), tuple)   # a plausible plan goes on to CON-PLAN ...
-False
+>>> tc.first_gap(START, 1)         # from (1, 1) at rest into the gap at x >= 27, y >= 14.5
+28
+>>> rushed = (0,) * 20 + (1,) + (2,) * 10   # the goal (top left) 10 steps after the gap
+>>> conflicts = tc.check(rushed)           # refuted without CON-PLAN
+>>> sorted({(c.anchored_start, c.anchored_goal) for c in conflicts})
+[(False, True), (True, False)]
 """
 
 from __future__ import annotations
@@ -43,9 +46,10 @@ from plansynth.reach.decompose import Abstraction
 from plansynth.reach.displan import Conflict
 from plansynth.reach.problem import Box
 
-__all__ = ["TransitCheck", "REFINE_SPAN", "START", "GOAL"]
+__all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
 
 REFINE_SPAN = 8  # gaps up to this far above the box bound are decided by LPs
+WIDEN_MAX = 12  # an LP conflict is widened by at most this many steps each way
 START, GOAL = -1, -2  # pseudo-regions: the start state (at time 0) and the goal (at the horizon)
 
 
@@ -64,8 +68,9 @@ class TransitCheck:
     ``plans_caught`` (sequences refuted without CON-PLAN).
     """
 
-    def __init__(self, inner: ConPlan, abstraction: Abstraction) -> None:
+    def __init__(self, inner: ConPlan, abstraction: Abstraction, *, widen: bool = False) -> None:
         self.inner = inner
+        self.widen = widen
         problem = inner.problem
         down, up = step_reach(problem)
         self.step_down, self.step_up = np.asarray(down, float), np.asarray(up, float)
@@ -81,6 +86,7 @@ class TransitCheck:
         self.conflicts = 0
         self.lp_calls = 0
         self.plans_caught = 0
+        self.widened = 0
 
     # ---------------------------------------------------------------- gap bounds
     def box_gap(self, a: int, b: int) -> int:
@@ -175,11 +181,60 @@ class TransitCheck:
                 out.append(self.leg(a, b, k, t=N - k if b == GOAL else 0, N=N))
         return out
 
+    def widened_conflicts(self, c: Conflict) -> list[Conflict]:
+        """Variants of an LP conflict with more time between its ends, each proved by an
+        LP over its own span: the later end (the last literal, or the goal) moves later
+        by 1, 2, ... steps, and the earlier end (the first literal, or the start) earlier,
+        until an LP is feasible (at most ``WIDEN_MAX`` each way). A conflict that is
+        infeasible because its steps are too tight usually stays so for a few more steps,
+        and DIS-PLAN would otherwise propose those plans one at a time."""
+        out: list[Conflict] = []
+        for end in ("later", "earlier"):
+            for j in range(1, WIDEN_MAX + 1):
+                v = _moved(c, end, j)
+                if v is None:
+                    break
+                self.lp_calls += 1
+                if not self.inner.refutes(v):
+                    break
+                out.append(v)
+        self.widened += len(out)
+        return out
+
     def check(self, regions: Sequence[int]) -> Feasible | Conflict | tuple[Conflict, ...]:
-        """All transit violations of ``regions``, or the inner theory's answer."""
+        """All transit violations of ``regions``, or the inner theory's answer (an LP
+        conflict together with its widened variants)."""
         found = self.violations(regions)
         if found:
             self.conflicts += len(found)
             self.plans_caught += 1
             return tuple(found)
-        return self.inner.check(regions)
+        answer = self.inner.check(regions)
+        if isinstance(answer, Conflict) and self.widen and answer.literals:
+            return (answer, *self.widened_conflicts(answer))
+        return answer
+
+
+def _moved(c: Conflict, end: str, j: int) -> Conflict | None:
+    """``c`` with its later end moved ``j`` steps later, or its earlier end ``j`` steps
+    earlier (as a shift of everything after it, so no time becomes negative)."""
+    lits = sorted(c.literals)
+    if end == "later":
+        if c.anchored_goal:  # the goal is the later end: the horizon grows
+            return Conflict(tuple(lits), anchored_start=c.anchored_start, anchored_goal=True, horizon=c.horizon + j,
+                            first_time=c.first_time)
+        if c.anchored_start and len(lits) == 0:
+            return None
+        *rest, (t, r) = lits
+        return Conflict((*rest, (t + j, r)), anchored_start=c.anchored_start, anchored_goal=False,
+                        horizon=max(c.horizon, c.last_time + j), first_time=c.first_time, last_time=c.last_time + j)
+    if c.anchored_start:  # the start is the earlier end: every literal moves later
+        moved = tuple((t + j, r) for t, r in lits)
+        return Conflict(moved, anchored_start=True, anchored_goal=c.anchored_goal, horizon=c.horizon + j,
+                        last_time=c.last_time + j)
+    if len(lits) < 2 and not c.anchored_goal:
+        return None
+    (t0, r0), *rest = lits
+    moved = ((t0, r0), *((t + j, r) for t, r in rest))
+    return Conflict(moved, anchored_start=False, anchored_goal=c.anchored_goal, horizon=c.horizon + j,
+                    first_time=c.first_time, last_time=c.last_time + j)
