@@ -661,46 +661,65 @@ class ConPlan:
 
     def _check_zeroprefix(self, regions: tuple[int, ...]) -> Feasible | Conflict:
         N = len(regions) - 1
-        col = None
+        plan = dict(enumerate(regions))
+        lo, bound = 0, None
         if not self.slack_lp:
-            # no slack LP: the plan LP, then the earliest infeasible prefix by binary search
-            plan_col = self._solve_model(N, dict(enumerate(regions)), "plan", goal=True)
-            if plan_col is not None:
-                return Feasible(self._trajectory(self._held_layout(), plan_col))
+            # no slack LP: the plan LP, then the earliest infeasible prefix by binary
+            # search, cut short by the plan LP's certificate when it needs no goal row
+            col = self._solve_model(N, plan, "plan", goal=True)
+            if col is not None:
+                return Feasible(self._trajectory(self._held_layout(), col))
+            bound = self._certified_prefix()
         else:
             try:
-                col = self._solve_model(N, dict(enumerate(regions)), "slack", goal=True, slack=True)
+                col = self._solve_model(N, plan, "slack", goal=True, slack=True)
             except LpFailure:  # no ZEROPREFIX candidate this time; the search below still decides
                 self.stats.slack_failures += 1
+                col = None
+            if col is not None:
+                lay = self.slack_slot.layout
+                assert lay is not None
+                k = zero_prefix(col[lay.s(lay.t0) : lay.s(lay.t1) + 1])
+                if k == N + 1:
+                    return Feasible(self._trajectory(lay, col))
+                # the paper's counterexample r_0..r_k; prefix 0..k-1 has a zero-slack witness
+                if not self.prefix_feasible(regions, k):
+                    return self._prefix(regions, k)
+                lo = k + 1
+            # else: infeasible even with slacks (dynamics and bounds alone), or no answer
+        hi = self._earliest_infeasible_prefix(regions, lo, bound)
+        if hi <= N:
+            return self._prefix(regions, hi)
+        col = self._solve_model(N, plan, "plan", goal=True)
         if col is not None:
-            lay = self.slack_slot.layout
-            assert lay is not None
-            k = zero_prefix(col[lay.s(lay.t0) : lay.s(lay.t1) + 1])
-            if k == N + 1:
-                return Feasible(self._trajectory(lay, col))
-            # the paper's counterexample r_0..r_k; prefix 0..k-1 has a zero-slack witness
-            if not self.prefix_feasible(regions, k):
-                return self._prefix(regions, k)
-            lo = k + 1
-        else:  # no slack LP, infeasible even with slacks (dynamics and bounds alone), or no answer
-            lo = 0
-        # earliest infeasible prefix in lo..N by binary search (feasibility is monotone)
+            return Feasible(self._trajectory(self._held_layout(), col))
+        return self._whole(regions)
+
+    def _earliest_infeasible_prefix(self, regions: Sequence[int], lo: int, bound: int | None) -> int:
+        """The earliest infeasible prefix in lo..N by binary search (feasibility is
+        monotone), N + 1 if prefix N is feasible; then the plan model holds its LP.
+        ``bound``: a prefix known to be infeasible. A checked certificate of an
+        infeasible prefix LP that needs only the literals up to time t proves prefix t
+        infeasible too, and cuts the search there."""
+        N = len(regions) - 1
         hi = N + 1  # sentinel: "prefix N is feasible"
         a, b = lo, N
+        if bound is not None and lo <= bound <= N:
+            hi, b = bound, bound - 1
         while a <= b:
             mid = (a + b) // 2
             if self.prefix_feasible(regions, mid):
                 a = mid + 1
             else:
                 hi, b = mid, mid - 1
-        if hi <= N:
-            if self.slot.held != ("prefix", hi, False):
-                self.prefix_feasible(regions, hi)  # HiGHS must hold the conflict's LP
-            return self._prefix(regions, hi)
-        col = self._solve_model(N, dict(enumerate(regions)), "plan", goal=True)
-        if col is not None:
-            return Feasible(self._trajectory(self._held_layout(), col))
-        return self._whole(regions)
+                t = self._certified_prefix()
+                if t is not None and a <= t < mid:
+                    hi, b = t, t - 1
+        if hi <= N and self.slot.held != ("prefix", hi, False):
+            # HiGHS must hold the conflict's LP
+            if self.prefix_feasible(regions, hi):  # pragma: no cover (a certificate that did not hold)
+                return self._earliest_infeasible_prefix(regions, hi + 1, None)
+        return hi
 
     # ------------------------------------------------------------------ IIS
     def _check_iis(self, regions: tuple[int, ...]) -> Feasible | Conflict:
@@ -736,18 +755,29 @@ class ConPlan:
         multipliers and the bounds of the columns whose combined coefficient is nonzero
         are infeasible on their own."""
         slot = self.slot if slot is None else slot
+        lay, b = slot.layout, slot.bounds
+        assert lay is not None and b is not None
+        support = self._ray_support(slot)
+        if support is None:
+            self.stats.rejected += 1
+            return fallback
+        rows, cols, certified = support
+        return self._shrunk(lay, b, regions, rows, cols, fallback, certified=certified)
+
+    def _ray_support(self, slot: _Slot) -> tuple[np.ndarray, np.ndarray, bool] | None:
+        """The rows and columns of the Farkas certificate (dual ray) of the infeasible
+        LP ``slot`` holds, and whether it checks (:func:`_farkas_certifies`); None when
+        HiGHS has no ray."""
         lay, b, coo = slot.layout, slot.bounds, slot.coo
         assert lay is not None and b is not None and coo is not None
         if self._no_ray:  # the LP was decided by the fallback method
-            self.stats.rejected += 1
-            return fallback
+            return None
         status, has_ray, ray = slot.highs.getDualRay()
         self.stats.ray_calls += 1
         y = np.asarray(ray, dtype=float)
         scale = float(np.max(np.abs(y))) if (has_ray and y.size) else 0.0
         if status != highspy.HighsStatus.kOk or not scale > 0:
-            self.stats.rejected += 1
-            return fallback
+            return None
         y = y / scale
         # free rows (outside the LP's window, or not applying) take no part in a
         # certificate; HiGHS may leave round-off on them: drop it (the check below decides)
@@ -756,8 +786,21 @@ class ConPlan:
         R, C, V = coo
         dcol = np.bincount(C, weights=V * y[R], minlength=lay.n_col)
         cols = np.nonzero(np.abs(dcol) > 1e-9)[0]
-        certified = _farkas_certifies(b, y, dcol, rows, cols)
-        return self._shrunk(lay, b, regions, rows, cols, fallback, certified=certified)
+        return rows, cols, _farkas_certifies(b, y, dcol, rows, cols)
+
+    def _certified_prefix(self) -> int | None:
+        """For the infeasible LP the plan model holds: the latest region literal its
+        checked Farkas certificate needs, when that certificate uses no goal row (so
+        the prefix up to that time is infeasible as well), else None."""
+        support = self._ray_support(self.slot)
+        if support is None or not support[2]:
+            return None
+        kind, lit, _ = self.slot.layout.meta  # type: ignore[union-attr]
+        rows = support[0]
+        if np.any(kind[rows] == GOAL):
+            return None
+        times = lit[rows]
+        return int(times.max()) if times.size and times.max() >= 0 else None
 
     def _minimize(self, regions: Sequence[int], c: Conflict) -> Conflict:
         """Deletion filter: drop each literal whose region rows the conflict does not
