@@ -1,0 +1,105 @@
+"""CON-PLAN's shared LP frames and long-chain settings (conplan.py: ``_Layout`` windows,
+``slack_lp``, certified prefix bounds).
+
+LPs of different horizons and spans are loaded into one HiGHS model per purpose, the
+rows outside their window freed and the goal rows moved, so that they warm-start.
+These tests check that this changes no answer: on random small workspaces and random
+region walks of varying horizons, one long-lived ConPlan agrees with a cold LP written
+for exactly the walk's horizon (``refutes``), every trajectory validates, and every
+counterexample is refuted by its own LP.
+"""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from plansynth.reach import ReachStatus, solve
+from plansynth.reach.conplan import ConPlan, Feasible
+from plansynth.reach.decompose import abstract
+from plansynth.reach.displan import Conflict
+from plansynth.reach.families import maze, random_workspace
+from plansynth.reach.validate import validate
+
+PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def walks(abstraction, rng: random.Random, count: int, max_len: int) -> list[tuple[int, ...]]:
+    """Random region walks from a start region (staying put or moving to a neighbour)."""
+    out = []
+    for _ in range(count):
+        r = rng.choice(abstraction.start_regions)
+        walk = [r]
+        for _ in range(rng.randint(0, max_len)):
+            r = rng.choice((r, r, *abstraction.adjacency[r]))
+            walk.append(r)
+        out.append(tuple(walk))
+    return out
+
+
+@PROPS
+@given(st.integers(0, 10**6), st.sampled_from([1, 2, 5]), st.booleans())
+def test_frames_agree_with_cold_lps_of_the_exact_horizon(seed: int, order: int, slack_lp: bool) -> None:
+    try:
+        p = random_workspace(seed, 3, order=order, dt=1.0 if order == 1 else 0.5)
+    except RuntimeError:
+        return
+    a = abstract(p)
+    c = ConPlan(p, a, slack_lp=slack_lp)
+    g = ConPlan(p, a, slack_lp=slack_lp, generalize=True, minimize=True)
+    rng = random.Random(seed)
+    for walk in walks(a, rng, 12, 10):
+        N = len(walk) - 1
+        whole = Conflict(tuple(enumerate(walk)), anchored_start=True, anchored_goal=True, horizon=N)
+        traj = c.feasible(walk)
+        assert (traj is None) == c.refutes(whole)
+        if traj is not None:
+            assert validate(p, traj, require_segment_safe=True).ok
+        for prefix in (0, N // 2, N):
+            lits = tuple((t, walk[t]) for t in range(prefix + 1))
+            claim = Conflict(lits, anchored_start=True, anchored_goal=False, horizon=N, last_time=N)
+            assert c.prefix_feasible(walk, prefix) == (not c.refutes(claim))
+        out = g.check(walk)
+        if isinstance(out, Feasible):
+            assert traj is not None
+            assert validate(p, out.trajectory, require_segment_safe=True).ok
+        else:
+            assert traj is None and g.refutes(out)
+
+
+def test_long_chains_skip_the_slack_lp_and_short_ones_keep_it() -> None:
+    assert ConPlan(maze(1, order=5), abstract(maze(1))).slack_lp is False
+    assert ConPlan(maze(1), abstract(maze(1))).slack_lp is True
+
+
+def test_zeroprefix_without_slack_lp_finds_the_earliest_infeasible_prefix() -> None:
+    p = maze(1)
+    a = abstract(p)
+    c = ConPlan(p, a, slack_lp=False)
+    regions = (0,) * 20 + (1,) * 3 + (2,) * 30  # at the gap far too early
+    out = c.check(regions)
+    assert isinstance(out, Conflict) and c.refutes(out)
+    k = max(t for t, _ in out.literals)
+    assert not c.prefix_feasible(regions, k) and c.prefix_feasible(regions, k - 1)
+
+
+def test_order_25_chain_plan_is_found_and_validated() -> None:
+    r = solve(maze(0, order=25), max_horizon=70)
+    assert r.status is ReachStatus.FOUND and r.validated is True and r.validation.ok
+    assert r.trajectory.states.shape[1] == 50
+    assert r.counters["ipm_fallbacks"] == 0
+
+
+@pytest.mark.parametrize("order", [10, 25])
+def test_long_chain_frames_warm_start_across_horizons(order: int) -> None:
+    p = maze(1, order=order)
+    c = ConPlan(p, abstract(p))
+    early = (0,) * 20 + (1,) * 2 + (2,) * 40  # reaches the gap too fast: infeasible
+    assert c.feasible(early) is None
+    frame = c.slot.layout
+    shorter = early[:-5]
+    assert c.feasible(shorter) is None
+    assert c.slot.layout.frame == frame.frame and c.slot.layout.t1 == len(shorter) - 1
