@@ -21,7 +21,7 @@ from plansynth.reach import ReachStatus, solve
 from plansynth.reach.conplan import ConPlan, Feasible
 from plansynth.reach.decompose import abstract
 from plansynth.reach.displan import Conflict
-from plansynth.reach.families import maze, random_workspace
+from plansynth.reach.families import cluttered, maze, random_workspace
 from plansynth.reach.validate import validate
 
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -103,3 +103,39 @@ def test_long_chain_frames_warm_start_across_horizons(order: int) -> None:
     shorter = early[:-5]
     assert c.feasible(shorter) is None
     assert c.slot.layout.frame == frame.frame and c.slot.layout.t1 == len(shorter) - 1
+
+
+@PROPS
+@given(st.integers(0, 10**6), st.sampled_from([1, 2, 5]), st.sampled_from([2, 3]))
+def test_split_lps_agree_with_the_whole_lp(seed: int, order: int, dim: int) -> None:
+    """Box workspaces are separable per axis: the LPs split into one part per axis give
+    the same answers as the whole LP, and their conflicts are refuted by their own LP."""
+    try:
+        p = random_workspace(seed, 3, dim=dim, polygons=False, order=order, dt=1.0 if order == 1 else 0.5)
+    except RuntimeError:
+        return
+    a = abstract(p)
+    whole = ConPlan(p, a, split=False, generalize=True, minimize=True)
+    split = ConPlan(p, a, split=True, generalize=True, minimize=True)
+    assert split.slot.splits == (split.blocks is not None)
+    rng = random.Random(seed)
+    for walk in walks(a, rng, 12, 10):
+        N = len(walk) - 1
+        assert (whole.feasible(walk) is None) == (split.feasible(walk) is None)
+        for prefix in (0, N // 2):
+            assert whole.prefix_feasible(walk, prefix) == split.prefix_feasible(walk, prefix)
+        out = split.check(walk)
+        if isinstance(out, Feasible):
+            assert validate(p, out.trajectory, require_segment_safe=True).ok
+        else:
+            assert whole.refutes(out) and split.refutes(out)
+
+
+def test_maze_chains_split_per_axis_and_polygons_do_not() -> None:
+    p = maze(2, order=5)
+    c = ConPlan(p, abstract(p))
+    assert c.slot.splits and c.blocks is not None and c.blocks[0].tolist() == [0, 1] * 5
+    assert c.feasible((0,) * 10) is None  # (the goal is far)
+    assert c.slot.parts is not None and len(c.slot.parts) == 2
+    q = cluttered()  # regions with slanted edges couple the axes
+    assert ConPlan(q, abstract(q), split=True).blocks is None

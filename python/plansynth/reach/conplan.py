@@ -251,8 +251,22 @@ class _Layout:
 
 
 @dataclass
+class _Part:
+    """One independent block of a split LP: its rows and columns in the whole LP."""
+
+    highs: highspy.Highs
+    rows: np.ndarray
+    cols: np.ndarray
+
+
+@dataclass
 class _Slot:
-    """A HiGHS instance holding one LP of a layout, edited in place (warm starts)."""
+    """A HiGHS instance holding one LP of a layout, edited in place (warm starts).
+
+    With ``parts``, the LP falls apart into independent blocks (for example one per
+    axis when the dynamics and every region are separable), each held by a HiGHS
+    instance of its own; ``highs`` then only carries the options the parts copy.
+    """
 
     highs: highspy.Highs
     layout: _Layout | None = None
@@ -260,6 +274,13 @@ class _Slot:
     coo: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     bounds: "_Bounds | None" = None
     held: tuple | None = None  # a description of the LP last solved
+    splits: bool = False  # may this slot's LPs be split into parts?
+    parts: list[_Part] | None = None
+    row_part: np.ndarray | None = None  # per row of the whole LP: its part (-1: in none)
+    row_local: np.ndarray | None = None  # and its index there
+    col_part: np.ndarray | None = None
+    col_local: np.ndarray | None = None
+    infeasible_part: int = 0  # the part that was infeasible last (tried first)
 
 
 @dataclass
@@ -289,6 +310,7 @@ class ConPlan:
         minimize: bool = False,
         slack_weights: str = "geometric",
         slack_lp: bool | None = None,
+        split: bool | None = None,
         clock: Clock | None = None,
     ) -> None:
         if counterexample not in COUNTEREXAMPLES:
@@ -340,6 +362,13 @@ class ConPlan:
         self.slot = _Slot(self._new_highs())
         self.span_slot = _Slot(self._new_highs())  # LPs over a conflict's time span
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
+        # independent blocks of the feasibility LPs (None: one block); by default split
+        # long chains only (maze-4, order 25: one LP per axis, half the rows each, ~2x
+        # the loop iterations per second; the slack LP couples the axes and stays whole)
+        self.blocks = self._blocks()
+        if split is None:
+            split = self.n > 8
+        self.slot.splits = self.span_slot.splits = bool(split) and self.blocks is not None
         self._no_ray = False  # the last infeasible LP was decided outside the persistent model
         if self.n > 8:
             # long integrator chains (tiny coefficients dt^k/k!): equilibrate harder, cap
@@ -352,6 +381,134 @@ class ConPlan:
                 # warm start and every rank-deficient basis (frequent on long chains);
                 # maze-4, order 25: warm re-solves 5.6x faster, cold ones 1.7x
                 h.setOptionValue("simplex_dual_edge_weight_strategy", 1)
+
+    def _blocks(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """Independent blocks of the feasibility LPs: states and inputs coupled by A or
+        B, or by a region or goal row, are in one block. Per state, input, padded
+        region row and goal row its block (-1: a row that is zero in every region);
+        None when there is only one block."""
+        n, m = self.n, self.m
+        parent = list(range(n + m))
+
+        def find(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        def union(i: int, j: int) -> None:
+            parent[find(i)] = find(j)
+
+        for i, j in zip(*np.nonzero(self.A)):
+            union(int(i), int(j))
+        for i, j in zip(*np.nonzero(self.B)):
+            union(int(i), n + int(j))
+        reg_rows = [np.nonzero(np.any(self.Hpad[:, k, :] != 0, axis=0))[0] for k in range(self.K)]
+        goal_rows = [np.nonzero(self.Hgoal[k] != 0)[0] for k in range(len(self.hgoal))]
+        for touched in reg_rows + goal_rows:
+            for a in touched[1:]:
+                union(int(self.pos[touched[0]]), int(self.pos[a]))
+        root = np.array([find(i) for i in range(n + m)])
+        if len(set(root[:n].tolist())) < 2:
+            return None
+        ids = {r: i for i, r in enumerate(sorted(set(root[:n].tolist())))}
+        label = np.array([ids.get(int(r), -1) for r in root])
+
+        def row_label(touched: np.ndarray) -> int:
+            return int(label[self.pos[touched[0]]]) if touched.size else -1
+
+        return (label[:n], label[n:], np.array([row_label(t) for t in reg_rows], dtype=np.int64),
+                np.array([row_label(t) for t in goal_rows], dtype=np.int64))
+
+    def _split(self, slot: _Slot, lay: _Layout, b: "_Bounds") -> None:
+        """Load the LP of ``lay`` (matrix ``slot.coo``, bounds ``b``) into ``slot`` as
+        independent parts. Rows and columns in no part (slack-order rows, slack
+        columns, inputs that drive nothing) must be free and fixable at 0."""
+        assert self.blocks is not None and slot.coo is not None
+        state_b, input_b, reg_b, goal_b = self.blocks
+        T, steps = lay.T, lay.steps
+        col_part = np.concatenate([np.tile(state_b, T), np.tile(input_b, steps), np.full(T, -1)])
+        row_part = np.concatenate([np.tile(state_b, steps), np.tile(reg_b, T), np.tile(reg_b, steps), goal_b,
+                                   np.full(steps, -1)])
+        slot.col_part, slot.row_part = col_part, row_part
+        slot.col_local = np.zeros(lay.n_col, dtype=np.int64)
+        slot.row_local = np.zeros(lay.n_row, dtype=np.int64)
+        R, C, V = slot.coo
+        keep = (row_part[R] >= 0) & (row_part[R] == col_part[C])
+        # (explicit zeros: the H entries of a region row on the other axes)
+        assert not np.any((row_part[R] >= 0) & (col_part[C] >= 0) & ~keep & (V != 0)), "blocks are not independent"
+        R, C, V = R[keep], C[keep], V[keep]
+        options = slot.highs.getOptions()
+        slot.parts = []
+        for p in range(int(state_b.max()) + 1):
+            rows = np.nonzero(row_part == p)[0]
+            cols = np.nonzero(col_part == p)[0]
+            slot.row_local[rows] = np.arange(rows.size)
+            slot.col_local[cols] = np.arange(cols.size)
+            mine = row_part[R] == p
+            r, c, v = slot.row_local[R[mine]], slot.col_local[C[mine]], V[mine]
+            order = np.lexsort((r, c))
+            lp = highspy.HighsLp()
+            lp.num_col_, lp.num_row_ = int(cols.size), int(rows.size)
+            lp.col_cost_ = np.zeros(cols.size)
+            lp.col_lower_, lp.col_upper_ = b.col_lo[cols], b.col_hi[cols]
+            lp.row_lower_, lp.row_upper_ = b.row_lo[rows], b.row_hi[rows]
+            lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+            starts = np.zeros(cols.size + 1, dtype=np.int32)
+            np.cumsum(np.bincount(c, minlength=cols.size), out=starts[1:])
+            lp.a_matrix_.start_ = starts
+            lp.a_matrix_.index_ = r[order].astype(np.int32)
+            lp.a_matrix_.value_ = v[order]
+            h = self._new_highs()
+            h.passOptions(options)
+            h.passModel(lp)
+            h.setOptionValue("simplex_iteration_limit", max(5000, 2 * int(rows.size)))
+            slot.parts.append(_Part(h, rows, cols))
+        slot.infeasible_part = 0
+        self._change_bounds(slot, b)  # (checks the rows and columns left out)
+
+    def _change_coeff(self, slot: _Slot, row: int, col: int, value: float) -> None:
+        if slot.parts is None:
+            slot.highs.changeCoeff(row, col, value)
+            return
+        assert slot.row_part is not None and slot.col_part is not None
+        p = int(slot.row_part[row])
+        if p >= 0 and p == slot.col_part[col]:
+            slot.parts[p].highs.changeCoeff(int(slot.row_local[row]), int(slot.col_local[col]), value)
+        else:  # a slack column, or another part's column: only ever a zero
+            assert value == 0.0 or slot.col_part[col] < 0, "a coefficient across split parts"
+
+    def _change_bounds(self, slot: _Slot, b: "_Bounds") -> None:
+        if slot.parts is None:
+            h, lay = slot.highs, slot.layout
+            h.changeRowsBounds(lay.n_row, np.arange(lay.n_row, dtype=np.int32), b.row_lo, b.row_hi)
+            h.changeColsBounds(lay.n_col, np.arange(lay.n_col, dtype=np.int32), b.col_lo, b.col_hi)
+            return
+        assert slot.row_part is not None and slot.col_part is not None
+        out_r, out_c = slot.row_part < 0, slot.col_part < 0
+        assert np.all(b.row_lo[out_r] <= -INF) and np.all(b.row_hi[out_r] >= INF), "a split LP's extra row applies"
+        assert np.all(b.col_lo[out_c] <= 0) and np.all(b.col_hi[out_c] >= 0), "a split LP's extra column is not 0"
+        for part in slot.parts:
+            r, c = part.rows, part.cols
+            part.highs.changeRowsBounds(r.size, np.arange(r.size, dtype=np.int32), b.row_lo[r], b.row_hi[r])
+            part.highs.changeColsBounds(c.size, np.arange(c.size, dtype=np.int32), b.col_lo[c], b.col_hi[c])
+
+    def _run_slot(self, slot: _Slot, purpose: str) -> np.ndarray | None:
+        """Solve the LP ``slot`` holds (part by part: infeasible as soon as one part is,
+        the part infeasible last time first)."""
+        if slot.parts is None:
+            return self._run(slot.highs, purpose)
+        assert slot.layout is not None
+        col = np.zeros(slot.layout.n_col)
+        order = sorted(range(len(slot.parts)), key=lambda i: i != slot.infeasible_part)
+        for k, i in enumerate(order):
+            part = slot.parts[i]
+            sub = self._run(part.highs, purpose, count=k == 0)
+            if sub is None:
+                slot.infeasible_part = i
+                return None
+            col[part.cols] = sub
+        return col
 
     @staticmethod
     def _new_highs() -> highspy.Highs:
@@ -481,9 +638,12 @@ class ConPlan:
             slot.layout = lay
             slot.coef = self._coef_for(lay, assignment)
             slot.coo = self._matrix(lay, slot.coef)
-            h.passModel(self._lp(lay, slot.coo, b, self._cost(lay)))
-            if self.n > 8:  # a cold simplex run on a long chain needs ~ a row count of iterations
-                h.setOptionValue("simplex_iteration_limit", max(5000, 2 * lay.n_row))
+            if slot.splits:
+                self._split(slot, lay, b)
+            else:
+                h.passModel(self._lp(lay, slot.coo, b, self._cost(lay)))
+                if self.n > 8:  # a cold simplex run on a long chain needs ~ a row count of iterations
+                    h.setOptionValue("simplex_iteration_limit", max(5000, 2 * lay.n_row))
         else:
             coef = self._coef_for(lay, assignment, slot.coef)
             changed = np.nonzero(self.hkey[coef] != self.hkey[slot.coef])[0]
@@ -495,23 +655,22 @@ class ConPlan:
                     for i in range(lay.Kg):
                         r = lay.goal0 + i
                         for j in range(lay.d):
-                            h.changeCoeff(r, lay.x(old.t1) + int(self.pos[j]), 0.0)
-                        h.changeCoeff(r, lay.s(old.t1), 0.0)
+                            self._change_coeff(slot, r, lay.x(old.t1) + int(self.pos[j]), 0.0)
+                        self._change_coeff(slot, r, lay.s(old.t1), 0.0)
                         for j in range(lay.d):
                             if self.Hgoal[i, j] != 0.0:
-                                h.changeCoeff(r, lay.x(lay.t1) + int(self.pos[j]), float(self.Hgoal[i, j]))
-                        h.changeCoeff(r, lay.s(lay.t1), -1.0)
-                h.changeColsCost(lay.n_col, np.arange(lay.n_col, dtype=np.int32), self._cost(lay))
+                                self._change_coeff(slot, r, lay.x(lay.t1) + int(self.pos[j]), float(self.Hgoal[i, j]))
+                        self._change_coeff(slot, r, lay.s(lay.t1), -1.0)
+                if slot.parts is None:  # (split LPs are feasibility LPs: no cost)
+                    h.changeColsCost(lay.n_col, np.arange(lay.n_col, dtype=np.int32), self._cost(lay))
                 slot.coo = self._matrix(lay, slot.coef)
-            h.changeRowsBounds(lay.n_row, np.arange(lay.n_row, dtype=np.int32), b.row_lo, b.row_hi)
-            h.changeColsBounds(lay.n_col, np.arange(lay.n_col, dtype=np.int32), b.col_lo, b.col_hi)
+            self._change_bounds(slot, b)
         slot.bounds = b
 
     def _recoefficient(self, slot: _Slot, coef: np.ndarray, changed: np.ndarray) -> None:
         """Put region H's into the blocks of the ``changed`` times (coefficient edits)."""
         lay = slot.layout
         assert lay is not None
-        h = slot.highs
         K, d, n = lay.K, lay.d, lay.n
         for b in changed:
             H = self.Hpad[coef[b]]
@@ -520,11 +679,11 @@ class ConPlan:
                     continue
                 for i in range(K):
                     for j in range(d):
-                        h.changeCoeff(int(row0 + b * K + i), int(state_b * n + self.pos[j]), float(H[i, j]))
+                        self._change_coeff(slot, int(row0 + b * K + i), int(state_b * n + self.pos[j]), float(H[i, j]))
         slot.coef = coef
         slot.coo = self._matrix(lay, coef)
 
-    def _run(self, h: highspy.Highs, purpose: str) -> np.ndarray | None:
+    def _run(self, h: highspy.Highs, purpose: str, count: bool = True) -> np.ndarray | None:
         """Solve the model ``h`` holds: column values when optimal, None when infeasible.
 
         HiGHS occasionally refuses a warm start after in-place edits (an error before
@@ -572,8 +731,9 @@ class ConPlan:
             if status in answers:
                 break
         self.stats.seconds += time.perf_counter() - t0
-        self.stats.lp_calls += 1
-        self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
+        if count:
+            self.stats.lp_calls += 1
+            self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
         if status == S.kOptimal:
             return np.asarray(h.getSolution().col_value)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
@@ -592,7 +752,7 @@ class ConPlan:
         slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
         lay = self._frame(slot, *((0, N) if span is None else span))
         self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
-        col = self._run(slot.highs, purpose)
+        col = self._run_slot(slot, purpose)
         slot.held = (purpose, max(assignment, default=-1), col is not None)
         return col
 
@@ -772,9 +932,16 @@ class ConPlan:
         assert lay is not None and b is not None and coo is not None
         if self._no_ray:  # the LP was decided by the fallback method
             return None
-        status, has_ray, ray = slot.highs.getDualRay()
+        if slot.parts is None:
+            status, has_ray, ray = slot.highs.getDualRay()
+            y = np.asarray(ray, dtype=float)
+        else:  # the ray of the infeasible part, zero on the other parts' rows
+            part = slot.parts[slot.infeasible_part]
+            status, has_ray, ray = part.highs.getDualRay()
+            y = np.zeros(lay.n_row)
+            if has_ray:
+                y[part.rows] = np.asarray(ray, dtype=float)
         self.stats.ray_calls += 1
-        y = np.asarray(ray, dtype=float)
         scale = float(np.max(np.abs(y))) if (has_ray and y.size) else 0.0
         if status != highspy.HighsStatus.kOk or not scale > 0:
             return None
