@@ -23,6 +23,10 @@ def _fill(path):
             db.add_run(e, db.planner(name, {}), 0, {"time": t, "status": "solved", "solved": 1, "valid": 1,
                                                      "horizon": 40, "lp_calls": 3, "sat_calls": 4,
                                                      "attributes": {"timings": {"abstraction": 0.01, "sat": 0.2, "lp": 0.3}}})
+        for name, lp, status in [("lazy-smt-paper", 299, "solved"), ("lazy-smt-paper-trivial", 618, "solved"),
+                                  ("lazy-smt-zeroprefix", 54, "unknown")]:
+            db.add_run(e, db.planner(name, {}), 0, {"time": 0.3, "status": status, "solved": int(status == "solved"),
+                                                     "valid": 1, "horizon": 57, "lp_calls": lp})
         for k in (1, 2):
             (ch,) = [i for i in reach_family("chain", [1], orders=[k])]
             e = db.experiment(ch.key, kind="reach", family="chain", instance=ch.name, setup=ch.to_dict(), timelimit=60)
@@ -52,5 +56,9 @@ def test_report_tables_and_plots(tmp_path):
     assert "Table I" in text and "| 1 | 2.39 | 10.4 | > 7200 |" in text
     assert "rrt/lazy-smt 10" in text
     assert "missing: 1" in text and "grid/steps/steps-20 native #0" in text
+    # the counterexample configurations get their own table, not Table I columns
+    assert "Counterexamples (Section V): LP calls per maze" in text
+    assert "| 1 | 3 | 299 | 618 | 54 (unfinished) |" in text
+    assert "lazy-smt-paper |" not in text.split("Counterexamples")[0]
     for png in ("grid-steps.png", "reach-table1.png", "reach-figure4.png"):
         assert (out / png).stat().st_size > 5000

@@ -7,8 +7,9 @@ the Markdown report with its figures:
     plansynth bench publish --report-only    # only rewrite RESULTS.md from the database
 
 The sweep: every grid family with ``native`` and ``cvc5``; the mazes with ``lazy-smt``,
-``rrt``, ``milp-bigm`` and ``milp``; the integrator-chain scaling (Figure 4) at a few
-orders with ``lazy-smt``; random workspaces with every reach planner.
+``rrt``, ``milp-bigm`` and ``milp``, and with the counterexample configurations of
+:data:`~plansynth.bench.report.CX_VARIANTS`; the integrator-chain scaling (Figure 4) up
+to order 25 (n = 50 states) with ``lazy-smt``; random workspaces with every reach planner.
 """
 
 from __future__ import annotations
@@ -19,13 +20,15 @@ from pathlib import Path
 from typing import Any
 
 from plansynth.bench.families import GRID_FAMILIES, family
+from plansynth.bench.report import CX_VARIANTS
 from plansynth.bench.runner import make_tasks, run_sweep
 
 __all__ = ["published_tasks", "publish"]
 
 GRID_SOLVERS = ["native", "cvc5"]
 MAZE_PLANNERS = ["lazy-smt", "rrt", "milp-bigm", "milp"]
-CHAIN_ORDERS = [1, 2, 3, 5, 10]
+CHAIN_ORDERS = [1, 2, 3, 5, 10, 25]  # 25: n = 50 states, the paper's largest (Figure 4)
+CX_TIMEOUT = 300.0  # the paper's loop on maze-3/4 runs for minutes
 RRT_REPEATS = 3
 NATIVE_REPEATS = 3
 
@@ -38,6 +41,8 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         # the sampling planners vary with the seed: more repeats (seed + repeat)
         tasks += [t for t in make_tasks(family("reach", "maze"), ["rrt", "lazy-smt"], repeat=RRT_REPEATS,
                                         timeout=reach_timeout) if t["repeat"] > 0]
+        # counterexamples compared (Section V): the paper's loop with ZEROPREFIX / trivial, ours with ZEROPREFIX
+        tasks += make_tasks(family("reach", "maze"), list(CX_VARIANTS), timeout=max(reach_timeout, CX_TIMEOUT))
         tasks += make_tasks(family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout)
         tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS), ["lazy-smt"], timeout=reach_timeout)
     if part in ("all", "grid"):

@@ -26,7 +26,7 @@ from dataclasses import replace
 from typing import Any, Protocol
 
 from plansynth.budget import Budget
-from plansynth.reach.lazy import plan_lazy
+from plansynth.reach.lazy import PAPER, plan_lazy
 from plansynth.reach.milp import plan_milp
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -44,7 +44,26 @@ class Planner(Protocol):
         ...
 
 
-_PLANNERS: dict[str, Planner] = {"lazy-smt": plan_lazy, "milp": plan_milp}
+def _configured(**fixed: Any) -> Planner:
+    """``plan_lazy`` with some options fixed (named configurations for comparisons)."""
+
+    def planner(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
+        return plan_lazy(problem, budget, **{**options, **fixed})
+
+    planner.__doc__ = f"plan_lazy with {fixed}"
+    return planner
+
+
+_PLANNERS: dict[str, Planner] = {
+    "lazy-smt": plan_lazy,
+    "milp": plan_milp,
+    # the paper's loop and counterexamples (PAPER), with ZEROPREFIX and with the trivial
+    # counterexample: the comparison of Section V
+    "lazy-smt-paper": _configured(**PAPER),
+    "lazy-smt-paper-trivial": _configured(**{**PAPER, "counterexample": "trivial"}),
+    # our loop with the paper's ZEROPREFIX counterexample (Farkas-shrunk) instead of the default
+    "lazy-smt-zeroprefix": _configured(counterexample="zeroprefix"),
+}
 
 
 def register_planner(name: str, planner: Planner, *, replace_existing: bool = False) -> None:
@@ -57,8 +76,8 @@ def register_planner(name: str, planner: Planner, *, replace_existing: bool = Fa
 def planners() -> tuple[str, ...]:
     """The names :func:`solve` accepts.
 
-    >>> planners()[:2]
-    ('lazy-smt', 'milp')
+    >>> planners()[:5]
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix')
     """
     return tuple(_PLANNERS)
 
