@@ -194,6 +194,7 @@ class DisPlan:
         self.built = -1  # largest time step with variables and step constraints
         self.floor: int | None = None  # the first horizon ever tried: no plan is shorter
         self.open_from: int | None = None  # horizons floor..open_from-1 are closed
+        self.to_go_built = -1  # time steps with their to-go window clauses
         self.goal_added: set[int] = set()
         self.closed: set[int] = set()
         self.conflicts: list[Conflict] = []
@@ -216,18 +217,32 @@ class DisPlan:
         return self.pool.id(("horizon", horizon))
 
     def before(self, time: int) -> int | None:
-        """The guard ``before[T]``: true only if the plan ends before T (see the module
-        docstring); None when no open horizon lies below T, i.e. no guard is needed."""
+        """The guard ``before[T]`` for a clause that holds for plans of horizon >= T:
+        :meth:`ends_before` (see the module docstring), or None when no open horizon lies
+        below T, i.e. no guard is needed."""
         if self.open_from is None or time <= self.open_from:
             return None
-        key = ("before", time)
-        if key in self.pool.obj2id:
-            return self.pool.id(key)
-        lit = self.pool.id(key)
-        lower = self.before(time - 1)
-        self._ensure_goal(time - 1)
-        self._add([-lit, self.act(time - 1)] + ([lower] if lower is not None else []))
-        return lit
+        return self.ends_before(time)
+
+    def ends_before(self, time: int) -> int | None:
+        """The literal e[T], equivalent to ``OR act[h]`` over floor <= h < T: the plan
+        ends before T (None when T <= floor: false)."""
+        if self.floor is None or time <= self.floor:
+            return None
+        top = time
+        while top > self.floor + 1 and ("ends-before", top - 1) not in self.pool.obj2id:
+            top -= 1
+        for T in range(top, time + 1):  # build the ladder upwards from the last rung made
+            key = ("ends-before", T)
+            if key in self.pool.obj2id:
+                continue
+            e, a = self.pool.id(key), self.act(T - 1)
+            lower = self.pool.id(("ends-before", T - 1)) if T - 1 > self.floor else None
+            self._add([-e, a] + ([lower] if lower is not None else []))
+            self._add([-a, e])
+            if lower is not None:
+                self._add([-lower, e])
+        return self.pool.id(("ends-before", time))
 
     # -- encoding ----------------------------------------------------------------
     def _add(self, clause: list[int]) -> None:
@@ -260,6 +275,26 @@ class DisPlan:
             for c in self.conflicts:
                 if not c.anchored_start and not c.anchored_goal:
                     self._instantiate_free(c, old, t)
+        self._to_go_windows()
+
+    def _to_go_windows(self) -> None:
+        """Region i at time t only if the plan ends at t + to_go[i] or later:
+        ``not b[t, i] or not e[t + to_go[i]]``, one clause per (t, i) for every horizon."""
+        if self.floor is None:
+            return
+        for t in range(self.to_go_built + 1, self.built + 1):
+            for i in range(self.graph.n_regions):
+                if t < self.earliest[i] or self.to_go[i] <= 0:
+                    continue  # excluded for good already, or a goal region
+                if self.to_go[i] == math.inf:
+                    self._add([-self.at(t, i)])
+                else:
+                    e = self.ends_before(t + int(self.to_go[i]))
+                    if e is None:
+                        continue
+                    self._add([-self.at(t, i), -e])
+                self.window_clauses += 1
+        self.to_go_built = self.built
 
     def _ensure_goal(self, horizon: int) -> None:
         if horizon in self.goal_added:
@@ -267,11 +302,6 @@ class DisPlan:
         self.goal_added.add(horizon)
         act = self.act(horizon)
         self._add([-act] + [self.at(horizon, i) for i in self.graph.goal_regions])
-        for i in range(self.graph.n_regions):
-            for t in range(max(0, horizon - self.to_go[i] + 1) if self.to_go[i] < math.inf else 0, horizon + 1):
-                if t >= self.earliest[i]:  # earlier steps are excluded for good already
-                    self._add([-act, -self.at(t, i)])
-                    self.window_clauses += 1
         for c in self.conflicts:
             if c.anchored_goal and not c.anchored_start:
                 self._instantiate_goal(c, horizon)
@@ -339,6 +369,7 @@ class DisPlan:
             raise ValueError(f"empty horizon window {lo}..{horizon}")
         if self.floor is None:
             self.floor = self.open_from = lo
+            self._to_go_windows()
         elif lo < self.floor:
             raise ValueError(f"horizon {lo} is below the first horizon tried ({self.floor})")
         self._extend(horizon)
@@ -388,9 +419,12 @@ class DisPlan:
     def prefer(self, plan: Sequence[int]) -> None:
         """Set the SAT solver's decision phases to ``plan`` (r_0..r_h): b[t, plan[t]]
         true, the other regions false. Only a hint; no answer depends on it."""
-        self._extend(len(plan) - 1)
-        self.solver.set_phases([self.at(t, i) if i == r else -self.at(t, i)
-                                for t, r in enumerate(plan) for i in range(self.graph.n_regions)])
+        H = len(plan) - 1
+        self._extend(H)
+        phases = [self.at(t, i) if i == r else -self.at(t, i) for t, r in enumerate(plan) for i in range(self.graph.n_regions)]
+        if self.floor is not None:  # ... and ending at H, not before
+            phases += [-e for e in (self.ends_before(T) for T in range(self.floor + 1, H + 1)) if e is not None]
+        self.solver.set_phases(phases)
 
     def plan(self, horizon: int) -> tuple[int, ...] | None:
         """Convenience: the region sequence for ``horizon`` or None when UNSAT."""
