@@ -52,6 +52,22 @@ basis (dual simplex warm start); coefficients change only where a time step move
 region with a different H. A "prefix" LP is the plan LP with the rows after the prefix
 freed: it also asks that the trajectory can continue within the bounds up to N, which
 every plan of horizon >= N must do, so its clause holds for every horizon >= N.
+
+**One frame for all horizons.** A HiGHS model holds a *frame* a little longer than the
+horizon it was built for; an LP over the states lo..hi of the frame frees the rows on
+the other states and moves the goal rows to p_hi, which changes no answer (those
+columns are left in no constraining row) but lets the LPs of other horizons and of
+conflict spans warm-start instead of solving cold.
+
+**Long integrator chains** (more than 8 states; maze-4 with order 25 has 50): the
+coefficients dt^k/k! span many decades and bases are often near-singular, so the
+simplex method uses a stronger scaling and Devex pricing (dual steepest-edge weights
+were recomputed after every warm start); ZEROPREFIX skips the slack LP (``slack_lp``:
+several seconds per call there, without a usable warm start) and finds the earliest
+infeasible prefix by binary search, cut short by checked Farkas certificates; and when
+the dynamics and every region and goal row are separable (chains in box regions: one
+block per axis) the feasibility LPs are split into independent HiGHS models
+(``split``), each half the size, whose rays are mapped back to the whole LP.
 """
 
 from __future__ import annotations
@@ -296,7 +312,9 @@ class ConPlan:
     """The theory solver of the lazy loop for one problem and abstraction.
 
     ``check(regions)`` returns :class:`Feasible` or a sound
-    :class:`~plansynth.reach.displan.Conflict`.
+    :class:`~plansynth.reach.displan.Conflict`. ``slack_lp`` (ZEROPREFIX's slack LP)
+    and ``split`` (independent LP blocks) default to what suits the state dimension:
+    slack LP up to 8 states, split beyond.
     """
 
     def __init__(
