@@ -52,6 +52,22 @@ basis (dual simplex warm start); coefficients change only where a time step move
 region with a different H. A "prefix" LP is the plan LP with the rows after the prefix
 freed: it also asks that the trajectory can continue within the bounds up to N, which
 every plan of horizon >= N must do, so its clause holds for every horizon >= N.
+
+**One frame for all horizons.** A HiGHS model holds a *frame* a little longer than the
+horizon it was built for; an LP over the states lo..hi of the frame frees the rows on
+the other states and moves the goal rows to p_hi, which changes no answer (those
+columns are left in no constraining row) but lets the LPs of other horizons and of
+conflict spans warm-start instead of solving cold.
+
+**Long integrator chains** (more than 8 states; maze-4 with order 25 has 50): the
+coefficients dt^k/k! span many decades and bases are often near-singular, so the
+simplex method uses a stronger scaling and Devex pricing (dual steepest-edge weights
+were recomputed after every warm start); ZEROPREFIX skips the slack LP (``slack_lp``:
+several seconds per call there, without a usable warm start) and finds the earliest
+infeasible prefix by binary search, cut short by checked Farkas certificates; and when
+the dynamics and every region and goal row are separable (chains in box regions: one
+block per axis) the feasibility LPs are split into independent HiGHS models
+(``split``), each half the size, whose rays are mapped back to the whole LP.
 """
 
 from __future__ import annotations
@@ -296,7 +312,9 @@ class ConPlan:
     """The theory solver of the lazy loop for one problem and abstraction.
 
     ``check(regions)`` returns :class:`Feasible` or a sound
-    :class:`~plansynth.reach.displan.Conflict`.
+    :class:`~plansynth.reach.displan.Conflict`. ``slack_lp`` (ZEROPREFIX's slack LP)
+    and ``split`` (independent LP blocks) default to what suits the state dimension:
+    slack LP up to 8 states, split beyond.
     """
 
     def __init__(
@@ -370,6 +388,7 @@ class ConPlan:
             split = self.n > 8
         self.slot.splits = self.span_slot.splits = bool(split) and self.blocks is not None
         self._no_ray = False  # the last infeasible LP was decided outside the persistent model
+        self._ray_part: int | None = None  # the split part of the last Farkas ray
         if self.n > 8:
             # long integrator chains (tiny coefficients dt^k/k!): equilibrate harder, cap
             # the simplex iterations (at about twice the row count per model, see _load)
@@ -493,14 +512,17 @@ class ConPlan:
             part.highs.changeRowsBounds(r.size, np.arange(r.size, dtype=np.int32), b.row_lo[r], b.row_hi[r])
             part.highs.changeColsBounds(c.size, np.arange(c.size, dtype=np.int32), b.col_lo[c], b.col_hi[c])
 
-    def _run_slot(self, slot: _Slot, purpose: str) -> np.ndarray | None:
+    def _run_slot(self, slot: _Slot, purpose: str, only: int | None = None) -> np.ndarray | None:
         """Solve the LP ``slot`` holds (part by part: infeasible as soon as one part is,
-        the part infeasible last time first)."""
+        the part infeasible last time first). ``only``: solve just that part; then
+        "feasible" means only that this part is (the column values of the others are 0)."""
         if slot.parts is None:
             return self._run(slot.highs, purpose)
         assert slot.layout is not None
         col = np.zeros(slot.layout.n_col)
         order = sorted(range(len(slot.parts)), key=lambda i: i != slot.infeasible_part)
+        if only is not None:
+            order = [only]
         for k, i in enumerate(order):
             part = slot.parts[i]
             sub = self._run(part.highs, purpose, count=k == 0)
@@ -746,13 +768,15 @@ class ConPlan:
 
     def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
                      anchored_start: bool = True, slack: bool = False,
-                     span: tuple[int, int] | None = None) -> np.ndarray | None:
+                     span: tuple[int, int] | None = None, part: int | None = None) -> np.ndarray | None:
         """Solve the LP of ``assignment`` over the states 0..N, or only over ``span``
-        (first, last) in the span model (for conflicts: a smaller LP that claims no more)."""
+        (first, last) in the span model (for conflicts: a smaller LP that claims no more).
+        ``part``: in a split model, solve only that part (an infeasible answer holds for
+        the whole LP; a feasible one is only that part's)."""
         slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
         lay = self._frame(slot, *((0, N) if span is None else span))
         self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
-        col = self._run_slot(slot, purpose)
+        col = self._run_slot(slot, purpose, part)
         slot.held = (purpose, max(assignment, default=-1), col is not None)
         return col
 
@@ -930,12 +954,14 @@ class ConPlan:
         HiGHS has no ray."""
         lay, b, coo = slot.layout, slot.bounds, slot.coo
         assert lay is not None and b is not None and coo is not None
+        self._ray_part = None
         if self._no_ray:  # the LP was decided by the fallback method
             return None
         if slot.parts is None:
             status, has_ray, ray = slot.highs.getDualRay()
             y = np.asarray(ray, dtype=float)
         else:  # the ray of the infeasible part, zero on the other parts' rows
+            self._ray_part = slot.infeasible_part
             part = slot.parts[slot.infeasible_part]
             status, has_ray, ray = part.highs.getDualRay()
             y = np.zeros(lay.n_row)
@@ -978,12 +1004,15 @@ class ConPlan:
             return c  # long ones (no Farkas ray to shrink them first) would cost an LP each
         N = len(regions) - 1
         span = (c.first_time, c.last_time)
+        # in a split model only the part of c's certificate: a literal it does not need
+        # leaves that part infeasible (another part's infeasibility is not looked for)
+        part = self._ray_part
         keep = list(c.literals)
         last_infeasible = False
         for lit in list(keep):
             trial = [x for x in keep if x != lit]
             col = self._solve_model(N, dict(trial), "minimize", goal=c.anchored_goal,
-                                    anchored_start=c.anchored_start, span=span)
+                                    anchored_start=c.anchored_start, span=span, part=part)
             last_infeasible = col is None
             if last_infeasible:
                 keep = trial
@@ -991,7 +1020,7 @@ class ConPlan:
             return c
         if not last_infeasible:  # HiGHS must hold the kept set's (infeasible) LP
             if self._solve_model(N, dict(keep), "minimize", goal=c.anchored_goal,
-                                 anchored_start=c.anchored_start, span=span) is not None:  # pragma: no cover
+                                 anchored_start=c.anchored_start, span=span, part=part) is not None:  # pragma: no cover
                 return c
         smaller = Conflict(tuple(keep), anchored_start=c.anchored_start, anchored_goal=c.anchored_goal,
                            horizon=c.horizon, first_time=span[0], last_time=span[1])
@@ -1005,7 +1034,8 @@ class ConPlan:
             return c
         N = len(regions) - 1
         span = (c.first_time, c.last_time)
-        col = self._solve_model(N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False, span=span)
+        col = self._solve_model(N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False, span=span,
+                                part=self._ray_part)
         if col is not None:
             return c
         free = Conflict(c.literals, anchored_start=False, anchored_goal=c.anchored_goal, horizon=c.horizon,
