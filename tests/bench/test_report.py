@@ -58,7 +58,7 @@ def test_report_tables_and_plots(tmp_path):
     assert "missing: 1" in text and "grid/steps/steps-20 native #0" in text
     # the counterexample configurations get their own table, not Table I columns
     assert "Counterexamples (Section V): LP calls per maze" in text
-    assert "| 1 | 3 | 299 | 618 | 54 (unfinished) |" in text
+    assert "| 1 | 3 | 299 | 618 | 54 (unfinished, at horizon 57) |" in text
     assert "lazy-smt-paper |" not in text.split("Counterexamples")[0]
     for png in ("grid-steps.png", "reach-table1.png", "reach-figure4.png"):
         assert (out / png).stat().st_size > 5000

@@ -537,7 +537,8 @@ def _counterexample_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence
          "except the shared abstraction, segment safety and horizon lower bound) with ZEROPREFIX and with the "
          "trivial counterexample (block the whole sequence), and our loop (horizon windows, transit layer, guided "
          "DIS-PLAN) with ZEROPREFIX and with the default Farkas counterexample. Each cell: LP calls, then time "
-         "(an unfinished run shows the LP calls made until its limit).", ""]
+         "(an unfinished run shows the LP calls made until its limit and the horizon it had reached: every "
+         "shorter one was refuted).", ""]
     hdr = ["maze"] + [f"{names[p]}: LP calls" for p in used] + [f"{names[p]}: time" for p in used]
     L.append("| " + " | ".join(hdr) + " |")
     L.append("|" + "---|" * len(hdr))
@@ -546,7 +547,7 @@ def _counterexample_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence
         for p in used:
             c = cells.get((exp, p))
             lp = (c.extra or {}).get("lp_calls") if c else None
-            mark = "" if c is None or c.all_solved else " (unfinished)"
+            mark = "" if c is None or c.all_solved else f" (unfinished, at horizon {c.horizon})"
             row.append("-" if lp is None else f"{lp}{mark}")
         row += [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]
         L.append("| " + " | ".join(row) + " |")

@@ -21,8 +21,14 @@ refuted whole. The result's ``counters["minimal"]`` says whether the horizon fou
 proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``).
 
+**Cheaper iterations** (beyond the paper, both on by default): the theory is
+CON-PLAN behind :class:`~plansynth.reach.transit.TransitCheck`, which refutes plans
+with impossible transit times between regions without a horizon-long LP; and DIS-PLAN's
+decision phases follow :func:`~plansynth.reach.guide.reference_plan`, an evenly timed
+route, so that the first plans proposed are plausible ones.
+
 The loop talks to the continuous side only through :class:`TheoryChecker`: ``check``
-maps a region sequence to :class:`~plansynth.reach.conplan.Feasible` or a
+maps a region sequence to :class:`~plansynth.reach.conplan.Feasible` or to one or more
 :class:`~plansynth.reach.displan.Conflict` (STYLE.md, point 8). The answer is
 ``infeasible`` only when every horizon up to ``max_horizon`` was refuted (horizons
 below the lower bound are refuted by the bound), and ``unknown`` when the budget (time
@@ -53,8 +59,8 @@ from plansynth.budget import Budget, Clock
 from plansynth.reach.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
 from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound, time_windows
 from plansynth.reach.decompose import Abstraction, abstract
-from plansynth.reach.guide import reference_plan
 from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.guide import reference_plan
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
