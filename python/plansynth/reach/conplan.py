@@ -1086,12 +1086,10 @@ class ConPlan:
         """Is the LP of exactly what ``c`` claims infeasible? (states c.first_time ..
         c.last_time, the literals' region and segment rows, the goal and the start as
         anchored)."""
-        lay = self.layout(c.first_time, c.last_time)
-        assign = dict(c.literals)
-        b = self.bounds(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start, slack=False)
-        coo = self._matrix(lay, self._coef_for(lay, assign))
-        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
-        return self._run(self.cold, "verify") is None
+        # in the span model, warm-started from its frame: a cold solve of a long
+        # integrator chain costs seconds (the transit layer asks many of these)
+        return self._solve_model(c.last_time, dict(c.literals), "verify", goal=c.anchored_goal,
+                                 anchored_start=c.anchored_start, span=(c.first_time, c.last_time)) is None
 
 
 # ---------------------------------------------------------------------------------

@@ -48,7 +48,7 @@ from plansynth.reach.problem import Box
 
 __all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
 
-REFINE_SPAN = 8  # gaps up to this far above the box bound are decided by LPs
+REFINE_SPAN = 48  # gaps up to this far above the box bound are decided by LPs (one each)
 WIDEN_MAX = 12  # an LP conflict is widened by at most this many steps each way
 START, GOAL = -1, -2  # pseudo-regions: the start state (at time 0) and the goal (at the horizon)
 
