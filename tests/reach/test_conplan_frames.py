@@ -55,19 +55,19 @@ def test_frames_agree_with_cold_lps_of_the_exact_horizon(seed: int, order: int, 
         N = len(walk) - 1
         whole = Conflict(tuple(enumerate(walk)), anchored_start=True, anchored_goal=True, horizon=N)
         traj = c.feasible(walk)
-        assert (traj is None) == c.refutes(whole)
+        assert (traj is None) == c.refutes(whole, cold=True) == c.refutes(whole)
         if traj is not None:
             assert validate(p, traj, require_segment_safe=True).ok
         for prefix in (0, N // 2, N):
             lits = tuple((t, walk[t]) for t in range(prefix + 1))
             claim = Conflict(lits, anchored_start=True, anchored_goal=False, horizon=N, last_time=N)
-            assert c.prefix_feasible(walk, prefix) == (not c.refutes(claim))
+            assert c.prefix_feasible(walk, prefix) == (not c.refutes(claim, cold=True)) == (not c.refutes(claim))
         out = g.check(walk)
         if isinstance(out, Feasible):
             assert traj is not None
             assert validate(p, out.trajectory, require_segment_safe=True).ok
         else:
-            assert traj is None and g.refutes(out)
+            assert traj is None and g.refutes(out, cold=True)
 
 
 def test_long_chains_skip_the_slack_lp_and_short_ones_keep_it() -> None:
@@ -81,7 +81,7 @@ def test_zeroprefix_without_slack_lp_finds_the_earliest_infeasible_prefix() -> N
     c = ConPlan(p, a, slack_lp=False)
     regions = (0,) * 20 + (1,) * 3 + (2,) * 30  # at the gap far too early
     out = c.check(regions)
-    assert isinstance(out, Conflict) and c.refutes(out)
+    assert isinstance(out, Conflict) and c.refutes(out, cold=True)
     k = max(t for t, _ in out.literals)
     assert not c.prefix_feasible(regions, k) and c.prefix_feasible(regions, k - 1)
 
@@ -128,7 +128,7 @@ def test_split_lps_agree_with_the_whole_lp(seed: int, order: int, dim: int) -> N
         if isinstance(out, Feasible):
             assert validate(p, out.trajectory, require_segment_safe=True).ok
         else:
-            assert whole.refutes(out) and split.refutes(out)
+            assert whole.refutes(out, cold=True) and split.refutes(out)
 
 
 def test_maze_chains_split_per_axis_and_polygons_do_not() -> None:

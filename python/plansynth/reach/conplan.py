@@ -379,6 +379,7 @@ class ConPlan:
         self.slack_slot = _Slot(self._new_highs())
         self.slot = _Slot(self._new_highs())
         self.span_slot = _Slot(self._new_highs())  # LPs over a conflict's time span
+        self.verify_slot = _Slot(self._new_highs())  # re-checks of conflicts (refutes)
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
         # independent blocks of the feasibility LPs (None: one block); by default split
         # long chains only (maze-4, order 25: one LP per axis, half the rows each, ~2x
@@ -386,14 +387,14 @@ class ConPlan:
         self.blocks = self._blocks()
         if split is None:
             split = self.n > 8
-        self.slot.splits = self.span_slot.splits = bool(split) and self.blocks is not None
+        self.slot.splits = self.span_slot.splits = self.verify_slot.splits = bool(split) and self.blocks is not None
         self._no_ray = False  # the last infeasible LP was decided outside the persistent model
         self._ray_part: int | None = None  # the split part of the last Farkas ray
         if self.n > 8:
             # long integrator chains (tiny coefficients dt^k/k!): equilibrate harder, cap
             # the simplex iterations (at about twice the row count per model, see _load)
             # and fall back to the interior-point method when stuck
-            for h in (self.slot.highs, self.span_slot.highs, self.slack_slot.highs, self.cold):
+            for h in (self.slot.highs, self.span_slot.highs, self.verify_slot.highs, self.slack_slot.highs, self.cold):
                 h.setOptionValue("simplex_iteration_limit", 5000)
                 h.setOptionValue("simplex_scale_strategy", 4)
                 # Devex pricing: dual steepest-edge weights are recomputed after every
@@ -768,12 +769,14 @@ class ConPlan:
 
     def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
                      anchored_start: bool = True, slack: bool = False,
-                     span: tuple[int, int] | None = None, part: int | None = None) -> np.ndarray | None:
+                     span: tuple[int, int] | None = None, part: int | None = None,
+                     slot: _Slot | None = None) -> np.ndarray | None:
         """Solve the LP of ``assignment`` over the states 0..N, or only over ``span``
         (first, last) in the span model (for conflicts: a smaller LP that claims no more).
         ``part``: in a split model, solve only that part (an infeasible answer holds for
         the whole LP; a feasible one is only that part's)."""
-        slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
+        if slot is None:
+            slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
         lay = self._frame(slot, *((0, N) if span is None else span))
         self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
         col = self._run_slot(slot, purpose, part)
@@ -913,6 +916,7 @@ class ConPlan:
         b = self.bounds(lay, plan, goal=True, anchored_start=True, slack=False)
         coo = self._matrix(lay, self._coef_for(lay, plan))
         self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        self._cap_cold(lay)
         col = self._run(self.cold, "plan")
         if col is not None:
             return Feasible(self._trajectory(lay, col))
@@ -1082,14 +1086,27 @@ class ConPlan:
         self.stats.rejected += 1
         return fallback
 
-    def refutes(self, c: Conflict) -> bool:
+    def refutes(self, c: Conflict, *, cold: bool = False) -> bool:
         """Is the LP of exactly what ``c`` claims infeasible? (states c.first_time ..
         c.last_time, the literals' region and segment rows, the goal and the start as
-        anchored)."""
-        # in the span model, warm-started from its frame: a cold solve of a long
-        # integrator chain costs seconds (the transit layer asks many of these)
-        return self._solve_model(c.last_time, dict(c.literals), "verify", goal=c.anchored_goal,
-                                 anchored_start=c.anchored_start, span=(c.first_time, c.last_time)) is None
+        anchored). By default in a persistent model (a window of its frame, split when
+        the LPs split, warm-started); ``cold``: a fresh LP of exactly that layout."""
+        assign = dict(c.literals)
+        if not cold:
+            col = self._solve_model(c.last_time, assign, "verify", goal=c.anchored_goal,
+                                    anchored_start=c.anchored_start, span=(c.first_time, c.last_time),
+                                    slot=self.verify_slot)
+            return col is None
+        lay = self.layout(c.first_time, c.last_time)
+        b = self.bounds(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start, slack=False)
+        coo = self._matrix(lay, self._coef_for(lay, assign))
+        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        self._cap_cold(lay)
+        return self._run(self.cold, "verify") is None
+
+    def _cap_cold(self, lay: _Layout) -> None:
+        if self.n > 8:  # as in _load: a cold run needs ~ a row count of simplex iterations
+            self.cold.setOptionValue("simplex_iteration_limit", max(5000, 2 * lay.n_row))
 
 
 # ---------------------------------------------------------------------------------
