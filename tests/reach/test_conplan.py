@@ -190,3 +190,26 @@ def test_stalled_simplex_falls_back_to_the_interior_point_method() -> None:
     assert c.stats.ipm_fallbacks > 0
     found = c.check((0, 0, 0, 0))
     assert isinstance(found, Feasible) and validate(p, found.trajectory, require_segment_safe=True).ok
+
+
+def test_a_trajectory_that_misses_the_dynamics_is_polished() -> None:
+    """Long chains can leave unscaled dynamics residuals of 1e-5 after a scaled simplex
+    run; CON-PLAN then re-solves the plan's LP tightly instead of reporting it."""
+    from plansynth.reach.conplan import POLISH_RESIDUAL
+    from plansynth.reach.lazy import plan_lazy
+    from plansynth.reach.trajectory import Trajectory
+    from plansynth.reach.validate import validate
+
+    p = maze(1)
+    ab = abstract(p)
+    regions = plan_lazy(p).regions
+    cp = ConPlan(p, ab)
+    good = cp.feasible(regions)
+    assert good is not None and cp.residual(good) <= POLISH_RESIDUAL
+    X = np.array(good.states, float)
+    X[1:, 2] += 3e-5  # velocities off the dynamics, as a sloppy LP answer would be
+    sloppy = Trajectory(states=X, inputs=np.array(good.inputs, float))
+    assert cp.residual(sloppy) > 1e-5 and not validate(p, sloppy).ok
+    fixed = cp._polished(regions, Feasible(sloppy)).trajectory
+    assert cp.residual(fixed) <= 1e-8 and validate(p, fixed, require_segment_safe=True).ok
+    assert cp.stats.polished == 1 and cp.stats.by_kind["polish"] == 1

@@ -203,6 +203,7 @@ def plan_lazy(
             rejected=st.rejected,
             lp_retries=st.retries,
             ipm_fallbacks=st.ipm_fallbacks,
+            polished=st.polished,
             slack_failures=st.slack_failures,
             horizon=out.horizon,
             minimal=out.minimal,
