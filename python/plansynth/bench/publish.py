@@ -101,8 +101,9 @@ def _limits_text(db: str | Path) -> str:
     for (kind, planner), by in sorted(limits.items()):
         parts.append(f"{kind} {planner}: " + ", ".join(f"{n} runs at {lim:g} s" for lim, n in sorted(by.items())))
     return ("Time limits of the recorded runs (each cell's own limit is the one shown): " + "; ".join(parts) + ". "
-            "One run at a time per sweep process; a grid and a reach sweep ran side by side on a 2-core machine "
-            "shared with other jobs (load average around 7), so times carry noise of tens of percent.")
+            "One run at a time per sweep process; up to two sweep processes ran side by side on a 2-core machine "
+            "shared with other jobs, so times carry noise of tens of percent (counts of LPs, SAT calls and "
+            "iterations do not).")
 
 
 def main() -> None:  # pragma: no cover - used to run one part in the background
