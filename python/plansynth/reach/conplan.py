@@ -74,9 +74,11 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import highspy
 import numpy as np
@@ -96,6 +98,8 @@ __all__ = [
     "zero_prefix",
     "step_reach",
     "physical_lower_bound",
+    "shape_box",
+    "box_steps",
     "time_windows",
     "TimeWindows",
     "COUNTEREXAMPLES",
@@ -310,6 +314,37 @@ class _Bounds:
     anchored_start: bool
 
 
+def _csc_lp(n_col: int, n_row: int, R: np.ndarray, C: np.ndarray, V: np.ndarray, cost: np.ndarray,
+            col_lo: np.ndarray, col_hi: np.ndarray, row_lo: np.ndarray, row_hi: np.ndarray) -> highspy.HighsLp:
+    """A HiGHS LP with the column-wise matrix of the COO entries (R, C, V)."""
+    order = np.lexsort((R, C))
+    starts = np.zeros(n_col + 1, dtype=np.int32)
+    np.cumsum(np.bincount(C, minlength=n_col), out=starts[1:])
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = n_col, n_row
+    lp.col_cost_ = cost
+    lp.col_lower_, lp.col_upper_ = col_lo, col_hi
+    lp.row_lower_, lp.row_upper_ = row_lo, row_hi
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = starts
+    lp.a_matrix_.index_ = R[order].astype(np.int32)
+    lp.a_matrix_.value_ = V[order]
+    return lp
+
+
+@contextmanager
+def _options(h: highspy.Highs, options: Mapping[str, Any]) -> Iterator[None]:
+    """Set HiGHS ``options`` on ``h`` for the duration of the block, then restore them."""
+    saved = {k: h.getOptionValue(k)[1] for k in options}
+    for k, v in options.items():
+        h.setOptionValue(k, v)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            h.setOptionValue(k, v)
+
+
 class ConPlan:
     """The theory solver of the lazy loop for one problem and abstraction.
 
@@ -468,18 +503,8 @@ class ConPlan:
             slot.col_local[cols] = np.arange(cols.size)
             mine = row_part[R] == p
             r, c, v = slot.row_local[R[mine]], slot.col_local[C[mine]], V[mine]
-            order = np.lexsort((r, c))
-            lp = highspy.HighsLp()
-            lp.num_col_, lp.num_row_ = int(cols.size), int(rows.size)
-            lp.col_cost_ = np.zeros(cols.size)
-            lp.col_lower_, lp.col_upper_ = b.col_lo[cols], b.col_hi[cols]
-            lp.row_lower_, lp.row_upper_ = b.row_lo[rows], b.row_hi[rows]
-            lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-            starts = np.zeros(cols.size + 1, dtype=np.int32)
-            np.cumsum(np.bincount(c, minlength=cols.size), out=starts[1:])
-            lp.a_matrix_.start_ = starts
-            lp.a_matrix_.index_ = r[order].astype(np.int32)
-            lp.a_matrix_.value_ = v[order]
+            lp = _csc_lp(int(cols.size), int(rows.size), r, c, v, np.zeros(cols.size), b.col_lo[cols],
+                         b.col_hi[cols], b.row_lo[rows], b.row_hi[rows])
             h = self._new_highs()
             h.passOptions(options)
             h.passModel(lp)
@@ -584,23 +609,14 @@ class ConPlan:
                 np.concatenate(vals).astype(float))
 
     def _lp(self, lay: _Layout, coo: tuple[np.ndarray, np.ndarray, np.ndarray], b: _Bounds, cost: np.ndarray) -> highspy.HighsLp:
-        R, C, V = coo
-        order = np.lexsort((R, C))
-        starts = np.zeros(lay.n_col + 1, dtype=np.int32)
-        np.cumsum(np.bincount(C, minlength=lay.n_col), out=starts[1:])
-        lp = highspy.HighsLp()
-        lp.num_col_ = lay.n_col
-        lp.num_row_ = lay.n_row
-        lp.col_cost_ = cost
-        lp.col_lower_ = b.col_lo
-        lp.col_upper_ = b.col_hi
-        lp.row_lower_ = b.row_lo
-        lp.row_upper_ = b.row_hi
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_ = starts
-        lp.a_matrix_.index_ = R[order].astype(np.int32)
-        lp.a_matrix_.value_ = V[order]
-        return lp
+        return _csc_lp(lay.n_col, lay.n_row, *coo, cost, b.col_lo, b.col_hi, b.row_lo, b.row_hi)
+
+    def _pass_cold(self, lay: _Layout, assignment: Mapping[int, int], *, goal: bool, anchored_start: bool) -> _Bounds:
+        """Put the feasibility LP of ``assignment`` over ``lay`` into the one-off model."""
+        b = self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=False)
+        coo = self._matrix(lay, self._coef_for(lay, assignment))
+        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        return b
 
     def _cost(self, lay: _Layout) -> np.ndarray:
         cost = np.zeros(lay.n_col)
@@ -741,17 +757,12 @@ class ConPlan:
                 lp = h.getLp()
                 h = self.cold
                 h.passModel(lp)
-                saved = {k: h.getOptionValue(k)[1] for k in fresh[attempt]}
-                for k, v in fresh[attempt].items():
-                    h.setOptionValue(k, v)
             if self.clock is not None:
                 # HiGHS compares time_limit with the instance's run time summed over runs
                 h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
-            h.run()
+            with _options(h, fresh.get(attempt, {})):
+                h.run()
             status = h.getModelStatus()
-            if attempt in fresh:
-                for k, v in saved.items():
-                    h.setOptionValue(k, v)
             if status in answers:
                 break
         self.stats.seconds += time.perf_counter() - t0
@@ -827,19 +838,12 @@ class ConPlan:
         answer with the smaller residual is kept."""
         if self.residual(found.trajectory) <= POLISH_RESIDUAL:
             return found
-        N = len(regions) - 1
-        plan = dict(enumerate(int(r) for r in regions))
-        lay = self.layout(0, N)
-        b = self.bounds(lay, plan, goal=True, anchored_start=True, slack=False)
-        coo = self._matrix(lay, self._coef_for(lay, plan))
+        lay = self.layout(0, len(regions) - 1)
+        self._pass_cold(lay, dict(enumerate(int(r) for r in regions)), goal=True, anchored_start=True)
         h = self.cold
-        h.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
         tight = {"presolve": "on", "simplex_scale_strategy": 0, "primal_feasibility_tolerance": 1e-10,
                  "dual_feasibility_tolerance": 1e-10, "simplex_iteration_limit": 2**31 - 1}
-        saved = {k: h.getOptionValue(k)[1] for k in tight}
-        for k, v in tight.items():
-            h.setOptionValue(k, v)
-        try:
+        with _options(h, tight):
             t0 = time.perf_counter()
             h.run()
             self.stats.seconds += time.perf_counter() - t0
@@ -848,9 +852,6 @@ class ConPlan:
             if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
                 return found
             again = self._trajectory(lay, np.asarray(h.getSolution().col_value))
-        finally:
-            for k, v in saved.items():
-                h.setOptionValue(k, v)
         self.stats.polished += 1
         return Feasible(again) if self.residual(again) < self.residual(found.trajectory) else found
 
@@ -962,9 +963,7 @@ class ConPlan:
         N = len(regions) - 1
         plan = dict(enumerate(regions))
         lay = self.layout(0, N)
-        b = self.bounds(lay, plan, goal=True, anchored_start=True, slack=False)
-        coo = self._matrix(lay, self._coef_for(lay, plan))
-        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        b = self._pass_cold(lay, plan, goal=True, anchored_start=True)
         self._cap_cold(lay)
         col = self._run(self.cold, "plan")
         if col is not None:
@@ -1148,9 +1147,7 @@ class ConPlan:
                                     anchored_start=c.anchored_start, span=(c.first_time, c.last_time))
             return col is None
         lay = self.layout(c.first_time, c.last_time)
-        b = self.bounds(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start, slack=False)
-        coo = self._matrix(lay, self._coef_for(lay, assign))
-        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        self._pass_cold(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start)
         self._cap_cold(lay)
         return self._run(self.cold, "verify") is None
 
@@ -1224,21 +1221,36 @@ def physical_lower_bound(problem: ReachProblem) -> int:
     26
     """
     down, up = step_reach(problem)
-    s = problem.start_position
-    g = problem.goal
-    g_lo, g_hi = (np.array(g.lo), np.array(g.hi)) if isinstance(g, Box) else (
-        np.min(g.vertices, axis=0), np.max(g.vertices, axis=0))
-    bound = 0
-    for a in range(len(s)):
-        need_up, need_down = g_lo[a] - s[a], s[a] - g_hi[a]
-        for need, reach in ((need_up, up[a]), (need_down, down[a])):
-            if need > 0:
-                if reach <= 0:
+    s = np.asarray(problem.start_position, dtype=float)
+    return box_steps((s, s), shape_box(problem.goal), down, up)
+
+
+def shape_box(shape: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The bounding box (lo, hi) of a :class:`Box` or a polygon."""
+    if isinstance(shape, Box):
+        return np.asarray(shape.lo, dtype=float), np.asarray(shape.hi, dtype=float)
+    return _box_of(np.asarray(shape.vertices))
+
+
+def box_steps(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray],
+              down: Sequence[float], up: Sequence[float]) -> int:
+    """The fewest steps from a position in box ``a`` to one in box ``b`` when a step moves
+    at most ``down[i]``/``up[i]`` along axis i (1 << 30: some axis cannot move that way).
+
+    >>> box_steps((np.zeros(2), np.zeros(2)), (np.array([3.0, -1.0]), np.array([4.0, 1.0])), [1, 1], [1.5, 1])
+    2
+    """
+    (alo, ahi), (blo, bhi) = a, b
+    need = 0
+    for ax in range(len(alo)):
+        for dist, reach in ((blo[ax] - ahi[ax], up[ax]), (alo[ax] - bhi[ax], down[ax])):
+            if dist > 0:
+                if not reach > 0:
                     return 1 << 30  # cannot move that way at all
                 if math.isfinite(reach):
                     # shave the LP's tolerance off before rounding up
-                    bound = max(bound, math.ceil(need / reach * (1 - 1e-9) - 1e-9))
-    return bound
+                    need = max(need, math.ceil(dist / reach * (1 - 1e-9) - 1e-9))
+    return need
 
 
 @dataclass(frozen=True)
@@ -1345,8 +1357,7 @@ def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) ->
     boxes = [_box_of(r.vertices) for r in abstraction.regions]
     adjacency = abstraction.adjacency
     s = np.asarray(problem.start_position, dtype=float)
-    g = problem.goal
-    g_lo, g_hi = (np.array(g.lo), np.array(g.hi)) if isinstance(g, Box) else _box_of(np.array(g.vertices))
+    g_lo, g_hi = shape_box(problem.goal)
     down_f = np.where(np.isfinite(down), down, 1e300)
     up_f = np.where(np.isfinite(up), up, 1e300)
     # tolerance: the LP of step_reach and the region boxes are floating point

@@ -36,15 +36,13 @@ theory (CON-PLAN) unchanged, so this layer only saves work; it never decides fea
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
 
-from plansynth.reach.conplan import ConPlan, Feasible, step_reach
+from plansynth.reach.conplan import ConPlan, Feasible, box_steps, shape_box, step_reach
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.displan import Conflict
-from plansynth.reach.problem import Box
 
 __all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
 
@@ -78,9 +76,7 @@ class TransitCheck:
                       for i, r in enumerate(abstraction.regions)}
         s = np.asarray(problem.start_position, float)
         self.boxes[START] = (s, s)
-        g = problem.goal
-        self.boxes[GOAL] = (np.array(g.lo, float), np.array(g.hi, float)) if isinstance(g, Box) else (
-            np.min(np.asarray(g.vertices, float), axis=0), np.max(np.asarray(g.vertices, float), axis=0))
+        self.boxes[GOAL] = shape_box(problem.goal)
         self._first: dict[tuple[int, int], int] = {}
         self._reported: set[tuple[int, int]] = set()
         self.conflicts = 0
@@ -91,17 +87,7 @@ class TransitCheck:
     # ---------------------------------------------------------------- gap bounds
     def box_gap(self, a: int, b: int) -> int:
         """The fewest steps of leg (a, b) that the displacement bounds allow."""
-        (alo, ahi), (blo, bhi) = self.boxes[a], self.boxes[b]
-        need = 0
-        for ax in range(len(alo)):
-            for dist, reach in ((blo[ax] - ahi[ax], self.step_up[ax]), (alo[ax] - bhi[ax], self.step_down[ax])):
-                if dist > 0:
-                    if not reach > 0:
-                        return 1 << 30
-                    if math.isfinite(reach):
-                        # shave the LP's tolerance off before rounding up (as physical_lower_bound)
-                        need = max(need, math.ceil(dist / reach * (1 - 1e-9) - 1e-9))
-        return need
+        return box_steps(self.boxes[a], self.boxes[b], self.step_down, self.step_up)
 
     def first_gap(self, a: int, b: int) -> int:
         """The smallest gap of leg (a, b) not proved impossible: the box bound, then one
