@@ -6,10 +6,12 @@ from __future__ import annotations
 import highspy
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from plansynth.reach.conplan import ConPlan, Feasible
 from plansynth.reach.decompose import abstract
-from plansynth.reach.families import maze
+from plansynth.reach.families import maze, random_workspace
 from plansynth.reach.lazy import plan_lazy
 from plansynth.reach.problem import ReachProblem, halfspaces
 from plansynth.reach.transit import GOAL, START, TransitCheck
@@ -110,3 +112,46 @@ def test_feasible_plans_pass_through_to_conplan() -> None:
     r = plan_lazy(p)
     tc = TransitCheck(ConPlan(p, ab), ab)
     assert isinstance(tc.check(r.regions), Feasible)
+
+
+def test_a_slow_chain_leaving_its_resting_start_is_bisected_exactly() -> None:
+    # an order-8 chain needs far more steps into the first gap than the box bound says;
+    # from a start at rest the leg is monotone, so galloping + bisection finds the first
+    # feasible gap with fewer LPs than the scan, and every smaller gap is infeasible
+    p = maze(1, order=8)
+    ab = abstract(p)
+    tc = TransitCheck(ConPlan(p, ab), ab)
+    assert tc.start_at_rest
+    box, first = tc.box_gap(START, 1), tc.first_gap(START, 1)
+    assert first - box >= 8
+    assert tc.lp_calls < first - box + 1
+    for k in range(box, first):
+        assert not leg_feasible(p, ab.regions, START, 1, k), f"gap {k} is feasible"
+    assert leg_feasible(p, ab.regions, START, 1, first)
+
+
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 10_000))
+def test_monotone_start_legs_agree_with_the_linear_scan(seed: int) -> None:
+    p = random_workspace(seed, 3, polygons=False, order=2, dt=0.5)
+    ab = abstract(p)
+    fast = TransitCheck(ConPlan(p, ab), ab)
+    slow = TransitCheck(ConPlan(p, ab), ab)
+    slow.start_at_rest = False  # the scan, one LP per gap
+    for b in range(len(ab.regions)):
+        assert fast.first_gap(START, b) == slow.first_gap(START, b)
+    assert fast.lp_calls <= slow.lp_calls
+
+
+def test_a_moving_start_is_not_treated_as_monotone() -> None:
+    p = maze(1)
+    moving = ReachProblem(workspace=p.workspace, obstacles=p.obstacles, goal=p.goal, dynamics=p.dynamics,
+                          start=np.array([1.0, 1.0, 1.0, 0.5]), input_bound=p.input_bound,
+                          state_bounds=p.state_bounds, name="moving")
+    ab = abstract(moving)
+    tc = TransitCheck(ConPlan(moving, ab), ab)
+    assert not tc.start_at_rest
+    first = tc.first_gap(START, 1)
+    for k in range(tc.box_gap(START, 1), first):
+        assert not leg_feasible(moving, ab.regions, START, 1, k)
+    assert leg_feasible(moving, ab.regions, START, 1, first)

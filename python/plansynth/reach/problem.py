@@ -332,6 +332,14 @@ class ReachProblem:
     def start_position(self) -> np.ndarray:
         return self.start[list(self.dynamics.position)]
 
+    @property
+    def starts_at_rest(self) -> bool:
+        """Is the start an equilibrium (``A x_0 = x_0``, so that u = 0 keeps the robot
+        there)? Then whatever the robot can do from the start it can also do later, after
+        waiting: start-anchored facts hold shifted earlier."""
+        A = np.asarray(self.dynamics.A, float)
+        return bool(np.allclose(A @ self.start, self.start, rtol=0.0, atol=1e-12))
+
     def position_of(self, states: np.ndarray) -> np.ndarray:
         """Workspace coordinates of one state or of a (T x n) array of states."""
         return np.asarray(states)[..., list(self.dynamics.position)]

@@ -13,6 +13,11 @@ questions without the horizon-long LPs:
 * ``lp`` gaps: just above the box bound, the two-literal LP "p_0 in X, p_k in Y"
   (dynamics, input and state bounds, segment rows as CON-PLAN writes them) decides gap
   k exactly; gaps are scanned upwards until the first feasible one, once per pair.
+  Legs out of a start state at rest (``A x_0 = x_0``) are monotone: a robot that can
+  reach Y in k steps can wait one step at the start (u = 0) and reach it in k + 1. Their
+  first feasible gap is found by galloping and bisection, a handful of LPs where a
+  slow chain needs dozens of steps (maze-4, order 25: 58 steps into the first gap,
+  box bound 26), and every smaller gap is impossible by that argument.
 
 Every conflict reported is the statement "X at t1 and Y at t2 is impossible", which
 uses neither the start nor the goal, so DIS-PLAN adds it at every time shift. All of a
@@ -77,6 +82,8 @@ class TransitCheck:
         s = np.asarray(problem.start_position, float)
         self.boxes[START] = (s, s)
         self.boxes[GOAL] = shape_box(problem.goal)
+        # the start is an equilibrium: legs out of it are monotone in the gap
+        self.start_at_rest = problem.starts_at_rest
         self._first: dict[tuple[int, int], int] = {}
         self._reported: set[tuple[int, int]] = set()
         self.conflicts = 0
@@ -91,17 +98,46 @@ class TransitCheck:
 
     def first_gap(self, a: int, b: int) -> int:
         """The smallest gap of leg (a, b) not proved impossible: the box bound, then one
-        LP per gap upwards until a feasible one (at most ``REFINE_SPAN`` LPs)."""
+        LP per gap upwards until a feasible one (at most ``REFINE_SPAN`` LPs); from a
+        start at rest, galloping and bisection over the same range (monotone legs)."""
         key = (a, b)
         if key not in self._first:
-            k = max(self.box_gap(a, b), 1)
-            for _ in range(REFINE_SPAN):
-                self.lp_calls += 1
-                if not self.inner.refutes(self.leg(a, b, k, N=k)):
-                    break
-                k += 1
-            self._first[key] = k
+            box = max(self.box_gap(a, b), 1)
+            if a == START and self.start_at_rest:
+                self._first[key] = self._first_monotone(b, box)
+            else:
+                k = box
+                for _ in range(REFINE_SPAN):
+                    if not self._impossible_lp(a, b, k):
+                        break
+                    k += 1
+                self._first[key] = k
         return self._first[key]
+
+    def _impossible_lp(self, a: int, b: int, k: int) -> bool:
+        self.lp_calls += 1
+        return self.inner.refutes(self.leg(a, b, k, N=k))
+
+    def _first_monotone(self, b: int, box: int) -> int:
+        """``first_gap(START, b)`` for a start at rest: the gaps box..box+REFINE_SPAN-1
+        are infeasible up to some gap and feasible from there on, so the first feasible
+        one is found by galloping (box, box+2, box+6, box+14, ...) and bisection."""
+        top = box + REFINE_SPAN  # "not proved impossible" when every gap below is
+        low, step = box - 1, 1  # low: the largest gap known impossible
+        high = top
+        while low + 1 < top:
+            k = min(low + step, top - 1)
+            if not self._impossible_lp(START, b, k):
+                high = k
+                break
+            low, step = k, 2 * step
+        while low + 1 < high:
+            k = (low + high) // 2
+            if self._impossible_lp(START, b, k):
+                low = k
+            else:
+                high = k
+        return high
 
     def impossible(self, a: int, b: int, gap: int) -> bool:
         """Is leg (a, b) in ``gap`` steps impossible? (LPs only for gaps near the box bound.)"""
