@@ -197,3 +197,32 @@ def test_a_window_below_the_first_horizon_is_refused() -> None:
         d.solve(3)
         with pytest.raises(ValueError):
             d.solve(4, lowest=2)
+
+
+def test_a_preferred_plan_is_proposed_whole_at_its_horizon() -> None:
+    """Phases only steer: in a window, a preferred plan that satisfies every clause comes
+    back as it is (its horizon first, not the window's shortest), and one that breaks a
+    clause does not; without a preference the window's shortest plan comes first."""
+    with DisPlan(line_graph()) as d:
+        outcome, plan = d.solve(6, lowest=2)
+        assert outcome is SatOutcome.SAT and plan == (0, 1, 2)
+    with DisPlan(line_graph()) as d:
+        d.solve(2)
+        d.close(2)
+        d.prefer((0, 0, 0, 1, 1, 2, 2))
+        assert d.solve(6, lowest=3) == (SatOutcome.SAT, (0, 0, 0, 1, 1, 2, 2))
+        d.learn(Conflict(((3, 1),), anchored_start=True, anchored_goal=False, horizon=6))
+        outcome, plan = d.solve(6, lowest=3)
+        assert outcome is SatOutcome.SAT and plan is not None and plan[3] != 1
+
+
+@pytest.mark.parametrize("goal", [False, True])
+def test_a_robot_that_can_wait_at_its_start_shifts_start_anchored_conflicts_earlier(goal: bool) -> None:
+    """Region 1 at time 2 is impossible from the start (and, with ``goal``, in plans of
+    horizon 3); a robot that can wait at the start could otherwise have been in region 1
+    at time 1 (in a plan of horizon 2), so that is impossible too."""
+    for waits in (False, True):
+        with DisPlan(line_graph(), waits_at_start=waits) as d:
+            d.learn(Conflict(((2, 1),), anchored_start=True, anchored_goal=goal, horizon=3))
+            assert (d.plan(2) is None) == waits  # (0, 1, 2) has region 1 at time 1
+            assert d.plan(4) is not None  # (0, 0, 0, 1, 2): region 1 only later

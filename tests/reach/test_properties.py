@@ -116,17 +116,19 @@ def walks(ab: Abstraction, N: int) -> Iterator[tuple[int, ...]]:
         yield from extend((s,))
 
 
-def excludes(c: Conflict, walk: tuple[int, ...]) -> bool:
-    """Does the clause of ``c``, as DIS-PLAN instantiates it, exclude ``walk``?"""
+def excludes(c: Conflict, walk: tuple[int, ...], waits: bool = False) -> bool:
+    """Does the clause of ``c``, as DIS-PLAN instantiates it, exclude ``walk``? (``waits``:
+    DIS-PLAN also adds start-anchored conflicts shifted earlier.)"""
     H = len(walk) - 1
 
     def matches(shift: int) -> bool:
         return all(0 <= t + shift <= H and walk[t + shift] == r for t, r in c.literals)
 
+    earlier = range(-min((t for t, _ in c.literals), default=0), 1) if waits else (0,)
     if c.anchored_start and c.anchored_goal:
-        return H == c.horizon and matches(0)
+        return any(H == c.horizon + s and matches(s) for s in earlier)
     if c.anchored_start:
-        return H >= c.last_time and matches(0)
+        return any(H >= c.last_time + s and matches(s) for s in earlier)
     if c.anchored_goal:
         shift = H - c.horizon
         return c.first_time + shift >= 0 and matches(shift)
@@ -154,8 +156,8 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
         DisPlan.learn = original  # type: ignore[method-assign]
     checked = 0
     for c in learned:
-        for H in range(c.horizon, top + 1):
-            excluded = [w for w in itertools.islice(walks(ab, H), 3000) if excludes(c, w)]
+        for H in range(0, top + 1):
+            excluded = [w for w in itertools.islice(walks(ab, H), 3000) if excludes(c, w, p.starts_at_rest)]
             for w in excluded[:12]:
                 assert not oracle_feasible(p, ab, w, segment_safe), f"clause {c} excludes the feasible {w}"
                 checked += 1

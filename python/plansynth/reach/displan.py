@@ -29,7 +29,9 @@ a clause whose proof needs the states up to time T, which holds only for plans o
 horizon >= T, is guarded by ``before[T]`` ("the plan ends before T"), a literal that a
 chain of clauses allows only when some ``act[h]`` with h < T is true. With one horizon
 at a time (the paper's loop) every horizon below the one tried is closed and the guards
-are never needed.
+are never needed. Within a window the solver tries short plans first, unless a plan was
+passed to :meth:`DisPlan.prefer`: then its horizon comes first, so that the phases
+describe one whole plan (the lazy loop times its reference plan to the window's top).
 
 >>> g = RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(2,))
 >>> d = DisPlan(g)
@@ -125,7 +127,8 @@ class Conflict:
 
     The flags say which fixed ends the proof used, and therefore where the clause holds:
 
-    * ``anchored_start`` (the proof uses x_0 = start): at the given absolute times;
+    * ``anchored_start`` (the proof uses x_0 = start): at the given absolute times, and
+      earlier when the robot can wait at its start (``DisPlan(waits_at_start=True)``);
       otherwise at every time shift (the dynamics are time-invariant).
     * ``anchored_goal`` (the proof uses "p_L in the goal"): only for plans whose horizon
       is ``horizon`` (shifted along with the goal when not start-anchored).
@@ -182,6 +185,7 @@ class DisPlan:
         cardinality: str = "auto",
         earliest: Sequence[float] | None = None,
         to_go: Sequence[float] | None = None,
+        waits_at_start: bool = False,
     ) -> None:
         if cardinality == "auto":
             cardinality = "pairwise" if graph.n_regions <= 8 else "seqcounter"
@@ -198,6 +202,9 @@ class DisPlan:
         self.goal_added: set[int] = set()
         self.closed: set[int] = set()
         self.conflicts: list[Conflict] = []
+        self.preferred: int | None = None  # the horizon of the plan last passed to prefer()
+        self.waits_at_start = bool(waits_at_start)
+        self._learned: set[tuple] = set()  # clauses added, against shifted duplicates
         self.sat_calls = 0
         self.clauses = 0
         self.sat_clauses_encoding = 0
@@ -316,8 +323,25 @@ class DisPlan:
             short = self.before(c.last_time + shift)
             if short is not None:
                 clause.append(short)
+        key = tuple(sorted(clause))
+        if key in self._learned:
+            return
+        self._learned.add(key)
         self._add(clause)
         self.clauses += 1
+
+    def _rest_shifts(self, c: Conflict) -> range:
+        """The shifts at which a start-anchored conflict holds: 0, and with
+        ``waits_at_start`` every earlier shift that keeps its literals at times >= 0
+        (a trajectory for the shifted claims, preceded by that many steps of waiting at
+        the start, would realise the conflict itself; with the goal anchored, the
+        horizon moves along, down to the first horizon tried)."""
+        if not self.waits_at_start or not c.literals:
+            return range(0, -1, -1)
+        lowest = min(t for t, _ in c.literals)
+        if c.anchored_goal and self.floor is not None:
+            lowest = min(lowest, c.horizon - self.floor)
+        return range(0, -lowest - 1, -1)
 
     def _instantiate_goal(self, c: Conflict, horizon: int) -> None:
         shift = horizon - c.horizon
@@ -337,10 +361,12 @@ class DisPlan:
         c = conflict
         if c.anchored_start and not c.anchored_goal:
             self._extend(c.last_time)
-            self._clause(c, 0, None)
+            for shift in self._rest_shifts(c):
+                self._clause(c, shift, None)
         elif c.anchored_start and c.anchored_goal:
             self._extend(c.horizon)
-            self._clause(c, 0, self.act(c.horizon))
+            for shift in self._rest_shifts(c):
+                self._clause(c, shift, self.act(c.horizon + shift))
         elif c.anchored_goal:
             for horizon in sorted(self.goal_added):
                 if horizon not in self.closed:
@@ -385,8 +411,9 @@ class DisPlan:
             select = self.pool.id(("window", lo, horizon))
             self._add([-select] + [self.act(h) for h in window])
             assumptions = [select]
-            # prefer short plans: every activation literal is tried false first
-            self.solver.set_phases([-self.act(h) for h in window])
+            # the preferred plan's horizon first (its phases describe a plan ending
+            # there); without one, short plans: every activation literal false first
+            self.solver.set_phases([self.act(h) if h == self.preferred else -self.act(h) for h in window])
         # open horizons below the window are not part of this question
         assumptions += [-self.act(h) for h in range(self.floor, lo) if h not in self.closed]
         while True:
@@ -418,8 +445,10 @@ class DisPlan:
 
     def prefer(self, plan: Sequence[int]) -> None:
         """Set the SAT solver's decision phases to ``plan`` (r_0..r_h): b[t, plan[t]]
-        true, the other regions false. Only a hint; no answer depends on it."""
+        true, the other regions false, and the plan ending at h (a window that contains h
+        tries h first). Only a hint; no answer depends on it."""
         H = len(plan) - 1
+        self.preferred = H
         self._extend(H)
         phases = [self.at(t, i) if i == r else -self.at(t, i) for t, r in enumerate(plan) for i in range(self.graph.n_regions)]
         if self.floor is not None:  # ... and ending at H, not before
