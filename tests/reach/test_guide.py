@@ -7,7 +7,7 @@ import pytest
 from plansynth.reach.decompose import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, maze
-from plansynth.reach.guide import reference_plan, route
+from plansynth.reach.guide import departure, reference_plan, route
 from plansynth.reach.lazy import plan_lazy
 from plansynth.reach.problem import Box, ReachProblem
 from plansynth.reach.validate import validate
@@ -40,3 +40,25 @@ def test_guidance_changes_the_search_not_the_answer(guided: bool) -> None:
     assert r.status.value == "found" and r.counters["minimal"] is True
     assert validate(p, r.trajectory, require_segment_safe=True).ok
     assert r.horizon == plan_lazy(p, guided=not guided, horizon_search="linear").horizon
+
+
+@pytest.mark.parametrize("depart", [40, 55])
+def test_depart_holds_the_first_leg_back_and_keeps_the_route(depart: int) -> None:
+    p = maze(2)
+    ab = abstract(p)
+    path = route(p, ab)
+    even = reference_plan(p, ab, 90)
+    held = reference_plan(p, ab, 90, depart=depart)
+    assert even.index(path[1]) < depart  # constant speed would enter earlier
+    assert held.index(path[1]) == depart
+    assert held[0] in ab.start_regions and held[-1] in ab.goal_regions
+    assert all(b == a or b in ab.adjacency[a] for a, b in zip(held, held[1:]))
+    assert [r for i, r in enumerate(held) if i == 0 or r != held[i - 1]] == path
+
+
+def test_depart_never_rushes_the_first_leg() -> None:
+    p = maze(2)
+    ab = abstract(p)
+    even = reference_plan(p, ab, 90)
+    assert reference_plan(p, ab, 90, depart=2) == even
+    assert departure(20) == 21 and departure(58) == 61

@@ -92,7 +92,7 @@ def _result_table(result: Any) -> Table:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
         table.add_row("LP calls by kind", ", ".join(f"{k} {v}" for k, v in c["lp_calls_by_kind"].items()))
-    phases = [k for k in ("abstraction", "bounds", "sat", "lp", "milp", "validate") if k in t]
+    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate") if k in t]
     table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
     table.add_row("total time", f"{result.seconds:.3f} s")
     if result.validated is not None:

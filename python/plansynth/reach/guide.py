@@ -10,6 +10,15 @@ from the start position to the goal's centre), travelled at constant speed so th
 ends exactly at the horizon, and sampled at every step (on the leg between two region
 centres, the next region once the point lies in it).
 
+A robot that starts at rest cannot keep that constant speed on its first leg: a long
+integrator chain needs many steps to accelerate (maze-4, order 25: 58 steps to the first
+gap, where constant speed allots 38 of 191), and one that arrives in the fewest steps
+arrives too fast to turn. ``depart`` therefore sets when the reference enters the
+route's second region; the lazy loop passes the fewest steps the transit layer proved
+for that leg, plus :data:`DEPART_SLACK` (5%), and the rest of the route is travelled at
+constant speed in the remaining steps. The reference is only ever held back by it,
+never rushed.
+
 Phases are only hints: the solver still returns a sequence that satisfies every
 clause, the reference need not be a valid plan, and no answer depends on it.
 
@@ -25,13 +34,16 @@ from __future__ import annotations
 
 import heapq
 import math
+from typing import Any
 
 import numpy as np
 
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.problem import Box, ReachProblem
 
-__all__ = ["reference_plan", "route"]
+__all__ = ["reference_plan", "route", "departure", "DEPART_SLACK"]
+
+DEPART_SLACK = 0.05  # the first leg takes this much longer than its fewest steps
 
 
 def _goal_center(problem: ReachProblem) -> np.ndarray:
@@ -76,10 +88,27 @@ def route(problem: ReachProblem, abstraction: Abstraction) -> list[int] | None:
     return path[::-1]
 
 
-def reference_plan(problem: ReachProblem, abstraction: Abstraction, horizon: int) -> tuple[int, ...] | None:
-    """The route travelled at constant speed, sampled at steps 0..horizon (see the module
-    docstring); None when there is no route."""
-    path = route(problem, abstraction)
+def departure(first_leg_steps: int, slack: float = DEPART_SLACK) -> int:
+    """The ``depart`` step for a first leg proved to need ``first_leg_steps``.
+
+    >>> departure(58)
+    61
+    """
+    return math.ceil((1.0 + slack) * first_leg_steps)
+
+
+def reference_plan(
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    horizon: int,
+    *,
+    depart: int | None = None,
+    path: list[int] | None = None,
+) -> tuple[int, ...] | None:
+    """The route (``path``, default :func:`route`) travelled at constant speed, sampled at
+    steps 0..horizon (see the module docstring); with ``depart``, the route's second
+    region is entered no earlier than that step. None when there is no route."""
+    path = route(problem, abstraction) if path is None else path
     if path is None:
         return None
     regions = abstraction.regions
@@ -90,16 +119,43 @@ def reference_plan(problem: ReachProblem, abstraction: Abstraction, horizon: int
     seg = [float(np.linalg.norm(b - a)) for a, b in zip(points, points[1:])]
     total = sum(seg) or 1.0
     cum = np.concatenate([[0.0], np.cumsum(seg)]) / total
+
+    def point(s: float) -> tuple[int, np.ndarray]:
+        """The leg and the point at route fraction s."""
+        w = min(max(int(np.searchsorted(cum, s, side="right")) - 1, 0), len(points) - 2)
+        frac = 1.0 if seg[w] == 0 else min(max((s - cum[w]) * total / seg[w], 0.0), 1.0)
+        return w, points[w] + frac * (points[w + 1] - points[w])
+
+    # time warp: route fraction s(t), linear; with depart, linear in two pieces that
+    # meet where the first leg enters the route's second region
+    knot = (0.0, 0)
+    if depart is not None and len(path) > 1 and 0 < depart < horizon:
+        s1 = _entry_fraction(regions[path[1]], points[0], points[1], seg[0] / total)
+        if s1 * horizon < depart:  # constant speed would enter earlier: hold it back
+            knot = (s1, depart)
+
+    def fraction(t: int) -> float:
+        s1, t1 = knot
+        if t1 and t <= t1:
+            return s1 * t / t1
+        return s1 + (1.0 - s1) * (t - t1) / (horizon - t1) if horizon > t1 else 1.0
+
     plan = []
     k = 0  # index into path of the current region; it moves on by at most one per step
     for t in range(horizon + 1):
-        s = t / horizon if horizon else 1.0
-        w = min(max(int(np.searchsorted(cum, s, side="right")) - 1, 0), len(points) - 2)
-        frac = 1.0 if seg[w] == 0 else min(max((s - cum[w]) * total / seg[w], 0.0), 1.0)
-        p = points[w] + frac * (points[w + 1] - points[w])
+        w, p = point(fraction(t))
         # on the leg from path[w] to path[w + 1]: the next region once the point is in it
         nxt = min(w + 1, len(path) - 1)
         target = nxt if regions[path[nxt]].contains(p, tol=1e-9) else w
         k = min(k + 1, max(k, target))
         plan.append(path[k])
     return tuple(plan)
+
+
+def _entry_fraction(region: Any, a: np.ndarray, b: np.ndarray, length: float, samples: int = 256) -> float:
+    """The route fraction at which the segment a -> b (of route fraction ``length``)
+    first enters ``region`` (sampled; ``length`` when it never does)."""
+    for j in range(samples + 1):
+        if region.contains(a + (j / samples) * (b - a), tol=1e-9):
+            return length * j / samples
+    return length
