@@ -121,16 +121,15 @@ class TransitCheck:
     def _first_monotone(self, b: int, box: int) -> int:
         """``first_gap(START, b)`` for a start at rest: the gaps box..box+REFINE_SPAN-1
         are infeasible up to some gap and feasible from there on, so the first feasible
-        one is found by galloping (box, box+2, box+6, box+14, ...) and bisection."""
+        one is found by galloping (box, box+1, box+3, box+7, ...) and bisection."""
         top = box + REFINE_SPAN  # "not proved impossible" when every gap below is
-        low, step = box - 1, 1  # low: the largest gap known impossible
-        high = top
-        while low + 1 < top:
-            k = min(low + step, top - 1)
-            if not self._impossible_lp(START, b, k):
-                high = k
+        low = high = box - 1  # low: the largest gap known impossible; high: feasible
+        step = 1
+        while high < top:
+            high = min(box + step - 1, top)
+            if high == top or not self._impossible_lp(START, b, high):
                 break
-            low, step = k, 2 * step
+            low, step = high, 2 * step
         while low + 1 < high:
             k = (low + high) // 2
             if self._impossible_lp(START, b, k):
