@@ -113,17 +113,17 @@ def test_options_reach_the_planner(tmp_path: Path) -> None:
 def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
     out = tmp_path / "r.json"
     r = runner.invoke(app, ["reach", "solve", str(maze1), "--horizon-search", "linear", "--no-transit", "--no-guide",
-                            "--widen", "--window-growth", "0.5", "--out", str(out)])
+                            "--widen", "--window-growth", "0.5", "--no-wait-shifts", "--out", str(out)])
     assert r.exit_code == 0, r.output
     assert "(proved minimal)" in r.output
     opts = json.loads(out.read_text())["options"]
-    assert (opts["horizon_search"], opts["transit"], opts["guided"], opts["widen"], opts["window_growth"]) == (
-        "linear", False, False, True, 0.5)
+    assert (opts["horizon_search"], opts["transit"], opts["guided"], opts["widen"], opts["window_growth"],
+            opts["wait_shifts"]) == ("linear", False, False, True, 0.5, False)
     r = runner.invoke(app, ["reach", "solve", str(maze1), "--paper", "--out", str(out)])
     assert r.exit_code == 0, r.output
     opts = json.loads(out.read_text())["options"]
     assert opts["counterexample"] == "zeroprefix" and opts["generalize"] is False and opts["horizon_search"] == "linear"
-    assert opts["transit"] is False and opts["slack_weights"] == "uniform"
+    assert opts["transit"] is False and opts["slack_weights"] == "uniform" and opts["wait_shifts"] is False
 
 
 def test_bad_options_exit_2(maze1: Path) -> None:

@@ -122,6 +122,7 @@ def solve_command(
     window_growth: float = typer.Option(0.25, "--window-growth", help="lazy-smt, window search: each window is this fraction longer than its start."),
     transit: bool = typer.Option(True, "--transit/--no-transit", help="lazy-smt: refute plans with impossible transit times before CON-PLAN."),
     guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
+    wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
     widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
     paper: bool = typer.Option(False, "--paper", help="lazy-smt: the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); overrides the options above."),
 ) -> None:
@@ -151,7 +152,7 @@ def solve_command(
             raise typer.BadParameter("must be positive", param_hint="--window-growth")
         options.update(counterexample=counterexample, generalize=generalize, minimize=minimize,
                        horizon_search=horizon_search, window_growth=window_growth, transit=transit, guided=guided,
-                       widen=widen)
+                       widen=widen, wait_shifts=wait_shifts)
         if paper:
             options.update(PAPER)
     try:
