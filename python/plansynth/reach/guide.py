@@ -34,11 +34,10 @@ from __future__ import annotations
 
 import heapq
 import math
-from typing import Any
 
 import numpy as np
 
-from plansynth.reach.decompose import Abstraction
+from plansynth.reach.decompose import Abstraction, Region
 from plansynth.reach.problem import Box, ReachProblem
 
 __all__ = ["reference_plan", "route", "departure", "DEPART_SLACK"]
@@ -152,7 +151,7 @@ def reference_plan(
     return tuple(plan)
 
 
-def _entry_fraction(region: Any, a: np.ndarray, b: np.ndarray, length: float, samples: int = 256) -> float:
+def _entry_fraction(region: Region, a: np.ndarray, b: np.ndarray, length: float, samples: int = 256) -> float:
     """The route fraction at which the segment a -> b (of route fraction ``length``)
     first enters ``region`` (sampled; ``length`` when it never does)."""
     for j in range(samples + 1):

@@ -254,13 +254,14 @@ def _guide(
     path = route(problem, abstraction)
     if path is None:
         return None
-    depart: list[int | None] = []
+    held = transit is not None and len(path) > 1
+    depart: int | None = None
 
     def plan(L: int) -> Sequence[int] | None:
-        if not depart:
-            first_leg = transit.first_gap(START, path[1]) if transit is not None and len(path) > 1 else None
-            depart.append(None if first_leg is None else departure(first_leg))
-        return reference_plan(problem, abstraction, L, depart=depart[0], path=path)
+        nonlocal depart
+        if held and depart is None:
+            depart = departure(transit.first_gap(START, path[1]))
+        return reference_plan(problem, abstraction, L, depart=depart, path=path)
 
     return plan
 
