@@ -1,39 +1,99 @@
 """The ``plansynth`` command: a thin shell over the API (STYLE.md, point 12).
 
 Each half of the toolkit owns its sub-command group in its own ``cli`` module; this
-module only assembles them.
+module only assembles them, and imports a group only when its sub-command runs (or its
+own ``--help`` is asked for). So ``plansynth --version`` and ``plansynth --help`` load
+neither half (no highspy, shapely, matplotlib, cvc5 or pysat), and ``plansynth grid ...``
+does not load the reach half. A new group is one line of :data:`GROUPS`.
 """
 
 from __future__ import annotations
 
-import typer
+import importlib
+from typing import Any, Optional
 
-from plansynth.bench.cli import app as bench_app
-from plansynth.grid.cli import app as grid_app
-from plansynth.reach.cli import app as reach_app
+import click
+import typer
+from typer.core import TyperGroup
+
+#: The sub-command groups: name -> (module holding a Typer ``app``, one-line help).
+GROUPS: dict[str, tuple[str, str]] = {
+    "grid": ("plansynth.grid.cli", "Reactive grid controllers (Chasins & Newcomb, SYNT 2016)."),
+    "reach": ("plansynth.reach.cli", "Reach-avoid planning with linear dynamics (Shoukry et al., CDC 2016)."),
+    "bench": ("plansynth.bench.cli", "Benchmarks: both papers' evaluations side by side with peers."),
+}
+
+
+class LazyGroup(TyperGroup):
+    """A Typer group whose sub-groups (:data:`GROUPS`) are imported on first use.
+
+    Listing them (``plansynth --help``) shows their one-line help without importing them.
+    """
+
+    _listing = False
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return [*GROUPS, *(name for name in super().list_commands(ctx) if name not in GROUPS)]
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> Optional[click.Command]:
+        if cmd_name not in GROUPS:
+            return super().get_command(ctx, cmd_name)
+        module, help_text = GROUPS[cmd_name]
+        if self._listing:
+            return click.Group(cmd_name, help=help_text)
+        command = typer.main.get_group(importlib.import_module(module).app)
+        command.name = cmd_name
+        command.help = help_text
+        return command
+
+    def format_help(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        self._listing = True
+        try:
+            super().format_help(ctx, formatter)
+        finally:
+            self._listing = False
+
 
 app = typer.Typer(
     name="plansynth",
+    cls=LazyGroup,
     help="Correct-by-construction robot motion planning with off-the-shelf solvers.",
     no_args_is_help=True,
     add_completion=False,
 )
-app.add_typer(grid_app, name="grid", help="Reactive grid controllers (Chasins & Newcomb, SYNT 2016).")
-app.add_typer(reach_app, name="reach", help="Reach-avoid planning with linear dynamics (Shoukry et al., CDC 2016).")
-app.add_typer(bench_app, name="bench", help="Benchmarks: both papers' evaluations side by side with peers.")
+
+
+def _version_text() -> str:
+    import plansynth
+    from plansynth import _core
+
+    return f"plansynth {plansynth.__version__} (core {_core.core_version()})"
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        typer.echo(_version_text())
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(
+    show_version: bool = typer.Option(
+        False, "--version", help="Print the versions of plansynth and its compiled core, and exit.",
+        callback=_print_version, is_eager=True,
+    ),
+) -> None:
+    """Correct-by-construction robot motion planning with off-the-shelf solvers."""
 
 
 @app.command()
 def version() -> None:
-    """Print the versions of plansynth, its compiled core and its solvers."""
-    import plansynth
-    from plansynth import _core
-
-    typer.echo(f"plansynth {plansynth.__version__} (core {_core.core_version()})")
+    """Print the versions of plansynth and its compiled core (as ``--version``)."""
+    typer.echo(_version_text())
 
 
-def main() -> None:
-    app()
+def main(args: Any = None) -> None:
+    app(args)
 
 
 if __name__ == "__main__":

@@ -5,6 +5,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 
 class PlansynthError(Exception):
     """Base class of every error plansynth raises on purpose."""
@@ -37,3 +39,22 @@ class SolverUnavailable(PlansynthError):
         self.solver = solver
         self.remedy = remedy
         super().__init__(f"solver {solver!r} is unavailable: {remedy}")
+
+
+class UnknownSolver(SolverUnavailable, ValueError):
+    """A backend or planner name that its registry does not know; lists the names it knows.
+
+    A :class:`SolverUnavailable` (nothing can run under that name) and a ``ValueError``
+    (the name is a bad argument).
+
+    >>> e = UnknownSolver("planner", "rrtx", ["lazy-smt", "rrt"])
+    >>> str(e)
+    "solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, rrt"
+    >>> e.known
+    ('lazy-smt', 'rrt')
+    """
+
+    def __init__(self, kind: str, name: str, known: Iterable[str]) -> None:
+        self.kind = kind
+        self.known = tuple(known)
+        super().__init__(name, f"unknown {kind}; choose one of: {', '.join(self.known)}")

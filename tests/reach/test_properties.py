@@ -23,6 +23,7 @@ from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import Conflict, DisPlan
 from plansynth.reach.dynamics import double_integrator
 from plansynth.reach.families import random_workspace
+from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy import plan_lazy
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
 
@@ -76,8 +77,7 @@ def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], seg
     A, B = np.asarray(dyn.A), np.asarray(dyn.B)
     lo = np.full(n, -highspy.kHighsInf) if p.state_bounds is None else np.array(p.state_bounds.lo, float)
     hi = np.full(n, highspy.kHighsInf) if p.state_bounds is None else np.array(p.state_bounds.hi, float)
-    h = highspy.Highs()
-    h.silent()
+    h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
     X = [[h.addVariable(lb=float(lo[i]), ub=float(hi[i])) for i in range(n)] for _ in range(N + 1)]
     U = [[h.addVariable(lb=-p.input_bound, ub=p.input_bound) for _ in range(m)] for _ in range(N)]
     for i in range(n):

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from plansynth.reach.conplan import ConPlan, Feasible
 from plansynth.reach.decompose import abstract
 from plansynth.reach.families import maze, random_workspace
+from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy import plan_lazy
 from plansynth.reach.problem import ReachProblem, halfspaces
 from plansynth.reach.transit import GOAL, START, TransitCheck
@@ -38,8 +39,7 @@ def leg_feasible(p: ReachProblem, regions, a: int, b: int, k: int, segment_safe:
     n, m = dyn.n_states, dyn.n_inputs
     A, B = np.asarray(dyn.A), np.asarray(dyn.B)
     lo, hi = np.array(p.state_bounds.lo, float), np.array(p.state_bounds.hi, float)
-    h = highspy.Highs()
-    h.silent()
+    h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
     X = [[h.addVariable(lb=float(lo[i]), ub=float(hi[i])) for i in range(n)] for _ in range(k + 1)]
     U = [[h.addVariable(lb=-p.input_bound, ub=p.input_bound) for _ in range(m)] for _ in range(k)]
     for t in range(k):

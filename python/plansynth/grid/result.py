@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from plansynth.budget import Budget
-from plansynth.errors import InvalidProblem, SolverUnavailable
+from plansynth.errors import InvalidProblem, SolverUnavailable, UnknownSolver
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program
 
@@ -65,6 +65,16 @@ class GridBackend(Protocol):
         ...
 
 
+#: The built-in backends, loaded on first use: name -> "module:factory". Importing a
+#: backend's module (and so its solver's library) happens only when that backend is
+#: asked for, whatever was imported before. A new built-in backend is one line here.
+BUILTIN_BACKENDS: dict[str, str] = {
+    "native": "plansynth.grid.backends.native:NativeBackend",
+    "cvc5": "plansynth.grid.backends.cvc5:Cvc5Backend",
+    "external": "plansynth.grid.backends.external:ExternalBackend",
+}
+
+#: Backends registered by :func:`register_backend` (plugins) or loaded from the table.
 _BACKENDS: dict[str, Callable[..., GridBackend]] = {}
 
 
@@ -74,29 +84,38 @@ def register_backend(name: str, factory: Callable[..., GridBackend]) -> None:
 
 
 def backend_names() -> list[str]:
-    _load_builtin_backends()
-    return sorted(_BACKENDS)
+    """Every name :func:`get_backend` accepts, built-in or registered (nothing is imported).
+
+    >>> {"native", "cvc5", "external"} <= set(backend_names())
+    True
+    """
+    return sorted({*BUILTIN_BACKENDS, *_BACKENDS})
+
+
+def backend_factory(name: str) -> Callable[..., GridBackend]:
+    """The factory of the backend called ``name``, importing its module on first use.
+
+    Raises :class:`~plansynth.errors.UnknownSolver` (a ``SolverUnavailable``) listing the
+    known names when there is none.
+    """
+    if name in _BACKENDS:
+        return _BACKENDS[name]
+    if name not in BUILTIN_BACKENDS:
+        raise UnknownSolver("grid solver", name, backend_names())
+    import importlib
+
+    module, attribute = BUILTIN_BACKENDS[name].split(":")
+    try:
+        factory = getattr(importlib.import_module(module), attribute)
+    except ModuleNotFoundError as exc:  # the backend exists but a library it needs does not
+        raise SolverUnavailable(name, f"it needs the Python module {exc.name!r}; install it") from exc
+    _BACKENDS.setdefault(name, factory)
+    return _BACKENDS[name]
 
 
 def get_backend(name: str, **options: Any) -> GridBackend:
     """The backend called ``name``; no silent fallback to another one."""
-    _load_builtin_backends()
-    if name not in _BACKENDS:
-        raise SolverUnavailable(name, f"unknown grid solver; choose one of: {', '.join(sorted(_BACKENDS))}")
-    return _BACKENDS[name](**options)
-
-
-def _load_builtin_backends() -> None:
-    # Importing a backend module registers it. Modules are imported lazily so that a
-    # missing optional dependency only matters when that backend is asked for.
-    import importlib
-
-    for module in ("plansynth.grid.backends.cvc5", "plansynth.grid.backends.external", "plansynth.grid.backends.native"):
-        try:
-            importlib.import_module(module)
-        except ModuleNotFoundError as exc:
-            if exc.name != module:  # the backend exists but a dependency is missing
-                raise
+    return backend_factory(name)(**options)
 
 
 @dataclass(frozen=True)

@@ -105,6 +105,26 @@ def _result_table(result: Any) -> Table:
     return table
 
 
+class _AnyOption(frozenset):
+    """Every option name (a planner that takes ``**options``)."""
+
+    def __contains__(self, name: object) -> bool:
+        return True
+
+
+def _accepted_options(planner: str) -> frozenset[str]:
+    """The keyword options the planner called ``planner`` takes (the baselines take fewer
+    than lazy-smt: the CLI passes each only what it knows)."""
+    import inspect
+
+    from plansynth.reach.solve import get_planner
+
+    params = inspect.signature(get_planner(planner)).parameters.values()
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params):
+        return _AnyOption()
+    return frozenset(p.name for p in params)
+
+
 @app.command("solve", epilog=SOLVE_EPILOG)
 def solve_command(
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
@@ -134,8 +154,8 @@ def solve_command(
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
-    if planner not in planners():
-        raise typer.BadParameter(f"unknown planner {planner!r} (known: {', '.join(planners())})", param_hint="--planner")
+    if planner not in planners():  # exit 2, naming every planner (all load on first use)
+        raise typer.BadParameter(f"unknown planner {planner!r}; choose one of: {', '.join(planners())}", param_hint="--planner")
     if timeout is not None and not timeout > 0:
         raise typer.BadParameter("must be positive", param_hint="--timeout")
     options: dict[str, Any] = {"segment_safe": segment_safe}
@@ -155,6 +175,10 @@ def solve_command(
                        widen=widen, wait_shifts=wait_shifts)
         if paper:
             options.update(PAPER)
+    accepts = _accepted_options(planner)
+    if max_horizon is not None and "max_horizon" not in accepts:
+        raise typer.BadParameter(f"the {planner} planner has no horizon bound", param_hint="--max-horizon")
+    options = {k: v for k, v in options.items() if k in accepts}
     try:
         problem = load_reach_problem(file)
     except PlansynthError as exc:
@@ -166,7 +190,9 @@ def solve_command(
         def progress(horizon: int, iterations: int) -> None:
             bar.update(task, description=f"{planner}: horizon {horizon} ({iterations} iterations so far)")
 
-        result = solve(problem, planner, Budget(seconds=timeout), progress=progress, **options)
+        if "progress" in accepts:
+            options["progress"] = progress
+        result = solve(problem, planner, Budget(seconds=timeout), **options)
     console.print(_result_table(result))
     if out is not None:
         result.write_json(out)

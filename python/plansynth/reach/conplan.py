@@ -86,6 +86,7 @@ import numpy as np
 from plansynth.budget import Clock
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.displan import Conflict
+from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
 from plansynth.reach.trajectory import Trajectory
 
@@ -561,13 +562,9 @@ class ConPlan:
 
     @staticmethod
     def _new_highs() -> highspy.Highs:
-        h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
-        h.setOptionValue("threads", 1)
         # small LPs: presolve costs more than it saves, and the Farkas ray of an
         # infeasible LP (for shrinking conflicts) is only available without it
-        h.setOptionValue("presolve", "off")
-        return h
+        return new_highs(presolve="off")
 
     # ------------------------------------------------------------------ assembly
     def layout(self, first: int, last: int) -> _Layout:
@@ -1194,8 +1191,7 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
     lp.a_matrix_.start_ = np.concatenate([[0], np.cumsum(np.bincount(nz[0], minlength=n))]).astype(np.int32)
     lp.a_matrix_.index_ = nz[1].astype(np.int32)
     lp.a_matrix_.value_ = M[nz]
-    h = highspy.Highs()
-    h.setOptionValue("output_flag", False)
+    h = new_highs()
     down, up = np.zeros(len(pos)), np.zeros(len(pos))
     for a, i in enumerate(pos):
         for sign, out in ((1.0, up), (-1.0, down)):

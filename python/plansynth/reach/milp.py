@@ -39,6 +39,7 @@ from plansynth.budget import Budget, Clock
 from plansynth.reach.conplan import ConPlan
 from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import RegionGraph
+from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import ReachProblem, halfspaces
 from plansynth.reach.result import ReachResult, ReachStatus
 
@@ -168,9 +169,7 @@ def solve_horizon(
     lp.a_matrix_.value_ = Vv[order]
     lp.integrality_ = [highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z
 
-    h = highspy.Highs()
-    h.setOptionValue("output_flag", False)
-    h.setOptionValue("threads", 1)
+    h = new_highs()
     if math.isfinite(seconds):
         h.setOptionValue("time_limit", max(1e-3, float(seconds)))
     h.passModel(lp)

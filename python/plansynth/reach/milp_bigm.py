@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from plansynth.budget import Budget
+from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import Box, Polygon, ReachProblem, halfspaces, is_convex, shape_to_shapely
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import validate
@@ -215,10 +216,7 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
                     coefs[col] = -M
                     rows.add(float(h[r]) + margin - M, inf, coefs)
             rows.add(1.0, inf, choose)
-    h = highspy.Highs()
-    h.setOptionValue("output_flag", False)
-    h.setOptionValue("time_limit", max(0.01, float(seconds)))
-    h.setOptionValue("threads", 1)
+    h = new_highs(time_limit=max(0.01, float(seconds)))
     total = n_cont + n_bin
     all_lb = np.concatenate([lb, np.zeros(n_bin)])
     all_ub = np.concatenate([ub, np.ones(n_bin)])
@@ -333,17 +331,3 @@ def plan_milp_bigm(
         segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
         validated=None, validation=None, message=message,
     )
-
-
-def register() -> None:
-    """Register ``milp-bigm`` with :func:`plansynth.reach.solve`."""
-    from plansynth.reach.solve import planners, register_planner
-
-    if "milp-bigm" not in planners():
-        register_planner("milp-bigm", plan_milp_bigm)
-
-
-try:  # importing this module makes the planner available by name
-    register()
-except ImportError:  # pragma: no cover - solve() not available in this checkout
-    pass

@@ -330,24 +330,17 @@ def _status_text(status: Any) -> str:
 
 
 def _make_planner(name: str) -> Callable[..., Any]:
-    def planner(problem: ReachProblem, budget: Budget = Budget(seconds=60.0), **options: Any) -> Any:
-        return plan_rrt(problem, budget, planner=name, **options)
+    def planner(problem: ReachProblem, budget: Budget = Budget(seconds=60.0), *, seed: int = 0,
+                goal_bias: float | None = None, segment_safe: bool = True) -> Any:
+        return plan_rrt(problem, budget, seed, name, goal_bias=goal_bias, segment_safe=segment_safe)
 
     planner.__name__ = f"plan_{name}"
     planner.__doc__ = f"OMPL {PLANNERS[name]} as a :func:`plansynth.reach.solve` planner (see :func:`plan_rrt`)."
     return planner
 
 
-def register() -> None:
-    """Register ``rrt``, ``est`` and ``kpiece`` with :func:`plansynth.reach.solve`."""
-    from plansynth.reach.solve import planners, register_planner
-
-    for name in PLANNERS:
-        if name not in planners():
-            register_planner(name, _make_planner(name))
-
-
-try:  # importing this module makes the planners available by name
-    register()
-except ImportError:  # pragma: no cover - solve() not available in this checkout
-    pass
+#: ``rrt``, ``est`` and ``kpiece`` as :func:`plansynth.reach.solve` planners; the
+#: registry there names them and loads this module on first use.
+plan_rrt_rrt = _make_planner("rrt")
+plan_rrt_est = _make_planner("est")
+plan_rrt_kpiece = _make_planner("kpiece")

@@ -1,10 +1,14 @@
 """``solve()``: reach-avoid planners chosen by name, every answer validated.
 
 Planners live one per module behind the small :class:`Planner` protocol (STYLE.md,
-point 5): ``lazy-smt`` (:mod:`plansynth.reach.lazy`, the paper's Algorithm 1) and
-``milp`` (:mod:`plansynth.reach.milp`, the one-shot region MILP). Others register with
-:func:`register_planner`. There is no fallback from one planner to another: an unknown
-name is an error and the result names the planner that ran.
+point 5): ``lazy-smt`` (:mod:`plansynth.reach.lazy`, the paper's Algorithm 1) and its
+named configurations, ``milp`` (:mod:`plansynth.reach.milp`, the one-shot region MILP)
+and the baselines ``milp-bigm``, ``rrt``, ``est``, ``kpiece``. One table names them all;
+each module is imported on first use (:func:`get_planner`), so every name works whatever
+was imported before. Plugins register with :func:`register_planner`. There is no
+fallback from one planner to another: an unknown name is an error
+(:class:`~plansynth.errors.UnknownSolver`, listing the names) and the result names the
+planner that ran.
 
 Every trajectory a planner returns is checked by the independent validator
 (:func:`plansynth.reach.validate.validate`, which knows neither the decomposition nor
@@ -26,13 +30,12 @@ from dataclasses import replace
 from typing import Any, Protocol
 
 from plansynth.budget import Budget
-from plansynth.reach.lazy import PAPER, plan_lazy
-from plansynth.reach.milp import plan_milp
+from plansynth.errors import SolverUnavailable, UnknownSolver
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.validate import validate
 
-__all__ = ["Planner", "solve", "register_planner", "planners", "validate_result"]
+__all__ = ["Planner", "solve", "register_planner", "planners", "get_planner", "validate_result"]
 
 log = logging.getLogger("plansynth.reach")
 
@@ -44,25 +47,39 @@ class Planner(Protocol):
         ...
 
 
-def _configured(**fixed: Any) -> Planner:
-    """``plan_lazy`` with some options fixed (named configurations for comparisons)."""
+def _configured(*, paper: bool = False, **fixed: Any) -> Planner:
+    """``plan_lazy`` with some options fixed (named configurations for comparisons);
+    ``paper=True`` fixes the paper's options (:data:`plansynth.reach.lazy.PAPER`) first.
+    :mod:`plansynth.reach.lazy` is imported on the first call, not here."""
 
     def planner(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
-        return plan_lazy(problem, budget, **{**options, **fixed})
+        from plansynth.reach.lazy import PAPER, plan_lazy
 
-    planner.__doc__ = f"plan_lazy with {fixed}"
+        return plan_lazy(problem, budget, **{**options, **(PAPER if paper else {}), **fixed})
+
+    planner.__doc__ = f"plan_lazy with {'PAPER, ' if paper else ''}{fixed}"
     return planner
 
 
-_PLANNERS: dict[str, Planner] = {
-    "lazy-smt": plan_lazy,
-    "milp": plan_milp,
+#: Every planner :func:`solve` knows, in the order :func:`planners` lists them: a name
+#: maps to ``"module:attribute"`` (a planner loaded on first use, so that the registry is
+#: complete whatever was imported before, and a planner's libraries are imported only
+#: when it is asked for) or to a planner itself. A new built-in planner is one line here;
+#: plugins use :func:`register_planner`.
+_PLANNERS: dict[str, str | Planner] = {
+    "lazy-smt": "plansynth.reach.lazy:plan_lazy",
+    "milp": "plansynth.reach.milp:plan_milp",
     # the paper's loop and counterexamples (PAPER), with ZEROPREFIX and with the trivial
     # counterexample: the comparison of Section V
-    "lazy-smt-paper": _configured(**PAPER),
-    "lazy-smt-paper-trivial": _configured(**{**PAPER, "counterexample": "trivial"}),
+    "lazy-smt-paper": _configured(paper=True),
+    "lazy-smt-paper-trivial": _configured(paper=True, counterexample="trivial"),
     # our loop with the paper's ZEROPREFIX counterexample (Farkas-shrunk) instead of the default
     "lazy-smt-zeroprefix": _configured(counterexample="zeroprefix"),
+    # baselines (see Benchmarks in the README)
+    "milp-bigm": "plansynth.reach.milp_bigm:plan_milp_bigm",
+    "rrt": "plansynth.reach.rrt:plan_rrt_rrt",
+    "est": "plansynth.reach.rrt:plan_rrt_est",
+    "kpiece": "plansynth.reach.rrt:plan_rrt_kpiece",
 }
 
 
@@ -74,12 +91,40 @@ def register_planner(name: str, planner: Planner, *, replace_existing: bool = Fa
 
 
 def planners() -> tuple[str, ...]:
-    """The names :func:`solve` accepts.
+    """The names :func:`solve` accepts (nothing is imported to list them).
 
-    >>> planners()[:5]
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix')
+    >>> planners()
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece')
     """
     return tuple(_PLANNERS)
+
+
+def get_planner(name: str) -> Planner:
+    """The planner called ``name``, importing its module on first use.
+
+    An unknown name raises :class:`~plansynth.errors.UnknownSolver` (a ``ValueError``
+    and a ``SolverUnavailable``) that lists every known name.
+
+    >>> get_planner("milp").__name__
+    'plan_milp'
+    >>> get_planner("rrtx")
+    Traceback (most recent call last):
+    ...
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece
+    """
+    entry = _PLANNERS.get(name)
+    if entry is None:
+        raise UnknownSolver("planner", name, planners())
+    if isinstance(entry, str):
+        import importlib
+
+        module, attribute = entry.split(":")
+        try:
+            entry = getattr(importlib.import_module(module), attribute)
+        except ModuleNotFoundError as exc:  # the planner exists but a library it needs does not
+            raise SolverUnavailable(name, f"it needs the Python module {exc.name!r}; install it") from exc
+        _PLANNERS[name] = entry
+    return entry
 
 
 def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
@@ -120,7 +165,5 @@ def solve(
     ``segment_safe``, ``generalize``, ``progress``, ...; milp: ``max_horizon``,
     ``segment_safe``, ``start_horizon``, ``progress``).
     """
-    if planner not in _PLANNERS:
-        raise ValueError(f"unknown planner {planner!r} (known: {', '.join(_PLANNERS)})")
-    result = _PLANNERS[planner](problem, budget, **options)
+    result = get_planner(planner)(problem, budget, **options)
     return validate_result(problem, result)
