@@ -88,7 +88,7 @@ def _root(
 
 @app.command()
 def version() -> None:
-    """Print the versions of plansynth and its compiled core (as ``--version``)."""
+    """Print the versions of plansynth and its compiled core (as --version)."""
     typer.echo(_version_text())
 
 

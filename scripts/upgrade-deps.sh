@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# For maintainers: move the lock to the newest releases pyproject.toml allows, but only
+# if the whole suite passes with them.
+#
+#   bash scripts/upgrade-deps.sh              # newest releases
+#   bash scripts/upgrade-deps.sh --keep       # re-resolve keeping today's pins where allowed
+#                                             # (e.g. after adding a dependency), tested the same way
+#
+# 1. resolve a new lock (scripts/lock-deps.sh) into a temporary folder;
+# 2. copy the checkout there, create a throwaway venv, install exactly the new lock and
+#    plansynth (building the Rust core);
+# 3. run cargo test and the whole pytest suite in random order (seed printed);
+# 4. only if all of that passes, write the new lock to requirements.lock and show what
+#    changed. Otherwise requirements.lock is left as it was, and the folder is kept.
+# Then commit requirements.lock (and rerun scripts/setup.sh to use it here).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+repo=$(pwd)
+mode=--upgrade
+[ "${1:-}" = --keep ] && mode=
+work=$(mktemp -d "${TMPDIR:-/tmp}/plansynth-upgrade.XXXXXX")
+echo "working in $work"
+if [ -n "$mode" ]; then
+  bash scripts/lock-deps.sh --upgrade -o "$work/requirements.lock"
+else
+  bash scripts/lock-deps.sh -o "$work/requirements.lock"
+fi
+mkdir "$work/src"
+git ls-files -co --exclude-standard -z | tar --null -T - -cf - | tar -xf - -C "$work/src"
+cp "$work/requirements.lock" "$work/src/requirements.lock"
+(
+  cd "$work/src"
+  CARGO_TARGET_DIR="$work/target" bash scripts/setup.sh
+  . .venv/bin/activate
+  CARGO_TARGET_DIR="$work/target" cargo test -q -p plansynth-core
+  python -m pytest -q -p no:cacheprovider -p randomly
+) || { echo "the suite FAILED with the new lock: requirements.lock is unchanged (see $work)" >&2; exit 1; }
+echo "the suite passed with the new lock; changes:"
+diff <(grep -E '^[a-zA-Z0-9]' requirements.lock 2>/dev/null | sed 's/ .*//') \
+     <(grep -E '^[a-zA-Z0-9]' "$work/requirements.lock" | sed 's/ .*//') || true
+cp "$work/requirements.lock" requirements.lock
+rm -rf "$work"
+echo "wrote requirements.lock: commit it, and rerun scripts/setup.sh to use it here"
