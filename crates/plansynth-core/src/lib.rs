@@ -4,6 +4,8 @@
 //! data out. The PyO3 binding lives in `plansynth-py`.
 
 pub mod conditions;
+pub mod game;
+pub mod tree;
 
 /// Version of the core, reported in results so a run can be traced to its build.
 pub fn version() -> &'static str {

@@ -5,7 +5,9 @@ Options (keyword arguments, or ``KEY=VALUE`` strings in ``options`` as the CLI's
 and report the smallest, proved minimal when the condition enumeration is complete),
 ``condition_depth`` (deepest condition enumerated, default 4), ``max_tree_depth``,
 ``max_configs`` (joint obstacle configurations explored before answering unknown),
-``use_rust`` (None: the compiled core when built; False: the pure-Python references).
+``use_rust`` (None: the compiled core when built; False: the pure-Python references),
+``effort`` (seconds spent making the first verified program smaller; default 1 s or
+10% of the budget, whichever is smaller; 0 returns the first program), ``simplify``.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ class NativeBackend:
                 raise InvalidOption(f"native solver option {item!r} is not KEY=VALUE")
             options_[key.strip().replace("-", "_")] = _parse(value.strip())
         options = options_
-        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds", "improve_states", "quick"}
+        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds", "improve_states", "quick", "effort", "simplify"}
         if unknown:
             raise InvalidOption(f"unknown native solver option(s): {', '.join(sorted(unknown))}")
         self.options = dict(options)

@@ -30,6 +30,7 @@ from typing import Any
 from plansynth.budget import Budget, Clock
 from plansynth.grid.native.arena import Arena, BudgetExhausted
 from plansynth.grid.native.bitgrid import bits, cell_mask
+from plansynth.grid.native.check import GameGraph, simplify
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
 from plansynth.grid.native.stationary import (
@@ -59,6 +60,8 @@ CONDITION_DEPTH = 4
 MAX_TREE_DEPTH = 9
 #: Obstacle configurations explored before the joint game gives up (answer unknown).
 MAX_CONFIGS = 2_000_000
+#: Default seconds spent making the first program smaller (answer-first mode).
+DEFAULT_EFFORT = 1.0
 
 
 @dataclass(frozen=True)
@@ -76,7 +79,17 @@ class Refutation:
 
 @dataclass
 class Engine:
-    """Options of the native engine (the backend's options)."""
+    """Options of the native engine (the backend's options).
+
+    By default the engine answers first: the greedy decision tree over the enumerated
+    conditions, checked on the game graph, is a correct program at once; then at most
+    ``effort`` seconds (default :data:`DEFAULT_EFFORT` or 10% of the budget, whichever
+    is smaller) go to making it smaller (:func:`~plansynth.grid.native.check.simplify`
+    against the game graph, then tree SAT at smaller depths), keeping the best
+    verified program. ``minimize`` instead proves the smallest depth. The counters say
+    which (``depth_minimal``: ``proved`` or ``not proved``) and time each phase
+    (``phase_seconds``).
+    """
 
     condition_depth: int = CONDITION_DEPTH
     max_tree_depth: int = MAX_TREE_DEPTH
@@ -91,19 +104,25 @@ class Engine:
     improve_seconds: float = 5.0
     tree_conditions: int = 400
     max_clauses: int = 3_000_000
+    effort: float | None = None
+    simplify: bool = True
     counters: dict[str, Any] = field(default_factory=dict)
 
     # -- the entry point -------------------------------------------------------------
     def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
         clock = budget.clock()
         t0 = time.perf_counter()
-        self.counters = {}
+        self.counters = {"phase_seconds": {}}
+        self._t_phase = t0
+        self._budget_seconds = budget.seconds
         try:
             status, program, message, witness = self._solve(problem, steps, clock, depth_bound)
         except BudgetExhausted as exc:
             status, program, message, witness = GridStatus.UNKNOWN, None, f"budget exhausted: {exc}", None
         except AssertionError as exc:  # an engine bug must never become an answer
             status, program, message, witness = GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: {exc}", None
+        if status is GridStatus.REALIZABLE:
+            self.counters["depth_minimal"] = "proved" if self.counters.get("minimal_depth_proved") else "not proved"
         return LengthOutcome(
             status=status,
             steps=steps,
@@ -113,6 +132,22 @@ class Engine:
             message=message,
             witness=witness,
         )
+
+    def _phase(self, name: str) -> None:
+        """Close the current phase: add its seconds to ``phase_seconds[name]``."""
+        now = time.perf_counter()
+        ph = self.counters.setdefault("phase_seconds", {})
+        ph[name] = round(ph.get(name, 0.0) + now - self._t_phase, 6)
+        self._t_phase = now
+
+    def _effort(self, clock: Clock) -> float:
+        """Seconds the answer-first mode may spend improving a program."""
+        if self.effort is not None:
+            want = float(self.effort)
+        else:
+            b = self._budget_seconds
+            want = DEFAULT_EFFORT if b is None else min(DEFAULT_EFFORT, 0.1 * b)
+        return max(0.0, min(want, clock.remaining() - 0.05))
 
     def _solve(self, problem: GridProblem, steps: int, clock: Clock, depth_bound: int | None):
         cone = influence_cone(problem, steps)
@@ -128,6 +163,7 @@ class Engine:
         blind_program = None
         if blind.layers[0] and blind.solve_game(clock):
             strategy = stationary_strategy(blind, clock, quick=self.quick)
+            self._phase("blind")
             if strategy is not None:
                 self.counters["stage"] = "blind"
                 program = self._program(blind, strategy, clock, depth_bound)
@@ -146,10 +182,13 @@ class Engine:
 
         # Stages 3-4: the joint game over the relevant obstacles.
         try:
+            self._phase("blind")
             arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs)
             self.counters["configurations"] = sum(len(x) for x in arena.layers)
             self.counters["states"] = arena.state_count()
-            if not arena.layers[0] or not arena.solve_game(clock):
+            won = bool(arena.layers[0]) and arena.solve_game(clock)
+            self._phase("game")
+            if not won:
                 ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
                 return GridStatus.UNREALIZABLE, None, ref.detail, ref
             if exact_bound:
@@ -163,6 +202,7 @@ class Engine:
                 f"obstacle-blind controller of depth {depth(blind_program)}; smaller programs reading obstacles "
                 f"not excluded ({exc})"), None
         strategy = stationary_strategy(arena, clock, quick=self.quick)
+        self._phase("stationary")
         if strategy is None:
             return self._stationary_refuted(problem, arena, cone, clock)
         self.counters["stage"] = "joint"
@@ -207,7 +247,8 @@ class Engine:
 
     # -- programs ----------------------------------------------------------------------
     def _conditions(self, states: list[tuple[int, ...]], variables, problem: GridProblem, max_depth: int) -> Enumeration:
-        limit = 200_000
+        # the behaviours cost len(states) bits each: bound their memory and time
+        limit = min(200_000, max(5_000, 40_000_000 // max(1, len(states))))
         e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=limit, use_rust=self.use_rust)
         self.counters["conditions"] = len(e.conditions)
         return e
@@ -215,10 +256,11 @@ class Engine:
     def _program(self, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
         """A small program choosing an allowed move in every state the strategy reaches.
 
-        The greedy tree gives an upper bound at once; then trees of smaller depth are
-        sought with SAT (each attempt with a conflict allowance, so a hard refutation
-        does not eat the budget), first over this strategy's allowed moves and then,
-        when the game is small, over every winning strategy.
+        Answer first: the greedy tree over the enumerated conditions is correct by
+        construction and is checked on the game graph (:class:`GameGraph`) at once.
+        Then, within the effort (:meth:`_effort`), it is simplified against the game
+        graph and smaller depths are sought with tree SAT (each attempt bounded by the
+        effort left), keeping the best program the checker accepts.
         """
         states = sorted(strategy.allowed)
         allowed = [strategy.allowed[s] for s in states]
@@ -227,46 +269,57 @@ class Engine:
         cdepth = self.condition_depth if len(states) <= 2000 else 3
         enum = self._conditions(inputs, arena.variables(), arena.problem, cdepth)
         n_moves = len(arena.robot.moves)
-        program = greedy_program(allowed, enum.conditions, n_moves)
-        started = time.perf_counter()
-        if depth(program) > 1 and self.improve:
-            # Any winning strategy will do: search the smallest program over all of them
-            # first (when the game is small enough), then over this strategy's moves.
-            # Attempts are bounded by conflicts, so answers do not depend on the load.
-            try:
-                better, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem,
-                                               cond_depth=self.condition_depth, max_clauses=self.max_clauses,
-                                               max_conflicts=self.conflicts, max_seconds=self.attempt_seconds,
-                                               total_seconds=self.improve_seconds, skip_hard=True)
-            except BudgetExhausted:
-                if clock.exhausted():
-                    raise
-                better = None
-            if better is not None:
-                program = better
-        top = depth(program) - 1 if depth_bound is None else min(depth_bound, depth(program) - 1)
-        useful = useful_conditions(allowed, enum.conditions, n_moves, self.tree_conditions)
-        for d in program_depths(min(top, self.max_tree_depth)):
-            if not self.improve or len(states) > 2 * self.improve_states or time.perf_counter() - started > 2 * self.improve_seconds:
-                break
-            try:
-                # small instances: bounded by conflicts only (reproducible); large ones
-                # also by time, so that a hopeless improvement cannot eat the budget
-                cap = self.attempt_seconds if len(states) <= 200 else min(self.attempt_seconds or 1.0, 1.0)
-                better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
-                                      max_conflicts=self.conflicts, max_seconds=cap)
-            except BudgetExhausted:
-                if clock.exhausted():
-                    raise
-                continue
-            if better is not None:
-                program = better
-                break
+        if clock.exhausted():
+            raise BudgetExhausted("enumerating conditions")
+        program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.use_rust)
+        graph = GameGraph.from_arena(arena, clock, use_rust=self.use_rust)
+        self.counters["game_graph_pairs"] = graph.n_pairs
+        if graph.check(program) is not None:
+            raise AssertionError(f"native engine bug: greedy program {program} does not win on the game graph")
+        self.counters["first_depth"] = depth(program)
+        self._phase("answer")
+        effort = self._effort(clock) if self.improve else 0.0
+        self.counters["effort_seconds"] = round(effort, 3)
+        deadline = time.perf_counter() + effort
+        if effort > 0 and depth(program) > 1:
+            if self.simplify:
+                program = simplify(program, graph, deadline)
+            program = self._smaller(arena, allowed, enum, graph, program, clock, deadline)
+        self.counters["program_checks"] = graph.checks
+        self._phase("improve")
         if depth_bound is not None and depth(program) > depth_bound:
             return None
         if not program_wins(arena.problem, arena.steps, program, clock):
             raise AssertionError(f"native engine bug: synthesized program {program} does not win")
+        self._phase("check")
         self.counters["program_depth"] = depth(program)
+        return program
+
+    def _smaller(self, arena: Arena, allowed, enum: Enumeration, graph: GameGraph, program: Term, clock: Clock,
+                 deadline: float) -> Term:
+        """Tree SAT at depths below the current program's, largest first, until one
+        fails or the effort is spent; every program kept passes the game-graph check."""
+        n_moves = len(arena.robot.moves)
+        if len(allowed) > self.improve_states or deadline - time.perf_counter() <= 0.01:
+            return program  # tree SAT over this many states does not fit a small effort
+        useful = useful_conditions(allowed, enum.conditions, n_moves, self.tree_conditions)
+        while depth(program) > 1:
+            left = deadline - time.perf_counter()
+            if left <= 0.01:
+                break
+            d = max(dd for dd in program_depths(depth(program) - 1))
+            try:
+                better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
+                                      max_conflicts=self.conflicts, max_seconds=left)
+            except BudgetExhausted:
+                if clock.exhausted():
+                    raise
+                break
+            if better is None or graph.check(better) is not None:
+                break
+            if self.simplify:
+                better = simplify(better, graph, deadline)
+            program = better
         return program
 
     def _bounded(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock, depth_bound: int | None):

@@ -54,3 +54,29 @@ def enumerate_conditions(states: Sequence[Sequence[int]], variables: Sequence[st
             term = App(_BOOL[op], (conds[a].term, conds[b].term))
         conds.append(Condition(int.from_bytes(mask, "little"), term, d))
     return Enumeration(tuple(conds), complete_to)
+
+
+def greedy_tree(conds: Sequence[Condition], allowed: Sequence[Sequence[int]], n_moves: int, max_nodes: int) -> list[tuple[int, int]] | None:
+    """The pre-order nodes of :func:`plansynth.grid.native.synth.greedy_program`'s tree,
+    compiled: ``(0, k)`` a leaf playing move k, ``(1, j)`` a split on ``conds[j]``; None
+    when more than ``max_nodes`` splits are needed."""
+    nbytes = max(1, (len(allowed) + 7) // 8)
+    masks = [c.mask.to_bytes(nbytes, "little") if c.mask >= 0 else b"" for c in conds]
+    keys = [(c.depth, n) for c, n in zip(conds, term_sizes([c.term for c in conds]))]
+    bitmasks = [sum(1 << k for k in set(a)) for a in allowed]
+    return _core.greedy_tree(masks, keys, bitmasks, n_moves, max_nodes)
+
+
+def term_sizes(terms: Sequence[Term]) -> list[int]:
+    """:func:`plansynth.grid.programs.size` of each term, sharing the work over common
+    subterm objects (enumerated conditions are built from shared subterms)."""
+    memo: dict[int, int] = {}
+
+    def size_of(t: Term) -> int:
+        got = memo.get(id(t))
+        if got is None:
+            got = 1 + sum(size_of(a) for a in t.args) if isinstance(t, App) else 1
+            memo[id(t)] = got
+        return got
+
+    return [size_of(t) for t in terms]

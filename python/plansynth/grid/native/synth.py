@@ -287,9 +287,41 @@ def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Conditio
     return [x[-1] for x in scored[:keep]]
 
 
-def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, max_nodes: int = 10_000) -> Term:
+def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, max_nodes: int = 10_000,
+                   use_rust: bool | None = None) -> Term:
     """A top-down decision tree (always exists; not minimal): pick, at each node, the
-    condition after which most states can share a move on each side."""
+    condition after which most states can share a move on each side.
+
+    The compiled core (``crates/plansynth-core/src/tree.rs``) when available, else
+    :func:`greedy_program_reference`; both build the same tree."""
+    if use_rust is not False:
+        from plansynth.grid.native import fast
+
+        if fast.available() and hasattr(fast._core, "greedy_tree"):
+            nodes = fast.greedy_tree(conds, states_allowed, n_moves, max_nodes)
+            if nodes is None:
+                raise BudgetExhausted("greedy tree too large")
+            return _tree_from_nodes(nodes, conds, len(states_allowed))
+    return greedy_program_reference(states_allowed, conds, n_moves, max_nodes)
+
+
+def _tree_from_nodes(nodes: Sequence[tuple[int, int]], conds: Sequence[Condition], n: int) -> Term:
+    it = iter(nodes)
+
+    def build() -> Term:
+        kind, x = next(it)
+        if kind == 0:
+            return Const(x)
+        then = build()
+        other = build()
+        return simplify_ite(conds[x], then, other, n)
+
+    return build()
+
+
+def greedy_program_reference(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int,
+                             max_nodes: int = 10_000) -> Term:
+    """:func:`greedy_program` in pure Python (the reference of the compiled tree)."""
     n = len(states_allowed)
     by_move = [0] * n_moves
     for i, a in enumerate(states_allowed):

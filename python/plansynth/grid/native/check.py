@@ -1,0 +1,237 @@
+"""The program check on the game graph, and simplification against it.
+
+After backward induction (:meth:`Arena.solve_game`) every state of the
+*winning-forward graph* (pairs (t, joint state) reached from the start with moves that
+win the time-dependent game) is winning. A program therefore wins the bounded game
+(Chasins & Newcomb, SYNT 2016, Section 3.1: the goal at exactly l steps, no collision,
+whatever the obstacles do) iff, in every pair it reaches from the start, it plays one
+of that pair's winning moves. :class:`GameGraph` is that graph made explicit, with a
+pure-Python check (the reference) and the compiled one of ``crates/plansynth-core``
+(``game.rs``) behind the same method; a property test compares them.
+
+:func:`simplify` is the answer-first engine's cheap improvement: replace a subtree by
+a move or by one of its branches while the checker still accepts the program.
+
+>>> from plansynth.budget import Budget
+>>> from plansynth.grid.problem import grid_problem_from_dict
+>>> from plansynth.grid.native.arena import Arena
+>>> from plansynth.grid.native.cone import influence_cone
+>>> from plansynth.grid.programs import parse_program
+>>> p = grid_problem_from_dict({"grid": [3, 1],
+...     "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]}})
+>>> a = Arena.build(p, 2, influence_cone(p, 2), ())
+>>> a.solve_game()
+True
+>>> g = GameGraph.from_arena(a)
+>>> g.check(parse_program("1")) is None, g.check(parse_program("0"))
+(True, 0)
+>>> print(simplify(parse_program("(ite (<= rx 0) 1 1)"), g))
+1
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from plansynth.budget import Clock
+from plansynth.grid.native.arena import Arena, BudgetExhausted
+from plansynth.grid.programs import App, Const, Term, Var, compile_program
+
+_OPS = {"+": 2, "-": 3, "<=": 4, "=": 5, "not": 6, "and": 7, "or": 8, "ite": 9}
+
+
+def program_ops(program: Term, variables: tuple[str, ...]) -> list[tuple[int, int, int, int]]:
+    """The program as flat nodes ``(op, a, b, c)``, children first, root last (the
+    compiled checker's input): op 0 constant a, 1 variable a, 2 ``+``, 3 ``-``, 4 ``<=``,
+    5 ``=``, 6 ``not``, 7 ``and``, 8 ``or``, 9 ``ite`` over node indices."""
+    index = {v: i for i, v in enumerate(variables)}
+    out: list[tuple[int, int, int, int]] = []
+    memo: dict[int, int] = {}  # by identity: hashing a deep frozen term is costly
+
+    def go(t: Term) -> int:
+        got = memo.get(id(t))
+        if got is not None:
+            return got
+        if isinstance(t, Const):
+            row = (0, t.value, 0, 0)
+        elif isinstance(t, Var):
+            row = (1, index[t.name], 0, 0)
+        else:
+            kids = [go(a) for a in t.args] + [0, 0]
+            row = (_OPS[t.op], kids[0], kids[1], kids[2])
+        out.append(row)
+        memo[id(t)] = len(out) - 1
+        return len(out) - 1
+
+    go(program)
+    return out
+
+
+@dataclass
+class GameGraph:
+    """The time-expanded winning-forward graph; pair 0 is the start.
+
+    ``state_of[p]`` indexes ``inputs`` (the controller's inputs of the joint state),
+    ``win[p]`` is the bitmask of winning moves, and the successors of pair p under move
+    k are ``succ[off[p * n_moves + k]:off[p * n_moves + k + 1]]`` (one per obstacle reply;
+    none in the last step, where a winning move ends on the goal).
+    """
+
+    n_moves: int
+    variables: tuple[str, ...]
+    state_of: list[int]
+    win: list[int]
+    off: list[int]
+    succ: list[int]
+    inputs: list[tuple[int, ...]]
+    use_rust: bool | None = None
+    _compiled: object = field(default=None, repr=False)
+    checks: int = 0
+
+    @classmethod
+    def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+        """Explore the pairs reachable from the start with winning moves (needs
+        :meth:`Arena.solve_game` first)."""
+        n_moves = len(arena.robot.moves)
+        steps = arena.steps
+        oc0 = next(iter(arena.layers[0]))
+        r0 = arena.sem.index(arena.problem.robot.start)
+        pair_id: dict[tuple[int, int, tuple[int, ...]], int] = {(0, r0, oc0): 0}
+        order: list[tuple[int, int, tuple[int, ...]]] = [(0, r0, oc0)]
+        state_id: dict[tuple[int, tuple[int, ...]], int] = {}
+        state_of: list[int] = []
+        inputs: list[tuple[int, ...]] = []
+        win: list[int] = []
+        off: list[int] = [0]
+        succ: list[int] = []
+        wm_cache: dict[tuple[int, tuple[int, ...]], tuple[int, ...]] = {}
+        head = 0
+        while head < len(order):
+            t, r, oc = order[head]
+            head += 1
+            s = state_id.get((r, oc))
+            if s is None:
+                s = state_id[(r, oc)] = len(inputs)
+                inputs.append(arena.inputs(r, oc))
+            state_of.append(s)
+            wm = wm_cache.get((t, oc))
+            if wm is None:
+                wm = wm_cache[(t, oc)] = arena.winning_moves(t, oc)
+            w = 0
+            for k in range(n_moves):
+                if wm[k] >> r & 1:
+                    w |= 1 << k
+                    if t + 1 < steps:
+                        e = arena.robot_end(r, k)
+                        for oc2 in arena.successors(oc):
+                            key = (t + 1, e, oc2)
+                            q = pair_id.get(key)
+                            if q is None:
+                                q = pair_id[key] = len(order)
+                                order.append(key)
+                            succ.append(q)
+                off.append(len(succ))
+            win.append(w)
+            if clock is not None and head % 4096 == 0 and clock.exhausted():
+                raise BudgetExhausted("building the game graph for program checks")
+        return cls(n_moves, arena.variables(), state_of, win, off, succ, inputs, use_rust)
+
+    @property
+    def n_pairs(self) -> int:
+        return len(self.state_of)
+
+    def check(self, program: Term) -> int | None:
+        """None when ``program`` wins; else the first pair (breadth-first) where it
+        plays a move that does not win. The compiled core when available."""
+        self.checks += 1
+        core = self._core()
+        if core is not None:
+            return core.check(program_ops(program, self.variables))
+        return self.check_reference(program)
+
+    def check_reference(self, program: Term) -> int | None:
+        """:meth:`check` in pure Python (the reference of ``game.rs``)."""
+        f = compile_program(program, self.variables)
+        cache: dict[int, object] = {}
+        seen = {0}
+        queue = [0]
+        head = 0
+        n = self.n_moves
+        while head < len(queue):
+            p = queue[head]
+            head += 1
+            s = self.state_of[p]
+            k = cache.get(s)
+            if k is None:
+                k = cache[s] = f(*self.inputs[s])
+            if not isinstance(k, int) or isinstance(k, bool) or not 0 <= k < n or not self.win[p] >> k & 1:
+                return p
+            i = p * n + k
+            for q in self.succ[self.off[i]:self.off[i + 1]]:
+                if q not in seen:
+                    seen.add(q)
+                    queue.append(q)
+        return None
+
+    def _core(self):
+        if self.use_rust is False:
+            return None
+        if self._compiled is None:
+            from plansynth.grid.native import fast
+
+            if not fast.available() or not hasattr(fast._core, "GameGraph"):
+                self.use_rust = False
+                return None
+            self._compiled = fast._core.GameGraph(self.n_moves, self.state_of, self.win, self.off, self.succ,
+                                                  [list(x) for x in self.inputs])
+        return self._compiled
+
+
+def simplify(program: Term, graph: GameGraph, deadline: float | None = None,
+             accepts: Callable[[Term], bool] | None = None) -> Term:
+    """Shrink ``program`` top-down while the checker accepts it: each ``ite`` node is
+    replaced by one of its branches or by a move when the whole program still wins.
+    Stops at ``deadline`` (a ``time.perf_counter()`` value), keeping the best so far."""
+    ok = accepts or (lambda p: graph.check(p) is None)
+    moves = [Const(k) for k in range(graph.n_moves)]
+
+    def at(t: Term, path: tuple[int, ...]) -> Term:
+        for i in path:
+            assert isinstance(t, App)
+            t = t.args[i]
+        return t
+
+    def put(t: Term, path: tuple[int, ...], new: Term) -> Term:
+        if not path:
+            return new
+        assert isinstance(t, App)
+        args = list(t.args)
+        args[path[0]] = put(args[path[0]], path[1:], new)
+        return App(t.op, tuple(args))
+
+    best = program
+    todo: list[tuple[int, ...]] = [()]
+    while todo:
+        path = todo.pop(0)
+        node = at(best, path)
+        if not (isinstance(node, App) and node.op == "ite"):
+            continue
+        if deadline is not None and time.perf_counter() > deadline:
+            break
+        replaced = None
+        for cand in (node.args[1], node.args[2], *[m for m in moves if m not in (node.args[1], node.args[2])]):
+            trial = put(best, path, cand)
+            if ok(trial):
+                replaced = cand
+                best = trial
+                break
+        if replaced is not None:
+            todo.insert(0, path)  # the replacement may simplify further
+        else:
+            todo.extend([path + (1,), path + (2,)])
+    return best
+
+
+__all__ = ["GameGraph", "program_ops", "simplify"]
