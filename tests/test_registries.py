@@ -35,7 +35,7 @@ def _python(code: str) -> subprocess.CompletedProcess[str]:
 
 def _imported_by(*args: str) -> set[str]:
     """Top-level packages imported by ``plansynth ARGS`` in a fresh process."""
-    run = subprocess.run([sys.executable, "-X", "importtime", "-m", "plansynth.cli", *args],
+    run = subprocess.run([sys.executable, "-X", "importtime", "-c", "from plansynth.cli import main; main()", *args],
                          capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert run.returncode == 0, run.stdout + run.stderr
     names = re.findall(r"^import time:\s+\d+ \|\s+\d+ \|\s+(\S+)$", run.stderr, re.M)
@@ -125,7 +125,7 @@ def test_every_grid_backend_loads_by_name_in_a_fresh_process() -> None:
         "assert 'cvc5' not in sys.modules\n"
         "get_backend('native')\n"
         "assert 'cvc5' not in sys.modules, 'the native backend loaded cvc5'\n"
-        "print(' '.join(n for n in backend_names() if get_backend(n, **({'command': 'x {file}'} if n == 'external' else {}))))\n"
+        "print(' '.join(n for n in backend_names() if get_backend(n, **({'command': 'echo {file}'} if n == 'external' else {}))))\n"
     )
     assert run.returncode == 0, run.stderr
     assert set(run.stdout.split()) >= {"native", "cvc5", "external"}
