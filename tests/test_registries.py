@@ -4,6 +4,7 @@ so that nothing imported by another test can make a registry look complete."""
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -74,7 +75,7 @@ def test_every_planner_the_help_lists_is_accepted() -> None:
     from plansynth.reach.solve import planners
 
     run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", "--help"],
-                         capture_output=True, text=True, timeout=60, env={"COLUMNS": "400", "PATH": ""})
+                         capture_output=True, text=True, timeout=60, env={**os.environ, "COLUMNS": "400"})
     text = " ".join(run.stdout.split())
     listed = set(re.findall(r"\b(lazy-smt(?:-[a-z]+)*|milp(?:-bigm)?|rrt|est|kpiece)\b",
                             text.split("--planner", 1)[1].split("--out", 1)[0]))
@@ -88,7 +89,7 @@ def test_reach_solve_runs_every_planner_from_the_cli(planner: str, tmp_path: Pat
     problem.write_text(yaml.safe_dump(OPEN), encoding="utf-8")
     run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(problem), "--planner", planner,
                           "--timeout", "60", "--out", str(tmp_path / "r.json")],
-                         capture_output=True, text=True, timeout=300, env={"COLUMNS": "200", "PATH": ""})
+                         capture_output=True, text=True, timeout=300, env={**os.environ, "COLUMNS": "200"})
     assert run.returncode == 0 and "found" in run.stdout, run.stdout + run.stderr
     assert '"validated": true' in (tmp_path / "r.json").read_text()
 
@@ -103,7 +104,7 @@ def test_an_unknown_planner_is_a_named_error_listing_the_names(tmp_path: Path) -
     problem = tmp_path / "open.yaml"
     problem.write_text(yaml.safe_dump(OPEN), encoding="utf-8")
     run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(problem), "--planner", "rrtx"],
-                         capture_output=True, text=True, timeout=60, env={"COLUMNS": "400", "PATH": ""})
+                         capture_output=True, text=True, timeout=60, env={**os.environ, "COLUMNS": "400"})
     assert run.returncode == 2 and "unknown planner 'rrtx'" in run.stderr and "kpiece" in run.stderr, run.stderr
 
 
