@@ -6,6 +6,8 @@
 #   bash scripts/lock-deps.sh                 # re-resolve, keeping today's pins where pyproject allows
 #                                             # (after adding or changing a dependency in pyproject.toml)
 #   bash scripts/lock-deps.sh --upgrade       # newest releases pyproject allows
+#   bash scripts/lock-deps.sh --lowest -o F   # the lowest versions pyproject allows (to check its lower
+#                                             # bounds: scripts/upgrade-deps.sh --lowest)
 #   bash scripts/lock-deps.sh -o FILE         # write FILE instead of requirements.lock
 #
 # It only writes the lock; scripts/upgrade-deps.sh tests a new one before adopting it.
@@ -19,8 +21,9 @@ upgrade=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --upgrade) upgrade=(--upgrade) ;;
+    --lowest) upgrade=(--upgrade --resolution lowest-direct) ;;
     -o) out="$2"; shift ;;
-    *) echo "usage: $0 [--upgrade] [-o FILE]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--upgrade | --lowest] [-o FILE]" >&2; exit 2 ;;
   esac
   shift
 done

@@ -5,6 +5,8 @@
 #   bash scripts/upgrade-deps.sh              # newest releases
 #   bash scripts/upgrade-deps.sh --keep       # re-resolve keeping today's pins where allowed
 #                                             # (e.g. after adding a dependency), tested the same way
+#   bash scripts/upgrade-deps.sh --lowest     # check pyproject's lower bounds: the lowest versions
+#                                             # it allows, tested the same way; never writes the lock
 #
 # 1. resolve a new lock (scripts/lock-deps.sh) into a temporary folder;
 # 2. copy the checkout there, create a throwaway venv, install exactly the new lock and
@@ -17,11 +19,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
 mode=--upgrade
-[ "${1:-}" = --keep ] && mode=
+case "${1:-}" in
+  --keep) mode= ;;
+  --lowest) mode=--lowest ;;
+  "") ;;
+  *) echo "usage: $0 [--keep | --lowest]" >&2; exit 2 ;;
+esac
 work=$(mktemp -d "${TMPDIR:-/tmp}/plansynth-upgrade.XXXXXX")
 echo "working in $work"
 if [ -n "$mode" ]; then
-  bash scripts/lock-deps.sh --upgrade -o "$work/requirements.lock"
+  bash scripts/lock-deps.sh "$mode" -o "$work/requirements.lock"
 else
   bash scripts/lock-deps.sh -o "$work/requirements.lock"
 fi
@@ -35,6 +42,11 @@ cp "$work/requirements.lock" "$work/src/requirements.lock"
   CARGO_TARGET_DIR="$work/target" cargo test -q -p plansynth-core
   python -m pytest -q -p no:cacheprovider -p randomly
 ) || { echo "the suite FAILED with the new lock: requirements.lock is unchanged (see $work)" >&2; exit 1; }
+if [ "$mode" = --lowest ]; then
+  echo "the suite passed with the lowest versions pyproject.toml allows (requirements.lock unchanged)"
+  rm -rf "$work"
+  exit 0
+fi
 echo "the suite passed with the new lock; changes:"
 diff <(grep -E '^[a-zA-Z0-9]' requirements.lock 2>/dev/null | sed 's/ .*//') \
      <(grep -E '^[a-zA-Z0-9]' "$work/requirements.lock" | sed 's/ .*//') || true

@@ -42,7 +42,9 @@ def reset_scheduler() -> None:
     """Drop the HiGHS scheduler of this thread so that the next ``run()`` starts one
     with :data:`THREADS` threads. Not while any HiGHS instance is solving."""
     global _scheduler_reset
-    highspy.Highs.resetGlobalScheduler(True)
+    reset = getattr(highspy.Highs, "resetGlobalScheduler", None)  # absent from older highspy
+    if reset is not None:
+        reset(True)
     _scheduler_reset = True
 
 

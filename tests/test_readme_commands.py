@@ -1,0 +1,286 @@
+"""The README's commands are tests (issue 10, item 3).
+
+Every ``plansynth ...`` line in a code block of README.md or docs/tutorial.md is run
+here as a user would run it: the installed ``plansynth`` command in a fresh process,
+in a temporary folder holding a copy of the checkout's ``examples/`` (and
+``benchmarks/``), with its outcome asserted (exit status, what it prints, the files it
+writes, the status and validation recorded in them).
+
+:data:`CASES` maps each documented command (as :func:`documented_commands` spells it:
+comments dropped, re-quoted by ``shlex.join``) to what it must do. A documented command
+without an entry FAILS :func:`test_every_documented_command_has_a_case`, which prints the
+line to add; an entry for a command no document shows fails too. Adding one is a
+one-liner, e.g.::
+
+    "plansynth grid solve examples/grid/figure1.yaml": Case(out=("realizable",)),
+
+A command too slow for every CI run gets a ``fast`` variant (a smaller ``--timeout``,
+fewer values, an easier example), which always runs; the command as written then runs
+with ``--runslow`` (``slow=False``: never, for benchmark sweeps and synopses such as
+``[--report-only]``). The first README line's ``bash scripts/setup.sh`` and the
+``bash scripts/test.sh`` line are what CI itself runs; here the first line's
+``plansynth`` part runs with the installed package.
+
+``p.yaml``, the placeholder problem of some lines, is a small grid problem written into
+the folder, and ``cvc5`` on the PATH is a stand-in for the cvc5 binary (the cvc5 wheel
+ships none): ``python -m plansynth.grid.backends.cvc5_cli``, cvc5 through its Python API.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ("README.md", "docs/tutorial.md")
+BIN = Path(sys.executable).parent
+PLANSYNTH = shutil.which("plansynth", path=str(BIN)) or shutil.which("plansynth")
+
+#: The placeholder problem ``p.yaml``: a 3x1 corridor, realizable at l = 2.
+P_YAML = """\
+grid: [3, 1]
+robot: {start: [0, 0], goal: [2, 0], moves: [stay, right]}
+max_steps: 3
+"""
+
+#: ``small.yaml``: an open 10 x 10 workspace, double integrator (a short trajectory).
+SMALL_YAML = """\
+name: small
+workspace: {min: [0, 0], max: [10, 10]}
+goal: {min: [6, 6], max: [8, 8]}
+robot:
+  dynamics: {model: double-integrator, dt: 0.5}
+  start: [1, 1, 0, 0]
+  input_bound: 1
+  state_bounds: {min: [0, 0, -2, -2], max: [10, 10, 2, 2]}
+max_horizon: 40
+"""
+
+CVC5_SHIM = f"""#!/bin/sh
+# stands in for the cvc5 binary: cvc5 through its Python API
+exec {shlex.quote(sys.executable)} -m plansynth.grid.backends.cvc5_cli "$@"
+"""
+
+
+@dataclass(frozen=True)
+class Case:
+    """What a documented command must do.
+
+    ``exit``: the allowed exit statuses; ``out``: texts its output contains; ``files``:
+    files it writes (relative to the folder; a trailing ``/`` means a non-empty folder);
+    ``json``: (file, key, value) triples its JSON files hold; ``before``: commands run
+    first to make its inputs (asserted to exit 0); ``fast``: the variant run in every
+    CI run when the command as written is slow (a command, or a tuple whose last
+    command is the variant and the others its own ``before``), held to the same
+    assertions; ``slow``: whether the command as written also runs with ``--runslow``
+    when there is a ``fast`` variant.
+    """
+
+    exit: tuple[int, ...] = (0,)
+    out: tuple[str, ...] = ()
+    files: tuple[str, ...] = ()
+    json: tuple[tuple[str, str, Any], ...] = ()
+    before: tuple[str, ...] = ()
+    fast: str | tuple[str, ...] | None = None
+    slow: bool = True
+    timeout: float = 300.0
+
+
+FIGURE1_CVC5 = Case(out=("realizable",), files=("figure1-result.json",),
+                    json=(("figure1-result.json", "status", "realizable"), ("figure1-result.json", "verified", True)),
+                    fast="plansynth grid solve p.yaml --solver cvc5 --out figure1-result.json")
+SOLVED_P = "plansynth grid solve p.yaml -o door.json"
+SOLVED_FIGURE1 = "plansynth grid solve examples/grid/figure1.yaml --out result.json"
+SOLVED_DOOR = "plansynth grid solve examples/grid/door.yaml -o door.json"
+SOLVED_CROSSING = "plansynth grid solve examples/grid/crossing.yaml -o crossing.json"
+SOLVED_MAZE3 = "plansynth reach solve examples/reach/maze-3.yaml --out traj.json"
+SOLVED_CLUTTERED = "plansynth reach solve examples/reach/cluttered.yaml --out traj.json"
+TINY_BENCH = "plansynth bench grid --family figure1 --solvers native --timeout 60 --db bench-results.db"
+FOUND = ("found",)
+
+CASES: dict[str, Case] = {
+    # README: top
+    "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out figure1-result.json": FIGURE1_CVC5,
+    # README: reactive grid controllers
+    "plansynth grid solve examples/grid/figure1.yaml": Case(out=("realizable", "l =   6")),
+    "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json": Case(
+        out=("realizable",), json=(("result.json", "status", "realizable"), ("result.json", "verified", True)),
+        fast="plansynth grid solve p.yaml --solver cvc5 --out result.json"),
+    "plansynth grid solve examples/grid/depth-5.yaml --minimize": Case(out=("realizable", "minimal")),
+    "plansynth grid solve p.yaml --solver external --command 'cvc5 --lang=sygus2 {file}'": Case(out=("realizable",)),
+    "plansynth grid solve p.yaml --solver cvc5 --depth-bound 4 --max-steps 8 --timeout 600 -O sygus-enum=fast": Case(
+        out=("realizable",)),
+    "plansynth grid compile examples/grid/figure1.yaml --steps 6 -o figure1-l6.sl": Case(files=("figure1-l6.sl",)),
+    "plansynth grid compile examples/grid/figure1.yaml --steps 6 --depth-bound 4": Case(out=("(synth-fun", "(check-synth)")),
+    "plansynth grid verify examples/grid/figure1.yaml result.json": Case(out=("WINS",), before=(SOLVED_FIGURE1,)),
+    "plansynth grid verify examples/grid/figure1.yaml '(ite (<= rx 3) 2 1)' --steps 6": Case(out=("WINS",)),
+    "plansynth grid animate examples/grid/door.yaml door.json -o door.gif --obstacles adversarial": Case(
+        files=("door.gif",), before=(SOLVED_DOOR,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o door.gif --obstacles adversarial")),
+    "plansynth grid animate examples/grid/door.yaml door.json -o run.gif --obstacles random --seed 3 --png step5.png --step 5": Case(
+        files=("run.gif", "step5.png"), before=(SOLVED_DOOR,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o run.gif --obstacles random --seed 3 --png step5.png --step 1")),
+    "plansynth grid export result.json --lang c --problem examples/grid/figure1.yaml": Case(
+        out=("return",), before=(SOLVED_FIGURE1,)),
+    "plansynth grid solve examples/grid/door.yaml -o door.json": Case(
+        out=("realizable", "o0y"), json=(("door.json", "status", "realizable"),)),
+    "plansynth grid minimize examples/grid/crossing.yaml": Case(out=("minimal",)),
+    "plansynth grid explain examples/grid/crossing.yaml --steps 8 --gif why.gif": Case(
+        exit=(1,), out=("unrealizable",), files=("why.gif",)),
+    # README: reach-avoid planning
+    "plansynth reach solve examples/reach/maze-3.yaml --out traj.json --plot traj.png": Case(
+        out=FOUND, files=("traj.png",), json=(("traj.json", "status", "found"), ("traj.json", "validated", True))),
+    "plansynth reach validate examples/reach/maze-3.yaml traj.json": Case(out=("valid",), before=(SOLVED_MAZE3,)),
+    "plansynth reach solve examples/reach/maze-1.yaml --animate run.gif": Case(
+        out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"),
+    "plansynth reach solve examples/reach/maze-4.yaml --horizon-search linear": Case(out=("found", "proved minimal")),
+    "plansynth reach solve examples/reach/maze-1.yaml --paper": Case(out=FOUND),
+    "plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 60": Case(
+        exit=(0, 3), out=("lazy-smt",),
+        fast="plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 3"),
+    "plansynth reach solve examples/reach/cluttered.yaml --planner milp --max-horizon 60": Case(out=FOUND),
+    "plansynth reach plot examples/reach/cluttered.yaml traj.json -o cluttered.png": Case(
+        files=("cluttered.png",), before=(SOLVED_CLUTTERED,)),
+    # README: benchmarks (the sweeps as written are the published benchmark: fast variants only)
+    "plansynth bench grid --family steps --solvers native,cvc5 --timeout 300 --repeat 3": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench grid --family steps --values 1 --solvers native,cvc5 --timeout 60 --db b.db"),
+    "plansynth bench grid --family all --solvers native,external -O 'external:command=cvc5 --lang=sygus2 {file}'": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench grid --family steps --values 1 --solvers native,external -O 'external:command=cvc5 --lang=sygus2 {file}' --timeout 60 --db b.db"),
+    "plansynth bench reach --family maze --planners lazy-smt,rrt,milp-bigm,milp --repeat 5": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,milp-bigm,milp --timeout 20 --db b.db"),
+    "plansynth bench reach --family chain --values 1,2 --orders 1,2,5,10 --planners lazy-smt": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench reach --family chain --values 1 --orders 1 --planners lazy-smt --timeout 20 --db b.db"),
+    "plansynth bench report --db bench-results.db --out bench-report/": Case(
+        files=("bench-report/",), before=(TINY_BENCH,)),
+    "plansynth bench publish '[--report-only]'": Case(
+        files=("published/RESULTS.md",), slow=False, fast="plansynth bench publish --report-only --out published"),
+    # docs/tutorial.md
+    "plansynth grid solve examples/grid/crossing.yaml -o crossing.json": Case(
+        out=("realizable",), json=(("crossing.json", "status", "realizable"),)),
+    "plansynth grid animate examples/grid/crossing.yaml crossing.json -o crossing.gif": Case(
+        files=("crossing.gif",), before=(SOLVED_CROSSING,)),
+    "plansynth grid animate examples/grid/crossing.yaml crossing.json -o random.gif --obstacles random --seed 1": Case(
+        files=("random.gif",), before=(SOLVED_CROSSING,)),
+    "plansynth grid solve examples/grid/crossing.yaml --steps 8": Case(exit=(1,), out=("unrealizable",)),
+    "plansynth grid compile examples/grid/crossing.yaml --steps 9 -o crossing.sl": Case(files=("crossing.sl",)),
+    "plansynth grid solve examples/grid/crossing.yaml --solver cvc5 --timeout 120": Case(
+        exit=(0, 3), out=("cvc5",),
+        fast="plansynth grid solve examples/grid/crossing.yaml --solver cvc5 --timeout 5"),
+    "plansynth grid solve examples/grid/crossing.yaml --solver external --command 'python -m plansynth.grid.backends.cvc5_cli {file}'": Case(
+        exit=(0, 3), out=("external",),
+        fast="plansynth grid solve examples/grid/crossing.yaml --solver external --command 'python -m plansynth.grid.backends.cvc5_cli {file}' --timeout 5"),
+    "plansynth grid verify examples/grid/crossing.yaml '(ite (<= rx 3) 2 0)' --steps 9": Case(
+        exit=(1,), out=("LOSES", "counterexample")),
+}
+
+
+def documented_commands() -> dict[str, str]:
+    """Every ``plansynth`` command line in a code block of :data:`DOCS`, canonical form
+    -> where it is shown. Continuation lines are joined; ``cmd && plansynth ...`` and
+    ``.venv/bin/plansynth`` count as ``plansynth ...``."""
+    found: dict[str, str] = {}
+    for doc in DOCS:
+        text = (ROOT / doc).read_text(encoding="utf-8")
+        for block in re.findall(r"^```[^\n]*\n(.*?)^```", text, re.S | re.M):
+            for line in block.replace("\\\n", " ").splitlines():
+                for part in line.split("&&"):
+                    try:
+                        words = shlex.split(part, comments=True)
+                    except ValueError:
+                        continue
+                    if words and (words[0] == "plansynth" or words[0].endswith("/bin/plansynth")):
+                        found.setdefault(shlex.join(["plansynth", *words[1:]]), doc)
+    return found
+
+
+def test_every_documented_command_has_a_case() -> None:
+    documented = documented_commands()
+    assert len(documented) >= 30, "the parser found too few commands"
+    missing = [f'    {c!r}: Case(...),  # {doc}' for c, doc in documented.items() if c not in CASES]
+    assert not missing, "documented commands without a test; add to CASES in tests/test_readme_commands.py:\n" + "\n".join(missing)
+    stale = [c for c in CASES if c not in documented]
+    assert not stale, f"CASES for commands no document shows any more: {stale}"
+
+
+def test_the_parser_reads_continuations_comments_and_prefixes() -> None:
+    documented = documented_commands()
+    assert "plansynth grid solve examples/grid/figure1.yaml" in documented  # its comment dropped
+    assert any(c.startswith("plansynth grid solve examples/grid/crossing.yaml --solver external --command")
+               for c in documented)  # joined from two lines
+    assert "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out figure1-result.json" in documented
+
+
+@pytest.fixture
+def folder(tmp_path: Path) -> Path:
+    """A temporary folder holding a copy of the checkout's example files."""
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    shutil.copytree(ROOT / "benchmarks", tmp_path / "benchmarks")
+    (tmp_path / "p.yaml").write_text(P_YAML, encoding="utf-8")
+    (tmp_path / "small.yaml").write_text(SMALL_YAML, encoding="utf-8")
+    shim = tmp_path / "bin" / "cvc5"
+    shim.parent.mkdir()
+    shim.write_text(CVC5_SHIM, encoding="utf-8")
+    shim.chmod(0o755)
+    return tmp_path
+
+
+def _run(command: str, folder: Path, timeout: float) -> subprocess.CompletedProcess[str]:
+    words = shlex.split(command)
+    assert words[0] == "plansynth" and PLANSYNTH is not None
+    env = {**os.environ, "PATH": os.pathsep.join([str(folder / "bin"), str(BIN), os.environ.get("PATH", "")]),
+           "COLUMNS": "200", "NO_COLOR": "1", "TERM": "dumb", "MPLBACKEND": "Agg"}
+    return subprocess.run([PLANSYNTH, *words[1:]], cwd=folder, env=env, capture_output=True, text=True,
+                          timeout=timeout, stdin=subprocess.DEVNULL)
+
+
+def _params() -> list[Any]:
+    params = []
+    for command, case in CASES.items():
+        if case.fast is None:
+            params.append(pytest.param(command, (*case.before, command), id=command))
+        else:
+            fast = (*case.before, case.fast) if isinstance(case.fast, str) else case.fast
+            params.append(pytest.param(command, fast, id=f"fast: {fast[-1]}"))
+            if case.slow:
+                params.append(pytest.param(command, (*case.before, command), id=command, marks=pytest.mark.slow))
+    return params
+
+
+@pytest.mark.commands
+@pytest.mark.parametrize(("documented", "commands"), _params())
+def test_documented_command(documented: str, commands: tuple[str, ...], folder: Path) -> None:
+    case = CASES[documented]
+    *before, command = commands
+    for step in before:
+        pre = _run(step, folder, case.timeout)
+        assert pre.returncode == 0, f"{step}: exit {pre.returncode}\n{pre.stdout}\n{pre.stderr}"
+    run = _run(command, folder, case.timeout)
+    said = f"{command}: exit {run.returncode}\n--- stdout\n{run.stdout}\n--- stderr\n{run.stderr}"
+    assert run.returncode in case.exit, said
+    assert "Traceback" not in run.stdout + run.stderr, said
+    output = run.stdout + run.stderr
+    for text in case.out:
+        assert text in output, f"{text!r} not printed by {said}"
+    for name in case.files:
+        path = folder / name
+        if name.endswith("/"):
+            assert path.is_dir() and any(path.iterdir()), f"{command} wrote nothing into {name}"
+        else:
+            assert path.is_file() and path.stat().st_size > 0, f"{command} did not write {name}"
+    for name, key, value in case.json:
+        doc = json.loads((folder / name).read_text(encoding="utf-8"))
+        assert doc.get(key) == value, f"{name}: {key} is {doc.get(key)!r}, expected {value!r}"
