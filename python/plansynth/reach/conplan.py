@@ -83,7 +83,7 @@ from typing import Any
 import highspy
 import numpy as np
 
-from plansynth.budget import Clock
+from plansynth.budget import Clock, checkpoint
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.displan import Conflict
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
@@ -1196,6 +1196,7 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
     lp.a_matrix_.value_ = M[nz]
     h = highspy.Highs()
     h.setOptionValue("output_flag", False)
+    h.setOptionValue("threads", 1)  # as every other instance: HiGHS 1.16's scheduler is global
     down, up = np.zeros(len(pos)), np.zeros(len(pos))
     for a, i in enumerate(pos):
         for sign, out in ((1.0, up), (-1.0, down)):
@@ -1307,6 +1308,7 @@ def _sweep(
         new = list(reach)
         changed = False
         for j in range(k):
+            checkpoint()  # thousands of regions: within the budget phase, if any
             blo, bhi = boxes[j]
             lo, hi = None, None
             for i in (j, *adjacency[j]):
