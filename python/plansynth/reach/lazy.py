@@ -346,7 +346,7 @@ def lazy_loop(
                     displan.prefer(ref)
             while True:
                 if clock.exhausted():
-                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out at horizon {_span(lo, hi)} after {clock.iterations} iterations")
+                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the lazy SMT loop (between SAT and LP calls) at horizon {_span(lo, hi)} after {clock.iterations} iterations")
                 clock.tick()
                 t0 = time.perf_counter()
                 outcome, plan = displan.solve(hi, clock, lowest=lo)
