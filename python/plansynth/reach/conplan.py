@@ -843,6 +843,8 @@ class ConPlan:
         h = self.cold
         tight = {"presolve": "on", "simplex_scale_strategy": 0, "primal_feasibility_tolerance": 1e-10,
                  "dual_feasibility_tolerance": 1e-10, "simplex_iteration_limit": 2**31 - 1}
+        if self.clock is not None:  # within the budget: a polish cut short keeps the first answer
+            tight["time_limit"] = float(h.getRunTime() + max(1e-3, min(self.clock.remaining(), 1e9)))
         with _options(h, tight):
             t0 = time.perf_counter()
             h.run()
