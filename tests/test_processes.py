@@ -63,18 +63,42 @@ def cvc5_running(proc: subprocess.Popen) -> list[psutil.Process]:
     return family(proc)
 
 
-@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT])
 def test_killing_a_cvc5_solve_leaves_no_worker_fork_server_or_tracker(sig):
     proc = start("grid", "solve", str(GRID / "depth-5.yaml"), "--solver", "cvc5")
     try:
         kids = cvc5_running(proc)
-        os.kill(proc.pid, sig)
+        if sig == signal.SIGINT:
+            os.killpg(proc.pid, sig)  # Ctrl-C: to the foreground group (the fork server ignores it)
+        else:
+            os.kill(proc.pid, sig)
         proc.wait(30)
         assert_all_gone(kids)
         out = proc.stdout.read().decode(errors="replace")
         assert "Traceback" not in out and "BrokenPipeError" not in out, out
-        if sig == signal.SIGTERM:
+        if sig != signal.SIGKILL:
             assert proc.returncode == 130, out  # unwound like Ctrl-C, clean-up ran
+    finally:
+        proc.kill()
+        proc.wait()
+
+
+def test_ctrl_c_during_a_reach_solve_exits_130(tmp_path):
+    import yaml
+
+    from plansynth.reach.families import maze
+    from plansynth.reach.problem import reach_problem_to_dict
+
+    problem = tmp_path / "slow.yaml"
+    problem.write_text(yaml.safe_dump(reach_problem_to_dict(maze(4, input_bound=0.02))))
+    proc = start("reach", "solve", str(problem))
+    try:
+        time.sleep(8)  # start-up, abstraction, and into the loop (it needs far longer)
+        assert proc.poll() is None
+        os.killpg(proc.pid, signal.SIGINT)
+        out, _ = proc.communicate(timeout=30)
+        assert proc.returncode == 130, out
+        assert b"Traceback" not in out, out
     finally:
         proc.kill()
         proc.wait()
