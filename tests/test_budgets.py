@@ -119,7 +119,8 @@ def test_milp_stops_within_its_budget():
 
     r, seconds = timed(plan_milp, slow_maze(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
-    assert "budget ran out" in r.message and "MILP" in r.message, r.message
+    assert any(f"budget ran out {phase}" in r.message
+               for phase in ("in the MILP solver", "in building the MILP", "before the MILP")), r.message
     assert seconds < LIMIT
 
 
@@ -128,7 +129,9 @@ def test_milp_bigm_stops_in_the_solver_and_while_building():
 
     r, seconds = timed(plan_milp_bigm, slow_maze(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
-    assert "budget ran out in the MILP solver" in r.message, r.message
+    # infeasible short horizons, then one it cannot finish: solving or building it
+    assert any(f"budget ran out {phase}" in r.message
+               for phase in ("in the MILP solver", "in building the MILP", "before the MILP")), r.message
     assert seconds < LIMIT
     # 10,000 convex pieces: building the model is what takes the time
     r, seconds = timed(plan_milp_bigm, many_vertex_circle(), Budget(seconds=BUDGET))

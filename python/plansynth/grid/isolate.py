@@ -179,6 +179,83 @@ def _kill(proc: multiprocessing.process.BaseProcess, tag: str | None = None) -> 
     proc.join(5)
 
 
+_OWNER_LOCK = threading.Lock()
+_OWNER_REQUESTS: "list[Any]" = []  # a queue.Queue once the owner thread runs
+
+
+def _ensure_forkserver() -> None:
+    """Start the fork server (if it is not running) from one thread that lives as long
+    as this process. The fork server dies with the thread that started it
+    (``PR_SET_PDEATHSIG`` is tied to the thread that forked): started from a
+    short-lived thread, it would take the children of other threads with it."""
+    import queue
+
+    with _OWNER_LOCK:
+        if not _OWNER_REQUESTS:
+            requests: "queue.Queue[tuple[threading.Event, list[BaseException]]]" = queue.Queue()
+
+            def serve() -> None:
+                from multiprocessing import forkserver
+
+                while True:
+                    event, errors = requests.get()
+                    try:
+                        forkserver.ensure_running()
+                    except BaseException as exc:  # noqa: BLE001 - handed to the caller
+                        errors.append(exc)
+                    finally:
+                        event.set()
+
+            threading.Thread(target=serve, name="plansynth-forkserver-owner", daemon=True).start()
+            _OWNER_REQUESTS.append(requests)
+        requests = _OWNER_REQUESTS[0]
+    event, errors = threading.Event(), []
+    requests.put((event, errors))
+    event.wait()
+    if errors:
+        raise errors[0]
+
+
+def _start_by(proc: multiprocessing.process.BaseProcess, deadline: float | None, tag: str, send: Any, receive: Any) -> bool:
+    """Start ``proc`` by ``deadline``; False if it could not be. The first start of a
+    fork server imports its preloaded modules (cvc5: a second or more on a loaded
+    machine) and ``Process.start`` waits for that, so it runs in a helper thread: when
+    the deadline passes first, the helper kills the child as soon as it exists."""
+    if deadline is None:
+        proc.start()
+        return True
+    done = threading.Event()
+    failed: list[BaseException] = []
+
+    def start() -> None:
+        try:
+            proc.start()
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller below
+            failed.append(exc)
+        finally:
+            done.set()
+
+    def late() -> None:  # the caller gave up waiting: kill the child once it exists
+        done.wait()
+        if not failed:
+            _kill(proc, tag)
+        send.close()
+        receive.close()
+
+    threading.Thread(target=start, name="plansynth-isolate-start", daemon=True).start()
+    try:
+        ready = done.wait(max(0.0, deadline - time.perf_counter()))
+    except BaseException:
+        threading.Thread(target=late, name="plansynth-isolate-late", daemon=True).start()
+        raise
+    if not ready:
+        threading.Thread(target=late, name="plansynth-isolate-late", daemon=True).start()
+        return False
+    if failed:
+        raise failed[0]
+    return True
+
+
 def run_isolated(
     fn: Callable[..., T],
     *args: Any,
@@ -196,8 +273,10 @@ def run_isolated(
     start = time.perf_counter()
     if timeout is not None and timeout <= 0:
         return Timeout(timeout, 0.0)
-    if method == "forkserver" and not _PRELOAD_SET:
-        preload()
+    if method == "forkserver":
+        if not _PRELOAD_SET:
+            preload()
+        _ensure_forkserver()
     from plansynth.procs import new_tag
 
     ctx = multiprocessing.get_context(method)
@@ -206,7 +285,9 @@ def run_isolated(
     # Not a daemon, so that fn may start its own multiprocessing children; the finally
     # clause below kills the child whatever happens (timeout, KeyboardInterrupt, ...).
     proc = ctx.Process(target=_child, args=(send, fn, args, kwargs, memory_mb, tag), daemon=False)
-    proc.start()
+    deadline = None if timeout is None else start + timeout
+    if not _start_by(proc, deadline, tag, send, receive):
+        return Timeout(timeout, time.perf_counter() - start)  # type: ignore[arg-type]
     send.close()
     with _LIVE_LOCK:
         _LIVE[proc.pid] = (proc, tag)  # type: ignore[index]
@@ -218,7 +299,6 @@ def run_isolated(
             raise Cancelled(f"child {proc.pid} cancelled")
 
     try:
-        deadline = None if timeout is None else start + timeout
         while True:
             wait = 0.2 if deadline is None else min(0.2, max(0.0, deadline - time.perf_counter()))
             ready = receive.poll(wait)

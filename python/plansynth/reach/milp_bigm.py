@@ -68,6 +68,7 @@ def convex_pieces(shape: Box | Polygon) -> list[tuple[np.ndarray, np.ndarray]]:
     tris = shapely.constrained_delaunay_triangles(shape_to_shapely(shape))
     pieces = []
     for tri in shapely.get_parts(tris):
+        checkpoint()  # thousands of triangles: within the budget phase, if any
         coords = list(tri.exterior.coords)[:-1]
         poly = Polygon(tuple((float(x), float(y)) for x, y in coords))
         pieces.append(halfspaces(poly))
