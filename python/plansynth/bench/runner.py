@@ -308,11 +308,28 @@ def _run_dask(cluster: str | Any, todo: Sequence[Mapping[str, Any]], record: Cal
         for t in todo:
             f = client.submit(run_task, dict(t), pure=False, key=f"plansynth-{t['experiment']}-{t['solver']}-{t['repeat']}-{time.time_ns()}")
             futures[f.key] = (f, t)
-        for fut in dask_completed([f for f, _ in futures.values()]):
-            task = futures[fut.key][1]
-            record(task, _safe_result(fut, task))
-            if bar is not None:
-                bar.advance(task)
+        seen: set[str] = set()
+        try:
+            for fut in dask_completed([f for f, _ in futures.values()]):
+                task = futures[fut.key][1]
+                seen.add(fut.key)
+                result = _safe_result(fut, task)
+                if result is not None:
+                    record(task, result)
+                if bar is not None:
+                    bar.advance(task)
+        except BaseException:  # Ctrl-C: keep what finished, drop what is queued or running
+            pending = [f for f, _ in futures.values() if not f.done()]
+            client.cancel(pending)
+            for key, (f, task) in futures.items():
+                if key not in seen and f.status == "finished":
+                    try:
+                        result = _safe_result(f, task)
+                    except BaseException:  # noqa: BLE001 - not a finished run
+                        continue
+                    if result is not None:
+                        record(task, result)
+            raise
     finally:
         if not isinstance(cluster, Client):
             client.close()
