@@ -131,6 +131,7 @@ def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | N
     start = time.monotonic()
     deadline = None if timeout is None else start + timeout
     exited: float | None = None
+    cleaned = False  # its group and helpers killed once it exited
     next_look = start
     try:
         with selectors.DefaultSelector() as sel:
@@ -141,6 +142,7 @@ def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | N
                 if exited is None and proc.poll() is not None:
                     exited = now
                     kill_tree(proc.pid, known=seen, tag=tag)  # its helpers: the pipe closes now
+                    cleaned = True
                 if exited is not None and now - exited > DRAIN_SECONDS:
                     break  # whoever still holds the pipe is not the solver
                 if deadline is not None and now >= deadline:
@@ -165,7 +167,8 @@ def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | N
             except subprocess.TimeoutExpired:
                 status = "timeout"
     finally:
-        kill_tree(proc.pid, known=seen, tag=tag)
+        if not cleaned or proc.poll() is None:
+            kill_tree(proc.pid, known=seen, tag=tag)
         proc.wait()
         proc.stdout.close()
         proc.stderr.close()
