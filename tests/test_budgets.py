@@ -156,7 +156,7 @@ GRID = Path(__file__).resolve().parents[1] / "examples" / "grid"
 
 
 def test_cvc5_stops_and_leaves_no_child():
-    psutil = pytest.importorskip("psutil")
+    import psutil
     from plansynth.grid.problem import load_grid_problem
     from plansynth.grid.result import GridStatus
     from plansynth.grid.solve import solve
@@ -171,7 +171,7 @@ def test_cvc5_stops_and_leaves_no_child():
 
 
 def test_external_solver_stops_and_leaves_no_child(tmp_path):
-    psutil = pytest.importorskip("psutil")
+    import psutil
     from plansynth.grid.problem import load_grid_problem
     from plansynth.grid.result import GridStatus
     from plansynth.grid.solve import solve
@@ -186,3 +186,51 @@ def test_external_solver_stops_and_leaves_no_child(tmp_path):
     assert seconds < LIMIT
     after = {p.pid for p in psutil.Process().children(recursive=True)}
     assert after <= before
+
+
+def test_the_long_phases_check_the_clock():
+    """The abstraction and the time-window bounds stop at their next checkpoint once the
+    clock is out of time (the reach planners run them inside budget phases)."""
+    from plansynth.reach.conplan import time_windows
+    from plansynth.reach.decompose import abstract
+
+    problem = maze(2)
+    abstraction = abstract(problem)
+    dead = Budget(seconds=1e-6).clock()
+    time.sleep(0.01)
+    with pytest.raises(BudgetExhausted, match="the abstraction"):
+        with dead.phase("the abstraction"):
+            abstract(problem)
+    with pytest.raises(BudgetExhausted, match="the bounds"):
+        with dead.phase("the bounds"):
+            time_windows(problem, abstraction, 200)
+
+
+SLOW_START = """
+import sys, time
+from plansynth.grid.isolate import Timeout, preload, run_isolated
+preload("plansynth.reach.lazy", "plansynth.reach.milp_bigm", "cvc5")  # a fork server slow to start
+t0 = time.perf_counter()
+out = run_isolated(time.sleep, 30, timeout=0.2)
+print(type(out).__name__, round(time.perf_counter() - t0, 3))
+time.sleep(float(sys.argv[1]))  # the late child is killed meanwhile
+"""
+
+
+def test_a_child_that_cannot_start_by_the_deadline_is_given_up_at_once_and_killed(tmp_path):
+    import psutil
+    import subprocess
+
+    script = tmp_path / "slow_start.py"
+    script.write_text(SLOW_START)
+    proc = subprocess.Popen([sys.executable, str(script), "8"], stdout=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline().split()
+        assert line[0] == "Timeout" and float(line[1]) < 1.0, line
+        time.sleep(6)  # the fork server has started by now and the child was killed on arrival
+        sleepers = [p for p in psutil.Process(proc.pid).children(recursive=True)
+                    if not any(w in " ".join(p.cmdline()) for w in ("forkserver", "resource_tracker"))]
+        assert not [p for p in sleepers if p.status() != psutil.STATUS_ZOMBIE], sleepers
+    finally:
+        proc.kill()
+        proc.wait()
