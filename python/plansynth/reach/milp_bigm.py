@@ -206,9 +206,9 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
     spans = [(t, t + 1) for t in range(N)] if segment_safe else [(t, t) for t in range(1, N + 1)]
     for a_t, b_t in spans:
         for H, h in pieces:
-            checkpoint()
             choose: dict[int, float] = {}
             for r in range(H.shape[0]):
+                checkpoint()  # a convex piece may have thousands of faces
                 col = n_cont + n_bin
                 n_bin += 1
                 bin_cols.append(col)
