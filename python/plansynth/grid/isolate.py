@@ -180,7 +180,7 @@ def _kill(proc: multiprocessing.process.BaseProcess, tag: str | None = None) -> 
 
 
 _OWNER_LOCK = threading.Lock()
-_OWNER_REQUESTS: "list[Any]" = []  # a queue.Queue once the owner thread runs
+_OWNER: dict[int, Any] = {}  # pid -> the request queue of that process's owner thread
 
 
 def _ensure_forkserver() -> None:
@@ -191,7 +191,7 @@ def _ensure_forkserver() -> None:
     import queue
 
     with _OWNER_LOCK:
-        if not _OWNER_REQUESTS:
+        if os.getpid() not in _OWNER:  # (a forked child has no owner thread of its own yet)
             requests: "queue.Queue[tuple[threading.Event, list[BaseException]]]" = queue.Queue()
 
             def serve() -> None:
@@ -207,8 +207,8 @@ def _ensure_forkserver() -> None:
                         event.set()
 
             threading.Thread(target=serve, name="plansynth-forkserver-owner", daemon=True).start()
-            _OWNER_REQUESTS.append(requests)
-        requests = _OWNER_REQUESTS[0]
+            _OWNER[os.getpid()] = requests
+        requests = _OWNER[os.getpid()]
     event, errors = threading.Event(), []
     requests.put((event, errors))
     event.wait()
