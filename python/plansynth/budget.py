@@ -1,14 +1,51 @@
 """Explicit solver budgets (STYLE.md, point 4).
 
 Every solve takes a :class:`Budget`. A budget that runs out makes the answer
-``unknown``; it never produces an empty answer or a hang.
+``unknown``, naming the phase it was in; it never produces an empty answer or a hang.
+
+Long phases without a main loop of their own (the convex decomposition, the
+time-window bounds, building a MILP) run inside ``with clock.phase(name):`` and call
+:func:`checkpoint` in their inner loops; once the clock's time is up, the checkpoint
+raises :class:`BudgetExhausted` naming the phase, and the planner answers ``unknown``.
+
+>>> clock = Budget(seconds=1e-9).clock()
+>>> with clock.phase("the convex decomposition"):
+...     checkpoint()
+Traceback (most recent call last):
+...
+plansynth.budget.BudgetExhausted: budget ran out in the convex decomposition
+>>> checkpoint()   # outside a phase: never raises
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
+
+__all__ = ["Budget", "Clock", "BudgetExhausted", "checkpoint"]
+
+
+class BudgetExhausted(Exception):
+    """The time budget ran out in ``phase`` (an answer, ``unknown``, not an error)."""
+
+    def __init__(self, phase: str) -> None:
+        self.phase = phase
+        super().__init__(f"budget ran out in {phase}")
+
+
+_ACTIVE: ContextVar["tuple[Clock, str] | None"] = ContextVar("plansynth_budget_phase", default=None)
+
+
+def checkpoint() -> None:
+    """Raise :class:`BudgetExhausted` if the clock of the enclosing
+    :meth:`Clock.phase` is out of time (cheap: call it in inner loops)."""
+    active = _ACTIVE.get()
+    if active is not None and active[0].out_of_time():
+        raise BudgetExhausted(active[1])
 
 
 @dataclass(frozen=True)
@@ -54,6 +91,20 @@ class Clock:
         if self.budget.seconds is None:
             return math.inf
         return max(0.0, self.budget.seconds - self.elapsed())
+
+    def out_of_time(self) -> bool:
+        """True once the time (not the iterations) has run out."""
+        return self.budget.seconds is not None and self.elapsed() >= self.budget.seconds
+
+    @contextmanager
+    def phase(self, name: str) -> Iterator["Clock"]:
+        """Within this block, :func:`checkpoint` raises :class:`BudgetExhausted`
+        naming ``name`` once this clock is out of time."""
+        token = _ACTIVE.set((self, name))
+        try:
+            yield self
+        finally:
+            _ACTIVE.reset(token)
 
     def tick(self) -> None:
         """Count one main-loop iteration."""

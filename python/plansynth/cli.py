@@ -93,6 +93,9 @@ def version() -> None:
 
 
 def main(args: Any = None) -> None:
+    from plansynth.procs import terminate_as_interrupt
+
+    terminate_as_interrupt()  # SIGTERM unwinds like Ctrl-C: solver children are killed
     app(args)
 
 

@@ -51,9 +51,11 @@ def test_interrupted_sweep_resumes_and_skips_done_runs(tmp_path):
         run_sweep(db, tasks, progress=False, on_result=interrupt_after_two)
     with ResultsDB(db) as d:
         done_before = d.done_keys()
-    assert len(done_before) == 2
+    # the two recorded runs, and the third if it finished before its child could be
+    # killed (every finished run is kept); the fourth never started
+    assert len(done_before) in (2, 3)
     counts = run_sweep(db, tasks, progress=False)
-    assert counts["skipped"] == 2 and counts["done"] == 2
+    assert counts["skipped"] == len(done_before) and counts["done"] == 4 - len(done_before)
     with ResultsDB(db) as d:
         assert {k[2] for k in d.done_keys()} == {0, 1, 2, 3}
         assert len(d.runs()) == 4

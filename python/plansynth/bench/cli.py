@@ -59,17 +59,66 @@ def _options(items: list[str]) -> dict[str, dict[str, str]]:
     return out
 
 
+DEBUG_SOLVERS = ("debug-ok", "debug-sleep", "debug-crash", "debug-raise", "debug-memory")
+
+
+def _refuse(option: str, reason: str) -> None:
+    """One line naming the option and the reason; exit 2 before anything is written."""
+    console.print(f"[red]error: {option}: {reason}", highlight=False, soft_wrap=True)
+    raise typer.Exit(2)
+
+
+def _known_solvers(kind: str) -> list[str]:
+    if kind == "grid":
+        from plansynth.grid.result import backend_names
+
+        return list(backend_names())
+    from plansynth.bench.execute import REACH_SOLVERS
+    from plansynth.reach.solve import planners
+
+    return list(dict.fromkeys([*REACH_SOLVERS, *planners()]))
+
+
+def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: int, jobs: int, memory: int,
+                     orders: list[int]) -> None:
+    """Validate a sweep's arguments at the door (STYLE.md, point 2)."""
+    import math
+
+    flag = "--solvers" if kind == "grid" else "--planners"
+    if not solvers:
+        _refuse(flag, "give at least one name")
+    known = _known_solvers(kind)
+    for name in solvers:
+        if name not in known and name not in DEBUG_SOLVERS:
+            _refuse(flag, f"unknown {'grid solver' if kind == 'grid' else 'planner'} {name!r} (known: {', '.join(known)})")
+    if not (math.isfinite(timeout) and timeout > 0):
+        _refuse("--timeout", f"must be a positive number of seconds, got {timeout}")
+    if memory < 1:
+        _refuse("--memory", f"must be a positive number of MB, got {memory}")
+    if repeat < 1:
+        _refuse("--repeat", f"must be at least 1, got {repeat}")
+    if jobs < 1:
+        _refuse("--jobs", f"must be at least 1, got {jobs}")
+    if any(k < 1 for k in orders):
+        _refuse("--orders", f"chain orders must be at least 1, got {','.join(map(str, orders))}")
+
+
 def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[str], *, orders: list[int],
            timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
            retry: str = "", options: Optional[list[str]] = None) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import make_tasks, run_sweep
 
+    _check_arguments(kind, solvers, timeout=timeout, repeat=repeat, jobs=jobs, memory=memory, orders=orders)
+
     known = list(GRID_FAMILIES) if kind == "grid" else list(REACH_FAMILIES)
     if families == ["all"]:
         families = known
     insts = []
-    vals = None if values is None else [int(v) for v in _split(values)]
+    try:
+        vals = None if values is None else [int(v) for v in _split(values)]
+    except ValueError:
+        _refuse("--values", f"expected comma-separated integers, got {values!r}")
     for f in families:
         if f not in known:
             console.print(f"[red]unknown {kind} family {f!r}; choose from {', '.join(known)} or all")
@@ -81,7 +130,11 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
                        options=_options(options or []))
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
-    counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True, retry=_split(retry))
+    try:
+        counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True, retry=_split(retry))
+    except KeyboardInterrupt:
+        console.print(f"[yellow]interrupted: every finished run is kept in {db}; rerun the same command to resume")
+        raise typer.Exit(130) from None
     console.print("finished: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
 
 
@@ -123,7 +176,11 @@ def reach_cmd(
 ) -> None:
     """Run reach-avoid families with several planners into the results database."""
     fams = [x for f in family for x in _split(f)]
-    _sweep("reach", fams, values, _split(planners), orders=[int(k) for k in _split(orders)], timeout=timeout,
+    try:
+        order_list = [int(k) for k in _split(orders)]
+    except ValueError:
+        _refuse("--orders", f"expected comma-separated integers, got {orders!r}")
+    _sweep("reach", fams, values, _split(planners), orders=order_list, timeout=timeout,
            repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry)
 
 

@@ -37,7 +37,9 @@ Schema
     date TEXT
 
 Resume key: (experiment name = kind/family/instance, planner name, repeat); a run is
-done when a row exists for it, whatever its status.
+done when a row exists for it with the same budget (``attributes`` keeps the run's
+``timelimit`` and ``memorylimit``; rows written before the memory limit was kept fall
+back to the experiment's), whatever its status.
 
 ``info`` -- key/value pairs about the database (schema version, machine).
 
@@ -60,7 +62,10 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["ResultsDB", "RUN_COLUMNS", "SCHEMA_VERSION"]
+__all__ = ["ResultsDB", "RUN_COLUMNS", "SCHEMA_VERSION", "UNRECORDED"]
+
+#: A budget that an older database did not record (see :meth:`ResultsDB.recorded_budgets`).
+UNRECORDED = "unrecorded"
 
 SCHEMA_VERSION = 1
 
@@ -221,6 +226,29 @@ class ResultsDB:
             q += f" WHERE r.status NOT IN ({', '.join('?' for _ in retry)})"
         rows = self.conn.execute(q, retry)
         return {(a, b, int(c)) for a, b, c in rows}
+
+    def recorded_budgets(self, retry: Iterable[str] = ()) -> dict[tuple[str, str, int], tuple[Any, Any]]:
+        """The resume key of every recorded run (as :meth:`done_keys`) -> the (time limit,
+        memory limit) it ran with (None: no limit; :data:`UNRECORDED` or a None time limit:
+        the database does not say, and the run counts as done under any budget)."""
+        retry = tuple(retry)
+        q = ('SELECT e.name, p.name, r."repeat", r.attributes, e.timelimit, e.memorylimit FROM runs r'
+             " JOIN experiments e ON r.experimentid = e.id JOIN plannerConfigs p ON r.plannerid = p.id")
+        if retry:
+            q += f" WHERE r.status NOT IN ({', '.join('?' for _ in retry)})"
+        out: dict[tuple[str, str, int], tuple[Any, Any]] = {}
+        for a, b, c, attributes, e_time, e_memory in self.conn.execute(q, retry):
+            try:
+                attrs = json.loads(attributes or "{}")
+            except ValueError:
+                attrs = {}
+            attrs = attrs if isinstance(attrs, dict) else {}
+            timelimit = attrs.get("timelimit", e_time)
+            # None in attributes: the run had no memory limit; absent (older rows): the
+            # experiment's limit, else UNRECORDED
+            memorylimit = attrs["memorylimit"] if "memorylimit" in attrs else (UNRECORDED if e_memory is None else e_memory)
+            out[(a, b, int(c))] = (timelimit, memorylimit)
+        return out
 
     def runs(self, kind: str | None = None) -> list[dict[str, Any]]:
         """Every run joined with its experiment and planner, as plain dicts."""

@@ -2,13 +2,18 @@
 
 A sweep is a list of tasks (instance x solver x repeat). :func:`run_sweep`
 
-- skips tasks whose resume key (experiment, solver, repeat) is already in the database,
-  so an interrupted sweep resumes where it stopped;
+- skips tasks whose resume key (experiment, solver, repeat) is already in the database
+  with the same budget (time and memory limit), so an interrupted sweep resumes where
+  it stopped, and a run recorded under another budget is run again (its new row
+  replaces the old one);
 - runs each task in a fresh child process (:func:`plansynth.grid.isolate.run_isolated`)
   with a wall-clock limit (the solver's budget plus a grace period) and a memory limit,
   so a hung solver is recorded as ``timeout``, one that dies as ``crash``, one that runs
   out of memory as ``memout``, and nothing else is lost;
-- writes each run to the database the moment it finishes;
+- writes each run to the database the moment it finishes; on Ctrl-C (KeyboardInterrupt)
+  it stops at once: queued runs are dropped, running children are killed
+  (:func:`plansynth.grid.isolate.cancel_all`), every finished run is kept, and the
+  interrupt is raised again;
 - runs tasks on a local pool (``jobs`` children at once, default 1 so that timings are
   not disturbed) or on an existing Dask distributed cluster (``cluster="tcp://..."``),
   where each worker again isolates every run in a child process.
@@ -31,7 +36,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
-from plansynth.bench.db import ResultsDB
+from plansynth.bench.db import UNRECORDED, ResultsDB
 from plansynth.bench.families import Instance
 
 __all__ = ["make_tasks", "run_sweep", "run_task", "machine_info", "DEFAULT_MEMORY_MB"]
@@ -180,8 +185,8 @@ def run_sweep(
         planned |= {(t["experiment"], t["solver"], int(t["repeat"])) for t in tasks}
         db.set_info({"machine": machine, "last_sweep": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
                      "planned": sorted(planned)})
-        done = db.done_keys(retry)
-        todo = [t for t in tasks if (t["experiment"], t["solver"], int(t["repeat"])) not in done]
+        done = db.recorded_budgets(retry)
+        todo = [t for t in tasks if not _same_budget(done.get((t["experiment"], t["solver"], int(t["repeat"]))), t)]
         counts: dict[str, int] = {"skipped": len(tasks) - len(todo), "done": 0}
         ids: dict[tuple[str, str], tuple[int, int]] = {}
         runcount: dict[str, int] = {}
@@ -205,7 +210,8 @@ def run_sweep(
             attrs = dict(attrs)
             if attrs.get("message"):
                 attrs["message"] = scrub_paths(str(attrs["message"]))
-            attrs["attributes"] = {**dict(attrs.get("attributes") or {}), "timelimit": float(task["timeout"])}
+            attrs["attributes"] = {**dict(attrs.get("attributes") or {}), "timelimit": float(task["timeout"]),
+                                   "memorylimit": task.get("memory_mb")}
             db.add_run(eid, pid, int(task["repeat"]), attrs)
             counts["done"] += 1
             counts[attrs.get("status", "?")] = counts.get(attrs.get("status", "?"), 0) + 1
@@ -217,13 +223,7 @@ def run_sweep(
             if cluster is not None:
                 _run_dask(cluster, todo, record, bar)
             else:
-                with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-                    futures = {pool.submit(run_task, t): t for t in todo}
-                    for fut in as_completed(futures):
-                        task = futures[fut]
-                        record(task, _safe_result(fut, task))
-                        if bar is not None:
-                            bar.advance(task)
+                _run_local(todo, jobs, record, bar)
         finally:
             if bar is not None:
                 bar.stop()
@@ -232,9 +232,65 @@ def run_sweep(
         db.close()
 
 
-def _safe_result(fut: Any, task: Mapping[str, Any]) -> dict[str, Any]:
+def _same_budget(recorded: tuple[Any, Any] | None, task: Mapping[str, Any]) -> bool:
+    """Was a recorded run (its time and memory limit, :meth:`ResultsDB.recorded_budgets`;
+    None: no such run) made under ``task``'s budget?"""
+    if recorded is None:
+        return False
+    timelimit, memorylimit = recorded
+    if timelimit is not None and float(timelimit) != float(task["timeout"]):
+        return False
+    if memorylimit != UNRECORDED:
+        mem = task.get("memory_mb")
+        if (memorylimit is None) != (mem is None) or (mem is not None and float(memorylimit) != float(mem)):
+            return False
+    return True
+
+
+def _run_local(todo: Sequence[Mapping[str, Any]], jobs: int, record: Callable[..., None], bar: Any) -> None:
+    """Run ``todo`` on ``jobs`` threads, each waiting for its isolated child; record
+    each run as it finishes. On KeyboardInterrupt: drop the queued runs, kill the
+    running children, record the runs that finished meanwhile, raise again."""
+    from plansynth.grid.isolate import cancel_all
+
+    pool = ThreadPoolExecutor(max_workers=max(1, jobs))
+    futures = {pool.submit(run_task, t): t for t in todo}
+    recorded: set[Any] = set()
+    try:
+        for fut in as_completed(futures):
+            task = futures[fut]
+            recorded.add(fut)
+            result = _safe_result(fut, task)
+            if result is not None:
+                record(task, result)
+            if bar is not None:
+                bar.advance(task)
+    except BaseException:
+        pool.shutdown(wait=False, cancel_futures=True)
+        cancel_all()
+        for fut, task in futures.items():  # runs that finished before the children were killed
+            if fut in recorded or fut.cancelled():
+                continue
+            try:
+                fut.result(timeout=5)
+            except BaseException:  # noqa: BLE001 - cancelled, killed or failed: not a finished run
+                continue
+            result = _safe_result(fut, task)
+            if result is not None:
+                record(task, result)
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _safe_result(fut: Any, task: Mapping[str, Any]) -> dict[str, Any] | None:
+    """The run's attributes; None when its child was cancelled (not a finished run)."""
+    from plansynth.grid.isolate import Cancelled
+
     try:
         return dict(fut.result())
+    except Cancelled:
+        return None
     except Exception as exc:  # the runner itself failed for this task: record, go on
         return {"status": "crash", "solved": 0, "message": f"runner error: {type(exc).__name__}: {exc}"[:4000]}
 
@@ -252,11 +308,28 @@ def _run_dask(cluster: str | Any, todo: Sequence[Mapping[str, Any]], record: Cal
         for t in todo:
             f = client.submit(run_task, dict(t), pure=False, key=f"plansynth-{t['experiment']}-{t['solver']}-{t['repeat']}-{time.time_ns()}")
             futures[f.key] = (f, t)
-        for fut in dask_completed([f for f, _ in futures.values()]):
-            task = futures[fut.key][1]
-            record(task, _safe_result(fut, task))
-            if bar is not None:
-                bar.advance(task)
+        seen: set[str] = set()
+        try:
+            for fut in dask_completed([f for f, _ in futures.values()]):
+                task = futures[fut.key][1]
+                seen.add(fut.key)
+                result = _safe_result(fut, task)
+                if result is not None:
+                    record(task, result)
+                if bar is not None:
+                    bar.advance(task)
+        except BaseException:  # Ctrl-C: keep what finished, drop what is queued or running
+            pending = [f for f, _ in futures.values() if not f.done()]
+            client.cancel(pending)
+            for key, (f, task) in futures.items():
+                if key not in seen and f.status == "finished":
+                    try:
+                        result = _safe_result(f, task)
+                    except BaseException:  # noqa: BLE001 - not a finished run
+                        continue
+                    if result is not None:
+                        record(task, result)
+            raise
     finally:
         if not isinstance(cluster, Client):
             client.close()

@@ -76,8 +76,8 @@ def solve(
     """
     from plansynth.grid.verify import verify
 
+    clock = budget.clock()  # the budget covers starting the backend too
     backend = get_backend(solver, **solver_options)
-    clock = budget.clock()
     lengths = list(problem.path_lengths())
     attempts: list[LengthOutcome] = []
     notes: list[str] = []

@@ -83,7 +83,7 @@ from typing import Any
 import highspy
 import numpy as np
 
-from plansynth.budget import Clock
+from plansynth.budget import Clock, checkpoint
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.displan import Conflict
 from plansynth.reach.highs import new_highs
@@ -840,6 +840,8 @@ class ConPlan:
         h = self.cold
         tight = {"presolve": "on", "simplex_scale_strategy": 0, "primal_feasibility_tolerance": 1e-10,
                  "dual_feasibility_tolerance": 1e-10, "simplex_iteration_limit": 2**31 - 1}
+        if self.clock is not None:  # within the budget: a polish cut short keeps the first answer
+            tight["time_limit"] = float(h.getRunTime() + max(1e-3, min(self.clock.remaining(), 1e9)))
         with _options(h, tight):
             t0 = time.perf_counter()
             h.run()
@@ -1303,6 +1305,7 @@ def _sweep(
         new = list(reach)
         changed = False
         for j in range(k):
+            checkpoint()  # thousands of regions: within the budget phase, if any
             blo, bhi = boxes[j]
             lo, hi = None, None
             for i in (j, *adjacency[j]):

@@ -43,6 +43,7 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon as ShPolygon
 
+from plansynth.budget import checkpoint
 from plansynth.reach.problem import Box, ReachProblem, polygon_halfspaces, shape_to_shapely
 
 __all__ = ["Region", "Abstraction", "abstract", "METHODS"]
@@ -150,6 +151,7 @@ def _drop_collinear(cycle: list[Pt]) -> list[Pt]:
     while changed and len(pts) > 3:
         changed = False
         for i in range(len(pts)):
+            checkpoint()  # quadratic on thousands of near-collinear vertices
             a, b, c = pts[i - 1], pts[i], pts[(i + 1) % len(pts)]
             if _orient(a, b, c) == 0:
                 del pts[i]
@@ -240,6 +242,7 @@ class _Pieces:
         diagonals.sort(key=self.order)
         merged_any = False
         for u, v in diagonals:
+            checkpoint()  # within a budget (plansynth.budget): many thousand diagonals
             p, q = owner.get((u, v)), owner.get((v, u))
             if p is None or q is None or p == q or p not in self.cycles or q not in self.cycles:
                 continue
@@ -344,6 +347,7 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
     contacts: list[tuple[int, int]] = []
     prev: list[tuple[int, float, float]] = []  # (piece, r_lo, r_hi) on the previous level
     for s0, s1 in zip(levels, levels[1:]):
+        checkpoint()
         mid = (s0 + s1) / 2
         active = [e for e in edges if s_of(e[0]) <= s0 and s_of(e[1]) >= s1]
         active.sort(key=lambda e: r_at(e, mid))
@@ -433,6 +437,7 @@ def _grow_boxes(free: np.ndarray, order: tuple[int, ...]) -> np.ndarray:
     nb = 0
     ptr = 0
     while True:
+        checkpoint()
         rest = flat[ptr:]
         k0 = int(np.argmax(rest))
         if not rest[k0]:
@@ -507,7 +512,11 @@ def _candidates(problem: ReachProblem, method: str) -> list[tuple[str, list[Regi
         for name, build in builders.items():
             if method in ("auto", name):
                 cycles, adj = build()
-                out.append((name, [_region_from_cycle(i, c) for i, c in enumerate(cycles)], adj))
+                regions = []
+                for i, c in enumerate(cycles):
+                    checkpoint()
+                    regions.append(_region_from_cycle(i, c))
+                out.append((name, regions, adj))
     return out
 
 
@@ -517,6 +526,10 @@ def abstract(problem: ReachProblem, *, method: str = "auto") -> Abstraction:
     ``method="auto"`` tries every applicable construction (see the module doc) and
     keeps the one with the fewest regions; ties go to the earlier of
     ``boxes, slab-y, slab-x, hertel-mehlhorn``.
+
+    Inside a budget phase (``with clock.phase(...)``, :mod:`plansynth.budget`) the
+    constructions check the clock as they go and raise
+    :class:`~plansynth.budget.BudgetExhausted` once it is out of time.
     """
     t0 = time.perf_counter()
     cands = _candidates(problem, method)

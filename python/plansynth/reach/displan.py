@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import enum
 import math
+import time
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -69,7 +70,15 @@ CARDINALITY_ENCODINGS = {
 }
 
 SAT_SOLVER = "cadical195"
-CONFLICTS_PER_SLICE = 20_000  # CaDiCaL cannot be interrupted; it runs in conflict-budget slices
+# python-sat's CaDiCaL 1.9.5 refuses interrupt() and prop_budget() but honours
+# conf_budget() with solve_limited(): it runs in slices of conflicts, the clock checked
+# between slices. The slice adapts so that one takes about SLICE_SECONDS (conflicts get
+# dearer as the formula grows); the learned clauses survive from slice to slice, so the
+# answer is exactly the one an unlimited solve() would give.
+CONFLICTS_PER_SLICE = 2_000  # the first slice
+MIN_CONFLICTS_PER_SLICE = 100
+MAX_CONFLICTS_PER_SLICE = 1_000_000
+SLICE_SECONDS = 0.1
 
 
 @dataclass(frozen=True)
@@ -206,6 +215,8 @@ class DisPlan:
         self.waits_at_start = bool(waits_at_start)
         self._learned: set[tuple] = set()  # clauses added, against shifted duplicates
         self.sat_calls = 0
+        self.sat_slices = 0
+        self._slice = CONFLICTS_PER_SLICE
         self.clauses = 0
         self.sat_clauses_encoding = 0
         # time windows (sound facts from a relaxation): region i is impossible before
@@ -419,9 +430,16 @@ class DisPlan:
         while True:
             if clock is not None and clock.exhausted():
                 return SatOutcome.INTERRUPTED, None
-            self.solver.conf_budget(CONFLICTS_PER_SLICE)
+            self.solver.conf_budget(self._slice)
+            t0 = time.perf_counter()
             answer = self.solver.solve_limited(assumptions=assumptions)
+            took = time.perf_counter() - t0
+            self.sat_slices += 1
             if answer is None:
+                if took < SLICE_SECONDS / 2:
+                    self._slice = min(MAX_CONFLICTS_PER_SLICE, self._slice * 2)
+                elif took > SLICE_SECONDS:
+                    self._slice = max(MIN_CONFLICTS_PER_SLICE, int(self._slice * SLICE_SECONDS / took))
                 continue
             if answer is False:
                 return SatOutcome.UNSAT, None

@@ -60,7 +60,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from plansynth.budget import Budget, Clock
+from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.reach.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
 from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound, time_windows
 from plansynth.reach.decompose import Abstraction, abstract
@@ -160,17 +160,36 @@ def plan_lazy(
         "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
     }
     timings = {"abstraction": 0.0, "bounds": 0.0, "guide": 0.0, "sat": 0.0, "lp": 0.0}
+    counters: dict = {}
+    guarantee = "segments" if segment_safe else "samples"
+
+    def ran_out(exc: BudgetExhausted) -> ReachResult:
+        """The budget ran out before the loop started (in the abstraction or the bounds)."""
+        timings["total"] = time.perf_counter() - t_start
+        return ReachResult(status=ReachStatus.UNKNOWN, planner="lazy-smt", seconds=timings["total"], counters=counters,
+                           timings=timings, options=options, message=str(exc), guarantee=guarantee)
+
     if abstraction is None:
         t0 = time.perf_counter()
-        abstraction = abstract(problem)
+        try:
+            with clock.phase("the convex decomposition (abstraction)"):
+                abstraction = abstract(problem)
+        except BudgetExhausted as exc:
+            timings["abstraction"] = time.perf_counter() - t0
+            return ran_out(exc)
         timings["abstraction"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
-    counters: dict = {"regions": graph.n_regions, "edges": sum(map(len, graph.adjacency)) // 2}
+    counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
 
     t0 = time.perf_counter()
     bfs = graph.horizon_lower_bound()
-    phys = physical_lower_bound(problem) if lower_bound else 0
-    windows = time_windows(problem, abstraction, L_max) if (lower_bound and math.isfinite(bfs)) else None
+    try:
+        with clock.phase("the horizon bounds (time windows)"):
+            phys = physical_lower_bound(problem) if lower_bound else 0
+            windows = time_windows(problem, abstraction, L_max) if (lower_bound and math.isfinite(bfs)) else None
+    except BudgetExhausted as exc:
+        timings["bounds"] = time.perf_counter() - t0
+        return ran_out(exc)
     timings["bounds"] = time.perf_counter() - t0
     counters["bfs_bound"] = None if math.isinf(bfs) else int(bfs)
     counters["physical_bound"] = phys
@@ -181,7 +200,6 @@ def plan_lazy(
     else:
         first = int(max(bfs, phys, box)) if lower_bound else 0
     counters["first_horizon"] = first
-    guarantee = "segments" if segment_safe else "samples"
 
     displan = DisPlan(
         graph,
@@ -202,6 +220,7 @@ def plan_lazy(
         counters.update(
             iterations=clock.iterations,
             sat_calls=displan.sat_calls,
+            sat_slices=displan.sat_slices,
             clauses=displan.clauses,
             window_clauses=displan.window_clauses,
             conflicts=len(displan.conflicts),
@@ -241,7 +260,8 @@ def plan_lazy(
     growth = window_growth if horizon_search == "window" else 0.0
     windows = horizon_windows(first, L_max, growth)
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
-    return finish(lazy_loop(displan, theory, windows, clock, timings, progress, guide))
+    with clock.phase("the lazy SMT loop"):
+        return finish(lazy_loop(displan, theory, windows, clock, timings, progress, guide))
 
 
 def _guide(
@@ -326,7 +346,7 @@ def lazy_loop(
                     displan.prefer(ref)
             while True:
                 if clock.exhausted():
-                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out at horizon {_span(lo, hi)} after {clock.iterations} iterations")
+                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the lazy SMT loop (between SAT and LP calls) at horizon {_span(lo, hi)} after {clock.iterations} iterations")
                 clock.tick()
                 t0 = time.perf_counter()
                 outcome, plan = displan.solve(hi, clock, lowest=lo)
@@ -350,6 +370,8 @@ def lazy_loop(
                     displan.learn(conflict)
     except LpBudgetExhausted:
         return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the LP solver at horizon {_span(lo, hi)}")
+    except BudgetExhausted as exc:
+        return LoopOutcome(ReachStatus.UNKNOWN, hi, f"{exc} at horizon {_span(lo, hi)}")
     except LpFailure as exc:
         return LoopOutcome(ReachStatus.UNKNOWN, hi, f"{exc} at horizon {_span(lo, hi)}")
     top = windows[-1][1] if windows else -1

@@ -35,8 +35,8 @@ from collections.abc import Callable
 import highspy
 import numpy as np
 
-from plansynth.budget import Budget, Clock
-from plansynth.reach.conplan import ConPlan
+from plansynth.budget import Budget, BudgetExhausted, Clock, checkpoint
+from plansynth.reach.conplan import ConPlan, LpBudgetExhausted
 from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import RegionGraph
 from plansynth.reach.highs import new_highs
@@ -62,7 +62,9 @@ def solve_horizon(
     seconds: float = math.inf,
 ) -> tuple[str, tuple[int, ...] | None, dict]:
     """One MILP at horizon ``N``: ``("found", regions, stats)``, ``("infeasible", None,
-    stats)`` or ``("unknown", None, stats)`` (time limit)."""
+    stats)`` or ``("unknown", None, stats)`` (time limit). ``seconds`` counts from the
+    call: building the model spends it too (and checks it, see :mod:`plansynth.budget`)."""
+    deadline = time.perf_counter() + seconds
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
     A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
@@ -90,6 +92,7 @@ def solve_horizon(
 
     def add(rr: np.ndarray, cc: np.ndarray, vv: np.ndarray, l: np.ndarray, h: np.ndarray) -> None:
         nonlocal r0
+        checkpoint()
         rows.append(r0 + rr)
         cols.append(cc)
         vals.append(vv)
@@ -170,9 +173,12 @@ def solve_horizon(
     lp.integrality_ = [highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z
 
     h = new_highs()
-    if math.isfinite(seconds):
-        h.setOptionValue("time_limit", max(1e-3, float(seconds)))
     h.passModel(lp)
+    if math.isfinite(seconds):
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            return "unknown", None, {"binaries": n_z, "rows": r0, "mip_nodes": 0}
+        h.setOptionValue("time_limit", max(1e-3, float(left)))
     h.run()
     status = h.getModelStatus()
     info = h.getInfo()
@@ -209,7 +215,15 @@ def plan_milp(
     timings = {"abstraction": 0.0, "milp": 0.0, "lp": 0.0}
     if abstraction is None:
         t0 = time.perf_counter()
-        abstraction = abstract(problem)
+        try:
+            with clock.phase("the convex decomposition (abstraction)"):
+                abstraction = abstract(problem)
+        except BudgetExhausted as exc:
+            timings["abstraction"] = time.perf_counter() - t0
+            timings["total"] = time.perf_counter() - t_start
+            return ReachResult(status=ReachStatus.UNKNOWN, planner="milp", seconds=timings["total"], timings=timings,
+                               options={"segment_safe": segment_safe}, message=str(exc),
+                               guarantee="segments" if segment_safe else "samples")
         timings["abstraction"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
     bfs = graph.horizon_lower_bound()
@@ -235,31 +249,38 @@ def plan_milp(
         if start_horizon is None or first == int(bfs):
             return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: the region-graph distance is {first}")
         return finish(ReachStatus.UNKNOWN, None, f"start horizon {first} exceeds max_horizon {L_max}")
-    polish = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample="trivial")
-    for N in range(first, L_max + 1):
-        if progress is not None:
-            progress(N, clock.iterations)
-        if clock.exhausted():
-            return finish(ReachStatus.UNKNOWN, N, f"budget ran out at horizon {N}")
-        clock.tick()
-        t0 = time.perf_counter()
-        outcome, regions, stats = solve_horizon(problem, abstraction, N, segment_safe=segment_safe,
-                                                seconds=clock.remaining())
-        timings["milp"] += time.perf_counter() - t0
-        counters["milp_calls"] += 1
-        counters["mip_nodes"] += stats["mip_nodes"]
-        counters["binaries"] = stats["binaries"]
-        if outcome == "unknown":
-            return finish(ReachStatus.UNKNOWN, N, f"HiGHS stopped without an answer at horizon {N} (time limit)")
-        if outcome == "found":
-            assert regions is not None
-            t0 = time.perf_counter()
-            trajectory = polish.feasible(regions)
-            timings["lp"] += time.perf_counter() - t0
-            if trajectory is None:
-                return finish(ReachStatus.UNKNOWN, N, f"the MILP's region sequence at horizon {N} has no trajectory "
-                              "under exact LP tolerances (numerically borderline instance)", regions=regions)
-            return finish(ReachStatus.FOUND, N, f"found at horizon {N}", trajectory, regions)
-    if start_horizon is not None and first > (int(bfs) if math.isfinite(bfs) else 0):
-        return finish(ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)")
-    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
+    polish = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample="trivial", clock=clock)
+    N = first
+    try:
+        with clock.phase("building the MILP"):
+            for N in range(first, L_max + 1):
+                if progress is not None:
+                    progress(N, clock.iterations)
+                if clock.exhausted():
+                    return finish(ReachStatus.UNKNOWN, N, f"budget ran out before the MILP at horizon {N}")
+                clock.tick()
+                t0 = time.perf_counter()
+                outcome, regions, stats = solve_horizon(problem, abstraction, N, segment_safe=segment_safe,
+                                                        seconds=clock.remaining())
+                timings["milp"] += time.perf_counter() - t0
+                counters["milp_calls"] += 1
+                counters["mip_nodes"] += stats["mip_nodes"]
+                counters["binaries"] = stats["binaries"]
+                if outcome == "unknown":
+                    return finish(ReachStatus.UNKNOWN, N, f"budget ran out in the MILP solver (HiGHS time limit) at horizon {N}")
+                if outcome == "found":
+                    assert regions is not None
+                    t0 = time.perf_counter()
+                    trajectory = polish.feasible(regions)
+                    timings["lp"] += time.perf_counter() - t0
+                    if trajectory is None:
+                        return finish(ReachStatus.UNKNOWN, N, f"the MILP's region sequence at horizon {N} has no trajectory "
+                                      "under exact LP tolerances (numerically borderline instance)", regions=regions)
+                    return finish(ReachStatus.FOUND, N, f"found at horizon {N}", trajectory, regions)
+            if start_horizon is not None and first > (int(bfs) if math.isfinite(bfs) else 0):
+                return finish(ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)")
+            return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
+    except BudgetExhausted as exc:
+        return finish(ReachStatus.UNKNOWN, N, f"{exc} at horizon {N}")
+    except LpBudgetExhausted:
+        return finish(ReachStatus.UNKNOWN, N, f"budget ran out in the LP solver (the trajectory of the MILP's regions) at horizon {N}")

@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted, checkpoint
 from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import Box, Polygon, ReachProblem, halfspaces, is_convex, shape_to_shapely
 from plansynth.reach.trajectory import Trajectory
@@ -69,6 +69,7 @@ def convex_pieces(shape: Box | Polygon) -> list[tuple[np.ndarray, np.ndarray]]:
     tris = shapely.constrained_delaunay_triangles(shape_to_shapely(shape))
     pieces = []
     for tri in shapely.get_parts(tris):
+        checkpoint()  # thousands of triangles: within the budget phase, if any
         coords = list(tri.exterior.coords)[:-1]
         poly = Polygon(tuple((float(x), float(y)) for x, y in coords))
         pieces.append(halfspaces(poly))
@@ -142,9 +143,11 @@ MARGIN = 1e-4
 
 
 def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str,
-                   margin: float = MARGIN, segment_safe: bool = True) -> tuple[str, Trajectory | None, dict[str, Any]]:
+                   margin: float = MARGIN, segment_safe: bool = True,
+                   pieces: list[tuple[np.ndarray, np.ndarray]] | None = None) -> tuple[str, Trajectory | None, dict[str, Any]]:
     import highspy
 
+    deadline = time.perf_counter() + seconds  # building the model spends the budget too
     inf = highspy.kHighsInf
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
@@ -194,7 +197,8 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
     # obstacles, big-M
     ws_lo, ws_hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
     corners = np.array(np.meshgrid(*[[ws_lo[a], ws_hi[a]] for a in range(d)])).reshape(d, -1).T
-    pieces = [p for o in problem.obstacles for p in convex_pieces(o)]
+    if pieces is None:
+        pieces = [p for o in problem.obstacles for p in convex_pieces(o)]
     n_bin = 0
     bin_cols: list[int] = []
     # samples: one disjunction per position p_t (t >= 1); segments: one per segment
@@ -205,6 +209,7 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
         for H, h in pieces:
             choose: dict[int, float] = {}
             for r in range(H.shape[0]):
+                checkpoint()  # a convex piece may have thousands of faces
                 col = n_cont + n_bin
                 n_bin += 1
                 bin_cols.append(col)
@@ -216,7 +221,7 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
                     coefs[col] = -M
                     rows.add(float(h[r]) + margin - M, inf, coefs)
             rows.add(1.0, inf, choose)
-    h = new_highs(time_limit=max(0.01, float(seconds)))
+    h = new_highs()
     total = n_cont + n_bin
     all_lb = np.concatenate([lb, np.zeros(n_bin)])
     all_ub = np.concatenate([ub, np.ones(n_bin)])
@@ -238,6 +243,8 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
         nrows, np.array(rows.lower), np.array(rows.upper), len(rows.index),
         np.array(rows.starts, dtype=np.int32), np.array(rows.index, dtype=np.int32), np.array(rows.value),
     )
+    checkpoint()
+    h.setOptionValue("time_limit", max(0.01, float(deadline - time.perf_counter())))
     h.run()
     status = h.getModelStatus()
     info = h.getInfo()
@@ -288,16 +295,29 @@ def plan_milp_bigm(
                "highs": highs_version()}
     message = ""
     last = "unknown"
+    pieces: list[tuple[np.ndarray, np.ndarray]] | None = None
     for N in horizons:
         if clock.exhausted():
-            message = f"budget ran out before horizon {N}"
+            message = f"budget ran out before the MILP at horizon {N}"
             last = "unknown"
             break
         clock.tick()
         ts = time.perf_counter()
         remaining = clock.remaining()
-        outcome, traj, stats = _solve_horizon(problem, N, 1e6 if math.isinf(remaining) else remaining, objective,
-                                             segment_safe=segment_safe)
+        try:
+            with clock.phase("building the MILP"):
+                if pieces is None:  # the obstacles' convex pieces, once for every horizon
+                    pieces = []
+                    for o in problem.obstacles:
+                        checkpoint()
+                        pieces += convex_pieces(o)
+                outcome, traj, stats = _solve_horizon(problem, N, 1e6 if math.isinf(remaining) else remaining,
+                                                      objective, segment_safe=segment_safe, pieces=pieces)
+        except BudgetExhausted as exc:
+            timings["milp"] += time.perf_counter() - ts
+            message = f"{exc} at horizon {N}"
+            last = "unknown"
+            break
         timings["milp"] += time.perf_counter() - ts
         counters["milp_calls"] += 1
         counters["binaries"] = stats["binaries"]
@@ -320,7 +340,7 @@ def plan_milp_bigm(
         if outcome == "infeasible":
             counters["horizons_infeasible"] += 1
             continue
-        message = f"HiGHS stopped without a solution at horizon {N} (time limit)"
+        message = f"budget ran out in the MILP solver (HiGHS time limit) at horizon {N}"
         break
     else:
         if last == "infeasible":

@@ -191,8 +191,8 @@ def plan_rrt(
 
     if planner not in PLANNERS:
         raise SolverUnavailable(planner, f"unknown OMPL planner; choose one of {', '.join(PLANNERS)}")
+    t0 = time.perf_counter()  # the budget covers importing OMPL and setting up too
     ob, oc, ou = _import_ompl()
-    t0 = time.perf_counter()
     seconds = 60.0 if budget.seconds is None else float(budget.seconds)
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
@@ -295,7 +295,8 @@ def plan_rrt(
             status=ReachStatus.UNKNOWN, planner=name, seconds=timings["total"], trajectory=None, regions=None,
             segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
             validated=None, validation=None,
-            message=f"OMPL {PLANNERS[planner]} ended without an exact solution ({_status_text(status)}) after {plan_s:.2f} s",
+            message=(f"budget ran out in OMPL {PLANNERS[planner]} planning: no exact solution "
+                     f"({_status_text(status)}) after {plan_s:.2f} s"),
         )
     path = ss.getSolutionPath()
     inputs: list[np.ndarray] = []

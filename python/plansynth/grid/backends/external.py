@@ -11,15 +11,16 @@ answer to ``(check-synth)`` on stdout: a ``define-fun`` of ``move`` (realizable)
         --command "python -m plansynth.grid.backends.cvc5_cli {file}"
 
 The command is split like a shell would (:func:`shlex.split`) but run without a shell.
-It runs in its own process group, killed as a whole when the time budget runs out.
+It runs in its own session and process group, killed as a whole (with any helper it
+started) when the time budget runs out or the caller stops, and it dies with the caller.
 """
 
 from __future__ import annotations
 
 import os
+import selectors
 import shlex
 import shutil
-import signal
 import subprocess
 import tempfile
 import time
@@ -102,19 +103,77 @@ class ExternalBackend:
         return outcome
 
 
+#: Seconds to keep reading after the solver exited: a helper it left behind may hold its
+#: output pipe open, and its end-of-file is not waited for beyond this.
+DRAIN_SECONDS = 0.5
+#: Output kept per stream (the rest is read and dropped, so a chatty solver cannot fill memory).
+MAX_OUTPUT = 16 * 2**20
+
+
 def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | None]:
-    """Run ``argv`` in its own process group; ("done" | "timeout", stdout, stderr, exit status)."""
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    """Run ``argv`` in its own session; ("done" | "timeout", stdout, stderr, exit status).
+
+    The solver dies with this process (``PR_SET_PDEATHSIG``), is killed with its process
+    group and every descendant seen while it ran, whatever happens (budget, Ctrl-C,
+    an error here), and its output is read against the deadline: a helper that escaped
+    the group and holds the pipe cannot make this wait (:mod:`plansynth.procs`).
+    """
+    from plansynth.procs import kill_tree, new_tag, pdeathsig_preexec, snapshot, tagged_env
+
+    tag = new_tag()
+    proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            start_new_session=True, preexec_fn=pdeathsig_preexec(), env=tagged_env(tag))
+    assert proc.stdout is not None and proc.stderr is not None
+    fd_out, fd_err = proc.stdout.fileno(), proc.stderr.fileno()
+    buffers = {fd_out: bytearray(), fd_err: bytearray()}
+    status = "done"
+    seen: dict[int, int] = {}
+    start = time.monotonic()
+    deadline = None if timeout is None else start + timeout
+    exited: float | None = None
+    cleaned = False  # its group and helpers killed once it exited
+    next_look = start
     try:
-        out, err = proc.communicate(timeout=timeout)
-        return "done", out, err, proc.returncode
-    except subprocess.TimeoutExpired:
-        try:
-            os.killpg(proc.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        out, err = proc.communicate()
-        return "timeout", out, err, proc.returncode
+        with selectors.DefaultSelector() as sel:
+            for stream in (proc.stdout, proc.stderr):
+                sel.register(stream, selectors.EVENT_READ)
+            while sel.get_map():
+                now = time.monotonic()
+                if exited is None and proc.poll() is not None:
+                    exited = now
+                    kill_tree(proc.pid, known=seen, tag=tag)  # its helpers: the pipe closes now
+                    cleaned = True
+                if exited is not None and now - exited > DRAIN_SECONDS:
+                    break  # whoever still holds the pipe is not the solver
+                if deadline is not None and now >= deadline:
+                    status = "timeout"
+                    break
+                if exited is None and now >= next_look:
+                    seen.update(snapshot(proc.pid))  # helpers, found while they are still its descendants
+                    next_look = now + 0.5
+                wait = 0.1 if deadline is None else max(0.0, min(0.1, deadline - now))
+                for key, _ in sel.select(wait):
+                    chunk = os.read(key.fd, 65536)
+                    if not chunk:
+                        sel.unregister(key.fileobj)
+                        continue
+                    buf = buffers[key.fd]
+                    if len(buf) < MAX_OUTPUT:
+                        buf += chunk[: MAX_OUTPUT - len(buf)]
+        if status == "done" and exited is None:
+            # both pipes closed; let the solver exit by itself, within the budget
+            try:
+                proc.wait(None if deadline is None else max(0.0, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                status = "timeout"
+    finally:
+        if not cleaned or proc.poll() is None:
+            kill_tree(proc.pid, known=seen, tag=tag)
+        proc.wait()
+        proc.stdout.close()
+        proc.stderr.close()
+    out, err = (bytes(buffers[fd]).decode("utf-8", errors="replace") for fd in (fd_out, fd_err))
+    return status, out, err, proc.returncode
 
 
 register_backend("external", ExternalBackend)
