@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import typer
 
+from plansynth.cli_support import OneLineErrorsGroup
+
 from plansynth.bench.cli import app as bench_app
 from plansynth.grid.cli import app as grid_app
 from plansynth.reach.cli import app as reach_app
@@ -17,6 +19,7 @@ app = typer.Typer(
     help="Correct-by-construction robot motion planning with off-the-shelf solvers.",
     no_args_is_help=True,
     add_completion=False,
+    cls=OneLineErrorsGroup,  # usage errors as one line, exit 2 (plansynth.cli_support)
 )
 app.add_typer(grid_app, name="grid", help="Reactive grid controllers (Chasins & Newcomb, SYNT 2016).")
 app.add_typer(reach_app, name="reach", help="Reach-avoid planning with linear dynamics (Shoukry et al., CDC 2016).")

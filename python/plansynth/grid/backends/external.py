@@ -104,7 +104,8 @@ class ExternalBackend:
 
 def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | None]:
     """Run ``argv`` in its own process group; ("done" | "timeout", stdout, stderr, exit status)."""
-    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
+                            start_new_session=True)  # a non-UTF-8 byte in the answer must not crash us
     try:
         out, err = proc.communicate(timeout=timeout)
         return "done", out, err, proc.returncode
