@@ -122,7 +122,7 @@ def parse_document(text: str, name: str, *, json_syntax: bool = False, kind: str
 
 
 def _one_line(exc: BaseException, limit: int = 300) -> str:
-    text = " ".join(str(exc).split())
+    text = " ".join(str(exc).replace('in "<unicode string>", ', "").split())
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 

@@ -168,7 +168,7 @@ MAX_LITERAL_DIGITS = 9
 
 _TOKEN = re.compile(r"[ \t\r\n\f\v]*(?:(;[^\n]*)|(\()|(\))|([^ \t\r\n\f\v()]+))", re.ASCII)
 _INTEGER = re.compile(r"-?[0-9]+", re.ASCII)
-_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}", re.ASCII)  # inputs are rx, ry, o0x, ...
 
 
 def _tokens(text: str) -> list[str]:

@@ -23,6 +23,10 @@ app = typer.Typer(no_args_is_help=True, add_completion=False)
 
 EXIT_FOUND, EXIT_INFEASIBLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
 
+#: plansynth.reach.problem's MAX_HORIZON and MAX_ORDER, repeated so that this module
+#: loads without numpy (a test checks that they agree).
+MAX_HORIZON_OPTION, MAX_ORDER_OPTION = 10_000, 50
+
 SOLVE_EPILOG = """\
 Examples:
 
@@ -114,7 +118,7 @@ def solve_command(
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
     timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (then status unknown)."),
-    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, max=10_000, help="Largest horizon to try (overrides the file; at most 10,000)."),
+    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, max=MAX_HORIZON_OPTION, help="Largest horizon to try (overrides the file; at most 10,000)."),
     counterexample: str = typer.Option("farkas", "--counterexample", help="lazy-smt: farkas (whole-plan LP, shrunk by its Farkas certificate), zeroprefix (paper), trivial or iis."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
@@ -277,7 +281,7 @@ SAT, LP, validation); on a shared machine the CPU column is the steadier one.
 @app.command("table", epilog=TABLE_EPILOG)
 def table_command(
     mazes: str = typer.Option("1,2,3,4", "--mazes", help="Comma-separated passage counts."),
-    order: int = typer.Option(2, "--order", min=1, max=50, help="Integrators per axis (2: the paper's double integrator)."),
+    order: int = typer.Option(2, "--order", min=1, max=MAX_ORDER_OPTION, help="Integrators per axis (2: the paper's double integrator)."),
     counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Strategies to compare (repeatable)."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="Shrink counterexamples (Farkas) and shift them."),
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="With --generalize: deletion-filter the literals."),
