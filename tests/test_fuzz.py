@@ -50,7 +50,9 @@ REACH_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in (MAZE1, CLU
 #: refused at the door.
 SECONDS = 30.0
 
-FUZZ = settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+#: Examples per fuzz test; PLANSYNTH_FUZZ_SCALE=10 runs ten times as many (a longer hunt).
+SCALE = max(1, int(os.environ.get("PLANSYNTH_FUZZ_SCALE", "1")))
+FUZZ = settings(max_examples=40 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
 
 WEIRD: list[Any] = [
     None, True, False, 0, -1, 1, 2, 3, 7, 1001, 10**9, 10**30, -(10**30), 0.5, -0.0, 1e-320, 1e308,
@@ -250,7 +252,7 @@ PROGRAMS = st.one_of(
 )
 
 
-@settings(max_examples=200, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(max_examples=200 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
 @given(text=PROGRAMS)
 def test_random_programs_parse_or_fail_with_a_named_error(text: str) -> None:
     try:
@@ -334,7 +336,7 @@ def _fill(args: list[str], work: Path, n: int) -> list[str]:
     return [names.get(a, a) for a in args]
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(max_examples=60 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
 @given(args=command_lines(), n=st.integers(0, 3))
 def test_random_command_lines_keep_the_contract(work: Path, args: list[str], n: int) -> None:
     _run(_fill(args, work, n))
