@@ -385,3 +385,14 @@ def test_yaml_documents_survive_a_round_trip_within_the_limits(tmp_path: Path) -
     p = tmp_path / "figure1.json"
     p.write_text(json.dumps(doc), encoding="utf-8")
     assert load_grid_problem(p) == load_grid_problem(FIGURE1)
+
+
+def test_a_long_unicode_name_still_gives_a_valid_sl_file_name(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from plansynth.grid.backends._common import keep_file, sl_file_name
+
+    problem = replace(load_grid_problem(FIGURE1), name="é" * 200)
+    name = sl_file_name(problem, 7, 3)
+    assert len(name.encode("utf-8")) <= 255 and name.endswith("-l7-d3.sl")
+    assert Path(keep_file(tmp_path, problem, 7, 3, "(check-synth)")).read_text(encoding="utf-8") == "(check-synth)"
