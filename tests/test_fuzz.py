@@ -99,6 +99,8 @@ def _set(doc: Any, path: tuple, value: Any, op: str) -> Any:
         parent.append(value)
     elif op == "scale" and isinstance(parent[key], (int, float)) and not isinstance(parent[key], bool):
         parent[key] = -parent[key] * 10**30
+    elif op == "nudge" and isinstance(parent[key], (int, float)) and not isinstance(parent[key], bool):
+        parent[key] = parent[key] + (value if isinstance(value, int) and not isinstance(value, bool) and abs(value) <= 3 else 1)
     return doc
 
 
@@ -108,8 +110,9 @@ def mutated_documents(draw: st.DrawFn, docs: list[Any]) -> Any:
     for _ in range(draw(st.integers(1, 3))):
         paths = _paths(doc)
         path = draw(st.sampled_from(paths))
-        op = draw(st.sampled_from(["replace", "replace", "delete", "wrap", "extra", "scale"]))
-        value = draw(st.sampled_from(WEIRD) | st.integers(65, 90).map(_deep) | st.floats(allow_nan=True, allow_infinity=True))
+        op = draw(st.sampled_from(["replace", "replace", "delete", "wrap", "extra", "scale", "nudge", "nudge"]))
+        value = draw(st.sampled_from(WEIRD) | st.integers(65, 90).map(_deep) | st.floats(allow_nan=True, allow_infinity=True)
+                     | st.integers(-3, 3))
         doc = _set(doc, path, copy.deepcopy(value), op)
     return doc
 

@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import typer
 
-from plansynth.cli_support import OneLineErrorsGroup
-
 from plansynth.bench.cli import app as bench_app
+from plansynth.cli_support import OneLineErrorsGroup
 from plansynth.grid.cli import app as grid_app
 from plansynth.reach.cli import app as reach_app
 

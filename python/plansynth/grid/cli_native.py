@@ -17,8 +17,8 @@ from rich.table import Table
 
 from plansynth.budget import Budget
 from plansynth.cli_support import positive_seconds
-from plansynth.grid.problem import MAX_STEPS
 from plansynth.errors import PlansynthError
+from plansynth.grid.problem import MAX_STEPS
 
 EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_UNKNOWN, EXIT_BAD_INPUT = 0, 1, 3, 2
 
