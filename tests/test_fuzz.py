@@ -41,10 +41,10 @@ from plansynth.grid.programs import (
     variables_of,
 )
 
-TRAFFIC = ROOT / "examples" / "grid" / "traffic.yaml"
-CLUTTERED = ROOT / "examples" / "reach" / "cluttered.yaml"
-GRID_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in (FIGURE1, TRAFFIC)]
-REACH_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in (MAZE1, CLUTTERED)]
+GRID_EXAMPLES = [FIGURE1] + [ROOT / "examples" / "grid" / f for f in ("traffic.yaml", "door.yaml")]
+REACH_EXAMPLES = [MAZE1] + [ROOT / "examples" / "reach" / f for f in ("cluttered.yaml", "dubins.yaml", "chain-maze-2.yaml")]
+GRID_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in GRID_EXAMPLES]
+REACH_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in REACH_EXAMPLES]
 
 #: Wall-clock bound of one in-process run: every run has a budget of at most 2 s, or is
 #: refused at the door.
