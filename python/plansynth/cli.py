@@ -14,7 +14,8 @@ from typing import Any, Optional
 
 import click
 import typer
-from typer.core import TyperGroup
+
+from plansynth.cli_support import OneLineErrorsGroup
 
 #: The sub-command groups: name -> (module holding a Typer ``app``, one-line help).
 GROUPS: dict[str, tuple[str, str]] = {
@@ -24,8 +25,9 @@ GROUPS: dict[str, tuple[str, str]] = {
 }
 
 
-class LazyGroup(TyperGroup):
-    """A Typer group whose sub-groups (:data:`GROUPS`) are imported on first use.
+class LazyGroup(OneLineErrorsGroup):
+    """A Typer group whose sub-groups (:data:`GROUPS`) are imported on first use; usage
+    errors are one line, exit 2 (:class:`~plansynth.cli_support.OneLineErrorsGroup`).
 
     Listing them (``plansynth --help``) shows their one-line help without importing them.
     """

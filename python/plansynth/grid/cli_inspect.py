@@ -18,10 +18,12 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from plansynth.cli_support import finite_positive
 from plansynth.errors import PlansynthError
-from plansynth.grid.problem import GridProblem, load_grid_problem
+from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program, to_c, to_define_fun, to_python
 from plansynth.grid.result import load_result
+from plansynth.io import read_text
 
 #: Exit statuses of ``verify`` (``animate`` and ``export`` use 0 and 2).
 EXIT_WINS, EXIT_LOSES, EXIT_BAD_INPUT = 0, 1, 2
@@ -80,18 +82,24 @@ class Controller:
 
 
 def read_controller(spec: str) -> Controller:
-    """Read RESULT_OR_PROGRAM: a result JSON, a file holding a term, or a literal term."""
+    """Read RESULT_OR_PROGRAM: a result JSON, a file holding a term, or a literal term.
+
+    A name that is a regular file is read as one; anything else (including text too
+    long to be a path, or holding a NUL byte) is parsed as a term.
+    """
     path = Path(spec)
-    if path.is_file():
+    if _is_file(path):
         if path.suffix.lower() == ".json":
             stored = load_result(path)
             if stored.program is None:
                 raise _BadInput(f"{spec}: the result has no program (status {stored.status.value})")
             where = stored.raw.get("problem") or None
-            if where is not None and not Path(where).is_file() and (path.parent / where).is_file():
-                where = str(path.parent / where)
+            if where is not None:
+                where = str(where)
+                if not _is_file(Path(where)) and _is_file(path.parent / where):
+                    where = str(path.parent / where)
             return Controller(stored.program, stored.steps, spec, where)
-        text = path.read_text(encoding="utf-8")
+        text, _ = read_text(path)
         try:
             return Controller(parse_program(text), None, spec)
         except ProgramSyntaxError as exc:
@@ -100,7 +108,16 @@ def read_controller(spec: str) -> Controller:
         return Controller(parse_program(spec), None, "the command line")
     except ProgramSyntaxError as exc:
         hint = "" if "(" in spec or " " not in spec else " (and no such file)"
-        raise _BadInput(f"{spec!r} is neither a file nor a controller term{hint}: {exc}") from exc
+        shown = spec if len(spec) <= 80 else spec[:77] + "..."
+        raise _BadInput(f"{shown!r} is neither a file nor a controller term{hint}: {exc}") from exc
+
+
+def _is_file(path: Path) -> bool:
+    """``path.is_file()``, False instead of an error for names no file can have."""
+    try:
+        return path.is_file()
+    except (OSError, ValueError):
+        return False
 
 
 class _BadInput(Exception):
@@ -129,7 +146,7 @@ def _cell(c: tuple[int, int]) -> str:
 def verify_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
     result_or_program: str = typer.Argument(..., metavar="RESULT_OR_PROGRAM", help="A result JSON, a file with a term or define-fun, or a literal term."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l (default: the result's, else the problem's)."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."),
 ) -> None:
     """Check exactly whether a controller wins against every obstacle behaviour."""
     from plansynth.grid.verify import verify
@@ -177,8 +194,8 @@ def animate_command(
     out: Path = typer.Option(..., "--out", "-o", help="The GIF to write."),
     obstacles: str = typer.Option("adversarial", "--obstacles", help="adversarial (counterexample, else greedy pursuit) or random."),
     seed: int = typer.Option(0, "--seed", help="Seed of the random obstacles."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l (default: the result's, else the problem's)."),
-    fps: float = typer.Option(3.0, "--fps", min=0.1, help="Frames per second of the GIF."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."),
+    fps: float = typer.Option(3.0, "--fps", min=0.1, max=1000.0, callback=finite_positive, help="Frames per second of the GIF."),
     png: Optional[Path] = typer.Option(None, "--png", help="Also write one step as a PNG."),
     step: Optional[int] = typer.Option(None, "--step", min=0, help="The step for --png (default: the last state)."),
 ) -> None:
@@ -228,7 +245,7 @@ def export_command(
         where = str(problem_file) if problem_file is not None else controller.problem_path
         if where is None:
             raise _BadInput("give --problem FILE: the inputs rx ry o0x o0y ... depend on its obstacles")
-        if problem_file is None and not Path(where).is_file():
+        if problem_file is None and not _is_file(Path(where)):
             raise _BadInput(f"the result names the problem {where!r}, which is not a file from here: give --problem FILE")
         problem = load_grid_problem(where)
         from plansynth.grid.verify import check_controller

@@ -16,15 +16,17 @@ from rich.markup import escape
 from rich.table import Table
 
 from plansynth.budget import Budget
+from plansynth.cli_support import positive_seconds
 from plansynth.errors import PlansynthError
+from plansynth.grid.problem import MAX_STEPS
 
 EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_UNKNOWN, EXIT_BAD_INPUT = 0, 1, 3, 2
 
 
 def explain_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l to explain (default: the file's steps)."),
-    timeout: float = typer.Option(60.0, "--timeout", help="Wall-clock budget in seconds."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l to explain (default: the file's steps)."),
+    timeout: float = typer.Option(60.0, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."),
     gif: Optional[Path] = typer.Option(None, "--gif", help="Animate the obstacles' winning play into this GIF."),
 ) -> None:
     """Explain why no controller exists at path length l.
@@ -82,8 +84,8 @@ def _animate(problem, e, gif: Path, console: Console) -> None:
 
 def minimize_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Solve for exactly this path length."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", help="Wall-clock budget in seconds."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON here."),
 ) -> None:
     """Synthesize a controller of smallest depth, proved minimal.

@@ -14,9 +14,10 @@ from rich.console import Console
 from rich.markup import escape
 
 from plansynth.budget import Budget
+from plansynth.cli_support import positive_seconds
 from plansynth.errors import PlansynthError
-from plansynth.grid.problem import GridProblem, load_grid_problem
-from plansynth.grid.programs import size, to_python
+from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
+from plansynth.grid.programs import MAX_PROGRAM_NESTING, size, to_python
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome
 
 #: Exit statuses of ``solve``.
@@ -109,11 +110,11 @@ def solve_command(
     solver: str = typer.Option("native", "--solver", "-s", help="Backend: native, cvc5 or external."),
     command: Optional[str] = typer.Option(None, "--command", help='External SyGuS-IF v2 solver command; {file} is the .sl path, e.g. "cvc5 --lang=sygus2 {file}".'),
     option: list[str] = typer.Option([], "--option", "-O", help="Solver option KEY=VALUE, repeatable (cvc5: its option names, e.g. sygus-enum=fast)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Solve for exactly this path length (overrides the file)."),
-    max_steps: Optional[int] = typer.Option(None, "--max-steps", min=1, help="Search l = 1..N (overrides the file's steps/max_steps)."),
-    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", help="Wall-clock budget in seconds for the whole search."),
-    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, help="Memory limit of a solver process, in MB."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length (overrides the file)."),
+    max_steps: Optional[int] = typer.Option(None, "--max-steps", min=1, max=MAX_STEPS, help="Search l = 1..N (overrides the file's steps/max_steps)."),
+    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds for the whole search."),
+    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, max=1_000_000, help="Memory limit of a solver process, in MB."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
     minimize: bool = typer.Option(False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."),
@@ -169,8 +170,8 @@ def solve_command(
 
 def compile_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, help="Path length l (default: the file's steps)."),
-    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, help="Unroll the grammar to programs of depth <= D."),
+    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the file's steps)."),
+    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Unroll the grammar to programs of depth <= D."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the .sl here (default: stdout)."),
 ) -> None:
     """Write the SyGuS-IF v2 specification of a problem at one path length (paper §3.2)."""

@@ -24,13 +24,24 @@ from pathlib import Path
 from typing import Any
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import Fields, as_int, as_int_vector, load_document, type_name
+from plansynth.io import Fields, as_int, as_int_vector, load_document, show, type_name
 
 Cell = tuple[int, int]
 
 #: Default upper end of the path-length search when a file gives neither ``steps`` nor
 #: ``max_steps`` (the spec's example uses 40).
 DEFAULT_MAX_STEPS = 40
+
+#: Documented limits (README, "Formats and extensions"), checked at the door so that no
+#: input can make plansynth allocate beyond what a budget can stop: the grid's sides,
+#: the path length ``steps``/``max_steps``, the number of obstacles, and the offsets of
+#: a custom move (a move jumps at most across the largest grid).
+MAX_GRID_SIDE = 1000
+MAX_STEPS = 1000
+MAX_OBSTACLES = 100
+MAX_NAME_LENGTH = 200
+MAX_MOVES = 100
+MAX_VIA = 100
 
 
 @dataclass(frozen=True)
@@ -170,6 +181,10 @@ def _validate(p: GridProblem) -> None:
     f = p.source
     if p.width < 1 or p.height < 1:
         raise InvalidProblem(f, "grid", f"width and height must be >= 1, got {p.width}x{p.height}")
+    if p.width > MAX_GRID_SIDE or p.height > MAX_GRID_SIDE:
+        raise InvalidProblem(f, "grid", f"width and height must be <= {MAX_GRID_SIDE}, got {p.width}x{p.height}")
+    if len(p.obstacles) > MAX_OBSTACLES:
+        raise InvalidProblem(f, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(p.obstacles)}")
     size = f"the {p.width}x{p.height} grid"
     if not p.robot.moves:
         raise InvalidProblem(f, "robot.moves", "the robot has no moves")
@@ -194,10 +209,13 @@ def _validate(p: GridProblem) -> None:
             if m.name in seen:
                 raise InvalidProblem(f, f"{where}[{j}]", f"duplicated move name {m.name!r}")
             seen.add(m.name)
-    if p.steps is not None and p.steps < 1:
-        raise InvalidProblem(f, "steps", f"must be >= 1, got {p.steps}")
-    if p.max_steps is not None and p.max_steps < 1:
-        raise InvalidProblem(f, "max_steps", f"must be >= 1, got {p.max_steps}")
+    for key, value in (("steps", p.steps), ("max_steps", p.max_steps)):
+        if value is not None and value < 1:
+            raise InvalidProblem(f, key, f"must be >= 1, got {value}")
+        if value is not None and value > MAX_STEPS:
+            raise InvalidProblem(f, key, f"must be <= {MAX_STEPS}, got {value}")
+    if len(p.name) > MAX_NAME_LENGTH:
+        raise InvalidProblem(f, "name", f"at most {MAX_NAME_LENGTH} characters, got {len(p.name)}")
 
 
 # -- loading ---------------------------------------------------------------------------
@@ -215,7 +233,7 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
     """Build a :class:`GridProblem` from a parsed document, validating every field."""
     top = Fields(doc, source, "")
     top.reject_unknown(_TOP_KEYS)
-    width, height = as_int_vector(top.require("grid"), source, "grid", 2)
+    width, height = as_int_vector(top.require("grid"), source, "grid", 2, hi=MAX_GRID_SIDE)
 
     r = Fields(top.require("robot"), source, "robot")
     r.reject_unknown({"start", "goal", "moves"})
@@ -229,6 +247,8 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
     raw_obstacles = top.optional("obstacles", [])
     if not isinstance(raw_obstacles, Sequence) or isinstance(raw_obstacles, (str, bytes)):
         raise InvalidProblem(source, "obstacles", f"expected a list, got {type_name(raw_obstacles)}")
+    if len(raw_obstacles) > MAX_OBSTACLES:
+        raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obstacles)}")
     for i, raw in enumerate(raw_obstacles):
         o = Fields(raw, source, f"obstacles[{i}]")
         o.reject_unknown({"start", "moves"})
@@ -247,21 +267,27 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
     steps = top.optional("steps")
     max_steps = top.optional("max_steps")
     label = top.optional("name", name or "problem")
+    if isinstance(label, bool) or not isinstance(label, (str, int, float)):
+        raise InvalidProblem(source, "name", f"expected a string, got {type_name(label)}")
+    label = str(label)
+    if len(label) > MAX_NAME_LENGTH:
+        raise InvalidProblem(source, "name", f"at most {MAX_NAME_LENGTH} characters, got {len(label)}")
     return GridProblem(
         width=width,
         height=height,
         robot=robot,
         obstacles=tuple(obstacles),
         walls=walls,
-        steps=None if steps is None else as_int(steps, source, "steps"),
-        max_steps=None if max_steps is None else as_int(max_steps, source, "max_steps"),
-        name=str(label),
+        steps=None if steps is None else as_int(steps, source, "steps", lo=1, hi=MAX_STEPS),
+        max_steps=None if max_steps is None else as_int(max_steps, source, "max_steps", lo=1, hi=MAX_STEPS),
+        name=label,
         source=source,
     )
 
 
 def _cell(value: Any, file: str | None, field_: str) -> Cell:
-    x, y = as_int_vector(value, file, field_, 2)
+    # Cells and offsets beyond any grid are refused here, before arithmetic on them.
+    x, y = as_int_vector(value, file, field_, 2, lo=-MAX_GRID_SIDE, hi=MAX_GRID_SIDE)
     return (x, y)
 
 
@@ -270,6 +296,8 @@ def _moves(value: Any, file: str | None, field_: str) -> tuple[Move, ...]:
         raise InvalidProblem(file, field_, f"expected a list of moves, got {type_name(value)}")
     if len(value) == 0:
         raise InvalidProblem(file, field_, "no moves given")
+    if len(value) > MAX_MOVES:
+        raise InvalidProblem(file, field_, f"at most {MAX_MOVES} moves, got {len(value)}")
     return tuple(_move(v, file, f"{field_}[{i}]") for i, v in enumerate(value))
 
 
@@ -277,7 +305,7 @@ def _move(value: Any, file: str | None, field_: str) -> Move:
     if isinstance(value, str):
         if value not in BUILTIN_MOVES:
             raise InvalidProblem(
-                file, field_, f"unknown move {value!r} (built-in: {', '.join(BUILTIN_MOVES)})"
+                file, field_, f"unknown move {show(value)} (built-in: {', '.join(BUILTIN_MOVES)})"
             )
         return BUILTIN_MOVES[value]
     if isinstance(value, Mapping):
@@ -285,11 +313,13 @@ def _move(value: Any, file: str | None, field_: str) -> Move:
         m.reject_unknown({"name", "to", "via"})
         name = m.require("name")
         if not isinstance(name, str) or not name:
-            raise InvalidProblem(file, f"{field_}.name", f"expected a non-empty string, got {name!r}")
+            raise InvalidProblem(file, f"{field_}.name", f"expected a non-empty string, got {show(name)}")
         to = _cell(m.require("to"), file, f"{field_}.to")
         raw_via = m.optional("via", [])
         if not isinstance(raw_via, Sequence) or isinstance(raw_via, (str, bytes)):
             raise InvalidProblem(file, f"{field_}.via", f"expected a list of offsets, got {type_name(raw_via)}")
+        if len(raw_via) > MAX_VIA:
+            raise InvalidProblem(file, f"{field_}.via", f"at most {MAX_VIA} offsets, got {len(raw_via)}")
         via = tuple(_cell(v, file, f"{field_}.via[{i}]") for i, v in enumerate(raw_via))
         return Move(name, to, via)
-    raise InvalidProblem(file, field_, f"expected a move name or mapping, got {value!r}")
+    raise InvalidProblem(file, field_, f"expected a move name or mapping, got {show(value)}")

@@ -158,13 +158,23 @@ def _check(t: Term, sort: str, names: frozenset[str], m: int, dmax: int) -> None
 
 # -- parsing ---------------------------------------------------------------------------
 
-_TOKEN = re.compile(r"\s*(?:(;[^\n]*)|(\()|(\))|([^\s()]+))")
+#: Deepest nesting of parentheses a program may have. Synthesized controllers are far
+#: shallower (depth 5-20); the bound keeps parsing, printing, evaluation and the
+#: generated Python (whose parser allows 200 nested parentheses) safe.
+MAX_PROGRAM_NESTING = 100
+
+#: Longest integer literal, in digits (the grammar's constants are below the grid size).
+MAX_LITERAL_DIGITS = 9
+
+_TOKEN = re.compile(r"[ \t\r\n\f\v]*(?:(;[^\n]*)|(\()|(\))|([^ \t\r\n\f\v()]+))", re.ASCII)
+_INTEGER = re.compile(r"-?[0-9]+", re.ASCII)
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}", re.ASCII)  # inputs are rx, ry, o0x, ...
 
 
 def _tokens(text: str) -> list[str]:
     out = []
     pos = 0
-    text = text.strip()
+    text = text.strip(" \t\r\n\f\v")
     while pos < len(text):
         m = _TOKEN.match(text, pos)
         if not m or m.end() == pos:
@@ -177,29 +187,40 @@ def _tokens(text: str) -> list[str]:
 
 
 def _sexpr(tokens: list[str], i: int) -> tuple[object, int]:
+    """Read one s-expression starting at ``tokens[i]``, without recursion."""
     if i >= len(tokens):
         raise ProgramSyntaxError("unexpected end of text")
-    tok = tokens[i]
-    if tok == "(":
-        items = []
-        i += 1
-        while i < len(tokens) and tokens[i] != ")":
-            item, i = _sexpr(tokens, i)
-            items.append(item)
+    stack: list[list[object]] = []
+    while True:
         if i >= len(tokens):
             raise ProgramSyntaxError("missing ')'")
-        return items, i + 1
-    if tok == ")":
-        raise ProgramSyntaxError("unexpected ')'")
-    return tok, i + 1
+        tok = tokens[i]
+        i += 1
+        if tok == "(":
+            if len(stack) >= MAX_PROGRAM_NESTING:
+                raise ProgramSyntaxError(f"nested deeper than {MAX_PROGRAM_NESTING} parentheses")
+            stack.append([])
+            continue
+        if tok == ")":
+            if not stack:
+                raise ProgramSyntaxError("unexpected ')'")
+            item: object = stack.pop()
+        else:
+            item = tok
+        if not stack:
+            return item, i
+        stack[-1].append(item)
 
 
 def parse_sexpr(text: str) -> object:
-    """Parse one s-expression into nested lists of strings."""
+    """Parse one s-expression into nested lists of strings.
+
+    Nesting deeper than :data:`MAX_PROGRAM_NESTING` is a :class:`ProgramSyntaxError`.
+    """
     tokens = _tokens(text)
     value, i = _sexpr(tokens, 0)
     if i != len(tokens):
-        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i:i + 5])}")
+        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i:i + 5])[:200]}")
     return value
 
 
@@ -207,7 +228,9 @@ def parse_program(text: str) -> Term:
     """Parse a controller: a bare term or ``(define-fun move (...) Int TERM)``.
 
     Also accepts a solver's answer wrapped in parentheses, as cvc5 prints it:
-    ``((define-fun move ...))``. n-ary ``and``/``or``/``+`` are folded to binary.
+    ``((define-fun move ...))``. n-ary ``and``/``or``/``+`` are folded to binary, as a
+    balanced tree (so a 20,000-term ``and`` is 15 levels deep, not 20,000). Digits are
+    ASCII only, as in SyGuS-IF.
     """
     sx = parse_sexpr(text)
     # Unwrap "((define-fun ...))" as printed by `(check-synth)`.
@@ -220,27 +243,42 @@ def parse_program(text: str) -> Term:
     return _term(sx)
 
 
+def _literal(token: str) -> int:
+    digits = token.lstrip("-")
+    if len(digits) > MAX_LITERAL_DIGITS:
+        raise ProgramSyntaxError(f"integer literal {token[:20]}... has more than {MAX_LITERAL_DIGITS} digits")
+    return int(token)
+
+
+def _fold(op: str, args: Sequence[Term]) -> Term:
+    """``args`` joined by the associative ``op`` as a balanced binary tree.
+
+    For three arguments this is ``(op (op a b) c)``, as a left fold gives.
+    """
+    if len(args) == 1:
+        return args[0]
+    mid = (len(args) + 1) // 2
+    return App(op, (_fold(op, args[:mid]), _fold(op, args[mid:])))
+
+
 def _term(sx: object) -> Term:
     if isinstance(sx, str):
-        if re.fullmatch(r"-?\d+", sx):
-            return Const(int(sx))
-        if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", sx) and sx not in SIGNATURES:
+        if _INTEGER.fullmatch(sx):
+            return Const(_literal(sx))
+        if _NAME.fullmatch(sx) and sx not in SIGNATURES:
             return Var(sx)
-        raise ProgramSyntaxError(f"unexpected token {sx!r}")
+        raise ProgramSyntaxError(f"unexpected token {sx[:40]!r}")
     if not isinstance(sx, list) or not sx or not isinstance(sx[0], str):
-        raise ProgramSyntaxError(f"unexpected term {sx!r}")
+        raise ProgramSyntaxError(f"unexpected term {str(sx)[:60]}")
     op, rest = sx[0], sx[1:]
-    if op == "-" and len(rest) == 1 and isinstance(rest[0], str) and rest[0].isdigit():
-        return Const(-int(rest[0]))  # SyGuS writes the constant -1 as (- 1)
+    if op == "-" and len(rest) == 1 and isinstance(rest[0], str) and _INTEGER.fullmatch(rest[0]) and not rest[0].startswith("-"):
+        return Const(-_literal(rest[0]))  # SyGuS writes the constant -1 as (- 1)
     if op not in SIGNATURES:
-        raise ProgramSyntaxError(f"unknown operator {op!r}")
+        raise ProgramSyntaxError(f"unknown operator {op[:40]!r}")
     args = tuple(_term(a) for a in rest)
     arity = len(SIGNATURES[op][0])
     if op in ("and", "or", "+") and len(args) > 2:
-        folded = args[0]
-        for a in args[1:]:
-            folded = App(op, (folded, a))
-        return folded
+        return _fold(op, args)
     if len(args) != arity:
         raise ProgramSyntaxError(f"{op} takes {arity} arguments, got {len(args)}")
     return App(op, args)

@@ -13,8 +13,9 @@ from typing import Any, Protocol
 
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable, UnknownSolver
-from plansynth.grid.problem import GridProblem
+from plansynth.grid.problem import MAX_STEPS, GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program
+from plansynth.io import parse_document, read_text, show
 
 
 class GridStatus(str, Enum):
@@ -186,26 +187,23 @@ class StoredResult:
 
 def load_result(path: str | Path) -> StoredResult:
     """Read a result JSON (spec: Result file), checking the fields we use."""
-    name = str(path)
-    try:
-        raw = json.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InvalidProblem(name, "<file>", f"cannot read: {exc.strerror or exc}") from exc
-    except json.JSONDecodeError as exc:
-        raise InvalidProblem(name, "<file>", f"not valid JSON: {exc}") from exc
+    text, name = read_text(path)  # the limits of every file plansynth reads (plansynth.io)
+    raw = parse_document(text, name, json_syntax=True, kind="JSON")
     if not isinstance(raw, dict):
         raise InvalidProblem(name, "<document>", "expected a JSON object")
     try:
         status = GridStatus(raw.get("status"))
     except ValueError:
-        raise InvalidProblem(name, "status", f"expected one of realizable/unrealizable/unknown, got {raw.get('status')!r}") from None
+        raise InvalidProblem(name, "status", f"expected one of realizable/unrealizable/unknown, got {show(raw.get('status'))}") from None
     steps = raw.get("steps")
-    if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or steps < 1):
-        raise InvalidProblem(name, "steps", f"expected a positive integer, got {steps!r}")
+    if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= MAX_STEPS):
+        raise InvalidProblem(name, "steps", f"expected an integer in 1..{MAX_STEPS}, got {show(steps)}")
     program = None
     if raw.get("program") is not None:
+        if not isinstance(raw["program"], str):
+            raise InvalidProblem(name, "program", f"expected the program as a string, got {show(raw['program'])}")
         try:
-            program = parse_program(str(raw["program"]))
+            program = parse_program(raw["program"])
         except ProgramSyntaxError as exc:
             raise InvalidProblem(name, "program", str(exc)) from exc
     return StoredResult(status, steps, program, raw)

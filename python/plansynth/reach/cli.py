@@ -16,11 +16,16 @@ from rich.markup import escape
 from rich.table import Table
 
 from plansynth.budget import Budget
+from plansynth.cli_support import finite_positive, positive_seconds
 from plansynth.errors import InvalidProblem, PlansynthError
 
 app = typer.Typer(no_args_is_help=True, add_completion=False)
 
 EXIT_FOUND, EXIT_INFEASIBLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+
+#: plansynth.reach.problem's MAX_HORIZON and MAX_ORDER, repeated so that this module
+#: loads without numpy (a test checks that they agree).
+MAX_HORIZON_OPTION, MAX_ORDER_OPTION = 10_000, 50
 
 SOLVE_EPILOG = """\
 Examples:
@@ -132,14 +137,14 @@ def solve_command(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", help="Wall-clock budget in seconds (then status unknown)."),
-    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, help="Largest horizon to try (overrides the file)."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (then status unknown)."),
+    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, max=MAX_HORIZON_OPTION, help="Largest horizon to try (overrides the file; at most 10,000)."),
     counterexample: str = typer.Option("farkas", "--counterexample", help="lazy-smt: farkas (whole-plan LP, shrunk by its Farkas certificate), zeroprefix (paper), trivial or iis."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
     segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
     horizon_search: str = typer.Option("window", "--horizon-search", help="lazy-smt: window (goal at some step of a growing window) or linear (one horizon at a time, the paper; the horizon found is minimal)."),
-    window_growth: float = typer.Option(0.25, "--window-growth", help="lazy-smt, window search: each window is this fraction longer than its start."),
+    window_growth: float = typer.Option(0.25, "--window-growth", max=100.0, callback=finite_positive, help="lazy-smt, window search: each window is this fraction longer than its start."),
     transit: bool = typer.Option(True, "--transit/--no-transit", help="lazy-smt: refute plans with impossible transit times before CON-PLAN."),
     guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
@@ -302,12 +307,12 @@ SAT, LP, validation); on a shared machine the CPU column is the steadier one.
 @app.command("table", epilog=TABLE_EPILOG)
 def table_command(
     mazes: str = typer.Option("1,2,3,4", "--mazes", help="Comma-separated passage counts."),
-    order: int = typer.Option(2, "--order", min=1, help="Integrators per axis (2: the paper's double integrator)."),
+    order: int = typer.Option(2, "--order", min=1, max=MAX_ORDER_OPTION, help="Integrators per axis (2: the paper's double integrator)."),
     counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Strategies to compare (repeatable)."),
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="Shrink counterexamples (Farkas) and shift them."),
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="With --generalize: deletion-filter the literals."),
     slack_weights: str = typer.Option("geometric", "--slack-weights", help="zeroprefix slack LP objective: geometric or uniform (the paper's sum)."),
-    timeout: float = typer.Option(120.0, "--timeout", help="Budget per solve in seconds."),
+    timeout: float = typer.Option(120.0, "--timeout", callback=positive_seconds, help="Budget per solve in seconds."),
 ) -> None:
     """Solve the paper's maze family (Section VI, Table I and Figure 4) and print the
     time of each phase and the SAT/LP call counts, one row per maze and strategy."""

@@ -37,7 +37,7 @@ from shapely.geometry import Polygon as _ShPolygon
 from shapely.geometry import box as _sh_box
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import Fields, as_float, as_float_vector, as_int, as_int_vector, load_document, type_name
+from plansynth.io import Fields, as_float, as_float_vector, as_int, as_int_vector, load_document, show, type_name
 
 __all__ = [
     "Box",
@@ -56,6 +56,25 @@ __all__ = [
 ]
 
 DEFAULT_MAX_HORIZON = 200
+
+#: Documented limits (README, "Formats and extensions"), checked at the door. Every
+#: coordinate (workspace, obstacles, goal, start state, state bounds) and the input bound
+#: lie within +-MAX_COORDINATE, so areas, volumes and LP data stay far from overflow
+#: (a workspace of 1e200 would have an infinite area); so do the entries of explicit
+#: A and B matrices.
+MAX_COORDINATE = 1.0e6
+#: Largest time step ``dt`` of a named model.
+MAX_DT = 1.0e3
+#: Largest integrator-chain order (and so at most 3 * MAX_ORDER states).
+MAX_ORDER = 50
+#: Largest number of states (and of inputs) of explicit dynamics.
+MAX_STATES = 3 * MAX_ORDER
+#: Largest ``max_horizon``.
+MAX_HORIZON = 10_000
+#: Most obstacles, and most vertices of one polygon.
+MAX_OBSTACLES = 10_000
+MAX_VERTICES = 100_000
+MAX_NAME_LENGTH = 200
 NAMED_MODELS = ("single-integrator", "double-integrator", "integrator-chain")
 MODELS = NAMED_MODELS + ("explicit",)
 
@@ -558,6 +577,8 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     raw_obs = top.optional("obstacles", [])
     if not isinstance(raw_obs, Sequence) or isinstance(raw_obs, (str, bytes)):
         raise InvalidProblem(source, "obstacles", f"expected a list of boxes or polygons, got {type_name(raw_obs)}")
+    if len(raw_obs) > MAX_OBSTACLES:
+        raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obs)}")
     obstacles = tuple(_parse_shape(o, source, f"obstacles[{i}]", d) for i, o in enumerate(raw_obs))
     goal = _parse_shape(top.require("goal"), source, "goal", d)
 
@@ -565,18 +586,20 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     robot.reject_unknown(_ROBOT_KEYS)
     dynamics = _parse_dynamics(robot.require("dynamics"), source, d)
     n = dynamics.n_states
-    start = as_float_vector(robot.require("start"), source, "robot.start", n)
-    input_bound = as_float(robot.require("input_bound"), source, "robot.input_bound", positive=True)
+    start = as_float_vector(robot.require("start"), source, "robot.start", n, max_abs=MAX_COORDINATE)
+    input_bound = as_float(robot.require("input_bound"), source, "robot.input_bound", positive=True, max_abs=MAX_COORDINATE)
     sb_raw = robot.optional("state_bounds")
     state_bounds = None if sb_raw is None else _parse_box(sb_raw, source, "robot.state_bounds", allow_flat=True)
     if state_bounds is not None and state_bounds.dim != n:
         raise InvalidProblem(source, "robot.state_bounds", f"must be {n}-dimensional like the state, got {state_bounds.dim}")
-    max_horizon = as_int(top.optional("max_horizon", DEFAULT_MAX_HORIZON), source, "max_horizon")
+    max_horizon = as_int(top.optional("max_horizon", DEFAULT_MAX_HORIZON), source, "max_horizon", hi=MAX_HORIZON)
     if max_horizon <= 0:
         raise InvalidProblem(source, "max_horizon", f"must be positive, got {max_horizon}")
     name = top.optional("name", default_name)
     if not isinstance(name, str):
-        raise InvalidProblem(source, "name", f"expected a string, got {name!r}")
+        raise InvalidProblem(source, "name", f"expected a string, got {show(name)}")
+    if len(name) > MAX_NAME_LENGTH:
+        raise InvalidProblem(source, "name", f"at most {MAX_NAME_LENGTH} characters, got {len(name)}")
     return ReachProblem(
         workspace=workspace,
         obstacles=obstacles,
@@ -594,8 +617,8 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
 def _parse_box(value: Any, src: str | None, where: str, *, dim: int | None = None, allow_flat: bool = False) -> Box:
     f = Fields(value, src, where)
     f.reject_unknown({"min", "max"})
-    lo = as_float_vector(f.require("min"), src, f"{where}.min", dim)
-    hi = as_float_vector(f.require("max"), src, f"{where}.max", len(lo))
+    lo = as_float_vector(f.require("min"), src, f"{where}.min", dim, max_abs=MAX_COORDINATE)
+    hi = as_float_vector(f.require("max"), src, f"{where}.max", len(lo), max_abs=MAX_COORDINATE)
     if len(lo) == 0:
         raise InvalidProblem(src, f"{where}.min", "must not be empty")
     if allow_flat:
@@ -623,7 +646,9 @@ def _parse_polygon(value: Any, src: str | None, where: str, d: int) -> Polygon:
         raise InvalidProblem(src, where, f"polygons are 2-D but the workspace is {d}-D (use boxes)")
     if not isinstance(value, Sequence) or isinstance(value, (str, bytes)):
         raise InvalidProblem(src, where, f"expected a list of [x, y] vertices, got {type_name(value)}")
-    verts = tuple(as_float_vector(v, src, f"{where}[{i}]", 2) for i, v in enumerate(value))
+    if len(value) > MAX_VERTICES:
+        raise InvalidProblem(src, where, f"at most {MAX_VERTICES} vertices, got {len(value)}")
+    verts = tuple(as_float_vector(v, src, f"{where}[{i}]", 2, max_abs=MAX_COORDINATE) for i, v in enumerate(value))
     poly = Polygon(verts)
     why = polygon_problem(poly)
     if why is not None:
@@ -639,11 +664,11 @@ def _parse_dynamics(value: Any, src: str | None, d: int) -> LinearDynamics:
     if "model" in value and value["model"] != "explicit":
         f.reject_unknown({"model", "dt", "order"})
         model = f.require("model")
-        if model not in NAMED_MODELS:
-            raise InvalidProblem(src, f"{where}.model", f"unknown model {model!r} (known: {', '.join(NAMED_MODELS)}, or give A and B)")
-        dt = as_float(f.require("dt"), src, f"{where}.dt", positive=True)
+        if not isinstance(model, str) or model not in NAMED_MODELS:
+            raise InvalidProblem(src, f"{where}.model", f"unknown model {show(model)} (known: {', '.join(NAMED_MODELS)}, or give A and B)")
+        dt = as_float(f.require("dt"), src, f"{where}.dt", positive=True, max_abs=MAX_DT)
         order_raw = f.optional("order")
-        order = None if order_raw is None else as_int(order_raw, src, f"{where}.order")
+        order = None if order_raw is None else as_int(order_raw, src, f"{where}.order", hi=MAX_ORDER)
         implied = {"single-integrator": 1, "double-integrator": 2}.get(model)
         if implied is None and order is None:
             raise InvalidProblem(src, f"{where}.order", "missing required field (integrator-chain needs its order)")
@@ -664,14 +689,19 @@ def _parse_dynamics(value: Any, src: str | None, d: int) -> LinearDynamics:
     if len(set(position)) != d or any(not 0 <= i < n for i in position):
         raise InvalidProblem(src, f"{where}.position", f"must be {d} distinct state indices in 0..{n - 1}, got {list(position)}")
     dt_raw = f.optional("dt")
-    dt = None if dt_raw is None else as_float(dt_raw, src, f"{where}.dt", positive=True)
+    dt = None if dt_raw is None else as_float(dt_raw, src, f"{where}.dt", positive=True, max_abs=MAX_DT)
     return LinearDynamics(A=A, B=B, position=position, dt=dt, model="explicit", order=None)
 
 
 def _parse_matrix(value: Any, src: str | None, where: str) -> np.ndarray:
     if not isinstance(value, Sequence) or isinstance(value, (str, bytes)) or len(value) == 0:
-        raise InvalidProblem(src, where, f"expected a non-empty list of rows, got {value!r}")
-    rows = [as_float_vector(r, src, f"{where}[{i}]") for i, r in enumerate(value)]
+        raise InvalidProblem(src, where, f"expected a non-empty list of rows, got {show(value)}")
+    if len(value) > MAX_STATES:
+        raise InvalidProblem(src, where, f"at most {MAX_STATES} rows, got {len(value)}")
+    for i, r in enumerate(value):
+        if isinstance(r, Sequence) and len(r) > MAX_STATES:
+            raise InvalidProblem(src, f"{where}[{i}]", f"at most {MAX_STATES} columns, got {len(r)}")
+    rows = [as_float_vector(r, src, f"{where}[{i}]", max_abs=MAX_COORDINATE) for i, r in enumerate(value)]
     width = len(rows[0])
     if width == 0:
         raise InvalidProblem(src, f"{where}[0]", "empty row")

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import Fields, as_float_vector, load_document
+from plansynth.io import Fields, as_float_vector, load_document, show
 
 __all__ = ["Trajectory", "load_trajectory", "trajectory_from_dict", "trajectory_to_lists"]
 
@@ -88,12 +88,12 @@ def trajectory_from_dict(doc: Any, source: str | None = None) -> Trajectory:
     states_raw = f.require("states")
     if states_raw is None:
         status = doc.get("status", "?")
-        raise InvalidProblem(source, "states", f"no trajectory in this result (status {status!r})")
+        raise InvalidProblem(source, "states", f"no trajectory in this result (status {show(status)})")
     inputs_raw = f.require("inputs")
     if not isinstance(states_raw, Sequence) or isinstance(states_raw, (str, bytes)) or len(states_raw) == 0:
-        raise InvalidProblem(source, "states", f"expected a non-empty list of states, got {states_raw!r}")
+        raise InvalidProblem(source, "states", f"expected a non-empty list of states, got {show(states_raw)}")
     if not isinstance(inputs_raw, Sequence) or isinstance(inputs_raw, (str, bytes)):
-        raise InvalidProblem(source, "inputs", f"expected a list of inputs, got {inputs_raw!r}")
+        raise InvalidProblem(source, "inputs", f"expected a list of inputs, got {show(inputs_raw)}")
     states = [as_float_vector(s, source, f"states[{i}]") for i, s in enumerate(states_raw)]
     n = len(states[0])
     if n == 0:

@@ -16,7 +16,8 @@ from plansynth.grid.sygus import read_synth_answer
 def sl_file_name(problem: GridProblem, steps: int, depth_bound: int | None) -> str:
     """File name for the .sl of one attempt: ``<problem>-l<steps>[-d<D>].sl``."""
     bound = "" if depth_bound is None else f"-d{depth_bound}"
-    safe = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in problem.name) or "problem"
+    # ASCII and at most 100 characters: a file name has at most 255 bytes.
+    safe = "".join(ch if (ch.isascii() and ch.isalnum()) or ch in "-_." else "_" for ch in problem.name[:100]) or "problem"
     return f"{safe}-l{steps}{bound}.sl"
 
 

@@ -15,9 +15,10 @@ on success, 1 on a parse or solver error (the message goes to stderr).
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
+from plansynth.errors import InvalidProblem
 from plansynth.grid.backends.cvc5 import parse_options, run_sygus_text
+from plansynth.io import read_text
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -28,9 +29,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0 if "--help" in args else 2
     options = parse_options([a for a in args if a.startswith("--")])
     try:
-        text = Path(files[0]).read_text(encoding="utf-8")
+        text, _ = read_text(files[0])  # regular UTF-8 file within plansynth's size limit
         sys.stdout.write(run_sygus_text(text, options, files[0]))
-    except (OSError, RuntimeError) as exc:
+    except (OSError, RuntimeError, InvalidProblem) as exc:
         print(f"(error \"{str(exc).strip()}\")", file=sys.stderr)
         return 1
     sys.stdout.flush()

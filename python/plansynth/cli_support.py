@@ -1,0 +1,94 @@
+"""What every ``plansynth`` sub-command shares at the door (STYLE.md, points 2 and 12):
+usage errors as one line, and checks of the budget options.
+
+A bad command line exits with status 2 and one line on standard error, like a bad
+problem file (``error: FILE: FIELD: REASON``): click's own usage errors (unknown
+option, value out of range, ...) are printed as ``error: COMMAND: MESSAGE`` instead of
+click's several-line box.
+
+>>> positive_seconds(2.5)
+2.5
+>>> positive_seconds(float("nan"))  # doctest: +IGNORE_EXCEPTION_DETAIL
+Traceback (most recent call last):
+...
+BadParameter: expected a finite number of seconds > 0, got nan
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+import typer
+from typer.core import TyperGroup
+
+try:  # recent typer vendors its own click as typer._click; older ones use click itself
+    from typer._click import echo
+    from typer._click.exceptions import ClickException, NoArgsIsHelpError
+except ImportError:  # pragma: no cover - depends on the installed typer
+    from click import echo
+    from click.exceptions import ClickException
+
+    try:
+        from click.exceptions import NoArgsIsHelpError
+    except ImportError:
+        NoArgsIsHelpError = ()  # type: ignore[assignment,misc]  # click < 8.2 exits 0 instead
+
+
+class OneLineErrorsGroup(TyperGroup):
+    """The top-level ``plansynth`` group: click usage errors become one line, exit 2."""
+
+    def main(
+        self,
+        args: Sequence[str] | None = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        windows_expand_args: bool = True,
+        **extra: Any,
+    ) -> Any:
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, False, windows_expand_args, **extra)
+        try:
+            rv = super().main(args, prog_name, complete_var, False, windows_expand_args, **extra)
+        except NoArgsIsHelpError as exc:  # no arguments: the help, as before
+            exc.show()
+            sys.exit(exc.exit_code)
+        except ClickException as exc:
+            echo(f"error: {usage_error_line(exc)}", err=True)
+            sys.exit(exc.exit_code)
+        except typer.Abort:
+            echo("Aborted!", err=True)
+            sys.exit(1)
+        sys.exit(rv if isinstance(rv, int) and not isinstance(rv, bool) else 0)
+
+
+def usage_error_line(exc: ClickException) -> str:
+    """One line for a click error: the command, the message, where to find help.
+
+    The message is whitespace-folded and cut to 500 characters: it may quote an
+    argument of any length.
+    """
+    message = " ".join(exc.format_message().split())
+    if len(message) > 500:
+        message = message[:497] + "..."
+    ctx = getattr(exc, "ctx", None)
+    if ctx is None:
+        return message
+    return f"{ctx.command_path}: {message} (see {ctx.command_path} --help)"
+
+
+def positive_seconds(value: float | None) -> float | None:
+    """Typer callback of a time budget option (``--timeout``): finite and > 0."""
+    if value is not None and not (math.isfinite(value) and value > 0):
+        raise typer.BadParameter(f"expected a finite number of seconds > 0, got {value}")
+    return value
+
+
+def finite_positive(value: float | None) -> float | None:
+    """Typer callback of a real-valued option that must be finite and > 0."""
+    if value is not None and not (math.isfinite(value) and value > 0):
+        raise typer.BadParameter(f"expected a finite number > 0, got {value}")
+    return value
