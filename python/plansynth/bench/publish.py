@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from plansynth.io import write_output
 from plansynth.bench.families import GRID_FAMILIES, family
 from plansynth.bench.report import CX_VARIANTS
 from plansynth.bench.runner import make_tasks, run_sweep
@@ -83,7 +84,7 @@ def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: 
     lines = text.splitlines()
     # keep the title first, then our notes
     path = out / "RESULTS.md"
-    path.write_text(header + lines[0] + "\n" + limits + "\n".join(lines[1:]) + "\n", encoding="utf-8")
+    write_output(path, header + lines[0] + "\n" + limits + "\n".join(lines[1:]) + "\n")
     return path
 
 

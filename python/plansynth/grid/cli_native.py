@@ -17,6 +17,7 @@ from rich.table import Table
 
 from plansynth.budget import Budget
 from plansynth.errors import PlansynthError
+from plansynth.io import check_output_path
 
 EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_UNKNOWN, EXIT_BAD_INPUT = 0, 1, 3, 2
 
@@ -43,6 +44,8 @@ def explain_command(
         l = steps if steps is not None else problem.steps
         if l is None:
             raise typer.BadParameter("the file gives no steps: pass --steps", param_hint="--steps")
+        if gif is not None:
+            check_output_path(gif)
         e = explain(problem, l, Budget(seconds=timeout))
     except PlansynthError as exc:
         err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
@@ -76,7 +79,11 @@ def explain_command(
 def _animate(problem, e, gif: Path, console: Console) -> None:
     from plansynth.grid.native.animation import animate_play
 
-    animate_play(problem, e, gif)
+    try:
+        animate_play(problem, e, gif)
+    except PlansynthError as exc:
+        Console(stderr=True, soft_wrap=True).print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+        raise typer.Exit(EXIT_BAD_INPUT) from None
     console.print(f"animation written to {escape(str(gif))}", highlight=False)
 
 
@@ -105,6 +112,8 @@ def minimize_command(
         problem = load_grid_problem(file)
         if steps is not None:
             problem = replace(problem, steps=steps)
+        if out is not None:
+            check_output_path(out)
         result = solve(problem, "native", Budget(seconds=timeout), minimize=True)
     except PlansynthError as exc:
         err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
@@ -119,7 +128,11 @@ def minimize_command(
     elif result.message:
         console.print(escape(result.message), highlight=False)
     if out is not None:
-        result.write(out)
+        try:
+            result.write(out)
+        except PlansynthError as exc:
+            err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+            raise typer.Exit(EXIT_BAD_INPUT) from None
     code = {GridStatus.REALIZABLE: EXIT_REALIZABLE, GridStatus.UNREALIZABLE: EXIT_UNREALIZABLE}
     raise typer.Exit(code.get(result.status, EXIT_UNKNOWN))
 

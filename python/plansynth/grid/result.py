@@ -11,6 +11,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any, Protocol
 
+from plansynth.io import write_output
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable
 from plansynth.grid.problem import GridProblem
@@ -119,6 +120,9 @@ class GridResult:
     options: dict[str, Any] = field(default_factory=dict)
     problem: str = ""
     message: str = ""
+    #: for ``unrealizable``: the backend that decided every length exactly ("native",
+    #: which certifies the claims of the SyGuS backends, see :mod:`plansynth.grid.solve`)
+    certified_by: str | None = None
 
     @property
     def depth(self) -> int | None:
@@ -138,6 +142,7 @@ class GridResult:
             "options": self.options,
             "problem": self.problem,
             "message": self.message,
+            "certified_by": self.certified_by,
             "attempts": [
                 {
                     "steps": a.steps,
@@ -152,7 +157,7 @@ class GridResult:
         return d
 
     def write(self, path: str | Path) -> None:
-        Path(path).write_text(json.dumps(self.to_json_dict(), indent=2) + "\n", encoding="utf-8")
+        write_output(path, json.dumps(self.to_json_dict(), indent=2) + "\n")  # atomic; OutputUnwritable
 
 
 @dataclass(frozen=True)

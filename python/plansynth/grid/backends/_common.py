@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from plansynth.io import check_output_folder, write_output
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, check_program, parse_program
 from plansynth.grid.result import GridStatus, LengthOutcome
@@ -24,10 +25,9 @@ def keep_file(directory: str | Path | None, problem: GridProblem, steps: int, de
     """Write ``text`` into ``directory`` (created if needed) and return the path, or None."""
     if directory is None:
         return None
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
+    d = check_output_folder(directory)
     path = d / sl_file_name(problem, steps, depth_bound)
-    path.write_text(text, encoding="utf-8")
+    write_output(path, text)  # atomic; OutputUnwritable
     return str(path)
 
 
