@@ -139,3 +139,23 @@ def test_outer_polygon_contains_the_polygon(n: int, r: float, stretch: float, tu
     inner, outer = ShPolygon(poly.vertices), ShPolygon(out.vertices)
     assert outer.is_valid and outer.contains(inner)
     assert outer.area <= inner.area * 1.01
+
+
+def test_sweep_stopped_early_still_gives_a_bound(monkeypatch: pytest.MonkeyPatch) -> None:
+    from plansynth.reach import conplan
+    from plansynth.reach.families import maze
+
+    p = maze(1)
+    full = proved_horizon_bound(p, abstract(p), 200)
+    monkeypatch.setattr(conplan, "SWEEP_MAX_WORK", 50)
+    early = proved_horizon_bound(p, abstract(p), 200)
+    assert 26 <= early < full == 38  # at least the distance bound, never more than the full sweep
+
+
+def test_coarsened_abstraction_proves_only_the_distance_bound() -> None:
+    """Around an outer polygon the regions miss part of the free space, so the sweep
+    over them would prove nothing: only the distance bound is used."""
+    p = issue_problem(200)
+    ab = abstract(p)
+    assert not ab.exact
+    assert proved_horizon_bound(p, ab, 100) == proved_horizon_bound(p, ab, 100, segment_safe=False)

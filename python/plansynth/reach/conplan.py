@@ -1384,7 +1384,8 @@ def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) ->
 # regions around a finely sampled circle, say). Only the bounds below may prove
 # ``infeasible``.
 
-SWEEP_MAX_REGIONS = 4000  # beyond this the proved sweep is skipped (the distance bound remains)
+SWEEP_MAX_REGIONS = 1000  # beyond this the proved sweep is skipped (the distance bound remains)
+SWEEP_MAX_WORK = 2_000_000  # region visits; the sweep stops early (its bound so far holds)
 
 
 def touching(abstraction: Abstraction, tol: float = 1e-9) -> tuple[tuple[int, ...], ...]:
@@ -1467,21 +1468,28 @@ def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
 
     if hit():
         return 0
+    contact_lists = [list(c) for c in contact]
+    work = 0
     for t in range(1, limit + 1):
         new_lo, new_hi = reach_lo.copy(), reach_hi.copy()
         for i in np.nonzero(np.all(reach_lo <= reach_hi, axis=1))[0].tolist():
             G_lo, G_hi = reach_lo[i] - grow_lo, reach_hi[i] + grow_hi
-            meets = np.all(blo <= G_hi, axis=1) & np.all(bhi >= G_lo, axis=1)
+            meets = (np.all(blo <= G_hi, axis=1) & np.all(bhi >= G_lo, axis=1)).tolist()
             seen = {i}
             stack = [i]
             while stack:
                 j = stack.pop()
-                new_lo[j] = np.minimum(new_lo[j], np.maximum(blo[j], G_lo))
-                new_hi[j] = np.maximum(new_hi[j], np.minimum(bhi[j], G_hi))
-                for q in contact[j]:
+                for q in contact_lists[j]:
                     if q not in seen and meets[q]:
                         seen.add(q)
                         stack.append(q)
+                work += len(contact_lists[j])
+            idx = np.fromiter(seen, dtype=np.int64, count=len(seen))
+            new_lo[idx] = np.minimum(new_lo[idx], np.maximum(blo[idx], G_lo))
+            new_hi[idx] = np.maximum(new_hi[idx], np.minimum(bhi[idx], G_hi))
+            work += k
+            if work > SWEEP_MAX_WORK:
+                return t  # steps before t were swept completely without reaching the goal
         changed = not (np.array_equal(new_lo, reach_lo) and np.array_equal(new_hi, reach_hi))
         reach_lo, reach_hi = new_lo, new_hi
         if hit():
