@@ -174,3 +174,14 @@ def test_figure1_full_search_with_cvc5_defaults() -> None:
     r = solve(load_grid_problem(FIGURE1), "cvc5", Budget(seconds=600))
     assert r.status is R and r.steps == 6 and r.verified is True
     assert [a.status for a in r.attempts] == [U] * 5 + [R]
+
+
+def test_certification_respects_the_depth_bound() -> None:
+    """depth-5.yaml has a program of depth 5 and none of depth <= 4: a claim of
+    "unrealizable with depth <= 4" is certified, the same claim at depth <= 5 is not."""
+    p = load_grid_problem(FIGURE1.parent / "depth-5.yaml")
+    r = solve(p, "scripted", Budget(seconds=120), depth_bound=4, script={})
+    assert r.status is U and r.certified_by == "native"
+    assert r.message == "no controller (programs of depth <= 4) wins at l = 5"
+    r = solve(p, "scripted", Budget(seconds=120), depth_bound=5, script={})
+    assert r.status is K and r.attempts[0].message.startswith("BACKEND ERROR: scripted claims unrealizable at l = 5")

@@ -19,10 +19,10 @@ import time
 from pathlib import Path
 from typing import Any
 
-from plansynth.io import write_output
 from plansynth.bench.families import GRID_FAMILIES, family
 from plansynth.bench.report import CX_VARIANTS
 from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.io import write_output
 
 __all__ = ["published_tasks", "publish"]
 

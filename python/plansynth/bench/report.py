@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from plansynth.io import atomic_output, write_output
 from plansynth.bench.db import ResultsDB
 from plansynth.bench.families import PAPER_TABLE_I
+from plansynth.io import atomic_output, write_output
 
 __all__ = ["Cell", "summarise", "write_report", "headline"]
 

@@ -21,10 +21,10 @@ from matplotlib.collections import LineCollection, PatchCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
-from plansynth.io import atomic_output
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.semantics import obstacle_move, robot_move
 from plansynth.grid.simulate import Run
+from plansynth.io import atomic_output
 
 WALL = "#3a3a3a"
 GOAL = "#7bc67b"

@@ -11,11 +11,11 @@ from enum import Enum
 from pathlib import Path
 from typing import Any, Protocol
 
-from plansynth.io import write_output
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program
+from plansynth.io import write_output
 
 
 class GridStatus(str, Enum):

@@ -7,11 +7,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from plansynth.io import check_output_folder, write_output
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, check_program, parse_program
 from plansynth.grid.result import GridStatus, LengthOutcome
 from plansynth.grid.sygus import read_synth_answer
+from plansynth.io import check_output_folder, write_output
 
 
 def sl_file_name(problem: GridProblem, steps: int, depth_bound: int | None) -> str:
