@@ -169,7 +169,8 @@ MAX_TOL_FRACTION = 1e-3  # the largest tolerance: this fraction of the workspace
 def tolerance_problem(problem: ReachProblem, tol: float) -> str | None:
     """Why ``tol`` cannot be a validation tolerance for ``problem``, or None: it must be
     a finite number >= 0 and at most :data:`MAX_TOL_FRACTION` of the workspace's
-    smallest side (``inf`` would call a trajectory that leaves the workspace valid).
+    smallest side, or 1e-6 (``inf`` would call a trajectory that leaves the workspace
+    valid).
 
     >>> from plansynth.reach.families import maze
     >>> tolerance_problem(maze(1), float("inf"))
@@ -180,7 +181,7 @@ def tolerance_problem(problem: ReachProblem, tol: float) -> str | None:
     if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not np.isfinite(tol) or tol < 0:
         return f"must be a finite number >= 0, got {tol!r}"
     side = float(np.min(np.array(problem.workspace.hi) - np.array(problem.workspace.lo)))
-    top = MAX_TOL_FRACTION * side
+    top = max(MAX_TOL_FRACTION * side, 1e-6)  # the default tolerance is always allowed
     if tol > top:
         return f"must be at most {top:g} ({MAX_TOL_FRACTION:.0e} of the workspace side {side:g}), got {tol!r}"
     return None
