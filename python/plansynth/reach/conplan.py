@@ -1459,6 +1459,8 @@ def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
     for j in starts:
         reach_lo[j], reach_hi[j] = np.maximum(s - pad, blo[j]), np.minimum(s + pad, bhi[j])
     goal_regions = [j for j in range(k) if np.all(np.maximum(blo[j], g_lo) <= np.minimum(bhi[j], g_hi) + pad)]
+    if not starts or not goal_regions:  # regions that do not cover start and goal prove nothing
+        return 0
 
     def hit() -> bool:
         for j in goal_regions:

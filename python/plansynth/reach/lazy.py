@@ -246,8 +246,10 @@ def plan_lazy(
         )
 
     if proved > L_max:
-        if math.isinf(proved):
-            why = ("the goal is not connected to the start in the free space" if math.isinf(bfs) or not segment_safe
+        if (phys if lower_bound else physical_lower_bound(problem)) >= 1 << 30:
+            why = "the dynamics and bounds allow no displacement toward the goal"
+        elif math.isinf(proved):
+            why = ("the goal is not connected to the start in the free space" if math.isinf(bfs)
                    else "no position reaches the goal by bounded displacements through the free space")
         else:
             why = f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)"
