@@ -58,3 +58,18 @@ class UnknownSolver(SolverUnavailable, ValueError):
         self.kind = kind
         self.known = tuple(known)
         super().__init__(name, f"unknown {kind}; choose one of: {', '.join(self.known)}")
+
+
+class OutputUnwritable(PlansynthError):
+    """An output file (result, .sl, picture, export, report) that cannot be written:
+    the message names the path and the reason. The CLI checks every output path before
+    it starts work and exits 2 with this message.
+
+    >>> str(OutputUnwritable("/nonexistent/r.json", "folder does not exist"))
+    'cannot write /nonexistent/r.json: folder does not exist'
+    """
+
+    def __init__(self, path: str, reason: str) -> None:
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"cannot write {self.path}: {reason}")

@@ -57,6 +57,11 @@ register_backend("scripted", _scripted)
 
 U, R, K = GridStatus.UNREALIZABLE, GridStatus.REALIZABLE, GridStatus.UNKNOWN
 
+#: The goal is 5 cells away: no controller wins at any l <= 4 (the native engine proves it).
+FAR = grid_problem_from_dict(
+    {"grid": [6, 1], "max_steps": 4, "robot": {"start": [0, 0], "goal": [5, 0], "moves": ["stay", "right"]}}
+)
+
 
 def test_first_realizable_length_wins_and_the_program_is_verified() -> None:
     r = solve(CORRIDOR, "scripted", script={2: (R, "1")})
@@ -73,16 +78,18 @@ def test_search_does_not_stop_at_unknown_or_unrealizable() -> None:
 
 
 def test_unrealizable_only_if_every_length_is() -> None:
-    r = solve(CORRIDOR, "scripted", script={})
+    r = solve(FAR, "scripted", script={})
     assert r.status is U and r.program is None and r.verified is None
     assert [a.steps for a in r.attempts] == [1, 2, 3, 4]
     assert r.message == "no controller wins at every l in 1..4"
-    r = solve(CORRIDOR, "scripted", script={3: (K, None)})
+    assert r.certified_by == "native" and r.to_json_dict()["certified_by"] == "native"
+    assert all(a.counters["certified_by"] == "native" for a in r.attempts)
+    r = solve(FAR, "scripted", script={3: (K, None)})
     assert r.status is K and "l = 3: scripted" in r.message
 
 
 def test_unrealizable_relative_to_the_depth_bound() -> None:
-    r = solve(CORRIDOR.with_steps(3), "scripted", depth_bound=4, script={})
+    r = solve(FAR.with_steps(3), "scripted", depth_bound=4, script={})
     assert r.status is U and r.depth_bound == 4
     assert r.message == "no controller (programs of depth <= 4) wins at l = 3"
     assert _LAST["backend"].calls == [(3, None, 4)]
@@ -118,8 +125,26 @@ def test_iterations_budget_counts_path_lengths() -> None:
 
 def test_progress_callback_sees_every_length() -> None:
     seen: list[tuple[int, GridStatus]] = []
-    solve(CORRIDOR, "scripted", script={3: (R, "(ite (<= rx 1) 1 0)")}, progress=lambda l, o: seen.append((l, o.status)))
-    assert seen == [(1, U), (2, U), (3, R)]
+    far6 = grid_problem_from_dict(
+        {"grid": [6, 1], "max_steps": 6, "robot": {"start": [0, 0], "goal": [5, 0], "moves": ["stay", "right"]}})
+    solve(far6, "scripted", script={5: (R, "1")}, progress=lambda l, o: seen.append((l, o.status)))
+    assert seen == [(1, U), (2, U), (3, U), (4, U), (5, R)]
+
+
+def test_a_false_unrealizable_claim_is_a_backend_error() -> None:
+    """The native engine certifies every unrealizable: a backend that says
+    "unrealizable" where a controller exists is caught, and the length is unknown."""
+    r = solve(CORRIDOR.with_steps(2), "scripted", script={})
+    assert r.status is K and r.certified_by is None
+    bad = r.attempts[0]
+    assert bad.status is K and bad.message.startswith("BACKEND ERROR: scripted claims unrealizable at l = 2")
+    assert "verified by the independent verifier" in bad.message
+
+
+def test_an_uncertified_claim_is_unknown() -> None:
+    """Certification runs within the budget: without time left the claim stays unproved."""
+    r = solve(FAR.with_steps(3), "scripted", Budget(seconds=0.2), script={}, delay=0.25)
+    assert r.status is K and "not certified" in r.message
 
 
 def test_unknown_solver() -> None:
@@ -149,3 +174,14 @@ def test_figure1_full_search_with_cvc5_defaults() -> None:
     r = solve(load_grid_problem(FIGURE1), "cvc5", Budget(seconds=600))
     assert r.status is R and r.steps == 6 and r.verified is True
     assert [a.status for a in r.attempts] == [U] * 5 + [R]
+
+
+def test_certification_respects_the_depth_bound() -> None:
+    """depth-5.yaml has a program of depth 5 and none of depth <= 4: a claim of
+    "unrealizable with depth <= 4" is certified, the same claim at depth <= 5 is not."""
+    p = load_grid_problem(FIGURE1.parent / "depth-5.yaml")
+    r = solve(p, "scripted", Budget(seconds=120), depth_bound=4, script={})
+    assert r.status is U and r.certified_by == "native"
+    assert r.message == "no controller (programs of depth <= 4) wins at l = 5"
+    r = solve(p, "scripted", Budget(seconds=120), depth_bound=5, script={})
+    assert r.status is K and r.attempts[0].message.startswith("BACKEND ERROR: scripted claims unrealizable at l = 5")

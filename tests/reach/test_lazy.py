@@ -70,19 +70,30 @@ def test_disconnected_goal_is_infeasible_without_search() -> None:
     assert r.counters["iterations"] == 0 and r.trajectory is None and r.validated is None
 
 
-def test_too_short_max_horizon_is_infeasible_by_search() -> None:
+def test_refuting_every_horizon_through_the_abstraction_is_not_infeasible() -> None:
     """Connected, but the double integrator needs more than 55 steps around the wall
-    (the MILP test above pins the shortest horizon); searched from horizon 0."""
+    through maze-1's three regions (the MILP test above pins the shortest horizon);
+    searched from horizon 0. Refuting plans through the abstraction proves nothing
+    about trajectories that cross several regions per step: ``unknown``, saying why."""
     p = maze(1)
     r = plan_lazy(p, max_horizon=55, lower_bound=False)
-    assert r.status is ReachStatus.INFEASIBLE and r.horizon == 55
-    assert "every horizon up to 55" in r.message
+    assert r.status is ReachStatus.UNKNOWN and r.horizon == 55
+    assert "every horizon up to 55 refuted for plans through the abstraction" in r.message
+    assert "not a proof" in r.message and r.counters["abstraction_refuted"] == 55
     assert r.counters["sat_calls"] > 0
 
 
-def test_too_short_max_horizon_is_infeasible_by_the_bound() -> None:
-    r = plan_lazy(maze(1), max_horizon=40)
+def test_too_short_max_horizon_is_infeasible_by_the_proved_bound() -> None:
+    r = plan_lazy(maze(1), max_horizon=37)  # the proved bound is 38
+    assert r.counters["proved_bound"] == 38
     assert r.status is ReachStatus.INFEASIBLE and r.counters["iterations"] == 0
+    assert "needs at least 38 steps" in r.message
+
+
+def test_region_hop_bound_alone_gives_unknown() -> None:
+    r = plan_lazy(maze(1), max_horizon=40)  # region hops say 50, proved only 38
+    assert r.status is ReachStatus.UNKNOWN and r.counters["iterations"] == 0
+    assert "no plan through the abstraction up to horizon 40" in r.message
 
 
 def test_iteration_budget_gives_unknown() -> None:

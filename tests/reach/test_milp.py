@@ -49,14 +49,26 @@ def test_milp_samples_only_is_never_longer() -> None:
     assert samples.horizon <= seg.horizon
 
 
-def test_milp_infeasible_up_to_max_horizon() -> None:
-    r = plan_milp(maze(1), max_horizon=30)
+def test_milp_infeasible_up_to_max_horizon_by_the_proved_bound() -> None:
+    r = plan_milp(maze(1), max_horizon=30)  # every trajectory needs 38 steps or more
     assert r.status is ReachStatus.INFEASIBLE and r.horizon == 30
-    assert r.counters["milp_calls"] == 30 - 2 + 1  # every horizon from the BFS distance 2
+    assert r.counters["proved_bound"] == 31 and r.counters["milp_calls"] == 0  # (the sweep stops at 31)
+
+
+def test_milp_refuting_the_abstraction_is_not_infeasible() -> None:
+    r = plan_milp(maze(1), max_horizon=45)
+    assert r.status is ReachStatus.UNKNOWN and r.horizon == 45
+    assert r.counters["milp_calls"] == 45 - 2 + 1  # every horizon from the BFS distance 2
+    assert r.counters["abstraction_refuted"] == 45 and "not a proof" in r.message
+
+
+def test_milp_proved_bound_is_tight_on_the_corridor() -> None:
+    r = plan_milp(corridor())
+    assert r.status is ReachStatus.FOUND and r.counters["proved_bound"] == r.horizon == 7
 
 
 def test_milp_with_a_start_horizon_does_not_claim_infeasibility() -> None:
-    r = plan_milp(corridor(), start_horizon=3, max_horizon=4)
+    r = plan_milp(maze(1), start_horizon=40, max_horizon=42)
     assert r.status is ReachStatus.UNKNOWN and "shorter ones not tried" in r.message
 
 

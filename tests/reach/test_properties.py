@@ -50,7 +50,9 @@ def test_lazy_and_milp_agree_and_every_trajectory_validates(p: ReachProblem, max
                    window_growth=1.0)
     milp = solve(p, "milp", max_horizon=max_horizon, segment_safe=segment_safe)
     for r in (lazy, window, milp):
-        assert r.status is not ReachStatus.UNKNOWN, r.message
+        # unknown only when every horizon was refuted through the abstraction, which
+        # does not prove infeasibility (a step may cross several regions)
+        assert r.status is not ReachStatus.UNKNOWN or r.counters.get("abstraction_refuted") == max_horizon, r.message
         if r.status is ReachStatus.FOUND:
             assert r.validated is True and r.validation.ok
             if segment_safe:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Optional
 
@@ -184,6 +186,21 @@ def reach_cmd(
            repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry)
 
 
+@contextmanager
+def _outputs_checked(folder: Path) -> Iterator[None]:
+    """Check the output folder before the work and turn an unwritable file into one
+    line and exit 2 (every file is written atomically, see plansynth.io)."""
+    from plansynth.errors import OutputUnwritable
+    from plansynth.io import check_output_folder
+
+    try:
+        check_output_folder(folder)
+        yield
+    except OutputUnwritable as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+
+
 @app.command("report")
 def report_cmd(
     db: Path = DB_OPTION,
@@ -198,7 +215,8 @@ def report_cmd(
     if not db.exists():
         console.print(f"[red]{db}: no such results database")
         raise typer.Exit(2)
-    path = write_report(db, out)
+    with _outputs_checked(out):
+        path = write_report(db, out)
     console.print(f"wrote {path} and {len(list(out.glob('*.png')))} plots")
 
 
@@ -211,7 +229,8 @@ def families_cmd(
 
     insts = [i for f in GRID_FAMILIES for i in family("grid", f)]
     insts += [i for f in REACH_FAMILIES for i in family("reach", f)]
-    paths = write_family_files(out, insts)
+    with _outputs_checked(out):
+        paths = write_family_files(out, insts)
     console.print(f"wrote {len(paths)} problem files under {out}")
 
 
@@ -231,6 +250,7 @@ def publish_cmd(
     """
     from plansynth.bench.publish import publish
 
-    path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
-                   jobs=jobs, cluster=cluster)
+    with _outputs_checked(out):
+        path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
+                       jobs=jobs, cluster=cluster)
     console.print(f"wrote {path}")

@@ -22,6 +22,7 @@ from typing import Any
 from plansynth.bench.families import GRID_FAMILIES, family
 from plansynth.bench.report import CX_VARIANTS
 from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.io import write_output
 
 __all__ = ["published_tasks", "publish"]
 
@@ -83,7 +84,7 @@ def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: 
     lines = text.splitlines()
     # keep the title first, then our notes
     path = out / "RESULTS.md"
-    path.write_text(header + lines[0] + "\n" + limits + "\n".join(lines[1:]) + "\n", encoding="utf-8")
+    write_output(path, header + lines[0] + "\n" + limits + "\n".join(lines[1:]) + "\n")
     return path
 
 

@@ -29,6 +29,7 @@ from typing import Any
 
 from plansynth.bench.db import ResultsDB
 from plansynth.bench.families import PAPER_TABLE_I
+from plansynth.io import atomic_output, write_output
 
 __all__ = ["Cell", "summarise", "write_report", "headline"]
 
@@ -255,7 +256,8 @@ def _plot_family(cells: Mapping[tuple[str, str], Cell], family: str, planners: S
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)
     return True
 
@@ -287,7 +289,8 @@ def _plot_bars(groups: Sequence[str], series: Mapping[str, Sequence[float | None
     ax.grid(True, axis="y", which="both", alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)
 
 
@@ -514,7 +517,7 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 L.append("| " + " | ".join([setup["name"]] + [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]) + " |")
             L.append("")
     report = out / "REPORT.md"
-    report.write_text("\n".join(L) + "\n", encoding="utf-8")
+    write_output(report, "\n".join(L) + "\n")
     return report
 
 
@@ -616,5 +619,6 @@ def _plot_chain(cells: Mapping[tuple[str, str], Cell], chains: Sequence[tuple[st
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=6, ncol=2)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)

@@ -21,9 +21,10 @@ from rich.table import Table
 from plansynth.cli_support import finite_positive
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
-from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program, to_c, to_define_fun, to_python
+from plansynth.grid.programs import (ProgramSyntaxError, Term, depth, function_name_problem, parse_program, to_c,
+                                     to_define_fun, to_python)
 from plansynth.grid.result import load_result
-from plansynth.io import read_text
+from plansynth.io import check_output_path, read_text, write_output
 
 #: Exit statuses of ``verify`` (``animate`` and ``export`` use 0 and 2).
 EXIT_WINS, EXIT_LOSES, EXIT_BAD_INPUT = 0, 1, 2
@@ -217,15 +218,21 @@ def animate_command(
         last = len(run.states) - 1
         if step is not None and step > last:
             raise _BadInput(f"--step {step}: the run has states 0..{last}")
+        for path in (out, png):
+            if path is not None:
+                check_output_path(path)
+        animate(problem, run, out, fps=fps)
     except (PlansynthError, _BadInput) as exc:
         raise _fail(err, str(exc)) from None
-    animate(problem, run, out, fps=fps)
     verdict = "[green]wins[/green]" if run.wins else "[red]loses[/red]"
     console.print(f"controller {verdict} at l = {l}; this run ({obstacles} obstacles): {escape(run.outcome)}", highlight=False)
     console.print(f"wrote {escape(str(out))} ({last + 1} states)", highlight=False)
     if png is not None:
         t = last if step is None else step
-        draw_state(problem, run, t, png)
+        try:
+            draw_state(problem, run, t, png)
+        except PlansynthError as exc:
+            raise _fail(err, str(exc)) from None
         console.print(f"wrote {escape(str(png))} (state {t})", highlight=False)
 
 
@@ -241,6 +248,11 @@ def export_command(
     try:
         if lang not in ("python", "c", "sygus"):
             raise _BadInput(f"--lang must be python, c or sygus, got {lang!r}")
+        bad_name = function_name_problem(name, lang)
+        if bad_name is not None:
+            raise _BadInput(f"--name: {bad_name}")
+        if out is not None:
+            check_output_path(out)
         controller = read_controller(result_or_program)
         where = str(problem_file) if problem_file is not None else controller.problem_path
         if where is None:
@@ -251,23 +263,27 @@ def export_command(
         from plansynth.grid.verify import check_controller
 
         check_controller(problem, controller.program)
+        bad_name = function_name_problem(name, lang, problem.variables)
+        if bad_name is not None:
+            raise _BadInput(f"--name: {bad_name}")
+        variables = problem.variables
+        if lang == "python":
+            text = to_python(controller.program, variables, name)
+        elif lang == "c":
+            text = to_c(controller.program, variables, name)
+        else:
+            text = (
+                f"; controller for {problem.name} (depth {depth(controller.program)}), SyGuS-IF v2\n"
+                + to_define_fun(controller.program, variables, name)
+                + "\n"
+            )
+        if out is not None:
+            write_output(out, text)
     except (PlansynthError, _BadInput) as exc:
         raise _fail(err, str(exc)) from None
-    variables = problem.variables
-    if lang == "python":
-        text = to_python(controller.program, variables, name)
-    elif lang == "c":
-        text = to_c(controller.program, variables, name)
-    else:
-        text = (
-            f"; controller for {problem.name} (depth {depth(controller.program)}), SyGuS-IF v2\n"
-            + to_define_fun(controller.program, variables, name)
-            + "\n"
-        )
     if out is None:
         typer.echo(text, nl=False)
     else:
-        out.write_text(text, encoding="utf-8")
         Console(soft_wrap=True).print(f"wrote {escape(str(out))}", highlight=False)
 
 

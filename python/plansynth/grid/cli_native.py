@@ -19,6 +19,7 @@ from plansynth.budget import Budget
 from plansynth.cli_support import positive_seconds
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS
+from plansynth.io import check_output_path
 
 EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_UNKNOWN, EXIT_BAD_INPUT = 0, 1, 3, 2
 
@@ -45,6 +46,8 @@ def explain_command(
         l = steps if steps is not None else problem.steps
         if l is None:
             raise typer.BadParameter("the file gives no steps: pass --steps", param_hint="--steps")
+        if gif is not None:
+            check_output_path(gif)
         e = explain(problem, l, Budget(seconds=timeout))
     except PlansynthError as exc:
         err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
@@ -78,7 +81,11 @@ def explain_command(
 def _animate(problem, e, gif: Path, console: Console) -> None:
     from plansynth.grid.native.animation import animate_play
 
-    animate_play(problem, e, gif)
+    try:
+        animate_play(problem, e, gif)
+    except PlansynthError as exc:
+        Console(stderr=True, soft_wrap=True).print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+        raise typer.Exit(EXIT_BAD_INPUT) from None
     console.print(f"animation written to {escape(str(gif))}", highlight=False)
 
 
@@ -107,6 +114,8 @@ def minimize_command(
         problem = load_grid_problem(file)
         if steps is not None:
             problem = replace(problem, steps=steps)
+        if out is not None:
+            check_output_path(out)
         result = solve(problem, "native", Budget(seconds=timeout), minimize=True)
     except PlansynthError as exc:
         err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
@@ -121,7 +130,11 @@ def minimize_command(
     elif result.message:
         console.print(escape(result.message), highlight=False)
     if out is not None:
-        result.write(out)
+        try:
+            result.write(out)
+        except PlansynthError as exc:
+            err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+            raise typer.Exit(EXIT_BAD_INPUT) from None
     code = {GridStatus.REALIZABLE: EXIT_REALIZABLE, GridStatus.UNREALIZABLE: EXIT_UNREALIZABLE}
     raise typer.Exit(code.get(result.status, EXIT_UNKNOWN))
 

@@ -15,10 +15,11 @@ from rich.markup import escape
 
 from plansynth.budget import Budget
 from plansynth.cli_support import positive_seconds
-from plansynth.errors import PlansynthError
+from plansynth.errors import OutputUnwritable, PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import MAX_PROGRAM_NESTING, size, to_python
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome
+from plansynth.io import check_output_folder, check_output_path, write_output
 
 #: Exit statuses of ``solve``.
 EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
@@ -103,6 +104,9 @@ def _print_result(console: Console, problem: GridProblem, r: GridResult) -> None
             console.print(f"[green]{escape(r.message)}[/green]", highlight=False)
     elif r.message:
         console.print(escape(r.message), highlight=False)
+    if r.status is GridStatus.UNREALIZABLE and r.certified_by:
+        console.print(f"certified by the {escape(r.certified_by)} engine (it decides realizability exactly)",
+                      highlight=False)
 
 
 def solve_command(
@@ -131,6 +135,10 @@ def solve_command(
             raise typer.BadParameter("must be positive", param_hint="--timeout")
         problem = _load(file, steps, max_steps)
         kwargs = _solver_options(solver, command, option, keep_sl, minimize)
+        if out is not None:
+            check_output_path(out)  # before solving: a result is never computed and then lost
+        if keep_sl is not None:
+            check_output_folder(keep_sl)
         budget = Budget(seconds=timeout, memory_mb=memory_mb)
         lengths = list(problem.path_lengths())
         with Progress(
@@ -162,7 +170,11 @@ def solve_command(
         raise typer.Exit(EXIT_BAD_INPUT) from None
     _print_result(console, problem, result)
     if out is not None:
-        result.write(out)
+        try:
+            result.write(out)
+        except OutputUnwritable as exc:
+            err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+            raise typer.Exit(EXIT_BAD_INPUT) from None
         console.print(f"result written to {escape(str(out))}", highlight=False)
     code = {GridStatus.REALIZABLE: EXIT_REALIZABLE, GridStatus.UNREALIZABLE: EXIT_UNREALIZABLE}
     raise typer.Exit(code.get(result.status, EXIT_UNKNOWN))
@@ -183,14 +195,17 @@ def compile_command(
         l = steps if steps is not None else problem.steps
         if l is None:
             raise typer.BadParameter("the file fixes no path length; give --steps N", param_hint="--steps")
+        if output is not None:
+            check_output_path(output)
         text = compile_sygus(problem, l, depth_bound)
+        if output is not None:
+            write_output(output, text)
     except PlansynthError as exc:
         err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
         raise typer.Exit(EXIT_BAD_INPUT) from None
     if output is None:
         typer.echo(text, nl=False)
     else:
-        output.write_text(text, encoding="utf-8")
         err.print(f"wrote {escape(str(output))} ({len(text)} characters)", highlight=False)
 
 

@@ -308,6 +308,49 @@ def _expr(t: Term, lang: str) -> str:
     return f"({a[0]} {op} {a[1]})"
 
 
+_C_KEYWORDS = frozenset("""auto break case char const continue default do double else enum extern float for goto
+if inline int long register restrict return short signed sizeof static struct switch typedef union unsigned void
+volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic _Imaginary _Noreturn _Static_assert _Thread_local
+alignas alignof bool constexpr false nullptr static_assert thread_local true typeof typeof_unqual main""".split())
+_SYGUS_RESERVED = frozenset("""_ ! as let exists forall match par assert check-sat declare-const declare-fun
+define-fun define-fun-rec define-sort set-logic set-option synth-fun constraint check-synth declare-var
+ite and or not xor distinct true false Int Bool""".split())
+
+
+def function_name_problem(name: str, lang: str, variables: Sequence[str] = ()) -> str | None:
+    """Why ``name`` cannot name the exported controller in ``lang`` (python, c or
+    sygus), or None: it must be an ASCII identifier (letters, digits, ``_``, not
+    starting with a digit), not a keyword or reserved word of the language, and not one
+    of the controller's inputs. Everything else would be pasted into the code as is.
+
+    >>> function_name_problem("move", "c") is None
+    True
+    >>> function_name_problem("f(); system(0); int g", "c")
+    "not an identifier: 'f(); system(0); int g'"
+    >>> function_name_problem("lambda", "python")
+    "'lambda' is a keyword in python"
+    """
+    import keyword
+    import re
+
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        return f"not an identifier: {name!r}"
+    reserved = {"python": frozenset(keyword.kwlist), "c": _C_KEYWORDS, "sygus": _SYGUS_RESERVED}.get(lang)
+    if reserved is None:
+        return f"unknown language {lang!r}"
+    if name in reserved:
+        return f"{name!r} is a keyword in {lang}"
+    if name in variables:
+        return f"{name!r} is an input of the controller"
+    return None
+
+
+def _checked_name(name: str, lang: str, variables: Sequence[str]) -> None:
+    why = function_name_problem(name, lang, variables)
+    if why is not None:
+        raise ValueError(f"function name: {why}")
+
+
 def to_python(t: Term, variables: Sequence[str], name: str = "move") -> str:
     """Python source of the controller as a function of the spec's inputs.
 
@@ -317,6 +360,7 @@ def to_python(t: Term, variables: Sequence[str], name: str = "move") -> str:
         return (2 if (rx <= 3) else 1)
     <BLANKLINE>
     """
+    _checked_name(name, "python", variables)
     params = ", ".join(f"{v}: int" for v in variables)
     return (
         f"def {name}({params}) -> int:\n"
@@ -335,6 +379,7 @@ def to_c(t: Term, variables: Sequence[str], name: str = "move") -> str:
     }
     <BLANKLINE>
     """
+    _checked_name(name, "c", variables)
     params = ", ".join(f"int {v}" for v in variables) or "void"
     return (
         "/* Controller synthesized by plansynth: returns the robot's move number. */\n"
@@ -346,6 +391,7 @@ def to_c(t: Term, variables: Sequence[str], name: str = "move") -> str:
 
 def to_define_fun(t: Term, variables: Sequence[str], name: str = "move") -> str:
     """The controller as a SyGuS-IF v2 ``define-fun``."""
+    _checked_name(name, "sygus", variables)
     params = " ".join(f"({v} Int)" for v in variables)
     return f"(define-fun {name} ({params}) Int {t})"
 

@@ -24,6 +24,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.semantics import obstacle_move, robot_move
 from plansynth.grid.simulate import Run
+from plansynth.io import atomic_output
 
 WALL = "#3a3a3a"
 GOAL = "#7bc67b"
@@ -155,7 +156,8 @@ def draw_state(problem: GridProblem, run: Run, t: int, path: str | Path | None =
     fig = new_figure(problem)
     draw_on(fig.axes[0], problem, run, t)
     if path is not None:
-        fig.savefig(path, format="png")
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png")
     return fig
 
 
@@ -169,5 +171,6 @@ def animate(problem: GridProblem, run: Run, path_gif: str | Path, fps: float = 3
     frames = list(range(last + 1)) + [last] * HOLD_FRAMES
     anim = FuncAnimation(fig, lambda t: draw_on(ax, problem, run, t), frames=frames, blit=False, repeat=False)
     out = Path(path_gif)
-    anim.save(str(out), writer=PillowWriter(fps=fps))
+    with atomic_output(out) as tmp:
+        anim.save(str(tmp), writer=PillowWriter(fps=fps))
     return out

@@ -15,7 +15,7 @@ from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable, UnknownSolver
 from plansynth.grid.problem import MAX_STEPS, GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program
-from plansynth.io import parse_document, read_text, show
+from plansynth.io import parse_document, read_text, show, write_output
 
 
 class GridStatus(str, Enum):
@@ -139,6 +139,9 @@ class GridResult:
     options: dict[str, Any] = field(default_factory=dict)
     problem: str = ""
     message: str = ""
+    #: for ``unrealizable``: the backend that decided every length exactly ("native",
+    #: which certifies the claims of the SyGuS backends, see :mod:`plansynth.grid.solve`)
+    certified_by: str | None = None
 
     @property
     def depth(self) -> int | None:
@@ -158,6 +161,7 @@ class GridResult:
             "options": self.options,
             "problem": self.problem,
             "message": self.message,
+            "certified_by": self.certified_by,
             "attempts": [
                 {
                     "steps": a.steps,
@@ -172,7 +176,7 @@ class GridResult:
         return d
 
     def write(self, path: str | Path) -> None:
-        Path(path).write_text(json.dumps(self.to_json_dict(), indent=2) + "\n", encoding="utf-8")
+        write_output(path, json.dumps(self.to_json_dict(), indent=2) + "\n")  # atomic; OutputUnwritable
 
 
 @dataclass(frozen=True)

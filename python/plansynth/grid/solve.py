@@ -12,6 +12,16 @@ Every program a backend returns is checked by the independent verifier
 check is a backend bug: that l becomes ``unknown`` with a loud message and the
 counterexample, and the program is never reported as a controller.
 
+Every ``unrealizable`` is certified the same way: a SyGuS solver's "infeasible" (or
+whatever an external command prints) is not taken on trust; the native engine, which
+decides realizability exactly (:mod:`plansynth.grid.native.engine`; with a depth bound D
+it decides "no program of depth <= D wins" when its condition enumeration is complete),
+re-decides that length within the budget that is left. If it agrees, the length counts
+as unrealizable (``counters["certified_by"] = "native"``); if it finds a controller
+(checked by the verifier) the claim was a backend error and the length is ``unknown``
+with the reason; if it cannot decide in time, the length is ``unknown``
+("not certified"). The native engine's own answers are exact and need no second run.
+
 >>> from plansynth.grid.problem import grid_problem_from_dict
 >>> p = grid_problem_from_dict({"grid": [3, 1], "max_steps": 3,
 ...     "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]}})
@@ -33,7 +43,10 @@ from plansynth.budget import Budget
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome, get_backend
 
-__all__ = ["solve", "Progress"]
+__all__ = ["solve", "Progress", "CERTIFIER"]
+
+#: The backend that certifies every ``unrealizable`` (it decides realizability exactly).
+CERTIFIER = "native"
 
 #: Called after each path length with (l, what the backend said, after verification).
 Progress = Callable[[int, LengthOutcome], None]
@@ -106,6 +119,8 @@ def solve(
         sub = Budget(seconds=None if math.isinf(remaining) else max(remaining, 1e-3), memory_mb=budget.memory_mb)
         outcome = backend.solve_length(problem, l, sub, depth_bound=depth_bound)
         clock.tick()
+        if outcome.status is GridStatus.UNREALIZABLE:
+            outcome = _certified(problem, backend.name, outcome, clock, budget, depth_bound)
         if outcome.status is GridStatus.REALIZABLE:
             assert outcome.program is not None, f"backend {backend.name} said realizable without a program"
             started = time.perf_counter()
@@ -141,6 +156,38 @@ def solve(
     bound = "" if depth_bound is None else f" (programs of depth <= {depth_bound})"
     searched = f"l = {lengths[0]}" if len(lengths) == 1 else f"every l in {lengths[0]}..{lengths[-1]}"
     if len(attempts) == len(lengths) and all(a.status is GridStatus.UNREALIZABLE for a in attempts):
-        return result(GridStatus.UNREALIZABLE, message=f"no controller{bound} wins at {searched}")
+        return result(GridStatus.UNREALIZABLE, message=f"no controller{bound} wins at {searched}",
+                      certified_by=CERTIFIER)
     unknown = [f"l = {a.steps}: {a.message or 'no answer'}" for a in attempts if a.status is GridStatus.UNKNOWN]
     return result(GridStatus.UNKNOWN, message="; ".join(unknown + notes) or "no answer")
+
+
+def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, clock: Any, budget: Budget,
+               depth_bound: int | None) -> LengthOutcome:
+    """``outcome`` (an unrealizable claim by ``claimant``) re-decided by the native
+    engine within the budget left: kept and marked ``certified_by``, or ``unknown``
+    with the reason (see the module docstring)."""
+    from plansynth.grid.verify import verify
+
+    l = outcome.steps
+    if claimant == CERTIFIER:
+        return replace(outcome, counters={**outcome.counters, "certified_by": CERTIFIER})
+    remaining = clock.remaining()
+    if remaining <= 0:
+        return replace(outcome, status=GridStatus.UNKNOWN,
+                       message=f"{claimant} claims unrealizable at l = {l}, not certified: the budget ran out")
+    sub = Budget(seconds=None if math.isinf(remaining) else remaining, memory_mb=budget.memory_mb)
+    started = time.perf_counter()
+    check = get_backend(CERTIFIER).solve_length(problem, l, sub, depth_bound=depth_bound)
+    counters = {**outcome.counters, "certify_seconds": round(time.perf_counter() - started, 6)}
+    if check.status is GridStatus.UNREALIZABLE:
+        return replace(outcome, counters={**counters, "certified_by": CERTIFIER})
+    if check.status is GridStatus.REALIZABLE and check.program is not None:
+        verdict = verify(problem, check.program, l)
+        if verdict.wins:
+            return replace(outcome, status=GridStatus.UNKNOWN, counters=counters, message=(
+                f"BACKEND ERROR: {claimant} claims unrealizable at l = {l}, but the native engine finds the "
+                f"controller {check.program}, verified by the independent verifier. The claim is not reported."))
+    why = check.message or "no answer"
+    return replace(outcome, status=GridStatus.UNKNOWN, counters=counters,
+                   message=f"{claimant} claims unrealizable at l = {l}, not certified by the native engine: {why}")

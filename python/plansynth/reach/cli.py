@@ -18,6 +18,7 @@ from rich.table import Table
 from plansynth.budget import Budget
 from plansynth.cli_support import finite_positive, positive_seconds
 from plansynth.errors import InvalidProblem, PlansynthError
+from plansynth.io import check_output_path
 
 app = typer.Typer(no_args_is_help=True, add_completion=False)
 
@@ -185,6 +186,9 @@ def solve_command(
         raise typer.BadParameter(f"the {planner} planner has no horizon bound", param_hint="--max-horizon")
     options = {k: v for k, v in options.items() if k in accepts}
     try:
+        for path in (out, plot, animate):
+            if path is not None:
+                check_output_path(path)  # before solving: a result is never computed and then lost
         problem = load_reach_problem(file)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
@@ -199,6 +203,17 @@ def solve_command(
             options["progress"] = progress
         result = solve(problem, planner, Budget(seconds=timeout), **options)
     console.print(_result_table(result))
+    try:
+        _write_outputs(console, problem, result, out, plot, animate)
+    except PlansynthError as exc:
+        raise _fail(err, exc) from None
+    code = {"found": EXIT_FOUND, "infeasible": EXIT_INFEASIBLE}
+    raise typer.Exit(code.get(result.status.value, EXIT_UNKNOWN))
+
+
+def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None, plot: Path | None,
+                   animate: Path | None) -> None:
+    """The result JSON, picture and animation of ``reach solve`` (each written atomically)."""
     if out is not None:
         result.write_json(out)
         console.print(f"result written to {escape(str(out))}", highlight=False)
@@ -217,8 +232,6 @@ def solve_command(
             console.print(f"animation written to {escape(str(animate))}", highlight=False)
     elif plot is not None or animate is not None:
         console.print("no trajectory to draw", highlight=False)
-    code = {"found": EXIT_FOUND, "infeasible": EXIT_INFEASIBLE}
-    raise typer.Exit(code.get(result.status.value, EXIT_UNKNOWN))
 
 
 @app.command("validate", epilog=VALIDATE_EPILOG)
@@ -230,17 +243,28 @@ def validate_command(
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
     from plansynth.reach.problem import load_reach_problem
-    from plansynth.reach.trajectory import load_trajectory
-    from plansynth.reach.validate import validate
+    from plansynth.reach.trajectory import trajectory_from_dict
+    from plansynth.reach.validate import tolerance_problem, validate
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
     try:
         problem = load_reach_problem(file)
-        trajectory = load_trajectory(result_file)
+        doc = _read_result(result_file)
+        trajectory = trajectory_from_dict(doc, str(result_file))
+        claim = doc.get("segment_safe")
+        if claim is not None and not isinstance(claim, bool):
+            raise InvalidProblem(str(result_file), "segment_safe", f"expected true or false, got {claim!r}")
     except PlansynthError as exc:
         raise _fail(err, exc) from None
-    report = validate(problem, trajectory, require_segment_safe=segment_safe, tol=tol)
+    why = tolerance_problem(problem, tol)
+    if why is not None:
+        raise typer.BadParameter(why, param_hint="--tol")
+    # a claim in the file is checked: a file that says segment_safe must be segment-safe
+    claimed = claim is True or doc.get("guarantee") == "segments"
+    if claimed and not segment_safe:
+        console.print("the result claims segment safety: segments are checked too", highlight=False)
+    report = validate(problem, trajectory, require_segment_safe=segment_safe or claimed, tol=tol)
     style = "bold green" if report.ok else "bold red"
     console.print(f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False)
     for v in report.violations[:50]:
@@ -265,6 +289,7 @@ def plot_command(
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
     try:
+        check_output_path(output)
         problem = load_reach_problem(file)
         trajectory, regions = None, None
         if result_file is not None:
@@ -281,7 +306,10 @@ def plot_command(
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
         raise typer.Exit(EXIT_BAD_INPUT)
-    plot_problem(problem, abstraction, regions, trajectory, path=output)
+    try:
+        plot_problem(problem, abstraction, regions, trajectory, path=output)
+    except PlansynthError as exc:
+        raise _fail(err, exc) from None
     console.print(f"picture written to {escape(str(output))}", highlight=False)
 
 

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import dataclasses
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -44,11 +45,15 @@ import shapely
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.budget import checkpoint
-from plansynth.reach.problem import Box, ReachProblem, polygon_halfspaces, shape_to_shapely
+from plansynth.errors import InvalidProblem
+from plansynth.reach.problem import Box, Polygon, ReachProblem, is_convex, polygon_halfspaces, shape_to_shapely
 
-__all__ = ["Region", "Abstraction", "abstract", "METHODS"]
+__all__ = ["Region", "Abstraction", "abstract", "METHODS", "outer_polygon", "OUTER_VERTICES"]
 
 METHODS = ("auto", "hertel-mehlhorn", "slab-y", "slab-x", "boxes")
+# a convex obstacle polygon with more vertices than this is decomposed around an outer
+# polygon with this many sides (see :func:`outer_polygon`)
+OUTER_VERTICES = 64
 
 Pt = tuple[float, float]
 
@@ -105,6 +110,10 @@ class Abstraction:
     self-loops). ``start_regions``: regions whose closure contains the start position;
     ``goal_regions``: regions meeting the goal in positive measure. ``method`` says
     which construction won; ``candidates`` gives the region count of each one tried.
+    ``exact``: the regions cover exactly the free space; False when some finely sampled
+    convex obstacle was decomposed around its outer polygon (:func:`outer_polygon`),
+    so the regions cover a subset of the free space (sound for plans, which stay in
+    the regions, but nothing about the abstraction then bounds the real problem).
     """
 
     regions: tuple[Region, ...]
@@ -114,6 +123,7 @@ class Abstraction:
     seconds: float
     method: str = ""
     candidates: tuple[tuple[str, int], ...] = ()
+    exact: bool = True
 
     @property
     def n_regions(self) -> int:
@@ -520,17 +530,80 @@ def _candidates(problem: ReachProblem, method: str) -> list[tuple[str, list[Regi
     return out
 
 
-def abstract(problem: ReachProblem, *, method: str = "auto") -> Abstraction:
+def outer_polygon(poly: Polygon, sides: int = OUTER_VERTICES) -> Polygon:
+    """A convex polygon with at most ``sides`` vertices that contains the convex
+    ``poly``: the intersection of its supporting half-planes in ``sides`` evenly spaced
+    directions (each pushed out by a rounding margin).
+
+    A convex obstacle sampled with thousands of vertices (a circle) makes every
+    decomposition fan out into thousands of sliver regions, which DIS-PLAN crosses at
+    one region per step; around the outer polygon the free space needs few regions.
+    A circle of radius r grows by at most ``r (1/cos(pi/sides) - 1)`` (0.12 % at 64).
+
+    >>> sq = Polygon(tuple((math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 1000, endpoint=False)))
+    >>> out = outer_polygon(sq, 8)
+    >>> len(out.vertices), ShPolygon(out.vertices).contains(ShPolygon(sq.vertices))
+    (8, True)
+    """
+    v = np.asarray(poly.vertices, dtype=float)
+    ang = 2 * math.pi * np.arange(sides) / sides
+    n = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    scale = 1.0 + float(np.abs(v).max())
+    h = (v @ n.T).max(axis=0) + 1e-9 * scale
+    pts: list[Pt] = []
+    for k in range(sides):
+        k2 = (k + 1) % sides
+        p = np.linalg.solve(np.stack([n[k], n[k2]]), np.array([h[k], h[k2]]))
+        q = (float(p[0]), float(p[1]))
+        if not pts or math.dist(q, pts[-1]) > 1e-12 * scale:
+            pts.append(q)
+    if len(pts) > 1 and math.dist(pts[0], pts[-1]) <= 1e-12 * scale:
+        pts.pop()
+    return Polygon(tuple(pts))
+
+
+def _coarsened(problem: ReachProblem) -> ReachProblem | None:
+    """``problem`` with every convex polygon of more than :data:`OUTER_VERTICES`
+    vertices replaced by :func:`outer_polygon` (None: nothing to replace, or the start
+    or the goal would be covered)."""
+    if problem.dim != 2:
+        return None
+    obstacles = []
+    changed = False
+    for ob in problem.obstacles:
+        if isinstance(ob, Polygon) and len(ob.vertices) > OUTER_VERTICES and is_convex(ob):
+            obstacles.append(outer_polygon(ob))
+            changed = True
+        else:
+            obstacles.append(ob)
+    if not changed:
+        return None
+    try:
+        return dataclasses.replace(problem, obstacles=tuple(obstacles))
+    except InvalidProblem:  # the outer polygon covers the start or the goal
+        return None
+
+
+def abstract(problem: ReachProblem, *, method: str = "auto", coarsen: bool = True) -> Abstraction:
     """Decompose the free space of ``problem`` into convex regions (Section III).
 
     ``method="auto"`` tries every applicable construction (see the module doc) and
     keeps the one with the fewest regions; ties go to the earlier of
-    ``boxes, slab-y, slab-x, hertel-mehlhorn``.
+    ``boxes, slab-y, slab-x, hertel-mehlhorn``. With ``coarsen`` (the default), a
+    convex obstacle polygon of more than :data:`OUTER_VERTICES` vertices is replaced by
+    its :func:`outer_polygon` first (the abstraction is then not ``exact``); if the
+    start or the goal then has no region, the exact obstacles are used.
 
     Inside a budget phase (``with clock.phase(...)``, :mod:`plansynth.budget`) the
     constructions check the clock as they go and raise
     :class:`~plansynth.budget.BudgetExhausted` once it is out of time.
     """
+    if coarsen:
+        coarse = _coarsened(problem)
+        if coarse is not None:
+            a = abstract(coarse, method=method, coarsen=False)
+            if a.start_regions and a.goal_regions:
+                return dataclasses.replace(a, exact=False)
     t0 = time.perf_counter()
     cands = _candidates(problem, method)
     name, regions, adj = min(cands, key=lambda c: len(c[1]))

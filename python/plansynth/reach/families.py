@@ -26,6 +26,7 @@ import numpy as np
 import shapely
 import yaml
 
+from plansynth.io import write_output
 from plansynth.reach.dynamics import integrator_chain
 from plansynth.reach.problem import Box, Polygon, ReachProblem, Shape, reach_problem_to_dict, shape_to_shapely
 
@@ -273,7 +274,7 @@ def write_examples(directory: str | Path) -> list[Path]:
         doc = reach_problem_to_dict(p)
         text = comment + yaml.dump(doc, Dumper=_ExampleDumper, sort_keys=False, default_flow_style=None, width=100)
         path = d / f"{stem}.yaml"
-        path.write_text(text, encoding="utf-8")
+        write_output(path, text)
         paths.append(path)
     return paths
 

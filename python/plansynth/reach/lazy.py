@@ -35,16 +35,27 @@ feasible window with 4 iterations, not 46.
 The loop talks to the continuous side only through :class:`TheoryChecker`: ``check``
 maps a region sequence to :class:`~plansynth.reach.conplan.Feasible` or to one or more
 :class:`~plansynth.reach.displan.Conflict` (STYLE.md, point 8). The answer is
-``infeasible`` only when every horizon up to ``max_horizon`` was refuted (horizons
-below the lower bound are refuted by the bound), and ``unknown`` when the budget (time
-or iterations, one iteration = one SAT call and its theory check) runs out.
+``unknown`` when the budget (time or iterations, one iteration = one SAT call and its
+theory check) runs out.
 
-Lower bound on the horizon: the largest of the region-graph distance from a start
-region to a goal region (BFS), the distance to the goal along each axis divided by the
-largest displacement per step (one small LP per axis and direction), and the first step
-at which the displacement-box relaxation reaches the goal along the region graph
-(:func:`~plansynth.reach.conplan.time_windows`, beyond the paper; it also gives DIS-PLAN
-a time window per region).
+**What ``infeasible`` means.** DIS-PLAN moves one region per step and CON-PLAN keeps
+each segment inside one region, so refuting every horizon proves only that no plan
+*through this decomposition* exists: a real trajectory may cross several regions in
+one step (around a circle given as a 10,000-vertex polygon, thousands of sliver
+regions made the loop answer "infeasible up to 100" for a problem solved at 16). The
+answer is therefore ``infeasible`` only when
+:func:`~plansynth.reach.conplan.proved_horizon_bound`, which holds for every
+trajectory of the problem, exceeds ``max_horizon``; when the loop refutes every
+horizon without such a proof the answer is ``unknown`` and says so
+(``counters["abstraction_refuted"]``).
+
+Lower bound on the horizon where the search starts (a bound for plans through the
+abstraction, not for the problem): the largest of the region-graph distance from a
+start region to a goal region (BFS), the distance to the goal along each axis divided
+by the largest displacement per step (one small LP per axis and direction), and the
+first step at which the displacement-box relaxation reaches the goal along the region
+graph (:func:`~plansynth.reach.conplan.time_windows`, beyond the paper; it also gives
+DIS-PLAN a time window per region).
 
 >>> from plansynth.reach.families import maze
 >>> r = plan_lazy(maze(1))
@@ -62,7 +73,8 @@ from typing import Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.reach.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
-from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound, time_windows
+from plansynth.reach.conplan import (ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound,
+                                     proved_horizon_bound, time_windows)
 from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
 from plansynth.reach.guide import departure, reference_plan, route
@@ -187,10 +199,13 @@ def plan_lazy(
         with clock.phase("the horizon bounds (time windows)"):
             phys = physical_lower_bound(problem) if lower_bound else 0
             windows = time_windows(problem, abstraction, L_max) if (lower_bound and math.isfinite(bfs)) else None
+            proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=segment_safe)
     except BudgetExhausted as exc:
         timings["bounds"] = time.perf_counter() - t0
         return ran_out(exc)
     timings["bounds"] = time.perf_counter() - t0
+    counters["proved_bound"] = None if math.isinf(proved) else int(proved)
+    counters["exact_abstraction"] = abstraction.exact
     counters["bfs_bound"] = None if math.isinf(bfs) else int(bfs)
     counters["physical_bound"] = phys
     box = windows.horizon if windows is not None else 0
@@ -249,19 +264,40 @@ def plan_lazy(
             options=options, message=out.message, guarantee=guarantee,
         )
 
+    if proved > L_max:
+        if (phys if lower_bound else physical_lower_bound(problem)) >= 1 << 30:
+            why = "the dynamics and bounds allow no displacement toward the goal"
+        elif math.isinf(proved):
+            why = ("the goal is not connected to the start in the free space" if math.isinf(bfs)
+                   else "no position reaches the goal by bounded displacements through the free space")
+        else:
+            why = f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)"
+        return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}"))
     if first > L_max:
         if math.isinf(bfs):
             why = "the goal regions are not connected to the start regions"
         elif math.isinf(box):
-            why = f"no position can reach the goal within {L_max} steps of bounded displacement"
+            why = f"no position in the regions reaches the goal within {L_max} steps of bounded displacement"
         else:
-            why = f"the lower bound on the horizon ({first}) exceeds max_horizon"
-        return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}"))
+            why = f"the region-hop lower bound on the horizon ({first}) exceeds max_horizon"
+        counters["abstraction_refuted"] = L_max
+        return finish(LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
+                                  f"{why}; {_not_a_proof(proved)}"))
     growth = window_growth if horizon_search == "window" else 0.0
     windows = horizon_windows(first, L_max, growth)
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
     with clock.phase("the lazy SMT loop"):
-        return finish(lazy_loop(displan, theory, windows, clock, timings, progress, guide))
+        out = lazy_loop(displan, theory, windows, clock, timings, progress, guide)
+    if out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
+        counters["abstraction_refuted"] = out.horizon
+        out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for plans "
+                          f"through the abstraction; {_not_a_proof(proved)}")
+    return finish(out)
+
+
+def _not_a_proof(proved: float) -> str:
+    return (f"not a proof of infeasibility (a step may cross several regions; proved lower bound on the "
+            f"horizon: {int(proved)})")
 
 
 def _guide(

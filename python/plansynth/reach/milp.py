@@ -15,8 +15,9 @@ trajectory together:
 
 Horizons are tried upwards from the region-graph distance (BFS), so the first horizon
 with a solution is the shortest one -- the same quantity the lazy planner computes,
-which makes the two comparable horizon by horizon. ``infeasible`` means every horizon
-up to ``max_horizon`` has no solution. MIP tolerances let a big-M row slip by
+which makes the two comparable horizon by horizon. No solution at every horizon up to
+``max_horizon`` is ``unknown`` (no plan through the abstraction, not a proof);
+``infeasible`` needs the proved bound, as in the lazy planner. MIP tolerances let a big-M row slip by
 ``M * 1e-6``, so the trajectory is not taken from the MILP: its region sequence is
 re-solved as an LP (the CON-PLAN feasibility LP) and only that trajectory is reported.
 
@@ -36,7 +37,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, Clock, checkpoint
-from plansynth.reach.conplan import ConPlan, LpBudgetExhausted
+from plansynth.reach.conplan import ConPlan, LpBudgetExhausted, proved_horizon_bound
 from plansynth.reach.decompose import Abstraction, abstract
 from plansynth.reach.displan import RegionGraph
 from plansynth.reach.highs import new_highs
@@ -206,9 +207,10 @@ def plan_milp(
     """MILPs at horizons ``start_horizon`` (default: the region-graph distance) up to
     ``max_horizon`` within ``budget``; the trajectory is not yet validated here.
 
-    ``infeasible`` is claimed only when every horizon from the BFS bound up to
-    ``max_horizon`` was tried (a ``start_horizon`` above the BFS bound gives ``unknown``
-    instead)."""
+    The MILP decides plans through the abstraction (one region per step), so having no
+    solution at every horizon from the BFS bound up to ``max_horizon`` is ``unknown``
+    with ``counters["abstraction_refuted"]``; ``infeasible`` is claimed only when
+    :func:`~plansynth.reach.conplan.proved_horizon_bound` exceeds ``max_horizon``."""
     t_start = time.perf_counter()
     clock: Clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -243,11 +245,23 @@ def plan_milp(
                            regions=regions, horizon=horizon, counters=counters, timings=timings, options=options,
                            message=message, guarantee=guarantee)
 
+    proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=segment_safe)
+    counters["proved_bound"] = None if math.isinf(proved) else int(proved)
+    not_proof = (f"not a proof of infeasibility (a step may cross several regions; proved lower bound on the "
+                 f"horizon: {int(proved)})") if math.isfinite(proved) else ""
+    if proved > L_max:
+        why = ("no trajectory reaches the goal through the free space" if math.isinf(proved)
+               else f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)")
+        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
     if first > L_max:
         if math.isinf(bfs):
-            return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: the goal regions are not connected to the start regions")
+            counters["abstraction_refuted"] = L_max
+            return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction: the goal regions are not "
+                          f"connected to the start regions; {not_proof}")
         if start_horizon is None or first == int(bfs):
-            return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: the region-graph distance is {first}")
+            counters["abstraction_refuted"] = L_max
+            return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: the "
+                          f"region-graph distance is {first}; {not_proof}")
         return finish(ReachStatus.UNKNOWN, None, f"start horizon {first} exceeds max_horizon {L_max}")
     polish = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample="trivial", clock=clock)
     N = first
@@ -279,7 +293,9 @@ def plan_milp(
                     return finish(ReachStatus.FOUND, N, f"found at horizon {N}", trajectory, regions)
             if start_horizon is not None and first > (int(bfs) if math.isfinite(bfs) else 0):
                 return finish(ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)")
-            return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
+            counters["abstraction_refuted"] = L_max
+            return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the abstraction at any horizon up to "
+                          f"{L_max}; {not_proof}")
     except BudgetExhausted as exc:
         return finish(ReachStatus.UNKNOWN, N, f"{exc} at horizon {N}")
     except LpBudgetExhausted:

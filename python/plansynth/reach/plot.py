@@ -29,6 +29,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Polygon as MplPolygon
 from matplotlib.patches import Rectangle
 
+from plansynth.io import atomic_output
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.problem import Box, ReachProblem, Shape
 from plansynth.reach.trajectory import Trajectory
@@ -148,7 +149,8 @@ def plot_problem(
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=len(handles), fontsize=8, frameon=False)
     fig.tight_layout()
     if path is not None:
-        fig.savefig(path, format="png")
+        with atomic_output(path) as tmp:
+            fig.savefig(tmp, format="png")
     return fig
 
 
@@ -188,5 +190,6 @@ def animate(
 
     anim = FuncAnimation(fig, update, frames=frames, blit=False)
     out = Path(path_gif)
-    anim.save(str(out), writer=PillowWriter(fps=fps), dpi=dpi)
+    with atomic_output(out) as tmp:
+        anim.save(str(tmp), writer=PillowWriter(fps=fps), dpi=dpi)
     return out

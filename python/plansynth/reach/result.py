@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from plansynth.io import write_output
 from plansynth.reach.trajectory import Trajectory, trajectory_to_lists
 from plansynth.reach.validate import ValidationReport
 
@@ -111,9 +112,7 @@ class ReachResult:
 
     def write_json(self, path: str | Path) -> Path:
         """Write :meth:`to_json_dict` to ``path`` (indented JSON)."""
-        p = Path(path)
-        p.write_text(json.dumps(self.to_json_dict(), indent=1) + "\n", encoding="utf-8")
-        return p
+        return write_output(path, json.dumps(self.to_json_dict(), indent=1) + "\n")  # atomic; OutputUnwritable
 
 
 def _jsonable(value: Any) -> Any:

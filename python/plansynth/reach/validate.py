@@ -163,6 +163,30 @@ def _in_shape(shape: Shape, p: np.ndarray, tol: float) -> bool:
 # ------------------------------------------------------------------ the validator
 
 
+MAX_TOL_FRACTION = 1e-3  # the largest tolerance: this fraction of the workspace's smallest side
+
+
+def tolerance_problem(problem: ReachProblem, tol: float) -> str | None:
+    """Why ``tol`` cannot be a validation tolerance for ``problem``, or None: it must be
+    a finite number >= 0 and at most :data:`MAX_TOL_FRACTION` of the workspace's
+    smallest side, or 1e-6 (``inf`` would call a trajectory that leaves the workspace
+    valid).
+
+    >>> from plansynth.reach.families import maze
+    >>> tolerance_problem(maze(1), float("inf"))
+    'must be a finite number >= 0, got inf'
+    >>> tolerance_problem(maze(1), 0.5)
+    'must be at most 0.03 (1e-03 of the workspace side 30), got 0.5'
+    """
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not np.isfinite(tol) or tol < 0:
+        return f"must be a finite number >= 0, got {tol!r}"
+    side = float(np.min(np.array(problem.workspace.hi) - np.array(problem.workspace.lo)))
+    top = max(MAX_TOL_FRACTION * side, 1e-6)  # the default tolerance is always allowed
+    if tol > top:
+        return f"must be at most {top:g} ({MAX_TOL_FRACTION:.0e} of the workspace side {side:g}), got {tol!r}"
+    return None
+
+
 def validate(
     problem: ReachProblem,
     trajectory: Trajectory,
@@ -170,7 +194,12 @@ def validate(
     require_segment_safe: bool = False,
     tol: float = 1e-6,
 ) -> ValidationReport:
-    """Check ``trajectory`` against ``problem`` (Definition 2.3) and report every violation."""
+    """Check ``trajectory`` against ``problem`` (Definition 2.3) and report every violation.
+
+    ``tol`` must pass :func:`tolerance_problem` (ValueError otherwise)."""
+    why = tolerance_problem(problem, tol)
+    if why is not None:
+        raise ValueError(f"validation tolerance {why}")
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
     X, U = trajectory.states, trajectory.inputs

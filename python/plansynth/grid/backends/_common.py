@@ -11,6 +11,7 @@ from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, check_program, parse_program
 from plansynth.grid.result import GridStatus, LengthOutcome
 from plansynth.grid.sygus import read_synth_answer
+from plansynth.io import check_output_folder, write_output
 
 
 def sl_file_name(problem: GridProblem, steps: int, depth_bound: int | None) -> str:
@@ -25,10 +26,9 @@ def keep_file(directory: str | Path | None, problem: GridProblem, steps: int, de
     """Write ``text`` into ``directory`` (created if needed) and return the path, or None."""
     if directory is None:
         return None
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
+    d = check_output_folder(directory)
     path = d / sl_file_name(problem, steps, depth_bound)
-    path.write_text(text, encoding="utf-8")
+    write_output(path, text)  # atomic; OutputUnwritable
     return str(path)
 
 

@@ -33,6 +33,7 @@ from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_f
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
 from plansynth.grid.sygus import compile_sygus
+from plansynth.io import write_output
 
 __all__ = ["ExternalBackend", "command_argv"]
 
@@ -87,7 +88,7 @@ class ExternalBackend:
         with tempfile.TemporaryDirectory(prefix="plansynth-") as tmp:
             path = kept or str(Path(tmp) / sl_file_name(problem, steps, depth_bound))
             if kept is None:
-                Path(path).write_text(text, encoding="utf-8")
+                write_output(path, text)  # atomic; a full /tmp is OutputUnwritable, not a traceback
             argv = command_argv(self.command, path)
             status, stdout, stderr, code = _run(argv, budget.seconds)
         seconds = time.perf_counter() - start
