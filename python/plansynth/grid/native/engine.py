@@ -308,6 +308,8 @@ class Engine:
             if left <= 0.01:
                 break
             d = max(dd for dd in program_depths(depth(program) - 1))
+            if d > self.max_tree_depth:
+                break  # a tree SAT this deep does not fit a small effort
             try:
                 better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
                                       max_conflicts=self.conflicts, max_seconds=left)
