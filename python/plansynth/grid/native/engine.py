@@ -61,7 +61,7 @@ MAX_TREE_DEPTH = 9
 #: Obstacle configurations explored before the joint game gives up (answer unknown).
 MAX_CONFIGS = 2_000_000
 #: Default seconds spent making the first program smaller (answer-first mode).
-DEFAULT_EFFORT = 1.0
+DEFAULT_EFFORT = 0.3
 
 
 @dataclass(frozen=True)
@@ -266,9 +266,10 @@ class Engine:
         allowed = [strategy.allowed[s] for s in states]
         inputs = [arena.inputs(r, oc) for r, oc in states]
         self.counters["program_states"] = len(states)
-        cdepth = self.condition_depth if len(states) <= 2000 else 3
-        enum = self._conditions(inputs, arena.variables(), arena.problem, cdepth)
         n_moves = len(arena.robot.moves)
+        # Conditions of depth <= 3 (comparisons of coordinates and constants) give the
+        # shallowest greedy trees on the reactive suite, and are cheap to enumerate.
+        enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.condition_depth))
         if clock.exhausted():
             raise BudgetExhausted("enumerating conditions")
         program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.use_rust)
