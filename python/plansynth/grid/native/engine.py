@@ -58,8 +58,10 @@ from plansynth.grid.result import GridStatus, LengthOutcome
 CONDITION_DEPTH = 4
 #: Largest program depth the tree SAT tries before the greedy tree takes over.
 MAX_TREE_DEPTH = 9
-#: Obstacle configurations explored before the joint game gives up (answer unknown).
-MAX_CONFIGS = 2_000_000
+#: Memory the joint game may use when the budget names none (MB). The game is explored
+#: until it would outgrow this (or the budget's ``memory_mb``) or the time runs out;
+#: ``max_configs`` adds an explicit cap on obstacle configurations.
+DEFAULT_MEMORY_MB = 4096
 #: Default seconds spent making the first program smaller (answer-first mode).
 DEFAULT_EFFORT = 0.3
 
@@ -93,7 +95,7 @@ class Engine:
 
     condition_depth: int = CONDITION_DEPTH
     max_tree_depth: int = MAX_TREE_DEPTH
-    max_configs: int = MAX_CONFIGS
+    max_configs: int | None = None
     minimize: bool = False
     use_rust: bool | None = None
     improve: bool = True
@@ -115,6 +117,7 @@ class Engine:
         self.counters = {"phase_seconds": {}}
         self._t_phase = t0
         self._budget_seconds = budget.seconds
+        self._memory_mb = budget.memory_mb or DEFAULT_MEMORY_MB
         try:
             status, program, message, witness = self._solve(problem, steps, clock, depth_bound)
         except BudgetExhausted as exc:
@@ -183,7 +186,7 @@ class Engine:
         # Stages 3-4: the joint game over the relevant obstacles.
         try:
             self._phase("blind")
-            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs)
+            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs, memory_mb=self._memory_mb)
             self.counters["configurations"] = sum(len(x) for x in arena.layers)
             self.counters["states"] = arena.state_count()
             won = bool(arena.layers[0]) and arena.solve_game(clock)
@@ -233,7 +236,7 @@ class Engine:
             # time. Decide exactly by reading them too (they never collide).
             clocks = tuple(i for i in range(len(problem.obstacles)) if i not in cone.relevant and not cone.parkable[i])
             read = tuple(sorted(cone.relevant + clocks))
-            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs)
+            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs, memory_mb=self._memory_mb)
             self.counters["clock_obstacles"] = len(clocks)
             if full.layers[0] and full.solve_game(clock):
                 strategy = stationary_strategy(full, clock, quick=self.quick)
