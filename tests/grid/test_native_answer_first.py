@@ -107,3 +107,18 @@ def test_the_corridor_example_is_solved_and_verified():
     assert out.status is GridStatus.REALIZABLE
     assert out.counters["stage"] == "joint"  # it must read the cars
     assert verify(problem, out.program, problem.steps).wins
+
+
+@settings(max_examples=120, deadline=None)
+@given(small)
+def test_the_compiled_game_graph_is_the_reference_graph(problem):
+    read = tuple(range(len(problem.obstacles)))
+    cone = _with_relevant(influence_cone(problem, problem.steps), read)
+    arena = Arena.build(problem, problem.steps, cone, read)
+    if not arena.layers[0] or not arena.solve_game():
+        return
+    fast_g = GameGraph.from_arena(arena, use_rust=True)
+    ref_g = GameGraph.from_arena_reference(arena, use_rust=False)
+    assert fast_g._compiled is not None
+    assert (fast_g.state_of, fast_g.win, fast_g.off, fast_g.succ, fast_g.inputs) == (
+        ref_g.state_of, ref_g.win, ref_g.off, ref_g.succ, ref_g.inputs)

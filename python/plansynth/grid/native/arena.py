@@ -60,6 +60,7 @@ class Arena:
     _obs_danger: list[list[int]] = field(default_factory=list)
     _robot_end: dict[tuple[int, int], int] = field(default_factory=dict)
     _succ_tuples: int = 0
+    _wm: dict[tuple[int, Config], tuple[int, ...]] = field(default_factory=dict)
     memory_bytes: int | None = None
 
     # -- construction --------------------------------------------------------------
@@ -184,10 +185,16 @@ class Arena:
         Needs :meth:`solve_game` first. A move wins if it is safe and every successor
         state is winning at t + 1 (exactly the goal at t + 1 = l).
         """
+        key = (t, oc)
+        got = self._wm.get(key)
+        if got is not None:
+            return got
         target = self._target(t, oc)
         safe = self.safe_sources(t, oc)
         r = self.layers[t].get(oc, 0)
-        return tuple(self.robot.pre(target, k) & safe[k] & r for k in range(len(self.robot.moves)))
+        got = tuple(self.robot.pre(target, k) & safe[k] & r for k in range(len(self.robot.moves)))
+        self._wm[key] = got  # final once win[t + 1] is (backward induction fills it first)
+        return got
 
     def _target(self, t: int, oc: Config) -> int:
         nxt = self.win[t + 1]
@@ -202,6 +209,7 @@ class Arena:
     def solve_game(self, clock: Clock | None = None) -> bool:
         """Backward induction; True iff the robot wins when it may also see the time."""
         goal = cell_mask(self.problem, self.problem.robot.goal)
+        self._wm = {}
         self.win = [dict() for _ in range(self.steps + 1)]
         self.win[self.steps] = {oc: r & goal for oc, r in self.layers[self.steps].items() if r & goal}
         for t in range(self.steps - 1, -1, -1):

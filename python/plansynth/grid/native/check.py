@@ -92,7 +92,67 @@ class GameGraph:
     @classmethod
     def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
         """Explore the pairs reachable from the start with winning moves (needs
-        :meth:`Arena.solve_game` first)."""
+        :meth:`Arena.solve_game` first): in the compiled core when available
+        (``game.rs``, ``build_game_graph``), else :meth:`from_arena_reference`; both
+        number pairs and states the same way."""
+        if use_rust is not False:
+            from plansynth.grid.native import fast
+
+            if fast.available() and hasattr(fast._core, "build_game_graph"):
+                return cls._from_arena_compiled(arena, clock, fast._core)
+        return cls.from_arena_reference(arena, clock, use_rust)
+
+    @classmethod
+    def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> "GameGraph":
+        from plansynth.grid.native.bitgrid import bits
+        from plansynth.grid.native.stationary import winning_forward
+
+        n_moves = len(arena.robot.moves)
+        fwd = winning_forward(arena, clock)
+        config_id: dict[tuple[int, ...], int] = {}
+        configs: list[list[int]] = []
+        successors: list[list[int]] = []
+
+        def cid(oc: tuple[int, ...]) -> int:
+            i = config_id.get(oc)
+            if i is None:
+                i = config_id[oc] = len(configs)
+                configs.append(list(oc))
+                successors.append([])
+            return i
+
+        cid(next(iter(fwd[0])))
+        n_cells = arena.problem.width * arena.problem.height
+        nbytes = (n_cells + 7) // 8
+        cells = 0
+        layers = []
+        expanded: set[int] = set()
+        for t in range(arena.steps):
+            for oc, rmask in fwd[t].items():
+                c = cid(oc)
+                cells |= rmask
+                wm = arena.winning_moves(t, oc)
+                layers.append((t, c, [m.to_bytes(nbytes, "little") for m in wm]))
+                if c not in expanded and t + 1 < arena.steps:
+                    expanded.add(c)
+                    successors[c] = [cid(oc2) for oc2 in arena.successors(oc)]
+            if clock is not None and clock.exhausted():
+                raise BudgetExhausted("building the game graph for program checks")
+        robot_end = [0] * (n_cells * n_moves)
+        for r in range(n_cells):
+            for k in range(n_moves):
+                robot_end[r * n_moves + k] = arena.robot_end(r, k) if cells >> r & 1 else r
+        start = arena.sem.index(arena.problem.robot.start)
+        compiled = core.build_game_graph(n_moves, arena.steps, arena.problem.width, start, configs, successors,
+                                         robot_end, layers)
+        state_of, win, off, succ, inputs = compiled.arrays()
+        g = cls(n_moves, arena.variables(), state_of, win, off, succ, [tuple(x) for x in inputs], None)
+        g._compiled = compiled
+        return g
+
+    @classmethod
+    def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+        """:meth:`from_arena` in pure Python (the reference of ``build_game_graph``)."""
         n_moves = len(arena.robot.moves)
         steps = arena.steps
         oc0 = next(iter(arena.layers[0]))
