@@ -84,7 +84,7 @@ def test_effort_zero_returns_the_first_program_and_says_so():
     out = Engine(effort=0).solve_length(problem, 10, Budget(seconds=30))
     assert out.status is GridStatus.REALIZABLE
     assert out.counters["effort_seconds"] == 0
-    assert out.counters["program_depth"] == out.counters["first_depth"]
+    assert out.counters["program_depth"] == out.counters["first_depth"] <= out.counters["greedy_depth"]
     assert set(out.counters["phase_seconds"]) >= {"game", "stationary", "answer", "improve"}
     assert verify(problem, out.program, 10).wins
 

@@ -63,7 +63,7 @@ MAX_TREE_DEPTH = 9
 #: ``max_configs`` adds an explicit cap on obstacle configurations.
 DEFAULT_MEMORY_MB = 4096
 #: Default seconds spent making the first program smaller (answer-first mode).
-DEFAULT_EFFORT = 0.3
+DEFAULT_EFFORT = 0.1
 
 
 @dataclass(frozen=True)
@@ -84,11 +84,11 @@ class Engine:
     """Options of the native engine (the backend's options).
 
     By default the engine answers first: the greedy decision tree over the enumerated
-    conditions, checked on the game graph, is a correct program at once; then at most
-    ``effort`` seconds (default :data:`DEFAULT_EFFORT` or 10% of the budget, whichever
-    is smaller) go to making it smaller (:func:`~plansynth.grid.native.check.simplify`
-    against the game graph, then tree SAT at smaller depths), keeping the best
-    verified program. ``minimize`` instead proves the smallest depth. The counters say
+    conditions, checked on the game graph and simplified against it
+    (:func:`~plansynth.grid.native.check.simplify`), is a correct program at once; then
+    at most ``effort`` seconds (default :data:`DEFAULT_EFFORT` or 10% of the budget,
+    whichever is smaller) go to making it smaller with tree SAT at smaller depths,
+    keeping the best verified program. ``minimize`` instead proves the smallest depth. The counters say
     which (``depth_minimal``: ``proved`` or ``not proved``) and time each phase
     (``phase_seconds``).
     """
@@ -260,10 +260,10 @@ class Engine:
         """A small program choosing an allowed move in every state the strategy reaches.
 
         Answer first: the greedy tree over the enumerated conditions is correct by
-        construction and is checked on the game graph (:class:`GameGraph`) at once.
-        Then, within the effort (:meth:`_effort`), it is simplified against the game
-        graph and smaller depths are sought with tree SAT (each attempt bounded by the
-        effort left), keeping the best program the checker accepts.
+        construction, is checked on the game graph (:class:`GameGraph`) at once and
+        simplified against it. Then, within the effort (:meth:`_effort`), smaller
+        depths are sought with tree SAT (each attempt bounded by the effort left),
+        keeping the best program the checker accepts.
         """
         states = sorted(strategy.allowed)
         allowed = [strategy.allowed[s] for s in states]
@@ -280,14 +280,15 @@ class Engine:
         self.counters["game_graph_pairs"] = graph.n_pairs
         if graph.check(program) is not None:
             raise AssertionError(f"native engine bug: greedy program {program} does not win on the game graph")
+        self.counters["greedy_depth"] = depth(program)
+        if self.simplify:  # cheap (one compiled check per candidate): part of the answer
+            program = simplify(program, graph, time.perf_counter() + max(0.0, clock.remaining() - 0.05))
         self.counters["first_depth"] = depth(program)
         self._phase("answer")
         effort = self._effort(clock) if self.improve else 0.0
         self.counters["effort_seconds"] = round(effort, 3)
         deadline = time.perf_counter() + effort
         if effort > 0 and depth(program) > 1:
-            if self.simplify:
-                program = simplify(program, graph, deadline)
             program = self._smaller(arena, allowed, enum, graph, program, clock, deadline)
         self.counters["program_checks"] = graph.checks
         self._phase("improve")
