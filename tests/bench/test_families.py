@@ -12,7 +12,7 @@ from plansynth.grid.problem import load_grid_problem
 from plansynth.grid.result import GridStatus
 
 
-@pytest.mark.parametrize("name", list(GRID_FAMILIES))
+@pytest.mark.parametrize("name", [f for f in GRID_FAMILIES if f != "reactive-suite"])
 def test_every_grid_instance_builds_and_round_trips_through_a_file(name, tmp_path):
     insts = grid_family(name)
     assert insts
@@ -51,7 +51,8 @@ def test_reach_instances_build():
     assert r.dim == 2
 
 
-@pytest.mark.parametrize("name,value", [("crossing", 1), ("crossing-stall", 1), ("patrol-walk", 5), ("patrol", 5)])
+@pytest.mark.parametrize("name,value", [("crossing", 1), ("crossing-stall", 1), ("patrol-walk", 5), ("patrol", 5),
+                                        ("lanes", 2), ("lanes-rush", 2)])
 def test_reactive_families_have_the_answer_they_are_built_for(name, value):
     from plansynth.grid.programs import reads_obstacles
     from plansynth.grid.solve import solve
@@ -85,3 +86,26 @@ def test_door_family_needs_the_panel_and_door_10_is_the_example():
     assert solve(d8.build(), "native", Budget(seconds=60)).status is GridStatus.UNREALIZABLE
     for inst in grid_family("door-stall"):
         assert solve(inst.build(), "native", Budget(seconds=60)).status is GridStatus.UNREALIZABLE
+
+
+def test_the_reactive_suite_reads_problems_and_labels_from_its_folder(tmp_path, monkeypatch):
+    import json
+
+    import yaml
+
+    (inst,) = grid_family("lanes", [1])
+    (tmp_path / "r99_lanes.yaml").write_text(yaml.safe_dump(inst.document()), encoding="utf-8")
+    (tmp_path / "r99_lanes.label.json").write_text(json.dumps({"expected": "realizable", "witness_depth": 6}),
+                                                   encoding="utf-8")
+    monkeypatch.setenv("PLANSYNTH_REACTIVE_SUITE", str(tmp_path))
+    (got,) = grid_family("reactive-suite")
+    assert (got.name, got.expected, got.params["witness_depth"]) == ("r99_lanes", "realizable", 6)
+    assert got.build().obstacles == inst.build().obstacles
+
+
+def test_a_missing_reactive_suite_is_a_clear_error(tmp_path, monkeypatch):
+    from plansynth.bench.families import SuiteMissing
+
+    monkeypatch.setenv("PLANSYNTH_REACTIVE_SUITE", str(tmp_path / "nowhere"))
+    with pytest.raises(SuiteMissing, match="reactive-suite.*missing"):
+        grid_family("reactive-suite")

@@ -38,3 +38,22 @@ def test_condition_enumeration_matches_the_reference(vs, max_depth, limit, max_c
     for c in got.conditions[:200]:
         for i, s in enumerate(states):
             assert bool(evaluate(c.term, dict(zip(names, s)))) == bool(c.mask >> i & 1)
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    st.lists(st.tuples(st.integers(-1, 5), st.integers(-1, 5)), min_size=1, max_size=40, unique=True),
+    st.data(),
+    st.integers(1, 5),
+)
+def test_greedy_tree_matches_the_reference(states, data, n_moves):
+    from plansynth.grid.native.synth import greedy_program, greedy_program_reference
+
+    allowed = [data.draw(st.lists(st.integers(0, n_moves - 1), min_size=1, max_size=n_moves, unique=True)) for _ in states]
+    conds = _enumerate(states, ["a", "b"], 5, data.draw(st.integers(3, 4)), None).conditions
+    got = greedy_program(allowed, conds, n_moves, use_rust=True)
+    ref = greedy_program_reference(allowed, conds, n_moves)
+    assert got == ref
+    # the tree plays an allowed move in every state
+    for s, a in zip(states, allowed):
+        assert evaluate(got, {"a": s[0], "b": s[1]}) in a

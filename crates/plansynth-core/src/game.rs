@@ -129,3 +129,102 @@ mod tests {
         assert_eq!(g.moves(&p, 5), vec![1, 0]);
     }
 }
+
+/// What [`build_game_graph`] needs of the explored game, per (time, configuration) of
+/// the winning-forward layers.
+pub struct LayerCell {
+    pub t: u32,
+    pub config: u32,
+    /// per move k: robot cells of `robot` from which k wins at (t, config)
+    pub winning: Vec<Vec<u64>>,
+}
+
+fn bit(m: &[u64], i: usize) -> bool {
+    m.get(i / 64).is_some_and(|w| w >> (i % 64) & 1 == 1)
+}
+
+/// The time-expanded winning-forward graph, explored breadth-first from
+/// `(0, start, config 0)` exactly as the Python reference
+/// `plansynth.grid.native.check.GameGraph.from_arena` does (same numbering of pairs and
+/// joint states). `configs[c]` are the cells of the read obstacles of configuration c,
+/// `successors[c]` its successor configurations, `robot_end[r * n_moves + k]` the robot's
+/// end cell, `width` the grid width (cell index = y * width + x).
+pub fn build_game_graph(
+    n_moves: usize,
+    steps: u32,
+    width: u32,
+    start: u32,
+    configs: &[Vec<u32>],
+    successors: &[Vec<u32>],
+    robot_end: &[u32],
+    layers: &[LayerCell],
+) -> GameGraph {
+    use std::collections::HashMap;
+    let at: HashMap<(u32, u32), usize> = layers.iter().enumerate().map(|(i, l)| ((l.t, l.config), i)).collect();
+    let mut pair_id: HashMap<(u32, u32, u32), u32> = HashMap::new();
+    let mut order: Vec<(u32, u32, u32)> = vec![(0, start, 0)];
+    pair_id.insert((0, start, 0), 0);
+    let mut state_id: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut g = GameGraph { n_moves, off: vec![0], ..Default::default() };
+    let mut ends: HashMap<(u32, u32, u32), Vec<u32>> = HashMap::new();
+    let mut head = 0;
+    while head < order.len() {
+        let (t, r, c) = order[head];
+        head += 1;
+        let s = *state_id.entry((r, c)).or_insert_with(|| {
+            let mut x = vec![(r % width) as i64, (r / width) as i64];
+            for &o in &configs[c as usize] {
+                x.push((o % width) as i64);
+                x.push((o / width) as i64);
+            }
+            g.inputs.push(x);
+            (g.inputs.len() - 1) as u32
+        });
+        g.state_of.push(s);
+        let cell = at.get(&(t, c)).map(|&i| &layers[i]);
+        let mut w = 0u32;
+        for k in 0..n_moves {
+            if cell.is_some_and(|l| bit(&l.winning[k], r as usize)) {
+                w |= 1 << k;
+                if t + 1 < steps {
+                    let e = robot_end[r as usize * n_moves + k];
+                    let ids = ends.entry((t, e, c)).or_insert_with(|| {
+                        successors[c as usize]
+                            .iter()
+                            .map(|&c2| {
+                                let key = (t + 1, e, c2);
+                                *pair_id.entry(key).or_insert_with(|| {
+                                    order.push(key);
+                                    (order.len() - 1) as u32
+                                })
+                            })
+                            .collect()
+                    });
+                    g.succ.extend_from_slice(ids);
+                }
+            }
+            g.off.push(g.succ.len() as u32);
+        }
+        g.win.push(w);
+    }
+    g
+}
+
+#[cfg(test)]
+mod build_tests {
+    use super::*;
+
+    #[test]
+    fn a_line_of_three_cells() {
+        // robot 0 -> 2 on a 3x1 grid in 2 steps, moves stay (0) and right (1); no obstacles
+        let layers = vec![
+            LayerCell { t: 0, config: 0, winning: vec![vec![0], vec![0b001]] },
+            LayerCell { t: 1, config: 0, winning: vec![vec![0], vec![0b010]] },
+        ];
+        let g = build_game_graph(2, 2, 3, 0, &[vec![]], &[vec![0]], &[0, 1, 1, 2, 2, 2], &layers);
+        assert_eq!(g.state_of, vec![0, 1]);
+        assert_eq!(g.win, vec![0b10, 0b10]);
+        assert_eq!(g.inputs, vec![vec![0, 0], vec![1, 0]]);
+        assert_eq!(g.check(&[Op::Const(1)], 0), None);
+    }
+}

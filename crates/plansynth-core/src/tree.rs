@@ -29,10 +29,11 @@ fn popcount_and(a: &[u64], b: &[u64], words: &[usize]) -> u32 {
     words.iter().map(|&w| (a[w] & b[w]).count_ones()).sum()
 }
 
-/// The greedy tree over `n_states` states: at each node pick the condition after
-/// which most states can share one move on each side (ties: shallower condition, then
-/// smaller term, then the earliest); a node whose states share a move becomes a leaf
-/// with the smallest such move of largest count.
+/// The greedy tree over `n_states` states: a node whose states share a move becomes a
+/// leaf (the smallest such move of largest count); otherwise its states are labelled by
+/// greedy set cover over their allowed moves and the condition of best Gini purity
+/// over those labels splits them (ties: shallower condition, then smaller term, then
+/// the earliest). Gini splits keep the tree balanced, hence shallow.
 pub fn greedy_tree(
     conds: &[Vec<u64>],
     keys: &[(u32, u32)],
@@ -91,31 +92,59 @@ fn grow(
     if *budget < 0 {
         return Err(GreedyError::TooLarge);
     }
-    let mk: Vec<Vec<u64>> = by_move.iter().map(|m| m.iter().zip(members).map(|(a, b)| a & b).collect()).collect();
-    let mk_count: Vec<u32> = mk.iter().map(|m| words.iter().map(|&w| m[w].count_ones()).sum()).collect();
-    // key = (score, -depth, -size), first maximum wins
-    let mut best: Option<((u32, i64, i64), usize)> = None;
+    // Label each member with a move by greedy set cover at this node (the move serving
+    // most members first, then the next among the rest, ...; ties: the smaller move),
+    // then pick the split of best Gini purity over these labels (an exact rational
+    // comparison; ties: shallower condition, then smaller term, then the earliest).
+    let mut rest: Vec<u64> = members.to_vec();
+    let mut labels: Vec<Vec<u64>> = Vec::new();
+    loop {
+        let rw: Vec<usize> = (0..rest.len()).filter(|&w| rest[w] != 0).collect();
+        if rw.is_empty() {
+            break;
+        }
+        let (c, kbest) = best_common(&rest, by_move, &rw);
+        if c == 0 {
+            break; // members without any allowed move (not from a strategy): no label
+        }
+        let lab: Vec<u64> = rest.iter().zip(&by_move[kbest]).map(|(a, b)| a & b).collect();
+        for (r, l) in rest.iter_mut().zip(&lab) {
+            *r &= !l;
+        }
+        labels.push(lab);
+    }
+    let lab_count: Vec<u64> = labels.iter().map(|m| words.iter().map(|&w| m[w].count_ones() as u64).sum()).collect();
+    // key = purity num/den (maximised), then (-depth, -size); first maximum wins
+    let mut best: Option<((u128, u128), (i64, i64), usize)> = None;
     for (j, cond) in conds.iter().enumerate() {
-        let left = popcount_and(cond, members, &words);
-        if left == 0 || left == total {
+        let left = popcount_and(cond, members, &words) as u64;
+        if left == 0 || left == total as u64 {
             continue;
         }
-        let mut bl = 0u32;
-        let mut br = 0u32;
-        for (kk, m) in mk.iter().enumerate() {
-            if mk_count[kk] == 0 {
-                continue;
-            }
-            let l = popcount_and(cond, m, &words);
-            bl = bl.max(l);
-            br = br.max(mk_count[kk] - l);
+        let right = total as u64 - left;
+        let (mut sl, mut sr) = (0u128, 0u128);
+        for (kk, m) in labels.iter().enumerate() {
+            let l = popcount_and(cond, m, &words) as u128;
+            let r = lab_count[kk] as u128 - l;
+            sl += l * l;
+            sr += r * r;
         }
-        let key = (bl + br, -(keys[j].0 as i64), -(keys[j].1 as i64));
-        if best.is_none_or(|(b, _)| key > b) {
-            best = Some((key, j));
+        // sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
+        let num = sl * right as u128 + sr * left as u128;
+        let den = left as u128 * right as u128;
+        let tie = (-(keys[j].0 as i64), -(keys[j].1 as i64));
+        let better = match &best {
+            None => true,
+            Some(((bn, bd), bt, _)) => {
+                let (a, b) = (num * bd, bn * den);
+                a > b || (a == b && tie > *bt)
+            }
+        };
+        if better {
+            best = Some(((num, den), tie, j));
         }
     }
-    let Some((_, j)) = best else {
+    let Some((_, _, j)) = best else {
         return Err(GreedyError::NoSplit);
     };
     let cond = &conds[j];

@@ -1,6 +1,6 @@
 //! PyO3 binding of `plansynth-core`. Only conversions live here.
 use plansynth_core::conditions::{self, Arith, Cond};
-use plansynth_core::game::{GameGraph, Op};
+use plansynth_core::game::{self, GameGraph, LayerCell, Op};
 use plansynth_core::tree::{self, GreedyError, Node};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -159,6 +159,13 @@ impl PyGameGraph {
         Ok(Self { g: GameGraph { n_moves, state_of, win, off, succ, inputs } })
     }
 
+    /// The graph's arrays: `(state_of, win, off, succ, inputs)`.
+    #[allow(clippy::type_complexity)]
+    fn arrays(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>, Vec<u32>, Vec<Vec<i64>>) {
+        let g = &self.g;
+        (g.state_of.clone(), g.win.clone(), g.off.clone(), g.succ.clone(), g.inputs.clone())
+    }
+
     /// None when the program (flat ops, root last) wins, else the first failing pair.
     fn check(&self, py: Python<'_>, prog: Vec<(u8, i64, i64, i64)>) -> PyResult<Option<u32>> {
         let ops = self.ops(&prog)?;
@@ -197,11 +204,50 @@ impl PyGameGraph {
     }
 }
 
+/// Explore the winning-forward graph (see `plansynth_core::game::build_game_graph`).
+/// `layers` are `(t, config, [winning mask bytes per move])`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn build_game_graph(
+    py: Python<'_>,
+    n_moves: usize,
+    steps: u32,
+    width: u32,
+    start: u32,
+    configs: Vec<Vec<u32>>,
+    successors: Vec<Vec<u32>>,
+    robot_end: Vec<u32>,
+    layers: Vec<(u32, u32, Vec<Bound<'_, PyBytes>>)>,
+) -> PyResult<PyGameGraph> {
+    let n_configs = configs.len();
+    if successors.len() != n_configs || n_configs == 0 || width == 0 {
+        return Err(pyo3::exceptions::PyValueError::new_err("one successor list per configuration"));
+    }
+    if successors.iter().flatten().any(|&c| c as usize >= n_configs) {
+        return Err(pyo3::exceptions::PyValueError::new_err("successor configuration out of range"));
+    }
+    let n_cells = robot_end.len() / n_moves.max(1);
+    if robot_end.len() != n_cells * n_moves || start as usize >= n_cells || robot_end.iter().any(|&e| e as usize >= n_cells) {
+        return Err(pyo3::exceptions::PyValueError::new_err("robot end table out of range"));
+    }
+    let mut cells = Vec::with_capacity(layers.len());
+    for (t, c, masks) in &layers {
+        if masks.len() != n_moves || *c as usize >= n_configs {
+            return Err(pyo3::exceptions::PyValueError::new_err("one winning mask per move, for a known configuration"));
+        }
+        let nw = n_cells.div_ceil(64).max(1);
+        cells.push(LayerCell { t: *t, config: *c, winning: masks.iter().map(|b| words(b.as_bytes(), nw)).collect() });
+    }
+    let g = py.detach(|| game::build_game_graph(n_moves, steps, width, start, &configs, &successors, &robot_end, &cells));
+    Ok(PyGameGraph { g })
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(core_version, m)?)?;
     m.add_function(wrap_pyfunction!(enumerate_conditions, m)?)?;
     m.add_function(wrap_pyfunction!(greedy_tree, m)?)?;
     m.add_class::<PyGameGraph>()?;
+    m.add_function(wrap_pyfunction!(build_game_graph, m)?)?;
     Ok(())
 }

@@ -114,19 +114,22 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     _check_arguments(kind, solvers, timeout=timeout, repeat=repeat, jobs=jobs, memory=memory, orders=orders)
 
     known = list(GRID_FAMILIES) if kind == "grid" else list(REACH_FAMILIES)
-    if families == ["all"]:
+    every = families == ["all"]
+    if every:
         families = known
     insts = []
-    try:
-        vals = None if values is None else [int(v) for v in _split(values)]
-    except ValueError:
-        _refuse("--values", f"expected comma-separated integers, got {values!r}")
+    vals = None if values is None else [int(v) if v.lstrip("-").isdigit() else v for v in _split(values)]
     for f in families:
         if f not in known:
             console.print(f"[red]unknown {kind} family {f!r}; choose from {', '.join(known)} or all")
             raise typer.Exit(2)
         kw = {"orders": orders} if kind == "reach" else {}
-        insts += family(kind, f, vals, **kw)
+        try:
+            insts += family(kind, f, vals, **kw)
+        except FileNotFoundError as exc:  # the shared reactive suite is not there
+            console.print(f"[red]{exc}")
+            if not every:
+                raise typer.Exit(2) from None
     if kind == "reach" and "milp" in solvers:
         console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
@@ -227,7 +230,7 @@ def families_cmd(
     """Write every benchmark instance as a problem file (YAML), per kind and family."""
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family, write_family_files
 
-    insts = [i for f in GRID_FAMILIES for i in family("grid", f)]
+    insts = [i for f in GRID_FAMILIES if f != "reactive-suite" for i in family("grid", f)]
     insts += [i for f in REACH_FAMILIES for i in family("reach", f)]
     with _outputs_checked(out):
         paths = write_family_files(out, insts)

@@ -20,6 +20,14 @@ own complement them, with answers known by construction:
   guard: realizable at l = 24 (found by the native engine, controller independently
   verified; cvc5 finds nothing in minutes), a hard reactive instance.
 - ``patrol-walk`` (unrealizable): the same without the sprint.
+- ``lanes`` (realizable): a corridor crossed by 1-3 lanes of cars (alternating
+  directions, one or two cells per step, never stopping); the controller reads the cars
+  and waits for each one. ``lanes-rush`` (unrealizable): the same at the shortest
+  length, with no time to wait (both answers found by the native engine; every
+  realizable one is checked by the independent verifier in the sweep).
+- ``reactive-suite``: the 40 shared problems with certified labels
+  (``../shared/grid-reactive/`` from the repository root, see :func:`reactive_suite`);
+  the sweep says clearly when that folder is missing.
 
 Reach families reproduce Shoukry et al. (CDC 2016, Section VI): ``maze`` (n passages,
 double integrator; Table I), ``chain`` (the same mazes with integrator chains of order
@@ -198,7 +206,72 @@ def _scale(size: int) -> dict[str, Any]:
     return _grid_doc(size, size, (2, 2), (half, half), obstacles, steps=2 * (half - 2), name=f"scale-{size}")
 
 
+#: The shared reactive suite: 40 problems with certified labels, next to the repository
+#: (``../shared/grid-reactive/`` from its root; ``PLANSYNTH_REACTIVE_SUITE`` overrides).
+REACTIVE_SUITE = Path(__file__).resolve().parents[3].parent / "shared" / "grid-reactive"
+
+
+class SuiteMissing(FileNotFoundError):
+    """The reactive suite's folder (or one of its files) is not there."""
+
+
+def reactive_suite_dir() -> Path:
+    import os
+
+    d = Path(os.environ.get("PLANSYNTH_REACTIVE_SUITE") or REACTIVE_SUITE)
+    if not d.is_dir():
+        raise SuiteMissing(f"family 'reactive-suite' reads NAME.yaml and NAME.label.json from {d}, which is missing "
+                           "(expected at ../shared/grid-reactive/ relative to the repository root, or set "
+                           "PLANSYNTH_REACTIVE_SUITE)")
+    return d
+
+
+def _reactive_suite(name: str, **_: Any) -> dict[str, Any]:
+    """One problem of the shared reactive suite, as its file gives it."""
+    import yaml
+
+    path = reactive_suite_dir() / f"{name}.yaml"
+    if not path.is_file():
+        raise SuiteMissing(f"reactive-suite problem {path} is missing")
+    doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+    doc.setdefault("name", name)
+    return doc
+
+
+def reactive_suite() -> list[Instance]:
+    """The suite's instances; ``expected`` and the witness depth come from the labels."""
+    d = reactive_suite_dir()
+    out = []
+    for path in sorted(d.glob("*.label.json")):
+        label = json.loads(path.read_text(encoding="utf-8"))
+        name = path.name[: -len(".label.json")]
+        params = {"name": name, "witness_depth": label.get("witness_depth"), "category": label.get("category")}
+        out.append(Instance("grid", "reactive-suite", name, params, label.get("expected")))
+    if not out:
+        raise SuiteMissing(f"no NAME.label.json files in {d}")
+    return out
+
+
+def _lanes(lanes: int, steps: int | None = None) -> dict[str, Any]:
+    """Several lanes of cars to cross: a 9-wide corridor going up through ``lanes`` roads
+    (rows 2, 4, ...), each with one car driving right or left at one or two cells per step
+    (never stopping), alternating directions. Realizable at the default length (the robot
+    waits for each car to pass), unrealizable when ``steps`` leaves no time to wait."""
+    width, height = 11, 2 * lanes + 3
+    roads = [2 + 2 * i for i in range(lanes)]
+    walls = [(x, y) for y in range(height) for x in range(width) if y not in roads and x not in (4, 5, 6)]
+    right = ["right", {"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}]
+    left = ["left", {"name": "fast-left", "to": [-2, 0], "via": [[-1, 0]]}]
+    obstacles = [{"start": [0, y] if i % 2 == 0 else [width - 1, y], "moves": right if i % 2 == 0 else left}
+                 for i, y in enumerate(roads)]
+    return _grid_doc(width, height, (5, 0), (5, height - 1), obstacles, steps=steps or height + 5, walls=walls,
+                     name=f"lanes-{lanes}" + (f"-l{steps}" if steps else ""))
+
+
 _GRID_BUILDERS: dict[str, Any] = {
+    "reactive-suite": lambda name, **kw: _reactive_suite(name),
+    "lanes": lambda lanes, steps=None: _lanes(lanes, steps),
+    "lanes-rush": lambda lanes: _lanes(lanes, 2 * lanes + 2),
     "figure1": lambda: _figure1(),
     "depth": lambda d: _depth(d),
     "steps": lambda L: _steps(L),
@@ -235,6 +308,9 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "door": ("l", [8, 10, 12], None),
     "door-stall": ("l", [10, 14], "unrealizable"),
     "scale": ("size", [32, 64], "realizable"),
+    "lanes": ("lanes", [1, 2, 3], "realizable"),
+    "lanes-rush": ("lanes", [1, 2, 3], "unrealizable"),
+    "reactive-suite": ("name", [], None),  # the shared suite (see reactive_suite)
 }
 
 
@@ -243,12 +319,16 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
     if name not in GRID_FAMILIES:
         raise KeyError(f"unknown grid family {name!r}; choose one of {', '.join(GRID_FAMILIES)}")
     pname, defaults, expected = GRID_FAMILIES[name]
+    if name == "reactive-suite":
+        suite = reactive_suite()
+        return suite if values is None else [i for i in suite if i.name in {str(v) for v in values}]
     out = []
     for v in (values if values is not None else defaults):
         if name == "figure1":
             out.append(Instance("grid", "figure1", "figure1", {}, expected))
             continue
-        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size", "l": "l"}[pname]
+        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size", "l": "l",
+                       "lanes": "lanes"}[pname]
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = _PAPER_GRID.get(name, {}).get(int(v))

@@ -39,7 +39,8 @@ GRID_FIGURES = [
     ("obstacles", "Figure 4: time vs number of obstacles", "number of obstacles N"),
     ("dimensions", "Figure 5: time vs grid size", "grid size S (S x S)"),
 ]
-REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk", "door", "door-stall", "scale"]
+REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk", "door", "door-stall", "scale", "lanes",
+            "lanes-rush"]
 PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0, "Enumerative 2015": 805.0}
 
 
@@ -410,6 +411,13 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 L.extend(_grid_table(cells, _instances(cells, fam), grid_planners, paper=False, expected=True))
                 L.append("")
 
+        suite = _instances(cells, "reactive-suite")
+        if suite:
+            L.append("### The shared reactive suite (family `reactive-suite`: 40 problems with certified labels)")
+            L.append("")
+            L.extend(_suite_table(cells, suite, grid_planners))
+            L.append("")
+
     # ---------------------------------------------------------------- reach
     reach_planners = [p for p in _planners(cells, "reach/", ["lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece"])
                       if p not in CX_VARIANTS]
@@ -622,3 +630,53 @@ def _plot_chain(cells: Mapping[tuple[str, str], Cell], chains: Sequence[tuple[st
     with atomic_output(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
+
+
+def _answer(c: Cell | None) -> str:
+    if c is None:
+        return "-"
+    if c.solved:
+        return "realizable" if c.all_solved else f"realizable ({c.solved}/{c.runs})"
+    return "/".join(sorted(c.statuses))
+
+
+def _suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str, dict[str, Any]]],
+                 planners: Sequence[str]) -> list[str]:
+    """Per instance and solver: time, answer, program depth against the label's witness
+    depth, and whether the answer matches the certified label; a summary line first."""
+    hdr = ["instance", "label", "witness depth"]
+    for p in planners:
+        hdr += [f"{p} (s)", f"{p} answer", f"{p} depth (vs witness)", f"{p} matches"]
+    rows = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
+    summary: dict[str, dict[str, list[float]]] = {p: {"ok": [], "t": [], "dd": []} for p in planners}
+    for exp, setup in insts:
+        wd = (setup.get("params") or {}).get("witness_depth")
+        expected = setup.get("expected")
+        row = [setup["name"], str(expected or "-"), str(wd if wd is not None else "-")]
+        for p in planners:
+            c = cells.get((exp, p))
+            ans = _answer(c)
+            ok = c is not None and ((expected == "realizable" and c.all_solved)
+                                    or (expected == "unrealizable" and set(c.statuses) == {"unrealizable"}))
+            t = c.median if c is not None and c.solved else (c.median_any if c is not None else None)
+            dd = "-"
+            if c is not None and c.depth is not None and wd is not None:
+                dd = f"{c.depth} ({c.depth - int(wd):+d})"
+                summary[p]["dd"].append(c.depth - int(wd))
+            if c is not None:
+                summary[p]["ok"].append(float(ok))
+                if t is not None:
+                    summary[p]["t"].append(float(t))
+            row += [_fmt(t), ans, dd, "yes" if ok else ("-" if c is None else "NO")]
+        rows.append("| " + " | ".join(row) + " |")
+    lines = []
+    for p in planners:
+        sm = summary[p]
+        if not sm["ok"]:
+            continue
+        med = statistics.median(sm["t"]) if sm["t"] else None
+        dd = (f"; depth minus witness depth: median {statistics.median(sm['dd']):+g}, max {max(sm['dd']):+d}"
+              if sm["dd"] else "")
+        lines.append(f"- **{p}**: {int(sum(sm['ok']))}/{len(sm['ok'])} answers match the labels; median time "
+                     f"{_fmt(med)} s, slowest {_fmt(max(sm['t']) if sm['t'] else None)} s{dd}.")
+    return lines + [""] + rows

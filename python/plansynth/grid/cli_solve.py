@@ -37,6 +37,8 @@ Examples:
 
   plansynth grid solve examples/grid/depth-5.yaml --minimize           # smallest depth, proved minimal
 
+  plansynth grid solve examples/grid/corridor.yaml --effort 0 --timeout 30   # the first verified program
+
   plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json
 
   plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --steps 6 -O sygus-enum=fast --keep-sl sl/
@@ -102,6 +104,8 @@ def _print_result(console: Console, problem: GridProblem, r: GridResult) -> None
         console.print(escape(to_python(r.program, problem.variables)).rstrip(), highlight=False)
         if r.verified:
             console.print(f"[green]{escape(r.message)}[/green]", highlight=False)
+        if r.depth_minimal is not None:
+            console.print(f"depth_minimal: {r.depth_minimal}", highlight=False)
     elif r.message:
         console.print(escape(r.message), highlight=False)
     if r.status is GridStatus.UNREALIZABLE and r.certified_by:
@@ -122,6 +126,7 @@ def solve_command(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
     minimize: bool = typer.Option(False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."),
+    effort: Optional[float] = typer.Option(None, "--effort", min=0.0, help="Native only: seconds spent making the first verified program smaller (default 1 s or 10% of --timeout, whichever is smaller; 0: the first program)."),
 ) -> None:
     """Synthesize a controller: try path lengths l in order, report the first verified one."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -134,6 +139,10 @@ def solve_command(
         if timeout is not None and timeout <= 0:
             raise typer.BadParameter("must be positive", param_hint="--timeout")
         problem = _load(file, steps, max_steps)
+        if effort is not None:
+            if solver != "native":
+                raise typer.BadParameter("--effort needs --solver native", param_hint="--effort")
+            option = [*option, f"effort={effort}"]
         kwargs = _solver_options(solver, command, option, keep_sl, minimize)
         if out is not None:
             check_output_path(out)  # before solving: a result is never computed and then lost

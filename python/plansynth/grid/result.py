@@ -147,12 +147,20 @@ class GridResult:
     def depth(self) -> int | None:
         return None if self.program is None else depth(self.program)
 
+    @property
+    def depth_minimal(self) -> str | None:
+        """``proved`` or ``not proved`` when the backend says (the native engine), else None."""
+        if self.program is None or not self.attempts:
+            return None
+        return self.attempts[-1].counters.get("depth_minimal")
+
     def to_json_dict(self) -> dict[str, Any]:
         d: dict[str, Any] = {
             "status": self.status.value,
             "steps": self.steps,
             "program": None if self.program is None else str(self.program),
             "depth": self.depth,
+            "depth_minimal": self.depth_minimal,
             "solver": self.solver,
             "seconds": round(self.seconds, 6),
             "verified": self.verified,

@@ -4,7 +4,8 @@ Options (keyword arguments, or ``KEY=VALUE`` strings in ``options`` as the CLI's
 ``plansynth grid solve -O minimize=true`` passes them): ``minimize`` (search program depths 1, 4, 5, ... over every winning strategy
 and report the smallest, proved minimal when the condition enumeration is complete),
 ``condition_depth`` (deepest condition enumerated, default 4), ``max_tree_depth``,
-``max_configs`` (joint obstacle configurations explored before answering unknown),
+``max_configs`` (an explicit cap on joint obstacle configurations; by default the game
+is bounded by the budget: its time, and its ``memory_mb`` or 4096 MB),
 ``use_rust`` (None: the compiled core when built; False: the pure-Python references),
 ``effort`` (seconds spent making the first verified program smaller; default 1 s or
 10% of the budget, whichever is smaller; 0 returns the first program), ``simplify``.

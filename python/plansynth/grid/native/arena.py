@@ -59,11 +59,19 @@ class Arena:
     _ends: list[list[tuple[int, ...]]] = field(default_factory=list)
     _obs_danger: list[list[int]] = field(default_factory=list)
     _robot_end: dict[tuple[int, int], int] = field(default_factory=dict)
+    _succ_tuples: int = 0
+    _wm: dict[tuple[int, Config], tuple[int, ...]] = field(default_factory=dict)
+    memory_bytes: int | None = None
 
     # -- construction --------------------------------------------------------------
     @classmethod
-    def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True) -> "Arena":
-        """Explore the states reachable from the start that can still reach the goal."""
+    def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True, memory_mb: int | None = None) -> "Arena":
+        """Explore the states reachable from the start that can still reach the goal.
+
+        Stops with :class:`BudgetExhausted` when the clock runs out (keeping the time that
+        freeing the explored game will take), when more than ``max_states``
+        configurations are met, or when the game's estimated memory passes ``memory_mb``.
+        """
         sem = CompiledSemantics(problem)
         robot = AgentGeometry.robot(problem)
         abstract = [0] * steps
@@ -75,11 +83,33 @@ class Arena:
         goal = cell_mask(problem, problem.robot.goal)
         live = robot_live(robot, start, goal, steps, tuple(abstract))
         a = cls(problem, steps, tuple(read), tuple(abstract), sem, robot, live)
+        a.memory_bytes = None if memory_mb is None else int(memory_mb) << 20
         a._ends = [_LazyCells(problem, i, ends=True) for i in read]
         a._obs_danger = [_LazyCells(problem, i, ends=False) for i in read]
         if explore:
             a._explore(clock, max_states)
         return a
+
+    #: Rough bytes per explored configuration and per cached successor tuple (CPython),
+    #: and seconds to free one of them: the memory limit and the time reserved at the end
+    #: of a budget for releasing the game are derived from these.
+    BYTES_PER_CONFIG = 400
+    BYTES_PER_SUCCESSOR = 120
+    FREE_SECONDS_PER_OBJECT = 3e-7
+
+    def _footprint(self) -> tuple[int, int]:
+        """(configurations, cached successor tuples) held now."""
+        return sum(len(x) for x in self.layers), self._succ_tuples
+
+    def _over_budget(self, clock: Clock | None, memory_bytes: int | None) -> str | None:
+        """Why exploration must stop now (time, keeping what freeing the game will
+        cost, or memory), or None."""
+        configs, tuples = self._footprint()
+        if clock is not None and clock.remaining() <= self.FREE_SECONDS_PER_OBJECT * (configs + tuples):
+            return "time"
+        if memory_bytes is not None and configs * self.BYTES_PER_CONFIG + tuples * self.BYTES_PER_SUCCESSOR > memory_bytes:
+            return "memory"
+        return None
 
     def _explore(self, clock: Clock | None, max_states: int | None) -> None:
         oc0: Config = tuple(self.sem.index(self.problem.obstacles[i].start) for i in self.read)
@@ -97,8 +127,13 @@ class Arena:
                     continue
                 for oc2 in self.successors(oc):
                     nxt[oc2] = nxt.get(oc2, 0) | img
-                if clock is not None and clock.exhausted():
-                    raise BudgetExhausted(f"exploring step {t}")
+                why = self._over_budget(clock, self.memory_bytes) if len(nxt) % 64 == 0 else None
+                if why == "time" or (clock is not None and clock.exhausted()):
+                    raise BudgetExhausted(f"exploring step {t} of the game ({count + len(nxt)} obstacle configurations)")
+                if why == "memory":
+                    raise BudgetExhausted(
+                        f"exploring step {t}: the game outgrows the memory budget of {self.memory_bytes >> 20} MB "
+                        f"({count + len(nxt)} obstacle configurations, {self._succ_tuples} joint obstacle moves)")
             self.layers.append(nxt)
             count += len(nxt)
             if max_states is not None and count > max_states:
@@ -111,6 +146,7 @@ class Arena:
         if s is None:
             s = tuple(itertools.product(*(self._ends[j][c] for j, c in enumerate(oc))))
             self._succ[oc] = s
+            self._succ_tuples += len(s)
         return s
 
     def config_danger(self, oc: Config) -> int:
@@ -149,10 +185,16 @@ class Arena:
         Needs :meth:`solve_game` first. A move wins if it is safe and every successor
         state is winning at t + 1 (exactly the goal at t + 1 = l).
         """
+        key = (t, oc)
+        got = self._wm.get(key)
+        if got is not None:
+            return got
         target = self._target(t, oc)
         safe = self.safe_sources(t, oc)
         r = self.layers[t].get(oc, 0)
-        return tuple(self.robot.pre(target, k) & safe[k] & r for k in range(len(self.robot.moves)))
+        got = tuple(self.robot.pre(target, k) & safe[k] & r for k in range(len(self.robot.moves)))
+        self._wm[key] = got  # final once win[t + 1] is (backward induction fills it first)
+        return got
 
     def _target(self, t: int, oc: Config) -> int:
         nxt = self.win[t + 1]
@@ -167,6 +209,7 @@ class Arena:
     def solve_game(self, clock: Clock | None = None) -> bool:
         """Backward induction; True iff the robot wins when it may also see the time."""
         goal = cell_mask(self.problem, self.problem.robot.goal)
+        self._wm = {}
         self.win = [dict() for _ in range(self.steps + 1)]
         self.win[self.steps] = {oc: r & goal for oc, r in self.layers[self.steps].items() if r & goal}
         for t in range(self.steps - 1, -1, -1):

@@ -32,7 +32,6 @@ True
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from plansynth.budget import Clock
@@ -93,7 +92,67 @@ class GameGraph:
     @classmethod
     def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
         """Explore the pairs reachable from the start with winning moves (needs
-        :meth:`Arena.solve_game` first)."""
+        :meth:`Arena.solve_game` first): in the compiled core when available
+        (``game.rs``, ``build_game_graph``), else :meth:`from_arena_reference`; both
+        number pairs and states the same way."""
+        if use_rust is not False:
+            from plansynth.grid.native import fast
+
+            if fast.available() and hasattr(fast._core, "build_game_graph"):
+                return cls._from_arena_compiled(arena, clock, fast._core)
+        return cls.from_arena_reference(arena, clock, use_rust)
+
+    @classmethod
+    def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> "GameGraph":
+        from plansynth.grid.native.bitgrid import bits
+        from plansynth.grid.native.stationary import winning_forward
+
+        n_moves = len(arena.robot.moves)
+        fwd = winning_forward(arena, clock)
+        config_id: dict[tuple[int, ...], int] = {}
+        configs: list[list[int]] = []
+        successors: list[list[int]] = []
+
+        def cid(oc: tuple[int, ...]) -> int:
+            i = config_id.get(oc)
+            if i is None:
+                i = config_id[oc] = len(configs)
+                configs.append(list(oc))
+                successors.append([])
+            return i
+
+        cid(next(iter(fwd[0])))
+        n_cells = arena.problem.width * arena.problem.height
+        nbytes = (n_cells + 7) // 8
+        cells = 0
+        layers = []
+        expanded: set[int] = set()
+        for t in range(arena.steps):
+            for oc, rmask in fwd[t].items():
+                c = cid(oc)
+                cells |= rmask
+                wm = arena.winning_moves(t, oc)
+                layers.append((t, c, [m.to_bytes(nbytes, "little") for m in wm]))
+                if c not in expanded and t + 1 < arena.steps:
+                    expanded.add(c)
+                    successors[c] = [cid(oc2) for oc2 in arena.successors(oc)]
+            if clock is not None and clock.exhausted():
+                raise BudgetExhausted("building the game graph for program checks")
+        robot_end = [0] * (n_cells * n_moves)
+        for r in range(n_cells):
+            for k in range(n_moves):
+                robot_end[r * n_moves + k] = arena.robot_end(r, k) if cells >> r & 1 else r
+        start = arena.sem.index(arena.problem.robot.start)
+        compiled = core.build_game_graph(n_moves, arena.steps, arena.problem.width, start, configs, successors,
+                                         robot_end, layers)
+        state_of, win, off, succ, inputs = compiled.arrays()
+        g = cls(n_moves, arena.variables(), state_of, win, off, succ, [tuple(x) for x in inputs], None)
+        g._compiled = compiled
+        return g
+
+    @classmethod
+    def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+        """:meth:`from_arena` in pure Python (the reference of ``build_game_graph``)."""
         n_moves = len(arena.robot.moves)
         steps = arena.steps
         oc0 = next(iter(arena.layers[0]))
@@ -107,6 +166,7 @@ class GameGraph:
         off: list[int] = [0]
         succ: list[int] = []
         wm_cache: dict[tuple[int, tuple[int, ...]], tuple[int, ...]] = {}
+        ends: dict[tuple[int, int, tuple[int, ...]], list[int]] = {}
         head = 0
         while head < len(order):
             t, r, oc = order[head]
@@ -125,13 +185,19 @@ class GameGraph:
                     w |= 1 << k
                     if t + 1 < steps:
                         e = arena.robot_end(r, k)
-                        for oc2 in arena.successors(oc):
-                            key = (t + 1, e, oc2)
-                            q = pair_id.get(key)
-                            if q is None:
-                                q = pair_id[key] = len(order)
-                                order.append(key)
-                            succ.append(q)
+                        # every (r, k) of this configuration ending in e has the same replies
+                        ids = ends.get((t, e, oc))
+                        if ids is None:
+                            ids = []
+                            for oc2 in arena.successors(oc):
+                                key = (t + 1, e, oc2)
+                                q = pair_id.get(key)
+                                if q is None:
+                                    q = pair_id[key] = len(order)
+                                    order.append(key)
+                                ids.append(q)
+                            ends[(t, e, oc)] = ids
+                        succ.extend(ids)
                 off.append(len(succ))
             win.append(w)
             if clock is not None and head % 4096 == 0 and clock.exhausted():
@@ -145,11 +211,15 @@ class GameGraph:
     def check(self, program: Term) -> int | None:
         """None when ``program`` wins; else the first pair (breadth-first) where it
         plays a move that does not win. The compiled core when available."""
+        return self.check_ops(program_ops(program, self.variables))
+
+    def check_ops(self, ops: list[tuple[int, int, int, int]]) -> int | None:
+        """:meth:`check` of a program given as :func:`program_ops` rows."""
         self.checks += 1
         core = self._core()
         if core is not None:
-            return core.check(program_ops(program, self.variables))
-        return self.check_reference(program)
+            return core.check(ops)
+        return self.check_reference(ops_program(ops, self.variables))
 
     def check_reference(self, program: Term) -> int | None:
         """:meth:`check` in pure Python (the reference of ``game.rs``)."""
@@ -189,49 +259,71 @@ class GameGraph:
         return self._compiled
 
 
-def simplify(program: Term, graph: GameGraph, deadline: float | None = None,
-             accepts: Callable[[Term], bool] | None = None) -> Term:
+def ops_program(ops: list[tuple[int, int, int, int]], variables: tuple[str, ...]) -> Term:
+    """The inverse of :func:`program_ops`: the term of the root (the last node)."""
+    names = {0: None, 1: None, 2: "+", 3: "-", 4: "<=", 5: "=", 6: "not", 7: "and", 8: "or", 9: "ite"}
+    arity = {2: 2, 3: 2, 4: 2, 5: 2, 6: 1, 7: 2, 8: 2, 9: 3}
+    built: list[Term] = []
+    for op, a, b, c in ops:
+        if op == 0:
+            built.append(Const(a))
+        elif op == 1:
+            built.append(Var(variables[a]))
+        else:
+            built.append(App(names[op], tuple(built[x] for x in (a, b, c)[: arity[op]])))
+    return built[-1]
+
+
+def simplify(program: Term, graph: GameGraph, deadline: float | None = None) -> Term:
     """Shrink ``program`` top-down while the checker accepts it: each ``ite`` node is
     replaced by one of its branches or by a move when the whole program still wins.
-    Stops at ``deadline`` (a ``time.perf_counter()`` value), keeping the best so far."""
-    ok = accepts or (lambda p: graph.check(p) is None)
-    moves = [Const(k) for k in range(graph.n_moves)]
+    Stops at ``deadline`` (a ``time.perf_counter()`` value), keeping the best so far.
 
-    def at(t: Term, path: tuple[int, ...]) -> Term:
-        for i in path:
-            assert isinstance(t, App)
-            t = t.args[i]
-        return t
-
-    def put(t: Term, path: tuple[int, ...], new: Term) -> Term:
-        if not path:
-            return new
-        assert isinstance(t, App)
-        args = list(t.args)
-        args[path[0]] = put(args[path[0]], path[1:], new)
-        return App(t.op, tuple(args))
-
-    best = program
-    todo: list[tuple[int, ...]] = [()]
+    Works on the flat nodes of :func:`program_ops` (children first): replacing node i
+    by its child j copies row j into row i, and a move is a constant row, so each
+    candidate costs one list copy and one check.
+    """
+    ops = program_ops(program, graph.variables)
+    moves = range(graph.n_moves)
+    todo = [len(ops) - 1]
     while todo:
-        path = todo.pop(0)
-        node = at(best, path)
-        if not (isinstance(node, App) and node.op == "ite"):
+        i = todo.pop(0)
+        if ops[i][0] != 9:
             continue
         if deadline is not None and time.perf_counter() > deadline:
             break
-        replaced = None
-        for cand in (node.args[1], node.args[2], *[m for m in moves if m not in (node.args[1], node.args[2])]):
-            trial = put(best, path, cand)
-            if ok(trial):
-                replaced = cand
-                best = trial
+        _, cond, then, other = ops[i]
+        cands = [ops[then], ops[other]] + [(0, k, 0, 0) for k in moves if (0, k, 0, 0) not in (ops[then], ops[other])]
+        for row in cands:
+            trial = list(ops)
+            trial[i] = row
+            if graph.check_ops(trial) is None:
+                ops = trial
+                todo.insert(0, i)  # the replacement may simplify further
                 break
-        if replaced is not None:
-            todo.insert(0, path)  # the replacement may simplify further
         else:
-            todo.extend([path + (1,), path + (2,)])
-    return best
+            todo.extend([then, other])
+    return ops_program(_compact(ops), graph.variables)
 
 
-__all__ = ["GameGraph", "program_ops", "simplify"]
+def _compact(ops: list[tuple[int, int, int, int]]) -> list[tuple[int, int, int, int]]:
+    """Drop the nodes the root no longer reaches (renumbered, children first)."""
+    keep: dict[int, int] = {}
+    out: list[tuple[int, int, int, int]] = []
+    arity = {0: 0, 1: 0, 2: 2, 3: 2, 4: 2, 5: 2, 6: 1, 7: 2, 8: 2, 9: 3}
+
+    def go(i: int) -> int:
+        if i in keep:
+            return keep[i]
+        op, a, b, c = ops[i]
+        kids = [go(x) for x in (a, b, c)[: arity[op]]] + [0, 0, 0]
+        row = (op, a, 0, 0) if arity[op] == 0 else (op, kids[0], kids[1] if arity[op] > 1 else 0, kids[2] if arity[op] > 2 else 0)
+        out.append(row)
+        keep[i] = len(out) - 1
+        return keep[i]
+
+    go(len(ops) - 1)
+    return out
+
+
+__all__ = ["GameGraph", "program_ops", "ops_program", "simplify"]

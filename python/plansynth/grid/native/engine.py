@@ -58,10 +58,12 @@ from plansynth.grid.result import GridStatus, LengthOutcome
 CONDITION_DEPTH = 4
 #: Largest program depth the tree SAT tries before the greedy tree takes over.
 MAX_TREE_DEPTH = 9
-#: Obstacle configurations explored before the joint game gives up (answer unknown).
-MAX_CONFIGS = 2_000_000
+#: Memory the joint game may use when the budget names none (MB). The game is explored
+#: until it would outgrow this (or the budget's ``memory_mb``) or the time runs out;
+#: ``max_configs`` adds an explicit cap on obstacle configurations.
+DEFAULT_MEMORY_MB = 4096
 #: Default seconds spent making the first program smaller (answer-first mode).
-DEFAULT_EFFORT = 1.0
+DEFAULT_EFFORT = 0.1
 
 
 @dataclass(frozen=True)
@@ -82,18 +84,18 @@ class Engine:
     """Options of the native engine (the backend's options).
 
     By default the engine answers first: the greedy decision tree over the enumerated
-    conditions, checked on the game graph, is a correct program at once; then at most
-    ``effort`` seconds (default :data:`DEFAULT_EFFORT` or 10% of the budget, whichever
-    is smaller) go to making it smaller (:func:`~plansynth.grid.native.check.simplify`
-    against the game graph, then tree SAT at smaller depths), keeping the best
-    verified program. ``minimize`` instead proves the smallest depth. The counters say
+    conditions, checked on the game graph and simplified against it
+    (:func:`~plansynth.grid.native.check.simplify`), is a correct program at once; then
+    at most ``effort`` seconds (default :data:`DEFAULT_EFFORT` or 10% of the budget,
+    whichever is smaller) go to making it smaller with tree SAT at smaller depths,
+    keeping the best verified program. ``minimize`` instead proves the smallest depth. The counters say
     which (``depth_minimal``: ``proved`` or ``not proved``) and time each phase
     (``phase_seconds``).
     """
 
     condition_depth: int = CONDITION_DEPTH
     max_tree_depth: int = MAX_TREE_DEPTH
-    max_configs: int = MAX_CONFIGS
+    max_configs: int | None = None
     minimize: bool = False
     use_rust: bool | None = None
     improve: bool = True
@@ -115,6 +117,7 @@ class Engine:
         self.counters = {"phase_seconds": {}}
         self._t_phase = t0
         self._budget_seconds = budget.seconds
+        self._memory_mb = budget.memory_mb or DEFAULT_MEMORY_MB
         try:
             status, program, message, witness = self._solve(problem, steps, clock, depth_bound)
         except BudgetExhausted as exc:
@@ -183,7 +186,7 @@ class Engine:
         # Stages 3-4: the joint game over the relevant obstacles.
         try:
             self._phase("blind")
-            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs)
+            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs, memory_mb=self._memory_mb)
             self.counters["configurations"] = sum(len(x) for x in arena.layers)
             self.counters["states"] = arena.state_count()
             won = bool(arena.layers[0]) and arena.solve_game(clock)
@@ -233,7 +236,7 @@ class Engine:
             # time. Decide exactly by reading them too (they never collide).
             clocks = tuple(i for i in range(len(problem.obstacles)) if i not in cone.relevant and not cone.parkable[i])
             read = tuple(sorted(cone.relevant + clocks))
-            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs)
+            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs, memory_mb=self._memory_mb)
             self.counters["clock_obstacles"] = len(clocks)
             if full.layers[0] and full.solve_game(clock):
                 strategy = stationary_strategy(full, clock, quick=self.quick)
@@ -257,18 +260,19 @@ class Engine:
         """A small program choosing an allowed move in every state the strategy reaches.
 
         Answer first: the greedy tree over the enumerated conditions is correct by
-        construction and is checked on the game graph (:class:`GameGraph`) at once.
-        Then, within the effort (:meth:`_effort`), it is simplified against the game
-        graph and smaller depths are sought with tree SAT (each attempt bounded by the
-        effort left), keeping the best program the checker accepts.
+        construction, is checked on the game graph (:class:`GameGraph`) at once and
+        simplified against it. Then, within the effort (:meth:`_effort`), smaller
+        depths are sought with tree SAT (each attempt bounded by the effort left),
+        keeping the best program the checker accepts.
         """
         states = sorted(strategy.allowed)
         allowed = [strategy.allowed[s] for s in states]
         inputs = [arena.inputs(r, oc) for r, oc in states]
         self.counters["program_states"] = len(states)
-        cdepth = self.condition_depth if len(states) <= 2000 else 3
-        enum = self._conditions(inputs, arena.variables(), arena.problem, cdepth)
         n_moves = len(arena.robot.moves)
+        # Conditions of depth <= 3 (comparisons of coordinates and constants) give the
+        # shallowest greedy trees on the reactive suite, and are cheap to enumerate.
+        enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.condition_depth))
         if clock.exhausted():
             raise BudgetExhausted("enumerating conditions")
         program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.use_rust)
@@ -276,20 +280,22 @@ class Engine:
         self.counters["game_graph_pairs"] = graph.n_pairs
         if graph.check(program) is not None:
             raise AssertionError(f"native engine bug: greedy program {program} does not win on the game graph")
+        self.counters["greedy_depth"] = depth(program)
+        if self.simplify:  # cheap (one compiled check per candidate): part of the answer
+            program = simplify(program, graph, time.perf_counter() + max(0.0, clock.remaining() - 0.05))
         self.counters["first_depth"] = depth(program)
         self._phase("answer")
         effort = self._effort(clock) if self.improve else 0.0
         self.counters["effort_seconds"] = round(effort, 3)
         deadline = time.perf_counter() + effort
         if effort > 0 and depth(program) > 1:
-            if self.simplify:
-                program = simplify(program, graph, deadline)
             program = self._smaller(arena, allowed, enum, graph, program, clock, deadline)
         self.counters["program_checks"] = graph.checks
         self._phase("improve")
         if depth_bound is not None and depth(program) > depth_bound:
             return None
-        if not program_wins(arena.problem, arena.steps, program, clock):
+        # the engine's own exact check (the solve loop then runs the independent verifier)
+        if graph.check(program) is not None:
             raise AssertionError(f"native engine bug: synthesized program {program} does not win")
         self._phase("check")
         self.counters["program_depth"] = depth(program)
@@ -308,6 +314,8 @@ class Engine:
             if left <= 0.01:
                 break
             d = max(dd for dd in program_depths(depth(program) - 1))
+            if d > self.max_tree_depth:
+                break  # a tree SAT this deep does not fit a small effort
             try:
                 better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
                                       max_conflicts=self.conflicts, max_seconds=left)

@@ -47,7 +47,7 @@ class Strategy:
     counters: dict[str, int]
 
 
-def winning_forward(arena: Arena) -> list[dict[Config, int]]:
+def winning_forward(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
     """States reachable from the start using only moves that win the game."""
     oc0 = next(iter(arena.layers[0]))
     start = cell_mask(arena.problem, arena.problem.robot.start)
@@ -62,6 +62,8 @@ def winning_forward(arena: Arena) -> list[dict[Config, int]]:
                 for oc2 in arena.successors(oc):
                     nxt[oc2] = nxt.get(oc2, 0) | img
         out.append(nxt)
+        if clock is not None and clock.exhausted():
+            raise BudgetExhausted(f"following winning moves at step {t}")
     return out
 
 
@@ -72,7 +74,7 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
     and ``("m", r, oc, label, k)`` (move); ``fwd`` are the winning-forward layers.
     """
     lab = label or (lambda t: 0)
-    fwd = winning_forward(arena) if fwd is None else fwd
+    fwd = winning_forward(arena, clock) if fwd is None else fwd
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     ids: dict[tuple, int] = {}
@@ -134,7 +136,7 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     without SAT.
     Raises :class:`BudgetExhausted` when the clock runs out.
     """
-    fwd = winning_forward(arena)
+    fwd = winning_forward(arena, clock)
     if label is None and quick:
         found = consistent_strategy(arena, fwd, clock)
         if found is not None:

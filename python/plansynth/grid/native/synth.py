@@ -240,12 +240,17 @@ def tree_program(
     seen: dict[frozenset[int], int] = {}
     for i, a in enumerate(sets):
         seen.setdefault(frozenset(a), i)
+    # size first, then build: a deep tree over many conditions is refused before any work
+    if per_state * len(seen) > max_clauses:
+        raise BudgetExhausted(f"tree SAT instance of about {per_state * len(seen)} literals")
+    t0 = time.perf_counter()
     for i in seen.values():
         enc.add_state(i, out_lit)
+        if clock is not None and clock.exhausted():
+            raise BudgetExhausted("building the tree SAT instance")
+        if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
+            raise ConflictLimit(f"tree SAT instance not built within {max_seconds:.2f} s")
     added = set(seen.values())
-    if per_state * len(added) > max_clauses:
-        raise BudgetExhausted(f"tree SAT instance of about {per_state * len(added)} literals")
-    t0 = time.perf_counter()
     with Solver(name=SAT_SOLVER) as solver:
         while True:
             for c in enc.clauses:
@@ -321,7 +326,11 @@ def _tree_from_nodes(nodes: Sequence[tuple[int, int]], conds: Sequence[Condition
 
 def greedy_program_reference(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int,
                              max_nodes: int = 10_000) -> Term:
-    """:func:`greedy_program` in pure Python (the reference of the compiled tree)."""
+    """:func:`greedy_program` in pure Python (the reference of the compiled tree).
+
+    A node whose states share a move is a leaf; otherwise the states are labelled by
+    greedy set cover over their allowed moves and split by the condition of best Gini
+    purity over those labels (ties: shallower, then smaller, then earlier condition)."""
     n = len(states_allowed)
     by_move = [0] * n_moves
     for i, a in enumerate(states_allowed):
@@ -341,19 +350,34 @@ def greedy_program_reference(states_allowed: Sequence[Sequence[int]], conds: Seq
         budget[0] -= 1
         if budget[0] < 0:
             raise BudgetExhausted("greedy tree too large")
+        # label the members by greedy set cover over their allowed moves
+        rest, labels = members, []
+        while rest:
+            c, negk = best_common(rest)
+            if c == 0:
+                break
+            lab = rest & by_move[-negk]
+            rest &= ~lab
+            labels.append(lab)
+        lab_count = [m.bit_count() for m in labels]
         best = None
         for cond, sz in zip(conds, sizes):
             left = members & cond.mask
-            if not left or left == members:
+            nl = left.bit_count()
+            if not nl or nl == total:
                 continue
-            right = members & ~cond.mask
-            score = best_common(left)[0] + best_common(right)[0]
-            key = (score, -cond.depth, -sz)
-            if best is None or key > best[0]:
-                best = (key, cond, left, right)
+            nr = total - nl
+            sl = sr = 0
+            for m, cnt in zip(labels, lab_count):
+                x = (cond.mask & m).bit_count()
+                sl += x * x
+                sr += (cnt - x) * (cnt - x)
+            num, den, tie = sl * nr + sr * nl, nl * nr, (-cond.depth, -sz)
+            if best is None or num * best[1] > best[0] * den or (num * best[1] == best[0] * den and tie > best[2]):
+                best = (num, den, tie, cond, left, members & ~cond.mask)
         if best is None:
             raise AssertionError("no condition separates states with disjoint allowed moves")
-        _, cond, left, right = best
+        cond, left, right = best[3], best[4], best[5]
         return simplify_ite(cond, grow(left), grow(right), n)
 
     return grow((1 << n) - 1)
