@@ -108,7 +108,7 @@ def _result_table(result: Any) -> Table:
 @app.command("solve", epilog=SOLVE_EPILOG)
 def solve_command(
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
-    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp, or a baseline: milp-bigm, rrt, est, kpiece."),
+    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
@@ -125,6 +125,7 @@ def solve_command(
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
     widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
     paper: bool = typer.Option(False, "--paper", help="lazy-smt: the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); overrides the options above."),
+    variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest) or convex (continuity of the curve only)."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -155,6 +156,12 @@ def solve_command(
                        widen=widen, wait_shifts=wait_shifts)
         if paper:
             options.update(PAPER)
+    if variant is not None:
+        from plansynth.reach.gcs import VARIANTS
+
+        if planner != "gcs" or variant not in VARIANTS:
+            raise typer.BadParameter(f"is a gcs option, one of {', '.join(VARIANTS)}", param_hint="--variant")
+        options["variant"] = variant
     try:
         problem = load_reach_problem(file)
     except PlansynthError as exc:

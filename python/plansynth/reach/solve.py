@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import logging
 import time
+
+import numpy as np
 from dataclasses import replace
 from typing import Any, Protocol
 
@@ -66,6 +68,16 @@ _PLANNERS: dict[str, Planner] = {
 }
 
 
+def _plan_gcs(problem: ReachProblem, budget: Budget = Budget(seconds=60.0), **options: Any) -> ReachResult:
+    """Drake's Graphs of Convex Sets (:mod:`plansynth.reach.gcs`, imported on first use)."""
+    from plansynth.reach.gcs import plan_gcs
+
+    return plan_gcs(problem, budget, **options)
+
+
+_PLANNERS["gcs"] = _plan_gcs
+
+
 def register_planner(name: str, planner: Planner, *, replace_existing: bool = False) -> None:
     """Make ``planner`` available to :func:`solve` as ``name``."""
     if name in _PLANNERS and not replace_existing:
@@ -92,6 +104,8 @@ def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 
         return replace(result, status=ReachStatus.UNKNOWN, validated=False,
                        message=f"{result.planner} reported found without a trajectory")
     t0 = time.perf_counter()
+    if result.guarantee == "curve":
+        return _validate_curve(problem, result, tol=tol)
     report = validate(problem, result.trajectory, require_segment_safe=result.guarantee == "segments", tol=tol)
     seconds = time.perf_counter() - t0
     timings = {**result.timings, "validate": seconds}
@@ -106,6 +120,31 @@ def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 
         timings=timings, seconds=total,
         message=f"the {result.planner} trajectory failed validation and is not reported as found: {report.summary()}",
     )
+
+
+def _validate_curve(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
+    """A continuous-time curve (guarantee ``"curve"``, the gcs planner): its samples at dt
+    and its dense sampling both pass the validator in ``dynamics="curve"`` mode (the
+    dense one segment-safe and with the derivative check), or it is not ``found``."""
+    t0 = time.perf_counter()
+    report = validate(problem, result.trajectory, tol=tol, dynamics="curve")
+    dense = None
+    if result.curve is not None:
+        dense = validate(problem, result.curve, require_segment_safe=True, tol=tol, dynamics="curve",
+                         times=None if result.curve_times is None else np.array(result.curve_times))
+    seconds = time.perf_counter() - t0
+    timings = {**result.timings, "validate": seconds}
+    total = result.seconds + seconds
+    timings["total"] = total
+    ok = report.ok and dense is not None and dense.ok
+    if ok:
+        return replace(result, validated=True, validation=report, curve_validation=dense,
+                       segment_safe=report.segment_safe, timings=timings, seconds=total)
+    why = report.summary() if not report.ok else ("no dense curve to check" if dense is None else f"dense curve: {dense.summary()}")
+    log.error("planner %s returned a curve that fails validation: %s", result.planner, why)
+    return replace(result, status=ReachStatus.UNKNOWN, validated=False, validation=report, curve_validation=dense,
+                   segment_safe=report.segment_safe, timings=timings, seconds=total,
+                   message=f"the {result.planner} curve failed validation and is not reported as found: {why}")
 
 
 def solve(

@@ -17,7 +17,18 @@ Checks, each reported as a :class:`Violation` of a named ``kind``:
 ``obstacle``    a position inside an obstacle deeper than tol (boundary is allowed);
 ``goal``        the final position outside the goal by more than tol;
 ``segment``     the straight segment between consecutive positions enters an obstacle
-                deeper than tol (only an error when ``require_segment_safe``).
+                deeper than tol (only an error when ``require_segment_safe``);
+``derivative``  (``dynamics="curve"`` with sample ``times``, named integrator models
+                only) a derivative changes faster between two samples than the bound
+                of the next derivative allows: ``|d_i(t') - d_i(t)|_inf > b_{i+1} (t' - t)
+                + tol`` (``b`` from the state bounds, the input bound for the last).
+
+``dynamics="exact"`` (the default) is Definition 2.3. ``dynamics="curve"`` is for the
+samples of a continuous-time curve (the ``gcs`` planner, guarantee ``"curve"``): the
+exact discrete dynamics are *not* required (the residual is still measured and
+reported as ``max_dynamics_error``), every other check is made, and with ``times`` the
+derivative check above, which a curve with |a| <= input_bound passes and a velocity
+jump fails.
 
 >>> from plansynth.reach.problem import Box, ReachProblem
 >>> from plansynth.reach.dynamics import single_integrator
@@ -47,7 +58,9 @@ from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["Violation", "ValidationReport", "validate", "VIOLATION_KINDS"]
 
-VIOLATION_KINDS = ("shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment")
+VIOLATION_KINDS = ("shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment",
+                   "derivative")
+DYNAMICS_MODES = ("exact", "curve")
 
 
 @dataclass(frozen=True)
@@ -81,6 +94,7 @@ class ValidationReport:
     tol: float
     require_segment_safe: bool
     counts: dict[str, int] = field(default_factory=dict)
+    dynamics: str = "exact"
 
     def __bool__(self) -> bool:
         raise TypeError("a ValidationReport has no truth value; read .ok or .segment_safe")
@@ -102,6 +116,7 @@ class ValidationReport:
             "max_input": self.max_input,
             "horizon": self.horizon,
             "tol": self.tol,
+            "dynamics": self.dynamics,
             "violations": [{"kind": v.kind, "step": v.step, "detail": v.detail} for v in self.violations],
         }
 
@@ -169,8 +184,15 @@ def validate(
     *,
     require_segment_safe: bool = False,
     tol: float = 1e-6,
+    dynamics: str = "exact",
+    times: "np.ndarray | None" = None,
 ) -> ValidationReport:
-    """Check ``trajectory`` against ``problem`` (Definition 2.3) and report every violation."""
+    """Check ``trajectory`` against ``problem`` (Definition 2.3) and report every violation.
+
+    ``dynamics``: ``"exact"`` or ``"curve"`` (see the module doc); ``times``: the sample
+    times in seconds (curve mode only), for the derivative check."""
+    if dynamics not in DYNAMICS_MODES:
+        raise ValueError(f"unknown dynamics mode {dynamics!r} (known: {', '.join(DYNAMICS_MODES)})")
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
     X, U = trajectory.states, trajectory.inputs
@@ -191,6 +213,7 @@ def validate(
             tol=tol,
             require_segment_safe=require_segment_safe,
             counts=counts,
+            dynamics=dynamics,
         )
 
     if X.shape[1] != n or (N > 0 and U.shape[1] != m):
@@ -212,12 +235,15 @@ def validate(
         pred = dyn.A @ X[t] + dyn.B @ U[t]
         err = float(np.max(np.abs(X[t + 1] - pred)))
         max_err = max(max_err, err)
-        if err > tol * max(1.0, float(np.max(np.abs(X[t + 1])))):
+        if dynamics == "exact" and err > tol * max(1.0, float(np.max(np.abs(X[t + 1])))):
             viol.append(Violation("dynamics", t, f"|x_{t + 1} - (A x_{t} + B u_{t})|_inf = {err:.3g}"))
         un = float(np.max(np.abs(U[t]))) if m else 0.0
         max_u = max(max_u, un)
         if un > problem.input_bound + tol:
             viol.append(Violation("input", t, f"|u_{t}|_inf = {un:.6g} exceeds the bound {problem.input_bound:g}"))
+
+    if dynamics == "curve" and times is not None:
+        _derivative_check(problem, X, np.asarray(times, dtype=float), tol, viol)
 
     # state bounds
     if problem.state_bounds is not None:
@@ -251,6 +277,39 @@ def validate(
                 if require_segment_safe:
                     viol.append(Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]"))
     return report(not viol, segment_safe, max_err, max_u)
+
+
+def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, tol: float, viol: list[Violation]) -> None:
+    """Curve mode: between two samples, each derivative block of a named integrator
+    model moves by at most the bound of the next derivative times the time between them."""
+    dyn = problem.dynamics
+    order = {"single-integrator": 1, "double-integrator": 2}.get(dyn.model, dyn.order if dyn.model == "integrator-chain" else None)
+    d = problem.dim
+    if order is None or X.shape[0] != times.shape[0]:
+        if X.shape[0] != times.shape[0]:
+            viol.append(Violation("shape", None, f"{times.shape[0]} sample times for {X.shape[0]} states"))
+        return
+    bounds: list[float | None] = []
+    for i in range(1, order + 1):
+        if i == order:
+            bounds.append(problem.input_bound)
+        elif problem.state_bounds is not None:
+            lo = np.abs(np.array(problem.state_bounds.lo[i * d:(i + 1) * d]))
+            hi = np.abs(np.array(problem.state_bounds.hi[i * d:(i + 1) * d]))
+            bounds.append(float(max(lo.max(), hi.max())))
+        else:
+            bounds.append(None)
+    gaps = np.diff(times)
+    for i in range(order):
+        b = bounds[i]
+        if b is None:
+            continue
+        block = X[:, i * d:(i + 1) * d]
+        moved = np.max(np.abs(np.diff(block, axis=0)), axis=1)
+        bad = np.nonzero(moved > b * gaps + tol * max(1.0, b))[0]
+        for t in bad[:5]:
+            what = "position" if i == 0 else f"derivative {i}"
+            viol.append(Violation("derivative", int(t), f"{what} moves by {moved[t]:.4g} in {gaps[t]:.4g} s, more than the bound {b:g} allows"))
 
 
 def _fmt(p: np.ndarray) -> str:
