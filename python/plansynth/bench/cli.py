@@ -37,7 +37,12 @@ Examples:
 
   plansynth bench reach --family random --values 0,1,2 --planners lazy-smt,rrt,milp-bigm
 
-Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random, or all.
+  plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3
+
+  plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,50 --planners lazy-smt
+
+Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
+(Figure 4 with random controllable A, B of n states), random, or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
@@ -61,7 +66,7 @@ def _options(items: list[str]) -> dict[str, dict[str, str]]:
 
 def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[str], *, orders: list[int],
            timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
-           retry: str = "", options: Optional[list[str]] = None) -> None:
+           retry: str = "", options: Optional[list[str]] = None, states: Optional[list[int]] = None) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import make_tasks, run_sweep
 
@@ -74,7 +79,9 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
         if f not in known:
             console.print(f"[red]unknown {kind} family {f!r}; choose from {', '.join(known)} or all")
             raise typer.Exit(2)
-        kw = {"orders": orders} if kind == "reach" else {}
+        kw: dict = {"orders": orders} if kind == "reach" else {}
+        if kind == "reach" and states:
+            kw["states"] = states
         insts += family(kind, f, vals, **kw)
     if kind == "reach" and "milp" in solvers:
         console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
@@ -108,10 +115,11 @@ def grid_cmd(
 
 @app.command("reach", epilog=REACH_EPILOG)
 def reach_cmd(
-    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random (repeatable or comma-separated), or all."),
+    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics (repeatable or comma-separated), or all."),
     values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
-    planners: str = typer.Option("lazy-smt,rrt,milp-bigm", "--planners", help="Comma-separated planners."),
+    states: str = typer.Option("4,10,20,50", "--states", help="State counts n for the random-dynamics family."),
+    planners: str = typer.Option("lazy-smt,rrt,milp-bigm", "--planners", help="Comma-separated planners (also gcs)."),
     timeout: float = typer.Option(60.0, "--timeout"),
     repeat: int = typer.Option(1, "--repeat"),
     db: Path = DB_OPTION,
@@ -124,7 +132,8 @@ def reach_cmd(
     """Run reach-avoid families with several planners into the results database."""
     fams = [x for f in family for x in _split(f)]
     _sweep("reach", fams, values, _split(planners), orders=[int(k) for k in _split(orders)], timeout=timeout,
-           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry)
+           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry,
+           states=[int(k) for k in _split(states)])
 
 
 @app.command("report")
