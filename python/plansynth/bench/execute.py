@@ -171,14 +171,17 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     budget = Budget(seconds=float(task["timeout"]))
     options = dict(task.get("options") or {})
     seed = int(task.get("seed", 0)) + int(task.get("repeat", 0))
+    from plansynth.reach.robot import configuration_space
+
     if solver in ("rrt", "est", "kpiece"):
         from plansynth.reach.rrt import plan_rrt
 
-        res = plan_rrt(problem, budget, seed=seed, planner=solver, **options)
+        # a sized robot plans in its configuration space (as solve() does for the others)
+        res = plan_rrt(configuration_space(problem), budget, seed=seed, planner=solver, **options)
     elif solver == "milp-bigm":
         from plansynth.reach.milp_bigm import plan_milp_bigm
 
-        res = plan_milp_bigm(problem, budget, **options)
+        res = plan_milp_bigm(configuration_space(problem), budget, **options)
     else:
         res = _reach_planner(problem, solver, budget, options)
     status_value = getattr(res.status, "value", str(res.status))

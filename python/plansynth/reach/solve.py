@@ -161,5 +161,17 @@ def solve(
     """
     if planner not in _PLANNERS:
         raise ValueError(f"unknown planner {planner!r} (known: {', '.join(_PLANNERS)})")
+    robot = problem.robot_shape
+    if robot is not None and not robot.is_point:
+        # a sized robot: every planner plans for its reference point in the configuration
+        # space (obstacles grown, workspace shrunk: plansynth.reach.robot); the validator
+        # checks the answer against the original problem, clearance included
+        from plansynth.reach.robot import configuration_space, robot_note
+
+        result = _PLANNERS[planner](configuration_space(problem), budget, **options)
+        note = robot_note(robot)
+        result = replace(result, message=f"{result.message}; {note}" if result.message else note,
+                         options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}})
+        return validate_result(problem, result)
     result = _PLANNERS[planner](problem, budget, **options)
     return validate_result(problem, result)

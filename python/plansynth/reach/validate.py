@@ -15,9 +15,16 @@ Checks, each reported as a :class:`Violation` of a named ``kind``:
 ``state-bound`` a state component outside ``state_bounds`` by more than tol;
 ``workspace``   a position outside the workspace by more than tol;
 ``obstacle``    a position inside an obstacle deeper than tol (boundary is allowed);
+                with a sized robot (``robot.radius`` / ``robot.half_extent``): a disc
+                robot's position closer than R - tol to an obstacle (Euclidean distance,
+                shapely), a box robot's box meeting an obstacle's interior (box obstacles:
+                exact slab test on the grown box; polygons: shapely); the workspace check
+                then keeps the robot's whole extent inside;
 ``goal``        the final position outside the goal by more than tol;
 ``segment``     the straight segment between consecutive positions enters an obstacle
-                deeper than tol (only an error when ``require_segment_safe``);
+                deeper than tol (only an error when ``require_segment_safe``); with a
+                sized robot: the segment's distance below R - tol, or the area the box
+                sweeps along it meeting an obstacle's interior;
 ``derivative``  (``dynamics="curve"`` with sample ``times``, named integrator models
                 only) a derivative changes faster between two samples than the bound
                 of the next derivative allows: ``|d_i(t') - d_i(t)|_inf > b_{i+1} (t' - t)
@@ -168,6 +175,59 @@ class _Obstacle:
         return bool(shapely.relate_pattern(self.geom, g, "T********"))
 
 
+class _DiscClearance:
+    """A disc robot of radius R against one obstacle: a sample or a segment is too close
+    when its Euclidean distance to the obstacle is below R - tol (or it is inside)."""
+
+    def __init__(self, shape: Shape, radius: float, tol: float) -> None:
+        from plansynth.reach.problem import shape_to_shapely
+
+        self.geom = shape_to_shapely(shape)
+        shapely.prepare(self.geom)
+        self.limit = radius - tol
+
+    def hits(self, p: np.ndarray, q: np.ndarray | None = None) -> bool:
+        g = Point(p[0], p[1]) if q is None or np.array_equal(p, q) else LineString([p[:2], q[:2]])
+        return bool(self.geom.distance(g) < self.limit)
+
+
+class _SweptBox:
+    """A box robot against a polygon obstacle: the robot's box at a sample, or the area
+    it sweeps along a segment (the convex hull of the boxes at both ends), must not meet
+    the obstacle's interior deeper than tol."""
+
+    def __init__(self, shape: Shape, half: tuple[float, ...], tol: float) -> None:
+        poly = ShPolygon(shape.vertices)  # type: ignore[union-attr]
+        self.geom = poly.buffer(-tol, join_style="mitre") if tol > 0 else poly
+        shapely.prepare(self.geom)
+        self.h = np.array(half[:2])
+
+    def hits(self, p: np.ndarray, q: np.ndarray | None = None) -> bool:
+        if self.geom.is_empty:
+            return False
+        pts = [p[:2]] if q is None else [p[:2], q[:2]]
+        corners = [c + s * self.h for c in pts for s in (np.array([-1, -1]), np.array([1, -1]), np.array([1, 1]), np.array([-1, 1]))]
+        body = shapely.MultiPoint([tuple(c) for c in corners]).convex_hull
+        return bool(shapely.relate_pattern(self.geom, body, "T********"))
+
+
+def _obstacle_checks(problem: ReachProblem, tol: float) -> list:
+    """One checker per obstacle, for the point robot or the problem's sized robot."""
+    robot = problem.robot_shape
+    if robot is None or robot.is_point:
+        return [_Obstacle(o, tol) for o in problem.obstacles]
+    out: list = []
+    for o in problem.obstacles:
+        if robot.radius is not None:
+            out.append(_DiscClearance(o, robot.radius, tol))
+        elif isinstance(o, Box):
+            h = robot.half_extent
+            out.append(_Obstacle(Box(tuple(l - e for l, e in zip(o.lo, h)), tuple(u + e for u, e in zip(o.hi, h))), tol))  # exact
+        else:
+            out.append(_SweptBox(o, robot.half_extent, tol))  # type: ignore[arg-type]
+    return out
+
+
 def _in_shape(shape: Shape, p: np.ndarray, tol: float) -> bool:
     if isinstance(shape, Box):
         return bool(np.all(p >= np.array(shape.lo) - tol) and np.all(p <= np.array(shape.hi) + tol))
@@ -257,7 +317,10 @@ def validate(
     # positions: workspace, obstacles, goal
     P = X[:, list(dyn.position)]
     ws_lo, ws_hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
-    obstacles = [_Obstacle(o, tol) for o in problem.obstacles]
+    if problem.robot_shape is not None:  # the robot's extent stays in the workspace
+        margin = np.array(problem.robot_shape.margins(problem.dim))
+        ws_lo, ws_hi = ws_lo + margin, ws_hi - margin
+    obstacles = _obstacle_checks(problem, tol)
     for t in range(N + 1):
         p = P[t]
         if np.any(p < ws_lo - tol) or np.any(p > ws_hi + tol):
