@@ -106,3 +106,17 @@ def test_the_validator_checks_clearance_itself():
     for robot in (RobotShape(radius=0.4), RobotShape(half_extent=(0.4, 0.4))):
         rep = validate(with_robot(maze(1), robot), point.trajectory, require_segment_safe=True)
         assert not rep.ok and ({"obstacle", "segment", "workspace"} & set(rep.counts))
+
+
+def test_the_plot_draws_the_robot(tmp_path):
+    from plansynth.reach.decompose import abstract
+    from plansynth.reach.plot import plot_problem
+
+    p = with_robot(maze(1), RobotShape(radius=0.4))
+    r = solve(p, "lazy-smt", Budget(seconds=60))
+    fig = plot_problem(p, abstract(configuration_space(p)), r.regions, r.trajectory, path=tmp_path / "m.png")
+    ax = fig.axes[0]
+    circles = [a for a in ax.patches if type(a).__name__ == "Circle"]
+    dashed = [a for a in ax.patches if a.get_linestyle() == "--"]
+    assert circles and abs(circles[0].radius - 0.4) < 1e-12 and len(dashed) == len(configuration_space(p).obstacles)
+    assert (tmp_path / "m.png").stat().st_size > 0

@@ -183,7 +183,9 @@ def solve_command(
         from plansynth.reach.plot import animate as make_gif
         from plansynth.reach.plot import plot_problem
 
-        abstraction = abstract(problem)
+        from plansynth.reach.robot import configuration_space
+
+        abstraction = abstract(configuration_space(problem))  # the regions the planner saw
         if plot is not None:
             plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
                          title=f"{problem.name}: {result.planner}, horizon {result.horizon}, {abstraction.n_regions} regions")
