@@ -99,3 +99,11 @@ def test_single_integrator_gcs():
     r = solve(p, "gcs", Budget(seconds=60))
     assert r.status is ReachStatus.FOUND and r.validated, r.message
     assert np.abs(r.trajectory.inputs).max() <= 1.0 + 1e-6
+
+
+def test_the_surrogate_variant_jumps_in_velocity_and_is_refused():
+    """Drake's convex surrogate of velocity continuity (dr/ds continuous) is velocity
+    continuity only at equal piece durations: the derivative check catches the jump."""
+    r = solve(maze(1), "gcs", Budget(seconds=120), variant="surrogate")
+    assert r.options["variant"] == "surrogate" and r.curve_validation is not None
+    assert r.status is ReachStatus.UNKNOWN and "derivative" in r.curve_validation.counts

@@ -125,7 +125,7 @@ def solve_command(
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
     widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
     paper: bool = typer.Option(False, "--paper", help="lazy-smt: the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); overrides the options above."),
-    variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest) or convex (continuity of the curve only)."),
+    variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest), surrogate (velocity continuity only as Drake's convex surrogate) or convex (continuity of the curve only)."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
