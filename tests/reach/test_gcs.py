@@ -107,3 +107,25 @@ def test_the_surrogate_variant_jumps_in_velocity_and_is_refused():
     r = solve(maze(1), "gcs", Budget(seconds=120), variant="surrogate")
     assert r.options["variant"] == "surrogate" and r.curve_validation is not None
     assert r.status is ReachStatus.UNKNOWN and "derivative" in r.curve_validation.counts
+
+
+def test_cli_solves_with_gcs_and_validates_the_curve_result(tmp_path):
+    from typer.testing import CliRunner
+
+    from plansynth.cli import app
+    from plansynth.reach.problem import reach_problem_to_dict
+
+    import yaml
+
+    f = tmp_path / "maze-1.yaml"
+    f.write_text(yaml.safe_dump(reach_problem_to_dict(maze(1))))
+    out = tmp_path / "r.json"
+    run = CliRunner().invoke(app, ["reach", "solve", str(f), "--planner", "gcs", "--timeout", "120", "--out", str(out)])
+    assert run.exit_code == 0, run.output
+    assert "curve" in run.output
+    ok = CliRunner().invoke(app, ["reach", "validate", str(f), str(out)])
+    assert ok.exit_code == 0 and "dynamics: curve" in ok.output, ok.output
+    exact = CliRunner().invoke(app, ["reach", "validate", str(f), str(out), "--dynamics", "exact"])
+    assert exact.exit_code == 1 and "dynamics" in exact.output
+    bad = CliRunner().invoke(app, ["reach", "solve", str(f), "--planner", "lazy-smt", "--variant", "convex"])
+    assert bad.exit_code != 0

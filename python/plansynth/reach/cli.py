@@ -205,6 +205,7 @@ def validate_command(
     result_file: Path = typer.Argument(..., help="Result JSON with states and inputs."),
     segment_safe: bool = typer.Option(False, "--segment-safe", help="Also require every segment to avoid the obstacles."),
     tol: float = typer.Option(1e-6, "--tol", help="Tolerance of every check."),
+    dynamics: Optional[str] = typer.Option(None, "--dynamics", help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact."),
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
     from plansynth.reach.problem import load_reach_problem
@@ -218,7 +219,17 @@ def validate_command(
         trajectory = load_trajectory(result_file)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
-    report = validate(problem, trajectory, require_segment_safe=segment_safe, tol=tol)
+    if dynamics is None:
+        try:
+            dynamics = "curve" if _read_result(result_file).get("guarantee") == "curve" else "exact"
+        except PlansynthError as exc:
+            raise _fail(err, exc) from None
+    if dynamics not in ("exact", "curve"):
+        raise typer.BadParameter("must be exact or curve", param_hint="--dynamics")
+    report = validate(problem, trajectory, require_segment_safe=segment_safe, tol=tol, dynamics=dynamics)
+    if dynamics == "curve":
+        console.print("dynamics: curve (the samples of a continuous-time curve; x' = A x + B u is not required)",
+                      highlight=False)
     style = "bold green" if report.ok else "bold red"
     console.print(f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False)
     for v in report.violations[:50]:
@@ -255,7 +266,9 @@ def plot_command(
                 regions = tuple(raw)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
-    abstraction = abstract(problem)
+    from plansynth.reach.robot import configuration_space
+
+    abstraction = abstract(configuration_space(problem))  # the regions the planners see
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
         raise typer.Exit(EXIT_BAD_INPUT)
