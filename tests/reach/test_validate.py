@@ -191,7 +191,8 @@ def test_3d_segment_through_a_box_corner() -> None:
 
 
 def test_kinds_are_documented() -> None:
-    assert set(VIOLATION_KINDS) == {"shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment"}
+    assert set(VIOLATION_KINDS) == {"shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment",
+                                    "derivative"}
 
 
 # ------------------------------------------------------- the box clipper against shapely

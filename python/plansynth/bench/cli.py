@@ -39,7 +39,12 @@ Examples:
 
   plansynth bench reach --family random --values 0,1,2 --planners lazy-smt,rrt,milp-bigm
 
-Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random, or all.
+  plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3
+
+  plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,50 --planners lazy-smt
+
+Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
+(Figure 4 with random controllable A, B of n states), random, or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
@@ -107,7 +112,7 @@ def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: i
 
 def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[str], *, orders: list[int],
            timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
-           retry: str = "", options: Optional[list[str]] = None) -> None:
+           retry: str = "", options: Optional[list[str]] = None, states: Optional[list[int]] = None) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import make_tasks, run_sweep
 
@@ -123,7 +128,9 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
         if f not in known:
             console.print(f"[red]unknown {kind} family {f!r}; choose from {', '.join(known)} or all")
             raise typer.Exit(2)
-        kw = {"orders": orders} if kind == "reach" else {}
+        kw: dict = {"orders": orders} if kind == "reach" else {}
+        if kind == "reach" and states:
+            kw["states"] = states
         try:
             insts += family(kind, f, vals, **kw)
         except FileNotFoundError as exc:  # the shared reactive suite is not there
@@ -166,10 +173,11 @@ def grid_cmd(
 
 @app.command("reach", epilog=REACH_EPILOG)
 def reach_cmd(
-    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random (repeatable or comma-separated), or all."),
+    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics (repeatable or comma-separated), or all."),
     values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
-    planners: str = typer.Option("lazy-smt,rrt,milp-bigm", "--planners", help="Comma-separated planners."),
+    states: str = typer.Option("4,10,20,50", "--states", help="State counts n for the random-dynamics family."),
+    planners: str = typer.Option("lazy-smt,rrt,milp-bigm", "--planners", help="Comma-separated planners (also gcs)."),
     timeout: float = typer.Option(60.0, "--timeout"),
     repeat: int = typer.Option(1, "--repeat"),
     db: Path = DB_OPTION,
@@ -185,8 +193,13 @@ def reach_cmd(
         order_list = [int(k) for k in _split(orders)]
     except ValueError:
         _refuse("--orders", f"expected comma-separated integers, got {orders!r}")
+    try:
+        state_list = [int(k) for k in _split(states)]
+    except ValueError:
+        _refuse("--states", f"expected comma-separated integers, got {states!r}")
     _sweep("reach", fams, values, _split(planners), orders=order_list, timeout=timeout,
-           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry)
+           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry,
+           states=state_list)
 
 
 @contextmanager

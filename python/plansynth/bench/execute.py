@@ -10,7 +10,13 @@ for trajectories -- and counted as solved only if it passes.
 Solver names: grid -- any registered grid backend (``native``, ``cvc5``, ``external``);
 reach -- ``lazy-smt`` and ``milp`` (R2's planners, through :func:`plansynth.reach.solve`),
 ``milp-bigm`` (:mod:`plansynth.reach.milp_bigm`), ``rrt``, ``est``, ``kpiece``
-(:mod:`plansynth.reach.rrt`). Names starting with ``debug-`` exercise the runner:
+(:mod:`plansynth.reach.rrt`), ``gcs`` (:mod:`plansynth.reach.gcs`, Drake's Graphs of Convex
+Sets, through :func:`plansynth.reach.solve`; its continuous-time curve is validated in the
+validator's ``dynamics="curve"`` mode, the exact discrete dynamics are not required).
+For every solved run whose regions are one per time step, the run also records
+``oracle_lp``: the time of one cold LP over its final region sequence
+(:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with.
+Names starting with ``debug-`` exercise the runner:
 ``debug-ok`` returns at once, ``debug-sleep`` sleeps past any limit, ``debug-crash``
 kills its own process with SIGSEGV, ``debug-raise`` raises, ``debug-memory`` allocates
 until the memory limit stops it.
@@ -29,7 +35,7 @@ from plansynth.bench.families import instance_from_task
 
 __all__ = ["execute", "solver_version", "REACH_SOLVERS"]
 
-REACH_SOLVERS = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece")
+REACH_SOLVERS = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
 
 
 def _peak_memory_mb() -> float:
@@ -131,7 +137,7 @@ def solver_version(solver: str) -> str:
     from importlib.metadata import version
 
     pkg = {"rrt": "ompl", "est": "ompl", "kpiece": "ompl", "milp-bigm": "highspy", "milp": "highspy",
-           "lazy-smt": "python-sat", "native": "plansynth", "cvc5": "cvc5"}.get(solver, "plansynth")
+           "lazy-smt": "python-sat", "native": "plansynth", "cvc5": "cvc5", "gcs": "drake"}.get(solver, "plansynth")
     try:
         return f"{pkg} {version(pkg)}"
     except Exception:
@@ -165,20 +171,34 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     budget = Budget(seconds=float(task["timeout"]))
     options = dict(task.get("options") or {})
     seed = int(task.get("seed", 0)) + int(task.get("repeat", 0))
+    from plansynth.reach.robot import configuration_space
+
     if solver in ("rrt", "est", "kpiece"):
         from plansynth.reach.rrt import plan_rrt
 
-        res = plan_rrt(problem, budget, seed=seed, planner=solver, **options)
+        # a sized robot plans in its configuration space (as solve() does for the others)
+        res = plan_rrt(configuration_space(problem), budget, seed=seed, planner=solver, **options)
     elif solver == "milp-bigm":
         from plansynth.reach.milp_bigm import plan_milp_bigm
 
-        res = plan_milp_bigm(problem, budget, **options)
+        res = plan_milp_bigm(configuration_space(problem), budget, **options)
     else:
         res = _reach_planner(problem, solver, budget, options)
     status_value = getattr(res.status, "value", str(res.status))
     valid = None
     segment_safe = None
-    if res.trajectory is not None:
+    if res.trajectory is not None and getattr(res, "guarantee", None) == "curve":
+        # A continuous-time curve (gcs): the validator's curve mode, on the samples at dt
+        # and on the dense curve (segment-safe, derivative check); not the exact dynamics.
+        import numpy as np
+
+        report = validate(problem, res.trajectory, dynamics="curve")
+        dense = None if res.curve is None else validate(
+            problem, res.curve, require_segment_safe=True, dynamics="curve",
+            times=None if res.curve_times is None else np.array(res.curve_times))
+        valid = int(bool(report.ok and dense is not None and dense.ok))
+        segment_safe = int(bool(dense is not None and dense.segment_safe))
+    elif res.trajectory is not None:
         # The same independent validator for every planner, whatever the planner says.
         report = validate(problem, res.trajectory)
         valid = int(bool(report.ok))
@@ -191,6 +211,14 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         status = "invalid" if valid == 0 else "unknown"
     c = dict(res.counters or {})
     timings = {k: float(v) for k, v in (res.timings or {}).items() if isinstance(v, (int, float))}
+    oracle = None
+    if status == "solved" and res.regions is not None and res.horizon is not None \
+            and len(res.regions) == res.horizon + 1 and getattr(res, "guarantee", None) in ("segments", "samples"):
+        from plansynth.reach.oracle import oracle_lp
+
+        lim = oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments")
+        oracle = {"seconds": lim.seconds, "build": lim.build_seconds, "solve": lim.solve_seconds,
+                  "feasible": lim.feasible}
     return {
         "status": status,
         "solved": int(status == "solved"),
@@ -205,5 +233,8 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         "solver_version": solver_version(solver),
         "message": (res.message or "")[:2000],
         "attributes": {"counters": {k: v for k, v in c.items() if isinstance(v, (int, float, str))},
-                       "timings": timings, "seed": seed},
+                       "timings": timings, "seed": seed, "oracle_lp": oracle,
+                       "guarantee": getattr(res, "guarantee", None),
+                       "duration": None if res.trajectory is None or res.horizon is None or not problem.dynamics.dt
+                       else res.horizon * float(problem.dynamics.dt)},
     }

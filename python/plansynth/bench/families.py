@@ -31,8 +31,10 @@ own complement them, with answers known by construction:
 
 Reach families reproduce Shoukry et al. (CDC 2016, Section VI): ``maze`` (n passages,
 double integrator; Table I), ``chain`` (the same mazes with integrator chains of order
-k, i.e. 2k states; Figure 4), and ``random`` workspaces (random boxes and non-convex
-polygons, from :func:`plansynth.reach.families.random_workspace`).
+k, i.e. 2k states; Figure 4), ``random-dynamics`` (the same mazes with seeded random
+controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
+:func:`plansynth.reach.families.random_dynamics`), and ``random`` workspaces (random
+boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
 
 >>> [i.name for i in grid_family("steps", [5, 10])]
 ['steps-5', 'steps-10']
@@ -358,7 +360,13 @@ def _random(seed: int, obstacles: int = 6) -> Any:
     return random_workspace(seed, obstacles)
 
 
-_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random}
+def _random_dynamics(n: int, states: int, seed: int = 0) -> Any:
+    from plansynth.reach.families import random_dynamics
+
+    return random_dynamics(n, states, seed)
+
+
+_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "random-dynamics": _random_dynamics}
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
 PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
@@ -368,15 +376,19 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random")
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics")
+RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 
 
-def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequence[int] = (1, 2, 3, 5)) -> list[Instance]:
+def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequence[int] = (1, 2, 3, 5),
+                 states: Sequence[int] = RANDOM_DYNAMICS_STATES, seed: int = 0) -> list[Instance]:
     """Instances of reach family ``name``.
 
     ``maze``: values are passage counts (default 1..4). ``chain``: values are passage
     counts, crossed with ``orders`` (the chain order k; 2k states). ``random``: values
-    are seeds (default 0..4).
+    are seeds (default 0..4). ``random-dynamics``: values are passage counts (default
+    1..4), crossed with ``states`` (n, default 4, 10, 20, 50), random (A, B) drawn with
+    ``seed`` (:func:`plansynth.reach.families.random_dynamics` says how).
     """
     out = []
     if name == "maze":
@@ -387,6 +399,11 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
         for n in values or [1, 2, 3, 4]:
             for k in orders:
                 out.append(Instance("reach", "chain", f"chain-{n}-k{k}", {"n": int(n), "k": int(k)}, "found"))
+    elif name == "random-dynamics":
+        for n in values or [1, 2, 3, 4]:
+            for k in states:
+                out.append(Instance("reach", "random-dynamics", f"rdyn-{n}-n{k}-s{seed}",
+                                    {"n": int(n), "states": int(k), "seed": int(seed)}, None))
     elif name == "random":
         for s in values or [0, 1, 2, 3, 4]:
             out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))

@@ -7,7 +7,9 @@ the Markdown report with its figures:
     plansynth bench publish --report-only    # only rewrite RESULTS.md from the database
 
 The sweep: every grid family with ``native`` and ``cvc5``; the mazes with ``lazy-smt``,
-``rrt``, ``milp-bigm`` and ``milp``, and with the counterexample configurations of
+``rrt``, ``milp-bigm``, ``milp`` and ``gcs`` (Drake's Graphs of Convex Sets: a continuous-time
+curve, not a trajectory of the exact discrete dynamics; RESULTS.md says so beside its
+column), and with the counterexample configurations of
 :data:`~plansynth.bench.report.CX_VARIANTS`; the integrator-chain scaling (Figure 4) up
 to order 25 (n = 50 states) with ``lazy-smt``; random workspaces with every reach planner.
 """
@@ -33,6 +35,8 @@ CX_TIMEOUT = 300.0  # the paper's loop on maze-3/4 runs for minutes
 N50_TIMEOUT = 300.0  # order-25 chains (n = 50 states)
 N50_REPEATS = 3  # the issue's target is on maze-4 at order 25: a median, not one run
 RRT_REPEATS = 3
+GCS_REPEATS = 3
+RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 NATIVE_REPEATS = 3
 
 
@@ -49,6 +53,11 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         tasks += make_tasks(family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout)
         tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"],
                             timeout=reach_timeout)
+        # Graphs of Convex Sets (Drake) beside lazy-smt on the mazes, interleaved, medians of 3
+        tasks += make_tasks(family("reach", "maze"), ["gcs"], repeat=GCS_REPEATS, timeout=reach_timeout)
+        # Figure 4 with random dynamics (the paper's setting): seeded random controllable (A, B)
+        tasks += make_tasks(family("reach", "random-dynamics", [1, 2, 3, 4], states=RANDOM_DYNAMICS_STATES),
+                            ["lazy-smt"], timeout=max(reach_timeout, N50_TIMEOUT))
         # n = 50 states: the issue's scalability target, with a longer limit so that it is measured
         tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[-1:]), ["lazy-smt"],
                             repeat=N50_REPEATS, timeout=max(reach_timeout, N50_TIMEOUT))

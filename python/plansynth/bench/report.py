@@ -140,9 +140,46 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
                    "timings": (first.get("attributes") or {}).get("timings", {}),
                    "expected": (rs[0]["setup"] or {}).get("expected"),
                    "samples_only": any(r.get("segment_safe") == 0 for r in solved),
-                   "program": (first.get("attributes") or {}).get("program")},
+                   "program": (first.get("attributes") or {}).get("program"),
+                   # the limit beside the time: one cold LP over the final region sequence (median)
+                   "oracle_lp": _median_attr(solved, "oracle_lp", "seconds"),
+                   "duration": _median_attr(solved, "duration"),
+                   "guarantee": (first.get("attributes") or {}).get("guarantee"),
+                   # the planner's own time: the run's time less the validator's (median)
+                   "planner_median": _median_planner(solved)},
         )
     return out
+
+
+def _median_attr(runs: Sequence[Mapping[str, Any]], key: str, sub: str | None = None) -> float | None:
+    """Median of ``attributes[key]`` (or ``attributes[key][sub]``) over ``runs``, when recorded."""
+    vals = []
+    for r in runs:
+        v = (r.get("attributes") or {}).get(key)
+        if sub is not None:
+            v = v.get(sub) if isinstance(v, Mapping) else None
+        if isinstance(v, (int, float)):
+            vals.append(float(v))
+    return statistics.median(vals) if vals else None
+
+
+def _median_planner(runs: Sequence[Mapping[str, Any]]) -> float | None:
+    vals = []
+    for r in runs:
+        v = ((r.get("attributes") or {}).get("timings") or {}).get("validate")
+        if r.get("time") is not None and isinstance(v, (int, float)):
+            vals.append(float(r["time"]) - float(v))
+    return statistics.median(vals) if vals else None
+
+
+def _over_limit(c: Cell | None) -> str:
+    """``total / limit``: the median time over the median one-cold-LP time."""
+    if c is None or not c.solved or c.median is None:
+        return "-"
+    lim = (c.extra or {}).get("oracle_lp")
+    if not lim:
+        return "-"
+    return f"{_fmt(c.median)} / {_fmt(lim)} = {c.median / lim:.3g}x"
 
 
 def _ratio(a: Cell | None, b: Cell | None) -> str:
@@ -419,7 +456,7 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
             L.append("")
 
     # ---------------------------------------------------------------- reach
-    reach_planners = [p for p in _planners(cells, "reach/", ["lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece"])
+    reach_planners = [p for p in _planners(cells, "reach/", ["lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs"])
                       if p not in CX_VARIANTS]
     if reach_planners:
         L.append("## Reach-avoid: lazy SMT planning (Shoukry et al., CDC 2016)")
@@ -475,8 +512,8 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
             if base:
                 L.append("Lazy SMT phases (median run): abstraction / SAT / LP seconds, SAT and LP calls, horizon:")
                 L.append("")
-                L.append("| maze | paper abstraction | paper DIS-PLAN | paper CON-PLAN | abstraction | sat | lp | SAT calls | LP calls | horizon |")
-                L.append("|---|---|---|---|---|---|---|---|---|---|")
+                L.append("| maze | paper abstraction | paper DIS-PLAN | paper CON-PLAN | abstraction | sat | lp | SAT calls | LP calls | horizon | total / limit (one cold LP) |")
+                L.append("|---|---|---|---|---|---|---|---|---|---|---|")
                 for exp, setup in mazes:
                     c = cells.get((exp, base))
                     n = int(setup["params"]["n"])
@@ -485,13 +522,18 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                     L.append(f"| {n} | {_fmt(pap.get('abstraction'))} | {_fmt(pap.get('dis-plan'))} | {_fmt(pap.get('con-plan'))} | "
                              f"{_fmt(tm.get('abstraction'))} | {_fmt(tm.get('sat'))} | {_fmt(tm.get('lp'))} | "
                              f"{(c.extra or {}).get('sat_calls') if c else '-'} | {(c.extra or {}).get('lp_calls') if c else '-'} | "
-                             f"{c.horizon if c else '-'} |")
+                             f"{c.horizon if c else '-'} | {_over_limit(c)} |")
+                L.append("")
+                L.append("The limit is one cold LP over the final region sequence: what the plan would cost if an oracle "
+                         "handed the planner its regions (CON-PLAN's feasibility LP built and solved from scratch on a "
+                         "fresh HiGHS instance, median over the solved runs); total / limit is the search's overhead.")
                 L.append("")
             _plot_bars(groups, dict(series), "Reach, Table I: mazes (log scale)", out / "reach-table1.png", dict(lims))
             L.append(f"![Table I]({image_prefix}reach-table1.png)")
             figs.append("reach-table1.png")
             L.append("")
         if mazes:
+            L += _gcs_table(cells, mazes)
             L += _counterexample_table(cells, mazes)
         chains = _instances(cells, "chain")
         if chains:
@@ -501,17 +543,39 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                      "we use integrator chains of order k (n = 2k states).")
             L.append("")
             used = [p for p in reach_planners if any((e, p) in cells for e, _ in chains)]
-            hdr = ["passages", "k", "states n"] + used
+            hdr = ["passages", "k", "states n"] + used + ["lazy-smt horizon", "lazy-smt total / limit"]
             L.append("| " + " | ".join(hdr) + " |")
             L.append("|" + "---|" * len(hdr))
             for exp, setup in chains:
                 n, k = int(setup["params"]["n"]), int(setup["params"]["k"])
                 row = [str(n), str(k), str(2 * k)] + [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]
+                lz = cells.get((exp, "lazy-smt"))
+                row += [str(lz.horizon) if lz and lz.solved else "-", _over_limit(lz)]
                 L.append("| " + " | ".join(row) + " |")
             L.append("")
             _plot_chain(cells, chains, used, out / "reach-figure4.png")
             L.append(f"![Figure 4]({image_prefix}reach-figure4.png)")
             figs.append("reach-figure4.png")
+            L.append("")
+        rdyn = _instances(cells, "random-dynamics")
+        if rdyn:
+            from plansynth.reach.families import random_dynamics
+
+            L.append("### Figure 4 with random dynamics (the paper's setting: random A, B)")
+            L.append("")
+            L.append((random_dynamics.__doc__ or "").split("\n\n")[1].replace("\n", " ").strip())
+            L.append("")
+            used = [p for p in reach_planners if any((e, p) in cells for e, _ in rdyn)]
+            hdr = ["passages", "states n", "seed"] + used + ["lazy-smt horizon", "lazy-smt total / limit"]
+            L.append("| " + " | ".join(hdr) + " |")
+            L.append("|" + "---|" * len(hdr))
+            for exp, setup in sorted(rdyn, key=lambda es: (int(es[1]["params"]["n"]), int(es[1]["params"]["states"]))):
+                pr = setup["params"]
+                row = [str(pr["n"]), str(pr["states"]), str(pr.get("seed", 0))]
+                row += [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]
+                lz = cells.get((exp, "lazy-smt"))
+                row += [str(lz.horizon) if lz and lz.solved else "-", _over_limit(lz)]
+                L.append("| " + " | ".join(row) + " |")
             L.append("")
         rnd = _instances(cells, "random")
         if rnd:
@@ -527,6 +591,38 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
     report = out / "REPORT.md"
     write_output(report, "\n".join(L) + "\n")
     return report
+
+
+def _gcs_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, dict[str, Any]]]) -> list[str]:
+    """GCS (Drake) beside lazy-smt on the mazes, with the difference in guarantee."""
+    if not any((e, "gcs") in cells for e, _ in mazes):
+        return []
+    from plansynth.reach.gcs import GUARANTEE
+
+    L = ["### Graphs of Convex Sets (Drake) beside lazy SMT", "",
+         "`gcs`: Marcucci, Petersen, von Wrangel and Tedrake, \"Motion planning around obstacles with convex "
+         "optimization\", Science Robotics 2023, through Drake's `GcsTrajectoryOptimization`, over *our* convex "
+         "regions (the lazy planner's decomposition and adjacency); like-for-like variant: Bezier order 5, velocity "
+         "continuity, |v| and |a| bounds of the problem, start at rest, the goal box as the target set, Clarabel "
+         "relaxation + IPOPT rounding, time in units of 10 s. **The guarantees differ**: lazy-smt returns a "
+         "trajectory of the exact discrete dynamics x' = A x + B u (|u| <= 1, every sample and segment free); "
+         f"gcs returns a {GUARANTEE}.", "",
+         "Times include the validator's checks (for gcs: the samples at dt and the dense curve, several thousand "
+         "samples); the planner-only columns leave them out.", "",
+         "| maze | gcs | gcs curve duration (s) | lazy-smt | lazy-smt horizon x dt (s) | gcs / lazy-smt | "
+         "planner only: gcs / lazy-smt |",
+         "|---|---|---|---|---|---|---|"]
+    for exp, setup in mazes:
+        g, lz = cells.get((exp, "gcs")), cells.get((exp, "lazy-smt"))
+        gd = (g.extra or {}).get("duration") if g and g.solved else None
+        ld = (lz.extra or {}).get("duration") if lz and lz.solved else None
+        gp = (g.extra or {}).get("planner_median") if g and g.solved else None
+        lp = (lz.extra or {}).get("planner_median") if lz and lz.solved else None
+        only = f"{_fmt(gp)} / {_fmt(lp)} = {gp / lp:.3g}" if gp and lp else "-"
+        L.append(f"| {int(setup['params']['n'])} | {g.text() if g else '-'} | {_fmt(gd)} | {lz.text() if lz else '-'} | "
+                 f"{_fmt(ld)} | {_ratio(g, lz)} | {only} |")
+    L.append("")
+    return L
 
 
 # lazy-smt configurations compared by their counterexamples (Section V), in table order

@@ -134,7 +134,7 @@ def _accepted_options(planner: str) -> frozenset[str]:
 @app.command("solve", epilog=SOLVE_EPILOG)
 def solve_command(
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
-    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp, or a baseline: milp-bigm, rrt, est, kpiece."),
+    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
@@ -151,6 +151,7 @@ def solve_command(
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
     widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
     paper: bool = typer.Option(False, "--paper", help="lazy-smt: the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); overrides the options above."),
+    variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest), surrogate (velocity continuity only as Drake's convex surrogate) or convex (continuity of the curve only)."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -181,6 +182,12 @@ def solve_command(
                        widen=widen, wait_shifts=wait_shifts)
         if paper:
             options.update(PAPER)
+    if variant is not None:
+        from plansynth.reach.gcs import VARIANTS
+
+        if planner != "gcs" or variant not in VARIANTS:
+            raise typer.BadParameter(f"is a gcs option, one of {', '.join(VARIANTS)}", param_hint="--variant")
+        options["variant"] = variant
     accepts = _accepted_options(planner)
     if max_horizon is not None and "max_horizon" not in accepts:
         raise typer.BadParameter(f"the {planner} planner has no horizon bound", param_hint="--max-horizon")
@@ -222,7 +229,9 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
         from plansynth.reach.plot import animate as make_gif
         from plansynth.reach.plot import plot_problem
 
-        abstraction = abstract(problem)
+        from plansynth.reach.robot import configuration_space
+
+        abstraction = abstract(configuration_space(problem))  # the regions the planner saw
         if plot is not None:
             plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
                          title=f"{problem.name}: {result.planner}, horizon {result.horizon}, {abstraction.n_regions} regions")
@@ -240,6 +249,7 @@ def validate_command(
     result_file: Path = typer.Argument(..., help="Result JSON with states and inputs."),
     segment_safe: bool = typer.Option(False, "--segment-safe", help="Also require every segment to avoid the obstacles."),
     tol: float = typer.Option(1e-6, "--tol", help="Tolerance of every check."),
+    dynamics: Optional[str] = typer.Option(None, "--dynamics", help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact."),
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
     from plansynth.reach.problem import load_reach_problem
@@ -264,7 +274,14 @@ def validate_command(
     claimed = claim is True or doc.get("guarantee") == "segments"
     if claimed and not segment_safe:
         console.print("the result claims segment safety: segments are checked too", highlight=False)
-    report = validate(problem, trajectory, require_segment_safe=segment_safe or claimed, tol=tol)
+    if dynamics is None:
+        dynamics = "curve" if doc.get("guarantee") == "curve" else "exact"
+    if dynamics not in ("exact", "curve"):
+        raise typer.BadParameter("must be exact or curve", param_hint="--dynamics")
+    report = validate(problem, trajectory, require_segment_safe=segment_safe or claimed, tol=tol, dynamics=dynamics)
+    if dynamics == "curve":
+        console.print("dynamics: curve (the samples of a continuous-time curve; x' = A x + B u is not required)",
+                      highlight=False)
     style = "bold green" if report.ok else "bold red"
     console.print(f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False)
     for v in report.violations[:50]:
@@ -302,7 +319,9 @@ def plot_command(
                 regions = tuple(raw)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
-    abstraction = abstract(problem)
+    from plansynth.reach.robot import configuration_space
+
+    abstraction = abstract(configuration_space(problem))  # the regions the planners see
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
         raise typer.Exit(EXIT_BAD_INPUT)

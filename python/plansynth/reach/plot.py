@@ -28,6 +28,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon as MplPolygon
 from matplotlib.patches import Rectangle
+from matplotlib.patches import Circle
 
 from plansynth.io import atomic_output
 from plansynth.reach.decompose import Abstraction
@@ -122,6 +123,27 @@ def plot_problem(
     g = np.array(problem.goal.vertices) if not isinstance(problem.goal, Box) else np.array([problem.goal.lo, problem.goal.hi])
     gc = g.mean(axis=0)
     ax.annotate("goal", (gc[0], gc[1]), fontsize=8, color="black", ha="center", va="center", zorder=6)
+
+    robot = problem.robot_shape
+    if robot is not None and not robot.is_point:
+        # a sized robot: the grown obstacles its reference point avoids (dashed), and its
+        # footprint along the trajectory (plansynth.reach.robot)
+        from plansynth.reach.robot import configuration_space
+
+        for ob in configuration_space(problem).obstacles:
+            ax.add_patch(_shape_patch(ob, facecolor="none", edgecolor="black", linestyle="--", linewidth=0.6, zorder=4))
+        if trajectory is not None:
+            P = trajectory.positions(problem.dynamics.position)
+            every = max(1, len(P) // 40)
+            for q in P[::every]:
+                if robot.radius is not None:
+                    patch = Circle((q[0], q[1]), robot.radius, facecolor=TRAJ, alpha=0.12, edgecolor=TRAJ, linewidth=0.4)
+                else:
+                    hx, hy = robot.half_extent[:2]  # type: ignore[index]
+                    patch = Rectangle((q[0] - hx, q[1] - hy), 2 * hx, 2 * hy, facecolor=TRAJ, alpha=0.12, edgecolor=TRAJ,
+                                      linewidth=0.4)
+                patch.set_zorder(6.5)
+                ax.add_patch(patch)
 
     if trajectory is not None:
         P = trajectory.positions(problem.dynamics.position)

@@ -44,6 +44,7 @@ __all__ = [
     "Polygon",
     "Shape",
     "LinearDynamics",
+    "RobotShape",
     "ReachProblem",
     "halfspaces",
     "is_convex",
@@ -313,6 +314,45 @@ class LinearDynamics:
         return hash(self._key())
 
 
+# --------------------------------------------------------------------------- robot
+
+
+@dataclass(frozen=True)
+class RobotShape:
+    """The robot's extent around its reference point: a disc (``radius``, 2-D) or an
+    axis-aligned box (``half_extent`` per axis); neither (or zero) is a point robot.
+    File keys ``robot.radius`` / ``robot.half_extent``; see :mod:`plansynth.reach.robot`.
+
+    >>> RobotShape(radius=0.5).margins(2), RobotShape(half_extent=(0.2, 0.3)).margins(2)
+    ((0.5, 0.5), (0.2, 0.3))
+    """
+
+    radius: float | None = None
+    half_extent: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.radius is not None and self.half_extent is not None:
+            raise ValueError("a robot is a disc (radius) or a box (half_extent), not both")
+        if self.radius is not None:
+            object.__setattr__(self, "radius", float(self.radius))
+        if self.half_extent is not None:
+            object.__setattr__(self, "half_extent", tuple(float(v) for v in self.half_extent))
+
+    @property
+    def is_point(self) -> bool:
+        if self.radius is not None:
+            return self.radius == 0.0
+        return self.half_extent is None or all(v == 0.0 for v in self.half_extent)
+
+    def margins(self, dim: int) -> tuple[float, ...]:
+        """How far the robot reaches from its reference point along each axis."""
+        if self.radius is not None:
+            return (self.radius,) * dim
+        if self.half_extent is None:
+            return (0.0,) * dim
+        return self.half_extent
+
+
 # --------------------------------------------------------------------------- problem
 
 
@@ -335,6 +375,7 @@ class ReachProblem:
     max_horizon: int = DEFAULT_MAX_HORIZON
     name: str = "reach"
     source: str | None = field(default=None)
+    robot_shape: RobotShape | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
@@ -374,6 +415,7 @@ class ReachProblem:
             self.state_bounds,
             self.max_horizon,
             self.name,
+            None if self.robot_shape is None or self.robot_shape.is_point else self.robot_shape,
         )
 
     def __eq__(self, other: object) -> bool:
@@ -431,6 +473,9 @@ def _check_problem(p: ReachProblem) -> None:
         raise InvalidProblem(src, "max_horizon", f"must be a positive integer, got {p.max_horizon!r}")
 
     pos = p.start[list(dyn.position)]
+    if p.robot_shape is not None and not p.robot_shape.is_point:
+        _check_robot(p, pos)
+        return
     if not ws.contains(pos):
         raise InvalidProblem(src, "robot.start", f"position {_fmt(pos)} lies outside the workspace {ws.lo}..{ws.hi}")
     for i, ob in enumerate(p.obstacles):
@@ -441,6 +486,50 @@ def _check_problem(p: ReachProblem) -> None:
     if free_measure(ws, p.obstacles, p.goal) <= 0.0:
         reason = "lies outside the workspace" if _measure_in_workspace(ws, p.goal) <= 0.0 else "lies inside obstacles"
         raise InvalidProblem(src, "goal", f"unreachable: it {reason} (no free area/volume)")
+
+
+def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
+    """The start and goal checks for a sized robot (the robot's extent, not its point)."""
+    from plansynth.reach.robot import configuration_space
+
+    src, rb = p.source, p.robot_shape
+    assert rb is not None
+    if rb.radius is not None:
+        if not math.isfinite(rb.radius) or rb.radius < 0:
+            raise InvalidProblem(src, "robot.radius", f"must be a non-negative number, got {rb.radius}")
+        if p.dim != 2:
+            raise InvalidProblem(src, "robot.radius", "a disc robot needs a 2-D workspace (give robot.half_extent in 3-D)")
+    else:
+        h = rb.half_extent or ()
+        if len(h) != p.dim:
+            raise InvalidProblem(src, "robot.half_extent", f"must give {p.dim} half-extents (one per workspace axis), got {len(h)}")
+        if any(not math.isfinite(v) or v < 0 for v in h):
+            raise InvalidProblem(src, "robot.half_extent", f"half-extents must be non-negative numbers, got {list(h)}")
+    what = f"disc of radius {rb.radius:g}" if rb.radius is not None else f"box of half-extents {list(rb.half_extent or ())}"
+    m = np.array(rb.margins(p.dim))
+    ws = p.workspace
+    if np.any(pos - m < np.array(ws.lo)) or np.any(pos + m > np.array(ws.hi)):
+        raise InvalidProblem(src, "robot.start", f"the robot ({what}) at {_fmt(pos)} does not fit in the workspace")
+    for i, ob in enumerate(p.obstacles):
+        if rb.radius is not None:
+            if shape_to_shapely(ob).distance(shapely.Point(float(pos[0]), float(pos[1]))) < rb.radius - 1e-12 \
+                    or point_in_interior(ob, pos):
+                raise InvalidProblem(src, "robot.start", f"the robot ({what}) at {_fmt(pos)} overlaps obstacles[{i}]")
+        elif isinstance(ob, Box):
+            if all(l - e < x < u + e for l, u, e, x in zip(ob.lo, ob.hi, m, pos)):
+                raise InvalidProblem(src, "robot.start", f"the robot ({what}) at {_fmt(pos)} overlaps obstacles[{i}]")
+        else:
+            body = _sh_box(pos[0] - m[0], pos[1] - m[1], pos[0] + m[0], pos[1] + m[1])
+            if shapely.relate_pattern(shape_to_shapely(ob), body, "T********"):
+                raise InvalidProblem(src, "robot.start", f"the robot ({what}) at {_fmt(pos)} overlaps obstacles[{i}]")
+    try:
+        configuration_space(p)  # the point-robot problem the planners solve, checked in turn
+    except InvalidProblem as exc:
+        if exc.field == "goal":
+            raise InvalidProblem(src, "goal", f"unreachable for the robot ({what}): no free area of the goal is at "
+                                              "the robot's clearance from the obstacles and the workspace's border") from None
+        raise InvalidProblem(src, exc.field, f"for the robot ({what}), in its configuration space (obstacles grown "
+                                             f"by an outer approximation): {exc.reason}") from None
 
 
 def _fmt(v: np.ndarray) -> str:
@@ -554,7 +643,7 @@ def free_measure(ws: Box, obstacles: Sequence[Shape], shape: Shape) -> float:
 # --------------------------------------------------------------------------- loading
 
 _TOP_KEYS = {"workspace", "obstacles", "goal", "robot", "max_horizon", "name"}
-_ROBOT_KEYS = {"dynamics", "start", "input_bound", "state_bounds"}
+_ROBOT_KEYS = {"dynamics", "start", "input_bound", "state_bounds", "radius", "half_extent"}
 
 
 def load_reach_problem(path: str | Path) -> ReachProblem:
@@ -592,6 +681,17 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     state_bounds = None if sb_raw is None else _parse_box(sb_raw, source, "robot.state_bounds", allow_flat=True)
     if state_bounds is not None and state_bounds.dim != n:
         raise InvalidProblem(source, "robot.state_bounds", f"must be {n}-dimensional like the state, got {state_bounds.dim}")
+    radius_raw, half_raw = robot.optional("radius"), robot.optional("half_extent")
+    robot_shape = None
+    if radius_raw is not None and half_raw is not None:
+        raise InvalidProblem(source, "robot.radius", "give either radius (a disc) or half_extent (a box), not both")
+    if radius_raw is not None:
+        r = as_float(radius_raw, source, "robot.radius")
+        if not math.isfinite(r) or r < 0:
+            raise InvalidProblem(source, "robot.radius", f"must be a non-negative number, got {r}")
+        robot_shape = RobotShape(radius=r)
+    elif half_raw is not None:
+        robot_shape = RobotShape(half_extent=tuple(as_float_vector(half_raw, source, "robot.half_extent", d)))
     max_horizon = as_int(top.optional("max_horizon", DEFAULT_MAX_HORIZON), source, "max_horizon", hi=MAX_HORIZON)
     if max_horizon <= 0:
         raise InvalidProblem(source, "max_horizon", f"must be positive, got {max_horizon}")
@@ -611,6 +711,7 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
         max_horizon=max_horizon,
         name=name,
         source=source,
+        robot_shape=robot_shape,
     )
 
 
@@ -756,6 +857,12 @@ def reach_problem_to_dict(problem: ReachProblem) -> dict:
     }
     if problem.state_bounds is not None:
         robot["state_bounds"] = _box_to_dict(problem.state_bounds)
+    rs = problem.robot_shape
+    if rs is not None and not rs.is_point:
+        if rs.radius is not None:
+            robot["radius"] = _num(rs.radius)
+        else:
+            robot["half_extent"] = [_num(v) for v in rs.half_extent]  # type: ignore[union-attr]
     return {
         "name": problem.name,
         "workspace": _box_to_dict(problem.workspace),

@@ -49,7 +49,7 @@ def solver_versions() -> dict[str, str]:
     from importlib.metadata import PackageNotFoundError, version
 
     out = {}
-    for dist in ("plansynth", "highspy", "python-sat", "numpy", "shapely"):
+    for dist in ("plansynth", "highspy", "python-sat", "numpy", "shapely", "drake"):
         try:
             out[dist] = version(dist)
         except PackageNotFoundError:  # pragma: no cover - depends on the install
@@ -68,7 +68,10 @@ class ReachResult:
     region-based planners. ``segment_safe``: the validator's finding that every segment
     between consecutive samples avoids the obstacles (None without a trajectory);
     ``guarantee``: what the planner enforced by construction, ``"segments"`` or
-    ``"samples"`` (the paper's guarantee). ``validated``: the validator accepted the
+    ``"samples"`` (the paper's guarantee) or ``"curve"`` (a continuous-time curve, not a
+    trajectory of the exact discrete dynamics: ``gcs``, see
+    :data:`plansynth.reach.gcs.GUARANTEE`; then ``curve`` holds its dense sampling at
+    ``curve_times`` and ``curve_validation`` the validator's report on it). ``validated``: the validator accepted the
     trajectory (None when there is none); ``validation``: its report.
     """
 
@@ -86,6 +89,11 @@ class ReachResult:
     validation: ValidationReport | None = None
     message: str = ""
     guarantee: str | None = None
+    # planners that return a continuous-time curve (``guarantee="curve"``, e.g. gcs): its
+    # dense sampling, the sample times (seconds) and the validator's report on it
+    curve: Trajectory | None = None
+    curve_times: tuple[float, ...] | None = None
+    curve_validation: ValidationReport | None = None
 
     def to_json_dict(self) -> dict[str, Any]:
         """The result file of the spec (keys status, planner, seconds, states, inputs,
@@ -107,6 +115,7 @@ class ReachResult:
             "timings": _jsonable(self.timings),
             "options": _jsonable(self.options),
             "message": self.message,
+            "curve_validation": None if self.curve_validation is None else self.curve_validation.to_json_dict(),
             "versions": solver_versions(),
         }
 

@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import logging
 import time
+
+import numpy as np
 from dataclasses import replace
 from typing import Any, Protocol
 
@@ -80,6 +82,7 @@ _PLANNERS: dict[str, str | Planner] = {
     "rrt": "plansynth.reach.rrt:plan_rrt_rrt",
     "est": "plansynth.reach.rrt:plan_rrt_est",
     "kpiece": "plansynth.reach.rrt:plan_rrt_kpiece",
+    "gcs": "plansynth.reach.gcs:plan_gcs",  # Drake's Graphs of Convex Sets
 }
 
 
@@ -94,7 +97,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece')
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs')
     """
     return tuple(_PLANNERS)
 
@@ -110,7 +113,7 @@ def get_planner(name: str) -> Planner:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece, gcs
     """
     entry = _PLANNERS.get(name)
     if entry is None:
@@ -137,6 +140,8 @@ def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 
         return replace(result, status=ReachStatus.UNKNOWN, validated=False,
                        message=f"{result.planner} reported found without a trajectory")
     t0 = time.perf_counter()
+    if result.guarantee == "curve":
+        return _validate_curve(problem, result, tol=tol)
     report = validate(problem, result.trajectory, require_segment_safe=result.guarantee == "segments", tol=tol)
     seconds = time.perf_counter() - t0
     timings = {**result.timings, "validate": seconds}
@@ -153,6 +158,31 @@ def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 
     )
 
 
+def _validate_curve(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
+    """A continuous-time curve (guarantee ``"curve"``, the gcs planner): its samples at dt
+    and its dense sampling both pass the validator in ``dynamics="curve"`` mode (the
+    dense one segment-safe and with the derivative check), or it is not ``found``."""
+    t0 = time.perf_counter()
+    report = validate(problem, result.trajectory, tol=tol, dynamics="curve")
+    dense = None
+    if result.curve is not None:
+        dense = validate(problem, result.curve, require_segment_safe=True, tol=tol, dynamics="curve",
+                         times=None if result.curve_times is None else np.array(result.curve_times))
+    seconds = time.perf_counter() - t0
+    timings = {**result.timings, "validate": seconds}
+    total = result.seconds + seconds
+    timings["total"] = total
+    ok = report.ok and dense is not None and dense.ok
+    if ok:
+        return replace(result, validated=True, validation=report, curve_validation=dense,
+                       segment_safe=report.segment_safe, timings=timings, seconds=total)
+    why = report.summary() if not report.ok else ("no dense curve to check" if dense is None else f"dense curve: {dense.summary()}")
+    log.error("planner %s returned a curve that fails validation: %s", result.planner, why)
+    return replace(result, status=ReachStatus.UNKNOWN, validated=False, validation=report, curve_validation=dense,
+                   segment_safe=report.segment_safe, timings=timings, seconds=total,
+                   message=f"the {result.planner} curve failed validation and is not reported as found: {why}")
+
+
 def solve(
     problem: ReachProblem,
     planner: str = "lazy-smt",
@@ -165,5 +195,18 @@ def solve(
     ``segment_safe``, ``generalize``, ``progress``, ...; milp: ``max_horizon``,
     ``segment_safe``, ``start_horizon``, ``progress``).
     """
-    result = get_planner(planner)(problem, budget, **options)
+    run = get_planner(planner)
+    robot = problem.robot_shape
+    if robot is not None and not robot.is_point:
+        # a sized robot: every planner plans for its reference point in the configuration
+        # space (obstacles grown, workspace shrunk: plansynth.reach.robot); the validator
+        # checks the answer against the original problem, clearance included
+        from plansynth.reach.robot import configuration_space, robot_note
+
+        result = run(configuration_space(problem), budget, **options)
+        note = robot_note(robot)
+        result = replace(result, message=f"{result.message}; {note}" if result.message else note,
+                         options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}})
+        return validate_result(problem, result)
+    result = run(problem, budget, **options)
     return validate_result(problem, result)

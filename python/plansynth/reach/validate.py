@@ -15,9 +15,27 @@ Checks, each reported as a :class:`Violation` of a named ``kind``:
 ``state-bound`` a state component outside ``state_bounds`` by more than tol;
 ``workspace``   a position outside the workspace by more than tol;
 ``obstacle``    a position inside an obstacle deeper than tol (boundary is allowed);
+                with a sized robot (``robot.radius`` / ``robot.half_extent``): a disc
+                robot's position closer than R - tol to an obstacle (Euclidean distance,
+                shapely), a box robot's box meeting an obstacle's interior (box obstacles:
+                exact slab test on the grown box; polygons: shapely); the workspace check
+                then keeps the robot's whole extent inside;
 ``goal``        the final position outside the goal by more than tol;
 ``segment``     the straight segment between consecutive positions enters an obstacle
-                deeper than tol (only an error when ``require_segment_safe``).
+                deeper than tol (only an error when ``require_segment_safe``); with a
+                sized robot: the segment's distance below R - tol, or the area the box
+                sweeps along it meeting an obstacle's interior;
+``derivative``  (``dynamics="curve"`` with sample ``times``, named integrator models
+                only) a derivative changes faster between two samples than the bound
+                of the next derivative allows: ``|d_i(t') - d_i(t)|_inf > b_{i+1} (t' - t)
+                + tol`` (``b`` from the state bounds, the input bound for the last).
+
+``dynamics="exact"`` (the default) is Definition 2.3. ``dynamics="curve"`` is for the
+samples of a continuous-time curve (the ``gcs`` planner, guarantee ``"curve"``): the
+exact discrete dynamics are *not* required (the residual is still measured and
+reported as ``max_dynamics_error``), every other check is made, and with ``times`` the
+derivative check above, which a curve with |a| <= input_bound passes and a velocity
+jump fails.
 
 >>> from plansynth.reach.problem import Box, ReachProblem
 >>> from plansynth.reach.dynamics import single_integrator
@@ -47,7 +65,9 @@ from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["Violation", "ValidationReport", "validate", "VIOLATION_KINDS"]
 
-VIOLATION_KINDS = ("shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment")
+VIOLATION_KINDS = ("shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment",
+                   "derivative")
+DYNAMICS_MODES = ("exact", "curve")
 
 
 @dataclass(frozen=True)
@@ -81,6 +101,7 @@ class ValidationReport:
     tol: float
     require_segment_safe: bool
     counts: dict[str, int] = field(default_factory=dict)
+    dynamics: str = "exact"
 
     def __bool__(self) -> bool:
         raise TypeError("a ValidationReport has no truth value; read .ok or .segment_safe")
@@ -102,6 +123,7 @@ class ValidationReport:
             "max_input": self.max_input,
             "horizon": self.horizon,
             "tol": self.tol,
+            "dynamics": self.dynamics,
             "violations": [{"kind": v.kind, "step": v.step, "detail": v.detail} for v in self.violations],
         }
 
@@ -153,6 +175,59 @@ class _Obstacle:
         return bool(shapely.relate_pattern(self.geom, g, "T********"))
 
 
+class _DiscClearance:
+    """A disc robot of radius R against one obstacle: a sample or a segment is too close
+    when its Euclidean distance to the obstacle is below R - tol (or it is inside)."""
+
+    def __init__(self, shape: Shape, radius: float, tol: float) -> None:
+        from plansynth.reach.problem import shape_to_shapely
+
+        self.geom = shape_to_shapely(shape)
+        shapely.prepare(self.geom)
+        self.limit = radius - tol
+
+    def hits(self, p: np.ndarray, q: np.ndarray | None = None) -> bool:
+        g = Point(p[0], p[1]) if q is None or np.array_equal(p, q) else LineString([p[:2], q[:2]])
+        return bool(self.geom.distance(g) < self.limit)
+
+
+class _SweptBox:
+    """A box robot against a polygon obstacle: the robot's box at a sample, or the area
+    it sweeps along a segment (the convex hull of the boxes at both ends), must not meet
+    the obstacle's interior deeper than tol."""
+
+    def __init__(self, shape: Shape, half: tuple[float, ...], tol: float) -> None:
+        poly = ShPolygon(shape.vertices)  # type: ignore[union-attr]
+        self.geom = poly.buffer(-tol, join_style="mitre") if tol > 0 else poly
+        shapely.prepare(self.geom)
+        self.h = np.array(half[:2])
+
+    def hits(self, p: np.ndarray, q: np.ndarray | None = None) -> bool:
+        if self.geom.is_empty:
+            return False
+        pts = [p[:2]] if q is None else [p[:2], q[:2]]
+        corners = [c + s * self.h for c in pts for s in (np.array([-1, -1]), np.array([1, -1]), np.array([1, 1]), np.array([-1, 1]))]
+        body = shapely.MultiPoint([tuple(c) for c in corners]).convex_hull
+        return bool(shapely.relate_pattern(self.geom, body, "T********"))
+
+
+def _obstacle_checks(problem: ReachProblem, tol: float) -> list:
+    """One checker per obstacle, for the point robot or the problem's sized robot."""
+    robot = problem.robot_shape
+    if robot is None or robot.is_point:
+        return [_Obstacle(o, tol) for o in problem.obstacles]
+    out: list = []
+    for o in problem.obstacles:
+        if robot.radius is not None:
+            out.append(_DiscClearance(o, robot.radius, tol))
+        elif isinstance(o, Box):
+            h = robot.half_extent
+            out.append(_Obstacle(Box(tuple(l - e for l, e in zip(o.lo, h)), tuple(u + e for u, e in zip(o.hi, h))), tol))  # exact
+        else:
+            out.append(_SweptBox(o, robot.half_extent, tol))  # type: ignore[arg-type]
+    return out
+
+
 def _in_shape(shape: Shape, p: np.ndarray, tol: float) -> bool:
     if isinstance(shape, Box):
         return bool(np.all(p >= np.array(shape.lo) - tol) and np.all(p <= np.array(shape.hi) + tol))
@@ -193,10 +268,16 @@ def validate(
     *,
     require_segment_safe: bool = False,
     tol: float = 1e-6,
+    dynamics: str = "exact",
+    times: "np.ndarray | None" = None,
 ) -> ValidationReport:
     """Check ``trajectory`` against ``problem`` (Definition 2.3) and report every violation.
 
+    ``dynamics``: ``"exact"`` or ``"curve"`` (see the module doc); ``times``: the sample
+    times in seconds (curve mode only), for the derivative check.
     ``tol`` must pass :func:`tolerance_problem` (ValueError otherwise)."""
+    if dynamics not in DYNAMICS_MODES:
+        raise ValueError(f"unknown dynamics mode {dynamics!r} (known: {', '.join(DYNAMICS_MODES)})")
     why = tolerance_problem(problem, tol)
     if why is not None:
         raise ValueError(f"validation tolerance {why}")
@@ -220,6 +301,7 @@ def validate(
             tol=tol,
             require_segment_safe=require_segment_safe,
             counts=counts,
+            dynamics=dynamics,
         )
 
     if X.shape[1] != n or (N > 0 and U.shape[1] != m):
@@ -241,12 +323,15 @@ def validate(
         pred = dyn.A @ X[t] + dyn.B @ U[t]
         err = float(np.max(np.abs(X[t + 1] - pred)))
         max_err = max(max_err, err)
-        if err > tol * max(1.0, float(np.max(np.abs(X[t + 1])))):
+        if dynamics == "exact" and err > tol * max(1.0, float(np.max(np.abs(X[t + 1])))):
             viol.append(Violation("dynamics", t, f"|x_{t + 1} - (A x_{t} + B u_{t})|_inf = {err:.3g}"))
         un = float(np.max(np.abs(U[t]))) if m else 0.0
         max_u = max(max_u, un)
         if un > problem.input_bound + tol:
             viol.append(Violation("input", t, f"|u_{t}|_inf = {un:.6g} exceeds the bound {problem.input_bound:g}"))
+
+    if dynamics == "curve" and times is not None:
+        _derivative_check(problem, X, np.asarray(times, dtype=float), tol, viol)
 
     # state bounds
     if problem.state_bounds is not None:
@@ -260,7 +345,10 @@ def validate(
     # positions: workspace, obstacles, goal
     P = X[:, list(dyn.position)]
     ws_lo, ws_hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
-    obstacles = [_Obstacle(o, tol) for o in problem.obstacles]
+    if problem.robot_shape is not None:  # the robot's extent stays in the workspace
+        margin = np.array(problem.robot_shape.margins(problem.dim))
+        ws_lo, ws_hi = ws_lo + margin, ws_hi - margin
+    obstacles = _obstacle_checks(problem, tol)
     for t in range(N + 1):
         p = P[t]
         if np.any(p < ws_lo - tol) or np.any(p > ws_hi + tol):
@@ -280,6 +368,39 @@ def validate(
                 if require_segment_safe:
                     viol.append(Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]"))
     return report(not viol, segment_safe, max_err, max_u)
+
+
+def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, tol: float, viol: list[Violation]) -> None:
+    """Curve mode: between two samples, each derivative block of a named integrator
+    model moves by at most the bound of the next derivative times the time between them."""
+    dyn = problem.dynamics
+    order = {"single-integrator": 1, "double-integrator": 2}.get(dyn.model, dyn.order if dyn.model == "integrator-chain" else None)
+    d = problem.dim
+    if order is None or X.shape[0] != times.shape[0]:
+        if X.shape[0] != times.shape[0]:
+            viol.append(Violation("shape", None, f"{times.shape[0]} sample times for {X.shape[0]} states"))
+        return
+    bounds: list[float | None] = []
+    for i in range(1, order + 1):
+        if i == order:
+            bounds.append(problem.input_bound)
+        elif problem.state_bounds is not None:
+            lo = np.abs(np.array(problem.state_bounds.lo[i * d:(i + 1) * d]))
+            hi = np.abs(np.array(problem.state_bounds.hi[i * d:(i + 1) * d]))
+            bounds.append(float(max(lo.max(), hi.max())))
+        else:
+            bounds.append(None)
+    gaps = np.diff(times)
+    for i in range(order):
+        b = bounds[i]
+        if b is None:
+            continue
+        block = X[:, i * d:(i + 1) * d]
+        moved = np.max(np.abs(np.diff(block, axis=0)), axis=1)
+        bad = np.nonzero(moved > b * gaps + tol * max(1.0, b))[0]
+        for t in bad[:5]:
+            what = "position" if i == 0 else f"derivative {i}"
+            viol.append(Violation("derivative", int(t), f"{what} moves by {moved[t]:.4g} in {gaps[t]:.4g} s, more than the bound {b:g} allows"))
 
 
 def _fmt(p: np.ndarray) -> str:

@@ -1,0 +1,318 @@
+"""Graphs of Convex Sets (GCS) as a baseline reach-avoid planner (``gcs``).
+
+The planner a robotics user would reach for today to plan through convex free space:
+Marcucci, Petersen, von Wrangel and Tedrake, "Motion planning around obstacles with
+convex optimization", Science Robotics 2023 (Section "Results": trajectory design with
+Bezier curves in a graph of convex sets), as implemented by Drake's
+``pydrake.planning.GcsTrajectoryOptimization``. The convex sets are *our* free-space
+regions, the ones the lazy SMT planner walks (:func:`plansynth.reach.decompose.abstract`,
+with its adjacency as the graph's edges), not Drake's IRIS regions, so both planners
+see the same decomposition.
+
+What is posed (one Bezier curve of ``order`` per visited region, a duration h per
+region, the sum of durations minimised: ``AddTimeCost``):
+
+``variant="like-for-like"`` (default), the peer of the lazy planner's semantics:
+  the workspace position and the convex regions as the sets (control points inside a
+  region keep the whole piece inside it: convex-hull property of Bezier curves), the
+  start position as the source with zero velocity (``AddZeroDerivativeConstraints``:
+  the start is at rest), the goal shape as the target set, the problem's velocity
+  bounds (the state bounds of the velocity components) as ``AddVelocityBounds``,
+  velocity continuity (the convex surrogate ``AddPathContinuityConstraints(1)`` in the
+  relaxation and the exact ``AddContinuityConstraints(1)`` in the rounding step) and
+  ``|a| <= input_bound`` (``AddNonlinearDerivativeBounds``, order 2). Drake solves the
+  convex relaxation (Clarabel), rounds it to paths and solves each path's nonconvex
+  restriction (IPOPT).
+``variant="surrogate"``: like-for-like without the exact continuity constraint, only
+  its convex surrogate (continuity of the path derivative dr/ds, which is velocity
+  continuity only where neighbouring pieces have equal durations). Much faster and
+  much more often solved by IPOPT, but its velocity jumps where a piece's duration
+  changes (maze-1: from 0.05 to 2 m/s entering the wall's gap), so the validator's
+  derivative check rejects it: it shows what the like-for-like variant costs.
+``variant="convex"``: the plain convex form, continuity of the curve only, velocity
+  bounds only: fast, but its velocity jumps at region changes and its acceleration is
+  unbounded, so it is not a peer of the discrete dynamics (the validator rejects it for
+  the double integrator: the "derivative" check).
+
+Time scaling: Drake's surrogates assume segments of about one time unit (the
+characteristic time h0 = 1 of ``AddNonlinearDerivativeBounds``; with time in seconds
+the like-for-like variant is infeasible on every maze). The planner therefore solves
+in units of ``time_unit`` seconds (default 10 s: velocity bounds scaled by T,
+acceleration bounds by T^2) and maps the curve back to seconds.
+
+The answer: the curve is re-timed to ``N dt`` with ``N = ceil(duration / dt)`` (a
+uniform stretch by a factor >= 1, which keeps every bound and the start at rest) and
+sampled at ``t_k = k dt``; the state of the sample is (position, velocity), its input
+the curve's acceleration at t_k. A denser sampling (``CURVE_SUBSTEPS`` per dt, plus
+every piece's end points) is returned as ``ReachResult.curve``. This is **not** a
+trajectory of the discrete dynamics ``x' = A x + B u`` with piecewise-constant inputs:
+the guarantee is ``"curve"`` (:data:`GUARANTEE`), and the validator runs in its
+``dynamics="curve"`` mode: positions, segments between samples, velocities and inputs
+are checked on both samplings, the derivative consistency of the dense one, and the
+dynamics residual is reported, not required.
+
+Supported robots: the named single- and double-integrator models (integrator chains of
+order 1 and 2); other dynamics raise :class:`~plansynth.errors.SolverUnavailable`.
+GCS cannot prove infeasibility (the relaxation and the rounding are heuristics): a run
+without a curve is ``unknown``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+from plansynth.budget import Budget
+from plansynth.errors import SolverUnavailable
+from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.problem import Box, ReachProblem, halfspaces
+from plansynth.reach.result import ReachResult, ReachStatus
+from plansynth.reach.trajectory import Trajectory
+
+__all__ = ["plan_gcs", "VARIANTS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
+
+VARIANTS = ("like-for-like", "surrogate", "convex")
+DEFAULT_TIME_UNIT = 10.0
+CURVE_SUBSTEPS = 10
+
+#: What a ``gcs`` result guarantees, and how that differs from the discrete planners.
+GUARANTEE = (
+    "continuous-time curve (GCS): piecewise Bezier curve with every piece's control points in one convex "
+    "free-space region, so the whole curve avoids the obstacles (convex-hull property), |v| within the velocity "
+    "bounds on the whole curve and, in the like-for-like variant, |a| <= input_bound on the whole curve and "
+    "velocity continuous; NOT a trajectory of the exact discrete dynamics x' = A x + B u with piecewise-constant "
+    "inputs (the samples at dt are states of the continuous curve: the validator checks their positions, "
+    "segments, |v| and |a|, and the dense curve, and reports the dynamics residual without requiring it)"
+)
+
+log = logging.getLogger("plansynth.reach.gcs")
+
+
+def drake_version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return version("drake")
+    except Exception:  # pragma: no cover - metadata missing
+        return "unknown"
+
+
+def _import_drake() -> dict[str, Any]:
+    try:
+        from pydrake.geometry.optimization import GraphOfConvexSetsOptions, HPolyhedron, Point
+        from pydrake.planning import GcsTrajectoryOptimization
+        from pydrake.solvers import ClarabelSolver, IpoptSolver, SolverOptions
+    except ImportError as exc:  # pragma: no cover - drake is a dependency
+        raise SolverUnavailable("gcs", "install Drake (pip install drake)") from exc
+    return {"Gcs": GcsTrajectoryOptimization, "Options": GraphOfConvexSetsOptions, "HPolyhedron": HPolyhedron,
+            "Point": Point, "Clarabel": ClarabelSolver, "Ipopt": IpoptSolver, "SolverOptions": SolverOptions}
+
+
+def _order(problem: ReachProblem) -> int:
+    """The derivative order of the robot (1: single, 2: double integrator)."""
+    dyn = problem.dynamics
+    order = {"single-integrator": 1, "double-integrator": 2}.get(dyn.model, dyn.order if dyn.model == "integrator-chain" else None)
+    if order not in (1, 2) or dyn.dt is None:
+        raise SolverUnavailable(
+            "gcs", f"GCS plans for single- and double-integrator robots only (named models of order 1 or 2); "
+                   f"this problem's dynamics are {dyn.model}" + (f" of order {dyn.order}" if dyn.order else "")
+                   + ": use lazy-smt")
+    return int(order)
+
+
+def _derivative_bounds(problem: ReachProblem, k: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """Per-axis bounds of the k-th derivative block of a named integrator model (state
+    ordered by derivative, then axis), from the state bounds; None when unbounded."""
+    if problem.state_bounds is None:
+        return None
+    d = problem.dim
+    lo = np.array(problem.state_bounds.lo[k * d:(k + 1) * d])
+    hi = np.array(problem.state_bounds.hi[k * d:(k + 1) * d])
+    if lo.size != d:
+        return None
+    return lo, hi
+
+
+def _position_box(problem: ReachProblem) -> Box:
+    """The workspace intersected with the state bounds of the position components."""
+    lo, hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
+    if problem.state_bounds is not None:
+        pos = list(problem.dynamics.position)
+        lo = np.maximum(lo, np.array(problem.state_bounds.lo)[pos])
+        hi = np.minimum(hi, np.array(problem.state_bounds.hi)[pos])
+    return Box(tuple(lo), tuple(hi))
+
+
+def plan_gcs(
+    problem: ReachProblem,
+    budget: Budget = Budget(seconds=60.0),
+    *,
+    variant: str = "like-for-like",
+    order: int = 5,
+    time_unit: float = DEFAULT_TIME_UNIT,
+    max_rounded_paths: int = 5,
+    abstraction: Abstraction | None = None,
+    segment_safe: bool = True,
+    max_horizon: int | None = None,
+    progress: Any = None,
+) -> ReachResult:
+    """Plan with Drake's GCS trajectory optimisation (see the module doc) within ``budget``.
+
+    ``budget.seconds`` becomes the time limit of Drake's solvers (Clarabel's
+    ``time_limit``, IPOPT's ``max_wall_time``) and is checked once more when Drake
+    returns: past it the status is ``unknown`` (GCS cannot be interrupted between its
+    solver calls, so it may overrun by one solver call). ``budget.iterations`` is not
+    used. The trajectory is *not* yet validated (:func:`plansynth.reach.solve` does it).
+    ``segment_safe``, ``max_horizon`` and ``progress`` (the options every planner is
+    given) do not apply: the whole curve is kept in the regions, and GCS has no horizon.
+    """
+    if variant not in VARIANTS:
+        raise ValueError(f"unknown gcs variant {variant!r} (known: {', '.join(VARIANTS)})")
+    if not time_unit > 0:
+        raise ValueError(f"time_unit must be positive, got {time_unit}")
+    k = _order(problem)
+    D = _import_drake()
+    t0 = time.perf_counter()
+    T = float(time_unit)
+    d = problem.dim
+    dt = float(problem.dynamics.dt)  # type: ignore[arg-type]
+    options = {"variant": variant, "order": order, "time_unit": T, "max_rounded_paths": max_rounded_paths,
+               "drake": drake_version(), "relaxation_solver": "Clarabel",
+               "restriction_solver": "IPOPT" if variant != "convex" and k == 2 else "Clarabel"}
+    counters: dict[str, Any] = {}
+    timings: dict[str, float] = {}
+
+    def unknown(message: str) -> ReachResult:
+        timings["total"] = time.perf_counter() - t0
+        return ReachResult(status=ReachStatus.UNKNOWN, planner="gcs", seconds=timings["total"], counters=counters,
+                           timings=timings, options=options, message=message, guarantee="curve")
+
+    ta = time.perf_counter()
+    a = abstraction if abstraction is not None else abstract(problem)
+    timings["abstraction"] = time.perf_counter() - ta
+    counters["regions"] = a.n_regions
+    pbox = _position_box(problem)
+    Hb, hb = halfspaces(pbox)
+    sets = [D["HPolyhedron"](np.vstack([r.H, Hb]), np.concatenate([r.h, hb])) for r in a.regions]
+    edges = [(i, j) for i, nb in enumerate(a.adjacency) for j in nb]
+    Hg, hg = halfspaces(problem.goal)
+    goal_set = D["HPolyhedron"](np.vstack([Hg, Hb]), np.concatenate([hg, hb]))
+
+    tb = time.perf_counter()
+    gcs = D["Gcs"](d)
+    main = gcs.AddRegions(sets, edges, order=order, h_min=1e-6, h_max=20.0, name="free")
+    source = gcs.AddRegions([D["Point"](problem.start_position)], order=0, name="start")
+    target = gcs.AddRegions([goal_set], order=0, name="goal")
+    # the source and target connect to the regions that contain the start / meet the goal
+    src_edges = gcs.AddEdges(source, main)
+    gcs.AddEdges(main, target)
+    gcs.AddTimeCost()
+    if k == 1:
+        # single integrator: the input is the velocity
+        ub = problem.input_bound * T * np.ones(d)
+        gcs.AddVelocityBounds(-ub, ub)
+    else:
+        vb = _derivative_bounds(problem, 1)
+        if vb is not None:
+            gcs.AddVelocityBounds(vb[0] * T, vb[1] * T)
+        if variant in ("like-for-like", "surrogate"):
+            if not problem.starts_at_rest:
+                raise SolverUnavailable("gcs", f"the {variant} GCS variant starts at rest; this problem's start "
+                                               "has a nonzero velocity (use variant=convex or lazy-smt)")
+            src_edges.AddZeroDerivativeConstraints(1)
+            gcs.AddPathContinuityConstraints(1)
+            if variant == "like-for-like":
+                gcs.AddContinuityConstraints(1)
+            ab = problem.input_bound * T * T * np.ones(d)
+            gcs.AddNonlinearDerivativeBounds(-ab, ab, 2)
+    timings["build"] = time.perf_counter() - tb
+
+    opts = D["Options"]()
+    opts.convex_relaxation = True
+    opts.preprocessing = True
+    opts.max_rounded_paths = int(max_rounded_paths)
+    opts.solver = D["Clarabel"]()
+    nonconvex = variant != "convex" and k == 2
+    opts.restriction_solver = D["Ipopt"]() if nonconvex else D["Clarabel"]()
+    so = D["SolverOptions"]()
+    rso = D["SolverOptions"]()
+    if budget.seconds is not None:
+        left = max(0.05, float(budget.seconds) - (time.perf_counter() - t0))
+        so.SetOption(D["Clarabel"].id(), "time_limit", left)
+        if nonconvex:
+            rso.SetOption(D["Ipopt"].id(), "max_wall_time", left)
+        else:
+            rso.SetOption(D["Clarabel"].id(), "time_limit", left)
+    opts.solver_options = so
+    opts.restriction_solver_options = rso
+    ts = time.perf_counter()
+    prev = logging.getLogger("drake").level
+    logging.getLogger("drake").setLevel(logging.WARNING)
+    try:
+        traj, res = gcs.SolvePath(source, target, opts)
+    finally:
+        logging.getLogger("drake").setLevel(prev)
+    timings["solve"] = time.perf_counter() - ts
+    counters["solution_result"] = str(res.get_solution_result()).split(".")[-1]
+    if budget.seconds is not None and time.perf_counter() - t0 > budget.seconds:
+        return unknown(f"GCS ran past its budget of {budget.seconds:g} s ({counters['solution_result']})")
+    if not res.is_success():
+        return unknown(f"GCS found no curve ({counters['solution_result']}); GCS cannot prove infeasibility")
+
+    tr = time.perf_counter()
+    pieces = [traj.segment(i) for i in range(traj.get_number_of_segments())]
+    # the source and target pieces are constant (order 0, duration h_min): drop them
+    pieces = [p for p in pieces if p.order() > 0 and p.end_time() - p.start_time() > 1e-12]
+    t_start, t_end = pieces[0].start_time(), pieces[-1].end_time()
+    duration = (t_end - t_start) * T
+    N = max(1, math.ceil(duration / dt - 1e-9))
+    stretch = N * dt / duration if duration > 0 else 1.0  # >= 1: keeps every bound
+
+    def sample(times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position, velocity, acceleration (seconds) at re-timed times ``times_s``."""
+        tau = t_start + np.clip(times_s / (stretch * T), 0.0, t_end - t_start)
+        # evaluate on the Bezier pieces of the regions only: the source and target
+        # pieces have zero duration and order 0 (their derivatives read as zero)
+        ends = np.array([p.end_time() for p in pieces])
+        which = np.minimum(np.searchsorted(ends, tau, side="left"), len(pieces) - 1)
+        P = np.array([pieces[i].value(t).ravel() for i, t in zip(which, tau)])
+        V = np.array([pieces[i].EvalDerivative(t, 1).ravel() for i, t in zip(which, tau)]) / (T * stretch)
+        A = np.array([pieces[i].EvalDerivative(t, 2).ravel() for i, t in zip(which, tau)]) / (T * stretch) ** 2
+        return P, V, A
+
+    def states_inputs(times_s: np.ndarray) -> Trajectory:
+        P, V, A = sample(times_s)
+        n = problem.dynamics.n_states
+        X = np.zeros((len(times_s), n))
+        X[:, list(problem.dynamics.position)] = P
+        if k == 2:
+            X[:, d:2 * d] = V
+            U = A[:-1]
+        else:
+            U = V[:-1]
+        X[0] = problem.start  # the curve starts exactly there; drop round-off
+        return Trajectory(states=X, inputs=U)
+
+    times = np.arange(N + 1) * dt
+    traj_dt = states_inputs(times)
+    breaks = np.array([(p.start_time() - t_start) * T * stretch for p in pieces] + [N * dt])
+    dense = np.union1d(np.linspace(0.0, N * dt, N * CURVE_SUBSTEPS + 1), breaks)
+    curve = states_inputs(dense)
+    regions = []
+    for p in pieces:
+        mid = p.value(0.5 * (p.start_time() + p.end_time())).ravel()
+        inside = a.regions_containing(mid)
+        regions.append(inside[0] if inside else -1)
+    timings["sample"] = time.perf_counter() - tr
+    timings["total"] = time.perf_counter() - t0
+    counters.update({"pieces": len(pieces), "curve_seconds": float(N * dt), "gcs_duration": float(duration),
+                     "stretch": float(stretch), "curve_samples": int(len(dense))})
+    return ReachResult(
+        status=ReachStatus.FOUND, planner="gcs", seconds=timings["total"], trajectory=traj_dt,
+        regions=tuple(int(r) for r in regions), horizon=N, counters=counters, timings=timings, options=options,
+        guarantee="curve", message=GUARANTEE, curve=curve, curve_times=tuple(float(t) for t in dense),
+    )
