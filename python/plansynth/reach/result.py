@@ -85,6 +85,7 @@ class ReachResult:
     validation: ValidationReport | None = None
     message: str = ""
     guarantee: str | None = None
+    mission: dict[str, Any] | None = None  # LTL missions: semantics, loop_start, the checker's verdict
 
     def to_json_dict(self) -> dict[str, Any]:
         """The result file of the spec (keys status, planner, seconds, states, inputs,
@@ -107,6 +108,7 @@ class ReachResult:
             "options": _jsonable(self.options),
             "message": self.message,
             "versions": solver_versions(),
+            **({} if self.mission is None else {"mission": _jsonable(self.mission)}),
         }
 
     def write_json(self, path: str | Path) -> Path:

@@ -54,6 +54,13 @@ def _configured(**fixed: Any) -> Planner:
     return planner
 
 
+def _milp_ltl(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
+    """The mission MILP baseline (:mod:`plansynth.reach.mission.milp`), for problems with a mission."""
+    from plansynth.reach.mission.milp import plan_milp_ltl
+
+    return plan_milp_ltl(problem, budget, **options)
+
+
 _PLANNERS: dict[str, Planner] = {
     "lazy-smt": plan_lazy,
     "milp": plan_milp,
@@ -63,6 +70,8 @@ _PLANNERS: dict[str, Planner] = {
     "lazy-smt-paper-trivial": _configured(**{**PAPER, "counterexample": "trivial"}),
     # our loop with the paper's ZEROPREFIX counterexample (Farkas-shrunk) instead of the default
     "lazy-smt-zeroprefix": _configured(counterexample="zeroprefix"),
+    # LTL missions (issue 14): the bounded mission as one big-M MILP per horizon
+    "milp-ltl": _milp_ltl,
 }
 
 
@@ -122,5 +131,9 @@ def solve(
     """
     if planner not in _PLANNERS:
         raise ValueError(f"unknown planner {planner!r} (known: {', '.join(_PLANNERS)})")
+    if problem.mission is not None:  # LTL missions (issue 14): lazy-smt and milp-ltl plan them
+        from plansynth.reach.mission.planner import solve_mission
+
+        return solve_mission(problem, planner, budget, **options)
     result = _PLANNERS[planner](problem, budget, **options)
     return validate_result(problem, result)
