@@ -176,7 +176,12 @@ def solve_command(
         from plansynth.reach.plot import animate as make_gif
         from plansynth.reach.plot import plot_problem
 
-        abstraction = abstract(problem)
+        if problem.mission is not None:  # missions plan in the label-refined regions
+            from plansynth.reach.mission.labels import label_abstraction
+
+            abstraction = label_abstraction(problem).abstraction
+        else:
+            abstraction = abstract(problem)
         if plot is not None:
             plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
                          title=f"{problem.name}: {result.planner}, horizon {result.horizon}, {abstraction.n_regions} regions")
@@ -209,6 +214,13 @@ def validate_command(
         trajectory = load_trajectory(result_file)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
+    if problem.mission is not None:  # LTL missions (issue 14): validator + mission checker
+        from plansynth.reach.mission.check import validate_mission_file
+
+        ok, lines = validate_mission_file(problem, trajectory, _read_result(result_file), segment_safe=segment_safe, tol=tol)
+        for line in lines:
+            console.print(line, highlight=False)
+        raise typer.Exit(0 if ok else 1)
     report = validate(problem, trajectory, require_segment_safe=segment_safe, tol=tol)
     style = "bold green" if report.ok else "bold red"
     console.print(f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False)

@@ -314,9 +314,18 @@ class MissionDisPlan:
         ``shifted``: the proof used neither the start nor any step before k, so it holds
         for the same loop ending at every horizon (time-invariant dynamics): the clause
         is added, shifted, at every horizon built later too."""
-        lits = tuple(sorted({(int(t), int(r)) for t, r in literals}))
-        self.loop_conflicts.append((lits, int(loop_start), int(horizon), bool(shifted)))
-        self._loop_clause(lits, loop_start, horizon, 0)
+        k, L = int(loop_start), int(horizon)
+        base = tuple(sorted({(int(t), int(r)) for t, r in literals}))
+        variants = [base]
+        if shifted:
+            # a loop is a cycle: a periodic trajectory of period L - k realises the claims
+            # rotated by any number of steps iff it realises them unrotated, so every
+            # rotation (times k + (t - k + s) mod (L - k)) is refuted by the same LP
+            period = L - k
+            variants = [tuple(sorted({(k + (t - k + s) % period, r) for t, r in base})) for s in range(period)]
+        for lits in dict.fromkeys(variants):
+            self.loop_conflicts.append((lits, k, L, bool(shifted)))
+            self._loop_clause(lits, k, L, 0)
 
     def _loop_clause(self, lits: tuple[tuple[int, int], ...], k: int, L: int, shift: int) -> None:
         if k + shift < 0 or L + shift > self.built + 1 and L + shift not in self.bounded:
@@ -342,8 +351,10 @@ class MissionDisPlan:
         self.sat_calls += 1
         if horizon in self.closed:
             return SatOutcome.UNSAT, None
-        if self.semantics == "any":
-            self.solver.set_phases([self.stay(horizon)])
+        # decision phases (hints only): a finite plan first; else a loop back to the start
+        # state (the natural lasso of a robot that starts at rest)
+        hints = [s for s, j in self.selectors(horizon) if s == self.stay(horizon) or j == 1]
+        self.solver.set_phases(hints)
         while True:
             if clock is not None and clock.exhausted():
                 return SatOutcome.INTERRUPTED, None

@@ -225,3 +225,24 @@ def _first_failure(f: Formula, word: Lasso, i: int) -> tuple[int, str]:
             j = word.successor(j)
         return len(word.prefix), f"{b} never holds (checked through the loop from step {len(word.prefix)})"
     raise TypeError(f"not in negation normal form: {f!r}")  # pragma: no cover
+
+
+def validate_mission_file(problem: ReachProblem, trajectory: Trajectory, result: dict, *, segment_safe: bool = False,
+                          tol: float = 1e-6) -> tuple[bool, list[str]]:
+    """``plansynth reach validate`` for a mission: the validator (the problem's goal
+    is no constraint then) and :func:`check_mission`, with the loop start read from the
+    result file's ``mission.loop_start`` (absent: a finite plan). (ok, lines to print)."""
+    from dataclasses import replace
+
+    from rich.markup import escape
+
+    from plansynth.reach.validate import validate
+
+    loop_start = (result.get("mission") or {}).get("loop_start")
+    report = validate(replace(problem, goal=problem.workspace), trajectory, require_segment_safe=segment_safe, tol=tol)
+    mission = check_mission(problem, trajectory, loop_start, tol=tol)
+    ok = report.ok and mission.ok
+    style = "bold green" if ok else "bold red"
+    lines = [f"[{style}]{'valid' if ok else 'INVALID'}[/{style}]: {escape(report.summary())}; {escape(mission.summary())}"]
+    lines += [f"  {escape(str(v))}" for v in report.violations[:50]]
+    return ok, lines

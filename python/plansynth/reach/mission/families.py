@@ -37,7 +37,7 @@ def mission_problem(instance: str, mission: str) -> ReachProblem:
         labels = {"b": Box((9, 1), (11, 3)), "d": Box((20, 1), (22, 3)), "h": Box((14, 0), (16, 2.5))}
         text = "F (b & F d) & G !h"
     elif mission == "patrol":
-        labels = {"a": Box((0, 0), (3, 3)), "b": Box((5, 0), (7, 3))}
+        labels = {"a": Box((0, 0), (3, 3)), "b": Box((4, 0), (6, 3))}
         text = "G F a & G F b"
     elif mission == "avoid-until":
         labels = {"h": Box((8, 0), (22, 2.5)), "door": Box((27, top), (29, top + 1))}

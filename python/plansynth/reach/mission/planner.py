@@ -48,6 +48,7 @@ from plansynth.reach.mission.labels import LabelledAbstraction, label_abstractio
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.transit import TransitCheck
 
 __all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
@@ -236,13 +237,16 @@ def plan_mission(
     semantics: str = "any",
     segment_safe: bool = True,
     lower_bound: bool = True,
+    transit: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """The lazy loop for the problem's mission within ``budget`` (not yet validated:
     :func:`solve_mission` does that). ``semantics``: ``any`` (finite or lasso plans,
     finite ones first), ``finite`` or ``lasso``. ``lower_bound``: the earliest step of
     each region from the displacement-box relaxation
-    (:func:`~plansynth.reach.conplan.time_windows`) as unit clauses."""
+    (:func:`~plansynth.reach.conplan.time_windows`) as unit clauses. ``transit``: the
+    transit-time layer (:class:`~plansynth.reach.transit.TransitCheck`) in front of
+    CON-PLAN, as in the reach-avoid planner."""
     if problem.mission is None:
         raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
     if semantics not in SEMANTICS:
@@ -251,6 +255,7 @@ def plan_mission(
     clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
+               "transit": transit,
                "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     pp = planning_problem(problem)
@@ -267,6 +272,7 @@ def plan_mission(
     displan = MissionDisPlan(graph, labelled.labels_of, parse(problem.mission), semantics=semantics, earliest=earliest)
     conplan = ConPlan(pp, ab, segment_safe=segment_safe, counterexample="trivial", generalize=True, minimize=True,
                       clock=clock)
+    theory = TransitCheck(conplan, ab) if transit else conplan
     loop_lp = LoopLP(pp, ab, segment_safe=segment_safe)
     counters: dict[str, Any] = {"regions": graph.n_regions, "edges": ab.n_edges}
     guarantee = "segments" if segment_safe else "samples"
@@ -307,7 +313,7 @@ def plan_mission(
                     break
                 assert plan is not None
                 t0 = time.perf_counter()
-                answer = conplan.check(plan.regions)
+                answer = theory.check(plan.regions)
                 if isinstance(answer, Feasible) and plan.loop_start is not None:
                     traj = loop_lp.solve(plan.regions, plan.loop_start, clock.remaining())
                     timings["lp"] += time.perf_counter() - t0
@@ -322,7 +328,8 @@ def plan_mission(
                 timings["lp"] += time.perf_counter() - t0
                 if isinstance(answer, Feasible):
                     return finish(ReachStatus.FOUND, L, f"found a finite plan at horizon {L}", answer.trajectory, plan)
-                displan.learn(answer)
+                for conflict in answer if isinstance(answer, tuple) else (answer,):
+                    displan.learn(conflict)
     except LpBudgetExhausted:
         return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
     except LpFailure as exc:
@@ -368,5 +375,16 @@ def solve_mission(problem: ReachProblem, planner: str = "lazy-smt", budget: Budg
     validated and mission-checked before it is reported."""
     if planner not in MISSION_PLANNERS:
         raise ValueError(f"planner {planner!r} does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")
-    result = MISSION_PLANNERS[planner](problem, budget, **options)
+    # the reach-avoid options the CLI always passes (counterexample strategy, windows,
+    # transit, guide, ...) do not apply to missions
+    import inspect
+
+    accepted = set(inspect.signature(plan_mission if planner == "lazy-smt" else _plan_milp_ltl()).parameters)
+    result = MISSION_PLANNERS[planner](problem, budget, **{k: v for k, v in options.items() if k in accepted})
     return validate_mission_result(problem, result)
+
+
+def _plan_milp_ltl():
+    from plansynth.reach.mission.milp import plan_milp_ltl
+
+    return plan_milp_ltl
