@@ -95,8 +95,10 @@ def solve_mission_horizon(
         for t in range(L + 1):
             for s in ((t, t + 1) if (segment_safe and t < L) else (t,)):
                 for row, rhs, mm in zip(H, hh, M):
-                    h.addConstr(sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos))) + float(mm) * Z[t][i]
-                                <= float(rhs + mm))
+                    if mm <= 0.0:
+                        continue  # the row holds everywhere in the workspace
+                    h.addConstr(sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos)) if abs(row[k]) > 1e-12)
+                                + float(mm) * Z[t][i] <= float(rhs + mm))
     # the successor of the last position: stay (finite) or loop_j (x_L = x_{j-1})
     sels: list[tuple[Any, int, bool]] = []
     if semantics in ("any", "finite"):
