@@ -36,8 +36,9 @@ Examples:
   plansynth bench reach --family chain --values 1,2 --orders 1,2,5,10 --planners lazy-smt --timeout 120
 
   plansynth bench reach --family random --values 0,1,2 --planners lazy-smt,rrt,milp-bigm
+  plansynth bench reach --family missions --planners lazy-smt,milp-ltl --timeout 120
 
-Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random, or all.
+Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random, missions (LTL missions on the mazes: use --planners lazy-smt,milp-ltl), or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
@@ -108,7 +109,7 @@ def grid_cmd(
 
 @app.command("reach", epilog=REACH_EPILOG)
 def reach_cmd(
-    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random (repeatable or comma-separated), or all."),
+    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, missions (repeatable or comma-separated), or all."),
     values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
     planners: str = typer.Option("lazy-smt,rrt,milp-bigm", "--planners", help="Comma-separated planners."),

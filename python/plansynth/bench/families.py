@@ -278,7 +278,13 @@ def _random(seed: int, obstacles: int = 6) -> Any:
     return random_workspace(seed, obstacles)
 
 
-_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random}
+def _missions(n: int, mission: str) -> Any:
+    from plansynth.reach.mission.families import mission_problem
+
+    return mission_problem(f"maze-{n}", mission)
+
+
+_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "missions": _missions}
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
 PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
@@ -288,7 +294,7 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random")
+REACH_FAMILIES = ("maze", "chain", "random", "missions")
 
 
 def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequence[int] = (1, 2, 3, 5)) -> list[Instance]:
@@ -296,7 +302,8 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
 
     ``maze``: values are passage counts (default 1..4). ``chain``: values are passage
     counts, crossed with ``orders`` (the chain order k; 2k states). ``random``: values
-    are seeds (default 0..4).
+    are seeds (default 0..4). ``missions``: values are passage counts, each with the
+    three missions of :mod:`plansynth.reach.mission.families`.
     """
     out = []
     if name == "maze":
@@ -310,6 +317,12 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     elif name == "random":
         for s in values or [0, 1, 2, 3, 4]:
             out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))
+    elif name == "missions":  # LTL missions (issue 14): three per maze, values are passage counts
+        from plansynth.reach.mission.families import MISSIONS
+
+        for n in values or [1, 2, 3, 4]:
+            for m in MISSIONS:
+                out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
     else:
         raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
     return out

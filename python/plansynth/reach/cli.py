@@ -92,7 +92,7 @@ def _result_table(result: Any) -> Table:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
         table.add_row("LP calls by kind", ", ".join(f"{k} {v}" for k, v in c["lp_calls_by_kind"].items()))
-    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate") if k in t]
+    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate", "mission_check") if k in t]
     table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
     table.add_row("total time", f"{result.seconds:.3f} s")
     if result.validated is not None:
@@ -100,6 +100,11 @@ def _result_table(result: Any) -> Table:
     if result.guarantee is not None:
         held = "" if result.segment_safe is None else (", segments safe" if result.segment_safe else ", segments NOT safe")
         table.add_row("guarantee", f"{result.guarantee}{held}")
+    mission = getattr(result, "mission", None)
+    if mission and mission.get("semantics"):  # LTL missions (issue 14)
+        loop = "" if mission.get("loop_start") is None else f", loop from step {mission['loop_start']} (x_N = x_k)"
+        verdict = {True: ", mission checked", False: ", mission check FAILED"}.get(mission.get("ok"), "")
+        table.add_row("mission", escape(f"{mission['formula']}: {mission['semantics']} plan{loop}{verdict}"))
     if result.message:
         table.add_row("message", escape(result.message))
     return table
