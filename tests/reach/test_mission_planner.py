@@ -227,8 +227,11 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
             def matches(shift, w=None):
                 return all(0 <= t + shift <= H and w[t + shift] == r for t, r in c.literals)
             for w in walks:
-                if c.anchored_start:
-                    hit = (H == c.horizon or not c.anchored_goal) and H >= c.last_time and matches(0, w)
+                if c.anchored_start and c.anchored_goal:
+                    hit = H == c.horizon and matches(0, w)
+                elif c.anchored_start:  # and shifted earlier: the patrol starts at rest
+                    earliest = -min((t for t, _ in c.literals), default=0)
+                    hit = any(H >= c.last_time + s and matches(s, w) for s in range(earliest, 1))
                 else:
                     shifts = [H - c.horizon] if c.anchored_goal else range(-c.first_time, H - c.last_time + 1)
                     hit = any(c.first_time + s >= 0 and matches(s, w) for s in shifts)

@@ -263,7 +263,12 @@ def plot_command(
                 regions = tuple(raw)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
-    abstraction = abstract(problem)
+    if problem.mission is not None:  # missions plan in the label-refined regions
+        from plansynth.reach.mission.labels import label_abstraction
+
+        abstraction = label_abstraction(problem).abstraction
+    else:
+        abstraction = abstract(problem)
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
         raise typer.Exit(EXIT_BAD_INPUT)

@@ -94,7 +94,9 @@ class MissionDisPlan:
     ``semantics``: which plans to look for: ``finite`` (stay selectors only),
     ``lasso`` (loop selectors only) or ``any`` (both; finite plans are tried first by
     the decision phases). ``earliest[i]``: region i is impossible before that step (a
-    sound relaxation, :func:`~plansynth.reach.conplan.time_windows`).
+    sound relaxation, :func:`~plansynth.reach.conplan.time_windows`). ``waits_at_start``:
+    the robot starts at rest (``A x_0 = x_0``), so start-anchored conflicts also hold
+    shifted earlier (as in :class:`~plansynth.reach.displan.DisPlan`).
     Counters: ``sat_calls``, ``clauses`` (learned), ``loop_clauses``.
     """
 
@@ -106,6 +108,7 @@ class MissionDisPlan:
         *,
         semantics: str = "any",
         earliest: Sequence[float] | None = None,
+        waits_at_start: bool = False,
     ) -> None:
         if semantics not in SEMANTICS:
             raise ValueError(f"unknown semantics {semantics!r} (known: {', '.join(SEMANTICS)})")
@@ -130,6 +133,7 @@ class MissionDisPlan:
         self.true = self.pool.id(("true",))
         self.solver.add_clause([self.true])
         self.earliest = list(earliest) if earliest is not None else [0] * graph.n_regions
+        self.waits_at_start = bool(waits_at_start)
         self.built = -1
         self.bounded: set[int] = set()
         self.closed: set[int] = set()
@@ -298,6 +302,11 @@ class MissionDisPlan:
         self.conflicts.append(c)
         if c.anchored_start and not c.anchored_goal:
             self._shift(c, 0, None)
+            if self.waits_at_start and c.literals:
+                # the robot can wait at its start: the claims shifted earlier are refuted too
+                # (a trajectory for them, after waiting, would realise the conflict itself)
+                for shift in range(-1, -min(t for t, _ in c.literals) - 1, -1):
+                    self._shift(c, shift, None)
         elif c.anchored_start:
             self._shift(c, 0, c.horizon)
         elif c.anchored_goal:

@@ -98,6 +98,9 @@ class LoopLP:
         self.highs = highspy.Highs()
         self.highs.setOptionValue("output_flag", False)
         self.highs.setOptionValue("threads", 1)
+        self.highs.setOptionValue("presolve", "off")  # keeps the dual ray of an infeasible LP
+        self.ray_times: set[int] | None = None
+        self.certified = 0
 
     def solve(self, regions: tuple[int, ...], loop_start: int | None, seconds: float = math.inf) -> Trajectory | None:
         """A trajectory from the start through ``regions`` with x_L = x_loop_start, or None."""
@@ -125,6 +128,16 @@ class LoopLP:
         first, anchored = k, False
         if self._lp(assign, k, L, False, k, seconds) is not None:
             assign, first, anchored = dict(enumerate(regions)), 0, True
+            if self._lp(assign, 0, L, True, k, seconds) is not None:  # pragma: no cover - solve() said infeasible
+                raise LpFailure("the loop LP is feasible on a second solve (numerically borderline)")
+        # shrink to the Farkas certificate's literals first, if that LP is still infeasible
+        if self.ray_times is not None and len(self.ray_times) < len(assign):
+            shrunk = {t: r for t, r in assign.items() if t in self.ray_times}
+            ray = self.ray_times
+            if self._lp(shrunk, first, L, anchored, k, seconds) is None:
+                assign = shrunk
+                self.certified += 1
+            del ray
         keep: dict[int, int] = {}
 
         def infeasible(without: list[int], rest: list[int]) -> bool:
@@ -178,11 +191,14 @@ class LoopLP:
             add(np.concatenate([np.arange(n), ai, bi]),
                 np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, nx + t * m + bj]),
                 np.concatenate([np.ones(n), -av, -bv]), np.zeros(n), np.zeros(n))
+        owner: list[np.ndarray] = []  # per row block: the literal time it belongs to (-1: none)
+        owner.append(np.full(r0, -1))
         for t, r in assign.items():
             H, hh = self.Hs[r], self.hs[r]
             k = H.shape[0]
             for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
                 add(np.repeat(np.arange(k), len(pos)), np.tile(s_ * n + pos, k), H.ravel(), np.full(k, -np.inf), hh)
+                owner.append(np.full(k, t))
         if loop_start is not None:
             add(np.concatenate([np.arange(n), np.arange(n)]),
                 np.concatenate([L * n + np.arange(n), loop_start * n + np.arange(n)]),
@@ -222,6 +238,16 @@ class LoopLP:
         if status == S.kOptimal:
             return np.asarray(h.getSolution().col_value)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
+            # the literals whose rows carry the Farkas certificate (dual ray), if any
+            self.ray_times = None
+            try:
+                _, has_ray, ray = h.getDualRay()
+            except Exception:  # pragma: no cover - depends on the HiGHS build
+                has_ray, ray = False, None
+            if has_ray and ray is not None and len(ray) == r0:
+                rows_owner = np.concatenate(owner + [np.full(r0 - sum(len(o) for o in owner), -1)])
+                used = np.abs(np.asarray(ray)) > 1e-9
+                self.ray_times = set(int(t) for t in rows_owner[used] if t >= 0)
             return None
         if status == S.kTimeLimit:
             raise LpBudgetExhausted()
@@ -238,6 +264,7 @@ def plan_mission(
     segment_safe: bool = True,
     lower_bound: bool = True,
     transit: bool = True,
+    wait_shifts: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """The lazy loop for the problem's mission within ``budget`` (not yet validated:
@@ -246,7 +273,8 @@ def plan_mission(
     each region from the displacement-box relaxation
     (:func:`~plansynth.reach.conplan.time_windows`) as unit clauses. ``transit``: the
     transit-time layer (:class:`~plansynth.reach.transit.TransitCheck`) in front of
-    CON-PLAN, as in the reach-avoid planner."""
+    CON-PLAN, as in the reach-avoid planner. ``wait_shifts``: start-anchored conflicts
+    also shifted earlier when the robot starts at rest."""
     if problem.mission is None:
         raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
     if semantics not in SEMANTICS:
@@ -255,7 +283,7 @@ def plan_mission(
     clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "transit": transit,
+               "transit": transit, "wait_shifts": wait_shifts,
                "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     pp = planning_problem(problem)
@@ -269,7 +297,8 @@ def plan_mission(
     t0 = time.perf_counter()
     earliest = time_windows(pp, ab, L_max).earliest if lower_bound else None
     timings["bounds"] = time.perf_counter() - t0
-    displan = MissionDisPlan(graph, labelled.labels_of, parse(problem.mission), semantics=semantics, earliest=earliest)
+    displan = MissionDisPlan(graph, labelled.labels_of, parse(problem.mission), semantics=semantics, earliest=earliest,
+                             waits_at_start=wait_shifts and problem.starts_at_rest)
     conplan = ConPlan(pp, ab, segment_safe=segment_safe, counterexample="trivial", generalize=True, minimize=True,
                       clock=clock)
     theory = TransitCheck(conplan, ab) if transit else conplan
