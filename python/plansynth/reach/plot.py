@@ -130,9 +130,9 @@ def plot_problem(
         colour = LABEL_COLOURS[k % len(LABEL_COLOURS)]
         ax.add_patch(_shape_patch(shape, facecolor=colour, edgecolor=colour, alpha=0.25, linewidth=1.4, zorder=5))
         lv = np.array(shape.vertices) if not isinstance(shape, Box) else np.array([shape.lo, shape.hi])
-        lc = lv.mean(axis=0)
-        ax.annotate(name, (lc[0], lc[1]), fontsize=8, color="black", ha="center", va="center", zorder=6,
-                    fontweight="bold")
+        # the name in the label's top left corner (the centre is where plans and region numbers go)
+        ax.annotate(name, (lv[:, 0].min(), lv[:, 1].max()), xytext=(2, -2), textcoords="offset points", fontsize=8,
+                    color=colour, ha="left", va="top", zorder=9.5, fontweight="bold")
     if problem.mission is not None and title is None:
         title = f"{problem.name}: {problem.mission}"
 
