@@ -125,7 +125,7 @@ def mission_problems(draw):
     return replace(base, goal=None, labels=tuple(labels), mission=str(f), max_horizon=draw(st.integers(2, 5)))
 
 
-@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(mission_problems())
 def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
     lazy = solve(p, "lazy-smt", Budget(seconds=60))

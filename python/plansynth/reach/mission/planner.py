@@ -22,9 +22,9 @@ its loop selector. Every plan goes through the validator and the independent mis
 checker (:mod:`plansynth.reach.mission.check`) before it is reported.
 
 >>> from plansynth.reach.mission.families import mission_problem
->>> r = solve_mission(mission_problem("maze-1", "patrol"))
->>> r.status.value, r.mission["semantics"], r.mission["ok"], r.validated
-('found', 'lasso', True, True)
+>>> r = solve_mission(mission_problem("maze-1", "avoid-until"))
+>>> r.status.value, r.horizon, r.mission["semantics"], r.mission["ok"], r.validated
+('found', 29, 'finite', True, True)
 """
 
 from __future__ import annotations
