@@ -38,13 +38,15 @@ Examples:
   plansynth bench reach --family chain --values 1,2 --orders 1,2,5,10 --planners lazy-smt --timeout 120
 
   plansynth bench reach --family random --values 0,1,2 --planners lazy-smt,rrt,milp-bigm
+  plansynth bench reach --family missions --planners lazy-smt,milp-ltl --timeout 120
 
   plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3
 
   plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,50 --planners lazy-smt
 
 Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
-(Figure 4 with random controllable A, B of n states), random, or all.
+(Figure 4 with random controllable A, B of n states), random, missions (LTL missions on
+the mazes: use --planners lazy-smt,milp-ltl), or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
@@ -173,7 +175,7 @@ def grid_cmd(
 
 @app.command("reach", epilog=REACH_EPILOG)
 def reach_cmd(
-    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics (repeatable or comma-separated), or all."),
+    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics, missions (repeatable or comma-separated), or all."),
     values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
     states: str = typer.Option("4,10,20,50", "--states", help="State counts n for the random-dynamics family."),

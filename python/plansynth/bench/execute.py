@@ -200,8 +200,16 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         segment_safe = int(bool(dense is not None and dense.segment_safe))
     elif res.trajectory is not None:
         # The same independent validator for every planner, whatever the planner says.
-        report = validate(problem, res.trajectory)
-        valid = int(bool(report.ok))
+        if getattr(problem, "mission", None) is not None:  # and the mission checker (issue 14)
+            from plansynth.reach.mission.check import check_mission
+            from plansynth.reach.mission.labels import planning_problem
+
+            report = validate(planning_problem(problem), res.trajectory)
+            holds = check_mission(problem, res.trajectory, (res.mission or {}).get("loop_start")).ok
+            valid = int(bool(report.ok) and holds)
+        else:
+            report = validate(problem, res.trajectory)
+            valid = int(bool(report.ok))
         segment_safe = int(bool(report.segment_safe))
     if status_value == "found":
         status = "solved" if valid == 1 else "invalid"

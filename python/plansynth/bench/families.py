@@ -366,7 +366,14 @@ def _random_dynamics(n: int, states: int, seed: int = 0) -> Any:
     return random_dynamics(n, states, seed)
 
 
-_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "random-dynamics": _random_dynamics}
+def _missions(n: int, mission: str) -> Any:
+    from plansynth.reach.mission.families import mission_problem
+
+    return mission_problem(f"maze-{n}", mission)
+
+
+_REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "random-dynamics": _random_dynamics,
+                                   "missions": _missions}
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
 PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
@@ -376,7 +383,7 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics")
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions")
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 
 
@@ -389,6 +396,8 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     are seeds (default 0..4). ``random-dynamics``: values are passage counts (default
     1..4), crossed with ``states`` (n, default 4, 10, 20, 50), random (A, B) drawn with
     ``seed`` (:func:`plansynth.reach.families.random_dynamics` says how).
+    ``missions``: values are passage counts, each with the
+    three missions of :mod:`plansynth.reach.mission.families`.
     """
     out = []
     if name == "maze":
@@ -407,6 +416,12 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     elif name == "random":
         for s in values or [0, 1, 2, 3, 4]:
             out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))
+    elif name == "missions":  # LTL missions (issue 14): three per maze, values are passage counts
+        from plansynth.reach.mission.families import MISSIONS
+
+        for n in values or [1, 2, 3, 4]:
+            for m in MISSIONS:
+                out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
     else:
         raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
     return out

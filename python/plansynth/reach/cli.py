@@ -98,7 +98,7 @@ def _result_table(result: Any) -> Table:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
         table.add_row("LP calls by kind", ", ".join(f"{k} {v}" for k, v in c["lp_calls_by_kind"].items()))
-    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate") if k in t]
+    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate", "mission_check") if k in t]
     table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
     table.add_row("total time", f"{result.seconds:.3f} s")
     if result.validated is not None:
@@ -106,6 +106,11 @@ def _result_table(result: Any) -> Table:
     if result.guarantee is not None:
         held = "" if result.segment_safe is None else (", segments safe" if result.segment_safe else ", segments NOT safe")
         table.add_row("guarantee", f"{result.guarantee}{held}")
+    mission = getattr(result, "mission", None)
+    if mission and mission.get("semantics"):  # LTL missions (issue 14)
+        loop = "" if mission.get("loop_start") is None else f", loop from step {mission['loop_start']} (x_N = x_k)"
+        verdict = {True: ", mission checked", False: ", mission check FAILED"}.get(mission.get("ok"), "")
+        table.add_row("mission", escape(f"{mission['formula']}: {mission['semantics']} plan{loop}{verdict}"))
     if result.message:
         table.add_row("message", escape(result.message))
     return table
@@ -229,9 +234,14 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
         from plansynth.reach.plot import animate as make_gif
         from plansynth.reach.plot import plot_problem
 
-        from plansynth.reach.robot import configuration_space
+        if problem.mission is not None:  # missions plan in the label-refined regions
+            from plansynth.reach.mission.labels import label_abstraction
 
-        abstraction = abstract(configuration_space(problem))  # the regions the planner saw
+            abstraction = label_abstraction(problem).abstraction
+        else:
+            from plansynth.reach.robot import configuration_space
+
+            abstraction = abstract(configuration_space(problem))  # the regions the planner saw
         if plot is not None:
             plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
                          title=f"{problem.name}: {result.planner}, horizon {result.horizon}, {abstraction.n_regions} regions")
@@ -274,6 +284,13 @@ def validate_command(
     claimed = claim is True or doc.get("guarantee") == "segments"
     if claimed and not segment_safe:
         console.print("the result claims segment safety: segments are checked too", highlight=False)
+    if problem.mission is not None:  # LTL missions (issue 14): validator + mission checker
+        from plansynth.reach.mission.check import validate_mission_file
+
+        ok, lines = validate_mission_file(problem, trajectory, doc, segment_safe=segment_safe or claimed, tol=tol)
+        for line in lines:
+            console.print(line, highlight=False)
+        raise typer.Exit(0 if ok else 1)
     if dynamics is None:
         dynamics = "curve" if doc.get("guarantee") == "curve" else "exact"
     if dynamics not in ("exact", "curve"):
@@ -319,9 +336,14 @@ def plot_command(
                 regions = tuple(raw)
     except PlansynthError as exc:
         raise _fail(err, exc) from None
-    from plansynth.reach.robot import configuration_space
+    if problem.mission is not None:  # missions plan in the label-refined regions
+        from plansynth.reach.mission.labels import label_abstraction
 
-    abstraction = abstract(configuration_space(problem))  # the regions the planners see
+        abstraction = label_abstraction(problem).abstraction
+    else:
+        from plansynth.reach.robot import configuration_space
+
+        abstraction = abstract(configuration_space(problem))  # the regions the planners see
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
         raise typer.Exit(EXIT_BAD_INPUT)

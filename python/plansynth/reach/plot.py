@@ -60,6 +60,9 @@ def _region_outline(vertices: np.ndarray) -> np.ndarray:
     return np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
 
 
+LABEL_COLOURS = ("#e07a1f", "#7b2cbf", "#2a9d8f", "#d62828", "#3a86ff", "#8d6e63")
+
+
 def _new_figure(problem: ReachProblem) -> tuple[Figure, Axes]:
     ws = problem.workspace
     w, h = ws.hi[0] - ws.lo[0], ws.hi[1] - ws.lo[1]
@@ -119,10 +122,21 @@ def plot_problem(
     for ob in problem.obstacles:
         ax.add_patch(_shape_patch(ob, facecolor=OBSTACLE, edgecolor="black", linewidth=0.6,
                                   alpha=0.55 if projected else 1.0, zorder=4))
-    ax.add_patch(_shape_patch(problem.goal, facecolor=GOAL, edgecolor=GOAL, alpha=0.45, hatch="//", zorder=5))
-    g = np.array(problem.goal.vertices) if not isinstance(problem.goal, Box) else np.array([problem.goal.lo, problem.goal.hi])
-    gc = g.mean(axis=0)
-    ax.annotate("goal", (gc[0], gc[1]), fontsize=8, color="black", ha="center", va="center", zorder=6)
+    if problem.goal is not None:
+        ax.add_patch(_shape_patch(problem.goal, facecolor=GOAL, edgecolor=GOAL, alpha=0.45, hatch="//", zorder=5))
+        g = np.array(problem.goal.vertices) if not isinstance(problem.goal, Box) else np.array([problem.goal.lo, problem.goal.hi])
+        gc = g.mean(axis=0)
+        ax.annotate("goal", (gc[0], gc[1]), fontsize=8, color="black", ha="center", va="center", zorder=6)
+    # mission labels (issue 14): outlined in colour, named at their centre
+    for k, (name, shape) in enumerate(problem.labels):
+        colour = LABEL_COLOURS[k % len(LABEL_COLOURS)]
+        ax.add_patch(_shape_patch(shape, facecolor=colour, edgecolor=colour, alpha=0.25, linewidth=1.4, zorder=5))
+        lv = np.array(shape.vertices) if not isinstance(shape, Box) else np.array([shape.lo, shape.hi])
+        # the name in the label's top left corner (the centre is where plans and region numbers go)
+        ax.annotate(name, (lv[:, 0].min(), lv[:, 1].max()), xytext=(2, -2), textcoords="offset points", fontsize=8,
+                    color=colour, ha="left", va="top", zorder=9.5, fontweight="bold")
+    if problem.mission is not None and title is None:
+        title = f"{problem.name}: {problem.mission}"
 
     robot = problem.robot_shape
     if robot is not None and not robot.is_point:

@@ -26,6 +26,7 @@ hashable, so a problem round-trips through :func:`reach_problem_to_dict`.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -367,7 +368,7 @@ class ReachProblem:
 
     workspace: Box
     obstacles: tuple[Shape, ...]
-    goal: Shape
+    goal: Shape | None
     dynamics: LinearDynamics
     start: np.ndarray
     input_bound: float
@@ -376,9 +377,15 @@ class ReachProblem:
     name: str = "reach"
     source: str | None = field(default=None)
     robot_shape: RobotShape | None = None
+    # LTL missions (issue 14; plansynth.reach.mission): named label shapes and the
+    # mission text over their names. With a mission the goal is optional: it is then
+    # only the label "goal", and the mission alone says what a plan must do.
+    labels: tuple[tuple[str, Shape], ...] = ()
+    mission: str | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
+        object.__setattr__(self, "labels", tuple((str(k), v) for k, v in (self.labels.items() if isinstance(self.labels, Mapping) else self.labels)))
         object.__setattr__(self, "start", _frozen_array(np.asarray(self.start, dtype=float).reshape(-1)))
         object.__setattr__(self, "input_bound", float(self.input_bound))
         _check_problem(self)
@@ -387,6 +394,14 @@ class ReachProblem:
     def dim(self) -> int:
         """Workspace dimension (2 or 3)."""
         return self.workspace.dim
+
+    @property
+    def mission_labels(self) -> dict[str, Shape]:
+        """The labels the mission may name: ``labels`` and, when there is a goal, ``goal``."""
+        out = dict(self.labels)
+        if self.goal is not None:
+            out.setdefault("goal", self.goal)
+        return out
 
     @property
     def start_position(self) -> np.ndarray:
@@ -416,6 +431,8 @@ class ReachProblem:
             self.max_horizon,
             self.name,
             None if self.robot_shape is None or self.robot_shape.is_point else self.robot_shape,
+            self.labels,
+            self.mission,
         )
 
     def __eq__(self, other: object) -> bool:
@@ -439,9 +456,13 @@ def _check_problem(p: ReachProblem) -> None:
     d = ws.dim
     for i, ob in enumerate(p.obstacles):
         _check_shape(ob, d, src, f"obstacles[{i}]")
-    _check_shape(p.goal, d, src, "goal")
-    if not is_convex(p.goal):
-        raise InvalidProblem(src, "goal", "must be convex (a box or a convex polygon)")
+    if p.goal is None and p.mission is None:
+        raise InvalidProblem(src, "goal", "missing required field (a problem without a mission needs a goal)")
+    if p.goal is not None:
+        _check_shape(p.goal, d, src, "goal")
+        if not is_convex(p.goal):
+            raise InvalidProblem(src, "goal", "must be convex (a box or a convex polygon)")
+    _check_mission(p, d)
 
     dyn = p.dynamics
     A, B = dyn.A, dyn.B
@@ -483,7 +504,7 @@ def _check_problem(p: ReachProblem) -> None:
             raise InvalidProblem(src, "robot.start", f"position {_fmt(pos)} lies inside obstacles[{i}]")
     if p.state_bounds is not None and not p.state_bounds.contains(p.start):
         raise InvalidProblem(src, "robot.start", f"state {_fmt(p.start)} violates robot.state_bounds")
-    if free_measure(ws, p.obstacles, p.goal) <= 0.0:
+    if p.goal is not None and free_measure(ws, p.obstacles, p.goal) <= 0.0:
         reason = "lies outside the workspace" if _measure_in_workspace(ws, p.goal) <= 0.0 else "lies inside obstacles"
         raise InvalidProblem(src, "goal", f"unreachable: it {reason} (no free area/volume)")
 
@@ -530,6 +551,41 @@ def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
                                               "the robot's clearance from the obstacles and the workspace's border") from None
         raise InvalidProblem(src, exc.field, f"for the robot ({what}), in its configuration space (obstacles grown "
                                              f"by an outer approximation): {exc.reason}") from None
+
+
+def _check_mission(p: ReachProblem, d: int) -> None:
+    """Labels and mission at the door: names, shapes, the formula's syntax and names."""
+    from plansynth.reach.ltl import KEYWORDS, LtlSyntaxError, parse, props
+
+    src = p.source
+    seen: set[str] = set()
+    for name, shape in p.labels:
+        where = f"labels.{name}"
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name) or name in KEYWORDS:
+            raise InvalidProblem(src, where, "a label name is a letter or _ followed by letters, digits or _, and not one of X F G U R true false")
+        if name in seen:
+            raise InvalidProblem(src, where, "label defined twice")
+        if name == "goal" and p.goal is not None:
+            raise InvalidProblem(src, where, "the goal is already the label 'goal'")
+        seen.add(name)
+        if d != 2:
+            raise InvalidProblem(src, where, "labels need a 2-D workspace (3-D missions are not supported)")
+        _check_shape(shape, d, src, where)
+    if p.mission is None:
+        return
+    if not isinstance(p.mission, str):
+        raise InvalidProblem(src, "mission", f"expected an LTL formula as a string, got {type_name(p.mission)}")
+    if d != 2:
+        raise InvalidProblem(src, "mission", "missions need a 2-D workspace (3-D missions are not supported)")
+    try:
+        formula = parse(p.mission)
+    except LtlSyntaxError as exc:
+        raise InvalidProblem(src, "mission", str(exc)) from None
+    known = p.mission_labels
+    unknown = sorted(props(formula) - set(known))
+    if unknown:
+        have = ", ".join(sorted(known)) or "none"
+        raise InvalidProblem(src, "mission", f"unknown label {unknown[0]!r} (labels: {have})")
 
 
 def _fmt(v: np.ndarray) -> str:
@@ -642,7 +698,7 @@ def free_measure(ws: Box, obstacles: Sequence[Shape], shape: Shape) -> float:
 
 # --------------------------------------------------------------------------- loading
 
-_TOP_KEYS = {"workspace", "obstacles", "goal", "robot", "max_horizon", "name"}
+_TOP_KEYS = {"workspace", "obstacles", "goal", "robot", "max_horizon", "name", "labels", "mission"}
 _ROBOT_KEYS = {"dynamics", "start", "input_bound", "state_bounds", "radius", "half_extent"}
 
 
@@ -669,7 +725,10 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     if len(raw_obs) > MAX_OBSTACLES:
         raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obs)}")
     obstacles = tuple(_parse_shape(o, source, f"obstacles[{i}]", d) for i, o in enumerate(raw_obs))
-    goal = _parse_shape(top.require("goal"), source, "goal", d)
+    mission = top.optional("mission")
+    goal_raw = top.optional("goal") if mission is not None else top.require("goal")
+    goal = None if goal_raw is None else _parse_shape(goal_raw, source, "goal", d)
+    labels = _parse_labels(top.optional("labels", {}), source, d)
 
     robot = Fields(top.require("robot"), source, "robot")
     robot.reject_unknown(_ROBOT_KEYS)
@@ -712,7 +771,25 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
         name=name,
         source=source,
         robot_shape=robot_shape,
+        labels=labels,
+        mission=mission,
     )
+
+
+def _parse_labels(value: Any, src: str | None, d: int) -> tuple[tuple[str, Shape], ...]:
+    """``labels:`` maps names to boxes ``{min, max}``, polygons ``{polygon: [...]}`` (or
+    ``{vertices: [...]}``, or a bare vertex list)."""
+    if not isinstance(value, Mapping):
+        raise InvalidProblem(src, "labels", f"expected a mapping from names to boxes or polygons, got {type_name(value)}")
+    out = []
+    for name, shape in value.items():
+        where = f"labels.{name}"
+        if isinstance(shape, Mapping) and "polygon" in shape:
+            Fields(shape, src, where).reject_unknown({"polygon"})
+            out.append((str(name), _parse_polygon(shape["polygon"], src, f"{where}.polygon", d)))
+        else:
+            out.append((str(name), _parse_shape(shape, src, where, d)))
+    return tuple(out)
 
 
 def _parse_box(value: Any, src: str | None, where: str, *, dim: int | None = None, allow_flat: bool = False) -> Box:
@@ -863,11 +940,18 @@ def reach_problem_to_dict(problem: ReachProblem) -> dict:
             robot["radius"] = _num(rs.radius)
         else:
             robot["half_extent"] = [_num(v) for v in rs.half_extent]  # type: ignore[union-attr]
-    return {
+    out = {
         "name": problem.name,
         "workspace": _box_to_dict(problem.workspace),
         "obstacles": [_shape_to_dict(o) for o in problem.obstacles],
-        "goal": _shape_to_dict(problem.goal),
+        "goal": None if problem.goal is None else _shape_to_dict(problem.goal),
         "robot": robot,
         "max_horizon": problem.max_horizon,
     }
+    if problem.goal is None:
+        del out["goal"]
+    if problem.labels:
+        out["labels"] = {k: (_box_to_dict(v) if isinstance(v, Box) else {"polygon": _shape_to_dict(v)}) for k, v in problem.labels}
+    if problem.mission is not None:
+        out["mission"] = problem.mission
+    return out

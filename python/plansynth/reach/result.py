@@ -94,6 +94,7 @@ class ReachResult:
     curve: Trajectory | None = None
     curve_times: tuple[float, ...] | None = None
     curve_validation: ValidationReport | None = None
+    mission: dict[str, Any] | None = None  # LTL missions: semantics, loop_start, the checker's verdict
 
     def to_json_dict(self) -> dict[str, Any]:
         """The result file of the spec (keys status, planner, seconds, states, inputs,
@@ -117,6 +118,7 @@ class ReachResult:
             "message": self.message,
             "curve_validation": None if self.curve_validation is None else self.curve_validation.to_json_dict(),
             "versions": solver_versions(),
+            **({} if self.mission is None else {"mission": _jsonable(self.mission)}),
         }
 
     def write_json(self, path: str | Path) -> Path:

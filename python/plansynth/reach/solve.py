@@ -83,6 +83,8 @@ _PLANNERS: dict[str, str | Planner] = {
     "est": "plansynth.reach.rrt:plan_rrt_est",
     "kpiece": "plansynth.reach.rrt:plan_rrt_kpiece",
     "gcs": "plansynth.reach.gcs:plan_gcs",  # Drake's Graphs of Convex Sets
+    # LTL missions (issue 14): the bounded mission as one big-M MILP per horizon
+    "milp-ltl": "plansynth.reach.mission.milp:plan_milp_ltl",
 }
 
 
@@ -97,7 +99,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs')
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl')
     """
     return tuple(_PLANNERS)
 
@@ -113,7 +115,7 @@ def get_planner(name: str) -> Planner:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece, gcs
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece, gcs, milp-ltl
     """
     entry = _PLANNERS.get(name)
     if entry is None:
@@ -196,6 +198,10 @@ def solve(
     ``segment_safe``, ``start_horizon``, ``progress``).
     """
     run = get_planner(planner)
+    if problem.mission is not None:  # LTL missions (issue 14): lazy-smt and milp-ltl plan them
+        from plansynth.reach.mission.planner import solve_mission
+
+        return solve_mission(problem, planner, budget, **options)
     robot = problem.robot_shape
     if robot is not None and not robot.is_point:
         # a sized robot: every planner plans for its reference point in the configuration

@@ -1,0 +1,248 @@
+"""The independent mission checker (issue 14, point 5).
+
+It knows the problem (labels, mission) and the trajectory, and nothing of the planner:
+no regions, no encoding. It recomputes the labels from the geometry (shapely) and
+evaluates the mission with :func:`plansynth.reach.ltl.holds` (the direct semantics,
+not the BMC encoding).
+
+**The word of a trajectory.** Labels are closed sets, and a robot that touches a
+label's boundary counts as both in and out of it (as touching an obstacle is no
+collision): at step t, ``a`` may hold when the position lies in the label (within
+``tol``), ``!a`` may hold when it is not in the label's interior deeper than ``tol``.
+Along a segment the labels are those of its first sample: for t < N, letter t is read
+off the whole segment [p_t, p_{t+1}] (``a`` may hold when the segment lies in the label,
+``!a`` when it avoids the interior), and a segment that goes from outside a label into
+its interior or back is a violation (``crossing``), since its labels change between
+samples. The last letter of a finite plan is its last position, held forever; a lasso
+with loop start k (x_N = x_k within tol, else a ``loop`` violation) is the word of
+positions 0..N-1 whose successor of N-1 is k.
+
+The mission, in negation normal form, holds when it holds with every literal read as
+"may hold" (this is monotone: the planner's word, which fixes each boundary touch one
+way, satisfies it only if this one does).
+
+**The first failing step.** When the mission fails, :func:`check_mission` descends the
+formula from position 0 (a conjunction into a failing conjunct, ``G f`` into the first
+step where f fails, ``a U b`` into the first step where a fails before b, a label
+literal to its step) and names the step where the descent ends; ``F f`` that never
+holds fails at the first position of the loop, after which no future remains unseen.
+
+>>> from plansynth.reach.problem import reach_problem_from_dict
+>>> from plansynth.reach.trajectory import Trajectory
+>>> p = reach_problem_from_dict({"workspace": {"min": [0, 0], "max": [4, 4]},
+...     "labels": {"s": {"min": [1, 0], "max": [2, 4]}}, "mission": "G !s",
+...     "robot": {"dynamics": {"model": "single-integrator", "dt": 1}, "start": [0.5, 0.5],
+...               "input_bound": 2}})
+>>> r = check_mission(p, Trajectory([[0.5, 0.5], [0.5, 2], [3, 2]], [[0, 1.5], [2.5, 0]]))
+>>> r.ok, r.step, r.reason
+(False, 1, 'segment 1 crosses into label s')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Point
+from shapely.geometry import Polygon as ShPolygon
+
+from plansynth.reach.ltl import (
+    And, Const, Finally, Formula, Globally, Lasso, Next, Not, Or, Prop, Release, Until, holds, holds_at, nnf, parse,
+)
+from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.trajectory import Trajectory
+
+__all__ = ["MissionReport", "check_mission", "trajectory_word"]
+
+NEG = "!"  # letters hold "a" (a may hold) and "!a" (not a may hold)
+
+
+@dataclass(frozen=True)
+class MissionReport:
+    """``ok``: the mission holds on the trajectory's word; ``step``/``reason``: where
+    and why it fails (None when ok); ``semantics``: finite or lasso; ``letters``: the
+    labels inside which the robot is at each step (for reports and pictures)."""
+
+    ok: bool
+    semantics: str
+    loop_start: int | None
+    step: int | None
+    reason: str | None
+    letters: tuple[tuple[str, ...], ...]
+
+    def __bool__(self) -> bool:
+        raise TypeError("a MissionReport has no truth value; read .ok")
+
+    def summary(self) -> str:
+        kind = self.semantics if self.loop_start is None else f"lasso (loop from step {self.loop_start})"
+        if self.ok:
+            return f"mission holds ({kind})"
+        return f"mission VIOLATED ({kind}) at step {self.step}: {self.reason}"
+
+    def to_json_dict(self) -> dict:
+        return {"ok": self.ok, "semantics": self.semantics, "loop_start": self.loop_start, "step": self.step,
+                "reason": self.reason, "letters": [list(a) for a in self.letters]}
+
+
+class _Label:
+    def __init__(self, shape, tol: float) -> None:
+        if isinstance(shape, Box):
+            g = shapely.box(shape.lo[0], shape.lo[1], shape.hi[0], shape.hi[1])
+        else:
+            g = ShPolygon(shape.vertices)
+        self.closed = g.buffer(tol, join_style="mitre")
+        inner = g.buffer(-tol, join_style="mitre")
+        self.inner = inner
+        shapely.prepare(self.closed)
+        if not inner.is_empty:
+            shapely.prepare(inner)
+
+    def covers(self, geom) -> bool:
+        return bool(self.closed.covers(geom))
+
+    def enters(self, geom) -> bool:
+        return (not self.inner.is_empty) and bool(shapely.relate_pattern(self.inner, geom, "T********"))
+
+
+def trajectory_word(problem: ReachProblem, positions: np.ndarray, loop_start: int | None, tol: float = 1e-6):
+    """The letters (sets of "may hold" literals) of the trajectory's word, and the first
+    segment crossing, as ``(letters, crossing)`` with ``crossing = (step, label, into)``
+    or None. A lasso's word has N letters (position N is position k again)."""
+    labels = {n: _Label(s, tol) for n, s in problem.mission_labels.items()}
+    N = len(positions) - 1
+    last = N - 1 if loop_start is not None else N
+    letters, crossing = [], None
+    for t in range(last + 1):
+        p = positions[t]
+        geom = Point(p[0], p[1]) if t == N else LineString([tuple(p[:2]), tuple(positions[t + 1][:2])])
+        if t < N and np.allclose(positions[t], positions[t + 1], rtol=0, atol=0):
+            geom = Point(p[0], p[1])
+        letter = set()
+        for n, lab in labels.items():
+            inside, enters = lab.covers(geom), lab.enters(geom)
+            if inside:
+                letter.add(n)
+            if not enters:
+                letter.add(NEG + n)
+            if not inside and enters and crossing is None:
+                pt = Point(p[0], p[1])
+                into = not lab.enters(pt)
+                crossing = (t, n, into)
+                letter.add(n)
+                letter.add(NEG + n)
+        letters.append(frozenset(letter))
+    return letters, crossing
+
+
+def _literal_form(f: Formula) -> Formula:
+    """NNF with ``!a`` turned into the proposition "!a" (read off the letters)."""
+    if isinstance(f, Not):
+        return Prop(NEG + f.arg.name)
+    if isinstance(f, (Const, Prop)):
+        return f
+    if isinstance(f, (Next, Finally, Globally)):
+        return type(f)(_literal_form(f.arg))
+    return type(f)(_literal_form(f.left), _literal_form(f.right))
+
+
+def check_mission(
+    problem: ReachProblem, trajectory: Trajectory, loop_start: int | None = None, *, tol: float = 1e-6
+) -> MissionReport:
+    """Evaluate the problem's mission on ``trajectory`` (finite, or a lasso with
+    ``x_N = x_loop_start``); see the module doc for the reading."""
+    if problem.mission is None:
+        raise ValueError("the problem has no mission")
+    X = trajectory.states
+    P = problem.position_of(X)
+    N = len(X) - 1
+    semantics = "finite" if loop_start is None else "lasso"
+    shown = tuple(tuple(sorted(n for n, s in problem.mission_labels.items() if _Label(s, tol).enters(Point(p[0], p[1]))))
+                  for p in P)
+
+    def fail(step: int | None, reason: str) -> MissionReport:
+        return MissionReport(False, semantics, loop_start, step, reason, shown)
+
+    if loop_start is not None:
+        if not 0 <= loop_start < N:
+            return fail(None, f"loop start {loop_start} outside 0..{N - 1}")
+        err = float(np.max(np.abs(X[N] - X[loop_start])))
+        if err > tol * max(1.0, float(np.max(np.abs(X[N])))):
+            return fail(N, f"the loop does not close: |x_{N} - x_{loop_start}|_inf = {err:.3g}")
+    letters, crossing = trajectory_word(problem, P, loop_start, tol)
+    if crossing is not None:
+        t, name, into = crossing
+        return fail(t, f"segment {t} crosses {'into' if into else 'out of'} label {name}")
+    if loop_start is None:
+        word = Lasso(tuple(letters[:-1]), (letters[-1],))
+    else:
+        word = Lasso(tuple(letters[:loop_start]), tuple(letters[loop_start:]))
+    f = _literal_form(nnf(parse(problem.mission)))
+    if holds(f, word):
+        return MissionReport(True, semantics, loop_start, None, None, shown)
+    step, reason = _first_failure(f, word, 0)
+    return fail(step, reason)
+
+
+def _first_failure(f: Formula, word: Lasso, i: int) -> tuple[int, str]:
+    n = len(word.letters)
+
+    def val(g: Formula) -> list[bool]:
+        return holds_at(g, word)
+
+    if isinstance(f, Const):
+        return i, "false"
+    if isinstance(f, Prop):
+        if f.name.startswith(NEG):
+            return i, f"in label {f.name[1:]}"
+        return i, f"not in label {f.name}"
+    if isinstance(f, And):
+        sub = f.left if not val(f.left)[i] else f.right
+        return _first_failure(sub, word, i)
+    if isinstance(f, Or):
+        a, b = _first_failure(f.left, word, i), _first_failure(f.right, word, i)
+        return max(a, b, key=lambda x: x[0])
+    if isinstance(f, Next):
+        return _first_failure(f.arg, word, word.successor(i))
+    if isinstance(f, (Globally, Release)):
+        b = f.arg if isinstance(f, Globally) else f.right
+        vb = val(b)
+        j, seen = i, set()
+        while j not in seen:
+            seen.add(j)
+            if not vb[j]:
+                return _first_failure(b, word, j)
+            j = word.successor(j)
+        return i, f"{f} fails"  # pragma: no cover - R fails only where b fails
+    if isinstance(f, (Finally, Until)):
+        b = f.arg if isinstance(f, Finally) else f.right
+        va = [True] * n if isinstance(f, Finally) else val(f.left)
+        j, seen = i, set()
+        while j not in seen:
+            seen.add(j)
+            if not va[j]:
+                return _first_failure(f.left, word, j)
+            j = word.successor(j)
+        return len(word.prefix), f"{b} never holds (checked through the loop from step {len(word.prefix)})"
+    raise TypeError(f"not in negation normal form: {f!r}")  # pragma: no cover
+
+
+def validate_mission_file(problem: ReachProblem, trajectory: Trajectory, result: dict, *, segment_safe: bool = False,
+                          tol: float = 1e-6) -> tuple[bool, list[str]]:
+    """``plansynth reach validate`` for a mission: the validator (the problem's goal
+    is no constraint then) and :func:`check_mission`, with the loop start read from the
+    result file's ``mission.loop_start`` (absent: a finite plan). (ok, lines to print)."""
+    from dataclasses import replace
+
+    from rich.markup import escape
+
+    from plansynth.reach.validate import validate
+
+    loop_start = (result.get("mission") or {}).get("loop_start")
+    report = validate(replace(problem, goal=problem.workspace), trajectory, require_segment_safe=segment_safe, tol=tol)
+    mission = check_mission(problem, trajectory, loop_start, tol=tol)
+    ok = report.ok and mission.ok
+    style = "bold green" if ok else "bold red"
+    lines = [f"[{style}]{'valid' if ok else 'INVALID'}[/{style}]: {escape(report.summary())}; {escape(mission.summary())}"]
+    lines += [f"  {escape(str(v))}" for v in report.violations[:50]]
+    return ok, lines

@@ -1,0 +1,419 @@
+"""The lazy SMT planner for LTL missions (issue 14; Shoukry et al., CDC 2016,
+Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
+
+::
+
+    abstraction <- convex decomposition refined by the labels          (labels.py)
+    for L = 0 .. max_horizon:                    (one horizon at a time: L is minimal)
+        loop:
+            r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
+            CON-PLAN(r_0..r_L) -> conflict: learn it, loop             (conplan.py, unchanged)
+            finite plan: done
+            lasso, loop start k: the LP with x_L = x_k -> trajectory: done
+                                                    -> block this lasso, loop
+
+CON-PLAN runs unchanged on the problem with the whole workspace as its goal
+(:func:`~plansynth.reach.mission.labels.planning_problem`); its conflicts are sound
+for the mission planner because the mission adds constraints only through the region
+sequence and the loop. The loop closure x_L = x_k is the one CON-PLAN constraint
+missions add; it is checked by :class:`LoopLP` (CON-PLAN's rows plus the closure) only
+for sequences CON-PLAN realised, and a refuted loop blocks exactly that sequence with
+its loop selector. Every plan goes through the validator and the independent mission
+checker (:mod:`plansynth.reach.mission.check`) before it is reported.
+
+>>> from plansynth.reach.mission.families import mission_problem
+>>> r = solve_mission(mission_problem("maze-1", "avoid-until"))
+>>> r.status.value, r.horizon, r.mission["semantics"], r.mission["ok"], r.validated
+('found', 29, 'finite', True, True)
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from typing import Any
+
+import highspy
+import numpy as np
+
+from plansynth.budget import Budget
+from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, time_windows
+from plansynth.reach.decompose import Abstraction
+from plansynth.reach.displan import RegionGraph, SatOutcome
+from plansynth.reach.ltl import parse
+from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
+from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
+from plansynth.reach.problem import ReachProblem
+from plansynth.reach.result import ReachResult, ReachStatus
+from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.transit import TransitCheck
+
+__all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
+
+ProgressFn = Callable[[int, int], None]
+
+
+def one_thread_highs() -> None:
+    """Start HiGHS's process-wide thread scheduler with one thread, as every planner
+    model asks (``threads=1``). A first run with the default thread count (such as
+    :func:`~plansynth.reach.conplan.step_reach`'s LPs) starts it with two, after
+    which every ``threads=1`` model fails with status "Not Set"."""
+    h = highspy.Highs()
+    h.setOptionValue("output_flag", False)
+    h.setOptionValue("threads", 1)
+    x = h.addVariable(lb=0.0, ub=1.0)
+    h.addConstr(x >= 0.0)
+    h.run()
+
+
+class LoopLP:
+    """The feasibility LP of a region sequence (CON-PLAN's constraints: start,
+    dynamics, input and state bounds, workspace, p_t in r_t and, with segment safety,
+    p_{t+1} in r_t) plus the loop closure ``x_L = x_k``, in HiGHS."""
+
+    def __init__(self, problem: ReachProblem, abstraction: Abstraction, *, segment_safe: bool = True) -> None:
+        self.problem = problem
+        self.regions = abstraction.regions
+        self.segment_safe = segment_safe
+        self.lp_calls = 0
+        self.seconds = 0.0
+        dyn = problem.dynamics
+        self.n, self.m = dyn.n_states, dyn.n_inputs
+        self.pos = np.array(dyn.position, dtype=np.int64)
+        A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+        ai, aj = np.nonzero(A)
+        bi, bj = np.nonzero(B)
+        self.dyn_nz = (ai, aj, A[ai, aj], bi, bj, B[bi, bj])
+        self.Hs = [np.asarray(r.H, float) for r in abstraction.regions]
+        self.hs = [np.asarray(r.h, float) for r in abstraction.regions]
+        lo = np.full(self.n, -np.inf)
+        hi = np.full(self.n, np.inf)
+        if problem.state_bounds is not None:
+            lo, hi = np.array(problem.state_bounds.lo, float), np.array(problem.state_bounds.hi, float)
+        lo[self.pos] = np.maximum(lo[self.pos], problem.workspace.lo)
+        hi[self.pos] = np.minimum(hi[self.pos], problem.workspace.hi)
+        self.state_lo, self.state_hi = lo, hi
+        self.highs = highspy.Highs()
+        self.highs.setOptionValue("output_flag", False)
+        self.highs.setOptionValue("threads", 1)
+        self.highs.setOptionValue("presolve", "off")  # keeps the dual ray of an infeasible LP
+        self.ray_times: set[int] | None = None
+        self.certified = 0
+
+    def solve(self, regions: tuple[int, ...], loop_start: int | None, seconds: float = math.inf) -> Trajectory | None:
+        """A trajectory from the start through ``regions`` with x_L = x_loop_start, or None."""
+        L = len(regions) - 1
+        col = self._lp(dict(enumerate(regions)), 0, L, True, loop_start, seconds)
+        if col is None:
+            return None
+        n, m = self.problem.dynamics.n_states, self.problem.dynamics.n_inputs
+        xs = col[: (L + 1) * n].reshape(L + 1, n).copy()
+        us = col[(L + 1) * n:].reshape(L, m)
+        if loop_start is not None:
+            xs[L] = xs[loop_start]  # the closure holds to tolerance; make it exact
+        return Trajectory(states=xs, inputs=us)
+
+    def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf
+                 ) -> tuple[tuple[tuple[int, int], ...], bool]:
+        """Why the lasso has no trajectory: (literals, shifted). First the loop alone
+        (states k..L, any x_k): if it is infeasible, the literals are among its steps and
+        hold at every shift (``shifted``); else the whole plan from the start. Then a
+        deletion filter drops every literal whose region rows the infeasibility does not
+        need (each drop proved by an LP). Sound: the returned literals with the loop
+        closure have an infeasible LP."""
+        L, k = len(regions) - 1, loop_start
+        assign = {t: regions[t] for t in range(k, L + 1)}
+        first, anchored = k, False
+        if self._lp(assign, k, L, False, k, seconds) is not None:
+            assign, first, anchored = dict(enumerate(regions)), 0, True
+            if self._lp(assign, 0, L, True, k, seconds) is not None:  # pragma: no cover - solve() said infeasible
+                raise LpFailure("the loop LP is feasible on a second solve (numerically borderline)")
+        # shrink to the Farkas certificate's literals first, if that LP is still infeasible
+        if self.ray_times is not None and len(self.ray_times) < len(assign):
+            shrunk = {t: r for t, r in assign.items() if t in self.ray_times}
+            ray = self.ray_times
+            if self._lp(shrunk, first, L, anchored, k, seconds) is None:
+                assign = shrunk
+                self.certified += 1
+            del ray
+        keep: dict[int, int] = {}
+
+        def infeasible(without: list[int], rest: list[int]) -> bool:
+            trial = {**keep, **{t: assign[t] for t in rest}}
+            return self._lp(trial, first, L, anchored, k, seconds) is None
+
+        def drop(cands: list[int], rest: list[int]) -> None:
+            # keep a subset of cands that, with keep and rest, stays infeasible
+            # (halves first: a conflict of a few literals costs O(k log n) LPs)
+            if not cands or infeasible(cands, rest):
+                return
+            if len(cands) == 1:
+                keep[cands[0]] = assign[cands[0]]
+                return
+            half = len(cands) // 2
+            a, b = cands[:half], cands[half:]
+            drop(a, rest + b)
+            drop(b, rest)
+
+        drop(sorted(assign), [])
+        return tuple(sorted(keep.items())), not anchored
+
+    def _lp(self, assign: dict[int, int], first: int, last: int, anchored: bool, loop_start: int | None,
+            seconds: float) -> np.ndarray | None:
+        """Feasibility LP over the states first..last (columns of every state and input,
+        those outside unused): p_t in region assign[t] (and p_{t+1}, segments), the start
+        when ``anchored``, the closure x_last = x_loop_start."""
+        p = self.problem
+        L = last
+        n, m, pos = self.n, self.m, self.pos
+        nx = (L + 1) * n
+        ncol = nx + L * m
+        rows: list[np.ndarray] = []
+        cols: list[np.ndarray] = []
+        vals: list[np.ndarray] = []
+        rlo: list[np.ndarray] = []
+        rhi: list[np.ndarray] = []
+        r0 = 0
+
+        def add(rr, cc, vv, lo, hi) -> None:
+            nonlocal r0
+            rows.append(r0 + np.asarray(rr))
+            cols.append(np.asarray(cc))
+            vals.append(np.asarray(vv, float))
+            rlo.append(np.asarray(lo, float))
+            rhi.append(np.asarray(hi, float))
+            r0 += len(lo)
+
+        ai, aj, av, bi, bj, bv = self.dyn_nz
+        for t in range(first, L):  # x_{t+1} - A x_t - B u_t = 0
+            add(np.concatenate([np.arange(n), ai, bi]),
+                np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, nx + t * m + bj]),
+                np.concatenate([np.ones(n), -av, -bv]), np.zeros(n), np.zeros(n))
+        owner: list[np.ndarray] = []  # per row block: the literal time it belongs to (-1: none)
+        owner.append(np.full(r0, -1))
+        for t, r in assign.items():
+            H, hh = self.Hs[r], self.hs[r]
+            k = H.shape[0]
+            for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
+                add(np.repeat(np.arange(k), len(pos)), np.tile(s_ * n + pos, k), H.ravel(), np.full(k, -np.inf), hh)
+                owner.append(np.full(k, t))
+        if loop_start is not None:
+            add(np.concatenate([np.arange(n), np.arange(n)]),
+                np.concatenate([L * n + np.arange(n), loop_start * n + np.arange(n)]),
+                np.concatenate([np.ones(n), -np.ones(n)]), np.zeros(n), np.zeros(n))
+        col_lo = np.concatenate([np.tile(self.state_lo, L + 1), np.full(L * m, -p.input_bound)])
+        col_hi = np.concatenate([np.tile(self.state_hi, L + 1), np.full(L * m, p.input_bound)])
+        if anchored:
+            col_lo[first * n:(first + 1) * n] = col_hi[first * n:(first + 1) * n] = p.start
+        R = np.concatenate(rows).astype(np.int64) if rows else np.zeros(0, np.int64)
+        C = np.concatenate(cols).astype(np.int64) if cols else np.zeros(0, np.int64)
+        V = np.concatenate(vals) if vals else np.zeros(0)
+        order = np.lexsort((R, C))
+        starts = np.zeros(ncol + 1, dtype=np.int32)
+        np.cumsum(np.bincount(C, minlength=ncol), out=starts[1:])
+        lp = highspy.HighsLp()
+        lp.num_col_ = ncol
+        lp.num_row_ = r0
+        lp.col_cost_ = np.zeros(ncol)
+        lp.col_lower_ = col_lo
+        lp.col_upper_ = col_hi
+        lp.row_lower_ = np.concatenate(rlo) if rlo else np.zeros(0)
+        lp.row_upper_ = np.concatenate(rhi) if rhi else np.zeros(0)
+        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+        lp.a_matrix_.start_ = starts
+        lp.a_matrix_.index_ = R[order].astype(np.int32)
+        lp.a_matrix_.value_ = V[order]
+        h = self.highs
+        if math.isfinite(seconds):
+            h.setOptionValue("time_limit", float(h.getRunTime() + max(1e-3, float(seconds))))
+        h.passModel(lp)
+        t0 = time.perf_counter()
+        h.run()
+        self.seconds += time.perf_counter() - t0
+        self.lp_calls += 1
+        status = h.getModelStatus()
+        S = highspy.HighsModelStatus
+        if status == S.kOptimal:
+            return np.asarray(h.getSolution().col_value)
+        if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
+            # the literals whose rows carry the Farkas certificate (dual ray), if any
+            self.ray_times = None
+            try:
+                _, has_ray, ray = h.getDualRay()
+            except Exception:  # pragma: no cover - depends on the HiGHS build
+                has_ray, ray = False, None
+            if has_ray and ray is not None and len(ray) == r0:
+                rows_owner = np.concatenate(owner + [np.full(r0 - sum(len(o) for o in owner), -1)])
+                used = np.abs(np.asarray(ray)) > 1e-9
+                self.ray_times = set(int(t) for t in rows_owner[used] if t >= 0)
+            return None
+        if status == S.kTimeLimit:
+            raise LpBudgetExhausted()
+        raise LpFailure(f"HiGHS gave no answer on the loop LP ({h.modelStatusToString(status)})")
+
+
+def plan_mission(
+    problem: ReachProblem,
+    budget: Budget = Budget(),
+    *,
+    labelled: LabelledAbstraction | None = None,
+    max_horizon: int | None = None,
+    semantics: str = "any",
+    segment_safe: bool = True,
+    lower_bound: bool = True,
+    transit: bool = True,
+    wait_shifts: bool = True,
+    progress: ProgressFn | None = None,
+) -> ReachResult:
+    """The lazy loop for the problem's mission within ``budget`` (not yet validated:
+    :func:`solve_mission` does that). ``semantics``: ``any`` (finite or lasso plans,
+    finite ones first), ``finite`` or ``lasso``. ``lower_bound``: the earliest step of
+    each region from the displacement-box relaxation
+    (:func:`~plansynth.reach.conplan.time_windows`) as unit clauses. ``transit``: the
+    transit-time layer (:class:`~plansynth.reach.transit.TransitCheck`) in front of
+    CON-PLAN, as in the reach-avoid planner. ``wait_shifts``: start-anchored conflicts
+    also shifted earlier when the robot starts at rest."""
+    if problem.mission is None:
+        raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
+    if semantics not in SEMANTICS:
+        raise ValueError(f"unknown semantics {semantics!r} (known: {', '.join(SEMANTICS)})")
+    t_start = time.perf_counter()
+    clock = budget.clock()
+    L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
+    options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
+               "transit": transit, "wait_shifts": wait_shifts,
+               "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+    timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
+    pp = planning_problem(problem)
+    if labelled is None:
+        t0 = time.perf_counter()
+        labelled = label_abstraction(problem)
+        timings["abstraction"] = time.perf_counter() - t0
+    ab = labelled.abstraction
+    graph = RegionGraph.from_abstraction(ab)
+    one_thread_highs()
+    t0 = time.perf_counter()
+    earliest = time_windows(pp, ab, L_max).earliest if lower_bound else None
+    timings["bounds"] = time.perf_counter() - t0
+    displan = MissionDisPlan(graph, labelled.labels_of, parse(problem.mission), semantics=semantics, earliest=earliest,
+                             waits_at_start=wait_shifts and problem.starts_at_rest)
+    conplan = ConPlan(pp, ab, segment_safe=segment_safe, counterexample="trivial", generalize=True, minimize=True,
+                      clock=clock)
+    theory = TransitCheck(conplan, ab) if transit else conplan
+    loop_lp = LoopLP(pp, ab, segment_safe=segment_safe)
+    counters: dict[str, Any] = {"regions": graph.n_regions, "edges": ab.n_edges}
+    guarantee = "segments" if segment_safe else "samples"
+
+    def finish(status: ReachStatus, horizon: int | None, message: str, traj: Trajectory | None = None,
+               plan: MissionPlan | None = None) -> ReachResult:
+        st = conplan.stats
+        counters.update(iterations=clock.iterations, sat_calls=displan.sat_calls, clauses=displan.clauses,
+                        loop_clauses=displan.loop_clauses, lp_calls=st.lp_calls + loop_lp.lp_calls,
+                        loop_lp_calls=loop_lp.lp_calls, horizon=horizon, minimal=status is ReachStatus.FOUND)
+        timings["highs"] = st.seconds + loop_lp.seconds
+        timings["total"] = time.perf_counter() - t_start
+        displan.delete()
+        mission = {"formula": problem.mission, "semantics": None if plan is None else plan.semantics,
+                   "loop_start": None if plan is None else plan.loop_start}
+        return ReachResult(status=status, planner="lazy-smt", seconds=timings["total"], trajectory=traj,
+                           regions=None if plan is None else plan.regions, horizon=horizon, counters=counters,
+                           timings=timings, options=options, message=message, guarantee=guarantee, mission=mission)
+
+    if not ab.start_regions:
+        return finish(ReachStatus.INFEASIBLE, L_max, "infeasible: the start lies in no region")
+    L = 0
+    try:
+        for L in range(0, L_max + 1):
+            if progress is not None:
+                progress(L, clock.iterations)
+            while True:
+                if clock.exhausted():
+                    return finish(ReachStatus.UNKNOWN, L, f"budget ran out at horizon {L} after {clock.iterations} iterations")
+                clock.tick()
+                t0 = time.perf_counter()
+                outcome, plan = displan.solve(L, clock)
+                timings["sat"] += time.perf_counter() - t0
+                if outcome is SatOutcome.INTERRUPTED:
+                    return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the SAT solver at horizon {L}")
+                if outcome is SatOutcome.UNSAT:
+                    displan.close(L)
+                    break
+                assert plan is not None
+                t0 = time.perf_counter()
+                answer = theory.check(plan.regions)
+                if isinstance(answer, Feasible) and plan.loop_start is not None:
+                    traj = loop_lp.solve(plan.regions, plan.loop_start, clock.remaining())
+                    timings["lp"] += time.perf_counter() - t0
+                    if traj is None:
+                        t0 = time.perf_counter()
+                        lits, shifted = loop_lp.conflict(plan.regions, plan.loop_start, clock.remaining())
+                        timings["lp"] += time.perf_counter() - t0
+                        displan.learn_loop(lits, plan.loop_start, L, shifted=shifted)
+                        continue
+                    return finish(ReachStatus.FOUND, L, f"found a lasso at horizon {L} (loop from step {plan.loop_start})",
+                                  traj, plan)
+                timings["lp"] += time.perf_counter() - t0
+                if isinstance(answer, Feasible):
+                    return finish(ReachStatus.FOUND, L, f"found a finite plan at horizon {L}", answer.trajectory, plan)
+                for conflict in answer if isinstance(answer, tuple) else (answer,):
+                    displan.learn(conflict)
+    except LpBudgetExhausted:
+        return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
+    except LpFailure as exc:
+        return finish(ReachStatus.UNKNOWN, L, f"{exc} at horizon {L}")
+    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: every horizon up to {L_max} refuted")
+
+
+def validate_mission_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
+    """The validator (on the problem with the workspace as goal: a mission has no goal
+    constraint) and the independent mission checker on a ``found`` result; a failure
+    turns it into ``unknown``."""
+    from plansynth.reach.mission.check import check_mission
+    from plansynth.reach.solve import validate_result
+
+    if result.status is not ReachStatus.FOUND:
+        return result
+    checked = validate_result(planning_problem(problem), result, tol=tol)
+    if checked.status is not ReachStatus.FOUND:
+        return checked
+    t0 = time.perf_counter()
+    report = check_mission(problem, checked.trajectory, (checked.mission or {}).get("loop_start"), tol=tol)
+    seconds = time.perf_counter() - t0
+    timings = {**checked.timings, "mission_check": seconds, "total": checked.seconds + seconds}
+    mission = {**(checked.mission or {}), **report.to_json_dict()}
+    if report.ok:
+        return replace(checked, mission=mission, timings=timings, seconds=timings["total"])
+    return replace(checked, status=ReachStatus.UNKNOWN, validated=False, mission=mission, timings=timings,
+                   seconds=timings["total"],
+                   message=f"the {checked.planner} plan fails the mission checker and is not reported as found: {report.summary()}")
+
+
+def _milp_ltl(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
+    from plansynth.reach.mission.milp import plan_milp_ltl
+
+    return plan_milp_ltl(problem, budget, **options)
+
+
+MISSION_PLANNERS: dict[str, Callable[..., ReachResult]] = {"lazy-smt": plan_mission, "milp-ltl": _milp_ltl}
+
+
+def solve_mission(problem: ReachProblem, planner: str = "lazy-smt", budget: Budget = Budget(), **options: Any) -> ReachResult:
+    """Plan the problem's mission with ``lazy-smt`` or ``milp-ltl``; every plan is
+    validated and mission-checked before it is reported."""
+    if planner not in MISSION_PLANNERS:
+        raise ValueError(f"planner {planner!r} does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")
+    # the reach-avoid options the CLI always passes (counterexample strategy, windows,
+    # transit, guide, ...) do not apply to missions
+    import inspect
+
+    accepted = set(inspect.signature(plan_mission if planner == "lazy-smt" else _plan_milp_ltl()).parameters)
+    result = MISSION_PLANNERS[planner](problem, budget, **{k: v for k, v in options.items() if k in accepted})
+    return validate_mission_result(problem, result)
+
+
+def _plan_milp_ltl():
+    from plansynth.reach.mission.milp import plan_milp_ltl
+
+    return plan_milp_ltl

@@ -1,0 +1,82 @@
+"""The linear BMC encoding of missions (plansynth.reach.mission.bmc) against the LTL
+evaluator: on a region graph with one region per letter, every finite or lasso word,
+fixed by assumptions after the lower horizons were built and closed (incremental),
+satisfies the encoding exactly when the evaluator says the word satisfies the formula."""
+
+from __future__ import annotations
+
+import itertools
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from plansynth.reach.displan import RegionGraph, SatOutcome
+from plansynth.reach.ltl import Lasso, finite_word, holds, parse
+from plansynth.reach.mission.bmc import MissionDisPlan, MissionPlan
+
+from test_ltl import NAMES, formulas
+
+LETTERS = [frozenset(c) for k in range(len(NAMES) + 1) for c in itertools.combinations(NAMES, k)]
+N = len(LETTERS)
+COMPLETE = RegionGraph(N, tuple(tuple(j for j in range(N) if j != i) for i in range(N)), tuple(range(N)), tuple(range(N)))
+
+
+def encoding_accepts(f, regions, loop_start, semantics="any"):
+    d = MissionDisPlan(COMPLETE, LETTERS, f, semantics=semantics)
+    L = len(regions) - 1
+    for h in range(L):  # incremental: the lower horizons first, refuted
+        d.solve(h)
+        d.close(h)
+    d._extend(L)
+    d._boundary(L)
+    sel = d.stay(L) if loop_start is None else d.loop(L, loop_start + 1)
+    ok = d.solver.solve(assumptions=[d.act(L), sel] + [d.at(t, r) for t, r in enumerate(regions)])
+    d.delete()
+    return ok
+
+
+@settings(max_examples=150, deadline=None)
+@given(formulas(), st.lists(st.sampled_from(range(N)), min_size=1, max_size=5))
+def test_finite_words(f, regions):
+    word = finite_word([LETTERS[r] for r in regions])
+    assert encoding_accepts(f, regions, None) == holds(f, word)
+
+
+@settings(max_examples=150, deadline=None)
+@given(formulas(), st.lists(st.sampled_from(range(N)), max_size=3), st.lists(st.sampled_from(range(N)), min_size=1, max_size=3))
+def test_lasso_words(f, prefix, loop):
+    word = Lasso(tuple(LETTERS[r] for r in prefix), tuple(LETTERS[r] for r in loop))
+    regions = prefix + loop + [loop[0]]  # x_L = x_k with k = len(prefix)
+    assert encoding_accepts(f, regions, len(prefix)) == holds(f, word)
+
+
+@settings(max_examples=60, deadline=None)
+@given(formulas(), st.sampled_from(["any", "finite", "lasso"]))
+def test_every_plan_found_satisfies_the_formula(f, semantics):
+    d = MissionDisPlan(COMPLETE, LETTERS, f, semantics=semantics)
+    for L in range(5):
+        out, plan = d.solve(L)
+        if out is SatOutcome.SAT:
+            assert isinstance(plan, MissionPlan) and plan.horizon == L
+            ls = [LETTERS[r] for r in plan.regions]
+            if plan.loop_start is None:
+                assert semantics != "lasso" and holds(f, finite_word(ls))
+            else:
+                assert semantics != "finite" and ls[-1] == ls[plan.loop_start]
+                assert holds(f, Lasso(tuple(ls[: plan.loop_start]), tuple(ls[plan.loop_start:-1])))
+            break
+        d.close(L)
+    d.delete()
+
+
+def test_patrol_needs_a_lasso():
+    g = RegionGraph(3, ((1,), (0, 2), (1,)), (0,), (0, 1, 2))
+    d = MissionDisPlan(g, [frozenset({"a"}), frozenset(), frozenset({"b"})], parse("G F a & G F b"))
+    found = None
+    for L in range(8):
+        out, plan = d.solve(L)
+        if out is SatOutcome.SAT:
+            found = plan
+            break
+        d.close(L)
+    assert found == MissionPlan((0, 1, 2, 1, 0), 0)
