@@ -41,6 +41,7 @@ from typing import Any
 
 from plansynth.budget import Budget
 from plansynth.grid.problem import GridProblem
+from plansynth.grid.programs import depth
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome, get_backend
 
 __all__ = ["solve", "Progress", "CERTIFIER"]
@@ -182,7 +183,8 @@ def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, cloc
     counters = {**outcome.counters, "certify_seconds": round(time.perf_counter() - started, 6)}
     if check.status is GridStatus.UNREALIZABLE:
         return replace(outcome, counters={**counters, "certified_by": CERTIFIER})
-    if check.status is GridStatus.REALIZABLE and check.program is not None:
+    fits = check.program is not None and (depth_bound is None or depth(check.program) <= depth_bound)
+    if check.status is GridStatus.REALIZABLE and fits:
         verdict = verify(problem, check.program, l)
         if verdict.wins:
             return replace(outcome, status=GridStatus.UNKNOWN, counters=counters, message=(

@@ -41,8 +41,9 @@ theory check) runs out.
 **What ``infeasible`` means.** DIS-PLAN moves one region per step and CON-PLAN keeps
 each segment inside one region, so refuting every horizon proves only that no plan
 *through this decomposition* exists: a real trajectory may cross several regions in
-one step (around a circle given as a 10,000-vertex polygon, thousands of sliver
-regions made the loop answer "infeasible up to 100" for a problem solved at 16). The
+one step (around a circle given as a 400-vertex polygon, hundreds of sliver regions
+made the loop answer "infeasible up to horizon 30" where 3 steps suffice; see
+``tests/reach/test_proved_bound.py``). The
 answer is therefore ``infeasible`` only when
 :func:`~plansynth.reach.conplan.proved_horizon_bound`, which holds for every
 trajectory of the problem, exceeds ``max_horizon``; when the loop refutes every
