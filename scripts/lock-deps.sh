@@ -44,10 +44,10 @@ fi
 tmp_out=$(mktemp)
 [ -f "$out" ] && cp "$out" "$tmp_out"
 .tools/bin/uv pip compile pyproject.toml "$build_in" --extra test "${upgrade[@]}" \
-  --python-version 3.11 --python-platform x86_64-manylinux_2_28 \
+  --python-version 3.11 --python-platform x86_64-manylinux_2_34 \
   --generate-hashes --no-header --quiet -o "$tmp_out"
 {
-  echo "# plansynth's locked dependencies: CPython 3.11 on Linux x86_64 (manylinux_2_28), from PyPI."
+  echo "# plansynth's locked dependencies: CPython 3.11 on Linux x86_64 (manylinux_2_34), from PyPI."
   echo "# Every package, transitive ones included, at an exact version with its hashes:"
   echo "# pyproject.toml's dependencies, the [test] extra and the build backend (maturin)."
   echo "# scripts/setup.sh installs exactly this. Do not edit by hand: regenerate with"
