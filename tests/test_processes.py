@@ -91,9 +91,20 @@ def test_ctrl_c_during_a_reach_solve_exits_130(tmp_path):
 
     problem = tmp_path / "slow.yaml"
     problem.write_text(yaml.safe_dump(reach_problem_to_dict(maze(4, input_bound=0.02))))
+    # CPU seconds the command needs to start (imports), measured on this machine
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", "--help"], cwd=ROOT, capture_output=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    startup = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     proc = start("reach", "solve", str(problem))
     try:
-        time.sleep(8)  # start-up, abstraction, and into the loop (it needs far longer)
+        def solving() -> bool:  # started up, then a CPU second into the solve (it needs far more)
+            cpu = psutil.Process(proc.pid).cpu_times()
+            return cpu.user + cpu.system > startup + 1.0
+
+        wait_for(solving, timeout=240, what="the solve")
         assert proc.poll() is None
         os.killpg(proc.pid, signal.SIGINT)
         out, _ = proc.communicate(timeout=30)
