@@ -157,7 +157,12 @@ def test_an_escaped_helper_holding_stdout_does_not_make_the_budget_hang(tmp_path
         elapsed = time.monotonic() - t0
         assert proc.returncode == 3, out  # unknown: the budget ran out
         assert b"ran out of the time budget" in out
-        assert elapsed < 5 + 20, elapsed  # the budget, plus start-up on a loaded machine; never a hang
+        import re
+
+        solve = re.search(rb"unknown \(external .*?, ([0-9.]+) s\)", out)
+        assert solve is not None, out
+        assert float(solve.group(1)) < 5 + 1.5, out  # the search kept its budget
+        assert elapsed < 120, elapsed  # and the command ended (start-up on a loaded machine aside)
         assert_all_gone(kids)
     finally:
         proc.kill()
@@ -189,7 +194,7 @@ def test_ctrl_c_stops_a_bench_sweep_at_once_and_keeps_finished_runs(tmp_path):
         out, _ = proc.communicate(timeout=30)
         stopped = time.monotonic() - t0
         assert proc.returncode == 130, out
-        assert stopped < 5, stopped  # promptly: the queued run is not run
+        assert stopped < 10, stopped  # promptly (it was 69 s): the queued run is not run
         assert b"interrupted" in out
         assert_all_gone(kids)
         with sqlite3.connect(db) as conn:
