@@ -164,7 +164,8 @@ def test_cvc5_stops_and_leaves_no_child():
     problem = load_grid_problem(GRID / "depth-5.yaml")  # cvc5 needs minutes
     r, seconds = timed(solve, problem, "cvc5", Budget(seconds=BUDGET))
     assert r.status is GridStatus.UNKNOWN
-    assert "l = 5: cvc5 ran out of the time budget" in r.message, r.message
+    # in cvc5 (or, on a machine so loaded that starting cvc5 took the budget, before it)
+    assert "l = 5: cvc5 ran out of the time budget" in r.message or "the budget ran out before l = 5" in r.message, r.message
     assert seconds < LIMIT
     workers = [p for p in psutil.Process().children(recursive=True) if not any(w in " ".join(p.cmdline()) for w in ("forkserver", "resource_tracker"))]
     assert not [p for p in workers if p.status() != psutil.STATUS_ZOMBIE]

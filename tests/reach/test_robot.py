@@ -120,3 +120,45 @@ def test_the_plot_draws_the_robot(tmp_path):
     dashed = [a for a in ax.patches if a.get_linestyle() == "--"]
     assert circles and abs(circles[0].radius - 0.4) < 1e-12 and len(dashed) == len(configuration_space(p).obstacles)
     assert (tmp_path / "m.png").stat().st_size > 0
+
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10_000), radius=st.floats(0.05, 0.8), box=st.booleans(),
+       pts=st.lists(st.tuples(st.floats(0, 10), st.floats(0, 10)), min_size=20, max_size=20))
+def test_the_configuration_space_is_conservative(seed, radius, box, pts):
+    """Outside every grown obstacle, the robot (disc: clearance >= R; box: its box) meets
+    no original obstacle's interior: the growth covers the exact Minkowski sum."""
+    from plansynth.reach.families import random_workspace
+    from plansynth.reach.problem import point_in_interior
+
+    base = random_workspace(seed, 4)
+    robot = RobotShape(half_extent=(radius, radius / 2)) if box else RobotShape(radius=radius)
+    grown = [_grow(o, robot) for o in base.obstacles]
+    originals = [shapely.Polygon(o.vertices) if hasattr(o, "vertices") else shapely.box(*o.lo, *o.hi) for o in base.obstacles]
+    # the random points, and the points just outside every edge of every grown obstacle
+    # (where an inner approximation of the disc would come too close)
+    probe = list(pts)
+    for g in grown:
+        v = np.array(g.vertices if hasattr(g, "vertices") else [(g.lo[0], g.lo[1]), (g.hi[0], g.lo[1]), (g.hi[0], g.hi[1]), (g.lo[0], g.hi[1])])
+        for a, b in zip(v, np.roll(v, -1, axis=0)):
+            e = b - a
+            n = np.array([e[1], -e[0]]) / np.hypot(*e)  # outward for CCW
+            probe.append(tuple((a + b) / 2 + 1e-7 * n))
+    for x, y in probe:
+        if any(point_in_interior(g, (x, y)) for g in grown):
+            continue
+        if box:
+            body = shapely.box(x - radius, y - radius / 2, x + radius, y + radius / 2)
+            assert not any(o.buffer(-1e-9).intersects(body) for o in originals)
+        else:
+            assert all(o.distance(shapely.Point(x, y)) >= radius - 1e-9 for o in originals)
+
+
+def _grow(o, robot):
+    from plansynth.reach.robot import _inflate
+
+    return _inflate(o, robot)
