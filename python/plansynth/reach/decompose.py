@@ -211,10 +211,18 @@ class _Pieces:
     Two pieces can merge only along an edge that is a full edge of both (the shared
     chord of a convex union always is); the union is convex iff the turns at the two
     ends of the edge are not right turns.
+
+    ``straight``: points known by construction to lie inside a straight edge of the free
+    space's boundary (slab corners interpolated on an obstacle edge). The turn there is
+    0 whatever the rounded coordinates say: asking the orientation predicate would keep
+    a vertex of angle 180 degrees +- 1e-16, convex or reflex by a rounding error.
     """
 
-    def __init__(self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]], order=None) -> None:
+    def __init__(
+        self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]], order=None, straight: Iterable[Pt] = ()
+    ) -> None:
         self.order = order or _longest_first
+        self.straight = frozenset(straight)
         self.cycles: dict[int, list[Pt]] = {i: c for i, c in enumerate(cycles)}
         self.parent = list(range(len(cycles)))
         self.contacts = {(min(a, b), max(a, b)) for a, b in contacts if a != b}
@@ -254,8 +262,7 @@ class _Pieces:
             merged_any = True
         return merged_any
 
-    @staticmethod
-    def _try_merge(P: list[Pt], Q: list[Pt], u: Pt, v: Pt) -> list[Pt] | None:
+    def _try_merge(self, P: list[Pt], Q: list[Pt], u: Pt, v: Pt) -> list[Pt] | None:
         """Union of P (with edge u->v) and Q (with edge v->u) if convex, else None."""
         # the owner map may hold edges that collinear-vertex removal has since dissolved
         if v not in P or u not in Q:
@@ -267,8 +274,8 @@ class _Pieces:
         if Pr[-1] != u or Qr[-1] != v:
             return None
         # turn at u: Pr[-2] -> u -> Qr[1]; at v: Qr[-2] -> v -> Pr[1]
-        tu = _orient(Pr[-2], u, Qr[1])
-        tv = _orient(Qr[-2], v, Pr[1])
+        tu = 0 if u in self.straight else _orient(Pr[-2], u, Qr[1])
+        tv = 0 if v in self.straight else _orient(Qr[-2], v, Pr[1])
         if tu < 0 or tv < 0:
             return None
         cyc = Pr[:-1] + [u] + Qr[1:-1]
@@ -329,7 +336,8 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
             if s_of(a) > s_of(b):
                 a, b = b, a
             edges.append((a, b))
-    levels = sorted({s_of(p) for ring in _rings(polys) for p in ring})
+    vertices = {p for ring in _rings(polys) for p in ring}
+    levels = sorted({s_of(p) for p in vertices})
 
     def r_at(e: tuple[Pt, Pt], s: float) -> float:
         a, b = e
@@ -342,6 +350,7 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
 
     cycles: list[list[Pt]] = []
     contacts: list[tuple[int, int]] = []
+    straight: set[Pt] = set()  # corners strictly inside a boundary edge
     prev: list[tuple[int, float, float]] = []  # (piece, r_lo, r_hi) on the previous level
     for s0, s1 in zip(levels, levels[1:]):
         mid = (s0 + s1) / 2
@@ -353,6 +362,7 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
             a0, b0 = r_at(lo_e, s0), r_at(hi_e, s0)
             a1, b1 = r_at(lo_e, s1), r_at(hi_e, s1)
             cyc = [point(s0, a0), point(s0, b0), point(s1, b1), point(s1, a1)]
+            straight.update(p for p in cyc if p not in vertices)
             cyc = _drop_collinear(_ccw(cyc))
             if len(cyc) < 3 or abs(_signed_area(cyc)) == 0.0:
                 continue
@@ -365,7 +375,7 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
                 if max(a, c) < min(b, d):
                     contacts.append((pid, qid))
         prev = top
-    pieces = _Pieces(cycles, contacts)
+    pieces = _Pieces(cycles, contacts, straight=straight)
     pieces.merge_all()
     return pieces.result()
 
