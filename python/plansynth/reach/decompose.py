@@ -179,7 +179,29 @@ def _signed_area(cycle: Sequence[Pt]) -> float:
 
 
 def _ccw(cycle: list[Pt]) -> list[Pt]:
-    return cycle if _signed_area(cycle) >= 0 else cycle[::-1]
+    """The cycle in CCW order; the sign of the area is exact for slivers, whose float
+    area is all cancellation error."""
+    area = _signed_area(cycle)
+    mass = sum(abs(x0 * y1) + abs(x1 * y0) for (x0, y0), (x1, y1) in zip(cycle[-1:] + cycle[:-1], cycle))
+    if abs(area) <= 1e-12 * mass:
+        exact = sum(
+            Fraction(x0) * Fraction(y1) - Fraction(x1) * Fraction(y0)
+            for (x0, y0), (x1, y1) in zip(cycle[-1:] + cycle[:-1], cycle)
+        )
+        return cycle if exact >= 0 else cycle[::-1]
+    return cycle if area >= 0 else cycle[::-1]
+
+
+def _snap_levels(values: Iterable[float], tol: float) -> dict[float, float]:
+    """Map each value to the least of its cluster: runs of sorted values with gaps <= tol."""
+    out: dict[float, float] = {}
+    rep = prev = None
+    for x in sorted(set(values)):
+        if prev is None or x - prev > tol:
+            rep = x
+        out[x] = rep
+        prev = x
+    return out
 
 
 # ------------------------------------------------------------- free space (2-D)
@@ -223,10 +245,18 @@ class _Pieces:
     Two pieces can merge only along an edge that is a full edge of both (the shared
     chord of a convex union always is); the union is convex iff the turns at the two
     ends of the edge are not right turns.
+
+    ``straight``: points known by construction to lie inside a straight edge of the free
+    space's boundary (slab corners interpolated on an obstacle edge). The turn there is
+    0 whatever the rounded coordinates say: asking the orientation predicate would keep
+    a vertex of angle 180 degrees +- 1e-16, convex or reflex by a rounding error.
     """
 
-    def __init__(self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]], order=None) -> None:
+    def __init__(
+        self, cycles: list[list[Pt]], contacts: Iterable[tuple[int, int]], order=None, straight: Iterable[Pt] = ()
+    ) -> None:
         self.order = order or _longest_first
+        self.straight = frozenset(straight)
         self.cycles: dict[int, list[Pt]] = {i: c for i, c in enumerate(cycles)}
         self.parent = list(range(len(cycles)))
         self.contacts = {(min(a, b), max(a, b)) for a, b in contacts if a != b}
@@ -267,8 +297,7 @@ class _Pieces:
             merged_any = True
         return merged_any
 
-    @staticmethod
-    def _try_merge(P: list[Pt], Q: list[Pt], u: Pt, v: Pt) -> list[Pt] | None:
+    def _try_merge(self, P: list[Pt], Q: list[Pt], u: Pt, v: Pt) -> list[Pt] | None:
         """Union of P (with edge u->v) and Q (with edge v->u) if convex, else None."""
         # the owner map may hold edges that collinear-vertex removal has since dissolved
         if v not in P or u not in Q:
@@ -280,8 +309,8 @@ class _Pieces:
         if Pr[-1] != u or Qr[-1] != v:
             return None
         # turn at u: Pr[-2] -> u -> Qr[1]; at v: Qr[-2] -> v -> Pr[1]
-        tu = _orient(Pr[-2], u, Qr[1])
-        tv = _orient(Qr[-2], v, Pr[1])
+        tu = 0 if u in self.straight else _orient(Pr[-2], u, Qr[1])
+        tv = 0 if v in self.straight else _orient(Qr[-2], v, Pr[1])
         if tu < 0 or tv < 0:
             return None
         cyc = Pr[:-1] + [u] + Qr[1:-1]
@@ -326,15 +355,32 @@ def _hertel_mehlhorn(polys: list[ShPolygon], order=None) -> tuple[list[list[Pt]]
 
 def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple[int, int]]]:
     """Trapezoids between consecutive vertex coordinates along ``axis`` (1: horizontal
-    lines, sweeping y; 0: vertical lines, sweeping x)."""
+    lines, sweeping y; 0: vertical lines, sweeping x).
+
+    Sweep coordinates closer than ``1e-12`` times the largest coordinate are snapped to one
+    level: mirror-image vertices often differ by a rounding error (a shapely disc's
+    ``sin(t)`` and ``sin(pi - t)``), and a level per copy would cut a slab 1e-15 thick.
+    Its slivers then stand between the pieces below and above, which share a facet of
+    positive length but would only be linked through a region no path can cross.
+    """
     s_of = (lambda p: p[axis])
     r_of = (lambda p: p[1 - axis])
 
     def point(s: float, r: float) -> Pt:
         return (r, s) if axis == 1 else (s, r)
 
+    raw = _rings(polys)
+    if not raw:
+        return [], set()
+    extent = max(max(abs(c) for p in ring for c in p) for ring in raw)
+    snap = _snap_levels((s_of(p) for ring in raw for p in ring), 1e-12 * max(extent, 1.0))
+    rings = []
+    for ring in raw:
+        snapped = [point(snap[s_of(p)], r_of(p)) for p in ring]
+        rings.append([p for i, p in enumerate(snapped) if p != snapped[i - 1]])
+
     edges = []
-    for ring in _rings(polys):
+    for ring in rings:
         for i in range(len(ring)):
             a, b = ring[i], ring[(i + 1) % len(ring)]
             if s_of(a) == s_of(b):
@@ -342,7 +388,8 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
             if s_of(a) > s_of(b):
                 a, b = b, a
             edges.append((a, b))
-    levels = sorted({s_of(p) for ring in _rings(polys) for p in ring})
+    vertices = {p for ring in rings for p in ring}
+    levels = sorted({s_of(p) for p in vertices})
 
     def r_at(e: tuple[Pt, Pt], s: float) -> float:
         a, b = e
@@ -355,6 +402,7 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
 
     cycles: list[list[Pt]] = []
     contacts: list[tuple[int, int]] = []
+    straight: set[Pt] = set()  # corners strictly inside a boundary edge
     prev: list[tuple[int, float, float]] = []  # (piece, r_lo, r_hi) on the previous level
     for s0, s1 in zip(levels, levels[1:]):
         checkpoint()
@@ -367,8 +415,10 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
             a0, b0 = r_at(lo_e, s0), r_at(hi_e, s0)
             a1, b1 = r_at(lo_e, s1), r_at(hi_e, s1)
             cyc = [point(s0, a0), point(s0, b0), point(s1, b1), point(s1, a1)]
-            cyc = _drop_collinear(_ccw(cyc))
-            if len(cyc) < 3 or abs(_signed_area(cyc)) == 0.0:
+            straight.update(p for p in cyc if p not in vertices)
+            # CCW by construction (r_lo < r_hi, s0 < s1); the (x, y) swap mirrors it
+            cyc = _drop_collinear(cyc if axis == 1 else cyc[::-1])
+            if len(cyc) < 3:
                 continue
             pid = len(cycles)
             cycles.append(cyc)
@@ -379,7 +429,7 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
                 if max(a, c) < min(b, d):
                     contacts.append((pid, qid))
         prev = top
-    pieces = _Pieces(cycles, contacts)
+    pieces = _Pieces(cycles, contacts, straight=straight)
     pieces.merge_all()
     return pieces.result()
 
