@@ -25,7 +25,7 @@ case "${1:-}" in
   "") ;;
   *) echo "usage: $0 [--keep | --lowest]" >&2; exit 2 ;;
 esac
-work=$(mktemp -d "${TMPDIR:-/tmp}/plansynth-upgrade.XXXXXX")
+work=$(mktemp -d -t plansynth-upgrade.XXXXXX)
 echo "working in $work"
 if [ -n "$mode" ]; then
   bash scripts/lock-deps.sh "$mode" -o "$work/requirements.lock"
