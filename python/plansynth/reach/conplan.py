@@ -1196,6 +1196,9 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
     lp.a_matrix_.value_ = M[nz]
     h = highspy.Highs()
     h.setOptionValue("output_flag", False)
+    # one thread, like every other model: the first run starts HiGHS's process-wide
+    # scheduler, and (highspy 1.16) a later threads=1 model fails after a 2-thread start
+    h.setOptionValue("threads", 1)
     down, up = np.zeros(len(pos)), np.zeros(len(pos))
     for a, i in enumerate(pos):
         for sign, out in ((1.0, up), (-1.0, down)):
