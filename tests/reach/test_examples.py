@@ -22,7 +22,8 @@ NAMES = ["maze-1", "maze-2", "maze-3", "maze-4", "chain-maze-2", "dubins", "clut
 
 
 def test_every_example_is_there() -> None:
-    assert sorted(p.stem for p in EXAMPLES.glob("*.yaml")) == sorted(NAMES)
+    # (the hand-written LTL mission examples, mission-*.yaml, are tested in test_mission_planner.py)
+    assert sorted(p.stem for p in EXAMPLES.glob("*.yaml") if not p.stem.startswith("mission-")) == sorted(NAMES)
 
 
 @pytest.mark.parametrize("name", NAMES)

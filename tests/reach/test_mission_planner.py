@@ -47,6 +47,13 @@ def test_examples_solve_and_pass_the_checker(name, semantics):
         assert np.allclose(r.trajectory.states[-1], r.trajectory.states[k])
 
 
+def test_the_maze_example_is_the_benchmark_instance():
+    from plansynth.reach.mission.families import mission_problem
+
+    p = load_reach_problem(f"{EXAMPLES}/mission-maze.yaml")
+    assert p == replace(mission_problem("maze-2", "avoid-until"), name="mission-maze")
+
+
 def test_the_unsatisfiable_example_is_infeasible_up_to_its_max_horizon():
     p = load_reach_problem(f"{EXAMPLES}/mission-unsat.yaml")
     r = solve(p, "lazy-smt", Budget(seconds=60))

@@ -456,8 +456,8 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
             L.append("")
 
     # ---------------------------------------------------------------- reach
-    reach_planners = [p for p in _planners(cells, "reach/", ["lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs", "milp-ltl"])
-                      if p not in CX_VARIANTS]
+    reach_planners = [p for p in _planners(cells, "reach/", ["lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs"])
+                      if p not in CX_VARIANTS and p != "milp-ltl"]  # milp-ltl: missions only (their own table)
     if reach_planners:
         L.append("## Reach-avoid: lazy SMT planning (Shoukry et al., CDC 2016)")
         L.append("")
