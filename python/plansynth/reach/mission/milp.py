@@ -34,6 +34,7 @@ import numpy as np
 
 from plansynth.budget import Budget
 from plansynth.reach.conplan import time_windows
+from plansynth.reach.highs import new_highs
 from plansynth.reach.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
 from plansynth.reach.problem import ReachProblem
@@ -58,9 +59,7 @@ def solve_mission_horizon(
     A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
     pos = list(dyn.position)
     R = ab.n_regions
-    h = highspy.Highs()
-    h.setOptionValue("output_flag", False)
-    h.setOptionValue("threads", 1)
+    h = new_highs()
     if math.isfinite(seconds):
         h.setOptionValue("time_limit", max(1e-3, float(seconds)))
     inf = highspy.kHighsInf
@@ -197,7 +196,7 @@ def plan_milp_ltl(
     progress: Callable[[int, int], None] | None = None,
 ) -> ReachResult:
     """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated)."""
-    from plansynth.reach.mission.planner import LoopLP, one_thread_highs
+    from plansynth.reach.mission.planner import LoopLP
 
     if problem.mission is None:
         raise ValueError("milp-ltl plans missions; this problem has none")
@@ -210,7 +209,6 @@ def plan_milp_ltl(
         labelled = label_abstraction(problem)
         timings["abstraction"] = time.perf_counter() - t0
     pp = planning_problem(problem)
-    one_thread_highs()
     t0 = time.perf_counter()
     earliest = time_windows(pp, labelled.abstraction, L_max).earliest if lower_bound else None
     timings["bounds"] = time.perf_counter() - t0

@@ -42,6 +42,7 @@ from plansynth.budget import Budget
 from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, time_windows
 from plansynth.reach.decompose import Abstraction
 from plansynth.reach.displan import RegionGraph, SatOutcome
+from plansynth.reach.highs import new_highs
 from plansynth.reach.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
@@ -53,19 +54,6 @@ from plansynth.reach.transit import TransitCheck
 __all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
 ProgressFn = Callable[[int, int], None]
-
-
-def one_thread_highs() -> None:
-    """Start HiGHS's process-wide thread scheduler with one thread, as every planner
-    model asks (``threads=1``). A first run with the default thread count (such as
-    :func:`~plansynth.reach.conplan.step_reach`'s LPs) starts it with two, after
-    which every ``threads=1`` model fails with status "Not Set"."""
-    h = highspy.Highs()
-    h.setOptionValue("output_flag", False)
-    h.setOptionValue("threads", 1)
-    x = h.addVariable(lb=0.0, ub=1.0)
-    h.addConstr(x >= 0.0)
-    h.run()
 
 
 class LoopLP:
@@ -95,10 +83,7 @@ class LoopLP:
         lo[self.pos] = np.maximum(lo[self.pos], problem.workspace.lo)
         hi[self.pos] = np.minimum(hi[self.pos], problem.workspace.hi)
         self.state_lo, self.state_hi = lo, hi
-        self.highs = highspy.Highs()
-        self.highs.setOptionValue("output_flag", False)
-        self.highs.setOptionValue("threads", 1)
-        self.highs.setOptionValue("presolve", "off")  # keeps the dual ray of an infeasible LP
+        self.highs = new_highs(presolve="off")  # presolve off keeps the dual ray of an infeasible LP
         self.ray_times: set[int] | None = None
         self.certified = 0
 
@@ -293,7 +278,6 @@ def plan_mission(
         timings["abstraction"] = time.perf_counter() - t0
     ab = labelled.abstraction
     graph = RegionGraph.from_abstraction(ab)
-    one_thread_highs()
     t0 = time.perf_counter()
     earliest = time_windows(pp, ab, L_max).earliest if lower_bound else None
     timings["bounds"] = time.perf_counter() - t0
