@@ -40,7 +40,7 @@ class NativeBackend:
                 raise InvalidOption(f"native solver option {item!r} is not KEY=VALUE")
             options_[key.strip().replace("-", "_")] = _parse(value.strip())
         options = options_
-        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds", "improve_states", "quick", "effort", "simplify"}
+        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds", "improve_states", "quick", "effort", "simplify", "exact_states"}
         if unknown:
             raise InvalidOption(f"unknown native solver option(s): {', '.join(sorted(unknown))}")
         self.options = dict(options)
