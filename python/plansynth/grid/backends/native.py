@@ -7,7 +7,7 @@ and report the smallest, proved minimal when the condition enumeration is comple
 ``max_configs`` (an explicit cap on joint obstacle configurations; by default the game
 is bounded by the budget: its time, and its ``memory_mb`` or 4096 MB),
 ``use_rust`` (None: the compiled core when built; False: the pure-Python references),
-``effort`` (seconds spent making the first verified program smaller; default 1 s or
+``effort`` (seconds spent making the first verified program smaller with tree SAT; default 0.3 s or
 10% of the budget, whichever is smaller; 0 returns the first program), ``simplify``.
 """
 
