@@ -62,3 +62,21 @@ def test_report_tables_and_plots(tmp_path):
     assert "lazy-smt-paper |" not in text.split("Counterexamples")[0]
     for png in ("grid-steps.png", "reach-table1.png", "reach-figure4.png"):
         assert (out / png).stat().st_size > 5000
+
+
+def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
+    from plansynth.bench.report import Cell, _suite_table
+
+    insts = [("grid/reactive-suite/a", {"name": "a", "expected": "realizable", "params": {"witness_depth": 7}}),
+             ("grid/reactive-suite/b", {"name": "b", "expected": "unrealizable", "params": {}}),
+             ("grid/reactive-suite/c", {"name": "c", "expected": "realizable", "params": {"witness_depth": 5}})]
+    cells = {
+        ("grid/reactive-suite/a", "native"): Cell(1, 1, 0.1, 0.1, 60.0, {"solved": 1}, depth=8, extra={"median_any": 0.1}),
+        ("grid/reactive-suite/b", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1}, extra={"median_any": 0.2}),
+        ("grid/reactive-suite/c", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1}, extra={"median_any": 0.3}),
+    }
+    text = "\n".join(_suite_table(cells, insts, ["native"]))
+    assert "2/3 answers match the labels, 1 contradict them" in text
+    assert "| a | realizable | 7 | 0.1 | realizable | 8 (+1) | yes |" in text
+    assert "| c | realizable | 5 | 0.3 | unrealizable | - | WRONG |" in text
+    assert "depth minus witness depth: median +1, max +1" in text

@@ -120,5 +120,7 @@ def test_the_compiled_game_graph_is_the_reference_graph(problem):
     fast_g = GameGraph.from_arena(arena, use_rust=True)
     ref_g = GameGraph.from_arena_reference(arena, use_rust=False)
     assert fast_g._compiled is not None
+    assert (fast_g.n_pairs, fast_g.n_states) == (ref_g.n_pairs, ref_g.n_states)
+    fast_g.materialize()
     assert (fast_g.state_of, fast_g.win, fast_g.off, fast_g.succ, fast_g.inputs) == (
         ref_g.state_of, ref_g.win, ref_g.off, ref_g.succ, ref_g.inputs)

@@ -159,6 +159,11 @@ impl PyGameGraph {
         Ok(Self { g: GameGraph { n_moves, state_of, win, off, succ, inputs } })
     }
 
+    /// `(pairs, joint states)`.
+    fn sizes(&self) -> (usize, usize) {
+        (self.g.state_of.len(), self.g.inputs.len())
+    }
+
     /// The graph's arrays: `(state_of, win, off, succ, inputs)`.
     #[allow(clippy::type_complexity)]
     fn arrays(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>, Vec<u32>, Vec<Vec<i64>>) {

@@ -770,7 +770,7 @@ def _suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[st
     for p in planners:
         hdr += [f"{p} (s)", f"{p} answer", f"{p} depth (vs witness)", f"{p} matches"]
     rows = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
-    summary: dict[str, dict[str, list[float]]] = {p: {"ok": [], "t": [], "dd": []} for p in planners}
+    summary: dict[str, dict[str, list[float]]] = {p: {"ok": [], "wrong": [], "t": [], "dd": []} for p in planners}
     for exp, setup in insts:
         wd = (setup.get("params") or {}).get("witness_depth")
         expected = setup.get("expected")
@@ -780,6 +780,9 @@ def _suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[st
             ans = _answer(c)
             ok = c is not None and ((expected == "realizable" and c.all_solved)
                                     or (expected == "unrealizable" and set(c.statuses) == {"unrealizable"}))
+            # a wrong answer contradicts the label; unknown or timeout is no answer
+            wrong = c is not None and ((expected == "realizable" and "unrealizable" in c.statuses)
+                                       or (expected == "unrealizable" and c.solved > 0))
             t = c.median if c is not None and c.solved else (c.median_any if c is not None else None)
             dd = "-"
             if c is not None and c.depth is not None and wd is not None:
@@ -787,9 +790,10 @@ def _suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[st
                 summary[p]["dd"].append(c.depth - int(wd))
             if c is not None:
                 summary[p]["ok"].append(float(ok))
+                summary[p]["wrong"].append(float(wrong))
                 if t is not None:
                     summary[p]["t"].append(float(t))
-            row += [_fmt(t), ans, dd, "yes" if ok else ("-" if c is None else "NO")]
+            row += [_fmt(t), ans, dd, "yes" if ok else ("-" if c is None else "WRONG" if wrong else "no answer")]
         rows.append("| " + " | ".join(row) + " |")
     lines = []
     for p in planners:
@@ -799,6 +803,7 @@ def _suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[st
         med = statistics.median(sm["t"]) if sm["t"] else None
         dd = (f"; depth minus witness depth: median {statistics.median(sm['dd']):+g}, max {max(sm['dd']):+d}"
               if sm["dd"] else "")
-        lines.append(f"- **{p}**: {int(sum(sm['ok']))}/{len(sm['ok'])} answers match the labels; median time "
+        lines.append(f"- **{p}**: {int(sum(sm['ok']))}/{len(sm['ok'])} answers match the labels, "
+                     f"{int(sum(sm['wrong']))} contradict them; median time "
                      f"{_fmt(med)} s, slowest {_fmt(max(sm['t']) if sm['t'] else None)} s{dd}.")
     return lines + [""] + rows

@@ -7,7 +7,7 @@ and report the smallest, proved minimal when the condition enumeration is comple
 ``max_configs`` (an explicit cap on joint obstacle configurations; by default the game
 is bounded by the budget: its time, and its ``memory_mb`` or 4096 MB),
 ``use_rust`` (None: the compiled core when built; False: the pure-Python references),
-``effort`` (seconds spent making the first verified program smaller; default 1 s or
+``effort`` (seconds spent making the first verified program smaller with tree SAT; default 0.3 s or
 10% of the budget, whichever is smaller; 0 returns the first program), ``simplify``.
 """
 
@@ -40,7 +40,7 @@ class NativeBackend:
                 raise InvalidOption(f"native solver option {item!r} is not KEY=VALUE")
             options_[key.strip().replace("-", "_")] = _parse(value.strip())
         options = options_
-        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds", "improve_states", "quick", "effort", "simplify"}
+        unknown = set(options) - {"minimize", "condition_depth", "max_tree_depth", "max_configs", "use_rust", "improve", "conflicts", "attempt_seconds", "max_clauses", "tree_conditions", "improve_seconds", "improve_states", "quick", "effort", "simplify", "exact_states"}
         if unknown:
             raise InvalidOption(f"unknown native solver option(s): {', '.join(sorted(unknown))}")
         self.options = dict(options)

@@ -87,6 +87,7 @@ class GameGraph:
     inputs: list[tuple[int, ...]]
     use_rust: bool | None = None
     _compiled: object = field(default=None, repr=False)
+    _sizes: tuple[int, int] | None = field(default=None, repr=False)
     checks: int = 0
 
     @classmethod
@@ -145,10 +146,20 @@ class GameGraph:
         start = arena.sem.index(arena.problem.robot.start)
         compiled = core.build_game_graph(n_moves, arena.steps, arena.problem.width, start, configs, successors,
                                          robot_end, layers)
-        state_of, win, off, succ, inputs = compiled.arrays()
-        g = cls(n_moves, arena.variables(), state_of, win, off, succ, [tuple(x) for x in inputs], None)
-        g._compiled = compiled
+        g = cls(n_moves, arena.variables(), [], [], [], [], [], None)
+        g._compiled = compiled  # the arrays stay in the core until asked for (materialize)
+        g._sizes = compiled.sizes()
         return g
+
+    def materialize(self) -> "GameGraph":
+        """Fetch the arrays of a graph built in the compiled core (for the reference
+        check and for comparing the two builds)."""
+        if self._sizes is not None and self._compiled is not None:
+            state_of, win, off, succ, inputs = self._compiled.arrays()
+            self.state_of, self.win, self.off, self.succ = state_of, win, off, succ
+            self.inputs = [tuple(x) for x in inputs]
+            self._sizes = None
+        return self
 
     @classmethod
     def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
@@ -206,7 +217,11 @@ class GameGraph:
 
     @property
     def n_pairs(self) -> int:
-        return len(self.state_of)
+        return self._sizes[0] if self._sizes is not None else len(self.state_of)
+
+    @property
+    def n_states(self) -> int:
+        return self._sizes[1] if self._sizes is not None else len(self.inputs)
 
     def check(self, program: Term) -> int | None:
         """None when ``program`` wins; else the first pair (breadth-first) where it
@@ -223,6 +238,7 @@ class GameGraph:
 
     def check_reference(self, program: Term) -> int | None:
         """:meth:`check` in pure Python (the reference of ``game.rs``)."""
+        self.materialize()
         f = compile_program(program, self.variables)
         cache: dict[int, object] = {}
         seen = {0}

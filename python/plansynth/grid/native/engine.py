@@ -63,7 +63,7 @@ MAX_TREE_DEPTH = 9
 #: ``max_configs`` adds an explicit cap on obstacle configurations.
 DEFAULT_MEMORY_MB = 4096
 #: Default seconds spent making the first program smaller (answer-first mode).
-DEFAULT_EFFORT = 0.1
+DEFAULT_EFFORT = 0.3
 
 
 @dataclass(frozen=True)
@@ -100,9 +100,10 @@ class Engine:
     use_rust: bool | None = None
     improve: bool = True
     quick: bool = True
-    conflicts: int = 30_000
+    conflicts: int = 5_000
     attempt_seconds: float | None = None
     improve_states: int = 1000
+    exact_states: int = 150
     improve_seconds: float = 5.0
     tree_conditions: int = 400
     max_clauses: int = 3_000_000
@@ -328,6 +329,20 @@ class Engine:
             if self.simplify:
                 better = simplify(better, graph, deadline)
             program = better
+        left = deadline - time.perf_counter()
+        if depth(program) > 4 and left > 0.01 and graph.n_states <= self.exact_states:
+            # any winning strategy will do, not only this one: the exact depth search over
+            # the whole game when it is small (its encoding is built before any clock check)
+            try:
+                found, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem, cond_depth=3,
+                                              max_clauses=self.max_clauses, max_conflicts=self.conflicts,
+                                              max_seconds=left, total_seconds=left, skip_hard=True)
+            except BudgetExhausted:
+                if clock.exhausted():
+                    raise
+                found = None
+            if found is not None and depth(found) < depth(program) and graph.check(found) is None:
+                program = simplify(found, graph, deadline) if self.simplify else found
         return program
 
     def _bounded(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock, depth_bound: int | None):
