@@ -29,13 +29,21 @@ def slow_maze():
     return maze(4, input_bound=0.02)
 
 
+def slow_chain():
+    """Maze-2 with an order-25 integrator chain (n = 50): many seconds of LPs for the lazy loop."""
+    return maze(2, order=25)
+
+
 def many_vertex_circle():
-    """The issue's workspace: a box wall and a circle given as a 10,000-vertex polygon
-    (its convex decomposition alone takes over a minute)."""
+    """The issue's workspace: a box wall and a round obstacle given as a 10,000-vertex
+    polygon. A convex one is coarsened to a 64-gon before the decomposition, so this one
+    is a star (radii 1.5 and 1.35 alternating, not convex): its convex decomposition, and
+    the big-M MILP's 5,000 and more convex pieces, take far longer than 2 s."""
     n = 10_000
-    circle = [[6 + 1.5 * math.cos(2 * math.pi * k / n), 4 + 1.5 * math.sin(2 * math.pi * k / n)] for k in range(n)]
+    circle = [[6 + (1.5 if k % 2 else 1.35) * math.cos(2 * math.pi * k / n),
+               4 + (1.5 if k % 2 else 1.35) * math.sin(2 * math.pi * k / n)] for k in range(n)]
     return reach_problem_from_dict({
-        "name": "circle-10k",
+        "name": "star-10k",
         "workspace": {"min": [0, 0], "max": [10, 10]},
         "obstacles": [{"min": [4, 0], "max": [5, 8]}, circle],
         "goal": {"min": [8, 8], "max": [9, 9]},
@@ -94,7 +102,7 @@ def test_displan_sat_solver_stops_between_cadical_slices():
 def test_lazy_smt_stops_in_the_lp_solver():
     from plansynth.reach.lazy import plan_lazy
 
-    r, seconds = timed(plan_lazy, slow_maze(), Budget(seconds=BUDGET))
+    r, seconds = timed(plan_lazy, slow_chain(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
     # in the LP solver, the SAT solver or between their calls: each named
     assert any(f"budget ran out in the {phase}" in r.message for phase in ("LP solver", "SAT solver", "lazy SMT loop")), r.message

@@ -90,7 +90,7 @@ def test_ctrl_c_during_a_reach_solve_exits_130(tmp_path):
     from plansynth.reach.problem import reach_problem_to_dict
 
     problem = tmp_path / "slow.yaml"
-    problem.write_text(yaml.safe_dump(reach_problem_to_dict(maze(4, input_bound=0.02))))
+    problem.write_text(yaml.safe_dump(reach_problem_to_dict(maze(2, order=25))))
     # CPU seconds the command needs to start (imports), measured on this machine
     import resource
 

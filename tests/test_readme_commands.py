@@ -104,6 +104,7 @@ SOLVED_FIGURE1 = "plansynth grid solve examples/grid/figure1.yaml --out result.j
 SOLVED_DOOR = "plansynth grid solve examples/grid/door.yaml -o door.json"
 SOLVED_CROSSING = "plansynth grid solve examples/grid/crossing.yaml -o crossing.json"
 SOLVED_MAZE3 = "plansynth reach solve examples/reach/maze-3.yaml --out traj.json"
+SOLVED_PATROL = "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json"
 SOLVED_CLUTTERED = "plansynth reach solve examples/reach/cluttered.yaml --out traj.json"
 TINY_BENCH = "plansynth bench grid --family figure1 --solvers native --timeout 60 --db bench-results.db"
 FOUND = ("found",)
@@ -151,6 +152,13 @@ CASES: dict[str, Case] = {
     "plansynth reach solve examples/reach/cluttered.yaml --planner milp --max-horizon 60": Case(out=FOUND),
     "plansynth reach plot examples/reach/cluttered.yaml traj.json -o cluttered.png": Case(
         files=("cluttered.png",), before=(SOLVED_CLUTTERED,)),
+    "plansynth grid solve examples/grid/corridor.yaml --timeout 30": Case(out=("realizable",)),
+    "plansynth grid solve examples/grid/corridor.yaml --effort 0": Case(out=("realizable", "not proved")),
+    "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --timeout 120": Case(out=FOUND),
+    "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --variant convex": Case(exit=(3,), out=("gcs",)),
+    "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json --plot plan.png --animate plan.gif": Case(
+        out=FOUND, files=("plan.png", "plan.gif"), json=(("plan.json", "status", "found"), ("plan.json", "validated", True))),
+    "plansynth reach validate examples/reach/mission-patrol.yaml plan.json": Case(before=(SOLVED_PATROL,)),
     # README: benchmarks (the sweeps as written are the published benchmark: fast variants only)
     "plansynth bench grid --family steps --solvers native,cvc5 --timeout 300 --repeat 3": Case(
         files=("b.db",), slow=False,
@@ -164,6 +172,15 @@ CASES: dict[str, Case] = {
     "plansynth bench reach --family chain --values 1,2 --orders 1,2,5,10 --planners lazy-smt": Case(
         files=("b.db",), slow=False,
         fast="plansynth bench reach --family chain --values 1 --orders 1 --planners lazy-smt --timeout 20 --db b.db"),
+    "plansynth bench grid --family reactive-suite --solvers native,cvc5 --timeout 60": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench grid --family reactive-suite --values r03_traffic --solvers native --timeout 60 --db b.db"),
+    "plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,gcs --timeout 120 --db b.db"),
+    "plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,20,50 --planners lazy-smt": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench reach --family random-dynamics --values 1 --states 4 --planners lazy-smt --timeout 30 --db b.db"),
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
         files=("bench-report/",), before=(TINY_BENCH,)),
     "plansynth bench publish '[--report-only]'": Case(

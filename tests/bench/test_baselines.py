@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import shapely
@@ -35,11 +37,24 @@ def test_rrt_finds_a_valid_trajectory_in_an_open_workspace():
 
 
 def test_kpiece_and_est_are_offered():
-    from plansynth.reach.rrt import PLANNERS, plan_rrt
+    import subprocess
+    import sys
+
+    from plansynth.reach.rrt import PLANNERS
 
     assert set(PLANNERS) == {"rrt", "est", "kpiece"}
-    r = plan_rrt(_open_problem(), Budget(seconds=20), seed=1, planner="kpiece")
-    assert r.status == ReachStatus.FOUND and r.validated is True
+    # OMPL takes its seed once per process, so a run that depends on it gets a process of
+    # its own (in this one an earlier test may have seeded it otherwise)
+    code = ("from plansynth.budget import Budget\n"
+            "from plansynth.reach.result import ReachStatus\n"
+            "from plansynth.reach.rrt import plan_rrt\n"
+            "from tests.bench.test_baselines import _open_problem\n"
+            "r = plan_rrt(_open_problem(), Budget(seconds=20), seed=1, planner='kpiece')\n"
+            "assert r.status == ReachStatus.FOUND and r.validated is True, r.message\n"
+            "assert r.options['seed_applied'], r.options\n")
+    done = subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).resolve().parents[2],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
 
 
 def test_rrt_gives_unknown_never_infeasible_when_the_goal_is_walled_off():

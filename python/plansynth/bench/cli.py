@@ -139,6 +139,9 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
             console.print(f"[red]{exc}")
             if not every:
                 raise typer.Exit(2) from None
+        except (ValueError, TypeError):  # a value the family cannot use (a name where it takes numbers)
+            _refuse("--values", f"expected comma-separated integers (or, for reactive-suite, instance names) "
+                                f"that family {f!r} has, got {values!r}")
     if kind == "reach" and "milp" in solvers:
         console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
