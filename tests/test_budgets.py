@@ -82,7 +82,7 @@ def test_checkpoint_raises_only_inside_a_phase_of_an_exhausted_clock():
 def test_displan_sat_solver_stops_between_cadical_slices():
     """CaDiCaL refuses interrupt(); DIS-PLAN runs it in conflict slices and checks the
     clock between them, so a formula far too hard for the budget is INTERRUPTED."""
-    from plansynth.reach.displan import DisPlan, RegionGraph, SatOutcome
+    from plansynth.reach.lazy.displan import DisPlan, RegionGraph, SatOutcome
 
     d = DisPlan(RegionGraph(2, ((1,), (0,)), start_regions=(0,), goal_regions=(1,)))
     php = PHP(12).clauses  # pigeonhole 13 -> 12: exponential for CDCL
@@ -100,7 +100,7 @@ def test_displan_sat_solver_stops_between_cadical_slices():
 
 
 def test_lazy_smt_stops_in_the_lp_solver():
-    from plansynth.reach.lazy import plan_lazy
+    from plansynth.reach.lazy.loop import plan_lazy
 
     r, seconds = timed(plan_lazy, slow_chain(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
@@ -111,8 +111,8 @@ def test_lazy_smt_stops_in_the_lp_solver():
 
 
 def test_lazy_smt_and_milp_stop_in_the_convex_decomposition():
-    from plansynth.reach.lazy import plan_lazy
-    from plansynth.reach.milp import plan_milp
+    from plansynth.reach.lazy.loop import plan_lazy
+    from plansynth.reach.planners.milp import plan_milp
 
     problem = many_vertex_circle()
     for plan in (plan_lazy, plan_milp):
@@ -123,7 +123,7 @@ def test_lazy_smt_and_milp_stop_in_the_convex_decomposition():
 
 
 def test_milp_stops_within_its_budget():
-    from plansynth.reach.milp import plan_milp
+    from plansynth.reach.planners.milp import plan_milp
 
     r, seconds = timed(plan_milp, slow_maze(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
@@ -133,7 +133,7 @@ def test_milp_stops_within_its_budget():
 
 
 def test_milp_bigm_stops_in_the_solver_and_while_building():
-    from plansynth.reach.milp_bigm import plan_milp_bigm
+    from plansynth.reach.planners.milp_bigm import plan_milp_bigm
 
     r, seconds = timed(plan_milp_bigm, slow_maze(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
@@ -150,7 +150,7 @@ def test_milp_bigm_stops_in_the_solver_and_while_building():
 
 @pytest.mark.parametrize("planner", ["rrt", "est", "kpiece"])
 def test_ompl_planners_stop_at_their_termination_time(planner):
-    from plansynth.reach.rrt import plan_rrt
+    from plansynth.reach.planners.ompl import plan_rrt
 
     r, seconds = timed(plan_rrt, slow_maze(), Budget(seconds=BUDGET), planner=planner)
     assert r.status is ReachStatus.UNKNOWN
@@ -200,8 +200,8 @@ def test_external_solver_stops_and_leaves_no_child(tmp_path):
 def test_the_long_phases_check_the_clock():
     """The abstraction and the time-window bounds stop at their next checkpoint once the
     clock is out of time (the reach planners run them inside budget phases)."""
-    from plansynth.reach.conplan import time_windows
-    from plansynth.reach.decompose import abstract
+    from plansynth.reach.lazy.conplan import time_windows
+    from plansynth.reach.abstraction import abstract
 
     problem = maze(2)
     abstraction = abstract(problem)
@@ -218,7 +218,7 @@ def test_the_long_phases_check_the_clock():
 SLOW_START = """
 import sys, time
 from plansynth.grid.isolate import Timeout, preload, run_isolated
-preload("plansynth.reach.lazy", "plansynth.reach.milp_bigm", "cvc5")  # a fork server slow to start
+preload("plansynth.reach.lazy.loop", "plansynth.reach.planners.milp_bigm", "cvc5")  # a fork server slow to start
 t0 = time.perf_counter()
 out = run_isolated(time.sleep, 30, timeout=0.2)
 print(type(out).__name__, round(time.perf_counter() - t0, 3))

@@ -24,7 +24,7 @@ def _open_problem(obstacles=()):
 
 
 def test_rrt_finds_a_valid_trajectory_in_an_open_workspace():
-    from plansynth.reach.rrt import plan_rrt
+    from plansynth.reach.planners.ompl import plan_rrt
 
     p = _open_problem()
     r = plan_rrt(p, Budget(seconds=20), seed=3)
@@ -40,14 +40,14 @@ def test_kpiece_and_est_are_offered():
     import subprocess
     import sys
 
-    from plansynth.reach.rrt import PLANNERS
+    from plansynth.reach.planners.ompl import PLANNERS
 
     assert set(PLANNERS) == {"rrt", "est", "kpiece"}
     # OMPL takes its seed once per process, so a run that depends on it gets a process of
     # its own (in this one an earlier test may have seeded it otherwise)
     code = ("from plansynth.budget import Budget\n"
             "from plansynth.reach.result import ReachStatus\n"
-            "from plansynth.reach.rrt import plan_rrt\n"
+            "from plansynth.reach.planners.ompl import plan_rrt\n"
             "from tests.bench.test_baselines import _open_problem\n"
             "r = plan_rrt(_open_problem(), Budget(seconds=20), seed=1, planner='kpiece')\n"
             "assert r.status == ReachStatus.FOUND and r.validated is True, r.message\n"
@@ -58,7 +58,7 @@ def test_kpiece_and_est_are_offered():
 
 
 def test_rrt_gives_unknown_never_infeasible_when_the_goal_is_walled_off():
-    from plansynth.reach.rrt import plan_rrt
+    from plansynth.reach.planners.ompl import plan_rrt
 
     # the goal (8..9)^2 is cut off by an L of walls 2.5 m thick (one step covers at most
     # 1.25 m, so sampled positions cannot hop over them)
@@ -68,7 +68,7 @@ def test_rrt_gives_unknown_never_infeasible_when_the_goal_is_walled_off():
 
 
 def test_bigm_milp_finds_a_valid_trajectory_around_a_nonconvex_obstacle():
-    from plansynth.reach.milp_bigm import plan_milp_bigm
+    from plansynth.reach.planners.milp_bigm import plan_milp_bigm
 
     L = Polygon(((3.0, 3.0), (7.0, 3.0), (7.0, 4.0), (4.0, 4.0), (4.0, 7.0), (3.0, 7.0)))
     p = _open_problem([L])
@@ -84,7 +84,7 @@ def test_bigm_milp_finds_a_valid_trajectory_around_a_nonconvex_obstacle():
 
 
 def test_bigm_milp_fixed_horizon_too_short_is_unknown():
-    from plansynth.reach.milp_bigm import plan_milp_bigm
+    from plansynth.reach.planners.milp_bigm import plan_milp_bigm
 
     r = plan_milp_bigm(_open_problem(), Budget(seconds=10), horizon=2)
     assert r.status == ReachStatus.UNKNOWN
@@ -92,7 +92,7 @@ def test_bigm_milp_fixed_horizon_too_short_is_unknown():
 
 
 def test_convex_pieces_cover_a_nonconvex_polygon_exactly():
-    from plansynth.reach.milp_bigm import convex_pieces
+    from plansynth.reach.planners.milp_bigm import convex_pieces
 
     L = Polygon(((0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)))
     pieces = convex_pieces(L)
@@ -121,8 +121,8 @@ def _vertices(H, h):
 
 
 def test_single_integrator_is_supported_by_both():
-    from plansynth.reach.milp_bigm import plan_milp_bigm
-    from plansynth.reach.rrt import plan_rrt
+    from plansynth.reach.planners.milp_bigm import plan_milp_bigm
+    from plansynth.reach.planners.ompl import plan_rrt
 
     p = ReachProblem(workspace=Box((0.0, 0.0), (5.0, 5.0)), obstacles=(Box((2.0, 0.0), (3.0, 4.0)),),
                      goal=Box((4.0, 0.0), (5.0, 1.0)), dynamics=single_integrator(2, 1.0),
@@ -132,7 +132,7 @@ def test_single_integrator_is_supported_by_both():
 
 
 def test_rrt_edges_do_not_hop_over_a_thin_wall_unless_asked():
-    from plansynth.reach.rrt import plan_rrt
+    from plansynth.reach.planners.ompl import plan_rrt
 
     # a 0.2 m wall with a gap at the top: one step can carry the robot across it
     p = _open_problem([Box((5.0, 0.0), (5.2, 9.0))])
@@ -145,8 +145,8 @@ def test_rrt_edges_do_not_hop_over_a_thin_wall_unless_asked():
 
 
 def test_baselines_are_planners_of_reach_solve():
-    import plansynth.reach.milp_bigm  # noqa: F401 - registers on import
-    import plansynth.reach.rrt  # noqa: F401
+    import plansynth.reach.planners.milp_bigm  # noqa: F401 - registers on import
+    import plansynth.reach.planners.ompl  # noqa: F401
     from plansynth.reach.solve import planners, solve
 
     assert {"rrt", "est", "kpiece", "milp-bigm"} <= set(planners())

@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.conplan import COUNTEREXAMPLES, ConPlan, Feasible, physical_lower_bound, step_reach, time_windows, zero_prefix
-from plansynth.reach.decompose import Abstraction, Region, abstract
-from plansynth.reach.displan import Conflict
+from plansynth.reach.lazy.conplan import COUNTEREXAMPLES, ConPlan, Feasible, physical_lower_bound, step_reach, time_windows, zero_prefix
+from plansynth.reach.abstraction import Abstraction, Region, abstract
+from plansynth.reach.lazy.displan import Conflict
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
 from plansynth.reach.problem import Box, ReachProblem
@@ -195,8 +195,8 @@ def test_stalled_simplex_falls_back_to_the_interior_point_method() -> None:
 def test_a_trajectory_that_misses_the_dynamics_is_polished() -> None:
     """Long chains can leave unscaled dynamics residuals of 1e-5 after a scaled simplex
     run; CON-PLAN then re-solves the plan's LP tightly instead of reporting it."""
-    from plansynth.reach.conplan import POLISH_RESIDUAL
-    from plansynth.reach.lazy import plan_lazy
+    from plansynth.reach.lazy.conplan import POLISH_RESIDUAL
+    from plansynth.reach.lazy.loop import plan_lazy
     from plansynth.reach.trajectory import Trajectory
     from plansynth.reach.validate import validate
 

@@ -16,7 +16,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, dubins_example, maze, random_workspace
 from plansynth.reach.problem import Box, Polygon, ReachProblem, free_measure, is_convex, point_in_interior, shape_to_shapely

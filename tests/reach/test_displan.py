@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.displan import CARDINALITY_ENCODINGS, Conflict, DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.lazy.displan import CARDINALITY_ENCODINGS, Conflict, DisPlan, RegionGraph, SatOutcome
 
 MAX_MODELS = 400
 

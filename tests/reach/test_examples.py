@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from plansynth.reach.decompose import abstract
+from plansynth.reach.abstraction import abstract
 from plansynth.reach.dubins import linearising_feedback, simulate_unicycle, unicycle_controls
 from plansynth.reach.families import dubins_example, examples, maze, write_examples
 from plansynth.reach.problem import Box, load_reach_problem

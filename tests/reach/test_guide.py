@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from plansynth.reach.decompose import abstract
+from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, maze
-from plansynth.reach.guide import departure, reference_plan, route
-from plansynth.reach.lazy import plan_lazy
+from plansynth.reach.lazy.guide import departure, reference_plan, route
+from plansynth.reach.lazy.loop import plan_lazy
 from plansynth.reach.problem import Box, ReachProblem
 from plansynth.reach.validate import validate
 

@@ -11,13 +11,13 @@ import pytest
 
 from plansynth.budget import Budget
 from plansynth.reach import ReachStatus, plan_lazy, solve
-from plansynth.reach.conplan import Feasible
-from plansynth.reach.decompose import abstract
-from plansynth.reach.displan import Conflict, DisPlan, RegionGraph
+from plansynth.reach.lazy.conplan import Feasible
+from plansynth.reach.abstraction import abstract
+from plansynth.reach.lazy.displan import Conflict, DisPlan, RegionGraph
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.lazy import lazy_loop
-from plansynth.reach.milp import solve_horizon
+from plansynth.reach.lazy.loop import lazy_loop
+from plansynth.reach.planners.milp import solve_horizon
 from plansynth.reach.problem import Box, ReachProblem, load_reach_problem
 from plansynth.reach.trajectory import Trajectory
 

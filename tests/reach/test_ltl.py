@@ -1,4 +1,4 @@
-"""LTL syntax and semantics (plansynth.reach.ltl): the parser's precedence, negation
+"""LTL syntax and semantics (plansynth.reach.mission.ltl): the parser's precedence, negation
 normal form, and the fixpoint evaluator against the textbook definitions over the
 unrolled lasso, on random formulas and random finite and lasso words."""
 
@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.ltl import (
+from plansynth.reach.mission.ltl import (
     And, Const, Finally, Globally, Iff, Implies, Lasso, LtlSyntaxError, Next, Not, Or, Prop, Release, Until,
     finite_word, holds, holds_at, holds_unrolled, nnf, parse, props,
 )

@@ -7,10 +7,10 @@ import pytest
 
 from plansynth.budget import Budget
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.decompose import abstract
+from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.milp import _big_m, plan_milp, solve_horizon
+from plansynth.reach.planners.milp import _big_m, plan_milp, solve_horizon
 from plansynth.reach.problem import Box, ReachProblem
 
 

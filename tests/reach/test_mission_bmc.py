@@ -10,8 +10,8 @@ import itertools
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.displan import RegionGraph, SatOutcome
-from plansynth.reach.ltl import Lasso, finite_word, holds, parse
+from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
+from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
 from plansynth.reach.mission.bmc import MissionDisPlan, MissionPlan
 
 from test_ltl import NAMES, formulas

@@ -20,7 +20,7 @@ from plansynth import Budget
 from plansynth.cli import app
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.families import random_workspace
-from plansynth.reach.ltl import Lasso, finite_word, holds, parse
+from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
 from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
 from plansynth.reach.mission.labels import label_abstraction

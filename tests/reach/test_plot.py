@@ -15,7 +15,7 @@ import pytest
 from PIL import Image
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, maze, random_workspace
 from plansynth.reach.plot import animate, plot_problem

@@ -19,12 +19,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.decompose import Abstraction, abstract
-from plansynth.reach.displan import Conflict, DisPlan
+from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.lazy.displan import Conflict, DisPlan
 from plansynth.reach.dynamics import double_integrator
 from plansynth.reach.families import random_workspace
 from plansynth.reach.highs import new_highs
-from plansynth.reach.lazy import plan_lazy
+from plansynth.reach.lazy.loop import plan_lazy
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
 
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])

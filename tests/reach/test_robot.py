@@ -109,7 +109,7 @@ def test_the_validator_checks_clearance_itself():
 
 
 def test_the_plot_draws_the_robot(tmp_path):
-    from plansynth.reach.decompose import abstract
+    from plansynth.reach.abstraction import abstract
     from plansynth.reach.plot import plot_problem
 
     p = with_robot(maze(1), RobotShape(radius=0.4))

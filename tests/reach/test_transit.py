@@ -9,13 +9,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.conplan import ConPlan, Feasible
-from plansynth.reach.decompose import abstract
+from plansynth.reach.lazy.conplan import ConPlan, Feasible
+from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import maze, random_workspace
 from plansynth.reach.highs import new_highs
-from plansynth.reach.lazy import plan_lazy
+from plansynth.reach.lazy.loop import plan_lazy
 from plansynth.reach.problem import ReachProblem, halfspaces
-from plansynth.reach.transit import GOAL, START, TransitCheck
+from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
 
 
 def test_legs_of_a_plan() -> None:

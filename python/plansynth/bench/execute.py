@@ -9,8 +9,8 @@ for trajectories -- and counted as solved only if it passes.
 
 Solver names: grid -- any registered grid backend (``native``, ``cvc5``, ``external``);
 reach -- ``lazy-smt`` and ``milp`` (R2's planners, through :func:`plansynth.reach.solve`),
-``milp-bigm`` (:mod:`plansynth.reach.milp_bigm`), ``rrt``, ``est``, ``kpiece``
-(:mod:`plansynth.reach.rrt`), ``gcs`` (:mod:`plansynth.reach.gcs`, Drake's Graphs of Convex
+``milp-bigm`` (:mod:`plansynth.reach.planners.milp_bigm`), ``rrt``, ``est``, ``kpiece``
+(:mod:`plansynth.reach.planners.ompl`), ``gcs`` (:mod:`plansynth.reach.planners.gcs`, Drake's Graphs of Convex
 Sets, through :func:`plansynth.reach.solve`; its continuous-time curve is validated in the
 validator's ``dynamics="curve"`` mode, the exact discrete dynamics are not required).
 For every solved run whose regions are one per time step, the run also records
@@ -146,7 +146,7 @@ def solver_version(solver: str) -> str:
 
 def _reach_planner(problem: Any, solver: str, budget: Budget, options: dict[str, Any]) -> Any:
     """R2's planners through :func:`plansynth.reach.solve`; while that entry point does not
-    exist yet, ``lazy-smt`` is run through :func:`plansynth.reach.lazy.plan_lazy` (the
+    exist yet, ``lazy-smt`` is run through :func:`plansynth.reach.lazy.loop.plan_lazy` (the
     trajectory is validated below either way)."""
     try:
         from plansynth.reach.solve import solve
@@ -155,7 +155,7 @@ def _reach_planner(problem: Any, solver: str, budget: Budget, options: dict[str,
     if solve is not None:
         return solve(problem, planner=solver, budget=budget, **options)
     if solver == "lazy-smt":
-        from plansynth.reach.lazy import plan_lazy
+        from plansynth.reach.lazy.loop import plan_lazy
 
         return plan_lazy(problem, budget, **options)
     from plansynth.errors import SolverUnavailable
@@ -174,12 +174,12 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.reach.robot import configuration_space
 
     if solver in ("rrt", "est", "kpiece"):
-        from plansynth.reach.rrt import plan_rrt
+        from plansynth.reach.planners.ompl import plan_rrt
 
         # a sized robot plans in its configuration space (as solve() does for the others)
         res = plan_rrt(configuration_space(problem), budget, seed=seed, planner=solver, **options)
     elif solver == "milp-bigm":
-        from plansynth.reach.milp_bigm import plan_milp_bigm
+        from plansynth.reach.planners.milp_bigm import plan_milp_bigm
 
         res = plan_milp_bigm(configuration_space(problem), budget, **options)
     else:

@@ -598,7 +598,7 @@ def _gcs_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str,
     """GCS (Drake) beside lazy-smt on the mazes, with the difference in guarantee."""
     if not any((e, "gcs") in cells for e, _ in mazes):
         return []
-    from plansynth.reach.gcs import GUARANTEE
+    from plansynth.reach.planners.gcs import GUARANTEE
 
     L = ["### Graphs of Convex Sets (Drake) beside lazy SMT", "",
          "`gcs`: Marcucci, Petersen, von Wrangel and Tedrake, \"Motion planning around obstacles with convex "

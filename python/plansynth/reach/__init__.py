@@ -14,10 +14,10 @@ Planning Using Lazy SMT-Based Solving", CDC 2016).
   :func:`validate`.
 """
 
-from plansynth.reach.decompose import Abstraction, Region, abstract
+from plansynth.reach.abstraction import Abstraction, Region, abstract
 from plansynth.reach.families import maze, random_workspace
-from plansynth.reach.lazy import TheoryChecker, plan_lazy
-from plansynth.reach.milp import plan_milp
+from plansynth.reach.lazy.loop import TheoryChecker, plan_lazy
+from plansynth.reach.planners.milp import plan_milp
 from plansynth.reach.problem import Box, LinearDynamics, Polygon, ReachProblem, load_reach_problem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.solve import Planner, planners, register_planner, solve

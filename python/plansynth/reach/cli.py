@@ -174,7 +174,7 @@ def solve_command(
     if max_horizon is not None:
         options["max_horizon"] = max_horizon
     if planner == "lazy-smt":
-        from plansynth.reach.lazy import COUNTEREXAMPLES, HORIZON_SEARCHES, PAPER
+        from plansynth.reach.lazy.loop import COUNTEREXAMPLES, HORIZON_SEARCHES, PAPER
 
         if counterexample not in COUNTEREXAMPLES:
             raise typer.BadParameter(f"must be one of {', '.join(COUNTEREXAMPLES)}", param_hint="--counterexample")
@@ -188,7 +188,7 @@ def solve_command(
         if paper:
             options.update(PAPER)
     if variant is not None:
-        from plansynth.reach.gcs import VARIANTS
+        from plansynth.reach.planners.gcs import VARIANTS
 
         if planner != "gcs" or variant not in VARIANTS:
             raise typer.BadParameter(f"is a gcs option, one of {', '.join(VARIANTS)}", param_hint="--variant")
@@ -230,7 +230,7 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
         result.write_json(out)
         console.print(f"result written to {escape(str(out))}", highlight=False)
     if (plot is not None or animate is not None) and result.trajectory is not None:
-        from plansynth.reach.decompose import abstract
+        from plansynth.reach.abstraction import abstract
         from plansynth.reach.plot import animate as make_gif
         from plansynth.reach.plot import plot_problem
 
@@ -315,7 +315,7 @@ def plot_command(
     output: Path = typer.Option(..., "--output", "-o", help="PNG file to write."),
 ) -> None:
     """Draw the workspace, the convex regions and (with a result) the trajectory."""
-    from plansynth.reach.decompose import abstract
+    from plansynth.reach.abstraction import abstract
     from plansynth.reach.plot import plot_problem
     from plansynth.reach.problem import load_reach_problem
     from plansynth.reach.trajectory import trajectory_from_dict

@@ -6,7 +6,7 @@ al., CDC 2016, Section IV, Problem 4.1, here with the segment-safe constraints w
 planner kept segments in the regions), built and solved from scratch. Its time is the
 floor under any search over region sequences; a planner's total divided by it shows
 the search's overhead. The LP is built and run by
-:class:`~plansynth.reach.conplan.ConPlan` on a fresh HiGHS instance (no warm start,
+:class:`~plansynth.reach.lazy.conplan.ConPlan` on a fresh HiGHS instance (no warm start,
 no basis), and its time counts the model's construction (``passModel``) and the solve.
 
 >>> from plansynth.reach.families import maze
@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import highspy
 
-from plansynth.reach.conplan import ConPlan
-from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.lazy.conplan import ConPlan
+from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["OracleLP", "oracle_lp"]

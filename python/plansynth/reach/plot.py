@@ -31,7 +31,7 @@ from matplotlib.patches import Rectangle
 from matplotlib.patches import Circle
 
 from plansynth.io import atomic_output
-from plansynth.reach.decompose import Abstraction
+from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.problem import Box, ReachProblem, Shape
 from plansynth.reach.trajectory import Trajectory
 

@@ -70,7 +70,7 @@ class ReachResult:
     ``guarantee``: what the planner enforced by construction, ``"segments"`` or
     ``"samples"`` (the paper's guarantee) or ``"curve"`` (a continuous-time curve, not a
     trajectory of the exact discrete dynamics: ``gcs``, see
-    :data:`plansynth.reach.gcs.GUARANTEE`; then ``curve`` holds its dense sampling at
+    :data:`plansynth.reach.planners.gcs.GUARANTEE`; then ``curve`` holds its dense sampling at
     ``curve_times`` and ``curve_validation`` the validator's report on it). ``validated``: the validator accepted the
     trajectory (None when there is none); ``validation``: its report.
     """

@@ -1,8 +1,8 @@
 """``solve()``: reach-avoid planners chosen by name, every answer validated.
 
 Planners live one per module behind the small :class:`Planner` protocol (STYLE.md,
-point 5): ``lazy-smt`` (:mod:`plansynth.reach.lazy`, the paper's Algorithm 1) and its
-named configurations, ``milp`` (:mod:`plansynth.reach.milp`, the one-shot region MILP)
+point 5): ``lazy-smt`` (:mod:`plansynth.reach.lazy.loop`, the paper's Algorithm 1) and its
+named configurations, ``milp`` (:mod:`plansynth.reach.planners.milp`, the one-shot region MILP)
 and the baselines ``milp-bigm``, ``rrt``, ``est``, ``kpiece``. One table names them all;
 each module is imported on first use (:func:`get_planner`), so every name works whatever
 was imported before. Plugins register with :func:`register_planner`. There is no
@@ -51,11 +51,11 @@ class Planner(Protocol):
 
 def _configured(*, paper: bool = False, **fixed: Any) -> Planner:
     """``plan_lazy`` with some options fixed (named configurations for comparisons);
-    ``paper=True`` fixes the paper's options (:data:`plansynth.reach.lazy.PAPER`) first.
-    :mod:`plansynth.reach.lazy` is imported on the first call, not here."""
+    ``paper=True`` fixes the paper's options (:data:`plansynth.reach.lazy.loop.PAPER`) first.
+    :mod:`plansynth.reach.lazy.loop` is imported on the first call, not here."""
 
     def planner(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
-        from plansynth.reach.lazy import PAPER, plan_lazy
+        from plansynth.reach.lazy.loop import PAPER, plan_lazy
 
         return plan_lazy(problem, budget, **{**options, **(PAPER if paper else {}), **fixed})
 
@@ -69,8 +69,8 @@ def _configured(*, paper: bool = False, **fixed: Any) -> Planner:
 #: when it is asked for) or to a planner itself. A new built-in planner is one line here;
 #: plugins use :func:`register_planner`.
 _PLANNERS: dict[str, str | Planner] = {
-    "lazy-smt": "plansynth.reach.lazy:plan_lazy",
-    "milp": "plansynth.reach.milp:plan_milp",
+    "lazy-smt": "plansynth.reach.lazy.loop:plan_lazy",
+    "milp": "plansynth.reach.planners.milp:plan_milp",
     # the paper's loop and counterexamples (PAPER), with ZEROPREFIX and with the trivial
     # counterexample: the comparison of Section V
     "lazy-smt-paper": _configured(paper=True),
@@ -78,11 +78,11 @@ _PLANNERS: dict[str, str | Planner] = {
     # our loop with the paper's ZEROPREFIX counterexample (Farkas-shrunk) instead of the default
     "lazy-smt-zeroprefix": _configured(counterexample="zeroprefix"),
     # baselines (see Benchmarks in the README)
-    "milp-bigm": "plansynth.reach.milp_bigm:plan_milp_bigm",
-    "rrt": "plansynth.reach.rrt:plan_rrt_rrt",
-    "est": "plansynth.reach.rrt:plan_rrt_est",
-    "kpiece": "plansynth.reach.rrt:plan_rrt_kpiece",
-    "gcs": "plansynth.reach.gcs:plan_gcs",  # Drake's Graphs of Convex Sets
+    "milp-bigm": "plansynth.reach.planners.milp_bigm:plan_milp_bigm",
+    "rrt": "plansynth.reach.planners.ompl:plan_rrt_rrt",
+    "est": "plansynth.reach.planners.ompl:plan_rrt_est",
+    "kpiece": "plansynth.reach.planners.ompl:plan_rrt_kpiece",
+    "gcs": "plansynth.reach.planners.gcs:plan_gcs",  # Drake's Graphs of Convex Sets
     # LTL missions (issue 14): the bounded mission as one big-M MILP per horizon
     "milp-ltl": "plansynth.reach.mission.milp:plan_milp_ltl",
 }

@@ -11,7 +11,7 @@ position* s in 1..L, chosen by exactly one loop selector:
 * ``loop[L, j]`` (a lasso, j = k + 1): x_L = x_k, so the robot repeats x_k..x_L
   forever; DIS-PLAN asks r_L = r_k, CON-PLAN asks x_L = x_k;
 * ``stay[L]`` (a finite plan): s = L, the last position repeats (the robot stays in its
-  last region: the finite reading of :mod:`plansynth.reach.ltl`).
+  last region: the finite reading of :mod:`plansynth.reach.mission.ltl`).
 
 For every subformula psi of the mission in negation normal form and every position
 i there is a variable [[psi]]_i, with the one-sided (polarity) clauses
@@ -31,15 +31,15 @@ chain ``in[L, i]`` (position i lies in the loop) and per until-formula a chain
 ``act[L] & [[a U b]]_L -> <<F b>>[L, L]``. ``R``/``G`` need none (their circular
 reading is the greatest fixpoint, which is the right one).
 
-Conflicts from CON-PLAN (:class:`~plansynth.reach.displan.Conflict`) become clauses as
-in :class:`~plansynth.reach.displan.DisPlan`: start-anchored ones at their absolute
+Conflicts from CON-PLAN (:class:`~plansynth.reach.lazy.displan.Conflict`) become clauses as
+in :class:`~plansynth.reach.lazy.displan.DisPlan`: start-anchored ones at their absolute
 times, the others at every time shift; goal-anchored ones only for their horizon
 (CON-PLAN plans a mission with the whole workspace as the goal). A lasso whose loop
 CON-PLAN refutes is blocked together with its loop selector (:meth:`learn_loop`); a loop
 refuted without the start holds for the same loop at every later horizon as well.
 
->>> from plansynth.reach.displan import RegionGraph
->>> from plansynth.reach.ltl import parse
+>>> from plansynth.reach.lazy.displan import RegionGraph
+>>> from plansynth.reach.mission.ltl import parse
 >>> g = RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(0, 1, 2))
 >>> d = MissionDisPlan(g, [frozenset(), frozenset(), frozenset({"a"})], parse("G F a"))
 >>> d.solve(1)[0].value              # a is two steps away
@@ -60,8 +60,8 @@ from pysat.formula import IDPool
 from pysat.solvers import Solver
 
 from plansynth.budget import Clock
-from plansynth.reach.displan import CONFLICTS_PER_SLICE, SAT_SOLVER, Conflict, RegionGraph, SatOutcome
-from plansynth.reach.ltl import (
+from plansynth.reach.lazy.displan import CONFLICTS_PER_SLICE, SAT_SOLVER, Conflict, RegionGraph, SatOutcome
+from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, subformulas,
 )
 
@@ -94,9 +94,9 @@ class MissionDisPlan:
     ``semantics``: which plans to look for: ``finite`` (stay selectors only),
     ``lasso`` (loop selectors only) or ``any`` (both; finite plans are tried first by
     the decision phases). ``earliest[i]``: region i is impossible before that step (a
-    sound relaxation, :func:`~plansynth.reach.conplan.time_windows`). ``waits_at_start``:
+    sound relaxation, :func:`~plansynth.reach.lazy.conplan.time_windows`). ``waits_at_start``:
     the robot starts at rest (``A x_0 = x_0``), so start-anchored conflicts also hold
-    shifted earlier (as in :class:`~plansynth.reach.displan.DisPlan`).
+    shifted earlier (as in :class:`~plansynth.reach.lazy.displan.DisPlan`).
     Counters: ``sat_calls``, ``clauses`` (learned), ``loop_clauses``.
     """
 

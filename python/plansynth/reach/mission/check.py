@@ -2,7 +2,7 @@
 
 It knows the problem (labels, mission) and the trajectory, and nothing of the planner:
 no regions, no encoding. It recomputes the labels from the geometry (shapely) and
-evaluates the mission with :func:`plansynth.reach.ltl.holds` (the direct semantics,
+evaluates the mission with :func:`plansynth.reach.mission.ltl.holds` (the direct semantics,
 not the BMC encoding).
 
 **The word of a trajectory.** Labels are closed sets, and a robot that touches a
@@ -47,7 +47,7 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.ltl import (
+from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Lasso, Next, Not, Or, Prop, Release, Until, holds, holds_at, nnf, parse,
 )
 from plansynth.reach.problem import Box, ReachProblem

@@ -1,6 +1,6 @@
 """The abstraction that respects labels (issue 14, point 2).
 
-The convex decomposition of the free space (:func:`plansynth.reach.decompose.abstract`,
+The convex decomposition of the free space (:func:`plansynth.reach.abstraction.abstract`,
 Shoukry et al., CDC 2016, Section III) is refined by the label boundaries so that every
 region lies inside or outside each label (interiors disjoint). A region sequence then
 fixes which labels hold at every sample, and, with segment safety (the segment
@@ -34,7 +34,7 @@ import numpy as np
 from shapely.geometry import Point
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.decompose import Abstraction, _region_from_cycle, abstract
+from plansynth.reach.abstraction import Abstraction, _region_from_cycle, abstract
 from plansynth.reach.problem import Box, Polygon, ReachProblem, Shape, halfspaces, is_convex, polygon_halfspaces
 
 __all__ = ["LabelledAbstraction", "label_abstraction", "clip", "planning_problem"]

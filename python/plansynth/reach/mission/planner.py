@@ -39,17 +39,17 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget
-from plansynth.reach.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, time_windows
-from plansynth.reach.decompose import Abstraction
-from plansynth.reach.displan import RegionGraph, SatOutcome
+from plansynth.reach.lazy.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, time_windows
+from plansynth.reach.abstraction import Abstraction
+from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
 from plansynth.reach.highs import new_highs
-from plansynth.reach.ltl import parse
+from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.transit import TransitCheck
+from plansynth.reach.lazy.transit import TransitCheck
 
 __all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
@@ -256,8 +256,8 @@ def plan_mission(
     :func:`solve_mission` does that). ``semantics``: ``any`` (finite or lasso plans,
     finite ones first), ``finite`` or ``lasso``. ``lower_bound``: the earliest step of
     each region from the displacement-box relaxation
-    (:func:`~plansynth.reach.conplan.time_windows`) as unit clauses. ``transit``: the
-    transit-time layer (:class:`~plansynth.reach.transit.TransitCheck`) in front of
+    (:func:`~plansynth.reach.lazy.conplan.time_windows`) as unit clauses. ``transit``: the
+    transit-time layer (:class:`~plansynth.reach.lazy.transit.TransitCheck`) in front of
     CON-PLAN, as in the reach-avoid planner. ``wait_shifts``: start-anchored conflicts
     also shifted earlier when the robot starts at rest."""
     if problem.mission is None:

@@ -12,7 +12,7 @@ follows it, with HiGHS linear programs over x_0..x_N, u_0..u_{N-1}:
 * ``H_goal p_N <= h_goal`` (and p_N in r_N).
 
 When the sequence is infeasible, CON-PLAN returns a counterexample (Theorem 5.3), a
-:class:`~plansynth.reach.displan.Conflict`. Three strategies (``counterexample=``):
+:class:`~plansynth.reach.lazy.displan.Conflict`. Three strategies (``counterexample=``):
 
 ``zeroprefix`` (default, the paper's): Problem 5.2, the LP with a slack s_t >= 0 on
     every constraint on p_t, ordered ``s_0 <= s_1 <= ... <= s_N`` and minimised
@@ -84,8 +84,8 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Clock, checkpoint
-from plansynth.reach.decompose import Abstraction
-from plansynth.reach.displan import Conflict
+from plansynth.reach.abstraction import Abstraction
+from plansynth.reach.lazy.displan import Conflict
 from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
 from plansynth.reach.trajectory import Trajectory
@@ -352,7 +352,7 @@ class ConPlan:
     """The theory solver of the lazy loop for one problem and abstraction.
 
     ``check(regions)`` returns :class:`Feasible` or a sound
-    :class:`~plansynth.reach.displan.Conflict`. ``slack_lp`` (ZEROPREFIX's slack LP)
+    :class:`~plansynth.reach.lazy.displan.Conflict`. ``slack_lp`` (ZEROPREFIX's slack LP)
     and ``split`` (independent LP blocks) default to what suits the state dimension:
     slack LP up to 8 states, split beyond.
     """
@@ -1349,7 +1349,7 @@ def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) ->
     which a goal region's reach box meets the goal is a lower bound on the horizon.
 
     >>> from plansynth.reach.families import maze
-    >>> from plansynth.reach.decompose import abstract
+    >>> from plansynth.reach.abstraction import abstract
     >>> w = time_windows(maze(1), abstract(maze(1)), 200)
     >>> w.earliest, w.to_go, w.horizon
     ((0, 26, 27), (25, 24, 0), 50)
@@ -1393,7 +1393,7 @@ def touching(abstraction: Abstraction, tol: float = 1e-9) -> tuple[tuple[int, ..
     out: a segment-safe trajectory may pass through such a point.
 
     >>> from plansynth.reach.families import maze
-    >>> from plansynth.reach.decompose import abstract
+    >>> from plansynth.reach.abstraction import abstract
     >>> touching(abstract(maze(1)))
     ((1,), (0, 2), (1,))
     """
@@ -1514,7 +1514,7 @@ def proved_horizon_bound(problem: ReachProblem, abstraction: Abstraction, limit:
     This is what may prove ``infeasible`` (the region-hop bounds may not; see above).
 
     >>> from plansynth.reach.families import maze
-    >>> from plansynth.reach.decompose import abstract
+    >>> from plansynth.reach.abstraction import abstract
     >>> proved_horizon_bound(maze(1), abstract(maze(1)), 200)   # the region-hop bounds say 50
     38
     >>> proved_horizon_bound(maze(1), abstract(maze(1)), 200, segment_safe=False)

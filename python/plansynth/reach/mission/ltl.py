@@ -195,7 +195,7 @@ def parse(text: str) -> Formula:
     >>> parse("a &")
     Traceback (most recent call last):
     ...
-    plansynth.reach.ltl.LtlSyntaxError: expected a formula, got end of input at position 3 of 'a &'
+    plansynth.reach.mission.ltl.LtlSyntaxError: expected a formula, got end of input at position 3 of 'a &'
     """
     toks = _tokens(text)
     i = 0

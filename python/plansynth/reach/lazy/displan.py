@@ -58,7 +58,7 @@ from pysat.formula import IDPool
 from pysat.solvers import Solver
 
 from plansynth.budget import Clock
-from plansynth.reach.decompose import Abstraction
+from plansynth.reach.abstraction import Abstraction
 
 __all__ = ["RegionGraph", "Conflict", "DisPlan", "SatOutcome", "CARDINALITY_ENCODINGS"]
 

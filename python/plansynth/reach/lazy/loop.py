@@ -22,9 +22,9 @@ proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``).
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
-CON-PLAN behind :class:`~plansynth.reach.transit.TransitCheck`, which refutes plans
+CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
 with impossible transit times between regions without a horizon-long LP; and DIS-PLAN's
-decision phases follow :func:`~plansynth.reach.guide.reference_plan`, an evenly timed
+decision phases follow :func:`~plansynth.reach.lazy.guide.reference_plan`, an evenly timed
 route ending at the window's top (its first leg no faster than the transit layer allows),
 so that the first plans proposed are plausible ones. When the robot starts at rest, a
 start-anchored conflict also holds shifted earlier (``wait_shifts``): a trajectory for
@@ -33,8 +33,8 @@ maze-4 with an order-25 chain these three make the loop find its trajectory in t
 feasible window with 4 iterations, not 46.
 
 The loop talks to the continuous side only through :class:`TheoryChecker`: ``check``
-maps a region sequence to :class:`~plansynth.reach.conplan.Feasible` or to one or more
-:class:`~plansynth.reach.displan.Conflict` (STYLE.md, point 8). The answer is
+maps a region sequence to :class:`~plansynth.reach.lazy.conplan.Feasible` or to one or more
+:class:`~plansynth.reach.lazy.displan.Conflict` (STYLE.md, point 8). The answer is
 ``unknown`` when the budget (time or iterations, one iteration = one SAT call and its
 theory check) runs out.
 
@@ -45,7 +45,7 @@ one step (around a circle given as a 400-vertex polygon, hundreds of sliver regi
 made the loop answer "infeasible up to horizon 30" where 3 steps suffice; see
 ``tests/reach/test_proved_bound.py``). The
 answer is therefore ``infeasible`` only when
-:func:`~plansynth.reach.conplan.proved_horizon_bound`, which holds for every
+:func:`~plansynth.reach.lazy.conplan.proved_horizon_bound`, which holds for every
 trajectory of the problem, exceeds ``max_horizon``; when the loop refutes every
 horizon without such a proof the answer is ``unknown`` and says so
 (``counters["abstraction_refuted"]``).
@@ -55,7 +55,7 @@ abstraction, not for the problem): the largest of the region-graph distance from
 start region to a goal region (BFS), the distance to the goal along each axis divided
 by the largest displacement per step (one small LP per axis and direction), and the
 first step at which the displacement-box relaxation reaches the goal along the region
-graph (:func:`~plansynth.reach.conplan.time_windows`, beyond the paper; it also gives
+graph (:func:`~plansynth.reach.lazy.conplan.time_windows`, beyond the paper; it also gives
 DIS-PLAN a time window per region).
 
 >>> from plansynth.reach.families import maze
@@ -73,16 +73,16 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
-from plansynth.reach.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
-from plansynth.reach.conplan import (ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound,
+from plansynth.reach.lazy.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
+from plansynth.reach.lazy.conplan import (ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound,
                                      proved_horizon_bound, time_windows)
-from plansynth.reach.decompose import Abstraction, abstract
-from plansynth.reach.displan import Conflict, DisPlan, RegionGraph, SatOutcome
-from plansynth.reach.guide import departure, reference_plan, route
+from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.lazy.displan import Conflict, DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.transit import START, TransitCheck
+from plansynth.reach.lazy.transit import START, TransitCheck
 
 __all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES",
            "COUNTEREXAMPLES", "PAPER"]
@@ -131,7 +131,7 @@ def plan_lazy(
 
     ``max_horizon`` overrides the problem's. ``counterexample``, ``generalize`` and
     ``slack_weights`` choose how CON-PLAN explains an infeasible sequence (see
-    :mod:`plansynth.reach.conplan`): ``"farkas"`` (the default, beyond the paper) is one
+    :mod:`plansynth.reach.lazy.conplan`): ``"farkas"`` (the default, beyond the paper) is one
     feasibility LP over the whole plan whose Farkas certificate shrinks the trivial
     counterexample to the literals the proof needs (``trivial`` with ``generalize``);
     ``"zeroprefix"`` is the paper's (``generalize=False, slack_weights="uniform"``: as
@@ -139,9 +139,9 @@ def plan_lazy(
     whole segments, not only samples. ``lower_bound=False`` starts at horizon 0 without
     time windows. ``horizon_search`` (``window`` or ``linear``) and ``window_growth``
     choose the horizons tried (see the module docstring). ``transit`` puts
-    :class:`~plansynth.reach.transit.TransitCheck` in front of CON-PLAN (transit-time
+    :class:`~plansynth.reach.lazy.transit.TransitCheck` in front of CON-PLAN (transit-time
     conflicts without horizon-long LPs; ``widen`` also widens LP conflicts in time);
-    ``guided`` sets DIS-PLAN's phases to :func:`~plansynth.reach.guide.reference_plan`.
+    ``guided`` sets DIS-PLAN's phases to :func:`~plansynth.reach.lazy.guide.reference_plan`.
     ``wait_shifts``: when the robot starts at rest, DIS-PLAN also adds every
     start-anchored conflict shifted earlier (it could have waited at the start).
     ``progress(L, iterations)`` is called when a horizon (window: its top) starts.
@@ -304,9 +304,9 @@ def _not_a_proof(proved: float) -> str:
 def _guide(
     problem: ReachProblem, abstraction: Abstraction, transit: TransitCheck | None
 ) -> Callable[[int], Sequence[int] | None] | None:
-    """DIS-PLAN's reference plan per horizon (:mod:`plansynth.reach.guide`): the route
+    """DIS-PLAN's reference plan per horizon (:mod:`plansynth.reach.lazy.guide`): the route
     at constant speed, its first leg held back to the fewest steps the transit layer
-    proves for it (plus :data:`~plansynth.reach.guide.DEPART_SLACK`; LPs, so computed on
+    proves for it (plus :data:`~plansynth.reach.lazy.guide.DEPART_SLACK`; LPs, so computed on
     the first call, inside the loop and its budget)."""
     path = route(problem, abstraction)
     if path is None:

@@ -23,7 +23,7 @@ Phases are only hints: the solver still returns a sequence that satisfies every
 clause, the reference need not be a valid plan, and no answer depends on it.
 
 >>> from plansynth.reach.families import maze
->>> from plansynth.reach.decompose import abstract
+>>> from plansynth.reach.abstraction import abstract
 >>> p = maze(1); a = abstract(p)
 >>> ref = reference_plan(p, a, 60)
 >>> len(ref), ref[0], ref[-1], sorted(set(ref))
@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-from plansynth.reach.decompose import Abstraction, Region
+from plansynth.reach.abstraction import Abstraction, Region
 from plansynth.reach.problem import Box, ReachProblem
 
 __all__ = ["reference_plan", "route", "departure", "DEPART_SLACK"]

@@ -5,7 +5,7 @@ Marcucci, Petersen, von Wrangel and Tedrake, "Motion planning around obstacles w
 convex optimization", Science Robotics 2023 (Section "Results": trajectory design with
 Bezier curves in a graph of convex sets), as implemented by Drake's
 ``pydrake.planning.GcsTrajectoryOptimization``. The convex sets are *our* free-space
-regions, the ones the lazy SMT planner walks (:func:`plansynth.reach.decompose.abstract`,
+regions, the ones the lazy SMT planner walks (:func:`plansynth.reach.abstraction.abstract`,
 with its adjacency as the graph's edges), not Drake's IRIS regions, so both planners
 see the same decomposition.
 
@@ -68,7 +68,7 @@ import numpy as np
 
 from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
-from plansynth.reach.decompose import Abstraction, abstract
+from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
@@ -89,7 +89,7 @@ GUARANTEE = (
     "segments, |v| and |a|, and the dense curve, and reports the dynamics residual without requiring it)"
 )
 
-log = logging.getLogger("plansynth.reach.gcs")
+log = logging.getLogger("plansynth.reach.planners.gcs")
 
 
 def drake_version() -> str:

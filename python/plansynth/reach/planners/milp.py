@@ -37,9 +37,9 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, Clock, checkpoint
-from plansynth.reach.conplan import ConPlan, LpBudgetExhausted, proved_horizon_bound
-from plansynth.reach.decompose import Abstraction, abstract
-from plansynth.reach.displan import RegionGraph
+from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, proved_horizon_bound
+from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import ReachProblem, halfspaces
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -210,7 +210,7 @@ def plan_milp(
     The MILP decides plans through the abstraction (one region per step), so having no
     solution at every horizon from the BFS bound up to ``max_horizon`` is ``unknown``
     with ``counters["abstraction_refuted"]``; ``infeasible`` is claimed only when
-    :func:`~plansynth.reach.conplan.proved_horizon_bound` exceeds ``max_horizon``."""
+    :func:`~plansynth.reach.lazy.conplan.proved_horizon_bound` exceeds ``max_horizon``."""
     t_start = time.perf_counter()
     clock: Clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)

@@ -8,7 +8,7 @@ horizon, and DIS-PLAN then tries the next gap, one by one. This layer answers th
 questions without the horizon-long LPs:
 
 * ``box`` gaps: a position moves by at most ``step_up``/``step_down`` per step along
-  each axis (:func:`~plansynth.reach.conplan.step_reach`), so fewer steps than the
+  each axis (:func:`~plansynth.reach.lazy.conplan.step_reach`), so fewer steps than the
   distance between the bounding boxes of X and Y divided by that are impossible (no LP);
 * ``lp`` gaps: just above the box bound, the two-literal LP "p_0 in X, p_k in Y"
   (dynamics, input and state bounds, segment rows as CON-PLAN writes them) decides gap
@@ -25,8 +25,8 @@ plan's violations are returned at once. Sequences without a violation go to the 
 theory (CON-PLAN) unchanged, so this layer only saves work; it never decides feasibility.
 
 >>> from plansynth.reach.families import maze
->>> from plansynth.reach.decompose import abstract
->>> from plansynth.reach.conplan import ConPlan
+>>> from plansynth.reach.abstraction import abstract
+>>> from plansynth.reach.lazy.conplan import ConPlan
 >>> p = maze(1); a = abstract(p)
 >>> tc = TransitCheck(ConPlan(p, a), a)
 >>> tc.box_gap(0, 2)              # region 0 (y <= 14.5) to region 2 (y >= 15.5): 1 m
@@ -45,9 +45,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from plansynth.reach.conplan import ConPlan, Feasible, box_steps, shape_box, step_reach
-from plansynth.reach.decompose import Abstraction
-from plansynth.reach.displan import Conflict
+from plansynth.reach.lazy.conplan import ConPlan, Feasible, box_steps, shape_box, step_reach
+from plansynth.reach.abstraction import Abstraction
+from plansynth.reach.lazy.displan import Conflict
 
 __all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
 
@@ -57,7 +57,7 @@ START, GOAL = -1, -2  # pseudo-regions: the start state (at time 0) and the goal
 
 
 class TransitCheck:
-    """A theory checker (see :class:`plansynth.reach.lazy.TheoryChecker`) that reports
+    """A theory checker (see :class:`plansynth.reach.lazy.loop.TheoryChecker`) that reports
     transit-time violations of a region sequence and passes the others on to ``inner``.
 
     A *leg* (a, b) is a pair of regions, or ``START`` and a region (the start state at
