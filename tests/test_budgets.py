@@ -200,7 +200,7 @@ def test_external_solver_stops_and_leaves_no_child(tmp_path):
 def test_the_long_phases_check_the_clock():
     """The abstraction and the time-window bounds stop at their next checkpoint once the
     clock is out of time (the reach planners run them inside budget phases)."""
-    from plansynth.reach.lazy.conplan import time_windows
+    from plansynth.reach.lazy.bounds import time_windows
     from plansynth.reach.abstraction import abstract
 
     problem = maze(2)

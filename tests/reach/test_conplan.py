@@ -9,9 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.lazy.conplan import COUNTEREXAMPLES, ConPlan, Feasible, physical_lower_bound, step_reach, time_windows, zero_prefix
+from plansynth.reach.lazy.bounds import physical_lower_bound, step_reach, time_windows
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan import COUNTEREXAMPLES, ConPlan, zero_prefix
 from plansynth.reach.abstraction import Abstraction, Region, abstract
-from plansynth.reach.lazy.displan import Conflict
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
 from plansynth.reach.problem import Box, ReachProblem

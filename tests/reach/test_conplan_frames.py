@@ -18,9 +18,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.lazy.conplan import ConPlan, Feasible
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import abstract
-from plansynth.reach.lazy.displan import Conflict
 from plansynth.reach.families import cluttered, maze, random_workspace
 from plansynth.reach.validate import validate
 

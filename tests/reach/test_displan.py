@@ -9,7 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.lazy.displan import CARDINALITY_ENCODINGS, Conflict, DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.lazy.conflict import Conflict
+from plansynth.reach.lazy.displan import CARDINALITY_ENCODINGS, DisPlan, RegionGraph, SatOutcome
 
 MAX_MODELS = 400
 

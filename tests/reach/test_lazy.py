@@ -11,9 +11,9 @@ import pytest
 
 from plansynth.budget import Budget
 from plansynth.reach import ReachStatus, plan_lazy, solve
-from plansynth.reach.lazy.conplan import Feasible
 from plansynth.reach.abstraction import abstract
-from plansynth.reach.lazy.displan import Conflict, DisPlan, RegionGraph
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
 from plansynth.reach.lazy.loop import lazy_loop

@@ -20,7 +20,8 @@ from hypothesis import strategies as st
 
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import Abstraction, abstract
-from plansynth.reach.lazy.displan import Conflict, DisPlan
+from plansynth.reach.lazy.conflict import Conflict
+from plansynth.reach.lazy.displan import DisPlan
 from plansynth.reach.dynamics import double_integrator
 from plansynth.reach.families import random_workspace
 from plansynth.reach.highs import new_highs

@@ -1,6 +1,6 @@
 """``infeasible`` must be proved (issue 10): DIS-PLAN moves one region per step, so
 refuting every horizon through a decomposition of thousands of sliver regions is not
-a proof. Only :func:`plansynth.reach.lazy.conplan.proved_horizon_bound` may prove it; these
+a proof. Only :func:`plansynth.reach.lazy.bounds.proved_horizon_bound` may prove it; these
 tests check that it is a lower bound on every trajectory found, and that the cases that
 used to be answered ``infeasible`` are not."""
 
@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.lazy.conplan import proved_horizon_bound, touching
+from plansynth.reach.lazy.bounds import proved_horizon_bound, touching
 from plansynth.reach.abstraction import OUTER_VERTICES, abstract, outer_polygon
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import random_workspace
@@ -142,12 +142,12 @@ def test_outer_polygon_contains_the_polygon(n: int, r: float, stretch: float, tu
 
 
 def test_sweep_stopped_early_still_gives_a_bound(monkeypatch: pytest.MonkeyPatch) -> None:
-    from plansynth.reach.lazy import conplan
+    from plansynth.reach.lazy import bounds
     from plansynth.reach.families import maze
 
     p = maze(1)
     full = proved_horizon_bound(p, abstract(p), 200)
-    monkeypatch.setattr(conplan, "SWEEP_MAX_WORK", 50)
+    monkeypatch.setattr(bounds, "SWEEP_MAX_WORK", 50)
     early = proved_horizon_bound(p, abstract(p), 200)
     assert 26 <= early < full == 38  # at least the distance bound, never more than the full sweep
 

@@ -9,7 +9,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.lazy.conplan import ConPlan, Feasible
+from plansynth.reach.lazy.conflict import Feasible
+from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import maze, random_workspace
 from plansynth.reach.highs import new_highs

@@ -33,8 +33,8 @@ maze-4 with an order-25 chain these three make the loop find its trajectory in t
 feasible window with 4 iterations, not 46.
 
 The loop talks to the continuous side only through :class:`TheoryChecker`: ``check``
-maps a region sequence to :class:`~plansynth.reach.lazy.conplan.Feasible` or to one or more
-:class:`~plansynth.reach.lazy.displan.Conflict` (STYLE.md, point 8). The answer is
+maps a region sequence to :class:`~plansynth.reach.lazy.conflict.Feasible` or to one or more
+:class:`~plansynth.reach.lazy.conflict.Conflict` (STYLE.md, point 8). The answer is
 ``unknown`` when the budget (time or iterations, one iteration = one SAT call and its
 theory check) runs out.
 
@@ -45,7 +45,7 @@ one step (around a circle given as a 400-vertex polygon, hundreds of sliver regi
 made the loop answer "infeasible up to horizon 30" where 3 steps suffice; see
 ``tests/reach/test_proved_bound.py``). The
 answer is therefore ``infeasible`` only when
-:func:`~plansynth.reach.lazy.conplan.proved_horizon_bound`, which holds for every
+:func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`, which holds for every
 trajectory of the problem, exceeds ``max_horizon``; when the loop refutes every
 horizon without such a proof the answer is ``unknown`` and says so
 (``counters["abstraction_refuted"]``).
@@ -55,7 +55,7 @@ abstraction, not for the problem): the largest of the region-graph distance from
 start region to a goal region (BFS), the distance to the goal along each axis divided
 by the largest displacement per step (one small LP per axis and direction), and the
 first step at which the displacement-box relaxation reaches the goal along the region
-graph (:func:`~plansynth.reach.lazy.conplan.time_windows`, beyond the paper; it also gives
+graph (:func:`~plansynth.reach.lazy.bounds.time_windows`, beyond the paper; it also gives
 DIS-PLAN a time window per region).
 
 >>> from plansynth.reach.families import maze
@@ -74,10 +74,11 @@ from typing import Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.reach.lazy.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
-from plansynth.reach.lazy.conplan import (ConPlan, Feasible, LpBudgetExhausted, LpFailure, physical_lower_bound,
-                                     proved_horizon_bound, time_windows)
+from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, time_windows
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
-from plansynth.reach.lazy.displan import Conflict, DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.lazy.displan import DisPlan, RegionGraph, SatOutcome
 from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus

@@ -8,7 +8,7 @@ horizon, and DIS-PLAN then tries the next gap, one by one. This layer answers th
 questions without the horizon-long LPs:
 
 * ``box`` gaps: a position moves by at most ``step_up``/``step_down`` per step along
-  each axis (:func:`~plansynth.reach.lazy.conplan.step_reach`), so fewer steps than the
+  each axis (:func:`~plansynth.reach.lazy.bounds.step_reach`), so fewer steps than the
   distance between the bounding boxes of X and Y divided by that are impossible (no LP);
 * ``lp`` gaps: just above the box bound, the two-literal LP "p_0 in X, p_k in Y"
   (dynamics, input and state bounds, segment rows as CON-PLAN writes them) decides gap
@@ -45,9 +45,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from plansynth.reach.lazy.conplan import ConPlan, Feasible, box_steps, shape_box, step_reach
+from plansynth.reach.lazy.bounds import box_steps, shape_box, step_reach
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import Abstraction
-from plansynth.reach.lazy.displan import Conflict
 
 __all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
 

@@ -31,7 +31,7 @@ chain ``in[L, i]`` (position i lies in the loop) and per until-formula a chain
 ``act[L] & [[a U b]]_L -> <<F b>>[L, L]``. ``R``/``G`` need none (their circular
 reading is the greatest fixpoint, which is the right one).
 
-Conflicts from CON-PLAN (:class:`~plansynth.reach.lazy.displan.Conflict`) become clauses as
+Conflicts from CON-PLAN (:class:`~plansynth.reach.lazy.conflict.Conflict`) become clauses as
 in :class:`~plansynth.reach.lazy.displan.DisPlan`: start-anchored ones at their absolute
 times, the others at every time shift; goal-anchored ones only for their horizon
 (CON-PLAN plans a mission with the whole workspace as the goal). A lasso whose loop
@@ -60,7 +60,8 @@ from pysat.formula import IDPool
 from pysat.solvers import Solver
 
 from plansynth.budget import Clock
-from plansynth.reach.lazy.displan import CONFLICTS_PER_SLICE, SAT_SOLVER, Conflict, RegionGraph, SatOutcome
+from plansynth.reach.lazy.conflict import Conflict
+from plansynth.reach.lazy.displan import CONFLICTS_PER_SLICE, SAT_SOLVER, RegionGraph, SatOutcome
 from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, subformulas,
 )
@@ -94,7 +95,7 @@ class MissionDisPlan:
     ``semantics``: which plans to look for: ``finite`` (stay selectors only),
     ``lasso`` (loop selectors only) or ``any`` (both; finite plans are tried first by
     the decision phases). ``earliest[i]``: region i is impossible before that step (a
-    sound relaxation, :func:`~plansynth.reach.lazy.conplan.time_windows`). ``waits_at_start``:
+    sound relaxation, :func:`~plansynth.reach.lazy.bounds.time_windows`). ``waits_at_start``:
     the robot starts at rest (``A x_0 = x_0``), so start-anchored conflicts also hold
     shifted earlier (as in :class:`~plansynth.reach.lazy.displan.DisPlan`).
     Counters: ``sat_calls``, ``clauses`` (learned), ``loop_clauses``.

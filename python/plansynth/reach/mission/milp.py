@@ -33,7 +33,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget
-from plansynth.reach.lazy.conplan import time_windows
+from plansynth.reach.lazy.bounds import time_windows
 from plansynth.reach.highs import new_highs
 from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem

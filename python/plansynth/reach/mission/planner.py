@@ -39,7 +39,9 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget
-from plansynth.reach.lazy.conplan import ConPlan, Feasible, LpBudgetExhausted, LpFailure, time_windows
+from plansynth.reach.lazy.bounds import time_windows
+from plansynth.reach.lazy.conflict import Feasible
+from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
 from plansynth.reach.highs import new_highs
@@ -256,7 +258,7 @@ def plan_mission(
     :func:`solve_mission` does that). ``semantics``: ``any`` (finite or lasso plans,
     finite ones first), ``finite`` or ``lasso``. ``lower_bound``: the earliest step of
     each region from the displacement-box relaxation
-    (:func:`~plansynth.reach.lazy.conplan.time_windows`) as unit clauses. ``transit``: the
+    (:func:`~plansynth.reach.lazy.bounds.time_windows`) as unit clauses. ``transit``: the
     transit-time layer (:class:`~plansynth.reach.lazy.transit.TransitCheck`) in front of
     CON-PLAN, as in the reach-avoid planner. ``wait_shifts``: start-anchored conflicts
     also shifted earlier when the robot starts at rest."""

@@ -37,7 +37,8 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, Clock, checkpoint
-from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, proved_horizon_bound
+from plansynth.reach.lazy.bounds import proved_horizon_bound
+from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.highs import new_highs
@@ -210,7 +211,7 @@ def plan_milp(
     The MILP decides plans through the abstraction (one region per step), so having no
     solution at every horizon from the BFS bound up to ``max_horizon`` is ``unknown``
     with ``counters["abstraction_refuted"]``; ``infeasible`` is claimed only when
-    :func:`~plansynth.reach.lazy.conplan.proved_horizon_bound` exceeds ``max_horizon``."""
+    :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound` exceeds ``max_horizon``."""
     t_start = time.perf_counter()
     clock: Clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
