@@ -73,3 +73,19 @@ class OutputUnwritable(PlansynthError):
         self.path = str(path)
         self.reason = reason
         super().__init__(f"cannot write {self.path}: {reason}")
+
+
+class InvalidOption(PlansynthError, ValueError):
+    """An option the chosen solver or planner does not take, or a value it cannot use:
+    never silently dropped. Names the solver, the option and the reason (with the
+    options it does take).
+
+    >>> str(InvalidOption("milp", "counterexample", "not an option of this planner (its options: max_horizon)"))
+    "milp: option 'counterexample': not an option of this planner (its options: max_horizon)"
+    """
+
+    def __init__(self, solver: str, option: str, reason: str) -> None:
+        self.solver = solver
+        self.option = option
+        self.reason = reason
+        super().__init__(f"{solver}: option {option!r}: {reason}")

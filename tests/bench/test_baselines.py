@@ -24,10 +24,10 @@ def _open_problem(obstacles=()):
 
 
 def test_rrt_finds_a_valid_trajectory_in_an_open_workspace():
-    from plansynth.reach.planners.ompl import plan_rrt
+    from plansynth.reach.solve import solve
 
     p = _open_problem()
-    r = plan_rrt(p, Budget(seconds=20), seed=3)
+    r = solve(p, "rrt", Budget(seconds=20), seed=3)  # solve() validates, the planner does not
     assert r.status == ReachStatus.FOUND and r.validated is True
     assert r.planner == "rrt" and r.guarantee == "segments"
     assert r.horizon == r.trajectory.horizon > 0
@@ -47,9 +47,9 @@ def test_kpiece_and_est_are_offered():
     # its own (in this one an earlier test may have seeded it otherwise)
     code = ("from plansynth.budget import Budget\n"
             "from plansynth.reach.result import ReachStatus\n"
-            "from plansynth.reach.planners.ompl import plan_rrt\n"
+            "from plansynth.reach.solve import solve\n"
             "from tests.bench.test_baselines import _open_problem\n"
-            "r = plan_rrt(_open_problem(), Budget(seconds=20), seed=1, planner='kpiece')\n"
+            "r = solve(_open_problem(), 'kpiece', Budget(seconds=20), seed=1)\n"
             "assert r.status == ReachStatus.FOUND and r.validated is True, r.message\n"
             "assert r.options['seed_applied'], r.options\n")
     done = subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).resolve().parents[2],
@@ -68,11 +68,11 @@ def test_rrt_gives_unknown_never_infeasible_when_the_goal_is_walled_off():
 
 
 def test_bigm_milp_finds_a_valid_trajectory_around_a_nonconvex_obstacle():
-    from plansynth.reach.planners.milp_bigm import plan_milp_bigm
+    from plansynth.reach.solve import solve
 
     L = Polygon(((3.0, 3.0), (7.0, 3.0), (7.0, 4.0), (4.0, 4.0), (4.0, 7.0), (3.0, 7.0)))
     p = _open_problem([L])
-    r = plan_milp_bigm(p, Budget(seconds=30))
+    r = solve(p, "milp-bigm", Budget(seconds=30))
     assert r.status == ReachStatus.FOUND and r.validated is True
     assert r.planner == "milp-bigm"
     rep = validate(p, r.trajectory)

@@ -145,3 +145,32 @@ def test_table_runs_the_maze_family() -> None:
     assert r.exit_code == 0, r.output
     assert "zeroprefix+gen+min" in r.output and "trivial+gen+min" in r.output and r.output.count("found") == 2
     assert runner.invoke(app, ["reach", "table", "--mazes", "one"]).exit_code == 2
+
+
+@pytest.mark.parametrize("args, flag", [
+    (["--paper", "-p", "milp"], "--paper"),
+    (["-p", "lazy-smt-zeroprefix", "--counterexample", "trivial"], "--counterexample"),
+    (["-p", "lazy-smt-paper", "--no-transit"], "--transit/--no-transit"),
+    (["-p", "milp", "--no-generalize"], "--generalize/--no-generalize"),
+    (["-p", "rrt", "--max-horizon", "40"], "--max-horizon"),
+    (["-p", "lazy-smt", "--variant", "convex"], "--variant"),
+])
+def test_an_option_the_planner_does_not_take_is_one_line_and_exit_2(maze1: Path, args: list[str], flag: str) -> None:
+    import os
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(maze1), *args],
+                         capture_output=True, text=True, timeout=120, env={**os.environ, "COLUMNS": "400"})
+    assert run.returncode == 2, run.stdout + run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and flag in lines[0], run.stderr
+    assert run.stdout == ""  # refused before any planning
+
+
+def test_paper_mode_takes_the_options_given_on_top(maze1: Path, tmp_path: Path) -> None:
+    out = tmp_path / "r.json"
+    r = runner.invoke(app, ["reach", "solve", str(maze1), "--paper", "--counterexample", "trivial", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    opts = json.loads(out.read_text())["options"]
+    assert opts["counterexample"] == "trivial" and opts["horizon_search"] == "linear" and opts["transit"] is False

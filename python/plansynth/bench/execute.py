@@ -8,11 +8,10 @@ every solver -- :func:`plansynth.grid.verify.verify` (inside
 for trajectories -- and counted as solved only if it passes.
 
 Solver names: grid -- any registered grid backend (``native``, ``cvc5``, ``external``);
-reach -- ``lazy-smt`` and ``milp`` (R2's planners, through :func:`plansynth.reach.solve`),
-``milp-bigm`` (:mod:`plansynth.reach.planners.milp_bigm`), ``rrt``, ``est``, ``kpiece``
-(:mod:`plansynth.reach.planners.ompl`), ``gcs`` (:mod:`plansynth.reach.planners.gcs`, Drake's Graphs of Convex
-Sets, through :func:`plansynth.reach.solve`; its continuous-time curve is validated in the
-validator's ``dynamics="curve"`` mode, the exact discrete dynamics are not required).
+reach -- every planner of :func:`plansynth.reach.solve` (``lazy-smt`` and its named
+configurations, ``milp``, ``milp-bigm``, ``rrt``, ``est``, ``kpiece``, ``gcs``, ``milp-ltl``),
+run through :func:`plansynth.reach.solve`, which validates every answer (a gcs curve in the
+validator's ``dynamics="curve"`` mode; a mission also by the mission checker).
 For every solved run whose regions are one per time step, the run also records
 ``oracle_lp``: the time of one cold LP over its final region sequence
 (:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with.
@@ -144,76 +143,29 @@ def solver_version(solver: str) -> str:
         return pkg
 
 
-def _reach_planner(problem: Any, solver: str, budget: Budget, options: dict[str, Any]) -> Any:
-    """R2's planners through :func:`plansynth.reach.solve`; while that entry point does not
-    exist yet, ``lazy-smt`` is run through :func:`plansynth.reach.lazy.loop.plan_lazy` (the
-    trajectory is validated below either way)."""
-    try:
-        from plansynth.reach.solve import solve
-    except ImportError:
-        solve = None  # type: ignore[assignment]
-    if solve is not None:
-        return solve(problem, planner=solver, budget=budget, **options)
-    if solver == "lazy-smt":
-        from plansynth.reach.lazy.loop import plan_lazy
-
-        return plan_lazy(problem, budget, **options)
-    from plansynth.errors import SolverUnavailable
-
-    raise SolverUnavailable(solver, "plansynth.reach.solve is not available in this checkout")
-
-
 def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
-    from plansynth.reach.validate import validate
+    from plansynth.reach.solve import get_planner, solve
 
     problem = inst.build()
     solver = task["solver"]
     budget = Budget(seconds=float(task["timeout"]))
-    options = dict(task.get("options") or {})
     seed = int(task.get("seed", 0)) + int(task.get("repeat", 0))
-    from plansynth.reach.robot import configuration_space
-
-    if solver in ("rrt", "est", "kpiece"):
-        from plansynth.reach.planners.ompl import plan_rrt
-
-        # a sized robot plans in its configuration space (as solve() does for the others)
-        res = plan_rrt(configuration_space(problem), budget, seed=seed, planner=solver, **options)
-    elif solver == "milp-bigm":
-        from plansynth.reach.planners.milp_bigm import plan_milp_bigm
-
-        res = plan_milp_bigm(configuration_space(problem), budget, **options)
+    planner = get_planner(solver)
+    values = dict(task.get("options") or {})
+    if "seed" in getattr(planner, "option_names", lambda: ())():  # the sampling planners (OMPL)
+        values["seed"] = seed
+    # one path for every planner: solve() plans (a sized robot in its configuration
+    # space) and validates (missions also mission-checked); its verdict is the run's
+    res = solve(problem, solver, budget, planner.configure(**values))
+    valid = None if res.validated is None else int(bool(res.validated))
+    dense = getattr(res, "curve_validation", None)
+    if dense is not None:  # a continuous-time curve (gcs): its dense sampling says whether segments are safe
+        segment_safe = int(bool(dense.segment_safe))
     else:
-        res = _reach_planner(problem, solver, budget, options)
-    status_value = getattr(res.status, "value", str(res.status))
-    valid = None
-    segment_safe = None
-    if res.trajectory is not None and getattr(res, "guarantee", None) == "curve":
-        # A continuous-time curve (gcs): the validator's curve mode, on the samples at dt
-        # and on the dense curve (segment-safe, derivative check); not the exact dynamics.
-        import numpy as np
-
-        report = validate(problem, res.trajectory, dynamics="curve")
-        dense = None if res.curve is None else validate(
-            problem, res.curve, require_segment_safe=True, dynamics="curve",
-            times=None if res.curve_times is None else np.array(res.curve_times))
-        valid = int(bool(report.ok and dense is not None and dense.ok))
-        segment_safe = int(bool(dense is not None and dense.segment_safe))
-    elif res.trajectory is not None:
-        # The same independent validator for every planner, whatever the planner says.
-        if getattr(problem, "mission", None) is not None:  # and the mission checker (issue 14)
-            from plansynth.reach.mission.check import check_mission
-            from plansynth.reach.mission.labels import planning_problem
-
-            report = validate(planning_problem(problem), res.trajectory)
-            holds = check_mission(problem, res.trajectory, (res.mission or {}).get("loop_start")).ok
-            valid = int(bool(report.ok) and holds)
-        else:
-            report = validate(problem, res.trajectory)
-            valid = int(bool(report.ok))
-        segment_safe = int(bool(report.segment_safe))
-    if status_value == "found":
+        segment_safe = None if res.validation is None else int(bool(res.validation.segment_safe))
+    if res.status.value == "found":
         status = "solved" if valid == 1 else "invalid"
-    elif status_value == "infeasible":
+    elif res.status.value == "infeasible":
         status = "infeasible"
     else:
         status = "invalid" if valid == 0 else "unknown"

@@ -116,28 +116,51 @@ def _result_table(result: Any) -> Table:
     return table
 
 
-class _AnyOption(frozenset):
-    """Every option name (a planner that takes ``**options``)."""
+#: ``reach solve`` flags that set a planner option (parameter name -> option name, flag)
+_OPTION_FLAGS = {
+    "max_horizon": ("max_horizon", "--max-horizon"), "counterexample": ("counterexample", "--counterexample"),
+    "generalize": ("generalize", "--generalize/--no-generalize"), "minimize": ("minimize", "--minimize/--no-minimize"),
+    "segment_safe": ("segment_safe", "--segment-safe/--no-segment-safe"),
+    "horizon_search": ("horizon_search", "--horizon-search"), "window_growth": ("window_growth", "--window-growth"),
+    "transit": ("transit", "--transit/--no-transit"), "guided": ("guided", "--guide/--no-guide"),
+    "wait_shifts": ("wait_shifts", "--wait-shifts/--no-wait-shifts"), "widen": ("widen", "--widen/--no-widen"),
+    "variant": ("variant", "--variant"),
+}
 
-    def __contains__(self, name: object) -> bool:
-        return True
+
+def _given(ctx: typer.Context, name: str) -> bool:
+    """Was the parameter ``name`` given on the command line (not left at its default)?"""
+    source = ctx.get_parameter_source(name)
+    return source is not None and source.name not in ("DEFAULT", "DEFAULT_MAP")
 
 
-def _accepted_options(planner: str) -> frozenset[str]:
-    """The keyword options the planner called ``planner`` takes (the baselines take fewer
-    than lazy-smt: the CLI passes each only what it knows)."""
-    import inspect
+def _planner_options(ctx: typer.Context, planner: str, paper: bool) -> Any:
+    """The planner's options value, built once from the flags given; a flag that does
+    not apply to the planner is a usage error (exit 2, one line), never dropped."""
+    from plansynth.errors import InvalidOption
+    from plansynth.reach.solve import configure
 
-    from plansynth.reach.solve import get_planner
+    values = {option: ctx.params[name] for name, (option, _) in _OPTION_FLAGS.items() if _given(ctx, name)}
+    base = None
+    if paper:
+        if planner != "lazy-smt":
+            raise typer.BadParameter(f"applies to the lazy-smt planner only, not {planner} (the paper's "
+                                     "configurations are also planners: lazy-smt-paper, lazy-smt-paper-trivial)",
+                                     param_hint="--paper")
+        from plansynth.reach.lazy.options import LazyOptions
 
-    params = inspect.signature(get_planner(planner)).parameters.values()
-    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params):
-        return _AnyOption()
-    return frozenset(p.name for p in params)
+        base = LazyOptions.paper()
+    try:
+        return configure(planner, base, **values)
+    except InvalidOption as exc:
+        flag = {option: flag for option, flag in _OPTION_FLAGS.values()}.get(exc.option, exc.option)
+        raise typer.BadParameter(f"does not apply to the {planner} planner ({exc.reason})"
+                                 if "not an option" in exc.reason else exc.reason, param_hint=flag) from None
 
 
 @app.command("solve", epilog=SOLVE_EPILOG)
 def solve_command(
+    ctx: typer.Context,
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
     planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
@@ -155,7 +178,7 @@ def solve_command(
     guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
     widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
-    paper: bool = typer.Option(False, "--paper", help="lazy-smt: the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); overrides the options above."),
+    paper: bool = typer.Option(False, "--paper", help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options above that are given apply on top."),
     variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest), surrogate (velocity continuity only as Drake's convex surrogate) or convex (continuity of the curve only)."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
@@ -168,35 +191,7 @@ def solve_command(
     err = Console(stderr=True, soft_wrap=True)
     if planner not in planners():  # exit 2, naming every planner (all load on first use)
         raise typer.BadParameter(f"unknown planner {planner!r}; choose one of: {', '.join(planners())}", param_hint="--planner")
-    if timeout is not None and not timeout > 0:
-        raise typer.BadParameter("must be positive", param_hint="--timeout")
-    options: dict[str, Any] = {"segment_safe": segment_safe}
-    if max_horizon is not None:
-        options["max_horizon"] = max_horizon
-    if planner == "lazy-smt":
-        from plansynth.reach.lazy.loop import COUNTEREXAMPLES, HORIZON_SEARCHES, PAPER
-
-        if counterexample not in COUNTEREXAMPLES:
-            raise typer.BadParameter(f"must be one of {', '.join(COUNTEREXAMPLES)}", param_hint="--counterexample")
-        if horizon_search not in HORIZON_SEARCHES:
-            raise typer.BadParameter(f"must be one of {', '.join(HORIZON_SEARCHES)}", param_hint="--horizon-search")
-        if not window_growth > 0:
-            raise typer.BadParameter("must be positive", param_hint="--window-growth")
-        options.update(counterexample=counterexample, generalize=generalize, minimize=minimize,
-                       horizon_search=horizon_search, window_growth=window_growth, transit=transit, guided=guided,
-                       widen=widen, wait_shifts=wait_shifts)
-        if paper:
-            options.update(PAPER)
-    if variant is not None:
-        from plansynth.reach.planners.gcs import VARIANTS
-
-        if planner != "gcs" or variant not in VARIANTS:
-            raise typer.BadParameter(f"is a gcs option, one of {', '.join(VARIANTS)}", param_hint="--variant")
-        options["variant"] = variant
-    accepts = _accepted_options(planner)
-    if max_horizon is not None and "max_horizon" not in accepts:
-        raise typer.BadParameter(f"the {planner} planner has no horizon bound", param_hint="--max-horizon")
-    options = {k: v for k, v in options.items() if k in accepts}
+    options = _planner_options(ctx, planner, paper)
     try:
         for path in (out, plot, animate):
             if path is not None:
@@ -211,9 +206,7 @@ def solve_command(
         def progress(horizon: int, iterations: int) -> None:
             bar.update(task, description=f"{planner}: horizon {horizon} ({iterations} iterations so far)")
 
-        if "progress" in accepts:
-            options["progress"] = progress
-        result = solve(problem, planner, Budget(seconds=timeout), **options)
+        result = solve(problem, planner, Budget(seconds=timeout), options, progress=progress)
     console.print(_result_table(result))
     try:
         _write_outputs(console, problem, result, out, plot, animate)

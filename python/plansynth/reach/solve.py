@@ -1,20 +1,21 @@
 """``solve()``: reach-avoid planners chosen by name, every answer validated.
 
-Planners live one per module behind the small :class:`Planner` protocol (STYLE.md,
-point 5): ``lazy-smt`` (:mod:`plansynth.reach.lazy.loop`, the paper's Algorithm 1) and its
-named configurations, ``milp`` (:mod:`plansynth.reach.planners.milp`, the one-shot region MILP)
-and the baselines ``milp-bigm``, ``rrt``, ``est``, ``kpiece``. One table names them all;
-each module is imported on first use (:func:`get_planner`), so every name works whatever
-was imported before. Plugins register with :func:`register_planner`. There is no
+Planners live one per module behind the small :class:`~plansynth.reach.planners.Planner`
+protocol (STYLE.md, point 5), in :mod:`plansynth.reach.planners`: ``lazy-smt``
+(:mod:`plansynth.reach.lazy`, the paper's Algorithm 1) and its named configurations,
+``milp`` (the one-shot region MILP) and the baselines ``milp-bigm``, ``rrt``, ``est``,
+``kpiece``, ``gcs``; ``milp-ltl`` for missions. Each planner's options are one frozen
+value, built once (:meth:`~plansynth.reach.planners.Planner.configure`); an option the
+planner does not take is an :class:`~plansynth.errors.InvalidOption`. There is no
 fallback from one planner to another: an unknown name is an error
 (:class:`~plansynth.errors.UnknownSolver`, listing the names) and the result names the
 planner that ran.
 
-Every trajectory a planner returns is checked by the independent validator
-(:func:`plansynth.reach.validate.validate`, which knows neither the decomposition nor
-the planners) before it is reported; segment safety is required when the planner
-claims it. A trajectory that fails is never reported as ``found``: the status becomes
-``unknown``, the message says why, and the failure is logged as an error.
+Every trajectory a planner returns is checked here, and only here, by the independent
+validator (:func:`plansynth.reach.validate.validate`, which knows neither the
+decomposition nor the planners) before it is reported; segment safety is required when
+the planner claims it. A trajectory that fails is never reported as ``found``: the
+status becomes ``unknown``, the message says why, and the failure is logged as an error.
 
 >>> from plansynth.reach.families import maze
 >>> r = solve(maze(1))
@@ -28,108 +29,29 @@ import logging
 import time
 
 import numpy as np
-from dataclasses import replace
-from typing import Any, Protocol
+from dataclasses import fields, is_dataclass, replace
+from typing import Any
 
 from plansynth.budget import Budget
-from plansynth.errors import SolverUnavailable, UnknownSolver
+from plansynth.reach.planners import Planner, get_planner, planners, register_planner
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.validate import validate
 
-__all__ = ["Planner", "solve", "register_planner", "planners", "get_planner", "validate_result"]
+__all__ = ["Planner", "solve", "register_planner", "planners", "get_planner", "validate_result", "configure"]
 
 log = logging.getLogger("plansynth.reach")
 
 
-class Planner(Protocol):
-    """A reach-avoid planner: problem and budget in, unvalidated result out."""
+def configure(planner: str, base: Any = None, **values: Any) -> Any:
+    """The options value of the planner called ``planner``: ``base`` (default: the
+    planner's) with ``values`` set; an option it does not take is an
+    :class:`~plansynth.errors.InvalidOption`.
 
-    def __call__(self, problem: ReachProblem, budget: Budget = ..., **options: Any) -> ReachResult:
-        ...
-
-
-def _configured(*, paper: bool = False, **fixed: Any) -> Planner:
-    """``plan_lazy`` with some options fixed (named configurations for comparisons);
-    ``paper=True`` fixes the paper's options (:data:`plansynth.reach.lazy.loop.PAPER`) first.
-    :mod:`plansynth.reach.lazy.loop` is imported on the first call, not here."""
-
-    def planner(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
-        from plansynth.reach.lazy.loop import PAPER, plan_lazy
-
-        return plan_lazy(problem, budget, **{**options, **(PAPER if paper else {}), **fixed})
-
-    planner.__doc__ = f"plan_lazy with {'PAPER, ' if paper else ''}{fixed}"
-    return planner
-
-
-#: Every planner :func:`solve` knows, in the order :func:`planners` lists them: a name
-#: maps to ``"module:attribute"`` (a planner loaded on first use, so that the registry is
-#: complete whatever was imported before, and a planner's libraries are imported only
-#: when it is asked for) or to a planner itself. A new built-in planner is one line here;
-#: plugins use :func:`register_planner`.
-_PLANNERS: dict[str, str | Planner] = {
-    "lazy-smt": "plansynth.reach.lazy.loop:plan_lazy",
-    "milp": "plansynth.reach.planners.milp:plan_milp",
-    # the paper's loop and counterexamples (PAPER), with ZEROPREFIX and with the trivial
-    # counterexample: the comparison of Section V
-    "lazy-smt-paper": _configured(paper=True),
-    "lazy-smt-paper-trivial": _configured(paper=True, counterexample="trivial"),
-    # our loop with the paper's ZEROPREFIX counterexample (Farkas-shrunk) instead of the default
-    "lazy-smt-zeroprefix": _configured(counterexample="zeroprefix"),
-    # baselines (see Benchmarks in the README)
-    "milp-bigm": "plansynth.reach.planners.milp_bigm:plan_milp_bigm",
-    "rrt": "plansynth.reach.planners.ompl:plan_rrt_rrt",
-    "est": "plansynth.reach.planners.ompl:plan_rrt_est",
-    "kpiece": "plansynth.reach.planners.ompl:plan_rrt_kpiece",
-    "gcs": "plansynth.reach.planners.gcs:plan_gcs",  # Drake's Graphs of Convex Sets
-    # LTL missions (issue 14): the bounded mission as one big-M MILP per horizon
-    "milp-ltl": "plansynth.reach.mission.milp:plan_milp_ltl",
-}
-
-
-def register_planner(name: str, planner: Planner, *, replace_existing: bool = False) -> None:
-    """Make ``planner`` available to :func:`solve` as ``name``."""
-    if name in _PLANNERS and not replace_existing:
-        raise ValueError(f"a planner named {name!r} is already registered")
-    _PLANNERS[name] = planner
-
-
-def planners() -> tuple[str, ...]:
-    """The names :func:`solve` accepts (nothing is imported to list them).
-
-    >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl')
+    >>> configure("milp", max_horizon=60)
+    MilpOptions(max_horizon=60, start_horizon=None, segment_safe=True)
     """
-    return tuple(_PLANNERS)
-
-
-def get_planner(name: str) -> Planner:
-    """The planner called ``name``, importing its module on first use.
-
-    An unknown name raises :class:`~plansynth.errors.UnknownSolver` (a ``ValueError``
-    and a ``SolverUnavailable``) that lists every known name.
-
-    >>> get_planner("milp").__name__
-    'plan_milp'
-    >>> get_planner("rrtx")
-    Traceback (most recent call last):
-    ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece, gcs, milp-ltl
-    """
-    entry = _PLANNERS.get(name)
-    if entry is None:
-        raise UnknownSolver("planner", name, planners())
-    if isinstance(entry, str):
-        import importlib
-
-        module, attribute = entry.split(":")
-        try:
-            entry = getattr(importlib.import_module(module), attribute)
-        except ModuleNotFoundError as exc:  # the planner exists but a library it needs does not
-            raise SolverUnavailable(name, f"it needs the Python module {exc.name!r}; install it") from exc
-        _PLANNERS[name] = entry
-    return entry
+    return get_planner(planner).configure(base, **values)
 
 
 def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
@@ -189,19 +111,29 @@ def solve(
     problem: ReachProblem,
     planner: str = "lazy-smt",
     budget: Budget = Budget(),
-    **options: Any,
+    options: Any = None,
+    *,
+    progress: Any = None,
+    **values: Any,
 ) -> ReachResult:
     """Plan with the planner called ``planner`` within ``budget``; validate the answer.
 
-    ``options`` go to the planner (lazy-smt: ``max_horizon``, ``counterexample``,
-    ``segment_safe``, ``generalize``, ``progress``, ...; milp: ``max_horizon``,
-    ``segment_safe``, ``start_horizon``, ``progress``).
+    ``options``: the planner's options value (:func:`configure`; default: the
+    planner's), with ``values`` set on it (lazy-smt: ``max_horizon``,
+    ``counterexample``, ``segment_safe``, ``generalize``, ...; milp: ``max_horizon``,
+    ``segment_safe``, ``start_horizon``; rrt: ``seed``, ...). ``progress(L, iterations)``
+    is called by the planners that report progress.
     """
     run = get_planner(planner)
+    if not hasattr(run, "configure"):  # a plugin registered as a plain function
+        extra = {} if progress is None else {"progress": progress}
+        return validate_result(problem, run(problem, budget, **values, **extra))
+    opts = run.configure(options, **values)
     if problem.mission is not None:  # LTL missions (issue 14): lazy-smt and milp-ltl plan them
         from plansynth.reach.mission.planner import solve_mission
 
-        return solve_mission(problem, planner, budget, **options)
+        kwargs = {f.name: getattr(opts, f.name) for f in fields(opts)} if is_dataclass(opts) else {}
+        return solve_mission(problem, planner, budget, **kwargs, progress=progress)
     robot = problem.robot_shape
     if robot is not None and not robot.is_point:
         # a sized robot: every planner plans for its reference point in the configuration
@@ -209,10 +141,9 @@ def solve(
         # checks the answer against the original problem, clearance included
         from plansynth.reach.robot import configuration_space, robot_note
 
-        result = run(configuration_space(problem), budget, **options)
+        result = run.solve(configuration_space(problem), budget, opts, progress=progress)
         note = robot_note(robot)
         result = replace(result, message=f"{result.message}; {note}" if result.message else note,
                          options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}})
         return validate_result(problem, result)
-    result = run(problem, budget, **options)
-    return validate_result(problem, result)
+    return validate_result(problem, run.solve(problem, budget, opts, progress=progress))

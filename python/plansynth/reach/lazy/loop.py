@@ -69,16 +69,17 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
-from typing import Protocol
+from dataclasses import dataclass, replace
+from typing import Any, Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
-from plansynth.reach.lazy.conplan import COUNTEREXAMPLES as CONPLAN_COUNTEREXAMPLES
+from plansynth.errors import InvalidOption
 from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, time_windows
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.lazy.options import COUNTEREXAMPLES, HORIZON_SEARCHES, LazyOptions
 from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -86,14 +87,7 @@ from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.lazy.transit import START, TransitCheck
 
 __all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES",
-           "COUNTEREXAMPLES", "PAPER"]
-
-HORIZON_SEARCHES = ("window", "linear")
-COUNTEREXAMPLES = ("farkas", *CONPLAN_COUNTEREXAMPLES)
-# the paper's loop and counterexamples: the refinements beyond the paper off, except the
-# abstraction, segment safety and the (sound) horizon lower bound, which both modes share
-PAPER = {"counterexample": "zeroprefix", "generalize": False, "slack_weights": "uniform",
-         "horizon_search": "linear", "transit": False, "guided": False, "widen": False, "wait_shifts": False}
+           "COUNTEREXAMPLES", "LazyOptions"]
 
 ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
@@ -109,70 +103,51 @@ class TheoryChecker(Protocol):
 def plan_lazy(
     problem: ReachProblem,
     budget: Budget = Budget(),
+    options: LazyOptions | None = None,
     *,
     abstraction: Abstraction | None = None,
-    max_horizon: int | None = None,
-    counterexample: str = "farkas",
-    segment_safe: bool = True,
-    generalize: bool = True,
-    minimize: bool = True,
-    slack_weights: str = "geometric",
-    cardinality: str = "auto",
-    lower_bound: bool = True,
-    horizon_search: str = "window",
-    window_growth: float = 0.25,
-    transit: bool = True,
-    guided: bool = True,
-    widen: bool = False,
-    wait_shifts: bool = True,
     progress: ProgressFn | None = None,
+    **values: Any,
 ) -> ReachResult:
     """Algorithm 1 on ``problem`` within ``budget``; the trajectory is *not* yet
     validated here (:func:`plansynth.reach.solve` does that).
 
-    ``max_horizon`` overrides the problem's. ``counterexample``, ``generalize`` and
-    ``slack_weights`` choose how CON-PLAN explains an infeasible sequence (see
-    :mod:`plansynth.reach.lazy.conplan`): ``"farkas"`` (the default, beyond the paper) is one
-    feasibility LP over the whole plan whose Farkas certificate shrinks the trivial
-    counterexample to the literals the proof needs (``trivial`` with ``generalize``);
-    ``"zeroprefix"`` is the paper's (``generalize=False, slack_weights="uniform"``: as
-    published; :data:`PAPER` has the paper's whole loop). ``segment_safe`` constrains
-    whole segments, not only samples. ``lower_bound=False`` starts at horizon 0 without
-    time windows. ``horizon_search`` (``window`` or ``linear``) and ``window_growth``
-    choose the horizons tried (see the module docstring). ``transit`` puts
-    :class:`~plansynth.reach.lazy.transit.TransitCheck` in front of CON-PLAN (transit-time
-    conflicts without horizon-long LPs; ``widen`` also widens LP conflicts in time);
-    ``guided`` sets DIS-PLAN's phases to :func:`~plansynth.reach.lazy.guide.reference_plan`.
-    ``wait_shifts``: when the robot starts at rest, DIS-PLAN also adds every
-    start-anchored conflict shifted earlier (it could have waited at the start).
-    ``progress(L, iterations)`` is called when a horizon (window: its top) starts.
+    ``options`` (:class:`~plansynth.reach.lazy.options.LazyOptions`, default: ours;
+    ``LazyOptions.paper()``: the paper's loop) with ``values`` replacing some of its
+    fields (``plan_lazy(p, counterexample="trivial")``). ``max_horizon`` overrides the
+    problem's. ``counterexample``, ``generalize`` and ``slack_weights`` choose how CON-PLAN
+    explains an infeasible sequence (see :mod:`plansynth.reach.lazy.conplan`):
+    ``"farkas"`` (the default, beyond the paper) is one feasibility LP over the whole plan
+    whose Farkas certificate shrinks the trivial counterexample to the literals the proof
+    needs (``trivial`` with ``generalize``); ``"zeroprefix"`` is the paper's
+    (``generalize=False, slack_weights="uniform"``: as published). ``segment_safe``
+    constrains whole segments, not only samples. ``lower_bound=False`` starts at horizon 0
+    without time windows. ``horizon_search`` (``window`` or ``linear``) and
+    ``window_growth`` choose the horizons tried (see the module docstring). ``transit``
+    puts :class:`~plansynth.reach.lazy.transit.TransitCheck` in front of CON-PLAN
+    (transit-time conflicts without horizon-long LPs; ``widen`` also widens LP conflicts
+    in time); ``guided`` sets DIS-PLAN's phases to
+    :func:`~plansynth.reach.lazy.guide.reference_plan`. ``wait_shifts``: when the robot
+    starts at rest, DIS-PLAN also adds every start-anchored conflict shifted earlier (it
+    could have waited at the start). ``progress(L, iterations)`` is called when a horizon
+    (window: its top) starts. ``abstraction``: a decomposition computed before (else it
+    is computed here, within the budget).
     """
-    if counterexample not in COUNTEREXAMPLES:
-        raise ValueError(f"unknown counterexample strategy {counterexample!r} (known: {', '.join(COUNTEREXAMPLES)})")
-    if horizon_search not in HORIZON_SEARCHES:
-        raise ValueError(f"unknown horizon search {horizon_search!r} (known: {', '.join(HORIZON_SEARCHES)})")
-    if not window_growth > 0:
-        raise ValueError(f"window_growth must be positive, got {window_growth}")
+    opts = options if options is not None else LazyOptions()
+    if values:
+        unknown = sorted(set(values) - set(LazyOptions.names()))
+        if unknown:
+            raise InvalidOption("lazy-smt", unknown[0], f"not an option of the lazy planner "
+                                                        f"(its options: {', '.join(LazyOptions.names())})")
+        opts = replace(opts, **values)
+    counterexample, segment_safe, generalize = opts.counterexample, opts.segment_safe, opts.generalize
+    minimize, slack_weights, cardinality, lower_bound = opts.minimize, opts.slack_weights, opts.cardinality, opts.lower_bound
+    horizon_search, window_growth, transit, guided = opts.horizon_search, opts.window_growth, opts.transit, opts.guided
+    widen, wait_shifts = opts.widen, opts.wait_shifts
     t_start = time.perf_counter()
     clock = budget.clock()
-    L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
-    options = {
-        "counterexample": counterexample,
-        "segment_safe": segment_safe,
-        "generalize": generalize,
-        "minimize": minimize,
-        "slack_weights": slack_weights,
-        "cardinality": cardinality,
-        "max_horizon": L_max,
-        "lower_bound": lower_bound,
-        "horizon_search": horizon_search,
-        "transit": transit,
-        "guided": guided,
-        "widen": widen,
-        "wait_shifts": wait_shifts,
-        "window_growth": window_growth,
-        "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
-    }
+    L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
+    options_record = opts.record(L_max, budget)
     timings = {"abstraction": 0.0, "bounds": 0.0, "guide": 0.0, "sat": 0.0, "lp": 0.0}
     counters: dict = {}
     guarantee = "segments" if segment_safe else "samples"
@@ -181,7 +156,7 @@ def plan_lazy(
         """The budget ran out before the loop started (in the abstraction or the bounds)."""
         timings["total"] = time.perf_counter() - t_start
         return ReachResult(status=ReachStatus.UNKNOWN, planner="lazy-smt", seconds=timings["total"], counters=counters,
-                           timings=timings, options=options, message=str(exc), guarantee=guarantee)
+                           timings=timings, options=options_record, message=str(exc), guarantee=guarantee)
 
     if abstraction is None:
         t0 = time.perf_counter()
@@ -263,7 +238,7 @@ def plan_lazy(
         return ReachResult(
             status=out.status, planner="lazy-smt", seconds=timings["total"], trajectory=out.trajectory,
             regions=out.regions, segment_safe=None, horizon=out.horizon, counters=counters, timings=timings,
-            options=options, message=out.message, guarantee=guarantee,
+            options=options_record, message=out.message, guarantee=guarantee,
         )
 
     if proved > L_max:

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import highspy
@@ -37,6 +38,7 @@ from plansynth.reach.lazy.bounds import time_windows
 from plansynth.reach.highs import new_highs
 from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
+from plansynth.reach.planners import OptionsPlanner, keyword_runner
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 
@@ -253,3 +255,17 @@ def plan_milp_ltl(
                               "LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
             return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
     return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
+
+
+@dataclass(frozen=True)
+class MilpLtlOptions:
+    """The options of the mission MILP (see :func:`plan_milp_ltl`)."""
+
+    max_horizon: int | None = None
+    semantics: str = "any"
+    segment_safe: bool = True
+    lower_bound: bool = True
+
+
+#: ``milp-ltl`` as a planner of :func:`plansynth.reach.solve` (missions only)
+MILP_LTL = OptionsPlanner("milp-ltl", MilpLtlOptions(), keyword_runner(plan_milp_ltl, progress=True), "highspy")

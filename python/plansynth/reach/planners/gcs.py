@@ -62,6 +62,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -69,6 +70,7 @@ import numpy as np
 from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.planners import OptionsPlanner, keyword_runner
 from plansynth.reach.problem import Box, ReachProblem, halfspaces
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
@@ -316,3 +318,19 @@ def plan_gcs(
         regions=tuple(int(r) for r in regions), horizon=N, counters=counters, timings=timings, options=options,
         guarantee="curve", message=GUARANTEE, curve=curve, curve_times=tuple(float(t) for t in dense),
     )
+
+
+@dataclass(frozen=True)
+class GcsOptions:
+    """The options of the GCS planner (see :func:`plan_gcs`)."""
+
+    variant: str = "like-for-like"
+    order: int = 5
+    time_unit: float = DEFAULT_TIME_UNIT
+    max_rounded_paths: int = 5
+    segment_safe: bool = True
+    max_horizon: int | None = None
+
+
+#: ``gcs`` as a planner of :func:`plansynth.reach.solve`
+GCS = OptionsPlanner("gcs", GcsOptions(), keyword_runner(plan_gcs, progress=True), "drake")

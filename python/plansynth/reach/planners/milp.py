@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import highspy
 import numpy as np
@@ -42,6 +43,7 @@ from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.highs import new_highs
+from plansynth.reach.planners import OptionsPlanner, keyword_runner
 from plansynth.reach.problem import ReachProblem, halfspaces
 from plansynth.reach.result import ReachResult, ReachStatus
 
@@ -301,3 +303,16 @@ def plan_milp(
         return finish(ReachStatus.UNKNOWN, N, f"{exc} at horizon {N}")
     except LpBudgetExhausted:
         return finish(ReachStatus.UNKNOWN, N, f"budget ran out in the LP solver (the trajectory of the MILP's regions) at horizon {N}")
+
+
+@dataclass(frozen=True)
+class MilpOptions:
+    """The options of the region MILP (see :func:`plan_milp`)."""
+
+    max_horizon: int | None = None
+    start_horizon: int | None = None
+    segment_safe: bool = True
+
+
+#: ``milp`` as a planner of :func:`plansynth.reach.solve`
+MILP = OptionsPlanner("milp", MilpOptions(), keyword_runner(plan_milp, progress=True), "highspy")

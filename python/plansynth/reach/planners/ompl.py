@@ -19,8 +19,8 @@ This module is that peer, built on OMPL (Sucan, Moll and Kavraki, 2012):
 - OMPL's random number generator is seeded, so a run is reproducible up to timing.
 
 The found path is turned into a :class:`~plansynth.reach.trajectory.Trajectory` of
-discrete steps by replaying its controls through the dynamics, and is reported as
-found only if the independent validator (:mod:`plansynth.reach.validate`) accepts it.
+discrete steps by replaying its controls through the dynamics; :func:`plansynth.reach.solve`
+reports it as found only if the independent validator (:mod:`plansynth.reach.validate`) accepts it.
 Sampling planners cannot prove infeasibility: a run that ends without an exact
 solution is ``unknown``.
 """
@@ -28,6 +28,7 @@ solution is ``unknown``.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from collections.abc import Callable
 from typing import Any
 
@@ -35,9 +36,9 @@ import numpy as np
 
 from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
+from plansynth.reach.planners import OptionsPlanner
 from plansynth.reach.problem import Box, Polygon, ReachProblem, shape_to_shapely
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.validate import validate
 
 __all__ = ["PLANNERS", "plan_rrt", "ompl_version", "DEFAULT_STATE_SPAN"]
 
@@ -179,8 +180,8 @@ def plan_rrt(
 ) -> "Any":
     """Plan with OMPL's kinodynamic ``planner`` ("rrt", "est" or "kpiece") within ``budget``.
 
-    Returns a :class:`~plansynth.reach.result.ReachResult` whose status is ``found`` only
-    when the validator accepted the trajectory; sampling never proves infeasibility, so
+    Returns a :class:`~plansynth.reach.result.ReachResult`, ``found`` with the trajectory
+    (not yet validated: :func:`plansynth.reach.solve` does that); sampling never proves infeasibility, so
     otherwise the status is ``unknown``. ``budget.seconds`` bounds the planning time
     (default 60 s when absent); ``budget.iterations`` is not used by OMPL's planners.
     With ``segment_safe`` (the default, as the lazy SMT planner) an edge whose segment
@@ -309,17 +310,11 @@ def plan_rrt(
     for u in inputs:
         states.append(A @ states[-1] + B @ u)
     traj = Trajectory(states=np.array(states), inputs=np.array(inputs).reshape(len(inputs), m))
-    tv = time.perf_counter()
-    report = validate(problem, traj)
-    timings["validate"] = time.perf_counter() - tv
     timings["total"] = time.perf_counter() - t0
-    ok = bool(report.ok)
-    return ReachResult(
-        status=ReachStatus.FOUND if ok else ReachStatus.UNKNOWN,
-        planner=name, seconds=timings["total"], trajectory=traj if ok else None, regions=None,
-        segment_safe=bool(report.segment_safe), horizon=traj.horizon, counters=counters, timings=timings,
-        options=options, guarantee="segments" if segment_safe else "samples", validated=ok, validation=report,
-        message="" if ok else f"OMPL path failed validation: {report.summary()}",
+    return ReachResult(  # validated by plansynth.reach.solve, like every planner's
+        status=ReachStatus.FOUND, planner=name, seconds=timings["total"], trajectory=traj, regions=None,
+        segment_safe=None, horizon=traj.horizon, counters=counters, timings=timings,
+        options=options, guarantee="segments" if segment_safe else "samples", message="",
     )
 
 
@@ -330,18 +325,26 @@ def _status_text(status: Any) -> str:
         return str(status)
 
 
-def _make_planner(name: str) -> Callable[..., Any]:
-    def planner(problem: ReachProblem, budget: Budget = Budget(seconds=60.0), *, seed: int = 0,
-                goal_bias: float | None = None, segment_safe: bool = True) -> Any:
-        return plan_rrt(problem, budget, seed, name, goal_bias=goal_bias, segment_safe=segment_safe)
+@dataclass(frozen=True)
+class OmplOptions:
+    """The options of the OMPL planners (see :func:`plan_rrt`)."""
 
-    planner.__name__ = f"plan_{name}"
-    planner.__doc__ = f"OMPL {PLANNERS[name]} as a :func:`plansynth.reach.solve` planner (see :func:`plan_rrt`)."
-    return planner
+    seed: int = 0
+    goal_bias: float | None = None
+    segment_safe: bool = True
 
 
-#: ``rrt``, ``est`` and ``kpiece`` as :func:`plansynth.reach.solve` planners; the
-#: registry there names them and loads this module on first use.
-plan_rrt_rrt = _make_planner("rrt")
-plan_rrt_est = _make_planner("est")
-plan_rrt_kpiece = _make_planner("kpiece")
+def _planner(name: str) -> OptionsPlanner:
+    def run(problem: ReachProblem, budget: Budget, options: OmplOptions, progress: Any) -> Any:
+        return plan_rrt(problem, budget, options.seed, name, goal_bias=options.goal_bias,
+                        segment_safe=options.segment_safe)
+
+    run.__doc__ = f"OMPL {PLANNERS[name]} as a :func:`plansynth.reach.solve` planner (see :func:`plan_rrt`)."
+    return OptionsPlanner(name, OmplOptions(), run, "ompl")
+
+
+#: ``rrt``, ``est`` and ``kpiece`` as planners of :func:`plansynth.reach.solve`; the
+#: registry (:mod:`plansynth.reach.planners`) names them and loads this module on first use.
+RRT = _planner("rrt")
+EST = _planner("est")
+KPIECE = _planner("kpiece")

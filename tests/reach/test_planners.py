@@ -1,0 +1,81 @@
+"""The planner protocol, the registry and the options values (issue 12)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from plansynth.budget import Budget
+from plansynth.errors import InvalidOption
+from plansynth.reach.families import maze
+from plansynth.reach.lazy.options import CONFIGURATIONS, COUNTEREXAMPLES, LazyOptions
+from plansynth.reach.planners import SHARED_OPTIONS, get_planner, planners
+from plansynth.reach.result import ReachStatus
+from plansynth.reach.solve import configure, solve
+
+
+def test_lazy_options_are_one_frozen_value() -> None:
+    opts = LazyOptions()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        opts.counterexample = "trivial"  # type: ignore[misc]
+    assert LazyOptions.paper() == CONFIGURATIONS["lazy-smt-paper"]
+    assert hash(LazyOptions.paper()) == hash(LazyOptions.paper())  # usable as a key
+
+
+def test_the_paper_configuration_is_the_published_loop() -> None:
+    p = LazyOptions.paper()
+    assert (p.counterexample, p.generalize, p.slack_weights, p.horizon_search) == ("zeroprefix", False, "uniform", "linear")
+    assert not (p.transit or p.guided or p.widen or p.wait_shifts)
+    assert p.segment_safe and p.lower_bound  # what both modes share
+    assert CONFIGURATIONS["lazy-smt-paper-trivial"] == dataclasses.replace(p, counterexample="trivial")
+    assert CONFIGURATIONS["lazy-smt-zeroprefix"] == LazyOptions(counterexample="zeroprefix")
+
+
+def test_the_counterexample_names_agree_with_conplan() -> None:
+    from plansynth.reach.lazy import conplan
+
+    assert COUNTEREXAMPLES == ("farkas", *conplan.COUNTEREXAMPLES)
+
+
+def test_every_planner_has_a_name_a_version_and_options() -> None:
+    for name in planners():
+        p = get_planner(name)
+        assert p.name == name
+        assert p.version().split()[0] in {"python-sat", "highspy", "ompl", "drake"}
+        assert dataclasses.is_dataclass(p.defaults) and p.configure() == p.defaults
+        assert set(SHARED_OPTIONS) & set(p.option_names()) or name in ("milp-bigm", "rrt", "est", "kpiece")
+
+
+def test_an_option_the_planner_does_not_take_is_an_error_not_dropped() -> None:
+    with pytest.raises(InvalidOption, match="milp: option 'counterexample': not an option"):
+        configure("milp", counterexample="trivial")
+    with pytest.raises(InvalidOption, match="lazy-smt-zeroprefix: option 'counterexample'.*fixed"):
+        solve(maze(1), "lazy-smt-zeroprefix", counterexample="trivial")
+    with pytest.raises(InvalidOption, match="rrt: option 'max_horizon'"):
+        solve(maze(1), "rrt", Budget(seconds=1), max_horizon=10)
+    with pytest.raises(InvalidOption, match="expected MilpOptions, got LazyOptions"):
+        solve(maze(1), "milp", Budget(seconds=1), LazyOptions())
+
+
+def test_named_configurations_take_the_shared_options() -> None:
+    opts = configure("lazy-smt-paper", max_horizon=70, segment_safe=False)
+    assert opts == LazyOptions.paper(max_horizon=70, segment_safe=False)
+
+
+def test_solve_records_the_options_value_it_was_given() -> None:
+    r = solve(maze(1), "lazy-smt", Budget(seconds=60), LazyOptions(counterexample="trivial", generalize=False))
+    assert r.status is ReachStatus.FOUND and r.validated is True
+    assert r.options["counterexample"] == "trivial" and r.options["generalize"] is False
+    same = solve(maze(1), "lazy-smt", Budget(seconds=60), counterexample="trivial", generalize=False)
+    assert (same.horizon, same.counters["lp_calls"], same.counters["sat_calls"]) == \
+        (r.horizon, r.counters["lp_calls"], r.counters["sat_calls"])
+
+
+def test_planners_do_not_validate_solve_does() -> None:
+    from plansynth.reach.planners.milp import MILP
+
+    raw = MILP.solve(maze(1), Budget(seconds=60), configure("milp", max_horizon=57, start_horizon=57))
+    assert raw.status is ReachStatus.FOUND and raw.validated is None
+    checked = solve(maze(1), "milp", Budget(seconds=60), max_horizon=57, start_horizon=57)
+    assert checked.validated is True and checked.validation is not None and checked.validation.ok
