@@ -217,7 +217,7 @@ def test_the_long_phases_check_the_clock():
 
 SLOW_START = """
 import sys, time
-from plansynth.grid.isolate import Timeout, preload, run_isolated
+from plansynth.isolate import Timeout, preload, run_isolated
 preload("plansynth.reach.lazy.loop", "plansynth.reach.planners.milp_bigm", "cvc5")  # a fork server slow to start
 t0 = time.perf_counter()
 out = run_isolated(time.sleep, 30, timeout=0.2)

@@ -1,4 +1,4 @@
-"""Imported by the multiprocessing fork server (see :mod:`plansynth.grid.isolate`): the
+"""Imported by the multiprocessing fork server (see :mod:`plansynth.isolate`): the
 fork server then dies when the process that started it dies, so that ``SIGKILL`` of a
 ``plansynth`` command leaves no fork server behind (its children die with it in turn).
 

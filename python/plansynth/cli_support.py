@@ -1,5 +1,6 @@
 """What every ``plansynth`` sub-command shares at the door (STYLE.md, points 2 and 12):
-usage errors as one line, and checks of the budget options.
+usage errors as one line, the exit statuses, the one-line error of a bad input, and
+checks of the budget options.
 
 A bad command line exits with status 2 and one line on standard error, like a bad
 problem file (``error: FILE: FIELD: REASON``): click's own usage errors (unknown
@@ -35,6 +36,22 @@ except ImportError:  # pragma: no cover - depends on the installed typer
         from click.exceptions import NoArgsIsHelpError
     except ImportError:
         NoArgsIsHelpError = ()  # type: ignore[assignment,misc]  # click < 8.2 exits 0 instead
+
+
+#: The exit statuses of every command of both halves: the answer is yes (found,
+#: realizable, valid), no (infeasible, unrealizable, invalid: proved), bad input (a file,
+#: an option, a solver that is unavailable, an output that cannot be written), unknown
+#: (a budget ran out, or no proof either way).
+EXIT_YES, EXIT_NO, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+
+
+def fail(err: Any, error: Exception | str) -> typer.Exit:
+    """Print ``error: MESSAGE`` (one line, markup escaped) on the console ``err`` and
+    return the exit of a bad input, for ``raise fail(err, exc) from None``."""
+    from rich.markup import escape
+
+    err.print(f"[bold red]error:[/bold red] {escape(str(error))}", highlight=False)
+    return typer.Exit(EXIT_BAD_INPUT)
 
 
 class OneLineErrorsGroup(TyperGroup):

@@ -1,6 +1,6 @@
 """Child processes that never outlive their budget or their parent (STYLE.md, point 4).
 
-Solvers run as child processes (cvc5 through :mod:`plansynth.grid.isolate`, external
+Solvers run as child processes (cvc5 through :mod:`plansynth.isolate`, external
 SyGuS solvers through :mod:`plansynth.grid.backends.external`, benchmark runs through
 :mod:`plansynth.bench.runner`). Three rules keep them from being left behind:
 

@@ -14,7 +14,7 @@ from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable
 from plansynth.grid.backends.cvc5 import Cvc5Backend, parse_options
 from plansynth.grid.backends.external import ExternalBackend
-from plansynth.grid.isolate import Crash, Finished, Timeout, run_isolated
+from plansynth.isolate import Crash, Finished, Timeout, run_isolated
 from plansynth.grid.problem import grid_problem_from_dict
 from plansynth.grid.programs import Const, parse_program
 from plansynth.grid.result import GridStatus, get_backend

@@ -6,13 +6,13 @@ A sweep is a list of tasks (instance x solver x repeat). :func:`run_sweep`
   with the same budget (time and memory limit), so an interrupted sweep resumes where
   it stopped, and a run recorded under another budget is run again (its new row
   replaces the old one);
-- runs each task in a fresh child process (:func:`plansynth.grid.isolate.run_isolated`)
+- runs each task in a fresh child process (:func:`plansynth.isolate.run_isolated`)
   with a wall-clock limit (the solver's budget plus a grace period) and a memory limit,
   so a hung solver is recorded as ``timeout``, one that dies as ``crash``, one that runs
   out of memory as ``memout``, and nothing else is lost;
 - writes each run to the database the moment it finishes; on Ctrl-C (KeyboardInterrupt)
   it stops at once: queued runs are dropped, running children are killed
-  (:func:`plansynth.grid.isolate.cancel_all`), every finished run is kept, and the
+  (:func:`plansynth.isolate.cancel_all`), every finished run is kept, and the
   interrupt is raised again;
 - runs tasks on a local pool (``jobs`` children at once, default 1 so that timings are
   not disturbed) or on an existing Dask distributed cluster (``cluster="tcp://..."``),
@@ -85,7 +85,7 @@ def run_task(task: Mapping[str, Any]) -> dict[str, Any]:
     import multiprocessing
 
     from plansynth.bench.execute import execute
-    from plansynth.grid.isolate import Crash, Finished, run_isolated
+    from plansynth.isolate import Crash, Finished, run_isolated
 
     extra = task.get("grace")
     limit = float(task["timeout"]) + (grace(float(task["timeout"])) if extra is None else float(extra))
@@ -251,7 +251,7 @@ def _run_local(todo: Sequence[Mapping[str, Any]], jobs: int, record: Callable[..
     """Run ``todo`` on ``jobs`` threads, each waiting for its isolated child; record
     each run as it finishes. On KeyboardInterrupt: drop the queued runs, kill the
     running children, record the runs that finished meanwhile, raise again."""
-    from plansynth.grid.isolate import cancel_all
+    from plansynth.isolate import cancel_all
 
     pool = ThreadPoolExecutor(max_workers=max(1, jobs))
     futures = {pool.submit(run_task, t): t for t in todo}
@@ -285,7 +285,7 @@ def _run_local(todo: Sequence[Mapping[str, Any]], jobs: int, record: Callable[..
 
 def _safe_result(fut: Any, task: Mapping[str, Any]) -> dict[str, Any] | None:
     """The run's attributes; None when its child was cancelled (not a finished run)."""
-    from plansynth.grid.isolate import Cancelled
+    from plansynth.isolate import Cancelled
 
     try:
         return dict(fut.result())

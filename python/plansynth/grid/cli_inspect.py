@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from plansynth.cli_support import finite_positive
+from plansynth.cli_support import EXIT_NO, EXIT_YES, fail, finite_positive
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import (ProgramSyntaxError, Term, depth, function_name_problem, parse_program, to_c,
@@ -27,7 +27,7 @@ from plansynth.grid.result import load_result
 from plansynth.io import check_output_path, read_text, write_output
 
 #: Exit statuses of ``verify`` (``animate`` and ``export`` use 0 and 2).
-EXIT_WINS, EXIT_LOSES, EXIT_BAD_INPUT = 0, 1, 2
+EXIT_WINS, EXIT_LOSES = EXIT_YES, EXIT_NO
 
 VERIFY_EPILOG = """\
 Examples:
@@ -135,9 +135,7 @@ def _steps(controller: Controller, problem: GridProblem, steps: int | None) -> i
     raise _BadInput("no path length: give --steps N (the problem file has no `steps` and no result gave one)")
 
 
-def _fail(err: Console, message: str) -> typer.Exit:
-    err.print(f"[bold red]error:[/bold red] {escape(message)}", highlight=False)
-    return typer.Exit(EXIT_BAD_INPUT)
+_fail = fail  # cli_support.fail: one line, exit 2
 
 
 def _cell(c: tuple[int, int]) -> str:

@@ -16,12 +16,12 @@ from rich.markup import escape
 from rich.table import Table
 
 from plansynth.budget import Budget
-from plansynth.cli_support import positive_seconds
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, positive_seconds
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS
 from plansynth.io import check_output_path
 
-EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_UNKNOWN, EXIT_BAD_INPUT = 0, 1, 3, 2
+EXIT_REALIZABLE, EXIT_UNREALIZABLE = EXIT_YES, EXIT_NO
 
 
 def explain_command(

@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from plansynth.budget import Budget
-from plansynth.cli_support import positive_seconds
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, positive_seconds
 from plansynth.errors import OutputUnwritable, PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import MAX_PROGRAM_NESTING, size, to_python
@@ -22,7 +22,7 @@ from plansynth.grid.result import GridResult, GridStatus, LengthOutcome
 from plansynth.io import check_output_folder, check_output_path, write_output
 
 #: Exit statuses of ``solve``.
-EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
+EXIT_REALIZABLE, EXIT_UNREALIZABLE = EXIT_YES, EXIT_NO
 
 _STATUS_STYLE = {
     GridStatus.REALIZABLE: "bold green",

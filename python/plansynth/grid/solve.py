@@ -36,13 +36,13 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
 from plansynth.budget import Budget
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import depth
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome, get_backend
+from plansynth.jsonable import jsonable as _jsonable
 
 __all__ = ["solve", "Progress", "CERTIFIER"]
 
@@ -51,18 +51,6 @@ CERTIFIER = "native"
 
 #: Called after each path length with (l, what the backend said, after verification).
 Progress = Callable[[int, LengthOutcome], None]
-
-
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, (str, int, float, bool)) or value is None:
-        return value
-    if isinstance(value, Path):
-        return str(value)
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    return repr(value)
 
 
 def solve(

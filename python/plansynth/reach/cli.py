@@ -16,13 +16,13 @@ from rich.markup import escape
 from rich.table import Table
 
 from plansynth.budget import Budget
-from plansynth.cli_support import finite_positive, positive_seconds
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_UNKNOWN, fail, finite_positive, positive_seconds
+from plansynth.cli_support import EXIT_NO as EXIT_INFEASIBLE
+from plansynth.cli_support import EXIT_YES as EXIT_FOUND
 from plansynth.errors import InvalidProblem, PlansynthError
 from plansynth.io import check_output_path
 
 app = typer.Typer(no_args_is_help=True, add_completion=False)
-
-EXIT_FOUND, EXIT_INFEASIBLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
 
 #: plansynth.reach.problem's MAX_HORIZON and MAX_ORDER, repeated so that this module
 #: loads without numpy (a test checks that they agree).
@@ -63,11 +63,6 @@ Examples:
 """
 
 _STYLE = {"found": "bold green", "infeasible": "bold red", "unknown": "bold yellow"}
-
-
-def _fail(err: Console, exc: PlansynthError) -> typer.Exit:
-    err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
-    return typer.Exit(EXIT_BAD_INPUT)
 
 
 def _read_result(path: Path) -> dict[str, Any]:
@@ -198,7 +193,7 @@ def solve_command(
                 check_output_path(path)  # before solving: a result is never computed and then lost
         problem = load_reach_problem(file)
     except PlansynthError as exc:
-        raise _fail(err, exc) from None
+        raise fail(err, exc) from None
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=err,
                   transient=True) as bar:
         task = bar.add_task(f"{planner}: abstraction", total=None)
@@ -211,7 +206,7 @@ def solve_command(
     try:
         _write_outputs(console, problem, result, out, plot, animate)
     except PlansynthError as exc:
-        raise _fail(err, exc) from None
+        raise fail(err, exc) from None
     code = {"found": EXIT_FOUND, "infeasible": EXIT_INFEASIBLE}
     raise typer.Exit(code.get(result.status.value, EXIT_UNKNOWN))
 
@@ -220,7 +215,7 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
                    animate: Path | None) -> None:
     """The result JSON, picture and animation of ``reach solve`` (each written atomically)."""
     if out is not None:
-        result.write_json(out)
+        result.write(out)
         console.print(f"result written to {escape(str(out))}", highlight=False)
     if (plot is not None or animate is not None) and result.trajectory is not None:
         from plansynth.reach.abstraction import abstract
@@ -269,7 +264,7 @@ def validate_command(
         if claim is not None and not isinstance(claim, bool):
             raise InvalidProblem(str(result_file), "segment_safe", f"expected true or false, got {claim!r}")
     except PlansynthError as exc:
-        raise _fail(err, exc) from None
+        raise fail(err, exc) from None
     why = tolerance_problem(problem, tol)
     if why is not None:
         raise typer.BadParameter(why, param_hint="--tol")
@@ -328,7 +323,7 @@ def plot_command(
                     raise InvalidProblem(str(result_file), "regions", "expected a list of region indices")
                 regions = tuple(raw)
     except PlansynthError as exc:
-        raise _fail(err, exc) from None
+        raise fail(err, exc) from None
     if problem.mission is not None:  # missions plan in the label-refined regions
         from plansynth.reach.mission.labels import label_abstraction
 
@@ -343,7 +338,7 @@ def plot_command(
     try:
         plot_problem(problem, abstraction, regions, trajectory, path=output)
     except PlansynthError as exc:
-        raise _fail(err, exc) from None
+        raise fail(err, exc) from None
     console.print(f"picture written to {escape(str(output))}", highlight=False)
 
 

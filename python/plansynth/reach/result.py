@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from plansynth.io import write_output
+from plansynth.jsonable import jsonable as _jsonable
 from plansynth.reach.trajectory import Trajectory, trajectory_to_lists
 from plansynth.reach.validate import ValidationReport
 
@@ -121,19 +122,8 @@ class ReachResult:
             **({} if self.mission is None else {"mission": _jsonable(self.mission)}),
         }
 
-    def write_json(self, path: str | Path) -> Path:
-        """Write :meth:`to_json_dict` to ``path`` (indented JSON)."""
+    def write(self, path: str | Path) -> Path:
+        """Write :meth:`to_json_dict` to ``path`` (indented JSON; the name grid results use)."""
         return write_output(path, json.dumps(self.to_json_dict(), indent=1) + "\n")  # atomic; OutputUnwritable
 
-
-def _jsonable(value: Any) -> Any:
-    """Plain JSON types for the record dictionaries (numpy scalars, tuples, enums)."""
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, enum.Enum):
-        return value.value
-    if hasattr(value, "item") and callable(value.item):  # numpy scalar
-        return value.item()
-    return value
+    write_json = write  # the earlier name, kept for callers outside plansynth

@@ -4,7 +4,7 @@ For each path length the problem is compiled by :func:`plansynth.grid.sygus.comp
 and the *exact text* is handed to cvc5's parser (``cvc5.InputParser`` reading a string),
 so what the solver sees is what ``--keep-sl DIR`` writes and what a user can rerun by
 hand (``python -m plansynth.grid.backends.cvc5_cli FILE``, or a cvc5 binary with
-``--lang=sygus2``). The solver runs in a child process (:mod:`plansynth.grid.isolate`),
+``--lang=sygus2``). The solver runs in a child process (:mod:`plansynth.isolate`),
 so the time budget really stops it and a crash costs one answer, not the session.
 
 cvc5 answers ``(check-synth)`` with a ``define-fun`` (realizable), ``infeasible`` (no
@@ -25,7 +25,7 @@ import cvc5
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
-from plansynth.grid.isolate import Crash, Finished, preload, run_isolated
+from plansynth.isolate import Crash, Finished, preload, run_isolated
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
 from plansynth.grid.sygus import compile_sygus
