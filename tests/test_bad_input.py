@@ -24,7 +24,8 @@ from plansynth.grid.problem import MAX_GRID_SIDE, MAX_STEPS, load_grid_problem
 from plansynth.grid.programs import MAX_PROGRAM_NESTING, ProgramSyntaxError, depth, evaluate, parse_program, size
 from plansynth.grid.result import load_result
 from plansynth.io import MAX_FILE_BYTES, MAX_NODES, load_document, parse_document, read_text
-from plansynth.reach.problem import MAX_COORDINATE, MAX_HORIZON, MAX_ORDER, load_reach_problem
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.problem import MAX_COORDINATE, MAX_HORIZON, MAX_ORDER
 
 
 def _refused(args: list[str], *fragments: str) -> str:

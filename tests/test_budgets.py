@@ -17,7 +17,7 @@ from pysat.examples.genhard import PHP
 
 from plansynth.budget import Budget, BudgetExhausted, checkpoint
 from plansynth.reach.families import maze
-from plansynth.reach.problem import reach_problem_from_dict
+from plansynth.reach.fileformat import reach_problem_from_dict
 from plansynth.reach.result import ReachStatus
 
 BUDGET = 2.0

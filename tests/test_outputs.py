@@ -22,7 +22,7 @@ from plansynth.cli import app
 from plansynth.errors import OutputUnwritable
 from plansynth.io import check_output_folder, check_output_path, write_output
 from plansynth.reach.families import maze
-from plansynth.reach.problem import reach_problem_to_dict
+from plansynth.reach.fileformat import reach_problem_to_dict
 
 runner = CliRunner()
 ROOT = Path(__file__).parents[1]

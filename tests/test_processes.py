@@ -87,7 +87,7 @@ def test_ctrl_c_during_a_reach_solve_exits_130(tmp_path):
     import yaml
 
     from plansynth.reach.families import maze
-    from plansynth.reach.problem import reach_problem_to_dict
+    from plansynth.reach.fileformat import reach_problem_to_dict
 
     problem = tmp_path / "slow.yaml"
     problem.write_text(yaml.safe_dump(reach_problem_to_dict(maze(2, order=25))))

@@ -10,7 +10,8 @@ import shapely
 
 from plansynth.budget import Budget
 from plansynth.reach.dynamics import double_integrator, single_integrator
-from plansynth.reach.problem import Box, Polygon, ReachProblem, shape_to_shapely
+from plansynth.reach.geometry import Box, Polygon, shape_to_shapely
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.validate import validate
 

@@ -35,7 +35,7 @@ def test_paper_parameters():
 
 
 def test_reach_instances_round_trip_through_files(tmp_path):
-    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.fileformat import load_reach_problem
 
     insts = reach_family("maze", [1, 3]) + reach_family("chain", [2], orders=[2])
     for inst, path in zip(insts, write_family_files(tmp_path, insts)):

@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from plansynth.cli import app
 from plansynth.reach.families import maze
-from plansynth.reach.problem import reach_problem_to_dict
+from plansynth.reach.fileformat import reach_problem_to_dict
 
 runner = CliRunner()
 

@@ -15,7 +15,8 @@ from plansynth.reach.lazy.conplan import COUNTEREXAMPLES, ConPlan, zero_prefix
 from plansynth.reach.abstraction import Abstraction, Region, abstract
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.validate import validate
 
 # ------------------------------------------------------------------ ZEROPREFIX

@@ -19,7 +19,8 @@ from shapely.geometry import Polygon as ShPolygon
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, dubins_example, maze, random_workspace
-from plansynth.reach.problem import Box, Polygon, ReachProblem, free_measure, is_convex, point_in_interior, shape_to_shapely
+from plansynth.reach.geometry import Box, Polygon, free_measure, is_convex, point_in_interior, shape_to_shapely
+from plansynth.reach.problem import ReachProblem
 
 METHODS_2D = ["hertel-mehlhorn", "slab-y", "slab-x"]
 

@@ -13,7 +13,8 @@ import pytest
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dubins import linearising_feedback, simulate_unicycle, unicycle_controls
 from plansynth.reach.families import dubins_example, examples, maze, write_examples
-from plansynth.reach.problem import Box, load_reach_problem
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.geometry import Box
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import validate
 

@@ -9,7 +9,8 @@ import pytest
 from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.families import maze
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.solve import planners, solve
 from plansynth.reach.trajectory import Trajectory
@@ -113,7 +114,7 @@ def test_cli_solves_with_gcs_and_validates_the_curve_result(tmp_path):
     from typer.testing import CliRunner
 
     from plansynth.cli import app
-    from plansynth.reach.problem import reach_problem_to_dict
+    from plansynth.reach.fileformat import reach_problem_to_dict
 
     import yaml
 

@@ -9,7 +9,8 @@ from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, maze
 from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.lazy.loop import plan_lazy
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.validate import validate
 
 

@@ -18,7 +18,9 @@ from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
 from plansynth.reach.lazy.loop import lazy_loop
 from plansynth.reach.planners.milp import solve_horizon
-from plansynth.reach.problem import Box, ReachProblem, load_reach_problem
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 
@@ -209,7 +211,7 @@ def test_start_in_the_goal_is_horizon_zero() -> None:
 def test_explicit_dynamics_without_state_bounds() -> None:
     """A damped point mass given as explicit discrete-time matrices: no state bounds, so
     no physical bound on a step; the planner still finds and validates a trajectory."""
-    from plansynth.reach.problem import LinearDynamics
+    from plansynth.reach.dynamics import LinearDynamics
 
     A = np.array([[1, 0, 0.5, 0], [0, 1, 0, 0.5], [0, 0, 0.8, 0], [0, 0, 0, 0.8]])
     B = np.array([[0.1, 0], [0, 0.1], [0.5, 0], [0, 0.5]])

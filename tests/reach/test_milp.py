@@ -11,7 +11,8 @@ from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import maze
 from plansynth.reach.planners.milp import _big_m, plan_milp, solve_horizon
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 
 
 def test_big_m_is_the_largest_violation_over_the_box() -> None:

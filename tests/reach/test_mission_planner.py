@@ -25,7 +25,9 @@ from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
 from plansynth.reach.mission.labels import label_abstraction
 from plansynth.reach.mission.planner import plan_mission
-from plansynth.reach.problem import Box, ReachProblem, load_reach_problem
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 from test_ltl import formulas

@@ -12,16 +12,9 @@ import yaml
 
 from plansynth.errors import InvalidProblem
 from plansynth.reach.families import cluttered, dubins_example, maze, random_workspace
-from plansynth.reach.problem import (
-    Box,
-    Polygon,
-    ReachProblem,
-    halfspaces,
-    is_convex,
-    load_reach_problem,
-    reach_problem_from_dict,
-    reach_problem_to_dict,
-)
+from plansynth.reach.fileformat import load_reach_problem, reach_problem_from_dict, reach_problem_to_dict
+from plansynth.reach.geometry import Box, Polygon, halfspaces, is_convex
+from plansynth.reach.problem import ReachProblem
 
 SPEC_EXAMPLE = """
 workspace: {min: [0, 0], max: [30, 30]}      # axis-aligned box, 2-D or 3-D

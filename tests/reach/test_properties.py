@@ -26,7 +26,8 @@ from plansynth.reach.dynamics import double_integrator
 from plansynth.reach.families import random_workspace
 from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.loop import plan_lazy
-from plansynth.reach.problem import Box, ReachProblem, halfspaces
+from plansynth.reach.geometry import Box, halfspaces
+from plansynth.reach.problem import ReachProblem
 
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

@@ -19,7 +19,8 @@ from plansynth.reach.lazy.bounds import proved_horizon_bound, touching
 from plansynth.reach.abstraction import OUTER_VERTICES, abstract, outer_polygon
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import random_workspace
-from plansynth.reach.problem import Box, Polygon, ReachProblem
+from plansynth.reach.geometry import Box, Polygon
+from plansynth.reach.problem import ReachProblem
 
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

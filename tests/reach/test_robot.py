@@ -12,7 +12,9 @@ import shapely
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem
 from plansynth.reach.families import maze
-from plansynth.reach.problem import Box, RobotShape, reach_problem_from_dict, reach_problem_to_dict
+from plansynth.reach.fileformat import reach_problem_from_dict, reach_problem_to_dict
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import RobotShape
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.robot import configuration_space, disc_polygon, with_robot
 from plansynth.reach.solve import solve
@@ -133,7 +135,7 @@ def test_the_configuration_space_is_conservative(seed, radius, box, pts):
     """Outside every grown obstacle, the robot (disc: clearance >= R; box: its box) meets
     no original obstacle's interior: the growth covers the exact Minkowski sum."""
     from plansynth.reach.families import random_workspace
-    from plansynth.reach.problem import point_in_interior
+    from plansynth.reach.geometry import point_in_interior
 
     base = random_workspace(seed, 4)
     robot = RobotShape(half_extent=(radius, radius / 2)) if box else RobotShape(radius=radius)

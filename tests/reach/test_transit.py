@@ -15,7 +15,8 @@ from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import maze, random_workspace
 from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.loop import plan_lazy
-from plansynth.reach.problem import ReachProblem, halfspaces
+from plansynth.reach.geometry import halfspaces
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
 
 

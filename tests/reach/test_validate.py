@@ -12,7 +12,8 @@ from shapely.geometry import box as sh_box
 
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.problem import Box, Polygon, ReachProblem
+from plansynth.reach.geometry import Box, Polygon
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import VIOLATION_KINDS, _segment_enters_open_box, validate
 

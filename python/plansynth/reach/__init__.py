@@ -26,7 +26,10 @@ from plansynth.reach.families import maze, random_workspace
 from plansynth.reach.lazy.loop import TheoryChecker, plan_lazy
 from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.planners.milp import plan_milp
-from plansynth.reach.problem import Box, LinearDynamics, Polygon, ReachProblem, load_reach_problem
+from plansynth.reach.dynamics import LinearDynamics
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.geometry import Box, Polygon
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.solve import Planner, configure, get_planner, planners, register_planner, solve
 from plansynth.reach.trajectory import Trajectory, load_trajectory

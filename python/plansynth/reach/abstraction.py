@@ -46,7 +46,8 @@ from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.budget import checkpoint
 from plansynth.errors import InvalidProblem
-from plansynth.reach.problem import Box, Polygon, ReachProblem, is_convex, polygon_halfspaces, shape_to_shapely
+from plansynth.reach.geometry import Box, Polygon, is_convex, polygon_halfspaces, shape_to_shapely
+from plansynth.reach.problem import ReachProblem
 
 __all__ = ["Region", "Abstraction", "abstract", "METHODS", "outer_polygon", "OUTER_VERTICES"]
 

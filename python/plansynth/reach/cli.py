@@ -179,7 +179,7 @@ def solve_command(
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
-    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.fileformat import load_reach_problem
     from plansynth.reach.solve import planners, solve
 
     console = Console(soft_wrap=True)
@@ -250,7 +250,7 @@ def validate_command(
     dynamics: Optional[str] = typer.Option(None, "--dynamics", help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact."),
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
-    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.fileformat import load_reach_problem
     from plansynth.reach.trajectory import trajectory_from_dict
     from plansynth.reach.validate import tolerance_problem, validate
 
@@ -305,7 +305,7 @@ def plot_command(
     """Draw the workspace, the convex regions and (with a result) the trajectory."""
     from plansynth.reach.abstraction import abstract
     from plansynth.reach.plot import plot_problem
-    from plansynth.reach.problem import load_reach_problem
+    from plansynth.reach.fileformat import load_reach_problem
     from plansynth.reach.trajectory import trajectory_from_dict
 
     console = Console(soft_wrap=True)

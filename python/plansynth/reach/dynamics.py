@@ -18,12 +18,72 @@ State order (spec): by derivative, then axis, ``[x, y, vx, vy, ...]``; input ``[
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
-from plansynth.reach.problem import LinearDynamics
+from plansynth.reach.geometry import _array_key, _frozen_array
 
-__all__ = ["integrator_chain", "single_integrator", "double_integrator", "named_model", "chain_axis_matrices"]
+__all__ = ["LinearDynamics", "NAMED_MODELS", "MODELS", "integrator_chain", "single_integrator", "double_integrator", "named_model", "chain_axis_matrices"]
+
+
+NAMED_MODELS = ("single-integrator", "double-integrator", "integrator-chain")
+MODELS = NAMED_MODELS + ("explicit",)
+
+
+@dataclass(frozen=True, eq=False)
+class LinearDynamics:
+    """Discrete-time linear dynamics ``x' = A x + B u`` (paper, eq. (1)).
+
+    ``position`` names the state components that are the workspace coordinates.
+    ``model`` records where the matrices come from ("explicit" for matrices given in a
+    file; named models are built by :mod:`plansynth.reach.dynamics`), ``dt`` the time
+    step of a named model (None for explicit matrices) and ``order`` the chain order.
+    Arrays are read-only copies; equality compares them element-wise.
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    position: tuple[int, ...]
+    dt: float | None = None
+    model: str = "explicit"
+    order: int | None = None
+
+    def __post_init__(self) -> None:
+        A = _frozen_array(self.A)
+        B = _frozen_array(self.B)
+        if B.ndim == 1:
+            B = _frozen_array(B.reshape(-1, 1))
+        object.__setattr__(self, "A", A)
+        object.__setattr__(self, "B", B)
+        object.__setattr__(self, "position", tuple(int(i) for i in self.position))
+        if self.dt is not None:
+            object.__setattr__(self, "dt", float(self.dt))
+        if self.model not in MODELS:
+            raise ValueError(f"unknown dynamics model {self.model!r} (known: {', '.join(MODELS)})")
+
+    @property
+    def n_states(self) -> int:
+        return int(self.A.shape[0])
+
+    @property
+    def n_inputs(self) -> int:
+        return int(self.B.shape[1])
+
+    def step(self, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """One step ``A x + B u``."""
+        return self.A @ np.asarray(x, dtype=float) + self.B @ np.asarray(u, dtype=float)
+
+    def _key(self) -> tuple:
+        return (_array_key(self.A), _array_key(self.B), self.position, self.dt, self.model, self.order)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, LinearDynamics):
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
 
 
 def chain_axis_matrices(order: int, dt: float) -> tuple[np.ndarray, np.ndarray]:

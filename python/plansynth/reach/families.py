@@ -30,7 +30,9 @@ import yaml
 
 from plansynth.io import write_output
 from plansynth.reach.dynamics import integrator_chain
-from plansynth.reach.problem import Box, Polygon, ReachProblem, Shape, reach_problem_to_dict, shape_to_shapely
+from plansynth.reach.fileformat import reach_problem_to_dict
+from plansynth.reach.geometry import Box, Polygon, Shape, shape_to_shapely
+from plansynth.reach.problem import ReachProblem
 
 __all__ = ["maze", "cluttered", "dubins_example", "random_workspace", "random_dynamics", "examples", "write_examples"]
 
@@ -152,7 +154,7 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
     zss = np.array([-np.linalg.solve(F, G @ np.array(u)) for u in ((1, 1), (1, -1), (-1, 1), (-1, -1))])
     zb = np.maximum(2.0 * np.abs(zss).max(axis=0), 1.0)
     base = maze(n_passages)
-    from plansynth.reach.problem import LinearDynamics
+    from plansynth.reach.dynamics import LinearDynamics
 
     dyn = LinearDynamics(A=A, B=B, position=(0, 1), dt=dt, model="explicit")
     start = np.zeros(n_states)

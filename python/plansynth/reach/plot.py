@@ -32,7 +32,8 @@ from matplotlib.patches import Circle
 
 from plansynth.io import atomic_output
 from plansynth.reach.abstraction import Abstraction
-from plansynth.reach.problem import Box, ReachProblem, Shape
+from plansynth.reach.geometry import Box, Shape
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["plot_problem", "animate"]

@@ -44,7 +44,8 @@ import shapely
 from shapely.geometry import MultiPoint
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.problem import Box, Polygon, ReachProblem, RobotShape, Shape, shape_to_shapely
+from plansynth.reach.geometry import Box, Polygon, Shape, shape_to_shapely
+from plansynth.reach.problem import ReachProblem, RobotShape
 
 __all__ = ["RobotShape", "configuration_space", "with_robot", "disc_polygon", "DISC_SIDES", "robot_note"]
 

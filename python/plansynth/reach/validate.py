@@ -60,7 +60,8 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.problem import Box, ReachProblem, Shape, halfspaces
+from plansynth.reach.geometry import Box, Shape, halfspaces
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["Violation", "ValidationReport", "validate", "VIOLATION_KINDS"]
@@ -180,7 +181,7 @@ class _DiscClearance:
     when its Euclidean distance to the obstacle is below R - tol (or it is inside)."""
 
     def __init__(self, shape: Shape, radius: float, tol: float) -> None:
-        from plansynth.reach.problem import shape_to_shapely
+        from plansynth.reach.geometry import shape_to_shapely
 
         self.geom = shape_to_shapely(shape)
         shapely.prepare(self.geom)

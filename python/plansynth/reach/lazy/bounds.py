@@ -27,7 +27,8 @@ import numpy as np
 from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.highs import new_highs
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 
 __all__ = ["step_reach", "physical_lower_bound", "shape_box", "box_steps", "TimeWindows", "time_windows",
            "touching", "proved_horizon_bound", "SWEEP_MAX_REGIONS", "SWEEP_MAX_WORK"]

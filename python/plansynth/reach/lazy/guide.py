@@ -38,7 +38,8 @@ import math
 import numpy as np
 
 from plansynth.reach.abstraction import Abstraction, Region
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 
 __all__ = ["reference_plan", "route", "departure", "DEPART_SLACK"]
 

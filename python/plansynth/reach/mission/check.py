@@ -50,7 +50,8 @@ from shapely.geometry import Polygon as ShPolygon
 from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Lasso, Next, Not, Or, Prop, Release, Until, holds, holds_at, nnf, parse,
 )
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["MissionReport", "check_mission", "trajectory_word"]

@@ -19,7 +19,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 from plansynth.reach.families import maze
-from plansynth.reach.problem import Box, ReachProblem
+from plansynth.reach.geometry import Box
+from plansynth.reach.problem import ReachProblem
 
 __all__ = ["MISSIONS", "mission_problem", "mission_instances"]
 

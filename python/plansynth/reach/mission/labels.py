@@ -35,7 +35,8 @@ from shapely.geometry import Point
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach.abstraction import Abstraction, _region_from_cycle, abstract
-from plansynth.reach.problem import Box, Polygon, ReachProblem, Shape, halfspaces, is_convex, polygon_halfspaces
+from plansynth.reach.geometry import Box, Polygon, Shape, halfspaces, is_convex, polygon_halfspaces
+from plansynth.reach.problem import ReachProblem
 
 __all__ = ["LabelledAbstraction", "label_abstraction", "clip", "planning_problem"]
 

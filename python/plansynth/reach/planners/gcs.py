@@ -71,7 +71,8 @@ from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
-from plansynth.reach.problem import Box, ReachProblem, halfspaces
+from plansynth.reach.geometry import Box, halfspaces
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
 

@@ -44,7 +44,8 @@ from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.highs import new_highs
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
-from plansynth.reach.problem import ReachProblem, halfspaces
+from plansynth.reach.geometry import halfspaces
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 
 __all__ = ["plan_milp", "solve_horizon"]

@@ -38,7 +38,8 @@ import numpy as np
 from plansynth.budget import Budget, BudgetExhausted, checkpoint
 from plansynth.reach.highs import new_highs
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
-from plansynth.reach.problem import Box, Polygon, ReachProblem, halfspaces, is_convex, shape_to_shapely
+from plansynth.reach.geometry import Box, Polygon, halfspaces, is_convex, shape_to_shapely
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["plan_milp_bigm", "convex_pieces", "horizon_schedule", "highs_version"]

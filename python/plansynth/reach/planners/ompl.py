@@ -37,7 +37,8 @@ import numpy as np
 from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.planners import OptionsPlanner
-from plansynth.reach.problem import Box, Polygon, ReachProblem, shape_to_shapely
+from plansynth.reach.geometry import Box, Polygon, shape_to_shapely
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["PLANNERS", "plan_rrt", "ompl_version", "DEFAULT_STATE_SPAN"]

@@ -87,7 +87,8 @@ from plansynth.budget import Clock
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.highs import new_highs
-from plansynth.reach.problem import ReachProblem, halfspaces
+from plansynth.reach.geometry import halfspaces
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = [
