@@ -19,6 +19,7 @@ import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -167,6 +168,26 @@ class ReachProblem:
         waiting: start-anchored facts hold shifted earlier."""
         A = np.asarray(self.dynamics.A, float)
         return bool(np.allclose(A @ self.start, self.start, rtol=0.0, atol=1e-12))
+
+    @cached_property
+    def state_box(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lo, hi): the bounds of every state, the state bounds met with the workspace
+        on the position components (+-inf where nothing bounds a state). Computed once;
+        the arrays are read-only.
+
+        >>> from plansynth.reach.families import maze
+        >>> [a.tolist() for a in maze(1).state_box]
+        [[0.0, 0.0, -2.0, -2.0], [30.0, 30.0, 2.0, 2.0]]
+        """
+        pos = list(self.dynamics.position)
+        lo = np.full(self.dynamics.n_states, -np.inf)
+        hi = np.full(self.dynamics.n_states, np.inf)
+        if self.state_bounds is not None:
+            lo = np.maximum(lo, self.state_bounds.lo)
+            hi = np.minimum(hi, self.state_bounds.hi)
+        lo[pos] = np.maximum(lo[pos], self.workspace.lo)
+        hi[pos] = np.minimum(hi[pos], self.workspace.hi)
+        return _frozen_array(lo), _frozen_array(hi)
 
     def position_of(self, states: np.ndarray) -> np.ndarray:
         """Workspace coordinates of one state or of a (T x n) array of states."""

@@ -46,13 +46,7 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
     pos = list(dyn.position)
     A, B = np.asarray(dyn.A), np.asarray(dyn.B)
     inf = highspy.kHighsInf
-    lo = np.full(n, -inf)
-    hi = np.full(n, inf)
-    if problem.state_bounds is not None:
-        lo = np.maximum(lo, problem.state_bounds.lo)
-        hi = np.minimum(hi, problem.state_bounds.hi)
-    lo[pos] = np.maximum(lo[pos], problem.workspace.lo)
-    hi[pos] = np.minimum(hi[pos], problem.workspace.hi)
+    lo, hi = problem.state_box
     # variables [x (n), u (m)]; rows: A x + B u within [lo, hi]
     M = np.hstack([A, B])
     lp = highspy.HighsLp()

@@ -45,6 +45,11 @@ from plansynth.reach.result import ReachResult, ReachStatus
 __all__ = ["plan_milp_ltl", "solve_mission_horizon"]
 
 
+#: HiGHS drops matrix entries at most this small (its ``small_matrix_value``) and
+#: answers such a row with a warning, which highspy raises; they are left out here.
+SMALL_MATRIX_VALUE = 1e-9
+
+
 def _big_m(H: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return np.maximum(0.0, np.maximum(H * lo, H * hi).sum(axis=1) - h)
 
@@ -65,6 +70,7 @@ def solve_mission_horizon(
     if math.isfinite(seconds):
         h.setOptionValue("time_limit", max(1e-3, float(seconds)))
     inf = highspy.kHighsInf
+    # not problem.state_box: a big-M needs finite bounds, so unbounded states get +-1e4
     slo = np.full(n, -1e4)
     shi = np.full(n, 1e4)
     if problem.state_bounds is not None:
@@ -96,9 +102,10 @@ def solve_mission_horizon(
         for t in range(L + 1):
             for s in ((t, t + 1) if (segment_safe and t < L) else (t,)):
                 for row, rhs, mm in zip(H, hh, M):
-                    if mm <= 0.0:
-                        continue  # the row holds everywhere in the workspace
-                    h.addConstr(sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos)) if abs(row[k]) > 1e-12)
+                    if mm <= SMALL_MATRIX_VALUE:
+                        continue  # the row holds everywhere in the workspace (up to HiGHS's tolerance)
+                    h.addConstr(sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos))
+                                    if abs(row[k]) > SMALL_MATRIX_VALUE)
                                 + float(mm) * Z[t][i] <= float(rhs + mm))
     # the successor of the last position: stay (finite) or loop_j (x_L = x_{j-1})
     sels: list[tuple[Any, int, bool]] = []

@@ -78,13 +78,7 @@ class LoopLP:
         self.dyn_nz = (ai, aj, A[ai, aj], bi, bj, B[bi, bj])
         self.Hs = [np.asarray(r.H, float) for r in abstraction.regions]
         self.hs = [np.asarray(r.h, float) for r in abstraction.regions]
-        lo = np.full(self.n, -np.inf)
-        hi = np.full(self.n, np.inf)
-        if problem.state_bounds is not None:
-            lo, hi = np.array(problem.state_bounds.lo, float), np.array(problem.state_bounds.hi, float)
-        lo[self.pos] = np.maximum(lo[self.pos], problem.workspace.lo)
-        hi[self.pos] = np.minimum(hi[self.pos], problem.workspace.hi)
-        self.state_lo, self.state_hi = lo, hi
+        self.state_lo, self.state_hi = problem.state_box
         self.highs = new_highs(presolve="off")  # presolve off keeps the dual ray of an infeasible LP
         self.ray_times: set[int] | None = None
         self.certified = 0

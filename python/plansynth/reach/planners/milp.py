@@ -138,12 +138,7 @@ def solve_horizon(
 
     col_lo = np.full(n_col, -np.inf)
     col_hi = np.full(n_col, np.inf)
-    s_lo = np.full(n, -np.inf)
-    s_hi = np.full(n, np.inf)
-    if problem.state_bounds is not None:
-        s_lo, s_hi = np.array(problem.state_bounds.lo), np.array(problem.state_bounds.hi)
-    s_lo[pos] = np.maximum(s_lo[pos], ws_lo)
-    s_hi[pos] = np.minimum(s_hi[pos], ws_hi)
+    s_lo, s_hi = problem.state_box
     col_lo[:n_x] = np.tile(s_lo, T)
     col_hi[:n_x] = np.tile(s_hi, T)
     col_lo[:n] = col_hi[:n] = problem.start

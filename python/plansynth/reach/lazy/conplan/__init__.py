@@ -390,14 +390,7 @@ class ConPlan:
         keys: dict[bytes, int] = {}
         self.hkey = np.array([keys.setdefault(self.Hpad[i].tobytes(), len(keys)) for i in range(len(Hs))])
         self.Hgoal, self.hgoal = (np.asarray(a, float) for a in halfspaces(problem.goal))
-        lo = np.full(self.n, -INF)
-        hi = np.full(self.n, INF)
-        if problem.state_bounds is not None:
-            lo = np.maximum(lo, problem.state_bounds.lo)
-            hi = np.minimum(hi, problem.state_bounds.hi)
-        lo[self.pos] = np.maximum(lo[self.pos], problem.workspace.lo)
-        hi[self.pos] = np.minimum(hi[self.pos], problem.workspace.hi)
-        self.state_lo, self.state_hi = lo, hi
+        self.state_lo, self.state_hi = problem.state_box
         self.stats = LpStats()
         # persistent, warm-started models: the slack LPs of Problem 5.2 in one, the
         # feasibility LPs (plan, prefixes, unanchoring) in the other
