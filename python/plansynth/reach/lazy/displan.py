@@ -71,6 +71,9 @@ CARDINALITY_ENCODINGS = {
 }
 
 SAT_SOLVER = "cadical195"
+#: Up to this many regions "exactly one region per step" is pairwise (k(k-1)/2 binary
+#: clauses, no auxiliary variables); beyond, the sequential counter (linear in k).
+PAIRWISE_MAX_REGIONS = 8
 # python-sat's CaDiCaL 1.9.5 refuses interrupt() and prop_budget() but honours
 # conf_budget() with solve_limited(): it runs in slices of conflicts, the clock checked
 # between slices. The slice adapts so that one takes about SLICE_SECONDS (conflicts get
@@ -157,7 +160,7 @@ class DisPlan:
         waits_at_start: bool = False,
     ) -> None:
         if cardinality == "auto":
-            cardinality = "pairwise" if graph.n_regions <= 8 else "seqcounter"
+            cardinality = "pairwise" if graph.n_regions <= PAIRWISE_MAX_REGIONS else "seqcounter"
         if cardinality not in CARDINALITY_ENCODINGS:
             raise ValueError(f"unknown cardinality encoding {cardinality!r} (known: auto, {', '.join(CARDINALITY_ENCODINGS)})")
         self.graph = graph

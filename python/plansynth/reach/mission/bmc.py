@@ -61,7 +61,7 @@ from pysat.solvers import Solver
 
 from plansynth.budget import Clock
 from plansynth.reach.lazy.conflict import Conflict
-from plansynth.reach.lazy.displan import CONFLICTS_PER_SLICE, SAT_SOLVER, RegionGraph, SatOutcome
+from plansynth.reach.lazy.displan import CONFLICTS_PER_SLICE, PAIRWISE_MAX_REGIONS, SAT_SOLVER, RegionGraph, SatOutcome
 from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, subformulas,
 )
@@ -176,7 +176,7 @@ class MissionDisPlan:
         g = self.graph
         lits = [self.at(t, i) for i in range(g.n_regions)]
         enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool,
-                             encoding=EncType.pairwise if g.n_regions <= 8 else EncType.seqcounter)
+                             encoding=EncType.pairwise if g.n_regions <= PAIRWISE_MAX_REGIONS else EncType.seqcounter)
         for c in enc.clauses:
             self._add(c)
         for i in range(g.n_regions):

@@ -1,0 +1,161 @@
+"""CON-PLAN's HiGHS runs and their retry ladder (see :mod:`plansynth.reach.lazy.conplan`):
+a warm start HiGHS refuses is retried from scratch, a stalled simplex run is re-solved
+by the interior-point method on a fresh copy, a time limit becomes
+:class:`LpBudgetExhausted` and no answer at all :class:`LpFailure`."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Any
+
+import highspy
+import numpy as np
+
+from plansynth.reach.highs import new_highs
+from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES, _Layout, _Slot
+
+class LpBudgetExhausted(Exception):
+    """HiGHS stopped at the time limit; the lazy loop turns this into ``unknown``."""
+
+
+class LpFailure(Exception):
+    """HiGHS gave no answer on an LP (numerical trouble); the lazy loop answers ``unknown``."""
+
+
+@dataclass
+class LpStats:
+    """Counters of one CON-PLAN: LP solves by purpose, certificates, seconds in HiGHS."""
+
+    lp_calls: int = 0
+    iis_calls: int = 0
+    ray_calls: int = 0
+    certified: int = 0
+    rejected: int = 0
+    retries: int = 0
+    ipm_fallbacks: int = 0
+    slack_failures: int = 0
+    polished: int = 0
+    seconds: float = 0.0
+    by_kind: dict[str, int] = field(default_factory=dict)
+
+
+@contextmanager
+def _options(h: highspy.Highs, options: Mapping[str, Any]) -> Iterator[None]:
+    """Set HiGHS ``options`` on ``h`` for the duration of the block, then restore them."""
+    saved = {k: h.getOptionValue(k)[1] for k in options}
+    for k, v in options.items():
+        h.setOptionValue(k, v)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            h.setOptionValue(k, v)
+
+
+class _HighsRuns:
+    """The HiGHS run methods of :class:`~plansynth.reach.lazy.conplan.check.ConPlan`."""
+
+    def _run_slot(self, slot: _Slot, purpose: str, only: int | None = None) -> np.ndarray | None:
+        """Solve the LP ``slot`` holds (part by part: infeasible as soon as one part is,
+        the part infeasible last time first). ``only``: solve just that part; then
+        "feasible" means only that this part is (the column values of the others are 0)."""
+        if slot.parts is None:
+            return self._run(slot.highs, purpose)
+        assert slot.layout is not None
+        col = np.zeros(slot.layout.n_col)
+        order = sorted(range(len(slot.parts)), key=lambda i: i != slot.infeasible_part)
+        if only is not None:
+            order = [only]
+        for k, i in enumerate(order):
+            part = slot.parts[i]
+            sub = self._run(part.highs, purpose, count=k == 0)
+            if sub is None:
+                slot.infeasible_part = i
+                return None
+            col[part.cols] = sub
+        return col
+
+    @staticmethod
+    def _new_highs() -> highspy.Highs:
+        # small LPs: presolve costs more than it saves, and the Farkas ray of an
+        # infeasible LP (for shrinking conflicts) is only available without it
+        return new_highs(presolve="off")
+
+    def _run(self, h: highspy.Highs, purpose: str, count: bool = True) -> np.ndarray | None:
+        """Solve the model ``h`` holds: column values when optimal, None when infeasible.
+
+        HiGHS occasionally refuses a warm start after in-place edits (an error before
+        any iteration), and the simplex method can stall on badly conditioned LPs (long
+        integrator chains: coefficients dt^k/k!). Then the LP is solved again from
+        scratch, then on a fresh copy by the interior-point method, then by the simplex
+        method after presolve (no Farkas ray then: the conflict is kept unshrunk). If
+        every attempt fails, :class:`LpFailure` is raised and the planner answers
+        ``unknown``.
+        """
+        S = highspy.HighsModelStatus
+        self._no_ray = False
+        answers = (S.kOptimal, S.kInfeasible, S.kUnboundedOrInfeasible, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt)
+        t0 = time.perf_counter()
+        status = S.kNotset
+        fresh = {"ipm": {"solver": "ipm", "presolve": "off", "run_crossover": "on"},
+                 "presolved": {"solver": "simplex", "presolve": "on", "simplex_iteration_limit": 2**31 - 1}}
+        for attempt in ("warm", "cold", "ipm", "presolved"):
+            if self.clock is not None:
+                remaining = self.clock.remaining()
+                if remaining <= 0:
+                    raise LpBudgetExhausted()
+            if attempt == "cold":
+                if status == S.kIterationLimit:
+                    continue  # a stalled simplex stalls again: straight to the other methods
+                self.stats.retries += 1
+                h.clearSolver()
+            if attempt in fresh:
+                # a fresh copy of the LP in the one-off instance, by another method
+                self.stats.ipm_fallbacks += 1
+                lp = h.getLp()
+                h = self.cold
+                h.passModel(lp)
+            if self.clock is not None:
+                # HiGHS compares time_limit with the instance's run time summed over runs
+                h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
+            with _options(h, fresh.get(attempt, {})):
+                h.run()
+            status = h.getModelStatus()
+            if status in answers:
+                break
+        self.stats.seconds += time.perf_counter() - t0
+        if count:
+            self.stats.lp_calls += 1
+            self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
+        if status == S.kOptimal:
+            return np.asarray(h.getSolution().col_value)
+        if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
+            # objectives are bounded below (0 or a weighted sum of slacks >= 0)
+            self._no_ray = h is self.cold  # the persistent model holds no Farkas ray
+            return None
+        if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
+            raise LpBudgetExhausted()
+        raise LpFailure(f"HiGHS could not solve a CON-PLAN LP ({purpose}): {h.modelStatusToString(status)}")
+
+    def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
+                     anchored_start: bool = True, slack: bool = False,
+                     span: tuple[int, int] | None = None, part: int | None = None,
+                     slot: _Slot | None = None) -> np.ndarray | None:
+        """Solve the LP of ``assignment`` over the states 0..N, or only over ``span``
+        (first, last) in the span model (for conflicts: a smaller LP that claims no more).
+        ``part``: in a split model, solve only that part (an infeasible answer holds for
+        the whole LP; a feasible one is only that part's)."""
+        if slot is None:
+            slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
+        lay = self._frame(slot, *((0, N) if span is None else span))
+        self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
+        col = self._run_slot(slot, purpose, part)
+        slot.held = (purpose, max(assignment, default=-1), col is not None)
+        return col
+
+    def _cap_cold(self, lay: _Layout) -> None:
+        if self.n > LONG_CHAIN_STATES:  # as in _load: a cold run needs ~ a row count of simplex iterations
+            self.cold.setOptionValue("simplex_iteration_limit", max(5000, 2 * lay.n_row))
