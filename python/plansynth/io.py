@@ -528,3 +528,26 @@ def write_output(path: str | Path, data: str | bytes) -> Path:
             f.write(raw)
             f.flush()
     return Path(path)
+
+
+#: Longest problem name (both halves): names appear in messages, tables and file names.
+MAX_NAME_LENGTH = 200
+
+
+def as_name(value: Any, file: str | None, field: str = "name", *, numbers: bool = False) -> str:
+    """A problem's name: a string (with ``numbers``, also a number, as its text) of at
+    most :data:`MAX_NAME_LENGTH` characters.
+
+    >>> as_name(7, "p.yaml", numbers=True)
+    '7'
+    >>> as_name(7, "p.yaml")
+    Traceback (most recent call last):
+    ...
+    plansynth.errors.InvalidProblem: p.yaml: name: expected a string, got int
+    """
+    if not (isinstance(value, str) or (numbers and isinstance(value, (int, float)) and not isinstance(value, bool))):
+        raise InvalidProblem(file, field, f"expected a string, got {type_name(value)}")
+    text = str(value)
+    if len(text) > MAX_NAME_LENGTH:
+        raise InvalidProblem(file, field, f"at most {MAX_NAME_LENGTH} characters, got {len(text)}")
+    return text

@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import Fields, as_int, as_int_vector, load_document, show, type_name
+from plansynth.io import MAX_NAME_LENGTH, Fields, as_int, as_int_vector, as_name, load_document, show, type_name
 
 Cell = tuple[int, int]
 
@@ -39,7 +39,6 @@ DEFAULT_MAX_STEPS = 40
 MAX_GRID_SIDE = 1000
 MAX_STEPS = 1000
 MAX_OBSTACLES = 100
-MAX_NAME_LENGTH = 200
 MAX_MOVES = 100
 MAX_VIA = 100
 
@@ -266,12 +265,7 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
 
     steps = top.optional("steps")
     max_steps = top.optional("max_steps")
-    label = top.optional("name", name or "problem")
-    if isinstance(label, bool) or not isinstance(label, (str, int, float)):
-        raise InvalidProblem(source, "name", f"expected a string, got {type_name(label)}")
-    label = str(label)
-    if len(label) > MAX_NAME_LENGTH:
-        raise InvalidProblem(source, "name", f"at most {MAX_NAME_LENGTH} characters, got {len(label)}")
+    label = as_name(top.optional("name", name or "problem"), source, numbers=True)
     return GridProblem(
         width=width,
         height=height,

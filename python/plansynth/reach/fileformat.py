@@ -25,10 +25,10 @@ from typing import Any
 import numpy as np
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import Fields, as_float, as_float_vector, as_int, as_int_vector, load_document, show, type_name
+from plansynth.io import Fields, as_float, as_float_vector, as_int, as_int_vector, as_name, load_document, show, type_name
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics, named_model
 from plansynth.reach.geometry import Box, Polygon, Shape, polygon_problem
-from plansynth.reach.problem import (DEFAULT_MAX_HORIZON, MAX_COORDINATE, MAX_DT, MAX_HORIZON, MAX_NAME_LENGTH,
+from plansynth.reach.problem import (DEFAULT_MAX_HORIZON, MAX_COORDINATE, MAX_DT, MAX_HORIZON,
                                      MAX_OBSTACLES, MAX_ORDER, MAX_STATES, MAX_VERTICES, ReachProblem, RobotShape)
 
 __all__ = ["load_reach_problem", "reach_problem_from_dict", "reach_problem_to_dict"]
@@ -90,11 +90,7 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     max_horizon = as_int(top.optional("max_horizon", DEFAULT_MAX_HORIZON), source, "max_horizon", hi=MAX_HORIZON)
     if max_horizon <= 0:
         raise InvalidProblem(source, "max_horizon", f"must be positive, got {max_horizon}")
-    name = top.optional("name", default_name)
-    if not isinstance(name, str):
-        raise InvalidProblem(source, "name", f"expected a string, got {show(name)}")
-    if len(name) > MAX_NAME_LENGTH:
-        raise InvalidProblem(source, "name", f"at most {MAX_NAME_LENGTH} characters, got {len(name)}")
+    name = as_name(top.optional("name", default_name), source)
     return ReachProblem(
         workspace=workspace,
         obstacles=obstacles,

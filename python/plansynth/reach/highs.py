@@ -26,11 +26,13 @@ instances later should leave ``threads`` at 0 or use this function.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import highspy
+import numpy as np
 
-__all__ = ["THREADS", "new_highs", "reset_scheduler"]
+__all__ = ["THREADS", "new_highs", "reset_scheduler", "csc_lp", "Rows"]
 
 #: The ``threads`` option of every HiGHS instance plansynth makes.
 THREADS = 1
@@ -59,3 +61,70 @@ def new_highs(**options: Any) -> highspy.Highs:
     for name, value in options.items():
         h.setOptionValue(name, value)
     return h
+
+
+def csc_lp(n_col: int, n_row: int, R: np.ndarray, C: np.ndarray, V: np.ndarray, cost: np.ndarray,
+           col_lo: np.ndarray, col_hi: np.ndarray, row_lo: np.ndarray, row_hi: np.ndarray,
+           integrality: list[Any] | None = None) -> highspy.HighsLp:
+    """A HiGHS LP (a MILP with ``integrality``) with the column-wise matrix of the COO
+    entries (R, C, V): the one assembly of CON-PLAN, the region MILP and the mission LP."""
+    order = np.lexsort((R, C))
+    starts = np.zeros(n_col + 1, dtype=np.int32)
+    np.cumsum(np.bincount(C, minlength=n_col), out=starts[1:])
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = n_col, n_row
+    lp.col_cost_ = cost
+    lp.col_lower_, lp.col_upper_ = col_lo, col_hi
+    lp.row_lower_, lp.row_upper_ = row_lo, row_hi
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = starts
+    lp.a_matrix_.index_ = R[order].astype(np.int32)
+    lp.a_matrix_.value_ = V[order]
+    if integrality is not None:
+        lp.integrality_ = integrality
+    return lp
+
+
+class Rows:
+    """Row blocks of an LP in COO form, appended in order: ``add(rows, cols, values, lo,
+    hi)`` adds ``len(lo)`` rows (``rows`` numbered from 0 within the block); ``on_add``
+    runs before each block (a budget checkpoint).
+
+    >>> r = Rows()
+    >>> r.add(np.array([0, 0]), np.array([0, 1]), np.array([1.0, -1.0]), np.zeros(1), np.zeros(1))
+    >>> r.add(np.array([0]), np.array([1]), np.array([2.0]), np.full(1, -np.inf), np.ones(1))
+    >>> r.n_row, [a.tolist() for a in r.coo()], [a.tolist() for a in r.bounds()]
+    (2, [[0, 0, 1], [0, 1, 1], [1.0, -1.0, 2.0]], [[0.0, -inf], [0.0, 1.0]])
+    """
+
+    def __init__(self, on_add: Callable[[], None] | None = None) -> None:
+        self.n_row = 0
+        self._on_add = on_add
+        self._r: list[np.ndarray] = []
+        self._c: list[np.ndarray] = []
+        self._v: list[np.ndarray] = []
+        self._lo: list[np.ndarray] = []
+        self._hi: list[np.ndarray] = []
+
+    def add(self, rows: Any, cols: Any, values: Any, lo: Any, hi: Any) -> None:
+        if self._on_add is not None:
+            self._on_add()
+        self._r.append(self.n_row + np.asarray(rows))
+        self._c.append(np.asarray(cols))
+        self._v.append(np.asarray(values, float))
+        self._lo.append(np.asarray(lo, float))
+        self._hi.append(np.asarray(hi, float))
+        self.n_row += len(lo)
+
+    def coo(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(row, column, value) of every entry so far."""
+        if not self._r:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
+        return (np.concatenate(self._r).astype(np.int64), np.concatenate(self._c).astype(np.int64),
+                np.concatenate(self._v))
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lower, upper) of every row so far."""
+        if not self._lo:
+            return np.zeros(0), np.zeros(0)
+        return np.concatenate(self._lo), np.concatenate(self._hi)

@@ -27,7 +27,7 @@ import shapely
 from shapely.geometry import box as _sh_box
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import type_name
+from plansynth.io import MAX_NAME_LENGTH, type_name  # noqa: F401 - MAX_NAME_LENGTH: a documented limit, with the others
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics
 from plansynth.reach.geometry import (Box, Polygon, Shape, _array_key, _frozen_array, _measure_in_workspace,
                                       free_measure, halfspaces, is_convex, point_in_interior, polygon_problem,
@@ -69,7 +69,6 @@ MAX_HORIZON = 10_000
 #: Most obstacles, and most vertices of one polygon.
 MAX_OBSTACLES = 10_000
 MAX_VERTICES = 100_000
-MAX_NAME_LENGTH = 200
 
 
 @dataclass(frozen=True)

@@ -142,7 +142,28 @@ class SatOutcome(str, enum.Enum):
         raise TypeError("a SatOutcome has no truth value")
 
 
-class DisPlan:
+class LearnedClauses:
+    """Counterexample clauses added once each (a conflict and its shifted copies often
+    coincide): the store DIS-PLAN and the mission DIS-PLAN
+    (:class:`plansynth.reach.mission.bmc.MissionDisPlan`) share. Needs ``_add(clause)``."""
+
+    _learned: set[tuple[int, ...]]
+    clauses: int
+
+    def _add(self, clause: list[int]) -> None:
+        raise NotImplementedError
+
+    def _learn_clause(self, clause: list[int]) -> None:
+        """Add ``clause`` unless it was added before; count it in ``clauses``."""
+        key = tuple(sorted(clause))
+        if key in self._learned:
+            return
+        self._learned.add(key)
+        self._add(clause)
+        self.clauses += 1
+
+
+class DisPlan(LearnedClauses):
     """One incremental SAT instance over a growing horizon (paper, Section IV).
 
     ``cardinality`` names the exactly-one encoding (``pairwise`` or a PySAT encoding
@@ -297,12 +318,7 @@ class DisPlan:
             short = self.before(c.last_time + shift)
             if short is not None:
                 clause.append(short)
-        key = tuple(sorted(clause))
-        if key in self._learned:
-            return
-        self._learned.add(key)
-        self._add(clause)
-        self.clauses += 1
+        self._learn_clause(clause)
 
     def _rest_shifts(self, c: Conflict) -> range:
         """The shifts at which a start-anchored conflict holds: 0, and with

@@ -61,7 +61,8 @@ from pysat.solvers import Solver
 
 from plansynth.budget import Clock
 from plansynth.reach.lazy.conflict import Conflict
-from plansynth.reach.lazy.displan import CONFLICTS_PER_SLICE, PAIRWISE_MAX_REGIONS, SAT_SOLVER, RegionGraph, SatOutcome
+from plansynth.reach.lazy.displan import (CONFLICTS_PER_SLICE, PAIRWISE_MAX_REGIONS, SAT_SOLVER, LearnedClauses,
+                                         RegionGraph, SatOutcome)
 from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, subformulas,
 )
@@ -88,7 +89,7 @@ class MissionPlan:
         return "finite" if self.loop_start is None else "lasso"
 
 
-class MissionDisPlan:
+class MissionDisPlan(LearnedClauses):
     """One incremental SAT instance for the mission over growing horizons.
 
     ``labels_of[i]``: the labels region i lies in (it is outside every other one).
@@ -288,14 +289,6 @@ class MissionDisPlan:
         if horizon is not None:
             clause.append(-self.act(horizon))
         self._learn_clause(clause)
-
-    def _learn_clause(self, clause: list[int]) -> None:
-        key = tuple(sorted(clause))
-        if key in self._learned:
-            return
-        self._learned.add(key)
-        self._add(clause)
-        self.clauses += 1
 
     def learn(self, c: Conflict) -> None:
         """A counterexample from CON-PLAN (Algorithm 1, line 11), for the plan of

@@ -44,7 +44,7 @@ from plansynth.reach.lazy.conflict import Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
-from plansynth.reach.highs import new_highs
+from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
@@ -151,21 +151,8 @@ class LoopLP:
         n, m, pos = self.n, self.m, self.pos
         nx = (L + 1) * n
         ncol = nx + L * m
-        rows: list[np.ndarray] = []
-        cols: list[np.ndarray] = []
-        vals: list[np.ndarray] = []
-        rlo: list[np.ndarray] = []
-        rhi: list[np.ndarray] = []
-        r0 = 0
-
-        def add(rr, cc, vv, lo, hi) -> None:
-            nonlocal r0
-            rows.append(r0 + np.asarray(rr))
-            cols.append(np.asarray(cc))
-            vals.append(np.asarray(vv, float))
-            rlo.append(np.asarray(lo, float))
-            rhi.append(np.asarray(hi, float))
-            r0 += len(lo)
+        blocks = Rows()
+        add = blocks.add
 
         ai, aj, av, bi, bj, bv = self.dyn_nz
         for t in range(first, L):  # x_{t+1} - A x_t - B u_t = 0
@@ -173,7 +160,7 @@ class LoopLP:
                 np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, nx + t * m + bj]),
                 np.concatenate([np.ones(n), -av, -bv]), np.zeros(n), np.zeros(n))
         owner: list[np.ndarray] = []  # per row block: the literal time it belongs to (-1: none)
-        owner.append(np.full(r0, -1))
+        owner.append(np.full(blocks.n_row, -1))
         for t, r in assign.items():
             H, hh = self.Hs[r], self.hs[r]
             k = H.shape[0]
@@ -188,24 +175,8 @@ class LoopLP:
         col_hi = np.concatenate([np.tile(self.state_hi, L + 1), np.full(L * m, p.input_bound)])
         if anchored:
             col_lo[first * n:(first + 1) * n] = col_hi[first * n:(first + 1) * n] = p.start
-        R = np.concatenate(rows).astype(np.int64) if rows else np.zeros(0, np.int64)
-        C = np.concatenate(cols).astype(np.int64) if cols else np.zeros(0, np.int64)
-        V = np.concatenate(vals) if vals else np.zeros(0)
-        order = np.lexsort((R, C))
-        starts = np.zeros(ncol + 1, dtype=np.int32)
-        np.cumsum(np.bincount(C, minlength=ncol), out=starts[1:])
-        lp = highspy.HighsLp()
-        lp.num_col_ = ncol
-        lp.num_row_ = r0
-        lp.col_cost_ = np.zeros(ncol)
-        lp.col_lower_ = col_lo
-        lp.col_upper_ = col_hi
-        lp.row_lower_ = np.concatenate(rlo) if rlo else np.zeros(0)
-        lp.row_upper_ = np.concatenate(rhi) if rhi else np.zeros(0)
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_ = starts
-        lp.a_matrix_.index_ = R[order].astype(np.int32)
-        lp.a_matrix_.value_ = V[order]
+        r0 = blocks.n_row
+        lp = csc_lp(ncol, r0, *blocks.coo(), np.zeros(ncol), col_lo, col_hi, *blocks.bounds())
         h = self.highs
         if math.isfinite(seconds):
             h.setOptionValue("time_limit", float(h.getRunTime() + max(1e-3, float(seconds))))

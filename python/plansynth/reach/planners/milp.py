@@ -42,7 +42,7 @@ from plansynth.reach.lazy.bounds import proved_horizon_bound
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import RegionGraph
-from plansynth.reach.highs import new_highs
+from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
 from plansynth.reach.geometry import halfspaces
 from plansynth.reach.problem import ReachProblem
@@ -88,22 +88,8 @@ def solve_horizon(
     def z(t: int, i: int) -> int:
         return n_x + n_u + t * R + i
 
-    rows: list[np.ndarray] = []
-    cols: list[np.ndarray] = []
-    vals: list[np.ndarray] = []
-    lo: list[np.ndarray] = []
-    hi: list[np.ndarray] = []
-    r0 = 0
-
-    def add(rr: np.ndarray, cc: np.ndarray, vv: np.ndarray, l: np.ndarray, h: np.ndarray) -> None:
-        nonlocal r0
-        checkpoint()
-        rows.append(r0 + rr)
-        cols.append(cc)
-        vals.append(vv)
-        lo.append(l)
-        hi.append(h)
-        r0 += len(l)
+    blocks = Rows(on_add=checkpoint)
+    add = blocks.add
 
     # dynamics x_{t+1} - A x_t - B u_t = 0
     ai, aj = np.nonzero(A)
@@ -152,25 +138,9 @@ def solve_horizon(
         if i not in abstraction.goal_regions:
             col_hi[z(N, i)] = 0.0
 
-    Rr = np.concatenate(rows).astype(np.int64)
-    Cc = np.concatenate(cols).astype(np.int64)
-    Vv = np.concatenate(vals).astype(float)
-    order = np.lexsort((Rr, Cc))
-    starts = np.zeros(n_col + 1, dtype=np.int32)
-    np.cumsum(np.bincount(Cc, minlength=n_col), out=starts[1:])
-    lp = highspy.HighsLp()
-    lp.num_col_ = n_col
-    lp.num_row_ = r0
-    lp.col_cost_ = np.zeros(n_col)
-    lp.col_lower_ = col_lo
-    lp.col_upper_ = col_hi
-    lp.row_lower_ = np.concatenate(lo)
-    lp.row_upper_ = np.concatenate(hi)
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_ = starts
-    lp.a_matrix_.index_ = Rr[order].astype(np.int32)
-    lp.a_matrix_.value_ = Vv[order]
-    lp.integrality_ = [highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z
+    r0 = blocks.n_row
+    lp = csc_lp(n_col, r0, *blocks.coo(), np.zeros(n_col), col_lo, col_hi, *blocks.bounds(),
+                integrality=[highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z)
 
     h = new_highs()
     h.passModel(lp)

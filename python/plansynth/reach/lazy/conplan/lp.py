@@ -13,6 +13,7 @@ from functools import cached_property
 import highspy
 import numpy as np
 
+from plansynth.reach.highs import csc_lp
 from plansynth.reach.trajectory import Trajectory
 
 INF = highspy.kHighsInf
@@ -171,24 +172,6 @@ class _Bounds:
     anchored_start: bool
 
 
-def _csc_lp(n_col: int, n_row: int, R: np.ndarray, C: np.ndarray, V: np.ndarray, cost: np.ndarray,
-            col_lo: np.ndarray, col_hi: np.ndarray, row_lo: np.ndarray, row_hi: np.ndarray) -> highspy.HighsLp:
-    """A HiGHS LP with the column-wise matrix of the COO entries (R, C, V)."""
-    order = np.lexsort((R, C))
-    starts = np.zeros(n_col + 1, dtype=np.int32)
-    np.cumsum(np.bincount(C, minlength=n_col), out=starts[1:])
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = n_col, n_row
-    lp.col_cost_ = cost
-    lp.col_lower_, lp.col_upper_ = col_lo, col_hi
-    lp.row_lower_, lp.row_upper_ = row_lo, row_hi
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_ = starts
-    lp.a_matrix_.index_ = R[order].astype(np.int32)
-    lp.a_matrix_.value_ = V[order]
-    return lp
-
-
 class _LpEdits:
     """The layout and edit methods of :class:`~plansynth.reach.lazy.conplan.check.ConPlan`."""
 
@@ -257,7 +240,7 @@ class _LpEdits:
             slot.col_local[cols] = np.arange(cols.size)
             mine = row_part[R] == p
             r, c, v = slot.row_local[R[mine]], slot.col_local[C[mine]], V[mine]
-            lp = _csc_lp(int(cols.size), int(rows.size), r, c, v, np.zeros(cols.size), b.col_lo[cols],
+            lp = csc_lp(int(cols.size), int(rows.size), r, c, v, np.zeros(cols.size), b.col_lo[cols],
                          b.col_hi[cols], b.row_lo[rows], b.row_hi[rows])
             h = self._new_highs()
             h.passOptions(options)
@@ -332,7 +315,7 @@ class _LpEdits:
                 np.concatenate(vals).astype(float))
 
     def _lp(self, lay: _Layout, coo: tuple[np.ndarray, np.ndarray, np.ndarray], b: _Bounds, cost: np.ndarray) -> highspy.HighsLp:
-        return _csc_lp(lay.n_col, lay.n_row, *coo, cost, b.col_lo, b.col_hi, b.row_lo, b.row_hi)
+        return csc_lp(lay.n_col, lay.n_row, *coo, cost, b.col_lo, b.col_hi, b.row_lo, b.row_hi)
 
     def _pass_cold(self, lay: _Layout, assignment: Mapping[int, int], *, goal: bool, anchored_start: bool) -> _Bounds:
         """Put the feasibility LP of ``assignment`` over ``lay`` into the one-off model."""
