@@ -79,3 +79,13 @@ def test_planners_do_not_validate_solve_does() -> None:
     assert raw.status is ReachStatus.FOUND and raw.validated is None
     checked = solve(maze(1), "milp", Budget(seconds=60), max_horizon=57, start_horizon=57)
     assert checked.validated is True and checked.validation is not None and checked.validation.ok
+
+
+def test_an_option_of_reach_avoid_planning_given_for_a_mission_is_an_error() -> None:
+    from plansynth.reach.mission.families import mission_problem
+
+    p = mission_problem("maze-1", "visit")
+    with pytest.raises(InvalidOption, match="lazy-smt: option 'counterexample': does not apply to LTL missions"):
+        solve(p, "lazy-smt", Budget(seconds=30), counterexample="trivial")
+    r = solve(p, "lazy-smt", Budget(seconds=60), transit=False)  # a mission option goes through
+    assert r.status is ReachStatus.FOUND and r.options.get("transit") is False

@@ -19,7 +19,7 @@ from plansynth.budget import Budget
 from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_UNKNOWN, fail, finite_positive, positive_seconds
 from plansynth.cli_support import EXIT_NO as EXIT_INFEASIBLE
 from plansynth.cli_support import EXIT_YES as EXIT_FOUND
-from plansynth.errors import InvalidProblem, PlansynthError
+from plansynth.errors import InvalidOption, InvalidProblem, PlansynthError
 from plansynth.io import check_output_path
 
 app = typer.Typer(no_args_is_help=True, add_completion=False)
@@ -132,7 +132,6 @@ def _given(ctx: typer.Context, name: str) -> bool:
 def _planner_options(ctx: typer.Context, planner: str, paper: bool) -> Any:
     """The planner's options value, built once from the flags given; a flag that does
     not apply to the planner is a usage error (exit 2, one line), never dropped."""
-    from plansynth.errors import InvalidOption
     from plansynth.reach.solve import configure
 
     values = {option: ctx.params[name] for name, (option, _) in _OPTION_FLAGS.items() if _given(ctx, name)}
@@ -201,7 +200,10 @@ def solve_command(
         def progress(horizon: int, iterations: int) -> None:
             bar.update(task, description=f"{planner}: horizon {horizon} ({iterations} iterations so far)")
 
-        result = solve(problem, planner, Budget(seconds=timeout), options, progress=progress)
+        try:
+            result = solve(problem, planner, Budget(seconds=timeout), options, progress=progress)
+        except InvalidOption as exc:  # an option of reach-avoid planning given for a mission
+            raise fail(err, exc) from None
     console.print(_result_table(result))
     try:
         _write_outputs(console, problem, result, out, plot, animate)

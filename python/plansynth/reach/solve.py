@@ -132,7 +132,11 @@ def solve(
     if problem.mission is not None:  # LTL missions (issue 14): lazy-smt and milp-ltl plan them
         from plansynth.reach.mission.planner import solve_mission
 
-        kwargs = {f.name: getattr(opts, f.name) for f in fields(opts)} if is_dataclass(opts) else {}
+        # the options set away from the planner's defaults: those a mission planner does
+        # not take are an error there, not dropped
+        defaults = run.defaults
+        kwargs = {f.name: getattr(opts, f.name) for f in fields(opts)
+                  if getattr(opts, f.name) != getattr(defaults, f.name)} if is_dataclass(opts) else {}
         return solve_mission(problem, planner, budget, **kwargs, progress=progress)
     robot = problem.robot_shape
     if robot is not None and not robot.is_point:

@@ -39,6 +39,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget
+from plansynth.errors import InvalidOption
 from plansynth.reach.lazy.bounds import time_windows
 from plansynth.reach.lazy.conflict import Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
@@ -355,12 +356,15 @@ def solve_mission(problem: ReachProblem, planner: str = "lazy-smt", budget: Budg
     validated and mission-checked before it is reported."""
     if planner not in MISSION_PLANNERS:
         raise ValueError(f"planner {planner!r} does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")
-    # the reach-avoid options the CLI always passes (counterexample strategy, windows,
-    # transit, guide, ...) do not apply to missions
     import inspect
 
     accepted = set(inspect.signature(plan_mission if planner == "lazy-smt" else _plan_milp_ltl()).parameters)
-    result = MISSION_PLANNERS[planner](problem, budget, **{k: v for k, v in options.items() if k in accepted})
+    accepted -= {"problem", "budget", "labelled"}
+    for name in options:
+        if name not in accepted:  # a reach-avoid option (counterexample strategy, windows, ...)
+            raise InvalidOption(planner, name, f"does not apply to LTL missions (mission options: "
+                                               f"{', '.join(sorted(accepted - {'progress'}))})")
+    result = MISSION_PLANNERS[planner](problem, budget, **options)
     return validate_mission_result(problem, result)
 
 
