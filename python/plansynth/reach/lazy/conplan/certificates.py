@@ -206,8 +206,8 @@ class _Certificates:
         the LPs split, warm-started); ``cold``: a fresh LP of exactly that layout."""
         assign = dict(c.literals)
         if not cold:
-            # the span model (shared with the deletion filter), not a model of its own:
-            # on maze-4 with an order-25 chain the loop then needs 46 iterations, not 104
+            # the span model, shared with the deletion filter: warm from the LPs that
+            # just shrank this conflict
             col = self._solve_model(c.last_time, assign, "verify", goal=c.anchored_goal,
                                     anchored_start=c.anchored_start, span=(c.first_time, c.last_time))
             return col is None

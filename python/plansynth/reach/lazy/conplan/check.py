@@ -113,8 +113,8 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         self.span_slot = _Slot(self._new_highs())  # LPs over a conflict's time span
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
         # independent blocks of the feasibility LPs (None: one block); by default split
-        # long chains only (maze-4, order 25: one LP per axis, half the rows each, ~2x
-        # the loop iterations per second; the slack LP couples the axes and stays whole)
+        # long chains only, where an LP per axis with a fraction of the rows each is
+        # cheaper than the whole (the slack LP couples the axes and stays whole)
         self.blocks = self._blocks()
         if split is None:
             split = self.n > LONG_CHAIN_STATES
@@ -129,8 +129,7 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
                 h.setOptionValue("simplex_iteration_limit", 5000)
                 h.setOptionValue("simplex_scale_strategy", 4)
                 # Devex pricing: dual steepest-edge weights are recomputed after every
-                # warm start and every rank-deficient basis (frequent on long chains);
-                # maze-4, order 25: warm re-solves 5.6x faster, cold ones 1.7x
+                # warm start and every rank-deficient basis, both frequent on long chains
                 h.setOptionValue("simplex_dual_edge_weight_strategy", 1)
 
     def check(self, regions: Sequence[int]) -> Feasible | Conflict:

@@ -21,7 +21,7 @@ INF = highspy.kHighsInf
 # row kinds of the LPs
 DYN, REGION, SEGMENT, GOAL, ORDER = range(5)
 
-#: More states than this make a "long integrator chain" (maze-4 with order 25 has 50):
+#: More states than this make a "long integrator chain" (an order-25 chain in 2-D has 50):
 #: its coefficients dt^k/k! span many decades, so CON-PLAN scales harder, caps and
 #: prices the simplex differently, skips the slack LP and splits the LPs.
 LONG_CHAIN_STATES = 8
