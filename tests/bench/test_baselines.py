@@ -155,3 +155,28 @@ def test_baselines_are_planners_of_reach_solve():
     for name in ("rrt", "milp-bigm"):
         r = solve(p, planner=name, budget=Budget(seconds=20))
         assert r.planner == name and r.status == ReachStatus.FOUND and r.validated is True
+
+
+@pytest.mark.parametrize("planner", ["lazy-smt-paper", "milp-bigm", "rrt"])
+def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """One path (issue 12): bench's run of any planner is reach.solve()'s answer, validated there."""
+    import importlib
+
+    from plansynth.bench.execute import execute
+    from plansynth.bench.families import family
+
+    reach_solve = importlib.import_module("plansynth.reach.solve")  # the module (plansynth.reach.solve is the function)
+    calls: list[tuple[str, object]] = []
+    real = reach_solve.solve
+
+    def spy(problem, planner_name, budget, options=None, **kw):
+        calls.append((planner_name, options))
+        return real(problem, planner_name, budget, options, **kw)
+
+    monkeypatch.setattr(reach_solve, "solve", spy)
+    inst = family("reach", "maze", [1])[0]
+    attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 60, "seed": 5, "options": {}})
+    assert [name for name, _ in calls] == [planner]
+    assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
+    if planner == "rrt":  # the sampling planners get the run's seed in their options value
+        assert calls[0][1].seed == 5
