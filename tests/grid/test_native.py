@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from plansynth.bench.families import paper_depth
+from plansynth.bench.families import paper_problems as families
 from plansynth.budget import Budget
 from plansynth.grid.native import reference
 from plansynth.grid.native.arena import Arena
@@ -25,8 +26,6 @@ from plansynth.grid.verify import verify
 from .strategies import grid_problems
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "examples" / "grid"))
-from paper_families import families  # noqa: E402
 
 small = grid_problems(max_side=4, max_obstacles=2, max_obstacle_moves=3, max_robot_moves=5, max_steps=4)
 
@@ -121,7 +120,7 @@ def test_paper_instances_are_solved_with_the_papers_depth(name):
     out = Engine().solve_length(problem, problem.steps, Budget(seconds=30))
     assert out.status is GridStatus.REALIZABLE
     assert verify(problem, out.program, problem.steps).wins
-    paper = {"depth-1": 1, "depth-4": 4, "depth-5": 5}.get(name, 4)
+    paper = paper_depth(name)
     assert depth(out.program) <= paper
 
 
