@@ -124,7 +124,7 @@ def _cli_command(solver: str, problem_file: str, out: str, timeout: float, optio
     script = Path(sys.executable).with_name("plansynth")
     exe = [str(script)] if script.is_file() else ([shutil.which("plansynth")] if shutil.which("plansynth") else
                                                   [sys.executable, "-c", "from plansynth.cli import main; main()"])
-    cmd = [*exe, "grid", "solve", problem_file, "--solver", solver, "--timeout", repr(float(timeout)), "--out", out]
+    cmd = [*exe, "grid", "solve", problem_file, "--solver", solver, "--timeout", f"{float(timeout):g}", "--out", out]
     for key, value in options.items():
         cmd += ["--command", str(value)] if key == "command" else ["-O", f"{key}={value}"]
     return cmd
