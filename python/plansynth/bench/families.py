@@ -28,6 +28,9 @@ own complement them, with answers known by construction:
 - ``doors`` (realizable), ``doors-rush`` and ``doors-jam`` (unrealizable): doors that
   close, a corridor through 1-3 walls whose doorways panels slide through (see
   :func:`_doors`); timed through the command line, like the shared suite.
+- ``patrols`` (realizable) and ``patrols-walk`` (unrealizable): guards walking back and
+  forth along 1-3 roads that the robot crosses at one of two zebras (see
+  :func:`_patrols`); timed through the command line too.
 - ``reactive-suite``: the 40 shared problems with certified labels
   (``../shared/grid-reactive/`` from the repository root, see :func:`reactive_suite`);
   the sweep says clearly when that folder is missing.
@@ -302,9 +305,35 @@ def _doors(doors: int, steps: int | None = None, jam: bool = False) -> dict[str,
     return _grid_doc(width, height, (0, mid), (width - 1, mid), panels, steps=length, walls=walls, name=name)
 
 
+_SIDESTEP = [{"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}, {"name": "fast-left", "to": [-2, 0], "via": [[-1, 0]]}]
+
+
+def _patrols(roads: int, run: bool = True, width: int = 11) -> dict[str, Any]:
+    """Obstacles that patrol: ``roads`` roads (rows 2, 6, ...) between walls, each crossed
+    only at two zebra cells near its ends (columns 1 and width - 2); on each road a guard
+    walks back and forth (left or right every step, adversarially chosen; the road's ends
+    turn it). The robot starts and ends in the middle of the sidewalks, runs two cells a
+    step along them (with ``run``) and crosses a road in one sprint of two cells (its
+    middle cell is the road's). A guard can hover at one zebra, never at both: the
+    controller reads where it is and runs to the other. Realizable at length
+    4 roads + 8; without the run (``patrols-walk``) the guard covers both zebras in time
+    and no controller wins. Labels certified by brute force in
+    ``tests/bench/test_families.py``, as for :func:`_doors`."""
+    height = 4 * roads + 1
+    mid = width // 2
+    zebras = (1, width - 2)
+    rows = [2 + 4 * i for i in range(roads)]
+    walls = [(x, y) for r in rows for y in (r - 1, r + 1) for x in range(width) if x not in zebras]
+    guards = [{"start": [mid, r], "moves": ["left", "right"]} for r in rows]
+    moves = list(ALL_MOVES) + (list(_SIDESTEP) if run else []) + list(_SPRINT)
+    name = f"patrols-{roads}" if run else f"patrols-walk-{roads}"
+    return _grid_doc(width, height, (mid, 0), (mid, height - 1), guards, steps=4 * roads + 8, walls=walls,
+                     robot_moves=moves, name=name)
+
+
 #: Grid families timed through the command line in a fresh process (start-up included),
 #: as issue 11's targets are stated; see :mod:`plansynth.bench.execute`.
-CLI_TIMED_FAMILIES = frozenset({"reactive-suite", "doors", "doors-rush", "doors-jam"})
+CLI_TIMED_FAMILIES = frozenset({"reactive-suite", "doors", "doors-rush", "doors-jam", "patrols", "patrols-walk"})
 
 
 _GRID_BUILDERS: dict[str, Any] = {
@@ -314,6 +343,8 @@ _GRID_BUILDERS: dict[str, Any] = {
     "doors": lambda doors: _doors(doors),
     "doors-rush": lambda doors: _doors(doors, 3 * doors + 2),
     "doors-jam": lambda doors: _doors(doors, jam=True),
+    "patrols": lambda roads: _patrols(roads),
+    "patrols-walk": lambda roads: _patrols(roads, run=False),
     "figure1": lambda: _figure1(),
     "depth": lambda d: _depth(d),
     "steps": lambda L: _steps(L),
@@ -379,6 +410,8 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "doors": ("doors", [1, 2, 3], "realizable"),
     "doors-rush": ("doors", [1, 2, 3], "unrealizable"),
     "doors-jam": ("doors", [1, 2, 3], "unrealizable"),
+    "patrols": ("roads", [1, 2, 3], "realizable"),
+    "patrols-walk": ("roads", [1, 2, 3], "unrealizable"),
     "reactive-suite": ("name", [], None),  # the shared suite (see reactive_suite)
 }
 
@@ -397,7 +430,7 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
             out.append(Instance("grid", "figure1", "figure1", {}, expected))
             continue
         builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size", "l": "l",
-                       "lanes": "lanes", "doors": "doors"}[pname]
+                       "lanes": "lanes", "doors": "doors", "roads": "roads"}[pname]
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = _PAPER_GRID.get(name, {}).get(int(v))

@@ -7,7 +7,7 @@ the Markdown report with its figures:
     plansynth bench publish --report-only    # only rewrite RESULTS.md from the database
 
 The sweep: every grid family with ``native`` and ``cvc5`` (the reactive suite and the
-doors families once, through the CLI, at :data:`CLI_TIMED_TIMEOUT`); the mazes with ``lazy-smt``,
+doors and patrols families once, through the CLI, at :data:`CLI_TIMED_TIMEOUT`); the mazes with ``lazy-smt``,
 ``rrt``, ``milp-bigm``, ``milp`` and ``gcs`` (Drake's Graphs of Convex Sets: a continuous-time
 curve, not a trajectory of the exact discrete dynamics; RESULTS.md says so beside its
 column), and with the counterexample configurations of
@@ -40,7 +40,7 @@ GCS_REPEATS = 3
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 NATIVE_REPEATS = 3
 #: ``--timeout`` of the families run through the CLI (reactive suite, doors): the targets
-#: ask for answers within 1 s, and with 10 s the 49 instances x 2 solvers finish in about
+#: ask for answers within 1 s, and with 10 s the 55 instances x 2 solvers finish in about
 #: 15 minutes on a shared 2-core machine (cvc5 answers few of them within any limit).
 CLI_TIMED_TIMEOUT = 10.0
 

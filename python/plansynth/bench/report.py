@@ -469,9 +469,10 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
             L.append("")
             L.extend(_suite_table(cells, suite, grid_planners))
             L.append("")
-        doors = [i for f in ("doors", "doors-rush", "doors-jam") for i in _instances(cells, f)]
+        doors = [i for f in ("doors", "doors-rush", "doors-jam", "patrols", "patrols-walk") for i in _instances(cells, f)]
         if doors:
-            L.append("### Doors that close (families `doors`, `doors-rush`, `doors-jam`; labels certified by brute force)")
+            L.append("### Doors that close and guards that patrol (families `doors`, `doors-rush`, `doors-jam`, "
+                     "`patrols`, `patrols-walk`; labels certified by brute force)")
             L.append("")
             L.append(CLI_TIMED_NOTE)
             L.append("")
