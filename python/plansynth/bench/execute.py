@@ -159,11 +159,13 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         t0 = time.perf_counter()
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
                                 preexec_fn=pdeathsig_preexec())
+        killed = False
         try:
             # the runner's hard limit (T + grace) kills this whole process group anyway
             stdout, stderr = proc.communicate(timeout=timeout + 4 * BUDGET_SLACK_SECONDS)
         except subprocess.TimeoutExpired:
             proc.kill()
+            killed = True
             stdout, stderr = proc.communicate()
         wall = time.perf_counter() - t0
         result = json.loads(Path(out).read_text(encoding="utf-8")) if Path(out).is_file() else None
@@ -173,7 +175,7 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     attributes: dict[str, Any] = {"cli_wall": wall, "budget_kept": kept, "exit_status": proc.returncode,
                                   "expected": inst.expected, "command": "plansynth " + " ".join(shown)}
     if result is None:  # no result file: bad input, a crash, or killed past its budget
-        status = "timeout" if proc.returncode is not None and proc.returncode < 0 else "crash"
+        status = "timeout" if killed else "crash"
         return {"status": status, "solved": 0, "time": wall, "wall": wall,
                 "message": (stderr or stdout or f"exit status {proc.returncode}")[-2000:], "attributes": attributes}
     counters: dict[str, Any] = {}
