@@ -175,6 +175,9 @@ CASES: dict[str, Case] = {
     "plansynth bench grid --family reactive-suite --solvers native,cvc5 --timeout 60": Case(
         files=("b.db",), slow=False,
         fast="plansynth bench grid --family reactive-suite --values r03_traffic --solvers native --timeout 60 --db b.db"),
+    "plansynth bench grid --family reactive-suite,doors,doors-rush,doors-jam,patrols,patrols-walk --solvers native,cvc5 --timeout 10": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench grid --family doors --values 1 --solvers native --timeout 10 --db b.db"),
     "plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3": Case(
         files=("b.db",), slow=False,
         fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,gcs --timeout 120 --db b.db"),

@@ -18,21 +18,19 @@ import argparse
 import json
 import resource
 import statistics
-import sys
 import time
 from pathlib import Path
 
+from plansynth.bench.families import paper_depth
+from plansynth.bench.families import paper_problems as families
+from plansynth.budget import Budget
+from plansynth.grid.native.engine import Engine
+from plansynth.grid.problem import grid_problem_from_dict, load_grid_problem
+from plansynth.grid.programs import depth, reads_obstacles
+from plansynth.grid.result import GridStatus
+from plansynth.grid.verify import verify
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-
-from paper_families import families  # noqa: E402
-
-from plansynth.budget import Budget  # noqa: E402
-from plansynth.grid.native.engine import Engine  # noqa: E402
-from plansynth.grid.problem import grid_problem_from_dict, load_grid_problem  # noqa: E402
-from plansynth.grid.programs import depth, reads_obstacles  # noqa: E402
-from plansynth.grid.result import GridStatus  # noqa: E402
-from plansynth.grid.verify import verify  # noqa: E402
 
 
 def native(problem, steps, **options):
@@ -67,7 +65,7 @@ def main() -> None:
         problem = grid_problem_from_dict(doc)
         l = problem.steps
         out, secs, ok = native(problem, l)
-        paper = {"depth-1": 1, "depth-4": 4, "depth-5": 5, "depth-6": 6}.get(name, 4)
+        paper = paper_depth(name)
         row = {"instance": name, "steps": l, "status": out.status.value, "native_seconds": secs,
                "depth": depth(out.program) if out.program else None, "paper_depth": paper, "verified": ok,
                "program": str(out.program)}

@@ -109,3 +109,42 @@ def test_a_missing_reactive_suite_is_a_clear_error(tmp_path, monkeypatch):
     monkeypatch.setenv("PLANSYNTH_REACTIVE_SUITE", str(tmp_path / "nowhere"))
     with pytest.raises(SuiteMissing, match="reactive-suite.*missing"):
         grid_family("reactive-suite")
+
+
+@pytest.mark.parametrize("name,value", [("doors", 1), ("doors", 2), ("doors-rush", 1), ("doors-rush", 2),
+                                        ("doors-jam", 1), ("doors-jam", 2), ("patrols", 1), ("patrols", 2),
+                                        ("patrols-walk", 1), ("patrols-walk", 2), ("lanes", 1), ("lanes-rush", 1)])
+def test_reactive_family_labels_are_certified_by_brute_force(name, value):
+    """The answer each instance is built for, by the brute-force oracles (no engine code):
+    a realizable one by the reference interpreter replaying the engine's program against
+    every obstacle behaviour, an unrealizable one by the time-dependent game, lost."""
+    from plansynth.grid.native.reference import game_won
+    from plansynth.grid.programs import reads_obstacles
+    from plansynth.grid.reference import reference_wins
+    from plansynth.grid.solve import solve
+
+    (inst,) = grid_family(name, [value])
+    problem = inst.build()
+    if inst.expected == "realizable":
+        r = solve(problem, solver="native", budget=Budget(seconds=30))
+        assert r.status is GridStatus.REALIZABLE
+        assert reference_wins(problem, r.program, problem.steps)
+        assert reads_obstacles(r.program)  # the controller must react to the panels, guards or cars
+    else:
+        assert inst.expected == "unrealizable"
+        assert not game_won(problem, problem.steps)  # not even a controller that sees the time wins
+
+
+def test_a_door_that_may_jam_is_what_makes_doors_unrealizable():
+    """doors-jam-1 is doors-1 with one more panel move, ``stay``, at the same length."""
+    (free,), (jam,) = grid_family("doors", [1]), grid_family("doors-jam", [1])
+    a, b = free.build(), jam.build()
+    assert (a.width, a.height, a.robot, a.walls, a.steps) == (b.width, b.height, b.robot, b.walls, b.steps)
+    assert [m.name for m in b.obstacles[0].moves] == ["stay"] + [m.name for m in a.obstacles[0].moves]
+
+
+def test_patrols_walk_differs_from_patrols_only_by_the_robots_run():
+    (run,), (walk,) = grid_family("patrols", [2]), grid_family("patrols-walk", [2])
+    a, b = run.build(), walk.build()
+    assert (a.width, a.height, a.obstacles, a.walls, a.steps) == (b.width, b.height, b.obstacles, b.walls, b.steps)
+    assert {m.name for m in a.robot.moves} - {m.name for m in b.robot.moves} == {"fast-left", "fast-right"}

@@ -69,14 +69,40 @@ def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
 
     insts = [("grid/reactive-suite/a", {"name": "a", "expected": "realizable", "params": {"witness_depth": 7}}),
              ("grid/reactive-suite/b", {"name": "b", "expected": "unrealizable", "params": {}}),
-             ("grid/reactive-suite/c", {"name": "c", "expected": "realizable", "params": {"witness_depth": 5}})]
+             ("grid/reactive-suite/c", {"name": "c", "expected": "realizable", "params": {"witness_depth": 5}}),
+             ("grid/reactive-suite/d", {"name": "d", "expected": "realizable", "params": {"witness_depth": 4}})]
+    run = {"budget_kept": [True], "depth_minimal": "not proved"}
     cells = {
-        ("grid/reactive-suite/a", "native"): Cell(1, 1, 0.1, 0.1, 60.0, {"solved": 1}, depth=8, extra={"median_any": 0.1}),
-        ("grid/reactive-suite/b", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1}, extra={"median_any": 0.2}),
-        ("grid/reactive-suite/c", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1}, extra={"median_any": 0.3}),
+        ("grid/reactive-suite/a", "native"): Cell(1, 1, 0.1, 0.1, 60.0, {"solved": 1}, depth=8,
+                                                  extra={"median_any": 0.1, "cli_wall": 0.9, **run}),
+        ("grid/reactive-suite/b", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1},
+                                                  extra={"median_any": 0.2, "cli_wall": 1.2, "budget_kept": [True]}),
+        ("grid/reactive-suite/c", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1},
+                                                  extra={"median_any": 0.3, "cli_wall": 1.5, "budget_kept": [True]}),
+        ("grid/reactive-suite/d", "native"): Cell(1, 0, None, None, 60.0, {"unknown": 1},
+                                                  extra={"median_any": 60.0, "cli_wall": 61.7, "budget_kept": [False]}),
     }
     text = "\n".join(_suite_table(cells, insts, ["native"]))
-    assert "2/3 answers match the labels, 1 contradict them" in text
-    assert "| a | realizable | 7 | 0.1 | realizable | 8 (+1) | yes |" in text
-    assert "| c | realizable | 5 | 0.3 | unrealizable | - | WRONG |" in text
-    assert "depth minus witness depth: median +1, max +1" in text
+    assert ("- **native**: correct 2/4 (1 contradict the label); wall through the CLI median 1.35 s, max 61.7 s; "
+            "depth - witness depth median +1, max +1 (1 programs); budget kept 3/4; depth_minimal proved on 0/1.") in text
+    assert "| a | realizable | 7 | 0.9 | 0.1 | realizable | yes | 8 | +1 | not proved | yes |" in text
+    assert "| c | realizable | 5 | 1.5 | 0.3 | unrealizable | WRONG | - | - | - | yes |" in text
+    assert "| d | realizable | 4 | 61.7 | 60 | unknown | no answer | - | - | - | NO |" in text
+
+
+def test_the_paper_regression_line_fails_on_a_slow_or_deep_instance():
+    from plansynth.bench.report import Cell, _paper_regression
+
+    def cell(name, t, d):
+        fam = name.rsplit("-", 1)[0]
+        return Cell(1, 1, t, t, 120.0, {"solved": 1}, depth=d,
+                    extra={"family": fam, "instance": name, "setup": {"name": name, "params": {}}})
+
+    good = {("grid/depth/depth-4", "native"): cell("depth-4", 0.01, 4),
+            ("grid/steps/steps-25", "native"): cell("steps-25", 0.3, 4)}
+    assert "solved 2/2, under 1 s 2/2 (slowest steps-25, 0.3 s), depth at most the paper's 2/2: holds" \
+        in _paper_regression(good)
+    slow = {**good, ("grid/steps/steps-20", "native"): cell("steps-20", 1.5, 4)}
+    assert "under 1 s 2/3 (slowest steps-20, 1.5 s), depth at most the paper's 3/3: FAILS" in _paper_regression(slow)
+    deep = {**good, ("grid/depth/depth-1", "native"): cell("depth-1", 0.01, 2)}
+    assert "depth at most the paper's 2/3: FAILS" in _paper_regression(deep)

@@ -26,7 +26,7 @@ Examples:
 
   plansynth bench grid --family depth --solvers native,external -O "external:command=cvc5 --lang=sygus2 {file}"
 
-Families: figure1, depth, steps, obstacles, dimensions (the paper's), crossing, crossing-stall, patrol, patrol-walk (reactive, ours), or all.
+Families: figure1, depth, steps, obstacles, dimensions (the paper's), crossing, crossing-stall, patrol, patrol-walk, door, door-stall, lanes, lanes-rush, doors, doors-rush, doors-jam, patrols, patrols-walk (reactive, ours), reactive-suite (the shared suite; it, doors* and patrols* run through the CLI), or all.
 Rerunning the same command resumes: runs already in the database are skipped.
 """
 

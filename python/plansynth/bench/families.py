@@ -25,6 +25,12 @@ own complement them, with answers known by construction:
   and waits for each one. ``lanes-rush`` (unrealizable): the same at the shortest
   length, with no time to wait (both answers found by the native engine; every
   realizable one is checked by the independent verifier in the sweep).
+- ``doors`` (realizable), ``doors-rush`` and ``doors-jam`` (unrealizable): doors that
+  close, a corridor through 1-3 walls whose doorways panels slide through (see
+  :func:`_doors`); timed through the command line, like the shared suite.
+- ``patrols`` (realizable) and ``patrols-walk`` (unrealizable): guards walking back and
+  forth along 1-3 roads that the robot crosses at one of two zebras (see
+  :func:`_patrols`); timed through the command line too.
 - ``reactive-suite``: the 40 shared problems with certified labels
   (``../shared/grid-reactive/`` from the repository root, see :func:`reactive_suite`);
   the sweep says clearly when that folder is missing.
@@ -55,6 +61,10 @@ __all__ = [
     "GRID_FAMILIES",
     "REACH_FAMILIES",
     "grid_family",
+    "paper_problems",
+    "paper_depth",
+    "PAPER_FAMILIES",
+    "CLI_TIMED_FAMILIES",
     "reach_family",
     "family",
     "instance_from_task",
@@ -270,10 +280,71 @@ def _lanes(lanes: int, steps: int | None = None) -> dict[str, Any]:
                      name=f"lanes-{lanes}" + (f"-l{steps}" if steps else ""))
 
 
+def _doors(doors: int, steps: int | None = None, jam: bool = False) -> dict[str, Any]:
+    """Doors that close: the robot walks along the middle row of a corridor through
+    ``doors`` walls, each with one doorway, and a panel slides down each wall's slot
+    (its columns between the wall's two faces), through the doorway, at one or two
+    cells per step (adversarially chosen); with ``jam`` it may also stop, so it can
+    stay in the doorway: the door is shut for good. Panel i starts 2 + 4 i rows above
+    the doorway, so the robot must wait at each door in turn, reading the panels.
+    Realizable at the default length (the corridor's length plus 6); at the
+    corridor's length plus 1 there is no time to wait (``doors-rush``), and a panel
+    that may jam makes every length unrealizable (``doors-jam``). The answers are
+    certified by brute force (:func:`plansynth.grid.reference.reference_wins` on the
+    engine's program; :func:`plansynth.grid.native.reference.game_won` for a lost
+    game) in ``tests/bench/test_families.py``."""
+    height = 9 + 4 * doors
+    mid = height // 2
+    slots = [2 + 3 * i for i in range(doors)]
+    width = slots[-1] + 3
+    walls = [(x, mid + dy) for c in slots for x in (c - 1, c + 1) for dy in range(-mid, height - mid) if dy != 0]
+    moves: list[Any] = (["stay"] if jam else []) + ["down", {"name": "down2", "to": [0, -2], "via": [[0, -1]]}]
+    panels = [{"start": [c, mid + 2 + 4 * i], "moves": moves} for i, c in enumerate(slots)]
+    length = steps or width + 5
+    name = f"doors-jam-{doors}" if jam else f"doors-{doors}" + (f"-l{steps}" if steps else "")
+    return _grid_doc(width, height, (0, mid), (width - 1, mid), panels, steps=length, walls=walls, name=name)
+
+
+_SIDESTEP = [{"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}, {"name": "fast-left", "to": [-2, 0], "via": [[-1, 0]]}]
+
+
+def _patrols(roads: int, run: bool = True, width: int = 11) -> dict[str, Any]:
+    """Obstacles that patrol: ``roads`` roads (rows 2, 6, ...) between walls, each crossed
+    only at two zebra cells near its ends (columns 1 and width - 2); on each road a guard
+    walks back and forth (left or right every step, adversarially chosen; the road's ends
+    turn it). The robot starts and ends in the middle of the sidewalks, runs two cells a
+    step along them (with ``run``) and crosses a road in one sprint of two cells (its
+    middle cell is the road's). A guard can hover at one zebra, never at both: the
+    controller reads where it is and runs to the other. Realizable at length
+    4 roads + 8; without the run (``patrols-walk``) the guard covers both zebras in time
+    and no controller wins. Labels certified by brute force in
+    ``tests/bench/test_families.py``, as for :func:`_doors`."""
+    height = 4 * roads + 1
+    mid = width // 2
+    zebras = (1, width - 2)
+    rows = [2 + 4 * i for i in range(roads)]
+    walls = [(x, y) for r in rows for y in (r - 1, r + 1) for x in range(width) if x not in zebras]
+    guards = [{"start": [mid, r], "moves": ["left", "right"]} for r in rows]
+    moves = list(ALL_MOVES) + (list(_SIDESTEP) if run else []) + list(_SPRINT)
+    name = f"patrols-{roads}" if run else f"patrols-walk-{roads}"
+    return _grid_doc(width, height, (mid, 0), (mid, height - 1), guards, steps=4 * roads + 8, walls=walls,
+                     robot_moves=moves, name=name)
+
+
+#: Grid families timed through the command line in a fresh process (start-up included),
+#: as issue 11's targets are stated; see :mod:`plansynth.bench.execute`.
+CLI_TIMED_FAMILIES = frozenset({"reactive-suite", "doors", "doors-rush", "doors-jam", "patrols", "patrols-walk"})
+
+
 _GRID_BUILDERS: dict[str, Any] = {
     "reactive-suite": lambda name, **kw: _reactive_suite(name),
     "lanes": lambda lanes, steps=None: _lanes(lanes, steps),
     "lanes-rush": lambda lanes: _lanes(lanes, 2 * lanes + 2),
+    "doors": lambda doors: _doors(doors),
+    "doors-rush": lambda doors: _doors(doors, 3 * doors + 2),
+    "doors-jam": lambda doors: _doors(doors, jam=True),
+    "patrols": lambda roads: _patrols(roads),
+    "patrols-walk": lambda roads: _patrols(roads, run=False),
     "figure1": lambda: _figure1(),
     "depth": lambda d: _depth(d),
     "steps": lambda L: _steps(L),
@@ -296,6 +367,30 @@ _PAPER_GRID = {
     "dimensions": dict(zip([5, 15, 25, 35, 45, 55], [17.1, 27.3, 30.5, 44.9, 65.5, 84.6])),
 }
 
+#: The paper's grid families (Chasins & Newcomb, SYNT 2016, Section 4.1), Figure 1 first.
+PAPER_FAMILIES = ("figure1", "depth", "steps", "obstacles", "dimensions")
+
+
+def paper_depth(name: str) -> int:
+    """The depth of the paper's program for instance ``name`` (Section 4.1): the depth
+    family is named by it (depth-d), every other paper instance has a depth-4 program.
+
+    >>> paper_depth("depth-5"), paper_depth("steps-25")
+    (5, 4)
+    """
+    return int(name.split("-")[1]) if name.startswith("depth-") else 4
+
+
+def paper_problems() -> dict[str, dict[str, Any]]:
+    """Every instance of the paper's families, by name, as problem documents (the one
+    definition: the bench, the tests and ``examples/grid/measure_native.py`` use it).
+
+    >>> sorted(paper_problems())[:3]
+    ['depth-1', 'depth-4', 'depth-5']
+    """
+    return {i.name: i.document() for f in PAPER_FAMILIES for i in grid_family(f)}
+
+
 GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     # family: (parameter name, default values, expected answer)
     "figure1": ("", [0], "realizable"),
@@ -312,6 +407,11 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "scale": ("size", [32, 64], "realizable"),
     "lanes": ("lanes", [1, 2, 3], "realizable"),
     "lanes-rush": ("lanes", [1, 2, 3], "unrealizable"),
+    "doors": ("doors", [1, 2, 3], "realizable"),
+    "doors-rush": ("doors", [1, 2, 3], "unrealizable"),
+    "doors-jam": ("doors", [1, 2, 3], "unrealizable"),
+    "patrols": ("roads", [1, 2, 3], "realizable"),
+    "patrols-walk": ("roads", [1, 2, 3], "unrealizable"),
     "reactive-suite": ("name", [], None),  # the shared suite (see reactive_suite)
 }
 
@@ -330,7 +430,7 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
             out.append(Instance("grid", "figure1", "figure1", {}, expected))
             continue
         builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size", "l": "l",
-                       "lanes": "lanes"}[pname]
+                       "lanes": "lanes", "doors": "doors", "roads": "roads"}[pname]
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = _PAPER_GRID.get(name, {}).get(int(v))
