@@ -89,3 +89,15 @@ def test_an_option_of_reach_avoid_planning_given_for_a_mission_is_an_error() -> 
         solve(p, "lazy-smt", Budget(seconds=30), counterexample="trivial")
     r = solve(p, "lazy-smt", Budget(seconds=60), transit=False)  # a mission option goes through
     assert r.status is ReachStatus.FOUND and r.options.get("transit") is False
+
+
+def test_a_decomposition_computed_before_is_an_input_of_the_planners_over_it() -> None:
+    from plansynth.reach.abstraction import abstract
+
+    p = maze(1)
+    ab = abstract(p)
+    for name in ("lazy-smt", "milp"):
+        r = solve(p, name, Budget(seconds=60), abstraction=ab, max_horizon=60)
+        assert r.status is ReachStatus.FOUND and r.timings.get("abstraction", 0.0) == 0.0, name
+    with pytest.raises(InvalidOption, match="rrt: option 'abstraction'"):
+        solve(p, "rrt", Budget(seconds=1), abstraction=ab)

@@ -33,6 +33,7 @@ from dataclasses import fields, is_dataclass, replace
 from typing import Any
 
 from plansynth.budget import Budget
+from plansynth.errors import InvalidOption
 from plansynth.reach.planners import Planner, get_planner, planners, register_planner
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -114,6 +115,7 @@ def solve(
     options: Any = None,
     *,
     progress: Any = None,
+    abstraction: Any = None,
     **values: Any,
 ) -> ReachResult:
     """Plan with the planner called ``planner`` within ``budget``; validate the answer.
@@ -122,11 +124,12 @@ def solve(
     planner's), with ``values`` set on it (lazy-smt: ``max_horizon``,
     ``counterexample``, ``segment_safe``, ``generalize``, ...; milp: ``max_horizon``,
     ``segment_safe``, ``start_horizon``; rrt: ``seed``, ...). ``progress(L, iterations)``
-    is called by the planners that report progress.
+    is called by the planners that report progress. ``abstraction``: a decomposition
+    computed before, for the planners that plan over one (lazy-smt, milp, gcs).
     """
     run = get_planner(planner)
     if not hasattr(run, "configure"):  # a plugin registered as a plain function
-        extra = {} if progress is None else {"progress": progress}
+        extra = {k: v for k, v in (("progress", progress), ("abstraction", abstraction)) if v is not None}
         return validate_result(problem, run(problem, budget, **values, **extra))
     opts = run.configure(options, **values)
     if problem.mission is not None:  # LTL missions (issue 14): lazy-smt and milp-ltl plan them
@@ -137,6 +140,8 @@ def solve(
         defaults = run.defaults
         kwargs = {f.name: getattr(opts, f.name) for f in fields(opts)
                   if getattr(opts, f.name) != getattr(defaults, f.name)} if is_dataclass(opts) else {}
+        if abstraction is not None:
+            raise InvalidOption(planner, "abstraction", "a mission plans over its label-refined regions")
         return solve_mission(problem, planner, budget, **kwargs, progress=progress)
     robot = problem.robot_shape
     if robot is not None and not robot.is_point:
@@ -145,9 +150,9 @@ def solve(
         # checks the answer against the original problem, clearance included
         from plansynth.reach.robot import configuration_space, robot_note
 
-        result = run.solve(configuration_space(problem), budget, opts, progress=progress)
+        result = run.solve(configuration_space(problem), budget, opts, progress=progress, abstraction=abstraction)
         note = robot_note(robot)
         result = replace(result, message=f"{result.message}; {note}" if result.message else note,
                          options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}})
         return validate_result(problem, result)
-    return validate_result(problem, run.solve(problem, budget, opts, progress=progress))
+    return validate_result(problem, run.solve(problem, budget, opts, progress=progress, abstraction=abstraction))

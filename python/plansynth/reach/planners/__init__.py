@@ -61,8 +61,9 @@ class Planner(Protocol):
         ...
 
     def solve(self, problem: Any, budget: Budget, options: Any = None, *,
-              progress: ProgressFn | None = None) -> Any:
-        """Plan ``problem`` within ``budget`` (a ``ReachResult``, not yet validated)."""
+              progress: ProgressFn | None = None, abstraction: Any = None) -> Any:
+        """Plan ``problem`` within ``budget`` (a ``ReachResult``, not yet validated);
+        ``abstraction``: a decomposition computed before (an input, not an option)."""
         ...
 
 
@@ -94,6 +95,7 @@ class OptionsPlanner:
     run: Callable[..., Any]
     package: str
     settable: tuple[str, ...] | None = None
+    takes_abstraction: bool = False  # ``run`` takes ``abstraction=`` (the planners over the decomposition)
 
     def version(self) -> str:
         return package_version(self.package)
@@ -115,24 +117,29 @@ class OptionsPlanner:
         return replace(opts, **values) if values else opts
 
     def solve(self, problem: Any, budget: Budget = Budget(), options: Any = None, *,
-              progress: ProgressFn | None = None) -> Any:
-        return self.run(problem, budget, self.configure(options), progress)
+              progress: ProgressFn | None = None, abstraction: Any = None) -> Any:
+        if abstraction is None:
+            return self.run(problem, budget, self.configure(options), progress)
+        if not self.takes_abstraction:
+            raise InvalidOption(self.name, "abstraction", "this planner makes no use of a decomposition")
+        return self.run(problem, budget, self.configure(options), progress, abstraction=abstraction)
 
     def __call__(self, problem: Any, budget: Budget = Budget(), **values: Any) -> Any:
         """``planner(problem, budget, **options)``: :meth:`configure` then :meth:`solve`."""
         progress = values.pop("progress", None)
-        return self.solve(problem, budget, self.configure(**values), progress=progress)
+        abstraction = values.pop("abstraction", None)
+        return self.solve(problem, budget, self.configure(**values), progress=progress, abstraction=abstraction)
 
 
 def keyword_runner(function: Callable[..., Any], *, progress: bool) -> Callable[..., Any]:
     """A ``run`` for :class:`OptionsPlanner` that calls ``function(problem, budget,
     **fields of the options)`` (and ``progress=`` when the function takes it)."""
 
-    def run(problem: Any, budget: Budget, options: Any, on_progress: ProgressFn | None) -> Any:
+    def run(problem: Any, budget: Budget, options: Any, on_progress: ProgressFn | None, **inputs: Any) -> Any:
         kwargs = {f.name: getattr(options, f.name) for f in fields(options)} if is_dataclass(options) else {}
         if progress:
             kwargs["progress"] = on_progress
-        return function(problem, budget, **kwargs)
+        return function(problem, budget, **kwargs, **inputs)
 
     run.__name__ = function.__name__
     return run

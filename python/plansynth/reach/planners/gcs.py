@@ -334,4 +334,4 @@ class GcsOptions:
 
 
 #: ``gcs`` as a planner of :func:`plansynth.reach.solve`
-GCS = OptionsPlanner("gcs", GcsOptions(), keyword_runner(plan_gcs, progress=True), "drake")
+GCS = OptionsPlanner("gcs", GcsOptions(), keyword_runner(plan_gcs, progress=True), "drake", takes_abstraction=True)

@@ -25,15 +25,15 @@ from plansynth.reach.planners import SHARED_OPTIONS, OptionsPlanner
 __all__ = ["LAZY_SMT", "LAZY_SMT_PAPER", "LAZY_SMT_PAPER_TRIVIAL", "LAZY_SMT_ZEROPREFIX", "CONFIGURED"]
 
 
-def _run(problem: Any, budget: Budget, options: LazyOptions, progress: Any) -> Any:
+def _run(problem: Any, budget: Budget, options: LazyOptions, progress: Any, abstraction: Any = None) -> Any:
     from plansynth.reach.lazy.loop import plan_lazy
 
-    return plan_lazy(problem, budget, options, progress=progress)
+    return plan_lazy(problem, budget, options, progress=progress, abstraction=abstraction)
 
 
 def _planner(name: str) -> OptionsPlanner:
     return OptionsPlanner(name, CONFIGURATIONS[name], _run, "python-sat",
-                          settable=None if name == "lazy-smt" else SHARED_OPTIONS)
+                          settable=None if name == "lazy-smt" else SHARED_OPTIONS, takes_abstraction=True)
 
 
 LAZY_SMT = _planner("lazy-smt")

@@ -281,4 +281,4 @@ class MilpOptions:
 
 
 #: ``milp`` as a planner of :func:`plansynth.reach.solve`
-MILP = OptionsPlanner("milp", MilpOptions(), keyword_runner(plan_milp, progress=True), "highspy")
+MILP = OptionsPlanner("milp", MilpOptions(), keyword_runner(plan_milp, progress=True), "highspy", takes_abstraction=True)
