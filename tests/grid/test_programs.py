@@ -112,6 +112,9 @@ def test_define_fun_and_comments() -> None:
         ("r-x", "unexpected token 'r-x'"),
         ("((<= rx 1) 0 1)", "unexpected term"),
         ("(- 1 2 3)", "- takes 2 arguments, got 3"),
+        # found by tests/test_fuzz.py: an input named like a keyword parsed, then broke export
+        ("(ite (<= if 1) 0 1)", "'if' cannot name an input: it is a keyword of Python or C"),
+        ("(ite (<= rx while) 0 1)", "'while' cannot name an input"),
     ],
 )
 def test_syntax_errors(text: str, message: str) -> None:

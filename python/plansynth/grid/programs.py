@@ -22,6 +22,7 @@ Python and C source that a robot could run.
 
 from __future__ import annotations
 
+import keyword
 import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -266,6 +267,9 @@ def _term(sx: object) -> Term:
         if _INTEGER.fullmatch(sx):
             return Const(_literal(sx))
         if _NAME.fullmatch(sx) and sx not in SIGNATURES:
+            if sx in _KEYWORDS:
+                raise ProgramSyntaxError(f"{sx!r} cannot name an input: it is a keyword of Python or C, "
+                                         "and programs are exported to both")
             return Var(sx)
         raise ProgramSyntaxError(f"unexpected token {sx[:40]!r}")
     if not isinstance(sx, list) or not sx or not isinstance(sx[0], str):
@@ -317,6 +321,9 @@ define-fun define-fun-rec define-sort set-logic set-option synth-fun constraint 
 ite and or not xor distinct true false Int Bool""".split())
 
 
+_KEYWORDS = frozenset(keyword.kwlist) | _C_KEYWORDS  # an input's name is pasted into exported code
+
+
 def function_name_problem(name: str, lang: str, variables: Sequence[str] = ()) -> str | None:
     """Why ``name`` cannot name the exported controller in ``lang`` (python, c or
     sygus), or None: it must be an ASCII identifier (letters, digits, ``_``, not
@@ -330,8 +337,6 @@ def function_name_problem(name: str, lang: str, variables: Sequence[str] = ()) -
     >>> function_name_problem("lambda", "python")
     "'lambda' is a keyword in python"
     """
-    import keyword
-    import re
 
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
         return f"not an identifier: {name!r}"
