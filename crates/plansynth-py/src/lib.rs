@@ -1,4 +1,5 @@
 //! PyO3 binding of `plansynth-core`. Only conversions live here.
+use plansynth_core::arena::{self as arena_core, ArenaSpec, MoveGeo, Stop};
 use plansynth_core::conditions::{self, Arith, Cond};
 use plansynth_core::game::{self, GameGraph, LayerCell, Op};
 use plansynth_core::tree::{self, GreedyError, Node};
@@ -247,12 +248,221 @@ fn build_game_graph(
     Ok(PyGameGraph { g })
 }
 
+
+fn bits_of(b: &Bound<'_, PyBytes>, nw: usize) -> Vec<u64> {
+    words(b.as_bytes(), nw)
+}
+
+fn bytes_of<'py>(py: Python<'py>, m: &[u64]) -> Bound<'py, PyBytes> {
+    let v: Vec<u8> = m.iter().flat_map(|w| w.to_le_bytes()).collect();
+    PyBytes::new(py, &v)
+}
+
+fn clock(seconds: Option<f64>, memory: Option<usize>, max_configs: Option<usize>) -> arena_core::Budget {
+    let deadline = seconds.map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    arena_core::Budget { deadline, memory, max_configs }
+}
+
+/// `(kind, step, configurations, bytes)` of a stop: kind is "time", "memory" or "configs".
+type StopRow = (&'static str, usize, usize, usize);
+
+fn stop_row(s: Stop) -> StopRow {
+    match s {
+        Stop::Time { step, configs } => ("time", step, configs, 0),
+        Stop::Memory { step, configs, bytes } => ("memory", step, configs, bytes),
+        Stop::Configs { configs } => ("configs", 0, configs, 0),
+    }
+}
+
+type RobotMove<'py> = (Bound<'py, PyBytes>, Bound<'py, PyBytes>, i64, Vec<i64>);
+type ObstacleMove<'py> = (Bound<'py, PyBytes>, i64, Vec<i64>);
+
+/// The joint game of the robot and the read obstacles (see `plansynth_core::arena`).
+#[pyclass(name = "Arena")]
+struct PyArena {
+    a: arena_core::Arena,
+}
+
+#[pymethods]
+impl PyArena {
+    #[new]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        n_cells: usize,
+        steps: usize,
+        robot: Vec<RobotMove<'_>>,
+        obstacles: Vec<Vec<ObstacleMove<'_>>>,
+        abstract_danger: Vec<Bound<'_, PyBytes>>,
+        live: Vec<Bound<'_, PyBytes>>,
+        start: usize,
+        goal: usize,
+        start_config: Vec<u32>,
+    ) -> PyResult<Self> {
+        let nw = n_cells.div_ceil(64).max(1);
+        let bad = |m: &str| Err(pyo3::exceptions::PyValueError::new_err(m.to_string()));
+        if n_cells == 0 || start >= n_cells || goal >= n_cells || robot.is_empty() {
+            return bad("empty grid, or start/goal off the grid");
+        }
+        if abstract_danger.len() != steps || live.len() != steps + 1 || start_config.len() != obstacles.len() {
+            return bad("one danger mask per step, one live mask per time, one start cell per obstacle");
+        }
+        if start_config.iter().any(|&c| c as usize >= n_cells) || obstacles.iter().any(|o| o.is_empty()) {
+            return bad("obstacle start off the grid, or an obstacle without moves");
+        }
+        // every valid source of a move must stay on the grid (the caller's geometry says so)
+        let on_grid = |valid: &[u64], deltas: &[i64]| {
+            (0..n_cells).all(|c| valid[c / 64] >> (c % 64) & 1 == 0 || deltas.iter().all(|&d| (0..n_cells as i64).contains(&(c as i64 + d))))
+        };
+        let mut rm = vec![];
+        for (valid, free, to, offsets) in &robot {
+            let valid = bits_of(valid, nw);
+            let mut all = offsets.clone();
+            all.push(*to);
+            if !on_grid(&valid, &all) {
+                return bad("a robot move leaves the grid from a valid cell");
+            }
+            rm.push(MoveGeo { valid, free: bits_of(free, nw), to: *to, offsets: offsets.clone() });
+        }
+        let mut om = vec![];
+        for moves in &obstacles {
+            let mut v = vec![];
+            for (valid, to, offsets) in moves {
+                let valid = bits_of(valid, nw);
+                let mut all = offsets.clone();
+                all.push(*to);
+                if !on_grid(&valid, &all) {
+                    return bad("an obstacle move leaves the grid from a valid cell");
+                }
+                v.push(MoveGeo { valid, free: vec![], to: *to, offsets: offsets.clone() });
+            }
+            om.push(v);
+        }
+        let spec = ArenaSpec {
+            n_cells,
+            steps,
+            robot: rm,
+            obstacles: om,
+            abstract_danger: abstract_danger.iter().map(|b| bits_of(b, nw)).collect(),
+            live: live.iter().map(|b| bits_of(b, nw)).collect(),
+            start,
+            goal,
+            start_config,
+        };
+        Ok(Self { a: arena_core::Arena::new(spec) })
+    }
+
+    /// Explore within `seconds`, `memory` bytes and `max_configs`; None, or why it stopped.
+    #[pyo3(signature = (seconds=None, memory=None, max_configs=None))]
+    fn explore(&mut self, py: Python<'_>, seconds: Option<f64>, memory: Option<usize>, max_configs: Option<usize>) -> Option<StopRow> {
+        let c = clock(seconds, memory, max_configs);
+        let a = &mut self.a;
+        py.detach(|| a.explore(&c)).err().map(stop_row)
+    }
+
+    /// Backward induction: `(won, None)` or `(False, why it stopped)`.
+    #[pyo3(signature = (seconds=None, memory=None))]
+    fn solve_game(&mut self, py: Python<'_>, seconds: Option<f64>, memory: Option<usize>) -> (bool, Option<StopRow>) {
+        let c = clock(seconds, memory, None);
+        let a = &mut self.a;
+        match py.detach(|| a.solve_game(&c)) {
+            Ok(w) => (w, None),
+            Err(s) => (false, Some(stop_row(s))),
+        }
+    }
+
+    /// Rows per layer.
+    fn layer_sizes(&self) -> Vec<usize> {
+        self.a.layers.iter().map(|l| l.ids.len()).collect()
+    }
+
+    /// Bytes the game holds now.
+    fn bytes(&self) -> usize {
+        self.a.bytes()
+    }
+
+    /// Joint states explored (robot cells summed over every row of every layer).
+    fn state_count(&self) -> u64 {
+        self.a.layers.iter().map(|l| l.masks.iter().map(|w| w.count_ones() as u64).sum::<u64>()).sum()
+    }
+
+    /// Layer t as `(config cells, robot cells bytes)`; with `win`, the winning cells
+    /// (rows that win nowhere left out).
+    #[pyo3(signature = (t, win=false))]
+    fn layer<'py>(&self, py: Python<'py>, t: usize, win: bool) -> PyResult<Vec<(Vec<u32>, Bound<'py, PyBytes>)>> {
+        let nw = self.a.nw;
+        let l = self.a.layers.get(t).ok_or_else(|| pyo3::exceptions::PyIndexError::new_err("no such layer"))?;
+        let src = if win { &l.win } else { &l.masks };
+        if win && src.len() != l.masks.len() {
+            return Err(pyo3::exceptions::PyValueError::new_err("the game is not solved"));
+        }
+        Ok(l.ids
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !win || src[i * nw..(i + 1) * nw].iter().any(|&w| w != 0))
+            .map(|(i, &id)| (self.a.config(id).to_vec(), bytes_of(py, &src[i * nw..(i + 1) * nw])))
+            .collect())
+    }
+
+    /// Per robot move: the cells of layer t's configuration `oc` from which it wins.
+    fn winning_moves<'py>(&mut self, py: Python<'py>, t: usize, oc: Vec<u32>) -> PyResult<Vec<Bound<'py, PyBytes>>> {
+        if !self.a.solved || t >= self.a.spec.steps {
+            return Err(pyo3::exceptions::PyValueError::new_err("winning moves need a solved game and t < steps"));
+        }
+        let n = self.a.spec.robot.len();
+        let row = self.a.find_config(&oc).and_then(|id| self.a.row(t, id));
+        Ok(match row {
+            Some(row) => self.a.winning_moves(t, row).iter().map(|m| bytes_of(py, m)).collect(),
+            None => (0..n).map(|_| PyBytes::new(py, &[])).collect(),
+        })
+    }
+
+    /// Successor configurations of `oc`.
+    fn successors(&mut self, oc: Vec<u32>) -> PyResult<Vec<Vec<u32>>> {
+        if oc.len() != self.a.spec.obstacles.len() || oc.iter().any(|&c| c as usize >= self.a.spec.n_cells) {
+            return Err(pyo3::exceptions::PyValueError::new_err("one cell on the grid per read obstacle"));
+        }
+        let id = self.a.config_id(&oc);
+        let s = self.a.successors(id);
+        Ok(s.iter().map(|&c| self.a.config(c).to_vec()).collect())
+    }
+
+    /// The winning-forward layers, or why it stopped.
+    #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (seconds=None, memory=None))]
+    fn winning_forward<'py>(
+        &mut self,
+        py: Python<'py>,
+        seconds: Option<f64>,
+        memory: Option<usize>,
+    ) -> PyResult<(Option<Vec<Vec<(Vec<u32>, Bound<'py, PyBytes>)>>>, Option<StopRow>)> {
+        if !self.a.solved || self.a.layers[0].ids.is_empty() {
+            return Err(pyo3::exceptions::PyValueError::new_err("the winning-forward layers need a solved, non-empty game"));
+        }
+        let c = clock(seconds, memory, None);
+        let a = &mut self.a;
+        let got = py.detach(|| a.winning_forward(&c));
+        Ok(match got {
+            Err(s) => (None, Some(stop_row(s))),
+            Ok(layers) => (
+                Some(
+                    layers
+                        .iter()
+                        .map(|l| l.iter().map(|(id, m)| (self.a.config(*id).to_vec(), bytes_of(py, m))).collect())
+                        .collect(),
+                ),
+                None,
+            ),
+        })
+    }
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(core_version, m)?)?;
     m.add_function(wrap_pyfunction!(enumerate_conditions, m)?)?;
     m.add_function(wrap_pyfunction!(greedy_tree, m)?)?;
     m.add_class::<PyGameGraph>()?;
+    m.add_class::<PyArena>()?;
     m.add_function(wrap_pyfunction!(build_game_graph, m)?)?;
     Ok(())
 }

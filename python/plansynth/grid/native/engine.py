@@ -163,7 +163,7 @@ class Engine:
         exact_bound = self.minimize or depth_bound is not None
 
         # Stage 2: a controller that reads no obstacle.
-        blind = Arena.build(problem, steps, cone, (), clock)
+        blind = Arena.build(problem, steps, cone, (), clock, use_rust=self.use_rust)
         blind_program = None
         if blind.layers[0] and blind.solve_game(clock):
             strategy = stationary_strategy(blind, clock, quick=self.quick)
@@ -187,10 +187,11 @@ class Engine:
         # Stages 3-4: the joint game over the relevant obstacles.
         try:
             self._phase("blind")
-            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs, memory_mb=self._memory_mb)
-            self.counters["configurations"] = sum(len(x) for x in arena.layers)
+            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs, memory_mb=self._memory_mb,
+                                use_rust=self.use_rust)
+            self.counters["configurations"] = arena.config_count()
             self.counters["states"] = arena.state_count()
-            won = bool(arena.layers[0]) and arena.solve_game(clock)
+            won = arena.start_alive() and arena.solve_game(clock)
             self._phase("game")
             if not won:
                 ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
@@ -237,7 +238,8 @@ class Engine:
             # time. Decide exactly by reading them too (they never collide).
             clocks = tuple(i for i in range(len(problem.obstacles)) if i not in cone.relevant and not cone.parkable[i])
             read = tuple(sorted(cone.relevant + clocks))
-            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs, memory_mb=self._memory_mb)
+            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs, memory_mb=self._memory_mb,
+                               use_rust=self.use_rust)
             self.counters["clock_obstacles"] = len(clocks)
             if full.layers[0] and full.solve_game(clock):
                 strategy = stationary_strategy(full, clock, quick=self.quick)

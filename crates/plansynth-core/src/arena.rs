@@ -1,0 +1,585 @@
+//! The bounded game of the robot and the read obstacles: joint-state exploration and
+//! backward induction (Chasins & Newcomb, SYNT 2016, Section 3.1: reach the goal at
+//! exactly l steps without collision, whatever the obstacles do).
+//!
+//! The compiled twin of `plansynth.grid.native.arena.Arena` (its pure-Python reference):
+//! for each time t and tuple of read obstacle cells (a *configuration*) the robot's cells
+//! are one bit set, so a robot step is a few word shifts. Configurations are interned
+//! once (ids shared by every time); a layer maps configuration ids to robot-cell sets in
+//! the order they were first met, exactly as the reference's dicts do, so both number
+//! everything the same way. Obstacles that matter but are not read are folded into a
+//! per-step danger set by the caller.
+//!
+//! The exploration is bounded by a deadline, a memory limit checked against the bytes
+//! the data structures actually hold (their capacities), and an optional cap on
+//! configurations; past either it stops with [`Stop`] naming the step and the resource.
+
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// A set of cells: bit `i` of word `i / 64` is cell `i` (`y * width + x`).
+pub type Bits = Vec<u64>;
+
+/// Move every cell of `src` by `d` cells (no border check: callers mask first).
+pub fn shift(src: &[u64], d: i64, out: &mut [u64]) {
+    let nw = src.len();
+    out.iter_mut().for_each(|w| *w = 0);
+    let (ws, bs) = (d.unsigned_abs() as usize / 64, (d.unsigned_abs() % 64) as u32);
+    if ws >= nw {
+        return;
+    }
+    if d >= 0 {
+        for i in (ws..nw).rev() {
+            let lo = src[i - ws];
+            let mut v = lo << bs;
+            if bs > 0 && i > ws {
+                v |= src[i - ws - 1] >> (64 - bs);
+            }
+            out[i] = v;
+        }
+    } else {
+        for i in 0..nw - ws {
+            let mut v = src[i + ws] >> bs;
+            if bs > 0 && i + ws + 1 < nw {
+                v |= src[i + ws + 1] << (64 - bs);
+            }
+            out[i] = v;
+        }
+    }
+}
+
+fn bit(m: &[u64], i: usize) -> bool {
+    m[i / 64] >> (i % 64) & 1 == 1
+}
+
+fn any(m: &[u64]) -> bool {
+    m.iter().any(|&w| w != 0)
+}
+
+/// One agent's move as set operations (`plansynth.grid.native.bitgrid.AgentGeometry`):
+/// `valid` cells take it as written (others are clamped and stay), `free` cells take it
+/// without sweeping a wall (every cell for an obstacle), `to` is the end offset and
+/// `offsets` the swept offsets, each as a cell-index delta.
+#[derive(Clone, Debug)]
+pub struct MoveGeo {
+    pub valid: Bits,
+    pub free: Bits,
+    pub to: i64,
+    pub offsets: Vec<i64>,
+}
+
+/// The game's fixed data, all over cell indices.
+#[derive(Clone, Debug)]
+pub struct ArenaSpec {
+    pub n_cells: usize,
+    pub steps: usize,
+    pub robot: Vec<MoveGeo>,
+    /// per read obstacle, its moves
+    pub obstacles: Vec<Vec<MoveGeo>>,
+    /// per step t < steps: cells swept by the relevant obstacles that are not read
+    pub abstract_danger: Vec<Bits>,
+    /// per time t <= steps: robot cells on some path to the goal
+    pub live: Vec<Bits>,
+    pub start: usize,
+    pub goal: usize,
+    pub start_config: Vec<u32>,
+}
+
+/// Why exploration or induction stopped.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Stop {
+    Time { step: usize, configs: usize },
+    Memory { step: usize, configs: usize, bytes: usize },
+    Configs { configs: usize },
+}
+
+#[derive(Default, Clone, Debug)]
+pub struct Layer {
+    pub ids: Vec<u32>,
+    pub index: HashMap<u32, u32>,
+    /// `nw` words per row
+    pub masks: Vec<u64>,
+    pub win: Vec<u64>,
+}
+
+/// The explored game.
+pub struct Arena {
+    pub spec: ArenaSpec,
+    pub nw: usize,
+    full: Bits,
+    n_read: usize,
+    configs: Vec<u32>,
+    intern: HashMap<Box<[u32]>, u32>,
+    succ: Vec<Option<Box<[u32]>>>,
+    pub layers: Vec<Layer>,
+    pub solved: bool,
+}
+
+/// Bytes a hash map of this capacity holds (entries plus one control byte each).
+fn map_bytes<K, V>(m: &HashMap<K, V>) -> usize {
+    m.capacity() * (std::mem::size_of::<(K, V)>() + 1)
+}
+
+impl Arena {
+    pub fn new(spec: ArenaSpec) -> Arena {
+        let nw = spec.n_cells.div_ceil(64).max(1);
+        let mut full = vec![0u64; nw];
+        for c in 0..spec.n_cells {
+            full[c / 64] |= 1 << (c % 64);
+        }
+        let n_read = spec.obstacles.len();
+        Arena { spec, nw, full, n_read, configs: vec![], intern: HashMap::new(), succ: vec![], layers: vec![], solved: false }
+    }
+
+    /// The id of a configuration, interned on first use.
+    pub fn config_id(&mut self, oc: &[u32]) -> u32 {
+        if let Some(&i) = self.intern.get(oc) {
+            return i;
+        }
+        let i = self.succ.len() as u32;
+        self.configs.extend_from_slice(oc);
+        self.intern.insert(oc.into(), i);
+        self.succ.push(None);
+        i
+    }
+
+    pub fn find_config(&self, oc: &[u32]) -> Option<u32> {
+        self.intern.get(oc).copied()
+    }
+
+    pub fn config(&self, id: u32) -> &[u32] {
+        let i = id as usize * self.n_read;
+        &self.configs[i..i + self.n_read]
+    }
+
+    pub fn n_configs(&self) -> usize {
+        self.succ.len()
+    }
+
+    /// Bytes held by the explored game now (capacities, not lengths).
+    pub fn bytes(&self) -> usize {
+        let mut b = self.configs.capacity() * 4 + map_bytes(&self.intern) + self.intern.len() * (self.n_read * 4 + 16);
+        b += self.succ.capacity() * std::mem::size_of::<Option<Box<[u32]>>>();
+        b += self.succ.iter().flatten().map(|s| s.len() * 4 + 16).sum::<usize>();
+        for l in &self.layers {
+            b += l.ids.capacity() * 4 + map_bytes(&l.index) + (l.masks.capacity() + l.win.capacity()) * 8;
+        }
+        b
+    }
+
+    fn obstacle_end(&self, j: usize, c: usize, k: usize) -> u32 {
+        let m = &self.spec.obstacles[j][k];
+        if bit(&m.valid, c) {
+            (c as i64 + m.to) as u32
+        } else {
+            c as u32
+        }
+    }
+
+    /// Successor configurations of `id` (every joint obstacle move, in the reference's
+    /// order: the product of each obstacle's distinct end cells, last obstacle fastest).
+    pub fn successors(&mut self, id: u32) -> Box<[u32]> {
+        if let Some(s) = &self.succ[id as usize] {
+            return s.clone();
+        }
+        let oc: Vec<u32> = self.config(id).to_vec();
+        let ends: Vec<Vec<u32>> = (0..self.n_read)
+            .map(|j| {
+                let mut e: Vec<u32> = vec![];
+                for k in 0..self.spec.obstacles[j].len() {
+                    let x = self.obstacle_end(j, oc[j] as usize, k);
+                    if !e.contains(&x) {
+                        e.push(x);
+                    }
+                }
+                e
+            })
+            .collect();
+        let mut out = vec![];
+        let mut idx = vec![0usize; self.n_read];
+        let mut cur: Vec<u32> = ends.iter().map(|e| e[0]).collect();
+        loop {
+            out.push(self.config_id(&cur));
+            // odometer, last position fastest
+            let mut j = self.n_read;
+            loop {
+                if j == 0 {
+                    let s: Box<[u32]> = out.into();
+                    self.succ[id as usize] = Some(s.clone());
+                    return s;
+                }
+                j -= 1;
+                idx[j] += 1;
+                if idx[j] < ends[j].len() {
+                    cur[j] = ends[j][idx[j]];
+                    break;
+                }
+                idx[j] = 0;
+                cur[j] = ends[j][0];
+            }
+        }
+    }
+
+    /// Cells the read obstacles may sweep in one step from configuration `id`.
+    pub fn config_danger(&self, id: u32) -> Bits {
+        let mut d = vec![0u64; self.nw];
+        let oc = self.config(id);
+        for (j, &c) in oc.iter().enumerate() {
+            let c = c as usize;
+            for m in &self.spec.obstacles[j] {
+                if bit(&m.valid, c) {
+                    for &o in &m.offsets {
+                        let x = (c as i64 + o) as usize;
+                        d[x / 64] |= 1 << (x % 64);
+                    }
+                } else {
+                    d[c / 64] |= 1 << (c % 64);
+                }
+            }
+        }
+        d
+    }
+
+    /// Per robot move k: cells from which k collides with nothing in step t.
+    pub fn safe_sources(&self, t: usize, id: u32) -> Vec<Bits> {
+        let mut danger = self.config_danger(id);
+        for (w, a) in danger.iter_mut().zip(&self.spec.abstract_danger[t]) {
+            *w |= a;
+        }
+        let mut tmp = vec![0u64; self.nw];
+        self.spec
+            .robot
+            .iter()
+            .map(|m| {
+                let mut v = vec![0u64; self.nw];
+                for &o in &m.offsets {
+                    shift(&danger, -o, &mut tmp);
+                    v.iter_mut().zip(&tmp).for_each(|(a, b)| *a |= b);
+                }
+                (0..self.nw)
+                    .map(|i| {
+                        let hit = ((v[i] & m.valid[i]) | (danger[i] & !m.valid[i])) & self.full[i];
+                        m.free[i] & !hit & self.full[i]
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// End cells of robot move k from every cell of `mask` (`AgentGeometry.image`).
+    pub fn image(&self, mask: &[u64], k: usize, out: &mut [u64], tmp: &mut [u64]) {
+        let m = &self.spec.robot[k];
+        let v: Vec<u64> = (0..self.nw).map(|i| mask[i] & m.free[i] & m.valid[i]).collect();
+        shift(&v, m.to, tmp);
+        for i in 0..self.nw {
+            out[i] = tmp[i] | (mask[i] & m.free[i] & !m.valid[i]);
+        }
+    }
+
+    /// Cells from which robot move k is wall-free and ends in `target` (`AgentGeometry.pre`).
+    pub fn pre(&self, target: &[u64], k: usize, out: &mut [u64]) {
+        let m = &self.spec.robot[k];
+        shift(target, -m.to, out);
+        for i in 0..self.nw {
+            out[i] = ((out[i] & m.valid[i]) | (target[i] & !m.valid[i])) & m.free[i];
+        }
+    }
+
+    pub fn robot_end(&self, r: usize, k: usize) -> usize {
+        let m = &self.spec.robot[k];
+        if bit(&m.valid, r) {
+            (r as i64 + m.to) as usize
+        } else {
+            r
+        }
+    }
+
+    fn check(&self, clock: &Budget, step: usize, configs: usize, extra: usize) -> Result<(), Stop> {
+        if clock.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Err(Stop::Time { step, configs });
+        }
+        if let Some(limit) = clock.memory {
+            let bytes = self.bytes() + extra;
+            if bytes > limit {
+                return Err(Stop::Memory { step, configs, bytes });
+            }
+        }
+        Ok(())
+    }
+
+    /// Explore the states reachable from the start that can still reach the goal
+    /// (`Arena._explore` of the reference).
+    pub fn explore(&mut self, clock: &Budget) -> Result<(), Stop> {
+        let nw = self.nw;
+        let start_config = self.spec.start_config.clone();
+        let c0 = self.config_id(&start_config);
+        let mut first = vec![0u64; nw];
+        first[self.spec.start / 64] |= 1 << (self.spec.start % 64);
+        let first: Bits = first.iter().zip(&self.spec.live[0]).map(|(a, b)| a & b).collect();
+        let mut l0 = Layer::default();
+        if any(&first) {
+            l0.ids.push(c0);
+            l0.index.insert(c0, 0);
+            l0.masks.extend_from_slice(&first);
+        }
+        self.layers = vec![l0];
+        let mut count = 1usize;
+        let (mut img, mut part, mut tmp) = (vec![0u64; nw], vec![0u64; nw], vec![0u64; nw]);
+        for t in 0..self.spec.steps {
+            let mut nxt = Layer::default();
+            let rows = self.layers[t].ids.len();
+            for row in 0..rows {
+                let id = self.layers[t].ids[row];
+                let r: Bits = self.layers[t].masks[row * nw..(row + 1) * nw].to_vec();
+                let safe = self.safe_sources(t, id);
+                img.iter_mut().for_each(|w| *w = 0);
+                for (k, s) in safe.iter().enumerate() {
+                    let src: Bits = r.iter().zip(s).map(|(a, b)| a & b).collect();
+                    self.image(&src, k, &mut part, &mut tmp);
+                    img.iter_mut().zip(&part).for_each(|(a, b)| *a |= b);
+                }
+                img.iter_mut().zip(&self.spec.live[t + 1]).for_each(|(a, b)| *a &= b);
+                if !any(&img) {
+                    continue;
+                }
+                for &c2 in self.successors(id).iter() {
+                    match nxt.index.get(&c2) {
+                        Some(&i) => {
+                            let i = i as usize;
+                            nxt.masks[i * nw..(i + 1) * nw].iter_mut().zip(&img).for_each(|(a, b)| *a |= b);
+                        }
+                        None => {
+                            nxt.index.insert(c2, nxt.ids.len() as u32);
+                            nxt.ids.push(c2);
+                            nxt.masks.extend_from_slice(&img);
+                        }
+                    }
+                }
+                if row % 64 == 0 {
+                    let held = nxt.ids.capacity() * 4 + map_bytes(&nxt.index) + nxt.masks.capacity() * 8;
+                    self.check(clock, t, count + nxt.ids.len(), held)?;
+                }
+            }
+            count += nxt.ids.len();
+            self.layers.push(nxt);
+            self.check(clock, t, count, 0)?;
+            if clock.max_configs.is_some_and(|m| count > m) {
+                return Err(Stop::Configs { configs: count });
+            }
+        }
+        Ok(())
+    }
+
+    /// Per robot move k: robot cells of row `row` of layer t from which k wins at t
+    /// (needs [`Arena::solve_game`]'s `win[t + 1]`).
+    pub fn winning_moves(&mut self, t: usize, row: usize) -> Vec<Bits> {
+        let nw = self.nw;
+        let id = self.layers[t].ids[row];
+        let succ = self.successors(id);
+        let mut target = vec![!0u64; nw];
+        let next = &self.layers[t + 1];
+        for &c2 in succ.iter() {
+            match next.index.get(&c2) {
+                Some(&i) if !next.win.is_empty() => {
+                    let i = i as usize;
+                    target.iter_mut().zip(&next.win[i * nw..(i + 1) * nw]).for_each(|(a, b)| *a &= b);
+                }
+                _ => target.iter_mut().for_each(|w| *w = 0),
+            }
+            if !any(&target) {
+                break;
+            }
+        }
+        let safe = self.safe_sources(t, id);
+        let r = &self.layers[t].masks[row * nw..(row + 1) * nw];
+        let mut out = Vec::with_capacity(safe.len());
+        let mut p = vec![0u64; nw];
+        for (k, s) in safe.iter().enumerate() {
+            if any(&target) {
+                self.pre(&target, k, &mut p);
+            } else {
+                p.iter_mut().for_each(|w| *w = 0);
+            }
+            out.push((0..nw).map(|i| p[i] & s[i] & r[i]).collect());
+        }
+        out
+    }
+
+    /// Backward induction (`Arena.solve_game`): true iff the robot wins when it may
+    /// also see the time. Leaves `win` of every layer (zero rows lose).
+    pub fn solve_game(&mut self, clock: &Budget) -> Result<bool, Stop> {
+        let nw = self.nw;
+        let steps = self.spec.steps;
+        for l in self.layers.iter_mut() {
+            l.win = vec![0u64; l.masks.len()];
+        }
+        let g = self.spec.goal;
+        {
+            let last = &mut self.layers[steps];
+            for row in 0..last.ids.len() {
+                let v = last.masks[row * nw + g / 64] & (1 << (g % 64));
+                last.win[row * nw + g / 64] = v;
+            }
+        }
+        for t in (0..steps).rev() {
+            for row in 0..self.layers[t].ids.len() {
+                let wm = self.winning_moves(t, row);
+                let l = &mut self.layers[t];
+                for m in &wm {
+                    l.win[row * nw..(row + 1) * nw].iter_mut().zip(m).for_each(|(a, b)| *a |= b);
+                }
+                if row % 64 == 0 {
+                    self.check(clock, t, 0, 0).map_err(|e| match e {
+                        Stop::Memory { .. } => e,
+                        _ => Stop::Time { step: t, configs: 0 },
+                    })?;
+                }
+            }
+        }
+        self.solved = true;
+        let s = self.spec.start;
+        Ok(self.layers[0].ids.first().is_some() && bit(&self.layers[0].win[0..nw], s))
+    }
+
+    /// The winning-forward layers (`stationary.winning_forward`): states reachable
+    /// from the start with moves that win. Per time, `(config id, robot cells)` in the
+    /// reference's order.
+    pub fn winning_forward(&mut self, clock: &Budget) -> Result<Vec<Vec<(u32, Bits)>>, Stop> {
+        let nw = self.nw;
+        let mut out: Vec<Vec<(u32, Bits)>> = vec![];
+        let c0 = self.layers[0].ids[0];
+        let mut s0 = vec![0u64; nw];
+        s0[self.spec.start / 64] |= 1 << (self.spec.start % 64);
+        out.push(vec![(c0, s0)]);
+        let (mut img, mut part, mut tmp) = (vec![0u64; nw], vec![0u64; nw], vec![0u64; nw]);
+        for t in 0..self.spec.steps {
+            let mut nxt: Vec<(u32, Bits)> = vec![];
+            let mut at: HashMap<u32, usize> = HashMap::new();
+            for (id, r) in std::mem::take(&mut out[t]).into_iter() {
+                let row = match self.layers[t].index.get(&id) {
+                    Some(&i) => i as usize,
+                    None => {
+                        out[t].push((id, r));
+                        continue;
+                    }
+                };
+                let wm = self.winning_moves(t, row);
+                img.iter_mut().for_each(|w| *w = 0);
+                for (k, w) in wm.iter().enumerate() {
+                    let src: Bits = r.iter().zip(w).map(|(a, b)| a & b).collect();
+                    self.image(&src, k, &mut part, &mut tmp);
+                    img.iter_mut().zip(&part).for_each(|(a, b)| *a |= b);
+                }
+                if any(&img) {
+                    for &c2 in self.successors(id).iter() {
+                        match at.get(&c2) {
+                            Some(&i) => nxt[i].1.iter_mut().zip(&img).for_each(|(a, b)| *a |= b),
+                            None => {
+                                at.insert(c2, nxt.len());
+                                nxt.push((c2, img.clone()));
+                            }
+                        }
+                    }
+                }
+                out[t].push((id, r));
+            }
+            out.push(nxt);
+            self.check(clock, t, 0, 0).map_err(|e| match e {
+                Stop::Memory { .. } => e,
+                _ => Stop::Time { step: t, configs: 0 },
+            })?;
+        }
+        Ok(out)
+    }
+
+    /// Row of configuration `id` in layer t.
+    pub fn row(&self, t: usize, id: u32) -> Option<usize> {
+        self.layers.get(t)?.index.get(&id).map(|&i| i as usize)
+    }
+}
+
+/// The limits of one call: a deadline, a memory limit (bytes), a configuration cap.
+#[derive(Clone, Debug, Default)]
+pub struct Budget {
+    pub deadline: Option<Instant>,
+    pub memory: Option<usize>,
+    pub max_configs: Option<usize>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ones(cells: &[usize], nw: usize) -> Bits {
+        let mut m = vec![0u64; nw];
+        for &c in cells {
+            m[c / 64] |= 1 << (c % 64);
+        }
+        m
+    }
+
+    #[test]
+    fn shift_moves_bits_across_words() {
+        let src = ones(&[0, 63, 64, 100], 2);
+        let mut out = vec![0u64; 2];
+        shift(&src, 1, &mut out);
+        assert_eq!(out, ones(&[1, 64, 65, 101], 2));
+        shift(&src, -64, &mut out);
+        assert_eq!(out, ones(&[0, 36], 2));
+        shift(&src, 200, &mut out);
+        assert_eq!(out, vec![0, 0]);
+    }
+
+    /// A 3x1 corridor, robot 0 -> 2 in 2 steps with stay/right; one obstacle that
+    /// stays on cell 1 or leaves it (to nowhere: clamped), so the robot cannot win.
+    fn line(blocker: bool) -> Arena {
+        let nw = 1;
+        let all = ones(&[0, 1, 2], nw);
+        let robot = vec![
+            MoveGeo { valid: all.clone(), free: all.clone(), to: 0, offsets: vec![0] },
+            MoveGeo { valid: ones(&[0, 1], nw), free: all.clone(), to: 1, offsets: vec![1] },
+        ];
+        let obstacles = if blocker {
+            vec![vec![MoveGeo { valid: all.clone(), free: all.clone(), to: 0, offsets: vec![0] }]]
+        } else {
+            vec![]
+        };
+        let spec = ArenaSpec {
+            n_cells: 3,
+            steps: 2,
+            robot,
+            obstacles,
+            abstract_danger: vec![vec![0]; 2],
+            live: vec![ones(&[0], nw), ones(&[1], nw), ones(&[2], nw)],
+            start: 0,
+            goal: 2,
+            start_config: if blocker { vec![1] } else { vec![] },
+        };
+        Arena::new(spec)
+    }
+
+    #[test]
+    fn free_corridor_is_won_and_a_parked_obstacle_wins_for_the_obstacles() {
+        let mut a = line(false);
+        a.explore(&Budget::default()).unwrap();
+        assert_eq!(a.layers.iter().map(|l| l.ids.len()).collect::<Vec<_>>(), vec![1, 1, 1]);
+        assert!(a.solve_game(&Budget::default()).unwrap());
+        let fwd = a.winning_forward(&Budget::default()).unwrap();
+        assert_eq!(fwd[2], vec![(0, ones(&[2], 1))]);
+        let mut b = line(true);
+        b.explore(&Budget::default()).unwrap();
+        // the robot's only path runs through cell 1, where the obstacle sits
+        assert_eq!(b.layers[1].ids.len(), 0);
+        assert!(!b.solve_game(&Budget::default()).unwrap());
+    }
+
+    #[test]
+    fn the_memory_limit_is_checked_against_what_is_held() {
+        let mut a = line(false);
+        let got = a.explore(&Budget { memory: Some(1), ..Default::default() });
+        assert!(matches!(got, Err(Stop::Memory { .. })));
+        let mut b = line(false);
+        let past = Budget { deadline: Some(Instant::now()), ..Default::default() };
+        assert!(matches!(b.explore(&past), Err(Stop::Time { .. })));
+    }
+}
