@@ -52,6 +52,20 @@ fn bit(m: &[u64], i: usize) -> bool {
     m[i / 64] >> (i % 64) & 1 == 1
 }
 
+/// Indices of the set bits, ascending.
+pub fn ones_of(m: &[u64]) -> Vec<usize> {
+    let mut out = vec![];
+    for (i, &w) in m.iter().enumerate() {
+        let mut w = w;
+        while w != 0 {
+            let b = w.trailing_zeros() as usize;
+            out.push(i * 64 + b);
+            w &= w - 1;
+        }
+    }
+    out
+}
+
 fn any(m: &[u64]) -> bool {
     m.iter().any(|&w| w != 0)
 }
@@ -490,6 +504,164 @@ impl Arena {
             })?;
         }
         Ok(out)
+    }
+
+    /// Moves of each state of `reach` that win and stay inside `reach` at every time it
+    /// is met (`stationary._allowed`): `((robot cell, config id), move bitmask)` in the
+    /// order states are first met.
+    pub fn allowed(&mut self, reach: &[Vec<(u32, Bits)>]) -> Vec<((u32, u32), u32)> {
+        let steps = self.spec.steps;
+        let n_moves = self.spec.robot.len();
+        let index: Vec<HashMap<u32, usize>> =
+            reach.iter().map(|l| l.iter().enumerate().map(|(i, (id, _))| (*id, i)).collect()).collect();
+        let mut at: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut out: Vec<((u32, u32), u32)> = vec![];
+        for t in 0..steps.min(reach.len()) {
+            for (id, rmask) in &reach[t] {
+                let wm = match self.row(t, *id) {
+                    Some(row) => self.winning_moves(t, row),
+                    None => vec![vec![0u64; self.nw]; n_moves],
+                };
+                let succ = self.successors(*id);
+                for r in ones_of(rmask) {
+                    let mut ok = 0u32;
+                    for (k, w) in wm.iter().enumerate() {
+                        if !bit(w, r) {
+                            continue;
+                        }
+                        if t + 1 < steps {
+                            let e = self.robot_end(r, k);
+                            let inside = succ.iter().all(|c2| {
+                                index[t + 1].get(c2).is_some_and(|&i| bit(&reach[t + 1][i].1, e))
+                            });
+                            if !inside {
+                                continue;
+                            }
+                        }
+                        ok |= 1 << k;
+                    }
+                    match at.get(&(r as u32, *id)) {
+                        Some(&i) => out[i].1 &= ok,
+                        None => {
+                            at.insert((r as u32, *id), out.len());
+                            out.push(((r as u32, *id), ok));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// States reached from the start when every state may play any of its allowed moves
+    /// (`stationary._closure`); `allowed` as [`Arena::allowed`] gives it.
+    pub fn closure(&mut self, allowed: &[((u32, u32), u32)]) -> Vec<Vec<(u32, Bits)>> {
+        let nw = self.nw;
+        let moves: HashMap<(u32, u32), u32> = allowed.iter().copied().collect();
+        let c0 = self.layers[0].ids[0];
+        let mut s0 = vec![0u64; nw];
+        s0[self.spec.start / 64] |= 1 << (self.spec.start % 64);
+        let mut out: Vec<Vec<(u32, Bits)>> = vec![vec![(c0, s0)]];
+        for t in 0..self.spec.steps {
+            let mut nxt: Vec<(u32, Bits)> = vec![];
+            let mut at: HashMap<u32, usize> = HashMap::new();
+            for i in 0..out[t].len() {
+                let id = out[t][i].0;
+                let mut ends = vec![0u64; nw];
+                for r in ones_of(&out[t][i].1) {
+                    let m = moves.get(&(r as u32, id)).copied().unwrap_or(0);
+                    for k in 0..self.spec.robot.len() {
+                        if m >> k & 1 == 1 {
+                            let e = self.robot_end(r, k);
+                            ends[e / 64] |= 1 << (e % 64);
+                        }
+                    }
+                }
+                for &c2 in self.successors(id).iter() {
+                    match at.get(&c2) {
+                        Some(&j) => nxt[j].1.iter_mut().zip(&ends).for_each(|(a, b)| *a |= b),
+                        None => {
+                            at.insert(c2, nxt.len());
+                            nxt.push((c2, ends.clone()));
+                        }
+                    }
+                }
+            }
+            out.push(nxt);
+        }
+        out
+    }
+
+    /// A stationary strategy read off the game without SAT
+    /// (`stationary.consistent_strategy`): per state, among the moves that win at every
+    /// time the state is met on `fwd`, the one heading most for the goal (then the
+    /// lowest number). Returns the reach layers it visits, or None when some reached
+    /// state has no such move. `width` gives cell coordinates.
+    pub fn consistent(&mut self, fwd: &[Vec<(u32, Bits)>], width: usize) -> Option<Vec<Vec<(u32, Bits)>>> {
+        let nw = self.nw;
+        let n_moves = self.spec.robot.len();
+        let steps = self.spec.steps;
+        let mut bad: HashMap<u32, Vec<Bits>> = HashMap::new();
+        for t in 0..steps.min(fwd.len()) {
+            for (id, rmask) in &fwd[t] {
+                let wm = match self.row(t, *id) {
+                    Some(row) => self.winning_moves(t, row),
+                    None => vec![vec![0u64; nw]; n_moves],
+                };
+                let b = bad.entry(*id).or_insert_with(|| vec![vec![0u64; nw]; n_moves]);
+                for k in 0..n_moves {
+                    for i in 0..nw {
+                        b[k][i] |= rmask[i] & !wm[k][i];
+                    }
+                }
+            }
+        }
+        let (gx, gy) = ((self.spec.goal % width) as i64, (self.spec.goal / width) as i64);
+        let dist = |c: usize| ((c % width) as i64 - gx).abs() + ((c / width) as i64 - gy).abs();
+        let mut choice: HashMap<(u32, u32), Option<usize>> = HashMap::new();
+        let c0 = self.layers[0].ids[0];
+        let mut s0 = vec![0u64; nw];
+        s0[self.spec.start / 64] |= 1 << (self.spec.start % 64);
+        let mut reach: Vec<Vec<(u32, Bits)>> = vec![vec![(c0, s0)]];
+        for t in 0..steps {
+            let mut nxt: Vec<(u32, Bits)> = vec![];
+            let mut at: HashMap<u32, usize> = HashMap::new();
+            for i in 0..reach[t].len() {
+                let id = reach[t][i].0;
+                let mut ends = vec![0u64; nw];
+                for r in ones_of(&reach[t][i].1) {
+                    let k = *choice.entry((r as u32, id)).or_insert_with(|| {
+                        let b = bad.get(&id);
+                        let mut best: Option<((i64, usize), usize)> = None;
+                        for k in 0..n_moves {
+                            if b.is_none_or(|b| bit(&b[k], r)) {
+                                continue;
+                            }
+                            let e = self.robot_end(r, k);
+                            let rank = (dist(e) - dist(r), k);
+                            if best.is_none_or(|(bb, _)| rank < bb) {
+                                best = Some((rank, k));
+                            }
+                        }
+                        best.map(|(_, k)| k)
+                    });
+                    let k = k?;
+                    let e = self.robot_end(r, k);
+                    ends[e / 64] |= 1 << (e % 64);
+                }
+                for &c2 in self.successors(id).iter() {
+                    match at.get(&c2) {
+                        Some(&j) => nxt[j].1.iter_mut().zip(&ends).for_each(|(a, b)| *a |= b),
+                        None => {
+                            at.insert(c2, nxt.len());
+                            nxt.push((c2, ends.clone()));
+                        }
+                    }
+                }
+            }
+            reach.push(nxt);
+        }
+        Some(reach)
     }
 
     /// Row of configuration `id` in layer t.

@@ -281,6 +281,36 @@ type ObstacleMove<'py> = (Bound<'py, PyBytes>, i64, Vec<i64>);
 #[pyclass(name = "Arena")]
 struct PyArena {
     a: arena_core::Arena,
+    fwd: Option<Vec<Vec<(u32, Vec<u64>)>>>,
+}
+
+type StateRow = (u32, Vec<u32>, u32);
+type LayerRows<'py> = Vec<Vec<(Vec<u32>, Bound<'py, PyBytes>)>>;
+
+impl PyArena {
+    fn rows_out<'py>(&self, py: Python<'py>, layers: &[Vec<(u32, Vec<u64>)>]) -> LayerRows<'py> {
+        layers.iter().map(|l| l.iter().map(|(id, m)| (self.a.config(*id).to_vec(), bytes_of(py, m))).collect()).collect()
+    }
+
+    fn rows_in(&mut self, layers: &[Vec<(Vec<u32>, Bound<'_, PyBytes>)>]) -> PyResult<Vec<Vec<(u32, Vec<u64>)>>> {
+        let (nw, n, cells) = (self.a.nw, self.a.spec.obstacles.len(), self.a.spec.n_cells);
+        let mut out = vec![];
+        for l in layers {
+            let mut v = vec![];
+            for (oc, m) in l {
+                if oc.len() != n || oc.iter().any(|&c| c as usize >= cells) {
+                    return Err(pyo3::exceptions::PyValueError::new_err("one cell on the grid per read obstacle"));
+                }
+                v.push((self.a.config_id(oc), bits_of(m, nw)));
+            }
+            out.push(v);
+        }
+        Ok(out)
+    }
+
+    fn states_out(&self, rows: Vec<((u32, u32), u32)>) -> Vec<StateRow> {
+        rows.into_iter().map(|((r, id), m)| (r, self.a.config(id).to_vec(), m)).collect()
+    }
 }
 
 #[pymethods]
@@ -348,7 +378,7 @@ impl PyArena {
             goal,
             start_config,
         };
-        Ok(Self { a: arena_core::Arena::new(spec) })
+        Ok(Self { a: arena_core::Arena::new(spec), fwd: None })
     }
 
     /// Explore within `seconds`, `memory` bytes and `max_configs`; None, or why it stopped.
@@ -443,16 +473,49 @@ impl PyArena {
         let got = py.detach(|| a.winning_forward(&c));
         Ok(match got {
             Err(s) => (None, Some(stop_row(s))),
-            Ok(layers) => (
-                Some(
-                    layers
-                        .iter()
-                        .map(|l| l.iter().map(|(id, m)| (self.a.config(*id).to_vec(), bytes_of(py, m))).collect())
-                        .collect(),
-                ),
-                None,
-            ),
+            Ok(layers) => {
+                let out = self.rows_out(py, &layers);
+                self.fwd = Some(layers);
+                (Some(out), None)
+            }
         })
+    }
+
+    /// The strategy read off the game (see `plansynth_core::arena::Arena::consistent`)
+    /// over the last winning-forward layers: `(reach layers, allowed moves per state)`,
+    /// or None when it meets a state without a move that wins at every time.
+    fn consistent<'py>(&mut self, py: Python<'py>, width: usize) -> PyResult<Option<(LayerRows<'py>, Vec<StateRow>)>> {
+        let fwd = self.fwd.take().ok_or_else(|| pyo3::exceptions::PyValueError::new_err("call winning_forward first"))?;
+        let a = &mut self.a;
+        let got = py.detach(|| {
+            let reach = a.consistent(&fwd, width)?;
+            let allowed = a.allowed(&reach);
+            Some((reach, allowed))
+        });
+        self.fwd = Some(fwd);
+        Ok(got.map(|(reach, allowed)| (self.rows_out(py, &reach), self.states_out(allowed))))
+    }
+
+    /// Allowed moves per state of `reach` (`(cell, config, move bitmask)`).
+    fn allowed(&mut self, py: Python<'_>, reach: Vec<Vec<(Vec<u32>, Bound<'_, PyBytes>)>>) -> PyResult<Vec<StateRow>> {
+        let reach = self.rows_in(&reach)?;
+        let a = &mut self.a;
+        let rows = py.detach(|| a.allowed(&reach));
+        Ok(self.states_out(rows))
+    }
+
+    /// States reached when every state plays any of its allowed moves.
+    fn closure<'py>(&mut self, py: Python<'py>, allowed: Vec<StateRow>) -> PyResult<LayerRows<'py>> {
+        let mut rows = vec![];
+        for (r, oc, m) in &allowed {
+            if *r as usize >= self.a.spec.n_cells || oc.len() != self.a.spec.obstacles.len() {
+                return Err(pyo3::exceptions::PyValueError::new_err("a state off the grid"));
+            }
+            rows.push(((*r, self.a.config_id(oc)), *m));
+        }
+        let a = &mut self.a;
+        let out = py.detach(|| a.closure(&rows));
+        Ok(self.rows_out(py, &out))
     }
 }
 

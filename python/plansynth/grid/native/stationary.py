@@ -183,8 +183,19 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock
     may be played in that state whatever the time. Following one such move per state
     (preferring moves towards the goal, then staying) from the start either reaches
     only states that have one -- a stationary winning strategy, found in linear time --
-    or meets a state without one, and then the SAT encoding decides.
+    or meets a state without one, and then the SAT encoding decides. In the compiled
+    core when the arena is compiled (``arena.rs``, ``Arena::consistent``); the loops
+    below are its reference.
     """
+    if arena._core is not None:
+        got = arena._core.consistent(arena.problem.width)
+        if got is None:
+            return None
+        reach_rows, rows = got
+        reach = tuple(_layers_in(reach_rows))
+        final = {(r, tuple(oc)): _moves_of(m) for r, oc, m in rows}
+        assert all(final.values()), "a consistent choice must leave every reached state a move"
+        return Strategy(final, reach, {"sat_vars": 0, "sat_clauses": 0, "consistent": 1})
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     bad: dict[Config, list[int]] = {}
@@ -254,8 +265,24 @@ def _phases(arena: Arena, ids: dict[tuple, int]) -> list[int]:
     return out
 
 
+def _layers_in(rows) -> list[dict[Config, int]]:
+    return [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in rows]
+
+
+def _layers_out(arena: Arena, layers) -> list[list[tuple[list[int], bytes]]]:
+    nbytes = (arena.problem.width * arena.problem.height + 7) // 8
+    return [[(list(oc), m.to_bytes(nbytes, "little")) for oc, m in layer.items()] for layer in layers]
+
+
+def _moves_of(mask: int) -> tuple[int, ...]:
+    return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
+
+
 def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[int]]:
-    """Moves of each reached state that win and stay inside ``reach`` at every time."""
+    """Moves of each reached state that win and stay inside ``reach`` at every time
+    (compiled when the arena is; the loops below are the reference)."""
+    if arena._core is not None:
+        return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in arena._core.allowed(_layers_out(arena, reach))}
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     allowed: dict[State, set[int]] = {}
@@ -280,6 +307,9 @@ def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[in
 
 def _closure(arena: Arena, allowed: dict[State, set[int]]) -> list[dict[Config, int]]:
     """States reached from the start when every state may play any of its allowed moves."""
+    if arena._core is not None:
+        rows = [(r, list(oc), sum(1 << k for k in ks)) for (r, oc), ks in allowed.items()]
+        return _layers_in(arena._core.closure(rows))
     oc0 = next(iter(arena.layers[0]))
     out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
     for t in range(arena.steps):
