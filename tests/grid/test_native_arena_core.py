@@ -16,7 +16,7 @@ from plansynth.grid.native.arena import Arena, BudgetExhausted
 from plansynth.grid.native.cone import influence_cone
 from plansynth.grid.native.engine import _with_relevant
 
-from .strategies import grid_problems
+from .strategies import grid_problems, problems_and_programs
 
 small = grid_problems(max_side=5, max_obstacles=3, max_obstacle_moves=3, max_robot_moves=6, max_steps=5)
 
@@ -80,3 +80,21 @@ def test_the_compiled_game_keeps_its_memory_limit_and_names_it():
         Arena.build(problem, problem.steps, cone, cone.relevant, Budget(seconds=60).clock(), memory_mb=64, use_rust=True)
     with pytest.raises(BudgetExhausted, match="out of time"):
         Arena.build(problem, problem.steps, cone, cone.relevant, Budget(seconds=0.2).clock(), use_rust=True)
+
+
+@settings(max_examples=150, deadline=None)
+@given(problems_and_programs(max_depth=5, max_side=4, max_obstacles=2, max_steps=4))
+def test_the_program_check_on_the_compiled_game_agrees_with_the_game_graph_and_the_verifier(pp):
+    from plansynth.grid.native.check import ArenaCheck, GameGraph
+    from plansynth.grid.verify import verify
+
+    problem, program = pp
+    fast, ref = _pair(problem, read_all=True)
+    wins = verify(problem, program, problem.steps).wins
+    if not ref.start_alive() or not ref.solve_game():
+        assert not wins
+        return
+    assert fast.solve_game()
+    got = ArenaCheck(fast).check(program)
+    want = GameGraph.from_arena_reference(ref).check_reference(program)
+    assert (got is None) == (want is None) == wins

@@ -14,8 +14,40 @@
 //! the data structures actually hold (their capacities), and an optional cap on
 //! configurations; past either it stops with [`Stop`] naming the step and the resource.
 
-use std::collections::HashMap;
+use std::collections::HashMap as StdMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::time::Instant;
+
+/// The multiply-rotate hash of rustc (FxHash): the keys here are small integers and
+/// slices of cell indices, where SipHash's protection against chosen keys buys nothing
+/// and costs most of the time of a lookup.
+#[derive(Default, Clone, Copy)]
+pub struct Fx(u64);
+
+impl Hasher for Fx {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut w = [0u8; 8];
+            w[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(w));
+        }
+    }
+    fn write_u64(&mut self, i: u64) {
+        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_u32(&mut self, i: u32) {
+        self.write_u64(i as u64);
+    }
+    fn write_usize(&mut self, i: usize) {
+        self.write_u64(i as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+pub type HashMap<K, V> = StdMap<K, V, BuildHasherDefault<Fx>>;
+pub type HashSet<K> = std::collections::HashSet<K, BuildHasherDefault<Fx>>;
 
 /// A set of cells: bit `i` of word `i / 64` is cell `i` (`y * width + x`).
 pub type Bits = Vec<u64>;
@@ -142,7 +174,7 @@ impl Arena {
             full[c / 64] |= 1 << (c % 64);
         }
         let n_read = spec.obstacles.len();
-        Arena { spec, nw, full, n_read, configs: vec![], intern: HashMap::new(), succ: vec![], layers: vec![], solved: false }
+        Arena { spec, nw, full, n_read, configs: vec![], intern: HashMap::default(), succ: vec![], layers: vec![], solved: false }
     }
 
     /// The id of a configuration, interned on first use.
@@ -193,9 +225,18 @@ impl Arena {
     /// Successor configurations of `id` (every joint obstacle move, in the reference's
     /// order: the product of each obstacle's distinct end cells, last obstacle fastest).
     pub fn successors(&mut self, id: u32) -> Box<[u32]> {
-        if let Some(s) = &self.succ[id as usize] {
-            return s.clone();
+        self.succ_of(id).into()
+    }
+
+    /// [`Arena::successors`] without a copy.
+    pub fn succ_of(&mut self, id: u32) -> &[u32] {
+        if self.succ[id as usize].is_none() {
+            self.compute_successors(id);
         }
+        self.succ[id as usize].as_deref().unwrap_or(&[])
+    }
+
+    fn compute_successors(&mut self, id: u32) {
         let oc: Vec<u32> = self.config(id).to_vec();
         let ends: Vec<Vec<u32>> = (0..self.n_read)
             .map(|j| {
@@ -218,9 +259,8 @@ impl Arena {
             let mut j = self.n_read;
             loop {
                 if j == 0 {
-                    let s: Box<[u32]> = out.into();
-                    self.succ[id as usize] = Some(s.clone());
-                    return s;
+                    self.succ[id as usize] = Some(out.into());
+                    return;
                 }
                 j -= 1;
                 idx[j] += 1;
@@ -468,7 +508,7 @@ impl Arena {
         let (mut img, mut part, mut tmp) = (vec![0u64; nw], vec![0u64; nw], vec![0u64; nw]);
         for t in 0..self.spec.steps {
             let mut nxt: Vec<(u32, Bits)> = vec![];
-            let mut at: HashMap<u32, usize> = HashMap::new();
+            let mut at: HashMap<u32, usize> = HashMap::default();
             for (id, r) in std::mem::take(&mut out[t]).into_iter() {
                 let row = match self.layers[t].index.get(&id) {
                     Some(&i) => i as usize,
@@ -514,7 +554,7 @@ impl Arena {
         let n_moves = self.spec.robot.len();
         let index: Vec<HashMap<u32, usize>> =
             reach.iter().map(|l| l.iter().enumerate().map(|(i, (id, _))| (*id, i)).collect()).collect();
-        let mut at: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut at: HashMap<(u32, u32), usize> = HashMap::default();
         let mut out: Vec<((u32, u32), u32)> = vec![];
         for t in 0..steps.min(reach.len()) {
             for (id, rmask) in &reach[t] {
@@ -564,7 +604,7 @@ impl Arena {
         let mut out: Vec<Vec<(u32, Bits)>> = vec![vec![(c0, s0)]];
         for t in 0..self.spec.steps {
             let mut nxt: Vec<(u32, Bits)> = vec![];
-            let mut at: HashMap<u32, usize> = HashMap::new();
+            let mut at: HashMap<u32, usize> = HashMap::default();
             for i in 0..out[t].len() {
                 let id = out[t][i].0;
                 let mut ends = vec![0u64; nw];
@@ -601,7 +641,7 @@ impl Arena {
         let nw = self.nw;
         let n_moves = self.spec.robot.len();
         let steps = self.spec.steps;
-        let mut bad: HashMap<u32, Vec<Bits>> = HashMap::new();
+        let mut bad: HashMap<u32, Vec<Bits>> = HashMap::default();
         for t in 0..steps.min(fwd.len()) {
             for (id, rmask) in &fwd[t] {
                 let wm = match self.row(t, *id) {
@@ -618,14 +658,14 @@ impl Arena {
         }
         let (gx, gy) = ((self.spec.goal % width) as i64, (self.spec.goal / width) as i64);
         let dist = |c: usize| ((c % width) as i64 - gx).abs() + ((c / width) as i64 - gy).abs();
-        let mut choice: HashMap<(u32, u32), Option<usize>> = HashMap::new();
+        let mut choice: HashMap<(u32, u32), Option<usize>> = HashMap::default();
         let c0 = self.layers[0].ids[0];
         let mut s0 = vec![0u64; nw];
         s0[self.spec.start / 64] |= 1 << (self.spec.start % 64);
         let mut reach: Vec<Vec<(u32, Bits)>> = vec![vec![(c0, s0)]];
         for t in 0..steps {
             let mut nxt: Vec<(u32, Bits)> = vec![];
-            let mut at: HashMap<u32, usize> = HashMap::new();
+            let mut at: HashMap<u32, usize> = HashMap::default();
             for i in 0..reach[t].len() {
                 let id = reach[t][i].0;
                 let mut ends = vec![0u64; nw];
@@ -662,6 +702,111 @@ impl Arena {
             reach.push(nxt);
         }
         Some(reach)
+    }
+
+    /// Whether read obstacle j on cell c may sweep cell x in one step.
+    fn obstacle_sweeps(&self, j: usize, c: usize, x: usize) -> bool {
+        self.spec.obstacles[j].iter().any(|m| {
+            if bit(&m.valid, c) {
+                m.offsets.iter().any(|&o| c as i64 + o == x as i64)
+            } else {
+                c == x
+            }
+        })
+    }
+
+    /// Whether robot move k is safe at (t, cell r, configuration id) of the explored
+    /// game: (t, r, id) is explored, and k sweeps no wall and nothing an obstacle may
+    /// sweep in step t (read, or folded into the step's danger).
+    pub fn move_safe(&self, t: usize, r: usize, id: u32, k: usize) -> bool {
+        let m = &self.spec.robot[k];
+        if !bit(&m.free, r) || self.row(t, id).is_none_or(|row| !bit(&self.layers[t].masks[row * self.nw..], r)) {
+            return false;
+        }
+        let valid = bit(&m.valid, r);
+        let n_sw = if valid { m.offsets.len() } else { 1 };
+        let oc = self.config(id);
+        (0..n_sw).all(|i| {
+            let x = if valid { (r as i64 + m.offsets[i]) as usize } else { r };
+            !bit(&self.spec.abstract_danger[t], x) && !oc.iter().enumerate().any(|(j, &c)| self.obstacle_sweeps(j, c as usize, x))
+        })
+    }
+
+    /// Whether end cell e wins at t + 1 against every obstacle reply from `id` (needs
+    /// [`Arena::solve_game`]).
+    pub fn end_wins(&mut self, t: usize, e: usize, id: u32) -> bool {
+        let nw = self.nw;
+        self.succ_of(id);
+        let succ = self.succ[id as usize].as_deref().unwrap_or(&[]);
+        let next = &self.layers[t + 1];
+        succ.iter().all(|c2| next.index.get(c2).is_some_and(|&i| !next.win.is_empty() && bit(&next.win[i as usize * nw..], e)))
+    }
+
+    /// Whether robot move k wins at (t, cell r, configuration id) of the solved game.
+    pub fn move_wins(&mut self, t: usize, r: usize, id: u32, k: usize) -> bool {
+        self.move_safe(t, r, id, k) && self.end_wins(t, self.robot_end(r, k), id)
+    }
+
+    /// The program check on the solved game without building its graph: follow the
+    /// program from the start, breadth-first over (time, robot cell, configuration);
+    /// None when it plays a winning move in every pair it reaches (it then wins the
+    /// bounded game, SYNT 2016 Section 3.1), else the first pair where it does not.
+    /// `width` gives the controller's inputs (rx, ry, o0x, o0y, ...).
+    pub fn check_program(&mut self, prog: &[crate::game::Op], root: usize, width: usize, clock: &Budget) -> Result<Option<(usize, usize, u32)>, Stop> {
+        let steps = self.spec.steps;
+        let n_moves = self.spec.robot.len() as i64;
+        let c0 = match self.layers[0].ids.first() {
+            Some(&c) => c,
+            None => return Ok(Some((0, self.spec.start, 0))),
+        };
+        let mut seen: HashSet<(u32, u32, u32)> = HashSet::default();
+        let mut groups: HashMap<(u32, u32, u32), bool> = HashMap::default();
+        let mut queue: Vec<(u32, u32, u32)> = vec![(0, self.spec.start as u32, c0)];
+        seen.insert(queue[0]);
+        let mut head = 0;
+        let mut x: Vec<i64> = vec![];
+        while head < queue.len() {
+            let (t, r, id) = queue[head];
+            head += 1;
+            let (t, r) = (t as usize, r as usize);
+            x.clear();
+            x.push((r % width) as i64);
+            x.push((r / width) as i64);
+            for &c in self.config(id) {
+                x.push((c as usize % width) as i64);
+                x.push((c as usize / width) as i64);
+            }
+            let k = crate::game::eval(prog, root, &x);
+            if !(0..n_moves).contains(&k) || !self.move_safe(t, r, id, k as usize) {
+                return Ok(Some((t, r, id)));
+            }
+            // every (r, k) of this configuration ending in e has the same replies
+            let e = self.robot_end(r, k as usize) as u32;
+            if let Some(&won) = groups.get(&(t as u32, e, id)) {
+                if !won {
+                    return Ok(Some((t, r, id)));
+                }
+                continue;
+            }
+            let won = self.end_wins(t, e as usize, id);
+            groups.insert((t as u32, e, id), won);
+            if !won {
+                return Ok(Some((t, r, id)));
+            }
+            if t + 1 < steps {
+                self.succ_of(id);
+                for &c2 in self.succ[id as usize].as_deref().unwrap_or(&[]) {
+                    let key = (t as u32 + 1, e, c2);
+                    if seen.insert(key) {
+                        queue.push(key);
+                    }
+                }
+            }
+            if head % 4096 == 0 && clock.deadline.is_some_and(|d| Instant::now() >= d) {
+                return Err(Stop::Time { step: t, configs: 0 });
+            }
+        }
+        Ok(None)
     }
 
     /// Row of configuration `id` in layer t.
@@ -743,6 +888,21 @@ mod tests {
         // the robot's only path runs through cell 1, where the obstacle sits
         assert_eq!(b.layers[1].ids.len(), 0);
         assert!(!b.solve_game(&Budget::default()).unwrap());
+    }
+
+    #[test]
+    fn the_program_check_follows_the_program_on_the_solved_game() {
+        use crate::game::Op;
+        let mut a = line(false);
+        a.explore(&Budget::default()).unwrap();
+        assert!(a.solve_game(&Budget::default()).unwrap());
+        let b = Budget::default();
+        assert_eq!(a.check_program(&[Op::Const(1)], 0, 3, &b), Ok(None)); // right, right
+        assert_eq!(a.check_program(&[Op::Const(0)], 0, 3, &b), Ok(Some((0, 0, 0)))); // staying never arrives
+        assert_eq!(a.check_program(&[Op::Const(7)], 0, 3, &b), Ok(Some((0, 0, 0)))); // no such move
+        // (ite (<= rx 0) 1 0): right first, then stays at cell 1 and misses the goal
+        let p = [Op::Var(0), Op::Const(0), Op::Le(0, 1), Op::Const(1), Op::Const(0), Op::Ite(2, 3, 4)];
+        assert_eq!(a.check_program(&p, 5, 3, &b), Ok(Some((1, 1, 0))));
     }
 
     #[test]

@@ -136,6 +136,26 @@ fn to_ops(prog: &[(u8, i64, i64, i64)]) -> PyResult<Vec<Op>> {
         .collect()
 }
 
+/// Program rows as ops, children first, variables below `n_vars`.
+fn checked_ops(prog: &[(u8, i64, i64, i64)], n_vars: usize) -> PyResult<Vec<Op>> {
+    let ops = to_ops(prog)?;
+    if ops.is_empty() || ops.iter().any(|o| matches!(o, Op::Var(j) if *j >= n_vars)) {
+        return Err(pyo3::exceptions::PyValueError::new_err("empty program or variable out of range"));
+    }
+    for (i, o) in ops.iter().enumerate() {
+        let kids: &[usize] = match o {
+            Op::Plus(a, b) | Op::Minus(a, b) | Op::Le(a, b) | Op::Eq(a, b) | Op::And(a, b) | Op::Or(a, b) => &[*a, *b],
+            Op::Not(a) => std::slice::from_ref(a),
+            Op::Ite(a, b, c) => &[*a, *b, *c],
+            _ => &[],
+        };
+        if kids.iter().any(|&k| k >= i) {
+            return Err(pyo3::exceptions::PyValueError::new_err("program nodes must list children first"));
+        }
+    }
+    Ok(ops)
+}
+
 /// The winning-forward game graph (see `plansynth_core::game::GameGraph`).
 #[pyclass(name = "GameGraph", frozen)]
 struct PyGameGraph {
@@ -494,6 +514,38 @@ impl PyArena {
         });
         self.fwd = Some(fwd);
         Ok(got.map(|(reach, allowed)| (self.rows_out(py, &reach), self.states_out(allowed))))
+    }
+
+    /// The program check on the solved game (see `Arena::check_program`): None when the
+    /// program (flat ops, root last) wins, else the first failing `(t, cell, config)`;
+    /// `("time", ...)` rows are never returned: out of time raises TimeoutError.
+    #[pyo3(signature = (prog, width, seconds=None))]
+    fn check(&mut self, py: Python<'_>, prog: Vec<(u8, i64, i64, i64)>, width: usize, seconds: Option<f64>) -> PyResult<Option<(usize, usize, Vec<u32>)>> {
+        if !self.a.solved || width == 0 || self.a.spec.n_cells % width != 0 {
+            return Err(pyo3::exceptions::PyValueError::new_err("the check needs a solved game and the grid width"));
+        }
+        let ops = checked_ops(&prog, 2 + 2 * self.a.spec.obstacles.len())?;
+        let root = ops.len() - 1;
+        let c = clock(seconds, None, None);
+        let a = &mut self.a;
+        match py.detach(|| a.check_program(&ops, root, width, &c)) {
+            Ok(None) => Ok(None),
+            Ok(Some((t, r, id))) => Ok(Some((t, r, self.a.config(id).to_vec()))),
+            Err(_) => Err(pyo3::exceptions::PyTimeoutError::new_err("checking the program: out of time")),
+        }
+    }
+
+    /// `(pairs, joint states)` of the last winning-forward layers.
+    fn forward_sizes(&self) -> PyResult<(u64, u64)> {
+        let fwd = self.fwd.as_ref().ok_or_else(|| pyo3::exceptions::PyValueError::new_err("call winning_forward first"))?;
+        let pairs = fwd.iter().take(self.a.spec.steps).flatten().map(|(_, m)| m.iter().map(|w| w.count_ones() as u64).sum::<u64>()).sum();
+        let mut union: std::collections::HashMap<u32, Vec<u64>> = std::collections::HashMap::new();
+        for (id, m) in fwd.iter().take(self.a.spec.steps).flatten() {
+            let u = union.entry(*id).or_insert_with(|| vec![0; m.len()]);
+            u.iter_mut().zip(m).for_each(|(a, b)| *a |= b);
+        }
+        let states = union.values().map(|m| m.iter().map(|w| w.count_ones() as u64).sum::<u64>()).sum();
+        Ok((pairs, states))
     }
 
     /// Allowed moves per state of `reach` (`(cell, config, move bitmask)`).

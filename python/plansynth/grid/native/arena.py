@@ -69,6 +69,7 @@ class Arena:
     _wm: dict[tuple[int, Config], tuple[int, ...]] = field(default_factory=dict)
     memory_bytes: int | None = None
     _core: object = None
+    _fwd: list | None = None  # the compiled game's winning-forward layers, once read
 
     # -- construction --------------------------------------------------------------
     @classmethod
@@ -285,7 +286,7 @@ class Arena:
     def solve_game(self, clock: Clock | None = None) -> bool:
         """Backward induction; True iff the robot wins when it may also see the time."""
         if self._core is not None:
-            self._wm = {}
+            self._wm, self._fwd = {}, None
             won, why = self._core.solve_game(self._seconds(clock), self.memory_bytes)
             if why is not None:
                 raise self._stopped(why, "solving the game")

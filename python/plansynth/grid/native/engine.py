@@ -30,7 +30,7 @@ from typing import Any
 from plansynth.budget import Budget, Clock
 from plansynth.grid.native.arena import Arena, BudgetExhausted
 from plansynth.grid.native.bitgrid import bits, cell_mask
-from plansynth.grid.native.check import GameGraph, simplify
+from plansynth.grid.native.check import GameGraph, program_checker, simplify
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
 from plansynth.grid.native.stationary import (
@@ -279,7 +279,7 @@ class Engine:
         if clock.exhausted():
             raise BudgetExhausted("enumerating conditions")
         program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.use_rust)
-        graph = GameGraph.from_arena(arena, clock, use_rust=self.use_rust)
+        graph = program_checker(arena, clock, use_rust=self.use_rust)
         self.counters["game_graph_pairs"] = graph.n_pairs
         if graph.check(program) is not None:
             raise AssertionError(f"native engine bug: greedy program {program} does not win on the game graph")

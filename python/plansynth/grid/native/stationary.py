@@ -50,12 +50,15 @@ class Strategy:
 def winning_forward(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
     """States reachable from the start using only moves that win the game (in the
     compiled core when the arena was explored there; this loop is its reference)."""
+    if arena._core is not None and arena._fwd is not None:
+        return arena._fwd
     if arena._core is not None:
         left = None if clock is None or clock.remaining() == float("inf") else max(0.0, clock.remaining())
         layers, why = arena._core.winning_forward(left, arena.memory_bytes)
         if why is not None:
             raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
-        return [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in layers]
+        arena._fwd = [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in layers]
+        return arena._fwd
     return winning_forward_reference(arena, clock)
 
 
