@@ -204,7 +204,10 @@ impl Arena {
 
     /// Bytes held by the explored game now (capacities, not lengths).
     pub fn bytes(&self) -> usize {
-        let mut b = self.configs.capacity() * 4 + map_bytes(&self.intern) + self.intern.len() * (self.n_read * 4 + 16);
+        let spec = &self.spec;
+        let masks = spec.live.len() + spec.abstract_danger.len() + 2 * spec.robot.len() + spec.obstacles.iter().map(|o| o.len()).sum::<usize>();
+        let mut b = masks * self.nw * 8;
+        b += self.configs.capacity() * 4 + map_bytes(&self.intern) + self.intern.len() * (self.n_read * 4 + 16);
         b += self.succ.capacity() * std::mem::size_of::<Option<Box<[u32]>>>();
         b += self.succ.iter().flatten().map(|s| s.len() * 4 + 16).sum::<usize>();
         for l in &self.layers {

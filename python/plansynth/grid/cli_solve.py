@@ -14,7 +14,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from plansynth.budget import Budget
-from plansynth.cli_support import positive_seconds
+from plansynth.cli_support import positive_seconds, seconds_since_start
 from plansynth.errors import OutputUnwritable, PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import MAX_PROGRAM_NESTING, size, to_python
@@ -28,6 +28,9 @@ def _native_help() -> str:
 
 
 _NATIVE_HELP = _native_help()
+
+#: Seconds of ``--timeout`` kept back for printing the answer and exiting.
+EXIT_RESERVE = 0.2
 
 #: Exit statuses of ``solve``.
 EXIT_REALIZABLE, EXIT_UNREALIZABLE, EXIT_BAD_INPUT, EXIT_UNKNOWN = 0, 1, 2, 3
@@ -163,7 +166,10 @@ def solve_command(
             check_output_path(out)  # before solving: a result is never computed and then lost
         if keep_sl is not None:
             check_output_folder(keep_sl)
-        budget = Budget(seconds=timeout, memory_mb=memory_mb)
+        # the budget counts from the process's start: the answer comes within --timeout
+        # of running the command, start-up and loading included
+        left = None if timeout is None else max(timeout - seconds_since_start() - EXIT_RESERVE, 0.01)
+        budget = Budget(seconds=left, memory_mb=memory_mb)
         lengths = list(problem.path_lengths())
         with Progress(
             SpinnerColumn(),

@@ -84,14 +84,18 @@ class Arena:
         """
         sem = CompiledSemantics(problem)
         robot = AgentGeometry.robot(problem)
-        abstract = [0] * steps
-        for i in cone.relevant:
-            if i not in read:
-                for t in range(steps):
-                    abstract[t] |= cone.danger[i][t]
+        if not read:
+            abstract = list(cone.blind_danger)
+        else:
+            abstract = [0] * steps
+            for i in cone.relevant:
+                if i not in read:
+                    dng = cone.obstacle_facts(i, clock)[1]
+                    for t in range(steps):
+                        abstract[t] |= dng[t]
         start = cell_mask(problem, problem.robot.start)
         goal = cell_mask(problem, problem.robot.goal)
-        live = robot_live(robot, start, goal, steps, tuple(abstract))
+        live = robot_live(robot, start, goal, steps, tuple(abstract), clock=clock)
         a = cls(problem, steps, tuple(read), tuple(abstract), sem, robot, live)
         a.memory_bytes = None if memory_mb is None else int(memory_mb) << 20
         a._ends = [_LazyCells(problem, i, ends=True) for i in read]

@@ -152,7 +152,7 @@ class _Run:
         return max(0.0, min(want, clock.remaining() - 0.05))
 
     def _solve(self, problem: GridProblem, steps: int, clock: Clock, depth_bound: int | None):
-        cone = influence_cone(problem, steps)
+        cone = influence_cone(problem, steps, clock)
         self.counters["relevant_obstacles"] = len(cone.relevant)
         self.counters["dropped_obstacles"] = len(problem.obstacles) - len(cone.relevant)
         if not cone.goal_reachable:
