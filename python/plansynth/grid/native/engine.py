@@ -59,6 +59,10 @@ from plansynth.grid.result import GridStatus, LengthOutcome
 #: until it would outgrow this (or the budget's ``memory_mb``) or the time runs out;
 #: ``max_configs`` adds an explicit cap on obstacle configurations.
 DEFAULT_MEMORY_MB = 4096
+#: Behaviour cells (condition x program state) the compiled condition enumeration
+#: computes per second, conservatively (2.6e8 measured on a loaded 2-core machine): the
+#: enumeration is refused when its estimate does not fit the time left.
+CONDITION_CELLS_PER_SECOND = 1e8
 #: Default seconds spent making the first program smaller (answer-first mode).
 DEFAULT_EFFORT = 0.3
 
@@ -250,9 +254,24 @@ class _Run:
         return GridStatus.UNREALIZABLE, None, ref.detail, ref
 
     # -- programs ----------------------------------------------------------------------
-    def _conditions(self, states: list[tuple[int, ...]], variables, problem: GridProblem, max_depth: int) -> Enumeration:
+    def _conditions(self, states: list[tuple[int, ...]], variables, problem: GridProblem, max_depth: int,
+                    clock: Clock | None = None) -> Enumeration:
         # the behaviours cost len(states) bits each: bound their memory and time
         limit = min(200_000, max(5_000, 40_000_000 // max(1, len(states))))
+        if clock is not None:
+            # The enumeration cannot be interrupted: refuse it when its estimated work
+            # (comparisons of the depth-2 terms over every state) does not fit the time
+            # left, or its behaviours the memory budget.
+            terms = problem.max_constant + 2 + len(variables)
+            work = min(limit, 2 * terms * terms) * len(states)
+            need = work / CONDITION_CELLS_PER_SECOND
+            nbytes = min(limit, 2 * terms * terms) * (len(states) // 8 + 64) + terms * len(states) * 8
+            if need > clock.remaining():
+                raise BudgetExhausted(f"enumerating conditions over {len(states)} program states would take about "
+                                      f"{need:.0f} s ({clock.remaining():.1f} s left)")
+            if nbytes > (self._memory_mb << 20):
+                raise BudgetExhausted(f"enumerating conditions over {len(states)} program states needs about "
+                                      f"{nbytes >> 20} MB (memory budget {self._memory_mb} MB)")
         e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=limit, use_rust=self.o.use_rust)
         self.counters["conditions"] = len(e.conditions)
         return e
@@ -273,7 +292,7 @@ class _Run:
         n_moves = len(arena.robot.moves)
         # Conditions of depth <= 3 (comparisons of coordinates and constants) give the
         # shallowest greedy trees on the reactive suite, and are cheap to enumerate.
-        enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.o.condition_depth))
+        enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.o.condition_depth), clock)
         if clock.exhausted():
             raise BudgetExhausted("enumerating conditions")
         program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.o.use_rust)
