@@ -146,6 +146,11 @@ pub struct Layer {
     /// `nw` words per row
     pub masks: Vec<u64>,
     pub win: Vec<u64>,
+    /// CSR, filled by the exploration: the rows of layer t + 1 of row i's successor
+    /// configurations are `next[next_off[i]..next_off[i + 1]]` (none: the robot has no
+    /// live move from row i, which therefore loses)
+    pub next_off: Vec<u32>,
+    pub next: Vec<u32>,
 }
 
 /// The explored game.
@@ -212,6 +217,7 @@ impl Arena {
         b += self.succ.iter().flatten().map(|s| s.len() * 4 + 16).sum::<usize>();
         for l in &self.layers {
             b += l.ids.capacity() * 4 + map_bytes(&l.index) + (l.masks.capacity() + l.win.capacity()) * 8;
+            b += (l.next_off.capacity() + l.next.capacity()) * 4;
         }
         b
     }
@@ -385,7 +391,12 @@ impl Arena {
         for t in 0..self.spec.steps {
             let mut nxt = Layer::default();
             let rows = self.layers[t].ids.len();
+            let (mut next_off, mut next) = (Vec::with_capacity(rows + 1), Vec::new());
+            next_off.push(0u32);
             for row in 0..rows {
+                if row > 0 {
+                    next_off.push(next.len() as u32);
+                }
                 let id = self.layers[t].ids[row];
                 let r: Bits = self.layers[t].masks[row * nw..(row + 1) * nw].to_vec();
                 let safe = self.safe_sources(t, id);
@@ -402,10 +413,12 @@ impl Arena {
                 for &c2 in self.successors(id).iter() {
                     match nxt.index.get(&c2) {
                         Some(&i) => {
+                            next.push(i);
                             let i = i as usize;
                             nxt.masks[i * nw..(i + 1) * nw].iter_mut().zip(&img).for_each(|(a, b)| *a |= b);
                         }
                         None => {
+                            next.push(nxt.ids.len() as u32);
                             nxt.index.insert(c2, nxt.ids.len() as u32);
                             nxt.ids.push(c2);
                             nxt.masks.extend_from_slice(&img);
@@ -413,10 +426,15 @@ impl Arena {
                     }
                 }
                 if row % 64 == 0 {
-                    let held = nxt.ids.capacity() * 4 + map_bytes(&nxt.index) + nxt.masks.capacity() * 8;
+                    let held = nxt.ids.capacity() * 4 + map_bytes(&nxt.index) + nxt.masks.capacity() * 8 + next.capacity() * 4;
                     self.check(clock, t, count + nxt.ids.len(), held)?;
                 }
             }
+            if rows > 0 {
+                next_off.push(next.len() as u32);
+            }
+            self.layers[t].next_off = next_off;
+            self.layers[t].next = next;
             count += nxt.ids.len();
             self.layers.push(nxt);
             self.check(clock, t, count, 0)?;
@@ -432,16 +450,17 @@ impl Arena {
     pub fn winning_moves(&mut self, t: usize, row: usize) -> Vec<Bits> {
         let nw = self.nw;
         let id = self.layers[t].ids[row];
-        let succ = self.successors(id);
-        let mut target = vec![!0u64; nw];
+        let l = &self.layers[t];
+        let (a, b) = (l.next_off[row] as usize, l.next_off[row + 1] as usize);
+        // no successor rows: the robot has no live move here (an empty AND would be all)
+        let mut target = vec![if a == b { 0 } else { !0u64 }; nw];
         let next = &self.layers[t + 1];
-        for &c2 in succ.iter() {
-            match next.index.get(&c2) {
-                Some(&i) if !next.win.is_empty() => {
-                    let i = i as usize;
-                    target.iter_mut().zip(&next.win[i * nw..(i + 1) * nw]).for_each(|(a, b)| *a &= b);
-                }
-                _ => target.iter_mut().for_each(|w| *w = 0),
+        for &i in &l.next[a..b] {
+            if next.win.is_empty() {
+                target.iter_mut().for_each(|w| *w = 0);
+            } else {
+                let i = i as usize;
+                target.iter_mut().zip(&next.win[i * nw..(i + 1) * nw]).for_each(|(x, y)| *x &= y);
             }
             if !any(&target) {
                 break;
@@ -757,21 +776,33 @@ impl Arena {
     /// `width` gives the controller's inputs (rx, ry, o0x, o0y, ...).
     pub fn check_program(&mut self, prog: &[crate::game::Op], root: usize, width: usize, clock: &Budget) -> Result<Option<(usize, usize, u32)>, Stop> {
         let steps = self.spec.steps;
+        let nw = self.nw;
         let n_moves = self.spec.robot.len() as i64;
-        let c0 = match self.layers[0].ids.first() {
-            Some(&c) => c,
-            None => return Ok(Some((0, self.spec.start, 0))),
+        if self.layers[0].ids.is_empty() {
+            return Ok(Some((0, self.spec.start, 0)));
+        }
+        // per layer, per row: the robot cells queued (pairs met), and per (row, end
+        // cell) whether the end cell's replies were judged and won. Zeroed allocations:
+        // the pages a check never touches cost nothing.
+        let mut seen: Vec<Vec<u64>> = self.layers.iter().map(|l| vec![0u64; l.ids.len() * nw]).collect();
+        let mut judged: Vec<Vec<u64>> = self.layers.iter().map(|l| vec![0u64; l.ids.len() * nw]).collect();
+        let mut won: Vec<Vec<u64>> = self.layers.iter().map(|l| vec![0u64; l.ids.len() * nw]).collect();
+        let set = |m: &mut Vec<u64>, row: usize, c: usize| -> bool {
+            let w = &mut m[row * nw + c / 64];
+            let had = *w >> (c % 64) & 1 == 1;
+            *w |= 1 << (c % 64);
+            had
         };
-        let mut seen: HashSet<(u32, u32, u32)> = HashSet::default();
-        let mut groups: HashMap<(u32, u32, u32), bool> = HashMap::default();
-        let mut queue: Vec<(u32, u32, u32)> = vec![(0, self.spec.start as u32, c0)];
-        seen.insert(queue[0]);
+        let s0 = self.spec.start;
+        let mut queue: Vec<(u32, u32, u32)> = vec![(0, 0, s0 as u32)];
+        set(&mut seen[0], 0, s0);
         let mut head = 0;
         let mut x: Vec<i64> = vec![];
         while head < queue.len() {
-            let (t, r, id) = queue[head];
+            let (t, row, r) = queue[head];
             head += 1;
-            let (t, r) = (t as usize, r as usize);
+            let (t, row, r) = (t as usize, row as usize, r as usize);
+            let id = self.layers[t].ids[row];
             x.clear();
             x.push((r % width) as i64);
             x.push((r / width) as i64);
@@ -783,25 +814,27 @@ impl Arena {
             if !(0..n_moves).contains(&k) || !self.move_safe(t, r, id, k as usize) {
                 return Ok(Some((t, r, id)));
             }
-            // every (r, k) of this configuration ending in e has the same replies
-            let e = self.robot_end(r, k as usize) as u32;
-            if let Some(&won) = groups.get(&(t as u32, e, id)) {
-                if !won {
+            // every (r, k) of this row ending in e has the same replies
+            let e = self.robot_end(r, k as usize);
+            if bit(&judged[t][row * nw..], e) {
+                if !bit(&won[t][row * nw..], e) {
                     return Ok(Some((t, r, id)));
                 }
                 continue;
             }
-            let won = self.end_wins(t, e as usize, id);
-            groups.insert((t as u32, e, id), won);
-            if !won {
+            set(&mut judged[t], row, e);
+            let l = &self.layers[t];
+            let (a, b) = (l.next_off[row] as usize, l.next_off[row + 1] as usize);
+            let next = &self.layers[t + 1];
+            let ok = a < b && !next.win.is_empty() && l.next[a..b].iter().all(|&i| bit(&next.win[i as usize * nw..], e));
+            if !ok {
                 return Ok(Some((t, r, id)));
             }
+            set(&mut won[t], row, e);
             if t + 1 < steps {
-                self.succ_of(id);
-                for &c2 in self.succ[id as usize].as_deref().unwrap_or(&[]) {
-                    let key = (t as u32 + 1, e, c2);
-                    if seen.insert(key) {
-                        queue.push(key);
+                for &i in &self.layers[t].next[a..b] {
+                    if !set(&mut seen[t + 1], i as usize, e) {
+                        queue.push((t as u32 + 1, i, e as u32));
                     }
                 }
             }
