@@ -164,6 +164,10 @@ pub struct Arena {
     succ: Vec<Option<Box<[u32]>>>,
     pub layers: Vec<Layer>,
     pub solved: bool,
+    /// The deadline of the strategy routines ([`Arena::allowed`], [`Arena::closure`],
+    /// [`Arena::consistent`]): past it they stop early and set `expired`.
+    pub deadline: Option<Instant>,
+    pub expired: bool,
 }
 
 /// Bytes a hash map of this capacity holds (entries plus one control byte each).
@@ -179,7 +183,7 @@ impl Arena {
             full[c / 64] |= 1 << (c % 64);
         }
         let n_read = spec.obstacles.len();
-        Arena { spec, nw, full, n_read, configs: vec![], intern: HashMap::default(), succ: vec![], layers: vec![], solved: false }
+        Arena { spec, nw, full, n_read, configs: vec![], intern: HashMap::default(), succ: vec![], layers: vec![], solved: false, deadline: None, expired: false }
     }
 
     /// The id of a configuration, interned on first use.
@@ -205,6 +209,14 @@ impl Arena {
 
     pub fn n_configs(&self) -> usize {
         self.succ.len()
+    }
+
+    /// Whether `deadline` has passed (and remember it in `expired`).
+    pub fn out_of_time(&mut self) -> bool {
+        if !self.expired && self.deadline.is_some_and(|d| Instant::now() >= d) {
+            self.expired = true;
+        }
+        self.expired
     }
 
     /// Bytes held by the explored game now (capacities, not lengths).
@@ -579,7 +591,10 @@ impl Arena {
         let mut at: HashMap<(u32, u32), usize> = HashMap::default();
         let mut out: Vec<((u32, u32), u32)> = vec![];
         for t in 0..steps.min(reach.len()) {
-            for (id, rmask) in &reach[t] {
+            for (n, (id, rmask)) in reach[t].iter().enumerate() {
+                if n % 1024 == 0 && self.out_of_time() {
+                    return out;
+                }
                 let wm = match self.row(t, *id) {
                     Some(row) => self.winning_moves(t, row),
                     None => vec![vec![0u64; self.nw]; n_moves],
@@ -628,6 +643,9 @@ impl Arena {
             let mut nxt: Vec<(u32, Bits)> = vec![];
             let mut at: HashMap<u32, usize> = HashMap::default();
             for i in 0..out[t].len() {
+                if i % 1024 == 0 && self.out_of_time() {
+                    return out;
+                }
                 let id = out[t][i].0;
                 let mut ends = vec![0u64; nw];
                 for r in ones_of(&out[t][i].1) {
@@ -665,7 +683,10 @@ impl Arena {
         let steps = self.spec.steps;
         let mut bad: HashMap<u32, Vec<Bits>> = HashMap::default();
         for t in 0..steps.min(fwd.len()) {
-            for (id, rmask) in &fwd[t] {
+            for (n, (id, rmask)) in fwd[t].iter().enumerate() {
+                if n % 1024 == 0 && self.out_of_time() {
+                    return None;
+                }
                 let wm = match self.row(t, *id) {
                     Some(row) => self.winning_moves(t, row),
                     None => vec![vec![0u64; nw]; n_moves],
@@ -689,6 +710,9 @@ impl Arena {
             let mut nxt: Vec<(u32, Bits)> = vec![];
             let mut at: HashMap<u32, usize> = HashMap::default();
             for i in 0..reach[t].len() {
+                if i % 1024 == 0 && self.out_of_time() {
+                    return None;
+                }
                 let id = reach[t][i].0;
                 let mut ends = vec![0u64; nw];
                 for r in ones_of(&reach[t][i].1) {

@@ -328,6 +328,22 @@ impl PyArena {
         Ok(out)
     }
 
+    fn start_clock(&mut self, seconds: Option<f64>) {
+        self.a.deadline = clock(seconds, None, None).deadline;
+        self.a.expired = false;
+    }
+
+    /// TimeoutError when the routine just run stopped at its deadline.
+    fn stop_clock(&mut self) -> PyResult<()> {
+        let expired = self.a.expired;
+        self.a.deadline = None;
+        self.a.expired = false;
+        if expired {
+            return Err(pyo3::exceptions::PyTimeoutError::new_err("out of time"));
+        }
+        Ok(())
+    }
+
     fn states_out(&self, rows: Vec<((u32, u32), u32)>) -> Vec<StateRow> {
         rows.into_iter().map(|((r, id), m)| (r, self.a.config(id).to_vec(), m)).collect()
     }
@@ -504,8 +520,10 @@ impl PyArena {
     /// The strategy read off the game (see `plansynth_core::arena::Arena::consistent`)
     /// over the last winning-forward layers: `(reach layers, allowed moves per state)`,
     /// or None when it meets a state without a move that wins at every time.
-    fn consistent<'py>(&mut self, py: Python<'py>, width: usize) -> PyResult<Option<(LayerRows<'py>, Vec<StateRow>)>> {
+    #[pyo3(signature = (width, seconds=None))]
+    fn consistent<'py>(&mut self, py: Python<'py>, width: usize, seconds: Option<f64>) -> PyResult<Option<(LayerRows<'py>, Vec<StateRow>)>> {
         let fwd = self.fwd.take().ok_or_else(|| pyo3::exceptions::PyValueError::new_err("call winning_forward first"))?;
+        self.start_clock(seconds);
         let a = &mut self.a;
         let got = py.detach(|| {
             let reach = a.consistent(&fwd, width)?;
@@ -513,6 +531,7 @@ impl PyArena {
             Some((reach, allowed))
         });
         self.fwd = Some(fwd);
+        self.stop_clock()?;
         Ok(got.map(|(reach, allowed)| (self.rows_out(py, &reach), self.states_out(allowed))))
     }
 
@@ -549,15 +568,19 @@ impl PyArena {
     }
 
     /// Allowed moves per state of `reach` (`(cell, config, move bitmask)`).
-    fn allowed(&mut self, py: Python<'_>, reach: Vec<Vec<(Vec<u32>, Bound<'_, PyBytes>)>>) -> PyResult<Vec<StateRow>> {
+    #[pyo3(signature = (reach, seconds=None))]
+    fn allowed(&mut self, py: Python<'_>, reach: Vec<Vec<(Vec<u32>, Bound<'_, PyBytes>)>>, seconds: Option<f64>) -> PyResult<Vec<StateRow>> {
         let reach = self.rows_in(&reach)?;
+        self.start_clock(seconds);
         let a = &mut self.a;
         let rows = py.detach(|| a.allowed(&reach));
+        self.stop_clock()?;
         Ok(self.states_out(rows))
     }
 
     /// States reached when every state plays any of its allowed moves.
-    fn closure<'py>(&mut self, py: Python<'py>, allowed: Vec<StateRow>) -> PyResult<LayerRows<'py>> {
+    #[pyo3(signature = (allowed, seconds=None))]
+    fn closure<'py>(&mut self, py: Python<'py>, allowed: Vec<StateRow>, seconds: Option<f64>) -> PyResult<LayerRows<'py>> {
         let mut rows = vec![];
         for (r, oc, m) in &allowed {
             if *r as usize >= self.a.spec.n_cells || oc.len() != self.a.spec.obstacles.len() {
@@ -565,8 +588,10 @@ impl PyArena {
             }
             rows.push(((*r, self.a.config_id(oc)), *m));
         }
+        self.start_clock(seconds);
         let a = &mut self.a;
         let out = py.detach(|| a.closure(&rows));
+        self.stop_clock()?;
         Ok(self.rows_out(py, &out))
     }
 }

@@ -259,22 +259,26 @@ class _Run:
         # the behaviours cost len(states) bits each: bound their memory and time
         limit = min(200_000, max(5_000, 40_000_000 // max(1, len(states))))
         if clock is not None:
-            # The enumeration cannot be interrupted: refuse it when its estimated work
-            # (comparisons of the depth-2 terms over every state) does not fit the time
-            # left, or its behaviours the memory budget.
-            terms = problem.max_constant + 2 + len(variables)
-            work = min(limit, 2 * terms * terms) * len(states)
-            need = work / CONDITION_CELLS_PER_SECOND
-            nbytes = min(limit, 2 * terms * terms) * (len(states) // 8 + 64) + terms * len(states) * 8
-            if need > clock.remaining():
-                raise BudgetExhausted(f"enumerating conditions over {len(states)} program states would take about "
-                                      f"{need:.0f} s ({clock.remaining():.1f} s left)")
-            if nbytes > (self._memory_mb << 20):
-                raise BudgetExhausted(f"enumerating conditions over {len(states)} program states needs about "
-                                      f"{nbytes >> 20} MB (memory budget {self._memory_mb} MB)")
+            self._conditions_fit(len(states), len(variables), problem, clock)
         e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=limit, use_rust=self.o.use_rust)
         self.counters["conditions"] = len(e.conditions)
         return e
+
+    def _conditions_fit(self, n_states: int, n_vars: int, problem: GridProblem, clock: Clock) -> None:
+        """The condition enumeration cannot be interrupted: refuse it (BudgetExhausted)
+        when its estimated work (comparisons of the depth-2 terms over every state)
+        does not fit the time left, or its behaviours the memory budget."""
+        limit = min(200_000, max(5_000, 40_000_000 // max(1, n_states)))
+        terms = problem.max_constant + 2 + n_vars
+        work = min(limit, 2 * terms * terms) * n_states
+        need = work / CONDITION_CELLS_PER_SECOND
+        nbytes = min(limit, 2 * terms * terms) * (n_states // 8 + 64) + terms * n_states * 8
+        if need > clock.remaining():
+            raise BudgetExhausted(f"enumerating conditions over {n_states} program states would take about "
+                                  f"{need:.0f} s ({max(0.0, clock.remaining()):.1f} s left)")
+        if nbytes > (self._memory_mb << 20):
+            raise BudgetExhausted(f"enumerating conditions over {n_states} program states needs about "
+                                  f"{nbytes >> 20} MB (memory budget {self._memory_mb} MB)")
 
     def _program(self, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
         """A small program choosing an allowed move in every state the strategy reaches.
@@ -285,6 +289,7 @@ class _Run:
         depths are sought with tree SAT (each attempt bounded by the effort left),
         keeping the best program the checker accepts.
         """
+        self._conditions_fit(len(strategy.allowed), len(arena.variables()), arena.problem, clock)
         states = sorted(strategy.allowed)
         allowed = [strategy.allowed[s] for s in states]
         inputs = [arena.inputs(r, oc) for r, oc in states]

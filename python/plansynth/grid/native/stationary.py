@@ -168,12 +168,12 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
         if key[0] == "r" and v in truth:
             _, t, r, oc = key
             reach[t][oc] = reach[t].get(oc, 0) | (1 << r)
-    allowed = _allowed(arena, reach)
+    allowed = _allowed(arena, reach, clock)
     if label is None:
         # Keep only what the allowed moves actually reach (the solver may set reach
         # variables it did not need), which leaves more freedom per state.
-        reach = _closure(arena, allowed)
-        allowed = _allowed(arena, reach)
+        reach = _closure(arena, allowed, clock)
+        allowed = _allowed(arena, reach, clock)
         assert all(allowed.values()), "a SAT model must leave every reached state a move"
     final = {s: tuple(sorted(a)) for s, a in allowed.items()}
     return Strategy(final, tuple(reach), counters)
@@ -191,7 +191,10 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock
     below are its reference.
     """
     if arena._core is not None:
-        got = arena._core.consistent(arena.problem.width)
+        try:
+            got = arena._core.consistent(arena.problem.width, _left(clock))
+        except TimeoutError:
+            raise BudgetExhausted("reading a strategy off the game: out of time") from None
         if got is None:
             return None
         reach_rows, rows = got
@@ -281,11 +284,22 @@ def _moves_of(mask: int) -> tuple[int, ...]:
     return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
 
 
-def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[int]]:
+def _left(clock: Clock | None) -> float | None:
+    """Seconds left on ``clock`` for the compiled core (None: no limit)."""
+    if clock is None or clock.remaining() == float("inf"):
+        return None
+    return max(0.0, clock.remaining())
+
+
+def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None = None) -> dict[State, set[int]]:
     """Moves of each reached state that win and stay inside ``reach`` at every time
     (compiled when the arena is; the loops below are the reference)."""
     if arena._core is not None:
-        return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in arena._core.allowed(_layers_out(arena, reach))}
+        try:
+            rows = arena._core.allowed(_layers_out(arena, reach), _left(clock))
+        except TimeoutError:
+            raise BudgetExhausted("the allowed moves of the strategy: out of time") from None
+        return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in rows}
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     allowed: dict[State, set[int]] = {}
@@ -308,11 +322,14 @@ def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[in
     return allowed
 
 
-def _closure(arena: Arena, allowed: dict[State, set[int]]) -> list[dict[Config, int]]:
+def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None = None) -> list[dict[Config, int]]:
     """States reached from the start when every state may play any of its allowed moves."""
     if arena._core is not None:
         rows = [(r, list(oc), sum(1 << k for k in ks)) for (r, oc), ks in allowed.items()]
-        return _layers_in(arena._core.closure(rows))
+        try:
+            return _layers_in(arena._core.closure(rows, _left(clock)))
+        except TimeoutError:
+            raise BudgetExhausted("the states the strategy reaches: out of time") from None
     oc0 = next(iter(arena.layers[0]))
     out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
     for t in range(arena.steps):
