@@ -36,6 +36,10 @@ from plansynth.grid.semantics import CompiledSemantics, obstacle_move, robot_mov
 Config = tuple[int, ...]  # cell indices of the read obstacles
 
 
+#: Seconds kept back, beyond the per-object estimate, for leaving a compiled game.
+COMPILED_FREE_SECONDS = 0.1
+
+
 class BudgetExhausted(Exception):
     """Raised inside the engine when the clock runs out; the backend answers unknown."""
 
@@ -141,10 +145,19 @@ class Arena:
                                + ": out of time")
 
     def _seconds(self, clock: Clock | None) -> float | None:
+        """Seconds the compiled core may use: what is left, less the time that freeing
+        the game (and the layers read from it) will take once the answer is unknown."""
         if clock is None:
             return None
         left = clock.remaining()
-        return None if left == float("inf") else max(0.0, left)
+        return None if left == float("inf") else max(0.0, left - self.free_reserve())
+
+    def free_reserve(self) -> float:
+        """Seconds kept back at the end of a budget for releasing the game."""
+        if self._core is None:
+            return 0.0
+        held = sum(self._core.layer_sizes()) + (sum(len(x) for x in self._fwd) if self._fwd is not None else 0)
+        return COMPILED_FREE_SECONDS + 2 * self.FREE_SECONDS_PER_OBJECT * held
 
     def _explore_compiled(self, clock: Clock | None, max_states: int | None) -> None:
         why = self._core.explore(self._seconds(clock), self.memory_bytes, max_states)

@@ -53,8 +53,7 @@ def winning_forward(arena: Arena, clock: Clock | None = None) -> list[dict[Confi
     if arena._core is not None and arena._fwd is not None:
         return arena._fwd
     if arena._core is not None:
-        left = None if clock is None or clock.remaining() == float("inf") else max(0.0, clock.remaining())
-        layers, why = arena._core.winning_forward(left, arena.memory_bytes)
+        layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
         if why is not None:
             raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
         arena._fwd = [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in layers]
@@ -192,7 +191,7 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock
     """
     if arena._core is not None:
         try:
-            got = arena._core.consistent(arena.problem.width, _left(clock))
+            got = arena._core.consistent(arena.problem.width, _left(clock, arena))
         except TimeoutError:
             raise BudgetExhausted("reading a strategy off the game: out of time") from None
         if got is None:
@@ -284,11 +283,12 @@ def _moves_of(mask: int) -> tuple[int, ...]:
     return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
 
 
-def _left(clock: Clock | None) -> float | None:
-    """Seconds left on ``clock`` for the compiled core (None: no limit)."""
+def _left(clock: Clock | None, arena: Arena) -> float | None:
+    """Seconds left on ``clock`` for the compiled core, less the time to free the game
+    (None: no limit)."""
     if clock is None or clock.remaining() == float("inf"):
         return None
-    return max(0.0, clock.remaining())
+    return max(0.0, clock.remaining() - arena.free_reserve())
 
 
 def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None = None) -> dict[State, set[int]]:
@@ -296,7 +296,7 @@ def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None =
     (compiled when the arena is; the loops below are the reference)."""
     if arena._core is not None:
         try:
-            rows = arena._core.allowed(_layers_out(arena, reach), _left(clock))
+            rows = arena._core.allowed(_layers_out(arena, reach), _left(clock, arena))
         except TimeoutError:
             raise BudgetExhausted("the allowed moves of the strategy: out of time") from None
         return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in rows}
@@ -327,7 +327,7 @@ def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None =
     if arena._core is not None:
         rows = [(r, list(oc), sum(1 << k for k in ks)) for (r, oc), ks in allowed.items()]
         try:
-            return _layers_in(arena._core.closure(rows, _left(clock)))
+            return _layers_in(arena._core.closure(rows, _left(clock, arena)))
         except TimeoutError:
             raise BudgetExhausted("the states the strategy reaches: out of time") from None
     oc0 = next(iter(arena.layers[0]))
