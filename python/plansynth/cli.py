@@ -95,8 +95,10 @@ def version() -> None:
 
 
 def main(args: Any = None) -> None:
+    from plansynth.cli_support import mark_process_start
     from plansynth.procs import terminate_as_interrupt
 
+    mark_process_start()  # --timeout counts from the process's start (grid solve)
     terminate_as_interrupt()  # SIGTERM unwinds like Ctrl-C: solver children are killed
     app(args)
 

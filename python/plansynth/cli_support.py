@@ -18,7 +18,9 @@ BadParameter: expected a finite number of seconds > 0, got nan
 from __future__ import annotations
 
 import math
+import os
 import sys
+import time
 from collections.abc import Sequence
 from typing import Any
 
@@ -52,6 +54,33 @@ def fail(err: Any, error: Exception | str) -> typer.Exit:
 
     err.print(f"[bold red]error:[/bold red] {escape(str(error))}", highlight=False)
     return typer.Exit(EXIT_BAD_INPUT)
+
+
+#: ``time.monotonic()`` when this process began, set by :func:`mark_process_start`
+#: (the ``plansynth`` console script calls it first); None in-process (tests, the API).
+_STARTED: float | None = None
+
+
+def mark_process_start() -> None:
+    """Remember when this process began (from ``/proc`` on Linux, else now), so that a
+    command's ``--timeout`` covers the interpreter's start-up too: ``plansynth grid
+    solve P --timeout 10`` answers within 10 s of being started, not of its imports."""
+    global _STARTED
+    now = time.monotonic()
+    try:
+        with open("/proc/self/stat") as f:
+            after_name = f.read().rsplit(")", 1)[1].split()
+        with open("/proc/uptime") as f:
+            uptime = float(f.read().split()[0])
+        age = max(0.0, uptime - int(after_name[19]) / os.sysconf("SC_CLK_TCK"))  # field 22: starttime
+    except (OSError, ValueError, IndexError):
+        age = 0.0
+    _STARTED = now - min(age, 60.0)
+
+
+def seconds_since_start() -> float:
+    """Seconds since :func:`mark_process_start`'s process began (0 when not marked)."""
+    return 0.0 if _STARTED is None else max(0.0, time.monotonic() - _STARTED)
 
 
 class OneLineErrorsGroup(TyperGroup):

@@ -22,7 +22,7 @@ __all__ = ["jsonable"]
 
 def jsonable(value: Any) -> Any:
     """``value`` with plain JSON types only: dictionaries (keys as strings) and lists,
-    enums as their values, numpy scalars as Python numbers, paths as strings; anything
+    enums as their values, options values as their ``to_dict()``, numpy scalars as Python numbers, paths as strings; anything
     else as its ``repr``."""
     if isinstance(value, enum.Enum):
         return value.value
@@ -30,6 +30,8 @@ def jsonable(value: Any) -> Any:
         return value
     if isinstance(value, Path):
         return str(value)
+    if hasattr(value, "to_dict") and callable(value.to_dict):  # an options value (NativeOptions)
+        return jsonable(value.to_dict())
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -3,6 +3,7 @@
 //! This crate knows nothing of Python (rustworkx-core's rule): plain data in, plain
 //! data out. The PyO3 binding lives in `plansynth-py`.
 
+pub mod arena;
 pub mod conditions;
 pub mod game;
 pub mod tree;

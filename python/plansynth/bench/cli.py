@@ -144,8 +144,19 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
                                 f"that family {f!r} has, got {values!r}")
     if kind == "reach" and "milp" in solvers:
         console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
+    solver_options = _options(options or [])
+    for name, kv in solver_options.items():  # an option for no solver of the sweep is an error, not dropped
+        if name not in solvers:
+            _refuse("--option", f"{name!r} is not one of --solvers ({', '.join(solvers)})")
+        if kind == "grid" and name == "native":
+            from plansynth.grid.native.options import InvalidOption, NativeOptions
+
+            try:
+                NativeOptions.parse([f"{k}={v}" for k, v in kv.items()])
+            except InvalidOption as exc:
+                _refuse("--option", str(exc))
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
-                       options=_options(options or []))
+                       options=solver_options)
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
     try:
         counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True, retry=_split(retry))

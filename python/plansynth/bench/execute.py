@@ -217,7 +217,12 @@ def _grid_in_process(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
 
     problem = inst.build()
     budget = Budget(seconds=float(task["timeout"]))
-    res = solve(problem, solver=task["solver"], budget=budget, **dict(task.get("options") or {}))
+    options = dict(task.get("options") or {})
+    if task["solver"] == "native":  # one NativeOptions value, built from the sweep's -O native:KEY=VALUE
+        from plansynth.grid.native.options import NativeOptions
+
+        options = {"options": NativeOptions.parse([f"{k}={v}" for k, v in options.items()])}
+    res = solve(problem, solver=task["solver"], budget=budget, **options)
     counters: dict[str, Any] = {}
     for a in res.attempts:
         for k, v in a.counters.items():

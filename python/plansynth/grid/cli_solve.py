@@ -14,12 +14,24 @@ from rich.console import Console
 from rich.markup import escape
 
 from plansynth.budget import Budget
-from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, positive_seconds
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, positive_seconds, seconds_since_start
 from plansynth.errors import OutputUnwritable, PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import MAX_PROGRAM_NESTING, size, to_python
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome
 from plansynth.io import check_output_folder, check_output_path, write_output
+
+def _native_help() -> str:
+    from plansynth.grid.native.options import help_text
+
+    return help_text()
+
+
+_NATIVE_HELP = _native_help()
+
+#: Seconds of ``--timeout`` kept back for printing the answer and the interpreter's
+#: exit (0.4 s measured on a loaded 2-core machine).
+EXIT_RESERVE = 0.5
 
 #: Exit statuses of ``solve``.
 EXIT_REALIZABLE, EXIT_UNREALIZABLE = EXIT_YES, EXIT_NO
@@ -71,13 +83,16 @@ def _load(file: Path, steps: int | None, max_steps: int | None) -> GridProblem:
 
 
 def _solver_options(
-    solver: str, command: str | None, option: list[str], keep_sl: Path | None, minimize: bool = False
+    solver: str, command: str | None, option: list[str], keep_sl: Path | None, minimize: bool = False,
+    effort: float | None = None,
 ) -> dict[str, Any]:
+    """The backend's options, built once; an option that does not apply to ``solver``
+    is an error (exit 2), never dropped."""
     sygus = solver in ("cvc5", "external")
-    if minimize:
-        if solver != "native":
-            raise typer.BadParameter("--minimize needs --solver native (the only backend that proves minimal depth)", param_hint="--minimize")
-        option = [*option, "minimize=true"]
+    if minimize and solver != "native":
+        raise typer.BadParameter("--minimize needs --solver native (the only backend that proves minimal depth)", param_hint="--minimize")
+    if effort is not None and solver != "native":
+        raise typer.BadParameter("--effort needs --solver native", param_hint="--effort")
     if command is not None and solver != "external":
         raise typer.BadParameter("--command is for --solver external", param_hint="--command")
     if keep_sl is not None and not sygus:
@@ -85,6 +100,14 @@ def _solver_options(
     if option and solver == "external":
         raise typer.BadParameter("put the external solver's options in --command", param_hint="--option")
     kwargs: dict[str, Any] = {}
+    if solver == "native":
+        from plansynth.grid.native.options import NativeOptions
+
+        given: dict[str, Any] = {"minimize": True} if minimize else {}
+        if effort is not None:
+            given["effort"] = effort
+        kwargs["options"] = NativeOptions.parse(option, **given)  # InvalidOption: exit 2
+        return kwargs
     if solver == "external":
         kwargs["command"] = command
     if option:
@@ -117,12 +140,12 @@ def solve_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
     solver: str = typer.Option("native", "--solver", "-s", help="Backend: native, cvc5 or external."),
     command: Optional[str] = typer.Option(None, "--command", help='External SyGuS-IF v2 solver command; {file} is the .sl path, e.g. "cvc5 --lang=sygus2 {file}".'),
-    option: list[str] = typer.Option([], "--option", "-O", help="Solver option KEY=VALUE, repeatable (cvc5: its option names, e.g. sygus-enum=fast)."),
+    option: list[str] = typer.Option([], "--option", "-O", help="Solver option KEY=VALUE, repeatable (cvc5: its option names, e.g. sygus-enum=fast; native: " + _NATIVE_HELP + ")."),
     steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length (overrides the file)."),
     max_steps: Optional[int] = typer.Option(None, "--max-steps", min=1, max=MAX_STEPS, help="Search l = 1..N (overrides the file's steps/max_steps)."),
     depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D."),
     timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds for the whole search."),
-    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, max=1_000_000, help="Memory limit of a solver process, in MB."),
+    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, max=1_000_000, help="Memory limit of a solver process, in MB (native: of the joint game, default 4096)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
     minimize: bool = typer.Option(False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."),
@@ -139,16 +162,15 @@ def solve_command(
         if timeout is not None and timeout <= 0:
             raise typer.BadParameter("must be positive", param_hint="--timeout")
         problem = _load(file, steps, max_steps)
-        if effort is not None:
-            if solver != "native":
-                raise typer.BadParameter("--effort needs --solver native", param_hint="--effort")
-            option = [*option, f"effort={effort}"]
-        kwargs = _solver_options(solver, command, option, keep_sl, minimize)
+        kwargs = _solver_options(solver, command, option, keep_sl, minimize, effort)
         if out is not None:
             check_output_path(out)  # before solving: a result is never computed and then lost
         if keep_sl is not None:
             check_output_folder(keep_sl)
-        budget = Budget(seconds=timeout, memory_mb=memory_mb)
+        # the budget counts from the process's start: the answer comes within --timeout
+        # of running the command, start-up and loading included
+        left = None if timeout is None else max(timeout - seconds_since_start() - EXIT_RESERVE, 0.01)
+        budget = Budget(seconds=left, memory_mb=memory_mb)
         lengths = list(problem.path_lengths())
         with Progress(
             SpinnerColumn(),

@@ -14,6 +14,12 @@ configurations are the product of each read obstacle's end cells.
 Backward induction over this graph (:meth:`Arena.solve_game`) decides the game in which
 the controller may also see the time: a necessary condition for a controller program to
 exist (the paper's controllers see positions only, Section 3.1).
+
+The exploration, backward induction and the winning-forward layers run in the compiled
+core when it is built (``crates/plansynth-core/src/arena.rs``, same numbering, same
+order); the pure-Python methods here are its reference (``use_rust=False``), and a
+property test compares the two on random problems. The compiled game's memory limit is
+checked against the bytes its data structures hold (their capacities).
 """
 
 from __future__ import annotations
@@ -28,6 +34,10 @@ from plansynth.grid.problem import GridProblem
 from plansynth.grid.semantics import CompiledSemantics, obstacle_move, robot_move
 
 Config = tuple[int, ...]  # cell indices of the read obstacles
+
+
+#: Seconds kept back, beyond the per-object estimate, for leaving a compiled game.
+COMPILED_FREE_SECONDS = 0.1
 
 
 class BudgetExhausted(Exception):
@@ -62,33 +72,110 @@ class Arena:
     _succ_tuples: int = 0
     _wm: dict[tuple[int, Config], tuple[int, ...]] = field(default_factory=dict)
     memory_bytes: int | None = None
+    _core: object = None
+    _fwd: list | None = None  # the compiled game's winning-forward layers, once read
 
     # -- construction --------------------------------------------------------------
     @classmethod
-    def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True, memory_mb: int | None = None) -> "Arena":
+    def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True, memory_mb: int | None = None, use_rust: bool | None = None) -> "Arena":
         """Explore the states reachable from the start that can still reach the goal.
 
         Stops with :class:`BudgetExhausted` when the clock runs out (keeping the time that
         freeing the explored game will take), when more than ``max_states``
-        configurations are met, or when the game's estimated memory passes ``memory_mb``.
+        configurations are met, or when the game's memory passes ``memory_mb`` (measured
+        in the compiled core, estimated in the reference). ``use_rust``: None uses the
+        compiled core when built, False the pure-Python reference.
         """
         sem = CompiledSemantics(problem)
         robot = AgentGeometry.robot(problem)
-        abstract = [0] * steps
-        for i in cone.relevant:
-            if i not in read:
-                for t in range(steps):
-                    abstract[t] |= cone.danger[i][t]
+        if not read:
+            abstract = list(cone.blind_danger)
+        else:
+            abstract = [0] * steps
+            for i in cone.relevant:
+                if i not in read:
+                    dng = cone.obstacle_facts(i, clock)[1]
+                    for t in range(steps):
+                        abstract[t] |= dng[t]
         start = cell_mask(problem, problem.robot.start)
         goal = cell_mask(problem, problem.robot.goal)
-        live = robot_live(robot, start, goal, steps, tuple(abstract))
+        live = robot_live(robot, start, goal, steps, tuple(abstract), clock=clock)
         a = cls(problem, steps, tuple(read), tuple(abstract), sem, robot, live)
         a.memory_bytes = None if memory_mb is None else int(memory_mb) << 20
         a._ends = [_LazyCells(problem, i, ends=True) for i in read]
         a._obs_danger = [_LazyCells(problem, i, ends=False) for i in read]
-        if explore:
+        if explore and use_rust is not False and _compiled() is not None:
+            a._core = a._compiled_game(_compiled())
+            a._explore_compiled(clock, max_states)
+        elif explore:
             a._explore(clock, max_states)
         return a
+
+    def _compiled_game(self, core):
+        """The game's fixed data handed to ``arena.rs``: masks as bytes, moves as
+        cell-index deltas (``y * width + x``)."""
+        p, w = self.problem, self.problem.width
+        n = w * p.height
+        nbytes = (n + 7) // 8
+
+        def b(m: int) -> bytes:
+            return m.to_bytes(nbytes, "little")
+
+        def delta(o) -> int:
+            return o[1] * w + o[0]
+
+        robot = [(b(self.robot.valid[k]), b(self.robot.free[k]), delta(m.to), [delta(o) for o in m.offsets()])
+                 for k, m in enumerate(self.robot.moves)]
+        obstacles = []
+        for i in self.read:
+            g = AgentGeometry.obstacle(p, i)
+            obstacles.append([(b(g.valid[k]), delta(m.to), [delta(o) for o in m.offsets()]) for k, m in enumerate(g.moves)])
+        oc0 = [self.sem.index(p.obstacles[i].start) for i in self.read]
+        return core.Arena(n, self.steps, robot, obstacles, [b(d) for d in self.abstract_danger], [b(x) for x in self.live],
+                          self.sem.index(p.robot.start), self.sem.index(p.robot.goal), oc0)
+
+    def _stopped(self, why, doing: str) -> BudgetExhausted:
+        kind, step, configs, nbytes = why
+        if kind == "memory":
+            return BudgetExhausted(f"{doing} at step {step}: the game outgrows the memory budget of "
+                                   f"{(self.memory_bytes or 0) >> 20} MB ({nbytes >> 20} MB held, {configs} obstacle configurations)")
+        if kind == "configs":
+            return BudgetExhausted(f"more than {configs - 1} obstacle configurations")
+        return BudgetExhausted(f"{doing} at step {step} of the game" + (f" ({configs} obstacle configurations)" if configs else "")
+                               + ": out of time")
+
+    def _seconds(self, clock: Clock | None) -> float | None:
+        """Seconds the compiled core may use: what is left, less the time that freeing
+        the game (and the layers read from it) will take once the answer is unknown."""
+        if clock is None:
+            return None
+        left = clock.remaining()
+        return None if left == float("inf") else max(0.0, left - self.free_reserve())
+
+    def free_reserve(self) -> float:
+        """Seconds kept back at the end of a budget for releasing the game."""
+        if self._core is None:
+            return 0.0
+        held = sum(self._core.layer_sizes()) + (sum(len(x) for x in self._fwd) if self._fwd is not None else 0)
+        return COMPILED_FREE_SECONDS + 2 * self.FREE_SECONDS_PER_OBJECT * held
+
+    def _explore_compiled(self, clock: Clock | None, max_states: int | None) -> None:
+        why = self._core.explore(self._seconds(clock), self.memory_bytes, max_states)
+        if why is not None:
+            raise self._stopped(why, "exploring")
+        self.layers = _CompiledLayers(self._core, False)
+
+    def config_count(self) -> int:
+        """Obstacle configurations explored, summed over times."""
+        if self._core is not None:
+            return sum(self._core.layer_sizes())
+        return sum(len(x) for x in self.layers)
+
+    def start_alive(self) -> bool:
+        """Whether the start state is in the explored game (it can reach the goal)."""
+        if self._core is not None:
+            return self._core.layer_sizes()[0] > 0
+        return bool(self.layers[0])
 
     #: Rough bytes per explored configuration and per cached successor tuple (CPython),
     #: and seconds to free one of them: the memory limit and the time reserved at the end
@@ -143,7 +230,10 @@ class Arena:
     def successors(self, oc: Config) -> tuple[Config, ...]:
         """Obstacle configurations one step after ``oc`` (every joint obstacle move)."""
         s = self._succ.get(oc)
-        if s is None:
+        if s is None and self._core is not None:
+            s = tuple(map(tuple, self._core.successors(list(oc))))
+            self._succ[oc] = s
+        elif s is None:
             s = tuple(itertools.product(*(self._ends[j][c] for j, c in enumerate(oc))))
             self._succ[oc] = s
             self._succ_tuples += len(s)
@@ -189,6 +279,10 @@ class Arena:
         got = self._wm.get(key)
         if got is not None:
             return got
+        if self._core is not None:
+            got = tuple(int.from_bytes(m, "little") for m in self._core.winning_moves(t, list(oc)))
+            self._wm[key] = got
+            return got
         target = self._target(t, oc)
         safe = self.safe_sources(t, oc)
         r = self.layers[t].get(oc, 0)
@@ -208,6 +302,13 @@ class Arena:
     # -- the time-dependent game ---------------------------------------------------
     def solve_game(self, clock: Clock | None = None) -> bool:
         """Backward induction; True iff the robot wins when it may also see the time."""
+        if self._core is not None:
+            self._wm, self._fwd = {}, None
+            won, why = self._core.solve_game(self._seconds(clock), self.memory_bytes)
+            if why is not None:
+                raise self._stopped(why, "solving the game")
+            self.win = _CompiledLayers(self._core, True)
+            return won
         goal = cell_mask(self.problem, self.problem.robot.goal)
         self._wm = {}
         self.win = [dict() for _ in range(self.steps + 1)]
@@ -227,6 +328,8 @@ class Arena:
         return oc0 is not None and bool(self.win[0].get(oc0, 0) & cell_mask(self.problem, self.problem.robot.start))
 
     def state_count(self) -> int:
+        if self._core is not None:
+            return self._core.state_count()
         return sum(bin(r).count("1") for layer in self.layers for r in layer.values())
 
     def inputs(self, r: int, oc: Config) -> tuple[int, ...]:
@@ -244,6 +347,40 @@ class Arena:
 
     def cells_of(self, mask: int) -> list[int]:
         return bits(mask)
+
+
+def _compiled():
+    """The compiled core's module when it has the arena, else None."""
+    from plansynth.grid.native import fast
+
+    core = fast._core
+    return core if fast.available() and hasattr(core, "Arena") else None
+
+
+class _CompiledLayers:
+    """The layers (or winning sets) of a compiled game, read as the reference's list of
+    dicts ``{configuration: robot-cell mask}``; each layer is fetched on first use."""
+
+    def __init__(self, core, win: bool) -> None:
+        self.core, self.is_win = core, win
+        self.n = len(core.layer_sizes())
+        self.cache: dict[int, dict[Config, int]] = {}
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __getitem__(self, t: int) -> dict[Config, int]:
+        if t < 0:
+            t += self.n
+        if not 0 <= t < self.n:
+            raise IndexError(t)
+        got = self.cache.get(t)
+        if got is None:
+            got = self.cache[t] = {tuple(oc): int.from_bytes(m, "little") for oc, m in self.core.layer(t, self.is_win)}
+        return got
+
+    def __iter__(self):
+        return (self[t] for t in range(self.n))
 
 
 def _or(masks) -> int:

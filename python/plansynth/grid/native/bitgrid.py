@@ -90,16 +90,18 @@ class AgentGeometry:
         full = grid_mask(problem)
         ok = full
         for dx, dy in move.offsets():
-            # sources c with c + (dx, dy) on the grid
-            xs = [x for x in range(w) if 0 <= x + dx < w]
-            row = 0
-            for x in xs:
-                row |= 1 << x
-            m = 0
-            for y in range(h):
-                if 0 <= y + dy < h:
-                    m |= row << (y * w)
-            ok &= m
+            # sources c with c + (dx, dy) on the grid: columns max(0, -dx)..min(w, w - dx)
+            # of rows max(0, -dy)..min(h, h - dy), built as a row pattern times a repunit
+            # (one bit per row): two big-integer operations instead of one per row
+            x0, x1 = max(0, -dx), min(w, w - dx)
+            y0, y1 = max(0, -dy), min(h, h - dy)
+            if x0 >= x1 or y0 >= y1:
+                ok = 0
+                continue
+            row = ((1 << (x1 - x0)) - 1) << x0
+            rows = y1 - y0
+            repunit = ((1 << (w * rows)) - 1) // ((1 << w) - 1)
+            ok &= (row * repunit) << (y0 * w)
             if blocked:
                 ok &= ~shift(blocked, (-dx, -dy), w) & full
         return ok

@@ -275,6 +275,52 @@ class GameGraph:
         return self._compiled
 
 
+class ArenaCheck:
+    """The program check of :class:`GameGraph`, run on the compiled game itself
+    (``arena.rs``, ``Arena::check_program``) without building the graph: the program is
+    followed from the start breadth-first, and each pair it reaches must play a winning
+    move there. On large games the graph has millions of pairs times moves times
+    obstacle replies, while a program reaches only the pairs of its own moves.
+    :class:`GameGraph` (and its :meth:`GameGraph.check_reference`) is the reference;
+    a property test compares the two.
+    """
+
+    def __init__(self, arena: Arena, clock: Clock | None = None) -> None:
+        from plansynth.grid.native.stationary import winning_forward
+
+        self.arena, self.clock = arena, clock
+        self.core = arena._core
+        self.n_moves = len(arena.robot.moves)
+        self.variables = arena.variables()
+        winning_forward(arena, clock)  # the pair and state counts below
+        self.n_pairs, self.n_states = self.core.forward_sizes()
+        self.checks = 0
+
+    def check(self, program: Term):
+        """None when ``program`` wins; else the first pair ``(t, robot cell, obstacle
+        cells)`` (breadth-first) where it plays a move that does not win."""
+        return self.check_ops(program_ops(program, self.variables))
+
+    def check_ops(self, ops: list[tuple[int, int, int, int]]):
+        self.checks += 1
+        left = None if self.clock is None else self.clock.remaining()
+        if left is not None and left <= 0:
+            raise BudgetExhausted("checking programs on the game: out of time")
+        try:
+            got = self.core.check(ops, self.arena.problem.width, None if left is None or left == float("inf") else left)
+        except TimeoutError:
+            raise BudgetExhausted("checking programs on the game: out of time") from None
+        return None if got is None else (got[0], got[1], tuple(got[2]))
+
+
+def program_checker(arena: Arena, clock: Clock | None = None, use_rust: bool | None = None):
+    """The program check for ``arena`` (solved and won): :class:`ArenaCheck` on a
+    compiled game, else :meth:`GameGraph.from_arena`."""
+    if arena._core is not None and use_rust is not False:
+        return ArenaCheck(arena, clock)
+    return GameGraph.from_arena(arena, clock, use_rust)
+
+
 def ops_program(ops: list[tuple[int, int, int, int]], variables: tuple[str, ...]) -> Term:
     """The inverse of :func:`program_ops`: the term of the root (the last node)."""
     names = {0: None, 1: None, 2: "+", 3: "-", 4: "<=", 5: "=", 6: "not", 7: "and", 8: "or", 9: "ite"}
@@ -290,7 +336,7 @@ def ops_program(ops: list[tuple[int, int, int, int]], variables: tuple[str, ...]
     return built[-1]
 
 
-def simplify(program: Term, graph: GameGraph, deadline: float | None = None) -> Term:
+def simplify(program: Term, graph: "GameGraph | ArenaCheck", deadline: float | None = None) -> Term:
     """Shrink ``program`` top-down while the checker accepts it: each ``ite`` node is
     replaced by one of its branches or by a move when the whole program still wins.
     Stops at ``deadline`` (a ``time.perf_counter()`` value), keeping the best so far.
@@ -342,4 +388,4 @@ def _compact(ops: list[tuple[int, int, int, int]]) -> list[tuple[int, int, int, 
     return out
 
 
-__all__ = ["GameGraph", "program_ops", "ops_program", "simplify"]
+__all__ = ["ArenaCheck", "GameGraph", "program_checker", "program_ops", "ops_program", "simplify"]

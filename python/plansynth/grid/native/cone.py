@@ -21,7 +21,7 @@ because obstacles are independent of everything else.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from plansynth.grid.native.bitgrid import AgentGeometry, cell_mask
 from plansynth.grid.problem import GridProblem
@@ -35,30 +35,94 @@ class Cone:
     ``zone[t]`` (t = 0..l-1): cells the robot may sweep in step t on such a path.
     ``positions[i][t]``: cells obstacle i may occupy at time t (t = 0..l).
     ``danger[i][t]``: cells obstacle i may sweep in step t.
+    ``blind_danger[t]``: the union of ``danger[i][t]`` over the relevant obstacles
+    (what a controller that reads no obstacle must avoid).
     ``relevant``: obstacles whose danger meets the robot's zone at some step.
     ``parkable[i]``: obstacle i has a move that leaves it on its start cell, so the
     adversary can keep it still forever (its coordinates then carry no information).
+
+    ``positions`` and ``danger`` are computed per obstacle when first read (and kept):
+    on a 1000 x 1000 grid with l = 1000 each is a thousand masks of a million bits, so
+    the cone keeps only ``blind_danger`` of its own.
     """
 
     steps: int
     live: tuple[int, ...]
     zone: tuple[int, ...]
-    positions: tuple[tuple[int, ...], ...]
-    danger: tuple[tuple[int, ...], ...]
     relevant: tuple[int, ...]
     parkable: tuple[bool, ...]
+    blind_danger: tuple[int, ...]
+    problem: GridProblem = field(repr=False, compare=False, default=None)  # type: ignore[assignment]
+    _facts: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def goal_reachable(self) -> bool:
         """False when no obstacle-free path of exactly l steps reaches the goal."""
         return self.live[0] != 0
 
+    def obstacle_facts(self, i: int, clock=None) -> tuple[tuple[int, ...], tuple[int, ...]]:
+        """``(positions[i], danger[i])``, computed once."""
+        got = self._facts.get(i)
+        if got is None:
+            got = self._facts[i] = obstacle_reach(self.problem, i, self.steps, clock)
+        return got
 
-def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: tuple[int, ...] | None = None) -> tuple[int, ...]:
+    @property
+    def positions(self) -> "_PerObstacle":
+        return _PerObstacle(self, 0)
+
+    @property
+    def danger(self) -> "_PerObstacle":
+        return _PerObstacle(self, 1)
+
+
+class _PerObstacle:
+    """``cone.positions[i]`` / ``cone.danger[i]``, through :meth:`Cone.obstacle_facts`."""
+
+    def __init__(self, cone: Cone, which: int) -> None:
+        self.cone, self.which = cone, which
+
+    def __getitem__(self, i: int) -> tuple[int, ...]:
+        return self.cone.obstacle_facts(i)[self.which]
+
+    def __len__(self) -> int:
+        return len(self.cone.problem.obstacles)
+
+
+def obstacle_reach(problem: GridProblem, i: int, steps: int, clock=None) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """Cells obstacle i may occupy at each time t = 0..l, and sweep in each step."""
+    g = AgentGeometry.obstacle(problem, i)
+    pos = [cell_mask(problem, problem.obstacles[i].start)]
+    dng = []
+    for t in range(steps):
+        _tick(clock, f"computing the cells obstacle {i} may reach (cone of influence)", t)
+        dng.append(g.sweep_all(pos[-1]))
+        pos.append(g.post(pos[-1]))
+    return tuple(pos), tuple(dng)
+
+
+#: Grids up to this many cells keep every obstacle's reachable sets (cheap there, and
+#: read again by the clock label and tests); larger ones recompute them when read.
+SMALL_GRID_CELLS = 10_000
+
+
+def _tick(clock, what: str, t: int) -> None:
+    """Stop with the engine's BudgetExhausted when ``clock`` has run out (on a
+    1000 x 1000 grid one step of these loops is a few big-integer operations of a
+    million bits, and there are up to 1000 steps: the clock is read every step)."""
+    if clock is not None and clock.exhausted():
+        from plansynth.grid.native.arena import BudgetExhausted
+
+        raise BudgetExhausted(f"{what} at step {t}: out of time")
+
+
+def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: tuple[int, ...] | None = None,
+               clock=None) -> tuple[int, ...]:
     """Robot cells at each time t on a path start -> goal of exactly ``steps`` steps.
 
     With ``danger`` (a mask per step), a move that sweeps ``danger[t]`` in step t is
-    forbidden; this is the obstacle-blind robot's reachable graph.
+    forbidden; this is the obstacle-blind robot's reachable graph. Raises the engine's
+    ``BudgetExhausted`` when ``clock`` runs out.
     """
     n = len(robot.moves)
 
@@ -67,6 +131,7 @@ def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: 
 
     fwd = [start]
     for t in range(steps):
+        _tick(clock, "computing the robot's reachable cells", t)
         nxt = 0
         for k in range(n):
             nxt |= robot.image(fwd[-1] & safe(t, k), k)
@@ -74,6 +139,7 @@ def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: 
     back = [0] * (steps + 1)
     back[steps] = goal & fwd[steps]
     for t in range(steps - 1, -1, -1):
+        _tick(clock, "computing the cells from which the robot reaches the goal", t)
         m = 0
         for k in range(n):
             m |= robot.pre(back[t + 1], k) & safe(t, k)
@@ -81,30 +147,33 @@ def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: 
     return tuple(back)
 
 
-def influence_cone(problem: GridProblem, steps: int) -> Cone:
-    """Compute :class:`Cone` for ``problem`` at exactly ``steps`` steps."""
+def influence_cone(problem: GridProblem, steps: int, clock=None) -> Cone:
+    """Compute :class:`Cone` for ``problem`` at exactly ``steps`` steps (the engine's
+    ``BudgetExhausted`` when ``clock`` runs out)."""
     robot = AgentGeometry.robot(problem)
     start = cell_mask(problem, problem.robot.start)
     goal = cell_mask(problem, problem.robot.goal)
-    live = robot_live(robot, start, goal, steps)
+    live = robot_live(robot, start, goal, steps, clock=clock)
     zone = []
     for t in range(steps):
+        _tick(clock, "computing the robot's zone (cone of influence)", t)
         z = 0
         for k in range(len(robot.moves)):
             z |= robot.sweep(live[t] & robot.pre(live[t + 1], k), k)
         zone.append(z)
-    positions, danger, relevant, parkable = [], [], [], []
-    for i, o in enumerate(problem.obstacles):
+    relevant, parkable = [], []
+    blind = [0] * steps
+    small = problem.width * problem.height <= SMALL_GRID_CELLS
+    facts = {}
+    for i in range(len(problem.obstacles)):
         g = AgentGeometry.obstacle(problem, i)
-        pos = [cell_mask(problem, o.start)]
-        dng = []
-        for t in range(steps):
-            dng.append(g.sweep_all(pos[-1]))
-            pos.append(g.post(pos[-1]))
-        positions.append(tuple(pos))
-        danger.append(tuple(dng))
+        pos, dng = obstacle_reach(problem, i, steps, clock)
+        if small:
+            facts[i] = (pos, dng)
         if any(dng[t] & zone[t] for t in range(steps)):
             relevant.append(i)
+            for t in range(steps):
+                blind[t] |= dng[t]
         s = pos[0]
         parkable.append(any(g.image(s, k) == s for k in range(len(g.moves))))
-    return Cone(steps, live, tuple(zone), tuple(positions), tuple(danger), tuple(relevant), tuple(parkable))
+    return Cone(steps, live, tuple(zone), tuple(relevant), tuple(parkable), tuple(blind), problem, facts)

@@ -24,15 +24,16 @@ exact when each one can stay on its start cell; otherwise an ``unrealizable`` fr
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 from plansynth.budget import Budget, Clock
 from plansynth.grid.native.arena import Arena, BudgetExhausted
 from plansynth.grid.native.bitgrid import bits, cell_mask
-from plansynth.grid.native.check import GameGraph, simplify
+from plansynth.grid.native.check import GameGraph, program_checker, simplify
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
+from plansynth.grid.native.options import CONDITION_DEPTH, MAX_TREE_DEPTH, InvalidOption, NativeOptions
 from plansynth.grid.native.stationary import (
     ConflictLimit,
     Strategy,
@@ -54,14 +55,14 @@ from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term, compile_program, depth
 from plansynth.grid.result import GridStatus, LengthOutcome
 
-#: Conditions are enumerated up to this depth by default (programs may be deeper).
-CONDITION_DEPTH = 4
-#: Largest program depth the tree SAT tries before the greedy tree takes over.
-MAX_TREE_DEPTH = 9
 #: Memory the joint game may use when the budget names none (MB). The game is explored
 #: until it would outgrow this (or the budget's ``memory_mb``) or the time runs out;
 #: ``max_configs`` adds an explicit cap on obstacle configurations.
 DEFAULT_MEMORY_MB = 4096
+#: Behaviour cells (condition x program state) the compiled condition enumeration
+#: computes per second, conservatively (2.6e8 measured on a loaded 2-core machine): the
+#: enumeration is refused when its estimate does not fit the time left.
+CONDITION_CELLS_PER_SECOND = 1e8
 #: Default seconds spent making the first program smaller (answer-first mode).
 DEFAULT_EFFORT = 0.3
 
@@ -79,37 +80,38 @@ class Refutation:
     detail: str = ""
 
 
-@dataclass
 class Engine:
-    """Options of the native engine (the backend's options).
+    """The native engine: maps a problem, a path length and a budget to a
+    :class:`~plansynth.grid.result.LengthOutcome`. Its options are one frozen
+    :class:`~plansynth.grid.native.options.NativeOptions` (or its fields as keywords);
+    what a run did (counters, phase times) is in the outcome, never on the engine.
 
     By default the engine answers first: the greedy decision tree over the enumerated
     conditions, checked on the game graph and simplified against it
     (:func:`~plansynth.grid.native.check.simplify`), is a correct program at once; then
     at most ``effort`` seconds (default :data:`DEFAULT_EFFORT` or 10% of the budget,
     whichever is smaller) go to making it smaller with tree SAT at smaller depths,
-    keeping the best verified program. ``minimize`` instead proves the smallest depth. The counters say
-    which (``depth_minimal``: ``proved`` or ``not proved``) and time each phase
-    (``phase_seconds``).
+    keeping the best verified program. ``minimize`` instead proves the smallest depth.
+    The counters say which (``depth_minimal``: ``proved`` or ``not proved``) and time
+    each phase (``phase_seconds``).
     """
 
-    condition_depth: int = CONDITION_DEPTH
-    max_tree_depth: int = MAX_TREE_DEPTH
-    max_configs: int | None = None
-    minimize: bool = False
-    use_rust: bool | None = None
-    improve: bool = True
-    quick: bool = True
-    conflicts: int = 5_000
-    attempt_seconds: float | None = None
-    improve_states: int = 1000
-    exact_states: int = 150
-    improve_seconds: float = 5.0
-    tree_conditions: int = 400
-    max_clauses: int = 3_000_000
-    effort: float | None = None
-    simplify: bool = True
-    counters: dict[str, Any] = field(default_factory=dict)
+    def __init__(self, options: NativeOptions | None = None, **values: Any) -> None:
+        if options is not None and values:
+            raise InvalidOption("give the native options as one NativeOptions or as keywords, not both")
+        self.options = options if options is not None else NativeOptions.parse(**values)
+
+    def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+        """Decide length ``steps`` within ``budget`` (a fresh run: nothing is kept)."""
+        return _Run(self.options).solve_length(problem, steps, budget, depth_bound=depth_bound)
+
+
+class _Run:
+    """One solve of one length: the options (read only) and the counters of this run."""
+
+    def __init__(self, options: NativeOptions) -> None:
+        self.o = options
+        self.counters: dict[str, Any] = {}
 
     # -- the entry point -------------------------------------------------------------
     def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
@@ -146,36 +148,36 @@ class Engine:
 
     def _effort(self, clock: Clock) -> float:
         """Seconds the answer-first mode may spend improving a program."""
-        if self.effort is not None:
-            want = float(self.effort)
+        if self.o.effort is not None:
+            want = float(self.o.effort)
         else:
             b = self._budget_seconds
             want = DEFAULT_EFFORT if b is None else min(DEFAULT_EFFORT, 0.1 * b)
         return max(0.0, min(want, clock.remaining() - 0.05))
 
     def _solve(self, problem: GridProblem, steps: int, clock: Clock, depth_bound: int | None):
-        cone = influence_cone(problem, steps)
+        cone = influence_cone(problem, steps, clock)
         self.counters["relevant_obstacles"] = len(cone.relevant)
         self.counters["dropped_obstacles"] = len(problem.obstacles) - len(cone.relevant)
         if not cone.goal_reachable:
             ref = Refutation("goal", steps, detail=f"the goal cannot be reached in exactly {steps} steps even without obstacles")
             return GridStatus.UNREALIZABLE, None, ref.detail, ref
-        exact_bound = self.minimize or depth_bound is not None
+        exact_bound = self.o.minimize or depth_bound is not None
 
         # Stage 2: a controller that reads no obstacle.
-        blind = Arena.build(problem, steps, cone, (), clock)
+        blind = Arena.build(problem, steps, cone, (), clock, use_rust=self.o.use_rust)
         blind_program = None
         if blind.layers[0] and blind.solve_game(clock):
-            strategy = stationary_strategy(blind, clock, quick=self.quick)
+            strategy = stationary_strategy(blind, clock, quick=self.o.quick)
             self._phase("blind")
             if strategy is not None:
                 self.counters["stage"] = "blind"
                 program = self._program(blind, strategy, clock, depth_bound)
                 if program is not None and not exact_bound:
                     return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
-                if program is not None and depth_bound is not None and not self.minimize and depth(program) <= depth_bound:
+                if program is not None and depth_bound is not None and not self.o.minimize and depth(program) <= depth_bound:
                     return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
-                if self.minimize:
+                if self.o.minimize:
                     blind_program = self._blind_minimal(problem, blind, clock, program)
                     if blind_program is not None and depth(blind_program) <= 4:
                         # Depth 1 is a constant move, which reads nothing: the blind
@@ -187,10 +189,11 @@ class Engine:
         # Stages 3-4: the joint game over the relevant obstacles.
         try:
             self._phase("blind")
-            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.max_configs, memory_mb=self._memory_mb)
-            self.counters["configurations"] = sum(len(x) for x in arena.layers)
+            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.o.max_configs, memory_mb=self._memory_mb,
+                                use_rust=self.o.use_rust)
+            self.counters["configurations"] = arena.config_count()
             self.counters["states"] = arena.state_count()
-            won = bool(arena.layers[0]) and arena.solve_game(clock)
+            won = arena.start_alive() and arena.solve_game(clock)
             self._phase("game")
             if not won:
                 ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
@@ -205,7 +208,7 @@ class Engine:
             return GridStatus.REALIZABLE, blind_program, (
                 f"obstacle-blind controller of depth {depth(blind_program)}; smaller programs reading obstacles "
                 f"not excluded ({exc})"), None
-        strategy = stationary_strategy(arena, clock, quick=self.quick)
+        strategy = stationary_strategy(arena, clock, quick=self.o.quick)
         self._phase("stationary")
         if strategy is None:
             return self._stationary_refuted(problem, arena, cone, clock)
@@ -217,7 +220,7 @@ class Engine:
 
     def _blind_minimal(self, problem: GridProblem, blind: Arena, clock: Clock, program: Term | None) -> Term | None:
         """The smallest obstacle-blind program (exact over blind programs when it ends)."""
-        top = depth(program) if program is not None else self.max_tree_depth
+        top = depth(program) if program is not None else self.o.max_tree_depth
         try:
             found, _, _ = minimal_program(blind, clock, top, self, problem)
         except BudgetExhausted:
@@ -237,10 +240,11 @@ class Engine:
             # time. Decide exactly by reading them too (they never collide).
             clocks = tuple(i for i in range(len(problem.obstacles)) if i not in cone.relevant and not cone.parkable[i])
             read = tuple(sorted(cone.relevant + clocks))
-            full = Arena.build(problem, arena.steps, cone, read, clock, self.max_configs, memory_mb=self._memory_mb)
+            full = Arena.build(problem, arena.steps, cone, read, clock, self.o.max_configs, memory_mb=self._memory_mb,
+                               use_rust=self.o.use_rust)
             self.counters["clock_obstacles"] = len(clocks)
             if full.layers[0] and full.solve_game(clock):
-                strategy = stationary_strategy(full, clock, quick=self.quick)
+                strategy = stationary_strategy(full, clock, quick=self.o.quick)
                 if strategy is not None:
                     self.counters["stage"] = "joint+clock"
                     program = self._program(full, strategy, clock, None)
@@ -250,12 +254,31 @@ class Engine:
         return GridStatus.UNREALIZABLE, None, ref.detail, ref
 
     # -- programs ----------------------------------------------------------------------
-    def _conditions(self, states: list[tuple[int, ...]], variables, problem: GridProblem, max_depth: int) -> Enumeration:
+    def _conditions(self, states: list[tuple[int, ...]], variables, problem: GridProblem, max_depth: int,
+                    clock: Clock | None = None) -> Enumeration:
         # the behaviours cost len(states) bits each: bound their memory and time
         limit = min(200_000, max(5_000, 40_000_000 // max(1, len(states))))
-        e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=limit, use_rust=self.use_rust)
+        if clock is not None:
+            self._conditions_fit(len(states), len(variables), problem, clock)
+        e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=limit, use_rust=self.o.use_rust)
         self.counters["conditions"] = len(e.conditions)
         return e
+
+    def _conditions_fit(self, n_states: int, n_vars: int, problem: GridProblem, clock: Clock) -> None:
+        """The condition enumeration cannot be interrupted: refuse it (BudgetExhausted)
+        when its estimated work (comparisons of the depth-2 terms over every state)
+        does not fit the time left, or its behaviours the memory budget."""
+        limit = min(200_000, max(5_000, 40_000_000 // max(1, n_states)))
+        terms = problem.max_constant + 2 + n_vars
+        work = min(limit, 2 * terms * terms) * n_states
+        need = work / CONDITION_CELLS_PER_SECOND
+        nbytes = min(limit, 2 * terms * terms) * (n_states // 8 + 64) + terms * n_states * 8
+        if need > clock.remaining():
+            raise BudgetExhausted(f"enumerating conditions over {n_states} program states would take about "
+                                  f"{need:.0f} s ({max(0.0, clock.remaining()):.1f} s left)")
+        if nbytes > (self._memory_mb << 20):
+            raise BudgetExhausted(f"enumerating conditions over {n_states} program states needs about "
+                                  f"{nbytes >> 20} MB (memory budget {self._memory_mb} MB)")
 
     def _program(self, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
         """A small program choosing an allowed move in every state the strategy reaches.
@@ -266,6 +289,7 @@ class Engine:
         depths are sought with tree SAT (each attempt bounded by the effort left),
         keeping the best program the checker accepts.
         """
+        self._conditions_fit(len(strategy.allowed), len(arena.variables()), arena.problem, clock)
         states = sorted(strategy.allowed)
         allowed = [strategy.allowed[s] for s in states]
         inputs = [arena.inputs(r, oc) for r, oc in states]
@@ -273,20 +297,20 @@ class Engine:
         n_moves = len(arena.robot.moves)
         # Conditions of depth <= 3 (comparisons of coordinates and constants) give the
         # shallowest greedy trees on the reactive suite, and are cheap to enumerate.
-        enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.condition_depth))
+        enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.o.condition_depth), clock)
         if clock.exhausted():
             raise BudgetExhausted("enumerating conditions")
-        program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.use_rust)
-        graph = GameGraph.from_arena(arena, clock, use_rust=self.use_rust)
+        program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.o.use_rust)
+        graph = program_checker(arena, clock, use_rust=self.o.use_rust)
         self.counters["game_graph_pairs"] = graph.n_pairs
         if graph.check(program) is not None:
             raise AssertionError(f"native engine bug: greedy program {program} does not win on the game graph")
         self.counters["greedy_depth"] = depth(program)
-        if self.simplify:  # cheap (one compiled check per candidate): part of the answer
+        if self.o.simplify:  # cheap (one compiled check per candidate): part of the answer
             program = simplify(program, graph, time.perf_counter() + max(0.0, clock.remaining() - 0.05))
         self.counters["first_depth"] = depth(program)
         self._phase("answer")
-        effort = self._effort(clock) if self.improve else 0.0
+        effort = self._effort(clock) if self.o.improve else 0.0
         self.counters["effort_seconds"] = round(effort, 3)
         deadline = time.perf_counter() + effort
         if effort > 0 and depth(program) > 1:
@@ -307,42 +331,42 @@ class Engine:
         """Tree SAT at depths below the current program's, largest first, until one
         fails or the effort is spent; every program kept passes the game-graph check."""
         n_moves = len(arena.robot.moves)
-        if len(allowed) > self.improve_states or deadline - time.perf_counter() <= 0.01:
+        if len(allowed) > self.o.improve_states or deadline - time.perf_counter() <= 0.01:
             return program  # tree SAT over this many states does not fit a small effort
-        useful = useful_conditions(allowed, enum.conditions, n_moves, self.tree_conditions)
+        useful = useful_conditions(allowed, enum.conditions, n_moves, self.o.tree_conditions)
         while depth(program) > 1:
             left = deadline - time.perf_counter()
             if left <= 0.01:
                 break
             d = max(dd for dd in program_depths(depth(program) - 1))
-            if d > self.max_tree_depth:
+            if d > self.o.max_tree_depth:
                 break  # a tree SAT this deep does not fit a small effort
             try:
-                better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.max_clauses,
-                                      max_conflicts=self.conflicts, max_seconds=left)
+                better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=self.o.max_clauses,
+                                      max_conflicts=self.o.conflicts, max_seconds=left)
             except BudgetExhausted:
                 if clock.exhausted():
                     raise
                 break
             if better is None or graph.check(better) is not None:
                 break
-            if self.simplify:
+            if self.o.simplify:
                 better = simplify(better, graph, deadline)
             program = better
         left = deadline - time.perf_counter()
-        if depth(program) > 4 and left > 0.01 and graph.n_states <= self.exact_states:
+        if depth(program) > 4 and left > 0.01 and graph.n_states <= self.o.exact_states:
             # any winning strategy will do, not only this one: the exact depth search over
             # the whole game when it is small (its encoding is built before any clock check)
             try:
                 found, _, _ = minimal_program(arena, clock, depth(program) - 1, self, arena.problem, cond_depth=3,
-                                              max_clauses=self.max_clauses, max_conflicts=self.conflicts,
+                                              max_clauses=self.o.max_clauses, max_conflicts=self.o.conflicts,
                                               max_seconds=left, total_seconds=left, skip_hard=True)
             except BudgetExhausted:
                 if clock.exhausted():
                     raise
                 found = None
             if found is not None and depth(found) < depth(program) and graph.check(found) is None:
-                program = simplify(found, graph, deadline) if self.simplify else found
+                program = simplify(found, graph, deadline) if self.o.simplify else found
         return program
 
     def _bounded(self, problem: GridProblem, arena: Arena, cone: Cone, clock: Clock, depth_bound: int | None):
@@ -362,7 +386,7 @@ class Engine:
         return GridStatus.UNKNOWN, None, f"no program of depth <= {d_used} found; conditions not enumerated completely", None
 
 
-def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine: Engine, problem: GridProblem,
+def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine: "_Run", problem: GridProblem,
                     cond_depth: int | None = None, max_clauses: int | None = None, max_conflicts: int | None = None,
                     max_seconds: float | None = None, total_seconds: float | None = None, skip_hard: bool = False):
     """Search program depths 1, 4, 5, ... for a winning program over the whole game.
@@ -372,15 +396,15 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     """
     fwd = winning_forward(arena)
     states = sorted({(r, oc) for layer in fwd[:-1] for oc, m in layer.items() for r in bits(m)})
-    top_ = depth_bound if depth_bound is not None else engine.max_tree_depth
-    if max_clauses is not None and (len(states) > engine.improve_states or len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50):
+    top_ = depth_bound if depth_bound is not None else engine.o.max_tree_depth
+    if max_clauses is not None and (len(states) > engine.o.improve_states or len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50):
         raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
     clauses, ids, fwd = encode_stationary(arena, clock, fwd=fwd)
     index = {s: i for i, s in enumerate(states)}
     inputs = [arena.inputs(r, oc) for r, oc in states]
     engine.counters["universe_states"] = len(states)
-    top = depth_bound if depth_bound is not None else engine.max_tree_depth
-    cap = min(5, engine.condition_depth + 1) if cond_depth is None else cond_depth
+    top = depth_bound if depth_bound is not None else engine.o.max_tree_depth
+    cap = min(5, engine.o.condition_depth + 1) if cond_depth is None else cond_depth
     if max_clauses is not None and len(states) * 2 ** tree_levels(min(top, 5)) > max_clauses // 50:
         raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
     n_moves = len(arena.robot.moves)

@@ -48,7 +48,21 @@ class Strategy:
 
 
 def winning_forward(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
-    """States reachable from the start using only moves that win the game."""
+    """States reachable from the start using only moves that win the game (in the
+    compiled core when the arena was explored there; this loop is its reference)."""
+    if arena._core is not None and arena._fwd is not None:
+        return arena._fwd
+    if arena._core is not None:
+        layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
+        if why is not None:
+            raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
+        arena._fwd = [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in layers]
+        return arena._fwd
+    return winning_forward_reference(arena, clock)
+
+
+def winning_forward_reference(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
+    """:func:`winning_forward` in pure Python."""
     oc0 = next(iter(arena.layers[0]))
     start = cell_mask(arena.problem, arena.problem.robot.start)
     out: list[dict[Config, int]] = [{oc0: start}]
@@ -153,12 +167,12 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
         if key[0] == "r" and v in truth:
             _, t, r, oc = key
             reach[t][oc] = reach[t].get(oc, 0) | (1 << r)
-    allowed = _allowed(arena, reach)
+    allowed = _allowed(arena, reach, clock)
     if label is None:
         # Keep only what the allowed moves actually reach (the solver may set reach
         # variables it did not need), which leaves more freedom per state.
-        reach = _closure(arena, allowed)
-        allowed = _allowed(arena, reach)
+        reach = _closure(arena, allowed, clock)
+        allowed = _allowed(arena, reach, clock)
         assert all(allowed.values()), "a SAT model must leave every reached state a move"
     final = {s: tuple(sorted(a)) for s, a in allowed.items()}
     return Strategy(final, tuple(reach), counters)
@@ -171,8 +185,22 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock
     may be played in that state whatever the time. Following one such move per state
     (preferring moves towards the goal, then staying) from the start either reaches
     only states that have one -- a stationary winning strategy, found in linear time --
-    or meets a state without one, and then the SAT encoding decides.
+    or meets a state without one, and then the SAT encoding decides. In the compiled
+    core when the arena is compiled (``arena.rs``, ``Arena::consistent``); the loops
+    below are its reference.
     """
+    if arena._core is not None:
+        try:
+            got = arena._core.consistent(arena.problem.width, _left(clock, arena))
+        except TimeoutError:
+            raise BudgetExhausted("reading a strategy off the game: out of time") from None
+        if got is None:
+            return None
+        reach_rows, rows = got
+        reach = tuple(_layers_in(reach_rows))
+        final = {(r, tuple(oc)): _moves_of(m) for r, oc, m in rows}
+        assert all(final.values()), "a consistent choice must leave every reached state a move"
+        return Strategy(final, reach, {"sat_vars": 0, "sat_clauses": 0, "consistent": 1})
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     bad: dict[Config, list[int]] = {}
@@ -242,8 +270,36 @@ def _phases(arena: Arena, ids: dict[tuple, int]) -> list[int]:
     return out
 
 
-def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[int]]:
-    """Moves of each reached state that win and stay inside ``reach`` at every time."""
+def _layers_in(rows) -> list[dict[Config, int]]:
+    return [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in rows]
+
+
+def _layers_out(arena: Arena, layers) -> list[list[tuple[list[int], bytes]]]:
+    nbytes = (arena.problem.width * arena.problem.height + 7) // 8
+    return [[(list(oc), m.to_bytes(nbytes, "little")) for oc, m in layer.items()] for layer in layers]
+
+
+def _moves_of(mask: int) -> tuple[int, ...]:
+    return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
+
+
+def _left(clock: Clock | None, arena: Arena) -> float | None:
+    """Seconds left on ``clock`` for the compiled core, less the time to free the game
+    (None: no limit)."""
+    if clock is None or clock.remaining() == float("inf"):
+        return None
+    return max(0.0, clock.remaining() - arena.free_reserve())
+
+
+def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None = None) -> dict[State, set[int]]:
+    """Moves of each reached state that win and stay inside ``reach`` at every time
+    (compiled when the arena is; the loops below are the reference)."""
+    if arena._core is not None:
+        try:
+            rows = arena._core.allowed(_layers_out(arena, reach), _left(clock, arena))
+        except TimeoutError:
+            raise BudgetExhausted("the allowed moves of the strategy: out of time") from None
+        return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in rows}
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     allowed: dict[State, set[int]] = {}
@@ -266,8 +322,14 @@ def _allowed(arena: Arena, reach: list[dict[Config, int]]) -> dict[State, set[in
     return allowed
 
 
-def _closure(arena: Arena, allowed: dict[State, set[int]]) -> list[dict[Config, int]]:
+def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None = None) -> list[dict[Config, int]]:
     """States reached from the start when every state may play any of its allowed moves."""
+    if arena._core is not None:
+        rows = [(r, list(oc), sum(1 << k for k in ks)) for (r, oc), ks in allowed.items()]
+        try:
+            return _layers_in(arena._core.closure(rows, _left(clock, arena)))
+        except TimeoutError:
+            raise BudgetExhausted("the states the strategy reaches: out of time") from None
     oc0 = next(iter(arena.layers[0]))
     out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
     for t in range(arena.steps):

@@ -1,0 +1,82 @@
+"""The native engine's options: one frozen value, validated at the door; the counters
+of a run are in its outcome, not on the engine; an option that does not apply to the
+chosen backend is an error (exit 2), in ``grid solve`` and in ``bench grid``."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from plansynth.budget import Budget
+from plansynth.cli import app
+from plansynth.grid.native.engine import Engine
+from plansynth.grid.native.options import OPTION_DOCS, InvalidOption, NativeOptions
+from plansynth.grid.problem import load_grid_problem
+from plansynth.grid.result import GridStatus, get_backend
+
+ROOT = Path(__file__).resolve().parents[2]
+FIGURE1 = str(ROOT / "examples" / "grid" / "figure1.yaml")
+
+
+def test_the_options_are_frozen_and_every_one_is_documented():
+    o = NativeOptions(effort=0.5)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        o.effort = 1.0  # type: ignore[misc]
+    assert [f.name for f in dataclasses.fields(NativeOptions)] == list(OPTION_DOCS)
+    readme = (ROOT / "README.md").read_text()
+    for name in OPTION_DOCS:
+        assert f"`{name}`" in readme, f"native option {name} is not in the README"
+
+
+@pytest.mark.parametrize("items, match", [
+    (["minimise=true"], "unknown native solver option 'minimise'"),
+    (["minimize"], "is not KEY=VALUE"),
+    (["minimize=3"], "expected bool"),
+    (["effort=-1"], "must be >= 0"),
+    (["effort=fast"], "expected float"),
+    (["max_configs=0"], "must be >= 1"),
+    (["attempt_seconds=2"], "unknown native solver option"),  # an option that never did anything
+])
+def test_bad_options_are_named_errors(items, match):
+    with pytest.raises(InvalidOption, match=match):
+        NativeOptions.parse(items)
+
+
+def test_strings_and_keywords_give_the_same_value():
+    assert NativeOptions.parse(["minimize=true", "max-configs=100"]) == NativeOptions(minimize=True, max_configs=100)
+    assert get_backend("native", options=["effort=0"]).options == get_backend("native", effort=0).options
+
+
+def test_the_counters_are_in_the_outcome_not_on_the_engine():
+    engine = Engine(NativeOptions(effort=0))
+    problem = load_grid_problem(FIGURE1)
+    a = engine.solve_length(problem, 6, Budget(seconds=30))
+    b = engine.solve_length(problem, 5, Budget(seconds=30))
+    assert a.status is GridStatus.REALIZABLE and b.status is GridStatus.UNREALIZABLE
+    assert "phase_seconds" in a.counters and a.counters is not b.counters
+    assert not hasattr(engine, "counters") and engine.options == NativeOptions(effort=0)
+
+
+@pytest.mark.parametrize("args, hint", [
+    (["--solver", "cvc5", "--effort", "1"], "--effort"),
+    (["--solver", "cvc5", "--minimize"], "--minimize"),
+    (["-O", "minimise=true"], "unknown native solver option"),
+    (["-O", "effort=-2"], "must be >= 0"),
+])
+def test_an_option_that_does_not_apply_exits_2(args, hint):
+    res = CliRunner().invoke(app, ["grid", "solve", FIGURE1, "--timeout", "30", *args])
+    assert res.exit_code == 2, res.output
+    assert hint in res.output
+
+
+def test_bench_refuses_options_for_no_solver_of_the_sweep_and_bad_native_options(tmp_path):
+    db = str(tmp_path / "b.db")
+    base = ["bench", "grid", "--family", "figure1", "--solvers", "native", "--timeout", "30", "--db", db]
+    res = CliRunner().invoke(app, [*base, "-O", "cvc5:sygus-enum=fast"])
+    assert res.exit_code == 2 and "is not one of --solvers" in res.output
+    res = CliRunner().invoke(app, [*base, "-O", "native:minimise=true"])
+    assert res.exit_code == 2 and "unknown native solver option" in res.output
+    assert not (tmp_path / "b.db").exists()
