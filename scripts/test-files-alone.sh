@@ -36,8 +36,12 @@ for f in "${files[@]}"; do
   for mode in "${modes[@]}"; do
     start=$SECONDS
     # shellcheck disable=SC2086  # $mode is two or three words on purpose
-    if "$py" -m pytest -q -p no:cacheprovider $mode "$f" ${extra[@]+"${extra[@]}"} >/dev/null 2>&1; then
+    rc=0
+    "$py" -m pytest -q -p no:cacheprovider $mode "$f" ${extra[@]+"${extra[@]}"} >/dev/null 2>&1 || rc=$?
+    if [ "$rc" = 0 ]; then
       echo "ok     $((SECONDS - start))s  $f  ($mode)"
+    elif [ "$rc" = 5 ]; then  # every test of the file is slow (deselected without --runslow)
+      echo "ok     $((SECONDS - start))s  $f  ($mode; no test without --runslow)"
     else
       echo "FAILED $((SECONDS - start))s  $f  ($mode)"
       failed+=("$py -m pytest -q -p no:cacheprovider $mode $f")
