@@ -44,6 +44,12 @@ fi
 mkdir "$work/src"
 git ls-files -co --exclude-standard -z | tar --null -T - -cf - | tar -xf - -C "$work/src"
 cp "$work/requirements.lock" "$work/src/requirements.lock"
+# The copy lives elsewhere, so data that sits beside the checkout (the shared reactive
+# suite, ../shared/grid-reactive/) is passed on by its path.
+if [ -z "${PLANSYNTH_REACTIVE_SUITE:-}" ] && [ -d "$repo/../shared/grid-reactive" ]; then
+  PLANSYNTH_REACTIVE_SUITE=$(cd "$repo/../shared/grid-reactive" && pwd)
+  export PLANSYNTH_REACTIVE_SUITE
+fi
 (
   cd "$work/src"
   CARGO_TARGET_DIR="$work/target" bash scripts/setup.sh
