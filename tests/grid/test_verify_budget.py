@@ -8,6 +8,7 @@ verifier's memory is what the search touches, not cells x steps."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 import textwrap
@@ -82,7 +83,10 @@ def test_grid_verify_cli_times_out_with_unknown_and_exit_3(tmp_path: Path) -> No
     assert r.exit_code == 3, r.output
     assert "unknown at l = 1000" in r.output and "budget ran out in" in r.output and "time (1 s)" in r.output
     assert "WINS" not in r.output and "LOSES" not in r.output
-    assert wall < 2.5, wall
+    # The verifier's own time (it prints it) is the budget plus under a second; the
+    # command's wall time also holds imports and start-up, so it gets a looser bound.
+    seconds = float(re.search(r"states explored in ([0-9.]+) s", r.output).group(1))
+    assert seconds < 2.0 and wall < 10.0, (seconds, wall)
 
 
 def test_grid_verify_cli_refuses_a_bad_budget(tmp_path: Path) -> None:

@@ -833,7 +833,7 @@ class _UnreadReach:
         self.n = search.n_cells
         self.zero = bytes((self.n + 7) // 8)
         self.obstacles = [
-            _Reach(search.obstacle[i], np.array([search.index(search.problem.obstacles[i].start)], dtype=np.int64))
+            _Reach(search.obstacle[i], np.array([search.index(search.problem.obstacles[i].start)], dtype=np.int32))
             for i in unread
         ]
         self._danger: list[bytes] = []
@@ -866,7 +866,7 @@ class _UnreadReach:
         packed (cells / 8 bytes a step), and walks back through them."""
         s = self.search
         table = s.obstacle[i]
-        ob = _Reach(table, np.array([s.index(s.problem.obstacles[i].start)], dtype=np.int64))
+        ob = _Reach(table, np.array([s.index(s.problem.obstacles[i].start)], dtype=np.int32))
         history: list[bytes] = []
         for step_t in range(t + 1):
             s.meter.tick(int(ob.cur.size))
@@ -913,7 +913,7 @@ class _Reach:
         ends = (self.table.end[:, cells] - 1).ravel()
         if ends.size < 4096:
             return np.unique(ends)
-        return np.flatnonzero(_bitmap(ends, self.table.end.shape[1]))
+        return np.flatnonzero(_bitmap(ends, self.table.end.shape[1])).astype(np.int32)  # 4 bytes a cell
 
     def sweeps(self, t: int, n: int, meter: "_Meter") -> np.ndarray:
         """The packed bitmap of the cells this obstacle can sweep at step ``t`` (called
