@@ -6,7 +6,7 @@
 #   orders 2 and 3: the whole suite but the README-command tests (marker `commands`:
 #   each already runs in a fresh process, so their order cannot matter).
 # The three orders are independent pytest sessions, so they run at the same time (each
-# in its own --basetemp), which keeps CI within about 10 minutes on two cores: order 1
+# in its own --basetemp), so that two cores share the work of three orders: order 1
 # prints as it goes, orders 2 and 3 are printed when they end.
 # PLANSYNTH_TEST_SERIAL=1 runs them one after another instead.
 # Rerun one order with the command printed above it. Arguments go to every pytest run;
