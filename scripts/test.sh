@@ -4,8 +4,11 @@
 # passes after another one fails here:
 #   order 1: the whole suite;
 #   orders 2 and 3: the whole suite but the README-command tests (marker `commands`:
-#   each already runs in a fresh process, so their order cannot matter), to keep CI
-#   within about 10 minutes.
+#   each already runs in a fresh process, so their order cannot matter).
+# The three orders are independent pytest sessions, so they run at the same time (each
+# in its own --basetemp), so that two cores share the work of three orders: order 1
+# prints as it goes, orders 2 and 3 are printed when they end.
+# PLANSYNTH_TEST_SERIAL=1 runs them one after another instead.
 # Rerun one order with the command printed above it. Arguments go to every pytest run;
 # PLANSYNTH_TEST_SEEDS="s1 s2 s3" fixes the seeds.
 set -euo pipefail
@@ -14,13 +17,32 @@ bash scripts/setup.sh
 . .venv/bin/activate
 cargo test -q -p plansynth-core
 read -r -a seeds <<< "${PLANSYNTH_TEST_SEEDS:-$(python -c 'import random; print(*(random.randrange(1, 2**31) for _ in range(3)))')}"
+work=$(mktemp -d -t plansynth-test.XXXXXX)
+pids=()
+trap 'kill "${pids[@]}" 2>/dev/null || true; rm -rf "$work"' EXIT
 pytest_order() {
   local n=$1 seed=$2; shift 2
   echo "== pytest, random order $n of ${#seeds[@]}: seed $seed" \
-       "(rerun: python -m pytest -p no:cacheprovider -p randomly --randomly-seed=$seed $*)"
-  python -m pytest -q -p no:cacheprovider -p randomly --randomly-seed="$seed" "$@"
+       "(rerun: python -m pytest -p no:cacheprovider -p randomly --randomly-seed=$seed${*:+ ${*@Q}})"
+  python -m pytest -q -p no:cacheprovider -p randomly --randomly-seed="$seed" --basetemp="$work/order$n" "$@"
 }
-pytest_order 1 "${seeds[0]}" "$@"
+if [ "${PLANSYNTH_TEST_SERIAL:-0}" = 1 ]; then
+  pytest_order 1 "${seeds[0]}" "$@"
+  for i in 1 2; do
+    pytest_order $((i + 1)) "${seeds[$i]}" -m "not commands" "$@"
+  done
+  exit 0
+fi
 for i in 1 2; do
-  pytest_order $((i + 1)) "${seeds[$i]}" -m "not commands" "$@"
+  pytest_order $((i + 1)) "${seeds[$i]}" -m "not commands" "$@" > "$work/order$((i + 1)).log" 2>&1 &
+  pids+=($!)
 done
+status=0
+pytest_order 1 "${seeds[0]}" "$@" || status=$?
+for i in 1 2; do
+  rc=0
+  wait "${pids[$((i - 1))]}" || rc=$?
+  cat "$work/order$((i + 1)).log"
+  [ "$rc" = 0 ] || status=$rc
+done
+exit "$status"

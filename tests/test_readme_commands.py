@@ -144,7 +144,9 @@ CASES: dict[str, Case] = {
     "plansynth reach validate examples/reach/maze-3.yaml traj.json": Case(out=("valid",), before=(SOLVED_MAZE3,)),
     "plansynth reach solve examples/reach/maze-1.yaml --animate run.gif": Case(
         out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"),
-    "plansynth reach solve examples/reach/maze-4.yaml --horizon-search linear": Case(out=("found", "proved minimal")),
+    "plansynth reach solve examples/reach/maze-4.yaml --horizon-search linear": Case(
+        out=("found", "proved minimal"),
+        fast="plansynth reach solve examples/reach/maze-2.yaml --horizon-search linear"),
     "plansynth reach solve examples/reach/maze-1.yaml --paper": Case(out=FOUND),
     "plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 60": Case(
         exit=(0, 3), out=("lazy-smt",),
@@ -192,9 +194,11 @@ CASES: dict[str, Case] = {
     "plansynth grid solve examples/grid/crossing.yaml -o crossing.json": Case(
         out=("realizable",), json=(("crossing.json", "status", "realizable"),)),
     "plansynth grid animate examples/grid/crossing.yaml crossing.json -o crossing.gif": Case(
-        files=("crossing.gif",), before=(SOLVED_CROSSING,)),
+        files=("crossing.gif",), before=(SOLVED_CROSSING,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o crossing.gif")),
     "plansynth grid animate examples/grid/crossing.yaml crossing.json -o random.gif --obstacles random --seed 1": Case(
-        files=("random.gif",), before=(SOLVED_CROSSING,)),
+        files=("random.gif",), before=(SOLVED_CROSSING,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o random.gif --obstacles random --seed 1")),
     "plansynth grid solve examples/grid/crossing.yaml --steps 8": Case(exit=(1,), out=("unrealizable",)),
     "plansynth grid compile examples/grid/crossing.yaml --steps 9 -o crossing.sl": Case(files=("crossing.sl",)),
     "plansynth grid solve examples/grid/crossing.yaml --solver cvc5 --timeout 120": Case(

@@ -16,6 +16,16 @@ def _tasks(solvers, repeat=1):
     return tasks
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _fork_server_started(tmp_path_factory):
+    """Start the fork server (and its preloaded solver modules) before the timed runs:
+    its first start counts against a child's deadline, and these tests give children
+    0.5 s plus 1 s of grace. In the whole suite another test has usually started it."""
+    db = tmp_path_factory.mktemp("warm") / "w.db"
+    tasks = make_tasks(grid_family("depth", [1]), ["debug-ok"], repeat=1, timeout=120, memory_mb=2048)
+    assert run_sweep(db, tasks, jobs=1, progress=False)["done"] == 1
+
+
 def _by_solver(db_path):
     with ResultsDB(db_path) as db:
         return {(r["planner"], r["repeat"]): r for r in db.runs()}

@@ -11,6 +11,7 @@ enumerate by hand), and Figure 1 must come out realizable with a verified progra
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
@@ -90,7 +91,11 @@ def test_each_rule_of_the_semantics(rule: str) -> None:
     assert answer == ("unsat" if wins else "sat")
 
 
-@settings(max_examples=150)
+#: Hypothesis examples per property test below; PLANSYNTH_TEST_SCALE=N runs N times as
+#: many (a longer hunt than CI's, which runs each of them in three random orders).
+SCALE = max(1, int(os.environ.get("PLANSYNTH_TEST_SCALE", "1")))
+
+@settings(max_examples=75 * SCALE)
 @given(problems_and_programs(max_depth=5))
 def test_compiled_check_holds_exactly_when_the_verifier_says_the_program_wins(case) -> None:
     problem, program = case
@@ -102,7 +107,7 @@ def test_compiled_check_holds_exactly_when_the_verifier_says_the_program_wins(ca
     assert (answer == "unsat") == verdict.wins, (str(program), steps, verdict.counterexample)
 
 
-@settings(max_examples=80)
+@settings(max_examples=40 * SCALE)
 @given(st.data())
 def test_programs_that_win_make_the_check_unsat(data) -> None:
     # Random programs mostly lose; make sure the "wins" side is exercised too, by drawing

@@ -3,6 +3,7 @@ paper's Figure 1 program, and the reductions that let it scale to the paper's fa
 
 from __future__ import annotations
 
+import os
 import re
 import time
 from pathlib import Path
@@ -19,6 +20,10 @@ from plansynth.grid.semantics import State, initial_state, obstacle_move, step
 from plansynth.grid.verify import Counterexample, Verdict, read_obstacles, verify
 
 from .strategies import b_terms, grid_problems, problem_documents, problems_and_programs
+
+#: Hypothesis examples per property test below; PLANSYNTH_TEST_SCALE=N runs N times as
+#: many (a longer hunt than CI's, which runs each of them in three random orders).
+SCALE = max(1, int(os.environ.get("PLANSYNTH_TEST_SCALE", "1")))
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "grid"
 MOVES = ["stay", "up", "right", "down", "left"]
@@ -49,7 +54,7 @@ def check_counterexample(p: GridProblem, program: Term, steps: int, cex: Counter
 # -- verify == brute force -------------------------------------------------------------------
 
 
-@settings(max_examples=150)
+@settings(max_examples=75 * SCALE)
 @given(problems_and_programs(max_depth=5))
 def test_verify_agrees_with_brute_force(pp: tuple[GridProblem, Term]) -> None:
     p, program = pp
@@ -62,7 +67,7 @@ def test_verify_agrees_with_brute_force(pp: tuple[GridProblem, Term]) -> None:
         check_counterexample(p, program, p.steps, v.counterexample)
 
 
-@settings(max_examples=100)
+@settings(max_examples=50 * SCALE)
 @given(problems_and_programs(max_depth=5, reading_obstacles=True, max_obstacles=3, max_steps=4))
 def test_verify_agrees_with_brute_force_on_programs_reading_obstacles(pp: tuple[GridProblem, Term]) -> None:
     p, program = pp

@@ -11,6 +11,7 @@ counterexample is refuted by its own LP.
 
 from __future__ import annotations
 
+import os
 import random
 
 import pytest
@@ -24,7 +25,11 @@ from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import cluttered, maze, random_workspace
 from plansynth.reach.validate import validate
 
-PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+#: Hypothesis examples per property test below; PLANSYNTH_TEST_SCALE=N runs N times as
+#: many (a longer hunt than CI's, which runs each of them in three random orders).
+SCALE = max(1, int(os.environ.get("PLANSYNTH_TEST_SCALE", "1")))
+
+PROPS = settings(max_examples=8 * SCALE, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def walks(abstraction, rng: random.Random, count: int, max_len: int) -> list[tuple[int, ...]]:

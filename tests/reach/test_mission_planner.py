@@ -153,36 +153,59 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
 
 def oracle_feasible(p: ReachProblem, ab, walk, loop_start, segment_safe=True) -> bool:
     """A trajectory from the start through ``walk`` (and with x_N = x_loop_start)? A
-    direct LP, sharing nothing with the planner's LPs."""
+    direct LP, sharing nothing with the planner's LPs (built row by row as sparse
+    arrays: HiGHS's expression API costs more than the solve here)."""
     dyn = p.dynamics
     n, m, N = dyn.n_states, dyn.n_inputs, len(walk) - 1
-    A, B = np.asarray(dyn.A), np.asarray(dyn.B)
-    lo = np.array(p.state_bounds.lo, float) if p.state_bounds is not None else np.full(n, -highspy.kHighsInf)
-    hi = np.array(p.state_bounds.hi, float) if p.state_bounds is not None else np.full(n, highspy.kHighsInf)
-    h = highspy.Highs()
-    h.silent()
-    h.setOptionValue("threads", 1)
-    X = [[h.addVariable(lb=float(lo[i]), ub=float(hi[i])) for i in range(n)] for _ in range(N + 1)]
-    U = [[h.addVariable(lb=-p.input_bound, ub=p.input_bound) for _ in range(m)] for _ in range(N)]
+    A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+    inf = highspy.kHighsInf
+    lo = np.array(p.state_bounds.lo, float) if p.state_bounds is not None else np.full(n, -inf)
+    hi = np.array(p.state_bounds.hi, float) if p.state_bounds is not None else np.full(n, inf)
+    x = lambda t, i: t * n + i  # noqa: E731 - column of state i at time t
+    u = lambda t, j: (N + 1) * n + t * m + j  # noqa: E731 - column of input j at time t
+    col_lo = np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)])
+    col_hi = np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)])
+    rows: list[tuple[dict[int, float], float, float]] = []  # (coefficients, lower, upper)
     for i in range(n):
-        h.addConstr(X[0][i] == float(p.start[i]))
+        rows.append(({x(0, i): 1.0}, float(p.start[i]), float(p.start[i])))
     for t in range(N):
         for i in range(n):
-            h.addConstr(X[t + 1][i] - sum(float(A[i, k]) * X[t][k] for k in range(n) if A[i, k])
-                        - sum(float(B[i, j]) * U[t][j] for j in range(m) if B[i, j]) == 0)
+            coef = {x(t + 1, i): 1.0}
+            for k in range(n):
+                if A[i, k]:
+                    coef[x(t, k)] = coef.get(x(t, k), 0.0) - float(A[i, k])
+            for j in range(m):
+                if B[i, j]:
+                    coef[u(t, j)] = -float(B[i, j])
+            rows.append((coef, 0.0, 0.0))
     for t, r in enumerate(walk):
         reg = ab.regions[r]
         for s in ((t, t + 1) if segment_safe and t < N else (t,)):
             for row, b in zip(reg.H, reg.h):
-                h.addConstr(sum(float(c) * X[s][k] for c, k in zip(row, dyn.position)) <= float(b))
+                coef: dict[int, float] = {}
+                for c, k in zip(row, dyn.position):
+                    if c:
+                        coef[x(s, k)] = coef.get(x(s, k), 0.0) + float(c)
+                rows.append((coef, -inf, float(b)))
     for k in range(2):
-        lo_k, hi_k = p.workspace.lo[k], p.workspace.hi[k]
         for t in range(N + 1):
-            h.addConstr(X[t][dyn.position[k]] >= lo_k)
-            h.addConstr(X[t][dyn.position[k]] <= hi_k)
+            rows.append(({x(t, dyn.position[k]): 1.0}, float(p.workspace.lo[k]), float(p.workspace.hi[k])))
     if loop_start is not None:
         for i in range(n):
-            h.addConstr(X[N][i] - X[loop_start][i] == 0)
+            coef = {x(N, i): 1.0}
+            coef[x(loop_start, i)] = coef.get(x(loop_start, i), 0.0) - 1.0
+            rows.append((coef, 0.0, 0.0))
+    h = highspy.Highs()
+    h.silent()
+    h.setOptionValue("threads", 1)
+    h.addVars(len(col_lo), col_lo, col_hi)
+    starts, index, value = [], [], []
+    for coef, _, _ in rows:
+        starts.append(len(index))
+        index.extend(coef)
+        value.extend(coef.values())
+    h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
+              np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
     h.run()
     return h.getModelStatus() == highspy.HighsModelStatus.kOptimal
 
@@ -232,21 +255,41 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
     checked = loops_checked = 0
     for H in range(1, p.max_horizon + 1):
         walks = list(itertools.islice(lassos(ab, H), 1500))
+        if not walks:
+            continue
+        W = np.array(walks)  # walks[i][t] == W[i, t]; the hits are the same, found per column
+
+        def matches(lits, shift):
+            """Which walks have every literal (t, r) at t + shift (all within 0..H)."""
+            hit = np.ones(len(walks), dtype=bool)
+            for t, r in lits:
+                if not 0 <= t + shift <= H:
+                    return np.zeros(len(walks), dtype=bool)
+                hit &= W[:, t + shift] == r
+            return hit
+
         for c in conflicts:
-            def matches(shift, w=None):
-                return all(0 <= t + shift <= H and w[t + shift] == r for t, r in c.literals)
-            for w in walks:
-                if c.anchored_start and c.anchored_goal:
-                    hit = H == c.horizon and matches(0, w)
-                elif c.anchored_start:  # and shifted earlier: the patrol starts at rest
-                    earliest = -min((t for t, _ in c.literals), default=0)
-                    hit = any(H >= c.last_time + s and matches(s, w) for s in range(earliest, 1))
-                else:
-                    shifts = [H - c.horizon] if c.anchored_goal else range(-c.first_time, H - c.last_time + 1)
-                    hit = any(c.first_time + s >= 0 and matches(s, w) for s in shifts)
-                if hit and checked < 400:
-                    assert not oracle_feasible(p, ab, w, None), f"{c} excludes the feasible {w}"
-                    checked += 1
+            if checked >= 400:  # no further walk would be checked
+                break
+            if c.anchored_start and c.anchored_goal:
+                hit = matches(c.literals, 0) if H == c.horizon else np.zeros(len(walks), dtype=bool)
+            elif c.anchored_start:  # and shifted earlier: the patrol starts at rest
+                earliest = -min((t for t, _ in c.literals), default=0)
+                hit = np.zeros(len(walks), dtype=bool)
+                for s in range(earliest, 1):
+                    if H >= c.last_time + s:
+                        hit |= matches(c.literals, s)
+            else:
+                shifts = [H - c.horizon] if c.anchored_goal else range(-c.first_time, H - c.last_time + 1)
+                hit = np.zeros(len(walks), dtype=bool)
+                for s in shifts:
+                    if c.first_time + s >= 0:
+                        hit |= matches(c.literals, s)
+            for i in np.flatnonzero(hit):
+                if checked >= 400:
+                    break
+                assert not oracle_feasible(p, ab, walks[i], None), f"{c} excludes the feasible {walks[i]}"
+                checked += 1
         for lits, k, L, shifted in loops:
             period = L - k
             variants = [lits] if not shifted else [tuple((k + (t - k + s) % period, r) for t, r in lits) for s in range(period)]
@@ -257,11 +300,16 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
                 if k + s < 0:
                     continue
                 for v in variants:
-                    for w in walks:
-                        if all(0 <= t + s <= H and w[t + s] == r for t, r in v) and w[H] == w[k + s] and checked < 800:
-                            assert not oracle_feasible(p, ab, w, k + s), f"loop clause {v} (k={k}, L={L}) excludes {w}"
-                            checked += 1
-                            loops_checked += 1
+                    if checked >= 800:
+                        break
+                    hit = matches(v, s) & (W[:, H] == W[:, k + s])
+                    for i in np.flatnonzero(hit):
+                        if checked >= 800:
+                            break
+                        w = walks[i]
+                        assert not oracle_feasible(p, ab, w, k + s), f"loop clause {v} (k={k}, L={L}) excludes {w}"
+                        checked += 1
+                        loops_checked += 1
     assert checked > 0
     if which == 0:  # the patrol learns loop clauses below horizon 12
         assert loops and loops_checked > 0

@@ -75,26 +75,37 @@ def test_lazy_and_milp_agree_and_every_trajectory_validates(p: ReachProblem, max
 
 
 def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], segment_safe: bool) -> bool:
-    """Is there a trajectory through ``walk``? A direct LP, independent of conplan."""
+    """Is there a trajectory through ``walk``? A direct LP, independent of conplan (built
+    as sparse rows: HiGHS's expression API costs more than the solve here)."""
     dyn = p.dynamics
     n, m, N = dyn.n_states, dyn.n_inputs, len(walk) - 1
-    A, B = np.asarray(dyn.A), np.asarray(dyn.B)
-    lo = np.full(n, -highspy.kHighsInf) if p.state_bounds is None else np.array(p.state_bounds.lo, float)
-    hi = np.full(n, highspy.kHighsInf) if p.state_bounds is None else np.array(p.state_bounds.hi, float)
-    h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
-    X = [[h.addVariable(lb=float(lo[i]), ub=float(hi[i])) for i in range(n)] for _ in range(N + 1)]
-    U = [[h.addVariable(lb=-p.input_bound, ub=p.input_bound) for _ in range(m)] for _ in range(N)]
+    A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+    inf = highspy.kHighsInf
+    lo = np.full(n, -inf) if p.state_bounds is None else np.array(p.state_bounds.lo, float)
+    hi = np.full(n, inf) if p.state_bounds is None else np.array(p.state_bounds.hi, float)
+    x = lambda t, i: t * n + i  # noqa: E731 - column of state i at time t
+    u = lambda t, j: (N + 1) * n + t * m + j  # noqa: E731 - column of input j at time t
+    rows: list[tuple[dict[int, float], float, float]] = []  # (coefficients, lower, upper)
     for i in range(n):
-        h.addConstr(X[0][i] == float(p.start[i]))
+        rows.append(({x(0, i): 1.0}, float(p.start[i]), float(p.start[i])))
     for t in range(N):
         for i in range(n):
-            rhs = sum(float(A[i, k]) * X[t][k] for k in range(n) if A[i, k] != 0)
-            rhs = rhs + sum(float(B[i, j]) * U[t][j] for j in range(m) if B[i, j] != 0)
-            h.addConstr(X[t + 1][i] - rhs == 0)
+            coef = {x(t + 1, i): 1.0}
+            for k in range(n):
+                if A[i, k] != 0:
+                    coef[x(t, k)] = -float(A[i, k])
+            for j in range(m):
+                if B[i, j] != 0:
+                    coef[u(t, j)] = -float(B[i, j])
+            rows.append((coef, 0.0, 0.0))
 
     def inside(H: np.ndarray, hh: np.ndarray, t: int) -> None:
         for row, b in zip(H, hh):
-            h.addConstr(sum(float(c) * X[t][k] for c, k in zip(row, dyn.position)) <= float(b))
+            coef: dict[int, float] = {}
+            for c, k in zip(row, dyn.position):
+                if c:
+                    coef[x(t, k)] = coef.get(x(t, k), 0.0) + float(c)
+            rows.append((coef, -inf, float(b)))
 
     for t, r in enumerate(walk):
         reg = ab.regions[r]
@@ -102,6 +113,16 @@ def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], seg
         if segment_safe and t < N:
             inside(reg.H, reg.h, t + 1)
     inside(*halfspaces(p.goal), N)
+    h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
+    h.addVars((N + 1) * n + N * m, np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)]),
+              np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)]))
+    starts, index, value = [], [], []
+    for coef, _, _ in rows:
+        starts.append(len(index))
+        index.extend(coef)
+        value.extend(coef.values())
+    h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
+              np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
     h.run()
     return h.getModelStatus() == highspy.HighsModelStatus.kOptimal
 
@@ -159,11 +180,15 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
     finally:
         DisPlan.learn = original  # type: ignore[method-assign]
     checked = 0
+    walks_of = {H: list(itertools.islice(walks(ab, H), 3000)) for H in range(0, top + 1)}
+    feasible: dict[tuple[int, ...], bool] = {}  # the oracle's answer per walk (clauses share walks)
     for c in learned:
         for H in range(0, top + 1):
-            excluded = [w for w in itertools.islice(walks(ab, H), 3000) if excludes(c, w, p.starts_at_rest)]
+            excluded = [w for w in walks_of[H] if excludes(c, w, p.starts_at_rest)]
             for w in excluded[:12]:
-                assert not oracle_feasible(p, ab, w, segment_safe), f"clause {c} excludes the feasible {w}"
+                if w not in feasible:
+                    feasible[w] = oracle_feasible(p, ab, w, segment_safe)
+                assert not feasible[w], f"clause {c} excludes the feasible {w}"
                 checked += 1
     return checked
 

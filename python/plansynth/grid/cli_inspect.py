@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from plansynth.cli_support import EXIT_NO, EXIT_YES, fail, finite_positive
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, fail, finite_positive, positive_seconds
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import (ProgramSyntaxError, Term, depth, function_name_problem, parse_program, to_c,
@@ -38,9 +38,14 @@ Examples:
 
   plansynth grid verify examples/grid/figure1.yaml controller.sl --steps 6
 
-A result.json comes from `plansynth grid solve -o`; a .sl or .txt file holds a term or a define-fun.
+  plansynth grid verify examples/grid/figure1.yaml "(ite (<= rx 3) 2 1)" --steps 6 --timeout 30 --memory-mb 1024
 
-Exit status: 0 the controller wins, 1 it loses (a counterexample is printed), 2 bad input.
+A result.json comes from `plansynth grid solve -o`; a .sl or .txt file holds a term or a define-fun.
+The verifier is exact; --timeout and --memory-mb (default 4096 MB) bound it, and a budget
+that runs out gives `unknown` with the phase it was in, never a guessed answer.
+
+Exit status: 0 the controller wins, 1 it loses (a counterexample is printed), 2 bad input,
+3 unknown (the budget ran out).
 """
 
 ANIMATE_EPILOG = """\
@@ -146,9 +151,12 @@ def verify_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
     result_or_program: str = typer.Argument(..., metavar="RESULT_OR_PROGRAM", help="A result JSON, a file with a term or define-fun, or a literal term."),
     steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (past it: unknown, exit 3)."),
+    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, max=1_000_000, help="Memory the verifier may add, in MB (default 4096; past it: unknown, exit 3)."),
 ) -> None:
     """Check exactly whether a controller wins against every obstacle behaviour."""
-    from plansynth.grid.verify import verify
+    from plansynth.budget import Budget
+    from plansynth.grid.verify import VerifyStatus, verify
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
@@ -156,11 +164,15 @@ def verify_command(
         problem = load_grid_problem(file)
         controller = read_controller(result_or_program)
         l = _steps(controller, problem, steps)
-        verdict = verify(problem, controller.program, l)
+        verdict = verify(problem, controller.program, l, budget=Budget(seconds=timeout, memory_mb=memory_mb))
     except (PlansynthError, _BadInput) as exc:
         raise _fail(err, str(exc)) from None
     stats = f"{verdict.states_explored} states explored in {verdict.seconds:.3f} s"
     program = escape(str(controller.program))
+    if verdict.status is VerifyStatus.UNKNOWN:
+        console.print(f"[bold yellow]unknown[/bold yellow] at l = {l}: {program}  ({stats})", highlight=False)
+        console.print(escape(verdict.message or "no answer"), highlight=False)
+        raise typer.Exit(EXIT_UNKNOWN)
     if verdict.wins:
         console.print(f"[bold green]WINS[/bold green] at l = {l}: {program}  ({stats})", highlight=False)
         raise typer.Exit(EXIT_WINS)

@@ -10,7 +10,9 @@ unrealizable only when every l was proved unrealizable.
 Every program a backend returns is checked by the independent verifier
 (:func:`plansynth.grid.verify.verify`) before it is reported. A program that fails the
 check is a backend bug: that l becomes ``unknown`` with a loud message and the
-counterexample, and the program is never reported as a controller.
+counterexample, and the program is never reported as a controller. The verifier runs
+within the search's budget (the time left, and its memory); when that runs out first,
+the l is ``unknown`` ("not verified"), never realizable.
 
 Every ``unrealizable`` is certified the same way: a SyGuS solver's "infeasible" (or
 whatever an external command prints) is not taken on trust; the native engine, which
@@ -76,7 +78,7 @@ def solve(
     ``unrealizable`` if every l tried was proved unrealizable (and the budget allowed
     every l); ``unknown`` otherwise.
     """
-    from plansynth.grid.verify import verify
+    from plansynth.grid.verify import VerifyStatus, verify
 
     clock = budget.clock()  # the budget covers starting the backend too
     backend = get_backend(solver, **solver_options)
@@ -113,9 +115,16 @@ def solve(
         if outcome.status is GridStatus.REALIZABLE:
             assert outcome.program is not None, f"backend {backend.name} said realizable without a program"
             started = time.perf_counter()
-            verdict = verify(problem, outcome.program, l)
+            verdict = verify(problem, outcome.program, l, budget=_left(clock, budget))
             counters = {**outcome.counters, "verify_seconds": round(time.perf_counter() - started, 6),
                         "verify_states": verdict.states_explored}
+            if verdict.status is VerifyStatus.UNKNOWN:
+                outcome = replace(outcome, status=GridStatus.UNKNOWN, program=None, counters=counters, message=(
+                    f"{backend.name} returned {outcome.program} for l = {l}, not verified: {verdict.message}"))
+                attempts.append(outcome)
+                if progress is not None:
+                    progress(l, outcome)
+                continue
             if verdict.wins:
                 outcome = replace(outcome, counters=counters)
                 attempts.append(outcome)
@@ -151,12 +160,18 @@ def solve(
     return result(GridStatus.UNKNOWN, message="; ".join(unknown + notes) or "no answer")
 
 
+def _left(clock: Any, budget: Budget) -> Budget:
+    """The part of ``budget`` that ``clock`` has left (at least a millisecond), with its memory."""
+    remaining = clock.remaining()
+    return Budget(seconds=None if math.isinf(remaining) else max(remaining, 1e-3), memory_mb=budget.memory_mb)
+
+
 def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, clock: Any, budget: Budget,
                depth_bound: int | None) -> LengthOutcome:
     """``outcome`` (an unrealizable claim by ``claimant``) re-decided by the native
     engine within the budget left: kept and marked ``certified_by``, or ``unknown``
     with the reason (see the module docstring)."""
-    from plansynth.grid.verify import verify
+    from plansynth.grid.verify import VerifyStatus, verify
 
     l = outcome.steps
     if claimant == CERTIFIER:
@@ -173,8 +188,8 @@ def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, cloc
         return replace(outcome, counters={**counters, "certified_by": CERTIFIER})
     fits = check.program is not None and (depth_bound is None or depth(check.program) <= depth_bound)
     if check.status is GridStatus.REALIZABLE and fits:
-        verdict = verify(problem, check.program, l)
-        if verdict.wins:
+        verdict = verify(problem, check.program, l, budget=_left(clock, budget))
+        if verdict.status is VerifyStatus.WINS:
             return replace(outcome, status=GridStatus.UNKNOWN, counters=counters, message=(
                 f"BACKEND ERROR: {claimant} claims unrealizable at l = {l}, but the native engine finds the "
                 f"controller {check.program}, verified by the independent verifier. The claim is not reported."))

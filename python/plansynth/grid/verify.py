@@ -44,6 +44,18 @@ When the controller loses, the verdict carries a concrete :class:`Counterexample
 obstacles' joint moves, the states visited and the program's choices, which replay
 through :func:`~plansynth.grid.semantics.step` to the loss it describes.
 
+**Budgets** (STYLE.md, point 4). Without a budget the verifier is complete and answers
+``wins`` or ``loses``. With a :class:`~plansynth.budget.Budget` it stops once the time or
+the memory is used up and answers ``unknown`` with the phase and the reason, never a
+guessed ``wins``/``loses``. Memory is what the process gains while verifying (its
+resident set, checked every few thousand cells of work) and defaults to
+:data:`DEFAULT_MEMORY_MB` when a budget gives none. The per-cell data is kept small so
+that a large grid costs only what the search touches: move tables are numpy arrays
+filled lazily (end cell, swept cells as indices), the unread obstacles' reachable cells
+are advanced one step at a time as index arrays (only the current set is kept; a set
+sequence that becomes periodic, as they do once an obstacle's reach saturates, is not
+recomputed) and each step's danger is a packed bitmap.
+
 >>> from plansynth.grid.problem import grid_problem_from_dict
 >>> from plansynth.grid.programs import parse_program
 >>> p = grid_problem_from_dict({"grid": [4, 1],
@@ -53,6 +65,8 @@ through :func:`~plansynth.grid.semantics.step` to the loss it describes.
 False
 >>> print(verify(p, parse_program("1"), 3).counterexample.reason)
 collision at step 1 in cell (2, 0) with obstacle 0
+>>> verify(p, parse_program("1"), 3, budget=Budget(seconds=60)).status.value
+'loses'
 """
 
 from __future__ import annotations
@@ -60,8 +74,12 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from enum import Enum
 from itertools import product
 
+import numpy as np
+
+from plansynth.budget import Budget
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.programs import (
     App,
@@ -74,7 +92,29 @@ from plansynth.grid.programs import (
     evaluate,
     variables_of,
 )
-from plansynth.grid.semantics import CompiledSemantics, State, initial_state, obstacle_move, robot_move, step
+from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_move, step
+
+#: Memory (MB) a budgeted verification may add to the process when its budget gives none
+#: (the native engine's default too).
+DEFAULT_MEMORY_MB = 4096
+
+
+class VerifyStatus(str, Enum):
+    """The verifier's answer. ``unknown`` (the budget ran out) is never ``loses``.
+
+    There is deliberately no truthiness.
+    """
+
+    WINS = "wins"
+    LOSES = "loses"
+    UNKNOWN = "unknown"
+
+    def __bool__(self) -> bool:
+        raise TypeError("VerifyStatus has no truth value; compare with VerifyStatus.WINS etc.")
+
+
+class VerdictUnknown(Exception):
+    """Raised by :attr:`Verdict.wins` on an ``unknown`` verdict: it neither wins nor loses."""
 
 
 @dataclass(frozen=True)
@@ -96,16 +136,27 @@ class Counterexample:
 class Verdict:
     """The verifier's answer for one program and one path length.
 
-    ``wins`` is exact (there is no "unknown": the verifier is complete). When it is
-    False, ``counterexample`` shows a losing run. ``states_explored`` counts the
-    (t, robot, read obstacles) nodes expanded.
+    ``status`` is exact when it is ``wins`` or ``loses``; ``unknown`` only when a budget
+    ran out, with ``phase`` (where) and ``reason`` ("time" or "memory", with figures) in
+    ``message``. When it loses, ``counterexample`` shows a losing run.
+    ``states_explored`` counts the (t, robot, read obstacles) nodes expanded.
     """
 
-    wins: bool
+    status: VerifyStatus
     steps: int
     counterexample: Counterexample | None
     states_explored: int
     seconds: float
+    phase: str | None = None
+    message: str | None = None
+
+    @property
+    def wins(self) -> bool:
+        """True if the controller wins, False if it loses; :class:`VerdictUnknown` if the
+        budget ran out (check ``status`` first when a budget was given)."""
+        if self.status is VerifyStatus.UNKNOWN:
+            raise VerdictUnknown(self.message or "the verifier gave no answer")
+        return self.status is VerifyStatus.WINS
 
 
 def read_obstacles(program: Term, n_obstacles: int) -> tuple[int, ...]:
@@ -125,12 +176,24 @@ def check_controller(problem: GridProblem, program: Term) -> None:
     check_program(program, problem.variables, len(problem.robot.moves), problem.max_constant)
 
 
-def verify(problem: GridProblem, program: Term, steps: int, *, probe_nodes: int | None = None) -> Verdict:
+def verify(
+    problem: GridProblem,
+    program: Term,
+    steps: int,
+    *,
+    probe_nodes: int | None = None,
+    budget: Budget | None = None,
+) -> Verdict:
     """Decide exactly whether ``program`` wins ``problem`` at path length ``steps``.
 
     ``probe_nodes`` bounds the depth-first probe for a quick counterexample that runs
     before the exhaustive search (default :data:`PROBE_NODES`; 0 disables it). It
     changes only the time taken and which counterexample is found, never the answer.
+
+    ``budget`` bounds the time (``seconds``) and the memory (``memory_mb``, default
+    :data:`DEFAULT_MEMORY_MB`) the verification may use; once either is used up the
+    verdict is ``unknown`` naming the phase (see the module docstring). Without a
+    budget the search runs to its exact answer.
 
     Raises :class:`~plansynth.grid.programs.ProgramSyntaxError` when the program is not
     a controller of the problem's grammar (for example a move number with no move).
@@ -139,10 +202,87 @@ def verify(problem: GridProblem, program: Term, steps: int, *, probe_nodes: int 
         raise ValueError(f"steps must be >= 1, got {steps}")
     check_controller(problem, program)
     t0 = time.perf_counter()
-    search = _Search(problem, program, steps, PROBE_NODES if probe_nodes is None else probe_nodes)
-    loss = search.run()
-    cex = None if loss is None else search.counterexample(loss)
-    return Verdict(loss is None, steps, cex, search.explored, time.perf_counter() - t0)
+    meter = _Meter(budget)
+    search = None
+    try:
+        search = _Search(problem, program, steps, PROBE_NODES if probe_nodes is None else probe_nodes, meter)
+        loss = search.run()
+        meter.phase = "building the counterexample"
+        cex = None if loss is None else search.counterexample(loss)
+    except _OutOfBudget as out:
+        explored = 0 if search is None else search.explored
+        return Verdict(VerifyStatus.UNKNOWN, steps, None, explored, time.perf_counter() - t0, out.phase,
+                       f"the verifier's budget ran out in {out.phase}: {out.reason}")
+    except MemoryError:
+        explored = 0 if search is None else search.explored
+        return Verdict(VerifyStatus.UNKNOWN, steps, None, explored, time.perf_counter() - t0, meter.phase,
+                       f"the verifier's budget ran out in {meter.phase}: out of memory")
+    status = VerifyStatus.WINS if loss is None else VerifyStatus.LOSES
+    return Verdict(status, steps, cex, search.explored, time.perf_counter() - t0)
+
+
+class _OutOfBudget(Exception):
+    def __init__(self, phase: str, reason: str) -> None:
+        self.phase = phase
+        self.reason = reason
+        super().__init__(f"{phase}: {reason}")
+
+
+def _rss_bytes() -> int:
+    """The process's resident set now (Linux ``/proc/self/statm``; else its peak)."""
+    try:
+        with open("/proc/self/statm", "rb") as f:
+            return int(f.read().split()[1]) * _PAGE
+    except (OSError, ValueError, IndexError):  # pragma: no cover - not Linux
+        import resource
+
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+
+
+try:
+    import os as _os
+
+    _PAGE = _os.sysconf("SC_PAGE_SIZE")
+except (ValueError, OSError, AttributeError):  # pragma: no cover
+    _PAGE = 4096
+
+
+class _Meter:
+    """The budget of one verification: time and memory, checked every :data:`CHECK_WORK`
+    units of work (cells handled), so that neither overshoots by more than a few
+    milliseconds or megabytes."""
+
+    #: Work between two checks, in units of about a microsecond: a cell handled in Python
+    #: is 1, a call of the semantics :data:`SEMANTICS_CALL`.
+    CHECK_WORK = 1 << 14
+    SEMANTICS_CALL = 8
+
+    def __init__(self, budget: Budget | None) -> None:
+        self.clock = None if budget is None else budget.clock()
+        mb = None if budget is None else (budget.memory_mb or DEFAULT_MEMORY_MB)
+        self.limit = None if mb is None else mb << 20
+        self.base = _rss_bytes() if self.limit is not None else 0
+        self.work = 0
+        self.phase = "setting up"
+
+    def tick(self, work: int = 1) -> None:
+        if self.clock is None:
+            return
+        self.work += work
+        if self.work >= self.CHECK_WORK:
+            self.work = 0
+            self.check()
+
+    def check(self) -> None:
+        if self.clock is None:
+            return
+        if self.clock.out_of_time():
+            raise _OutOfBudget(self.phase, f"time ({self.clock.budget.seconds:g} s)")
+        if self.limit is not None:
+            used = _rss_bytes() - self.base
+            if used > self.limit:
+                raise _OutOfBudget(self.phase, f"memory (it grew by {used >> 20} MB, over the budget of "
+                                   f"{self.limit >> 20} MB)")
 
 
 # -- the search ------------------------------------------------------------------------
@@ -211,88 +351,91 @@ class _Search:
     differ in one factor (S x T and S' x T make (S | S') x T) or one contains another.
     """
 
-    def __init__(self, problem: GridProblem, program: Term, steps: int, probe_nodes: int) -> None:
+    def __init__(self, problem: GridProblem, program: Term, steps: int, probe_nodes: int, meter: "_Meter") -> None:
         self.probe_nodes = probe_nodes
         self.problem = problem
         self.program = program
         self.steps = steps
-        self.sem = CompiledSemantics(problem)  # cell indices and the wall mask
-        # Move tables over cell indices, filled lazily: a 64 x 64 grid has 4096 cells
-        # and the robot and obstacles visit few of them.
-        self.robot = _Rows(problem, lambda c, k: robot_move(problem, c, k), len(problem.robot.moves))
-        self.obstacle = [
-            _Rows(problem, lambda c, k, i=i: obstacle_move(problem, i, c, k), len(o.moves))
-            for i, o in enumerate(problem.obstacles)
-        ]
-        self.width = problem.width
-        self.goal = self.sem.index(problem.robot.goal)
+        self.meter = meter
+        self.width = w = problem.width
+        self.n_cells = n = problem.width * problem.height
+        self.walls = frozenset(c[1] * w + c[0] for c in problem.walls)
+        # Move tables over cell indices, filled lazily: a 1000 x 1000 grid has a million
+        # cells and the robot and obstacles usually visit few of them. Obstacles with the
+        # same moves share a table (a move's effect depends only on the move and walls).
+        self.robot = _Table(problem, lambda c, k: robot_move(problem, c, k), problem.robot.moves, meter)
+        tables: dict[tuple, _Table] = {}
+        self.obstacle = []
+        for i, o in enumerate(problem.obstacles):
+            if o.moves not in tables:
+                tables[o.moves] = _Table(problem, lambda c, k, i=i: obstacle_move(problem, i, c, k), o.moves, meter)
+            self.obstacle.append(tables[o.moves])
+        self.goal = self.index(problem.robot.goal)
         self.read = read_obstacles(program, len(problem.obstacles))
         self.unread = tuple(i for i in range(len(problem.obstacles)) if i not in self.read)
         self.explored = 0
-        self.reach, self.danger = self._unread_reach()
+        meter.phase = "the unread obstacles' reachable cells"
+        self.unread_reach = _UnreadReach(self, self.unread)
+        meter.phase = "the robot's distances to the goal"
         self.distance = self._goal_distances()
         # Per read obstacle: cell set -> (successor set, every cell it can sweep).
-        self._image: list[dict[Cells, tuple[Cells, int]]] = [{} for _ in self.read]
+        self._image: list[dict[Cells, tuple[Cells, Cells]]] = [{} for _ in self.read]
         self._bounds: dict[Cells, tuple[int, int, int, int]] = {}
         # (robot, sets) -> parts on which the program's choice is constant, with it.
         self._parts: dict[tuple[int, tuple[Cells, ...]], tuple[tuple[tuple[Cells, ...], int], ...]] = {}
 
-    # -- unread obstacles ------------------------------------------------------------
+    def index(self, c: Cell) -> int:
+        return c[1] * self.width + c[0]
 
-    def _unread_reach(self) -> tuple[list[list[Cells]], list[int]]:
-        """Per unread obstacle, the cells it can occupy at each time 0..steps-1, and per
-        step the union of every cell some unread obstacle can sweep then."""
-        danger = [0] * self.steps
-        reach: list[list[Cells]] = []
-        for i in self.unread:
-            succ = self.obstacle[i].successors
-            # A set of cells determines its successor set and its swept cells, and the
-            # sequence of sets is often periodic (an up/down obstacle alternates), so
-            # each distinct set is expanded once.
-            expanded: dict[Cells, tuple[Cells, int]] = {}
-            cur = frozenset((self.sem.index(self.problem.obstacles[i].start),))
-            sets = []
-            for t in range(self.steps):
-                sets.append(cur)
-                if cur not in expanded:
-                    expanded[cur] = _image(succ, cur)
-                cur, mask = expanded[cur]
-                danger[t] |= mask
-            reach.append(sets)
-        return reach, danger
+    def danger(self, t: int) -> bytes:
+        """Packed bitmap (bit ``c`` of byte ``c >> 3``) of every cell some unread obstacle
+        can sweep at step ``t``."""
+        return self.unread_reach.danger(t)
 
     def goal_distance(self, r: int) -> int:
         """Fewest robot moves from cell ``r`` to the goal (obstacles and walls ignored;
         ``steps + 1`` when more than ``steps``)."""
-        return self.distance.get(r, self.steps + 1)
+        return int(self.distance[r])
 
-    def _goal_distances(self) -> dict[int, int]:
-        """Breadth-first search back from the goal over the robot's moves, to depth ``steps``."""
+    def _goal_distances(self) -> np.ndarray:
+        """Breadth-first search back from the goal over the robot's moves, to depth ``steps``
+        (vectorised over each frontier; move rows computed only for the cells met)."""
         p = self.problem
-        w = self.width
-        dist = {self.goal: 0}
-        frontier = [self.goal]
+        w, h = p.width, p.height
+        self.meter.check()
+        dist = np.full(self.n_cells, self.steps + 1, dtype=np.int32)
+        dist[self.goal] = 0
+        frontier = np.array([self.goal], dtype=np.int64)
+        ends = self.robot.end
         for d in range(1, self.steps + 1):
-            nxt = []
-            for e in frontier:
-                ex, ey = e % w, e // w
-                for m in p.robot.moves:
-                    c = (ex - m.to[0], ey - m.to[1])
-                    if p.in_grid(c):
-                        ci = c[1] * w + c[0]
-                        if ci not in dist and any(end == e for end, _ in self.robot[ci]):
-                            dist[ci] = d
-                            nxt.append(ci)
+            if frontier.size == 0:
+                break
+            ex, ey = frontier % w, frontier // w
+            found = []
+            for k, m in enumerate(p.robot.moves):
+                cx, cy = ex - m.to[0], ey - m.to[1]
+                ok = (cx >= 0) & (cx < w) & (cy >= 0) & (cy < h)
+                cand, target = (cy * w + cx)[ok], frontier[ok]
+                fresh = dist[cand] > self.steps
+                cand, target = cand[fresh], target[fresh]
+                self.robot.fill(cand)
+                found.append(cand[ends[k, cand] - 1 == target])
+            nxt = np.concatenate(found)
+            nxt = np.unique(nxt) if nxt.size < 4096 else np.flatnonzero(_bitmap(nxt, self.n_cells))
+            nxt = nxt[dist[nxt] > self.steps]
+            dist[nxt] = d
             frontier = nxt
+            self.meter.tick(int(nxt.size) // 8 + 1)
         return dist
 
     # -- read obstacles: images, bounds, and the program's choice on a product set ----
 
-    def image(self, j: int, cells: Cells) -> tuple[Cells, int]:
-        """Successor set and swept-cells mask of read obstacle number ``j`` (slot) on ``cells``."""
+    def image(self, j: int, cells: Cells) -> tuple[Cells, Cells]:
+        """Successor set and swept cells of read obstacle number ``j`` (slot) on ``cells``."""
         cache = self._image[j]
         if cells not in cache:
-            cache[cells] = _image(self.obstacle[self.read[j]].successors, cells)
+            self.meter.tick(len(cells))
+            cache[cells] = _image(self.obstacle[self.read[j]], cells)
         return cache[cells]
 
     def bounds(self, cells: Cells) -> tuple[int, int, int, int]:
@@ -344,6 +487,7 @@ class _Search:
         self, atom: App, r: int, part: tuple[Cells, ...], env: dict[str, tuple[int, int]], known: dict[int, bool]
     ) -> list[tuple[tuple[Cells, ...], dict[int, bool]]]:
         """Split ``part`` so that ``atom`` (undecided on its intervals) is decided on each piece."""
+        self.meter.tick(sum(map(len, part)))
         names = variables_of(atom)
         # Read obstacles whose coordinates in the atom are not yet single values.
         loose = []
@@ -382,9 +526,10 @@ class _Search:
 
     def run(self) -> _Loss | None:
         """None if the controller wins, else a loss (a shortest one unless the probe found one)."""
-        r0 = self.sem.index(self.problem.robot.start)
-        s0 = tuple(frozenset((self.sem.index(self.problem.obstacles[i].start),)) for i in self.read)
+        r0 = self.index(self.problem.robot.start)
+        s0 = tuple(frozenset((self.index(self.problem.obstacles[i].start),)) for i in self.read)
         if self.read and self.probe_nodes > 0:
+            self.meter.phase = "the depth-first probe"
             try:
                 return self._probe(_Node(r0, s0, []), 0, set())
             except _ProbeExhausted:
@@ -394,15 +539,17 @@ class _Search:
     def _step(self, t: int, node: _Node, part: Sets, k: int) -> _Loss | tuple[int, list[Cells]]:
         """Take move ``k`` on ``part`` at time ``t``: a loss, or (robot end, successor sets)."""
         self.explored += 1
-        r_end, r_mask = self.robot[node.r][k]
-        if r_mask & self.sem.walls:
+        self.meter.tick(8)
+        r_end, r_swept = self.robot[node.r][k]
+        if not self.walls.isdisjoint(r_swept):
             return _Loss("wall", t, node, part, k)
-        if r_mask & self.danger[t]:
+        danger = self.danger(t)
+        if any(danger[c >> 3] >> (c & 7) & 1 for c in r_swept):
             return _Loss("unread", t, node, part, k)
         nxt = []
         for j, cells in enumerate(part):
             succ, swept = self.image(j, cells)
-            if swept & r_mask:
+            if not swept.isdisjoint(r_swept):
                 return _Loss("read", t, node, part, k, j)
             nxt.append(succ)
         return r_end, nxt
@@ -418,6 +565,8 @@ class _Search:
         """The exact search: time layer by layer, products merged per (t, robot cell)."""
         layer = [root]
         for t in range(self.steps + 1):
+            self.meter.phase = f"the layered search (step {t} of {self.steps})"
+            self.meter.check()
             successors: dict[int, dict[Sets, list[tuple[_Node, Sets, int]]]] = {}
             for node in layer:
                 loss = self._doomed(t, node)
@@ -479,12 +628,13 @@ class _Search:
         cells = [min(s) for s in loss.part]
         if loss.kind != "doomed":
             robot_moves[loss.t] = loss.move
-            r_mask = self.robot[loss.node.r][loss.move][1]
+            r_swept = self.robot[loss.node.r][loss.move][1]
             if loss.kind == "read":
                 j = loss.obstacle
                 table = self.obstacle[self.read[j]]
                 cells[j], joint[loss.t][self.read[j]] = next(
-                    (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c]) if m & r_mask
+                    (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c])
+                    if not m.isdisjoint(r_swept)
                 )
         # Walk back through the parents: a parent part whose image holds the cells, and
         # for each obstacle a cell there with a move into its current cell.
@@ -505,8 +655,8 @@ class _Search:
             node = parent
         if loss.kind == "unread":
             # Steer one unread obstacle into the robot's swept cells at the last step.
-            for u, i in enumerate(self.unread):
-                hit = self._unread_hit(u, i, loss.t, r_mask)
+            for i in self.unread:
+                hit = self.unread_reach.hit(i, loss.t, r_swept)
                 if hit is not None:
                     for s, k in enumerate(hit):
                         joint[s][i] = k
@@ -545,17 +695,6 @@ class _Search:
                 return None
             out.append(found)
         return out
-
-    def _unread_hit(self, u: int, i: int, t: int, r_mask: int) -> list[int] | None:
-        """Moves of unread obstacle ``i`` for steps 0..t that sweep ``r_mask`` at step t."""
-        table = self.obstacle[i]
-        sets = self.reach[u]
-        for c in sorted(sets[t]):
-            for k, (_, mask) in enumerate(table[c]):
-                if mask & r_mask:
-                    return _walk_back(table, sets[:t], c) + [k]
-        return None
-
 
 def _merge(boxes: dict[Sets, list]) -> dict[Sets, list]:
     """Merge products that differ in one factor, and drop products inside another.
@@ -602,45 +741,210 @@ def _merge(boxes: dict[Sets, list]) -> dict[Sets, list]:
     return boxes
 
 
-class _Rows:
-    """``rows[c][k]``: (end index, swept-cells mask) of move k from cell index c, computed
-    on first use from :mod:`plansynth.grid.semantics` (the same numbers as
-    :class:`~plansynth.grid.semantics.CompiledSemantics`, without building every row)."""
+class _Table:
+    """The moves of one agent over cell indices, filled lazily from
+    :mod:`plansynth.grid.semantics` (only for the cells the search meets).
 
-    def __init__(self, problem: GridProblem, move, n_moves: int) -> None:
+    ``end[k, c]`` is 1 + the end index of move ``k`` from cell ``c`` (0: not computed
+    yet) and ``swept[k][c]`` its swept cell indices (padded by repeating the first one);
+    ``table[c]`` is the row as Python values, ``(end, frozenset of swept cells)`` per
+    move, and ``table.successors[c]`` its distinct pairs.
+    """
+
+    def __init__(self, problem: GridProblem, move, moves: Sequence, meter: "_Meter") -> None:
         self.width = problem.width
         self.move = move
-        self.n_moves = n_moves
-        self.rows: dict[int, tuple[tuple[int, int], ...]] = {}
+        self.n_moves = len(moves)
+        self.meter = meter
+        n = problem.width * problem.height
+        meter.check()
+        self.end = np.zeros((self.n_moves, n), dtype=np.int32)
+        self.swept = [np.zeros((n, len(m.offsets())), dtype=np.int32) for m in moves]
+        self.rows: dict[int, tuple[tuple[int, Cells], ...]] = {}
         self.successors = _Distinct(self)
 
-    def __getitem__(self, ci: int) -> tuple[tuple[int, int], ...]:
-        row = self.rows.get(ci)
+    def fill(self, cells: np.ndarray) -> None:
+        """Compute the moves of every cell of ``cells`` (an index array) not yet computed."""
+        if cells.size == 0:
+            return
+        missing = cells[self.end[0, cells] == 0]  # callers pass distinct cells
+        for i in range(0, missing.size, self.CHUNK):
+            self.meter.tick(self.CHUNK * self.n_moves * _Meter.SEMANTICS_CALL)
+            self._fill(missing[i : i + self.CHUNK])
+
+    #: Cells computed between two budget checks.
+    CHUNK = 64
+
+    def _fill(self, missing: np.ndarray) -> None:
+        w = self.width
+        xy = [(c % w, c // w) for c in missing.tolist()]
+        for k in range(self.n_moves):
+            ncol = self.swept[k].shape[1]
+            ends = []
+            swept = []
+            for c in xy:
+                end, cells_k = self.move(c, k)
+                ends.append(end[1] * w + end[0] + 1)
+                row = [y * w + x for x, y in cells_k]
+                if len(row) > ncol:  # pragma: no cover - semantics sweeps the offsets or the start
+                    raise AssertionError(f"move {k} from {c} sweeps more cells than its offsets")
+                swept.append(row + row[:1] * (ncol - len(row)))
+            self.swept[k][missing] = swept
+            self.end[k, missing] = ends
+
+    def __getitem__(self, c: int) -> tuple[tuple[int, Cells], ...]:
+        row = self.rows.get(c)
         if row is None:
-            w = self.width
-            out = []
-            for k in range(self.n_moves):
-                end, swept = self.move((ci % w, ci // w), k)
-                mask = 0
-                for x, y in swept:
-                    mask |= 1 << (y * w + x)
-                out.append((end[1] * w + end[0], mask))
-            row = self.rows[ci] = tuple(out)
+            if self.end[0, c] == 0:
+                self.fill(np.array([c]))
+            row = self.rows[c] = tuple(
+                (int(self.end[k, c]) - 1, frozenset(self.swept[k][c].tolist())) for k in range(self.n_moves)
+            )
         return row
 
 
 class _Distinct:
-    """``successors[c]``: the distinct (end, mask) pairs of a :class:`_Rows` row."""
+    """``successors[c]``: the distinct (end, swept cells) pairs of a :class:`_Table` row."""
 
-    def __init__(self, rows: _Rows) -> None:
+    def __init__(self, rows: _Table) -> None:
         self.of = rows
-        self.cache: dict[int, tuple[tuple[int, int], ...]] = {}
+        self.cache: dict[int, tuple[tuple[int, Cells], ...]] = {}
 
-    def __getitem__(self, ci: int) -> tuple[tuple[int, int], ...]:
+    def __getitem__(self, ci: int) -> tuple[tuple[int, Cells], ...]:
         row = self.cache.get(ci)
         if row is None:
             row = self.cache[ci] = tuple(dict.fromkeys(self.of[ci]))
         return row
+
+
+class _UnreadReach:
+    """Reduction 2 of the module docstring, a step at a time: the cells each unread
+    obstacle can occupy at time t (a sorted index array; only the current one is kept)
+    and, per step, the packed bitmap of every cell some unread obstacle can sweep then.
+
+    A set sequence is a function of its current set, so once an obstacle's set equals
+    the one one or two steps earlier (a saturated reach, with or without ``stay``) its
+    sweeps repeat with that period and are no longer recomputed. Identical bitmaps are
+    stored once.
+    """
+
+    def __init__(self, search: "_Search", unread: tuple[int, ...]) -> None:
+        self.search = search
+        self.n = search.n_cells
+        self.zero = bytes((self.n + 7) // 8)
+        self.obstacles = [
+            _Reach(search.obstacle[i], np.array([search.index(search.problem.obstacles[i].start)], dtype=np.int32))
+            for i in unread
+        ]
+        self._danger: list[bytes] = []
+        self._distinct: dict[bytes, bytes] = {self.zero: self.zero}
+
+    def danger(self, t: int) -> bytes:
+        while len(self._danger) <= t:
+            self._advance()
+        return self._danger[t]
+
+    def _advance(self) -> None:
+        t = len(self._danger)
+        if not self.obstacles:
+            self._danger.append(self.zero)
+            return
+        meter = self.search.meter
+        phase = meter.phase
+        meter.phase = f"the unread obstacles' reachable cells (step {t})"
+        total = None
+        for ob in self.obstacles:
+            packed = ob.sweeps(t, self.n, meter)
+            total = packed if total is None else total | packed
+        b = total.tobytes()
+        self._danger.append(self._distinct.setdefault(b, b))
+        meter.phase = phase
+
+    def hit(self, i: int, t: int, r_swept: Cells) -> list[int] | None:
+        """Moves of unread obstacle ``i`` for steps 0..t whose last one sweeps a cell of
+        ``r_swept`` (None if it cannot). Replays its sets from the start, keeping them
+        packed (cells / 8 bytes a step), and walks back through them."""
+        s = self.search
+        table = s.obstacle[i]
+        ob = _Reach(table, np.array([s.index(s.problem.obstacles[i].start)], dtype=np.int32))
+        history: list[bytes] = []
+        for step_t in range(t + 1):
+            s.meter.tick(int(ob.cur.size))
+            history.append(np.packbits(_bitmap(ob.cur, self.n), bitorder="little").tobytes())
+            if step_t < t:
+                ob.cur = ob.successors(ob.cur, s.meter)
+        want = np.array(sorted(r_swept), dtype=np.int64)
+        cur = ob.cur
+        table.fill(cur)
+        for k in range(table.n_moves):
+            meets = np.isin(table.swept[k][cur], want).any(axis=1)
+            if meets.any():
+                c = int(cur[np.argmax(meets)])
+                moves = [k]
+                for step_t in range(t - 1, -1, -1):
+                    cells = np.flatnonzero(np.unpackbits(np.frombuffer(history[step_t], dtype=np.uint8),
+                                                         count=self.n, bitorder="little"))
+                    for m in range(table.n_moves):
+                        prev = cells[table.end[m, cells] - 1 == c]
+                        if prev.size:
+                            c = int(prev[0])
+                            moves.append(m)
+                            break
+                    else:  # pragma: no cover - each set is the image of the one before
+                        raise AssertionError("verifier bug: an unread obstacle's cell has no predecessor")
+                return moves[::-1]
+        return None
+
+
+class _Reach:
+    """One unread obstacle's reachable cells, advanced step by step (see :class:`_UnreadReach`)."""
+
+    def __init__(self, table: _Table, start: np.ndarray) -> None:
+        self.table = table
+        self.cur = start
+        self.prev: np.ndarray | None = None
+        self.packed: list[np.ndarray] = []  # the sweeps of the last steps (at most 2)
+        self.period: int | None = None
+        self.t = 0
+
+    def successors(self, cells: np.ndarray, meter: "_Meter") -> np.ndarray:
+        meter.tick(int(cells.size) * self.table.n_moves)
+        self.table.fill(cells)
+        ends = (self.table.end[:, cells] - 1).ravel()
+        if ends.size < 4096:
+            return np.unique(ends)
+        return np.flatnonzero(_bitmap(ends, self.table.end.shape[1])).astype(np.int32)  # 4 bytes a cell
+
+    def sweeps(self, t: int, n: int, meter: "_Meter") -> np.ndarray:
+        """The packed bitmap of the cells this obstacle can sweep at step ``t`` (called
+        for t = 0, 1, 2, ... in order)."""
+        assert t == self.t, "sweeps are advanced one step at a time"
+        self.t += 1
+        if self.period is not None:
+            out = self.packed[-self.period]
+            self.packed = (self.packed + [out])[-2:]
+            return out
+        cells = self.cur
+        meter.tick(int(cells.size) * self.table.n_moves)
+        self.table.fill(cells)
+        bitmap = np.zeros(n, dtype=bool)
+        for col in self.table.swept:
+            bitmap[col[cells].ravel()] = True
+        out = np.packbits(bitmap, bitorder="little")
+        self.packed = (self.packed + [out])[-2:]
+        nxt = self.successors(cells, meter)
+        if np.array_equal(nxt, cells):
+            self.period = 1
+        elif self.prev is not None and np.array_equal(nxt, self.prev):
+            self.period = 2
+        self.prev, self.cur = cells, nxt
+        return out
+
+
+def _bitmap(cells: np.ndarray, n: int) -> np.ndarray:
+    b = np.zeros(n, dtype=bool)
+    b[cells] = True
+    return b
 
 
 def _volume(sets: Sets) -> int:
@@ -650,29 +954,16 @@ def _volume(sets: Sets) -> int:
     return v
 
 
-def _image(succ: Sequence[Sequence[tuple[int, int]]], cells: Cells) -> tuple[Cells, int]:
+def _image(table: _Table, cells: Cells) -> tuple[Cells, Cells]:
     """The cells reachable in one move from ``cells`` and every cell swept on the way."""
+    succ = table.successors
     nxt: set[int] = set()
-    mask = 0
+    swept: set[int] = set()
     for c in cells:
-        for end, swept in succ[c]:
+        for end, sw in succ[c]:
             nxt.add(end)
-            mask |= swept
-    return frozenset(nxt), mask
-
-
-def _walk_back(table: Sequence[Sequence[tuple[int, int]]], sets: Sequence[Cells], cell: int) -> list[int]:
-    """Moves m_0..m_{T-1} of one obstacle with cell_s in ``sets[s]`` ending in ``cell`` at T.
-
-    Each ``sets[s + 1]`` must lie in the image of ``sets[s]`` (true of the search's sets).
-    """
-    moves: list[int] = []
-    cur = cell
-    for s in range(len(sets) - 1, -1, -1):
-        prev, k = next((q, k) for q in sorted(sets[s]) for k, (e, _) in enumerate(table[q]) if e == cur)
-        moves.append(k)
-        cur = prev
-    return moves[::-1]
+            swept |= sw
+    return frozenset(nxt), frozenset(swept)
 
 
 def _choose(program: Term, env: dict[str, tuple[int, int]], known: dict[int, bool]) -> int | App:
