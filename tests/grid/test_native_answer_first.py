@@ -124,3 +124,19 @@ def test_the_compiled_game_graph_is_the_reference_graph(problem):
     fast_g.materialize()
     assert (fast_g.state_of, fast_g.win, fast_g.off, fast_g.succ, fast_g.inputs) == (
         ref_g.state_of, ref_g.win, ref_g.off, ref_g.succ, ref_g.inputs)
+
+
+def test_minimize_proves_unrealizable_when_no_positional_strategy_exists():
+    """Found by hypothesis: the robot must press against the border (down at y = 0)
+    and then step up, twice at the same cell; a controller that sees the time wins, one
+    that sees only positions cannot. Both paths must prove it, not give up on depth."""
+    from plansynth.grid.problem import grid_problem_from_dict
+
+    problem = grid_problem_from_dict({"grid": [2, 3], "robot": {"start": [1, 0], "goal": [1, 1], "moves":
+                                      ["up", {"name": "m1", "to": [0, 1]}, "down"]},
+                                      "obstacles": [], "steps": 2, "walls": [[0, 0]]}, source="<regression>")
+    assert reference.game_won(problem, 2)  # a controller that sees the time wins
+    for minimize in (False, True):
+        out = Engine(minimize=minimize).solve_length(problem, 2, Budget(seconds=20))
+        assert out.status is GridStatus.UNREALIZABLE, (minimize, out.message)
+        assert "sees only positions" in out.message

@@ -199,6 +199,11 @@ class _Run:
                 ref = Refutation("game", steps, arena, "the obstacles win even against controllers that see the time")
                 return GridStatus.UNREALIZABLE, None, ref.detail, ref
             if exact_bound:
+                if stationary_strategy(arena, clock, quick=self.o.quick) is None:
+                    # No positional strategy at all: no program of any depth exists, and
+                    # the depth search below could only give up (it would say unknown).
+                    self._phase("stationary")
+                    return self._stationary_refuted(problem, arena, cone, clock)
                 return self._bounded(problem, arena, cone, clock, depth_bound)
         except BudgetExhausted as exc:
             if blind_program is None:
