@@ -44,7 +44,7 @@ pub fn arithmetic_terms(states: &[Vec<i64>], n_vars: usize, max_constant: i64, m
     let mut seen: HashMap<Vec<i64>, usize> = HashMap::new();
     let mut terms: Vec<(Arith, u32)> = Vec::new();
     let mut values: Vec<Vec<i64>> = Vec::new();
-    let mut push = |vec: Vec<i64>, t: Arith, d: u32, terms: &mut Vec<(Arith, u32)>, values: &mut Vec<Vec<i64>>, seen: &mut HashMap<Vec<i64>, usize>| {
+    let push = |vec: Vec<i64>, t: Arith, d: u32, terms: &mut Vec<(Arith, u32)>, values: &mut Vec<Vec<i64>>, seen: &mut HashMap<Vec<i64>, usize>| {
         if !seen.contains_key(&vec) {
             seen.insert(vec.clone(), terms.len());
             terms.push((t, d));
