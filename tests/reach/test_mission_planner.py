@@ -30,6 +30,8 @@ from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
+from reach_oracles import feasible
+
 from test_ltl import formulas
 
 EXAMPLES = "examples/reach"
@@ -199,15 +201,7 @@ def oracle_feasible(p: ReachProblem, ab, walk, loop_start, segment_safe=True) ->
     h.silent()
     h.setOptionValue("threads", 1)
     h.addVars(len(col_lo), col_lo, col_hi)
-    starts, index, value = [], [], []
-    for coef, _, _ in rows:
-        starts.append(len(index))
-        index.extend(coef)
-        value.extend(coef.values())
-    h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
-              np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
-    h.run()
-    return h.getModelStatus() == highspy.HighsModelStatus.kOptimal
+    return feasible(h, rows)
 
 
 def lassos(ab, N):

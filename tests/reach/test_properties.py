@@ -23,25 +23,15 @@ from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.lazy.displan import DisPlan
 from plansynth.reach.dynamics import double_integrator
-from plansynth.reach.families import random_workspace
 from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.loop import plan_lazy
 from plansynth.reach.geometry import Box, halfspaces
 from plansynth.reach.problem import ReachProblem
 
+from reach_oracles import feasible, problems
+
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
-
-@st.composite
-def problems(draw, max_obstacles: int = 5) -> ReachProblem:
-    seed = draw(st.integers(0, 10**6))
-    dim = draw(st.sampled_from([2, 2, 2, 3]))
-    order = draw(st.sampled_from([1, 2]))
-    n_obstacles = draw(st.integers(1, max_obstacles))
-    try:
-        return random_workspace(seed, n_obstacles, dim=dim, order=order, dt=1.0 if order == 1 else 0.5)
-    except RuntimeError:  # no free point for start or goal: a different seed next time
-        return random_workspace(seed % 97, 2, dim=dim, order=order)
 
 
 @PROPS
@@ -116,15 +106,7 @@ def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], seg
     h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
     h.addVars((N + 1) * n + N * m, np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)]),
               np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)]))
-    starts, index, value = [], [], []
-    for coef, _, _ in rows:
-        starts.append(len(index))
-        index.extend(coef)
-        value.extend(coef.values())
-    h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
-              np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
-    h.run()
-    return h.getModelStatus() == highspy.HighsModelStatus.kOptimal
+    return feasible(h, rows)
 
 
 def walks(ab: Abstraction, N: int) -> Iterator[tuple[int, ...]]:

@@ -18,24 +18,13 @@ from plansynth.reach import ReachStatus, solve
 from plansynth.reach.lazy.bounds import proved_horizon_bound, touching
 from plansynth.reach.abstraction import OUTER_VERTICES, abstract, outer_polygon
 from plansynth.reach.dynamics import double_integrator, single_integrator
-from plansynth.reach.families import random_workspace
 from plansynth.reach.geometry import Box, Polygon
 from plansynth.reach.problem import ReachProblem
 
+from reach_oracles import problems
+
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
-
-@st.composite
-def problems(draw, max_obstacles: int = 5) -> ReachProblem:
-    """Small random workspaces, as in test_properties."""
-    seed = draw(st.integers(0, 10**6))
-    dim = draw(st.sampled_from([2, 2, 2, 3]))
-    order = draw(st.sampled_from([1, 2]))
-    n_obstacles = draw(st.integers(1, max_obstacles))
-    try:
-        return random_workspace(seed, n_obstacles, dim=dim, order=order, dt=1.0 if order == 1 else 0.5)
-    except RuntimeError:  # no free point for start or goal
-        return random_workspace(seed % 97, 2, dim=dim, order=order)
 
 
 def circle(cx: float, cy: float, r: float, n: int) -> Polygon:
