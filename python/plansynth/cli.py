@@ -12,8 +12,8 @@ from __future__ import annotations
 import importlib
 from typing import Any, Optional
 
-import click
 import typer
+from typer.core import TyperGroup
 
 from plansynth.cli_support import OneLineErrorsGroup
 
@@ -34,21 +34,21 @@ class LazyGroup(OneLineErrorsGroup):
 
     _listing = False
 
-    def list_commands(self, ctx: click.Context) -> list[str]:
+    def list_commands(self, ctx: Any) -> list[str]:
         return [*GROUPS, *(name for name in super().list_commands(ctx) if name not in GROUPS)]
 
-    def get_command(self, ctx: click.Context, cmd_name: str) -> Optional[click.Command]:
+    def get_command(self, ctx: Any, cmd_name: str) -> Optional[Any]:
         if cmd_name not in GROUPS:
             return super().get_command(ctx, cmd_name)
         module, help_text = GROUPS[cmd_name]
         if self._listing:
-            return click.Group(cmd_name, help=help_text)
+            return TyperGroup(name=cmd_name, help=help_text)
         command = typer.main.get_group(importlib.import_module(module).app)
         command.name = cmd_name
         command.help = help_text
         return command
 
-    def format_help(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+    def format_help(self, ctx: Any, formatter: Any) -> None:
         self._listing = True
         try:
             super().format_help(ctx, formatter)

@@ -287,3 +287,45 @@ def test_reachable_cells_reference(p: GridProblem) -> None:
         assert sets[0] == {p.obstacles[i].start}
         for a, b in zip(sets, sets[1:]):
             assert b == {obstacle_move(p, i, c, k)[0] for c in a for k in range(len(p.obstacles[i].moves))}
+
+
+# -- the two table representations -----------------------------------------------------------
+
+
+def _same_verdicts(p: GridProblem, program: Term, steps: int, **kw: Any) -> Verdict:
+    py = verify(p, program, steps, tables="python", **kw)
+    arrays = verify(p, program, steps, tables="numpy", **kw)
+    assert (py.status, py.counterexample, py.states_explored) == (arrays.status, arrays.counterexample,
+                                                                  arrays.states_explored)
+    return py
+
+
+@settings(max_examples=75 * SCALE)
+@given(problems_and_programs(max_depth=5, max_obstacles=3))
+def test_python_and_numpy_tables_give_the_same_verdict_and_counterexample(pp: tuple[GridProblem, Term]) -> None:
+    """Small grids keep their tables in plain Python (no numpy import on a small solve),
+    large ones in numpy arrays: the same search over either, so the same answer, the
+    same counterexample and the same count of states."""
+    p, program = pp
+    v = _same_verdicts(p, program, p.steps)
+    assert v.wins == reference_wins(p, program, p.steps)
+
+
+@settings(max_examples=40 * SCALE)
+@given(problems_and_programs(max_depth=5, reading_obstacles=True, max_obstacles=3, max_steps=4))
+def test_python_and_numpy_tables_agree_on_programs_reading_obstacles(pp: tuple[GridProblem, Term]) -> None:
+    p, program = pp
+    _same_verdicts(p, program, p.steps, probe_nodes=0)
+    _same_verdicts(p, program, p.steps)
+
+
+def test_the_table_representation_follows_the_grid_size() -> None:
+    """A far unread obstacle steers into the robot (the hit walked back through its
+    reachable sets), over either representation; a bad name is an error."""
+    p = grid_problem_from_dict({"grid": [9, 3], "robot": {"start": [0, 1], "goal": [8, 1], "moves": ["stay", "right"]},
+                                "obstacles": [{"start": [8, 0], "moves": MOVES}]})
+    v = _same_verdicts(p, parse_program("1"), 8)
+    assert not v.wins and "with obstacle 0" in v.counterexample.reason
+    check_counterexample(p, parse_program("1"), 8, v.counterexample)
+    with pytest.raises(ValueError, match="tables must be 'python' or 'numpy'"):
+        verify(p, parse_program("1"), 8, tables="arrays")

@@ -1,6 +1,11 @@
 """``plansynth grid solve`` and ``plansynth grid compile``: thin shells over
 :func:`plansynth.grid.solve.solve` and :func:`plansynth.grid.sygus.compile_sygus`
 (STYLE.md, point 12). Registered on the ``plansynth grid`` app by :mod:`plansynth.grid.cli`.
+
+``solve`` is the command run most (by users and by ``plansynth bench grid``, which times
+it through the CLI), so its module imports only what every solve needs: the answer is
+printed with click's styles (no rich console), rich's spinner is loaded only when
+standard error is a terminal, and the backend's modules load with the backend.
 """
 
 from __future__ import annotations
@@ -9,9 +14,9 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any, Optional
 
+import sys
+
 import typer
-from rich.console import Console
-from rich.markup import escape
 
 from plansynth.budget import Budget
 from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, positive_seconds, seconds_since_start
@@ -36,11 +41,20 @@ EXIT_RESERVE = 0.5
 #: Exit statuses of ``solve``.
 EXIT_REALIZABLE, EXIT_UNREALIZABLE = EXIT_YES, EXIT_NO
 
-_STATUS_STYLE = {
-    GridStatus.REALIZABLE: "bold green",
-    GridStatus.UNREALIZABLE: "bold red",
-    GridStatus.UNKNOWN: "bold yellow",
+_STATUS_COLOUR = {
+    GridStatus.REALIZABLE: "green",
+    GridStatus.UNREALIZABLE: "red",
+    GridStatus.UNKNOWN: "yellow",
 }
+
+
+def _status(status: GridStatus, width: int = 0) -> str:
+    """The status word in bold colour (click drops the styles when not on a terminal)."""
+    return typer.style(f"{status.value:<{width}}", fg=_STATUS_COLOUR[status], bold=True)
+
+
+def _error(exc: Exception) -> None:
+    typer.echo(f"{typer.style('error:', fg='red', bold=True)} {exc}", err=True)
 
 SOLVE_EPILOG = """\
 Examples:
@@ -117,23 +131,66 @@ def _solver_options(
     return kwargs
 
 
-def _print_result(console: Console, problem: GridProblem, r: GridResult) -> None:
-    style = _STATUS_STYLE[r.status]
+def _print_result(problem: GridProblem, r: GridResult) -> None:
+    echo = typer.echo
     where = f" at l = {r.steps}" if r.status is GridStatus.REALIZABLE else ""
-    console.print(f"[{style}]{r.status.value}[/{style}]{where} ({r.solver} {escape(r.solver_version)}, {r.seconds:.2f} s)")
+    echo(f"{_status(r.status)}{where} ({r.solver} {r.solver_version}, {r.seconds:.2f} s)")
     if r.status is GridStatus.REALIZABLE and r.program is not None:
-        console.print(f"controller (depth {r.depth}, size {size(r.program)}):")
-        console.print(f"  {escape(str(r.program))}", highlight=False)
-        console.print(escape(to_python(r.program, problem.variables)).rstrip(), highlight=False)
+        echo(f"controller (depth {r.depth}, size {size(r.program)}):")
+        echo(f"  {r.program}")
+        echo(to_python(r.program, problem.variables).rstrip())
         if r.verified:
-            console.print(f"[green]{escape(r.message)}[/green]", highlight=False)
+            echo(typer.style(r.message, fg="green"))
         if r.depth_minimal is not None:
-            console.print(f"depth_minimal: {r.depth_minimal}", highlight=False)
+            echo(f"depth_minimal: {r.depth_minimal}")
     elif r.message:
-        console.print(escape(r.message), highlight=False)
+        echo(r.message)
     if r.status is GridStatus.UNREALIZABLE and r.certified_by:
-        console.print(f"certified by the {escape(r.certified_by)} engine (it decides realizability exactly)",
-                      highlight=False)
+        echo(f"certified by the {r.certified_by} engine (it decides realizability exactly)")
+
+
+class _Lines:
+    """One line per path length tried, on standard error; on a terminal, above rich's
+    transient spinner (rich is imported only then)."""
+
+    def __init__(self, solver: str, lengths: list[int]) -> None:
+        self.solver, self.lengths = solver, lengths
+        self.bar = None
+        if sys.stderr.isatty():
+            from rich.console import Console
+            from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(SpinnerColumn(), TextColumn("[progress.description]{task.description}"),
+                                TimeElapsedColumn(), console=Console(stderr=True, soft_wrap=True), transient=True)
+
+    def __enter__(self) -> "_Lines":
+        if self.bar is not None:
+            self.bar.__enter__()
+            self.task = self.bar.add_task(self._description(0), total=len(self.lengths))
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(*exc)
+
+    def _description(self, i: int) -> str:
+        from rich.markup import escape
+
+        nxt = f"l = {self.lengths[i]} ({i + 1}/{len(self.lengths)})" if i < len(self.lengths) else "done"
+        return escape(f"{self.solver}: {nxt}")
+
+    def __call__(self, l: int, o: LengthOutcome) -> None:
+        note = f"  {o.message}" if o.message and o.status is not GridStatus.UNREALIZABLE else ""
+        cpu = o.counters.get("solver_cpu_seconds")
+        cpu_note = f" (solver cpu {cpu:.2f} s)" if isinstance(cpu, (int, float)) else ""
+        line = f"l = {l:>3}  {_status(o.status, 12)} {o.seconds:8.2f} s{cpu_note}{note}"
+        if self.bar is None:
+            typer.echo(line, err=True)
+            return
+        from rich.text import Text
+
+        self.bar.console.print(Text.from_ansi(line))
+        self.bar.update(self.task, advance=1, description=self._description(self.lengths.index(l) + 1))
 
 
 def solve_command(
@@ -152,12 +209,8 @@ def solve_command(
     effort: Optional[float] = typer.Option(None, "--effort", min=0.0, help="Native only: seconds spent making the first verified program smaller (default 0.3 s or 10% of --timeout, whichever is smaller; 0: the first program)."),
 ) -> None:
     """Synthesize a controller: try path lengths l in order, report the first verified one."""
-    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
-
     from plansynth.grid.solve import solve
 
-    console = Console(soft_wrap=True)
-    err = Console(stderr=True, soft_wrap=True)
     try:
         if timeout is not None and timeout <= 0:
             raise typer.BadParameter("must be positive", param_hint="--timeout")
@@ -171,42 +224,21 @@ def solve_command(
         # of running the command, start-up and loading included
         left = None if timeout is None else max(timeout - seconds_since_start() - EXIT_RESERVE, 0.01)
         budget = Budget(seconds=left, memory_mb=memory_mb)
-        lengths = list(problem.path_lengths())
-        with Progress(
-            SpinnerColumn(),
-            TextColumn("[progress.description]{task.description}"),
-            TimeElapsedColumn(),
-            console=err,
-            transient=True,
-        ) as bar:
-            task = bar.add_task(f"{solver}: l = {lengths[0]} ({1}/{len(lengths)})", total=len(lengths))
-
-            def progress(l: int, o: LengthOutcome) -> None:
-                style = _STATUS_STYLE[o.status]
-                note = f"  {escape(o.message)}" if o.message and o.status is not GridStatus.UNREALIZABLE else ""
-                cpu = o.counters.get("solver_cpu_seconds")
-                cpu_note = f" (solver cpu {cpu:.2f} s)" if isinstance(cpu, (int, float)) else ""
-                bar.console.print(
-                    f"l = {l:>3}  [{style}]{o.status.value:<12}[/{style}] {o.seconds:8.2f} s{cpu_note}{note}", highlight=False
-                )
-                i = lengths.index(l) + 1
-                nxt = f"l = {lengths[i]} ({i + 1}/{len(lengths)})" if i < len(lengths) else "done"
-                bar.update(task, advance=1, description=f"{solver}: {nxt}")
-
+        with _Lines(solver, list(problem.path_lengths())) as progress:
             result = solve(problem, solver, budget, depth_bound=depth_bound, progress=progress, **kwargs)
     except typer.BadParameter:
         raise
     except PlansynthError as exc:
-        err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+        _error(exc)
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    _print_result(console, problem, result)
+    _print_result(problem, result)
     if out is not None:
         try:
             result.write(out)
         except OutputUnwritable as exc:
-            err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+            _error(exc)
             raise typer.Exit(EXIT_BAD_INPUT) from None
-        console.print(f"result written to {escape(str(out))}", highlight=False)
+        typer.echo(f"result written to {out}")
     code = {GridStatus.REALIZABLE: EXIT_REALIZABLE, GridStatus.UNREALIZABLE: EXIT_UNREALIZABLE}
     raise typer.Exit(code.get(result.status, EXIT_UNKNOWN))
 
@@ -220,7 +252,6 @@ def compile_command(
     """Write the SyGuS-IF v2 specification of a problem at one path length (paper §3.2)."""
     from plansynth.grid.sygus import compile_sygus
 
-    err = Console(stderr=True, soft_wrap=True)
     try:
         problem = load_grid_problem(file)
         l = steps if steps is not None else problem.steps
@@ -232,12 +263,12 @@ def compile_command(
         if output is not None:
             write_output(output, text)
     except PlansynthError as exc:
-        err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
+        _error(exc)
         raise typer.Exit(EXIT_BAD_INPUT) from None
     if output is None:
         typer.echo(text, nl=False)
     else:
-        err.print(f"wrote {escape(str(output))} ({len(text)} characters)", highlight=False)
+        typer.echo(f"wrote {output} ({len(text)} characters)", err=True)
 
 
 def register(app: typer.Typer) -> None:

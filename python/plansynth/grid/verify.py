@@ -50,11 +50,14 @@ the memory is used up and answers ``unknown`` with the phase and the reason, nev
 guessed ``wins``/``loses``. Memory is what the process gains while verifying (its
 resident set, checked every few thousand cells of work) and defaults to
 :data:`DEFAULT_MEMORY_MB` when a budget gives none. The per-cell data is kept small so
-that a large grid costs only what the search touches: move tables are numpy arrays
-filled lazily (end cell, swept cells as indices), the unread obstacles' reachable cells
-are advanced one step at a time as index arrays (only the current set is kept; a set
-sequence that becomes periodic, as they do once an obstacle's reach saturates, is not
-recomputed) and each step's danger is a packed bitmap.
+that a large grid costs only what the search touches: move tables are filled lazily
+(end cell, swept cells as indices), the unread obstacles' reachable cells are advanced
+one step at a time (only the current set is kept; a set sequence that becomes periodic,
+as they do once an obstacle's reach saturates, is not recomputed) and each step's
+danger is a packed bitmap. On a large grid the tables and sets are numpy arrays; on a
+small one (:data:`PYTHON_CELLS`) they are dicts and integer bitsets, so that verifying
+a small problem does not import numpy (a tenth of a second of a ``plansynth grid
+solve``); both give the same verdicts and counterexamples (tests/grid/test_verify.py).
 
 >>> from plansynth.grid.problem import grid_problem_from_dict
 >>> from plansynth.grid.programs import parse_program
@@ -77,7 +80,7 @@ from dataclasses import dataclass
 from enum import Enum
 from itertools import product
 
-import numpy as np
+from typing import Any
 
 from plansynth.budget import Budget
 from plansynth.grid.problem import Cell, GridProblem
@@ -97,6 +100,25 @@ from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_
 #: Memory (MB) a budgeted verification may add to the process when its budget gives none
 #: (the native engine's default too).
 DEFAULT_MEMORY_MB = 4096
+
+#: Grids of at most this many cells, with at most :data:`PYTHON_OBSTACLES` obstacles,
+#: keep their move tables and reachable sets in plain Python (dicts, integer bitsets):
+#: on them the search itself takes milliseconds and numpy's import (0.1-0.15 s) would
+#: dominate a ``plansynth grid solve``. Larger ones use numpy arrays (see ``tables`` of
+#: :func:`verify`); the two representations give the same verdicts and counterexamples.
+PYTHON_CELLS = 4096
+PYTHON_OBSTACLES = 8
+
+np: Any = None  # numpy, imported by _numpy() for the grids that use its tables
+
+
+def _numpy() -> Any:
+    global np
+    if np is None:
+        import numpy
+
+        np = numpy
+    return np
 
 
 class VerifyStatus(str, Enum):
@@ -183,6 +205,7 @@ def verify(
     *,
     probe_nodes: int | None = None,
     budget: Budget | None = None,
+    tables: str | None = None,
 ) -> Verdict:
     """Decide exactly whether ``program`` wins ``problem`` at path length ``steps``.
 
@@ -195,17 +218,29 @@ def verify(
     verdict is ``unknown`` naming the phase (see the module docstring). Without a
     budget the search runs to its exact answer.
 
+    ``tables`` chooses how move tables and the unread obstacles' reachable sets are
+    stored: ``"python"`` (dicts and integer bitsets, no numpy import) or ``"numpy"``
+    (lazily filled arrays, for large grids); by default ``"python"`` on grids of at most
+    :data:`PYTHON_CELLS` cells with at most :data:`PYTHON_OBSTACLES` obstacles. It changes
+    only the time and memory taken, never the verdict or the counterexample.
+
     Raises :class:`~plansynth.grid.programs.ProgramSyntaxError` when the program is not
     a controller of the problem's grammar (for example a move number with no move).
     """
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     check_controller(problem, program)
+    if tables is None:
+        small = problem.width * problem.height <= PYTHON_CELLS and len(problem.obstacles) <= PYTHON_OBSTACLES
+        tables = "python" if small else "numpy"
+    elif tables not in ("python", "numpy"):
+        raise ValueError(f"tables must be 'python' or 'numpy', got {tables!r}")
     t0 = time.perf_counter()
     meter = _Meter(budget)
     search = None
     try:
-        search = _Search(problem, program, steps, PROBE_NODES if probe_nodes is None else probe_nodes, meter)
+        search = _Search(problem, program, steps, PROBE_NODES if probe_nodes is None else probe_nodes, meter,
+                         tables == "numpy")
         loss = search.run()
         meter.phase = "building the counterexample"
         cex = None if loss is None else search.counterexample(loss)
@@ -351,7 +386,8 @@ class _Search:
     differ in one factor (S x T and S' x T make (S | S') x T) or one contains another.
     """
 
-    def __init__(self, problem: GridProblem, program: Term, steps: int, probe_nodes: int, meter: "_Meter") -> None:
+    def __init__(self, problem: GridProblem, program: Term, steps: int, probe_nodes: int, meter: "_Meter",
+                 use_numpy: bool = True) -> None:
         self.probe_nodes = probe_nodes
         self.problem = problem
         self.program = program
@@ -363,21 +399,24 @@ class _Search:
         # Move tables over cell indices, filled lazily: a 1000 x 1000 grid has a million
         # cells and the robot and obstacles usually visit few of them. Obstacles with the
         # same moves share a table (a move's effect depends only on the move and walls).
-        self.robot = _Table(problem, lambda c, k: robot_move(problem, c, k), problem.robot.moves, meter)
-        tables: dict[tuple, _Table] = {}
+        if use_numpy:
+            _numpy()
+        table = _Table if use_numpy else _PyTable
+        self.robot = table(problem, lambda c, k: robot_move(problem, c, k), problem.robot.moves, meter)
+        tables: dict[tuple, Any] = {}
         self.obstacle = []
         for i, o in enumerate(problem.obstacles):
             if o.moves not in tables:
-                tables[o.moves] = _Table(problem, lambda c, k, i=i: obstacle_move(problem, i, c, k), o.moves, meter)
+                tables[o.moves] = table(problem, lambda c, k, i=i: obstacle_move(problem, i, c, k), o.moves, meter)
             self.obstacle.append(tables[o.moves])
         self.goal = self.index(problem.robot.goal)
         self.read = read_obstacles(program, len(problem.obstacles))
         self.unread = tuple(i for i in range(len(problem.obstacles)) if i not in self.read)
         self.explored = 0
         meter.phase = "the unread obstacles' reachable cells"
-        self.unread_reach = _UnreadReach(self, self.unread)
+        self.unread_reach = (_UnreadReach if use_numpy else _PyUnreadReach)(self, self.unread)
         meter.phase = "the robot's distances to the goal"
-        self.distance = self._goal_distances()
+        self.distance = self._goal_distances() if use_numpy else self._goal_distances_py()
         # Per read obstacle: cell set -> (successor set, every cell it can sweep).
         self._image: list[dict[Cells, tuple[Cells, Cells]]] = [{} for _ in self.read]
         self._bounds: dict[Cells, tuple[int, int, int, int]] = {}
@@ -396,6 +435,33 @@ class _Search:
         """Fewest robot moves from cell ``r`` to the goal (obstacles and walls ignored;
         ``steps + 1`` when more than ``steps``)."""
         return int(self.distance[r])
+
+    def _goal_distances_py(self) -> list[int]:
+        """:meth:`_goal_distances` in plain Python (the small grids' tables)."""
+        p = self.problem
+        w, h, far = p.width, p.height, self.steps + 1
+        self.meter.check()
+        dist = [far] * self.n_cells
+        dist[self.goal] = 0
+        frontier = [self.goal]
+        rows = self.robot
+        for d in range(1, far):
+            if not frontier:
+                break
+            found: set[int] = set()
+            for k, m in enumerate(p.robot.moves):
+                dx, dy = m.to
+                for e in frontier:
+                    cx, cy = e % w - dx, e // w - dy
+                    if 0 <= cx < w and 0 <= cy < h:
+                        c = cy * w + cx
+                        if dist[c] == far and rows[c][k][0] == e:
+                            found.add(c)
+            for c in found:
+                dist[c] = d
+            frontier = sorted(found)
+            self.meter.tick(len(found) // 8 + 1)
+        return dist
 
     def _goal_distances(self) -> np.ndarray:
         """Breadth-first search back from the goal over the robot's moves, to depth ``steps``
@@ -939,6 +1005,163 @@ class _Reach:
             self.period = 2
         self.prev, self.cur = cells, nxt
         return out
+
+
+class _PyTable:
+    """:class:`_Table` in plain Python, for small grids: ``table[c]`` is the row of cell
+    ``c`` (``(end, frozenset of swept cells)`` per move), computed from the semantics on
+    first use; ``masks(c)`` the same row as two integer bitsets (every end cell, every
+    swept cell), for :class:`_PyReach`."""
+
+    def __init__(self, problem: GridProblem, move, moves: Sequence, meter: "_Meter") -> None:
+        self.width = problem.width
+        self.move = move
+        self.n_moves = len(moves)
+        self.meter = meter
+        self.rows: dict[int, tuple[tuple[int, Cells], ...]] = {}
+        self._masks: dict[int, tuple[int, int]] = {}
+        self.successors = _Distinct(self)
+
+    def __getitem__(self, c: int) -> tuple[tuple[int, Cells], ...]:
+        row = self.rows.get(c)
+        if row is None:
+            self.meter.tick(self.n_moves * _Meter.SEMANTICS_CALL)
+            w = self.width
+            out = []
+            for k in range(self.n_moves):
+                end, cells_k = self.move((c % w, c // w), k)
+                out.append((end[1] * w + end[0], frozenset(y * w + x for x, y in cells_k)))
+            row = self.rows[c] = tuple(out)
+        return row
+
+    def masks(self, c: int) -> tuple[int, int]:
+        m = self._masks.get(c)
+        if m is None:
+            ends = swept = 0
+            for end, cells_k in self[c]:
+                ends |= 1 << end
+                for x in cells_k:
+                    swept |= 1 << x
+            m = self._masks[c] = (ends, swept)
+        return m
+
+
+def _cells_of(mask: int) -> list[int]:
+    """The cell indices of an integer bitset, ascending."""
+    out = []
+    while mask:
+        low = mask & -mask
+        out.append(low.bit_length() - 1)
+        mask ^= low
+    return out
+
+
+class _PyReach:
+    """:class:`_Reach` in plain Python: the current reachable set is an integer bitset."""
+
+    def __init__(self, table: _PyTable, start: int) -> None:
+        self.table = table
+        self.cur = 1 << start
+        self.prev: int | None = None
+        self.packed: list[int] = []
+        self.period: int | None = None
+        self.t = 0
+
+    def successors(self, cells: int, meter: "_Meter") -> int:
+        out = 0
+        masks = self.table.masks
+        listed = _cells_of(cells)
+        meter.tick(len(listed) * self.table.n_moves)
+        for c in listed:
+            out |= masks(c)[0]
+        return out
+
+    def sweeps(self, t: int, meter: "_Meter") -> int:
+        """The bitset of the cells this obstacle can sweep at step ``t`` (t = 0, 1, ...)."""
+        assert t == self.t, "sweeps are advanced one step at a time"
+        self.t += 1
+        if self.period is not None:
+            out = self.packed[-self.period]
+            self.packed = (self.packed + [out])[-2:]
+            return out
+        cells = self.cur
+        listed = _cells_of(cells)
+        meter.tick(len(listed) * self.table.n_moves)
+        masks = self.table.masks
+        out = 0
+        for c in listed:
+            out |= masks(c)[1]
+        self.packed = (self.packed + [out])[-2:]
+        nxt = self.successors(cells, meter)
+        if nxt == cells:
+            self.period = 1
+        elif self.prev is not None and nxt == self.prev:
+            self.period = 2
+        self.prev, self.cur = cells, nxt
+        return out
+
+
+class _PyUnreadReach:
+    """:class:`_UnreadReach` in plain Python (integer bitsets); ``danger(t)`` is the same
+    packed bitmap (bit ``c`` of byte ``c >> 3``)."""
+
+    def __init__(self, search: "_Search", unread: tuple[int, ...]) -> None:
+        self.search = search
+        self.n_bytes = (search.n_cells + 7) // 8
+        self.zero = bytes(self.n_bytes)
+        self.obstacles = [_PyReach(search.obstacle[i], search.index(search.problem.obstacles[i].start)) for i in unread]
+        self._danger: list[bytes] = []
+        self._distinct: dict[bytes, bytes] = {self.zero: self.zero}
+
+    def danger(self, t: int) -> bytes:
+        while len(self._danger) <= t:
+            self._advance()
+        return self._danger[t]
+
+    def _advance(self) -> None:
+        t = len(self._danger)
+        if not self.obstacles:
+            self._danger.append(self.zero)
+            return
+        meter = self.search.meter
+        phase = meter.phase
+        meter.phase = f"the unread obstacles' reachable cells (step {t})"
+        total = 0
+        for ob in self.obstacles:
+            total |= ob.sweeps(t, meter)
+        b = total.to_bytes(self.n_bytes, "little")
+        self._danger.append(self._distinct.setdefault(b, b))
+        meter.phase = phase
+
+    def hit(self, i: int, t: int, r_swept: Cells) -> list[int] | None:
+        """As :meth:`_UnreadReach.hit`, choosing the same moves (lowest move, then lowest
+        cell, at each step)."""
+        s = self.search
+        table = s.obstacle[i]
+        ob = _PyReach(table, s.index(s.problem.obstacles[i].start))
+        history: list[int] = []
+        for step_t in range(t + 1):
+            history.append(ob.cur)
+            if step_t < t:
+                ob.cur = ob.successors(ob.cur, s.meter)
+        cur = _cells_of(ob.cur)
+        for k in range(table.n_moves):
+            c = next((c for c in cur if not table[c][k][1].isdisjoint(r_swept)), None)
+            if c is not None:
+                moves = [k]
+                for step_t in range(t - 1, -1, -1):
+                    cells = _cells_of(history[step_t])
+                    s.meter.tick(len(cells))
+                    for m in range(table.n_moves):
+                        prev = next((p for p in cells if table[p][m][0] == c), None)
+                        if prev is not None:
+                            c = prev
+                            moves.append(m)
+                            break
+                    else:  # pragma: no cover - each set is the image of the one before
+                        raise AssertionError("verifier bug: an unread obstacle's cell has no predecessor")
+                return moves[::-1]
+        return None
 
 
 def _bitmap(cells: np.ndarray, n: int) -> np.ndarray:

@@ -15,6 +15,16 @@ Typical use goes through the backend registry::
     result = solve(problem, "native", Budget(seconds=60), minimize=True)  # proved minimal depth
 """
 
-from plansynth.grid.native.engine import Engine, Refutation, program_wins
+from typing import Any
 
 __all__ = ["Engine", "Refutation", "program_wins"]
+
+
+def __getattr__(name: str) -> Any:
+    """The engine's names, imported on first use: importing a submodule (the options
+    the CLI parses, say) does not load the engine and its SAT solver."""
+    if name in __all__:
+        from plansynth.grid.native import engine
+
+        return getattr(engine, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -23,8 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-
-from pysat.solvers import Solver
+from typing import Any
 
 from plansynth.budget import Clock
 from plansynth.grid.native.arena import Arena, BudgetExhausted, Config
@@ -353,13 +352,15 @@ def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[in
                   max_conflicts: int | None = None, max_seconds: float | None = None) -> list[int] | None:
     """Solve with CaDiCaL; BudgetExhausted when the clock runs out, ConflictLimit after
     ``max_conflicts`` conflicts or ``max_seconds`` seconds of this call."""
+    from pysat.solvers import Solver  # here: a game decided without SAT never loads it
+
     with Solver(name=SAT_SOLVER, bootstrap_with=clauses) as s:
         if phases:
             s.set_phases(phases)
         return solve_sliced(s, clock, max_conflicts, max_seconds)
 
 
-def solve_sliced(solver: Solver, clock: Clock | None, max_conflicts: int | None = None,
+def solve_sliced(solver: Any, clock: Clock | None, max_conflicts: int | None = None,
                  max_seconds: float | None = None) -> list[int] | None:
     """One (possibly incremental) CaDiCaL call: a model, or None when unsatisfiable.
 

@@ -27,8 +27,6 @@ from plansynth.grid.native.arena import BudgetExhausted
 from plansynth.grid.native.conditions import Condition
 import time
 
-from pysat.solvers import Solver
-
 from plansynth.grid.native.stationary import SAT_SOLVER, ConflictLimit, solve_clauses, solve_sliced
 from plansynth.grid.programs import App, Const, Term, depth, size
 
@@ -251,6 +249,8 @@ def tree_program(
         if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
             raise ConflictLimit(f"tree SAT instance not built within {max_seconds:.2f} s")
     added = set(seen.values())
+    from pysat.solvers import Solver  # here: a program found without tree SAT never loads it
+
     with Solver(name=SAT_SOLVER) as solver:
         while True:
             for c in enc.clauses:
