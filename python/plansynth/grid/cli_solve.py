@@ -206,7 +206,7 @@ def solve_command(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
     minimize: bool = typer.Option(False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."),
-    effort: Optional[float] = typer.Option(None, "--effort", min=0.0, help="Native only: seconds spent making the first verified program smaller (default 0.3 s or 10% of --timeout, whichever is smaller; 0: the first program)."),
+    effort: Optional[float] = typer.Option(None, "--effort", min=0.0, help="Native only: seconds spent making the first verified program smaller (default 0.05 s or 10% of --timeout, whichever is smaller; 0: the first program)."),
 ) -> None:
     """Synthesize a controller: try path lengths l in order, report the first verified one."""
     from plansynth.grid.solve import solve

@@ -40,7 +40,7 @@ OPTION_DOCS: dict[str, str] = {
     "minimize": "search program depths 1, 4, 5, ... over every winning strategy and return the smallest, "
                 "proved minimal when the condition enumeration is complete (--minimize)",
     "effort": "seconds spent making the first verified program smaller with tree SAT (--effort; default "
-              "0.3 s or 10% of the budget, whichever is smaller; 0 returns the first program)",
+              "0.05 s or 10% of the budget, whichever is smaller; 0 returns the first program)",
     "condition_depth": "deepest condition enumerated for the exact depth search (default 4)",
     "max_tree_depth": "deepest decision tree tried by tree SAT (default 9)",
     "max_configs": "an explicit cap on joint obstacle configurations (default none: the game is bounded by "
