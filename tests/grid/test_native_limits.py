@@ -93,3 +93,43 @@ def test_no_process_is_left_running(tmp_path):
     time.sleep(0.2)
     with pytest.raises(ProcessLookupError):
         os.killpg(proc.pid, 0)  # nothing of its process group is left
+
+
+def test_the_cvc5_budget_counts_from_the_process_start():
+    """``--solver cvc5 --timeout T`` ends by T + 1 s of being started, as native does:
+    the solver child gets what start-up (typer, cvc5's import, the fork server) left of
+    T, less the reserve for printing and exiting (bench measured T + 1.3 s in median when
+    cvc5's budget started with its solve). r07_traffic is far beyond cvc5 in 3 s; the
+    killed solver leaves no process behind."""
+    from plansynth.bench.families import reactive_suite_dir
+
+    code, out, wall, _ = _run(reactive_suite_dir() / "r07_traffic.yaml", "--solver", "cvc5")
+    assert code == 3 and "cvc5 ran out of the time budget" in out, out
+    assert wall < BUDGET + 1.0, f"cvc5 answered after {wall:.2f} s with --timeout {BUDGET}"
+
+
+def _live_members(pgid: int) -> list[str]:
+    """Processes of process group ``pgid`` that are not zombies (a killed child whose
+    parent exited waits, dead, for init to reap it)."""
+    live = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            live.append(f"{stat.parent.name} ({fields[0]})")
+    return live
+
+
+def test_cvc5_leaves_no_process_running():
+    """The solver child killed at the budget and the fork server are gone once the
+    command has exited (dead: at most zombies left to init)."""
+    from plansynth.bench.families import reactive_suite_dir
+
+    proc = subprocess.Popen([sys.executable, "-m", "plansynth.cli", "grid", "solve",
+                             str(reactive_suite_dir() / "r07_traffic.yaml"), "--solver", "cvc5", "--timeout", "2"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc.wait(timeout=60)
+    time.sleep(0.2)
+    assert _live_members(proc.pid) == []
