@@ -15,6 +15,7 @@ from plansynth.grid.semantics import (
     initial_state,
     obstacle_choices,
     obstacle_move,
+    robot_end,
     robot_move,
     step,
 )
@@ -228,3 +229,13 @@ def test_compiled_tables_match_the_move_functions(p: GridProblem) -> None:
             assert sem.obstacle[i][sem.index(c)] == tuple((sem.index(e), mask(s)) for e, s in row)
             assert set(sem.obstacle_successors[i][sem.index(c)]) == set(sem.obstacle[i][sem.index(c)])
             assert len(set(sem.obstacle_successors[i][sem.index(c)])) == len(sem.obstacle_successors[i][sem.index(c)])
+
+
+@given(grid_problems())
+def test_robot_end_is_the_end_of_robot_move(p: GridProblem) -> None:
+    """robot_end (the verifier's distances to the goal) agrees with robot_move on every
+    cell and move, clamped moves included."""
+    for x in range(p.width):
+        for y in range(p.height):
+            for k in range(len(p.robot.moves)):
+                assert robot_end(p, (x, y), k) == robot_move(p, (x, y), k)[0]

@@ -23,7 +23,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import NamedTuple
 
 from plansynth.grid.problem import Cell, GridProblem, Move
@@ -68,6 +68,33 @@ def robot_move(problem: GridProblem, p: Cell, k: int) -> tuple[Cell, tuple[Cell,
     """
     swept = _sweep(problem, p, problem.robot.moves[k])
     return swept if swept is not None else (p, (p,))
+
+
+def robot_end(problem: GridProblem, p: Cell, k: int) -> Cell:
+    """The end cell of the robot's move ``k`` from ``p``: ``robot_move(problem, p, k)[0]``
+    without listing the swept cells (the verifier asks it of every cell near the goal).
+
+    >>> from plansynth.grid.problem import grid_problem_from_dict
+    >>> p = grid_problem_from_dict({"grid": [3, 1], "robot": {"start": [0, 0], "goal": [2, 0],
+    ...     "moves": ["stay", "right", {"name": "jump", "to": [2, 0], "via": [[1, 0]]}]}})
+    >>> robot_end(p, (0, 0), 2), robot_end(p, (1, 0), 2)   # the jump from (1, 0) is clamped
+    ((2, 0), (1, 0))
+    """
+    move = problem.robot.moves[k]
+    lo_x, hi_x, lo_y, hi_y = _extent(move)
+    x, y = p
+    if 0 <= x + lo_x and x + hi_x < problem.width and 0 <= y + lo_y and y + hi_y < problem.height:
+        return (x + move.to[0], y + move.to[1])
+    return p
+
+
+@lru_cache(maxsize=None)
+def _extent(move: Move) -> tuple[int, int, int, int]:
+    """The bounding box of a move's offsets: all of them are in the grid iff it is."""
+    offsets = move.offsets()
+    xs = [dx for dx, _ in offsets]
+    ys = [dy for _, dy in offsets]
+    return min(xs), max(xs), min(ys), max(ys)
 
 
 def obstacle_move(problem: GridProblem, i: int, p: Cell, k: int) -> tuple[Cell, tuple[Cell, ...]]:

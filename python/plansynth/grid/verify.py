@@ -95,7 +95,7 @@ from plansynth.grid.programs import (
     evaluate,
     variables_of,
 )
-from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_move, step
+from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_end, robot_move, step
 
 #: Memory (MB) a budgeted verification may add to the process when its budget gives none
 #: (the native engine's default too).
@@ -444,7 +444,6 @@ class _Search:
         dist = [far] * self.n_cells
         dist[self.goal] = 0
         frontier = [self.goal]
-        rows = self.robot
         for d in range(1, far):
             if not frontier:
                 break
@@ -455,7 +454,7 @@ class _Search:
                     cx, cy = e % w - dx, e // w - dy
                     if 0 <= cx < w and 0 <= cy < h:
                         c = cy * w + cx
-                        if dist[c] == far and rows[c][k][0] == e:
+                        if dist[c] == far and robot_end(p, (cx, cy), k) == (e % w, e // w):
                             found.add(c)
             for c in found:
                 dist[c] = d
