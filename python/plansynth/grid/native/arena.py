@@ -74,6 +74,7 @@ class Arena:
     memory_bytes: int | None = None
     _core: object = None
     _fwd: list | None = None  # the compiled game's winning-forward layers, once read
+    _fwd_rows: list | None = None  # the same as the core returned them, until read
 
     # -- construction --------------------------------------------------------------
     @classmethod
@@ -156,7 +157,8 @@ class Arena:
         """Seconds kept back at the end of a budget for releasing the game."""
         if self._core is None:
             return 0.0
-        held = sum(self._core.layer_sizes()) + (sum(len(x) for x in self._fwd) if self._fwd is not None else 0)
+        fwd = self._fwd if self._fwd is not None else self._fwd_rows
+        held = sum(self._core.layer_sizes()) + (sum(len(x) for x in fwd) if fwd is not None else 0)
         return COMPILED_FREE_SECONDS + 2 * self.FREE_SECONDS_PER_OBJECT * held
 
     def _explore_compiled(self, clock: Clock | None, max_states: int | None) -> None:
@@ -303,7 +305,7 @@ class Arena:
     def solve_game(self, clock: Clock | None = None) -> bool:
         """Backward induction; True iff the robot wins when it may also see the time."""
         if self._core is not None:
-            self._wm, self._fwd = {}, None
+            self._wm, self._fwd, self._fwd_rows = {}, None, None
             won, why = self._core.solve_game(self._seconds(clock), self.memory_bytes)
             if why is not None:
                 raise self._stopped(why, "solving the game")

@@ -286,13 +286,13 @@ class ArenaCheck:
     """
 
     def __init__(self, arena: Arena, clock: Clock | None = None) -> None:
-        from plansynth.grid.native.stationary import winning_forward
+        from plansynth.grid.native.stationary import core_forward
 
         self.arena, self.clock = arena, clock
         self.core = arena._core
         self.n_moves = len(arena.robot.moves)
         self.variables = arena.variables()
-        winning_forward(arena, clock)  # the pair and state counts below
+        core_forward(arena, clock)  # the pair and state counts below
         self.n_pairs, self.n_states = self.core.forward_sizes()
         self.checks = 0
 

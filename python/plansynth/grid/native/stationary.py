@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 from plansynth.budget import Clock
@@ -49,15 +50,26 @@ class Strategy:
 def winning_forward(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
     """States reachable from the start using only moves that win the game (in the
     compiled core when the arena was explored there; this loop is its reference)."""
-    if arena._core is not None and arena._fwd is not None:
-        return arena._fwd
     if arena._core is not None:
-        layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
-        if why is not None:
-            raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
-        arena._fwd = [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in layers]
+        if arena._fwd is None:
+            core_forward(arena, clock)
+            arena._fwd = [{tuple(oc): int.from_bytes(m, "little") for oc, m in layer} for layer in arena._fwd_rows]
+            arena._fwd_rows = None
         return arena._fwd
     return winning_forward_reference(arena, clock)
+
+
+def core_forward(arena: Arena, clock: Clock | None = None) -> None:
+    """Have the compiled game compute its winning-forward layers (kept in the core, as
+    its strategy read-off and program check need them) without reading them into
+    Python dicts: on a 30x30 game with three cars that may stall (roads30-stall-3) the
+    dicts alone took 2 s, and only the SAT encoding and the references read them."""
+    if arena._fwd is not None or arena._fwd_rows is not None:
+        return
+    layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
+    if why is not None:
+        raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
+    arena._fwd_rows = layers
 
 
 def winning_forward_reference(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
@@ -149,12 +161,15 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     without SAT.
     Raises :class:`BudgetExhausted` when the clock runs out.
     """
-    fwd = winning_forward(arena, clock)
     if label is None and quick:
-        found = consistent_strategy(arena, fwd, clock)
+        if arena._core is not None:
+            core_forward(arena, clock)  # what the compiled read-off needs
+            found = consistent_strategy(arena, None, clock)
+        else:
+            found = consistent_strategy(arena, winning_forward(arena, clock), clock)
         if found is not None:
             return found
-    clauses, ids, fwd = encode_stationary(arena, clock, label, fwd=fwd)
+    clauses, ids, fwd = encode_stationary(arena, clock, label, fwd=winning_forward(arena, clock))
     steps = arena.steps
     counters = {"sat_vars": len(ids), "sat_clauses": len(clauses)}
     model = solve_clauses(clauses, clock, phases=_phases(arena, ids))
@@ -177,7 +192,7 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     return Strategy(final, tuple(reach), counters)
 
 
-def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock | None = None) -> Strategy | None:
+def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock: Clock | None = None) -> Strategy | None:
     """A stationary strategy read off the game without SAT, when one is there to read.
 
     A move that wins at *every* time a state can be met on the winning-forward graph
@@ -186,9 +201,11 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock
     only states that have one -- a stationary winning strategy, found in linear time --
     or meets a state without one, and then the SAT encoding decides. In the compiled
     core when the arena is compiled (``arena.rs``, ``Arena::consistent``); the loops
-    below are its reference.
+    below are its reference. ``fwd`` (the winning-forward layers) is read by the
+    reference only: the compiled core keeps its own (:func:`core_forward`).
     """
     if arena._core is not None:
+        core_forward(arena, clock)
         try:
             got = arena._core.consistent(arena.problem.width, _left(clock, arena))
         except TimeoutError:
@@ -200,6 +217,8 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]], clock: Clock
         final = {(r, tuple(oc)): _moves_of(m) for r, oc, m in rows}
         assert all(final.values()), "a consistent choice must leave every reached state a move"
         return Strategy(final, reach, {"sat_vars": 0, "sat_clauses": 0, "consistent": 1})
+    if fwd is None:
+        fwd = winning_forward(arena, clock)
     steps = arena.steps
     n_moves = len(arena.robot.moves)
     bad: dict[Config, list[int]] = {}
@@ -278,7 +297,9 @@ def _layers_out(arena: Arena, layers) -> list[list[tuple[list[int], bytes]]]:
     return [[(list(oc), m.to_bytes(nbytes, "little")) for oc, m in layer.items()] for layer in layers]
 
 
+@lru_cache(maxsize=4096)
 def _moves_of(mask: int) -> tuple[int, ...]:
+    """The move numbers of a move bitmask (few distinct masks, met for every state)."""
     return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
 
 
