@@ -9,6 +9,7 @@ does not load the reach half. A new group is one line of :data:`GROUPS`.
 
 from __future__ import annotations
 
+import gc
 import importlib
 from typing import Any, Optional
 
@@ -100,7 +101,15 @@ def main(args: Any = None) -> None:
 
     mark_process_start()  # --timeout counts from the process's start (grid solve)
     terminate_as_interrupt()  # SIGTERM unwinds like Ctrl-C: solver children are killed
-    app(args)
+    try:
+        app(args)
+    finally:
+        # The command is done (its children killed, its files closed by their with
+        # blocks): the interpreter's exit need not have the collector traverse every
+        # object of every module loaded, which took 30-50 ms of a 0.3 s grid solve.
+        # atexit handlers still run; only objects in reference cycles still alive at
+        # exit are left to the process's end, as Python allows.
+        gc.freeze()
 
 
 if __name__ == "__main__":
