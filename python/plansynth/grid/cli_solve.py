@@ -10,11 +10,10 @@ standard error is a terminal, and the backend's modules load with the backend.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any, Optional
-
-import sys
 
 import typer
 
