@@ -85,7 +85,11 @@ def _result_table(result: Any) -> Table:
     if result.status.value == "infeasible":
         horizon = f"none up to {result.horizon}"
     if result.status.value == "found" and c.get("minimal") is not None:
-        horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
+        relative = c.get("minimal_relative_to", "problem")  # (planners that do not say: as before)
+        if c["minimal"] and relative == "decomposition":
+            horizon += " (minimal through the decomposition only)"
+        else:
+            horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     table.add_row("horizon", horizon)
     for key in ("regions", "first_horizon", "iterations", "sat_calls", "lp_calls", "transit_conflicts", "clauses",
                 "milp_calls", "mip_nodes"):

@@ -74,7 +74,7 @@ from typing import Any, Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
-from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, time_windows
+from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, step_adjacency, time_windows
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
@@ -167,7 +167,20 @@ def plan_lazy(
             timings["abstraction"] = time.perf_counter() - t0
             return ran_out(exc)
         timings["abstraction"] = time.perf_counter() - t0
+    step_graph = None  # samples only: every pair of regions one step can connect (exact search)
+    if not segment_safe:
+        t0 = time.perf_counter()
+        try:
+            with clock.phase("the one-step region pairs"):
+                step_graph = step_adjacency(problem, abstraction)
+        except BudgetExhausted as exc:
+            timings["bounds"] = time.perf_counter() - t0
+            return ran_out(exc)
+        timings["bounds"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
+    if step_graph is not None:
+        graph = RegionGraph(graph.n_regions, step_graph, graph.start_regions, graph.goal_regions)
+    exact = step_graph is not None and abstraction.exact  # are the loop's refutations proofs for the problem?
     counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
 
     t0 = time.perf_counter()
@@ -175,12 +188,13 @@ def plan_lazy(
     try:
         with clock.phase("the horizon bounds (time windows)"):
             phys = physical_lower_bound(problem) if lower_bound else 0
-            windows = time_windows(problem, abstraction, L_max) if (lower_bound and math.isfinite(bfs)) else None
+            windows = (time_windows(problem, abstraction, L_max, adjacency=graph.adjacency)
+                       if (lower_bound and math.isfinite(bfs)) else None)
             proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=segment_safe)
     except BudgetExhausted as exc:
         timings["bounds"] = time.perf_counter() - t0
         return ran_out(exc)
-    timings["bounds"] = time.perf_counter() - t0
+    timings["bounds"] += time.perf_counter() - t0
     counters["proved_bound"] = None if math.isinf(proved) else int(proved)
     counters["exact_abstraction"] = abstraction.exact
     counters["bfs_bound"] = None if math.isinf(bfs) else int(bfs)
@@ -229,6 +243,11 @@ def plan_lazy(
             horizon=out.horizon,
             minimal=out.minimal,
         )
+        if out.status is ReachStatus.FOUND:
+            counters.update(_minimal_claim(out, proved, exact))
+            if counters["minimal_relative_to"] == "decomposition":
+                out = replace(out, message=f"{out.message}; minimal only among plans through the decomposition "
+                              f"({DECOMPOSITION_ONLY}), not proved for the problem (proved lower bound: {int(proved)})")
         if isinstance(theory, TransitCheck):
             counters.update(transit_conflicts=theory.conflicts, transit_lp_calls=theory.lp_calls,
                             transit_plans=theory.plans_caught, widened_conflicts=theory.widened)
@@ -257,6 +276,9 @@ def plan_lazy(
             why = f"no position in the regions reaches the goal within {L_max} steps of bounded displacement"
         else:
             why = f"the region-hop lower bound on the horizon ({first}) exceeds max_horizon"
+        if exact:
+            return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} "
+                                      f"({EXACT_SAMPLES})"))
         counters["abstraction_refuted"] = L_max
         return finish(LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
                                   f"{why}; {_not_a_proof(proved)}"))
@@ -265,11 +287,36 @@ def plan_lazy(
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
     with clock.phase("the lazy SMT loop"):
         out = lazy_loop(displan, theory, windows, clock, timings, progress, guide)
-    if out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
+    if out.status is ReachStatus.INFEASIBLE and exact:
+        out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({EXACT_SAMPLES})")
+    elif out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
         counters["abstraction_refuted"] = out.horizon
         out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for plans "
                           f"through the abstraction; {_not_a_proof(proved)}")
     return finish(out)
+
+
+#: What makes a samples-only refutation a proof (see the module docstring).
+EXACT_SAMPLES = ("samples only, steps between any two regions one step can connect, regions covering the free "
+                 "space: a proof for the problem")
+
+
+DECOMPOSITION_ONLY = "consecutive samples in one convex region"
+
+
+def _minimal_claim(out: LoopOutcome, proved: float, exact: bool) -> dict[str, Any]:
+    """What a found horizon's minimality claim is relative to (issue 13, item 7):
+    ``minimal_relative_to`` is ``"problem"`` when no trajectory of the problem (the
+    spec's semantics) has a shorter horizon (an exact samples-only search, or a horizon
+    no larger than :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`), else
+    ``"decomposition"``: no shorter plan whose consecutive samples share a region of the
+    decomposition (segment-safe mode), or through an inexact decomposition."""
+    h = out.horizon
+    if h is not None and h <= proved:  # every trajectory needs at least `proved` steps
+        return {"minimal": True, "minimal_relative_to": "problem"}
+    if not out.minimal:
+        return {"minimal_relative_to": None}
+    return {"minimal_relative_to": "problem" if exact else "decomposition"}
 
 
 def _not_a_proof(proved: float) -> str:
