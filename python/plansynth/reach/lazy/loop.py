@@ -38,17 +38,41 @@ maps a region sequence to :class:`~plansynth.reach.lazy.conflict.Feasible` or to
 ``unknown`` when the budget (time or iterations, one iteration = one SAT call and its
 theory check) runs out.
 
-**What ``infeasible`` means.** DIS-PLAN moves one region per step and CON-PLAN keeps
-each segment inside one region, so refuting every horizon proves only that no plan
-*through this decomposition* exists: a real trajectory may cross several regions in
-one step (around a circle given as a 400-vertex polygon, hundreds of sliver regions
-made the loop answer "infeasible up to horizon 30" where 3 steps suffice; see
-``tests/reach/test_proved_bound.py``). The
-answer is therefore ``infeasible`` only when
-:func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`, which holds for every
-trajectory of the problem, exceeds ``max_horizon``; when the loop refutes every
-horizon without such a proof the answer is ``unknown`` and says so
-(``counters["abstraction_refuted"]``).
+**What ``infeasible`` and "minimal" mean** (issue 13, item 7). The claims are about
+the problem as ``shared/spec/reach-problem.md`` defines it, or they say what they are
+relative to:
+
+* *Samples only* (``segment_safe=False``): DIS-PLAN steps between any two regions one
+  step can connect (:func:`~plansynth.reach.lazy.bounds.step_adjacency`, an
+  over-approximation from the displacement bounds; CON-PLAN's LP refutes the pairs no
+  step realises, and its counterexamples are sound), and the lower bounds and time
+  windows follow the same relation. With regions that cover the free space (an
+  ``exact`` abstraction) every trajectory's region sequence is then a DIS-PLAN plan,
+  so a refuted horizon is refuted for the problem: ``infeasible up to L`` is a proof,
+  and a horizon found at the bottom of its window is minimal for the problem
+  (``counters["minimal_relative_to"] == "problem"``). Without the step relation a
+  thin wall that one step jumps, or a region that one step skips, made the loop claim
+  minimal horizons that were not (``tests/reach/test_exact_claims.py``).
+* *Segment-safe* (the default): CON-PLAN keeps each segment inside one convex region,
+  which is sufficient for safety but not necessary (a segment may cross several
+  regions; stlpy's narrow passage has an 8-step segment-safe plan where this search
+  needs 9). So a horizon the loop refutes is refuted only for plans whose consecutive
+  samples share a region, and: ``infeasible`` only when
+  :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`, which holds for every
+  trajectory of the problem, exceeds ``max_horizon`` (else ``unknown``,
+  ``counters["abstraction_refuted"]``: not a proof; around a circle given as a
+  400-vertex polygon the sliver regions made the loop refute horizon 30 where 3 steps
+  suffice, ``tests/reach/test_proved_bound.py``); and a found horizon is minimal for
+  the problem only when it is at most that proved bound, else
+  ``counters["minimal_relative_to"] == "decomposition"`` and the message says so
+  (the CLI prints "minimal through the decomposition only").
+* An abstraction that is not ``exact`` (obstacles replaced by outer polygons) makes
+  every refutation relative to the decomposition, in both modes.
+
+Both modes read the free space as the union of full-dimensional regions: a zero-width
+slit (a face two obstacles share, or an obstacle face flush with the workspace's
+boundary) lies outside every obstacle's interior as the spec words it, but no region
+holds it, so no claim counts paths through such slits.
 
 Lower bound on the horizon where the search starts (a bound for plans through the
 abstraction, not for the problem): the largest of the region-graph distance from a
