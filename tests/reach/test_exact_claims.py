@@ -133,7 +133,10 @@ worlds = st.one_of(thin_walls(), floors(), box_worlds())
 
 
 def _solve(p: ReachProblem, L: int, segment_safe: bool, search: str):
+    """``search``: the lazy planner's horizon search, or ``"milp"`` (the region MILP)."""
     try:
+        if search == "milp":
+            return solve(p, "milp", max_horizon=L, segment_safe=segment_safe)
         return solve(p, "lazy-smt", max_horizon=L, segment_safe=segment_safe, horizon_search=search)
     except Exception as exc:  # pragma: no cover - a planner crash is a failure with its problem
         raise AssertionError(f"the planner failed on {p!r}") from exc
@@ -154,16 +157,17 @@ def _check_samples(p: ReachProblem, L: int, search: str) -> None:
             assert oracle_feasible(p, h, segments=False) is False, (h, r.message)
     else:  # the exact search refutes or finds: never "unknown" on these small instances
         assert not exact, r.message
-    if exact and r.status is ReachStatus.FOUND and search == "linear":
+    if exact and r.status is ReachStatus.FOUND and search in ("linear", "milp"):
         assert r.counters["minimal_relative_to"] == "problem"
 
 
 @PROPS
-@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "window"]))
+@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "window", "milp"]))
 def test_samples_only_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
-    """Samples only: ``infeasible`` means the oracle has no trajectory at any horizon up
-    to L; a horizon claimed minimal for the problem is the oracle's minimum; the linear
-    search always claims it (every shorter horizon refuted by an exact search)."""
+    """Samples only (the lazy planner's two horizon searches and the region MILP):
+    ``infeasible`` means the oracle has no trajectory at any horizon up to L; a horizon
+    claimed minimal for the problem is the oracle's minimum; the linear search and the
+    MILP always claim it (every shorter horizon refuted by an exact search)."""
     _check_samples(p, L, search)
 
 
@@ -172,12 +176,12 @@ def _box_world(p: ReachProblem) -> bool:
 
 
 @PROPS
-@given(worlds, st.integers(4, 14))
-def test_segment_safe_claims_hold_for_the_problem(p: ReachProblem, L: int) -> None:
+@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "milp"]))
+def test_segment_safe_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
     """Segment-safe: a refutation for the problem (``infeasible``, or a horizon claimed
     minimal for the problem) is one for the face formulation, which is sufficient for
     segment safety; in a box world the planner's plan is a face-formulation solution."""
-    r = _solve(p, L, True, "linear")
+    r = _solve(p, L, True, search)
     event(f"segments: {r.status.value}, minimal for {r.counters.get('minimal_relative_to')}")
     if r.status is ReachStatus.FOUND:
         assert r.validated is True and r.segment_safe is True
