@@ -96,6 +96,13 @@ def oracle_feasible(problem: ReachProblem, horizon: int, *, segments: bool, seco
     a point is outside the interior of a convex obstacle iff some face's half-space
     holds it.
 
+    Zero-width slits are not free: a face flush with (or beyond) the workspace's
+    boundary offers no room (a position on it, between the obstacle and the boundary,
+    is outside the obstacle's interior as the spec words it, but has no free
+    neighbourhood: maze-1's wall ends at x = 0, and "passing" it along x = 0 would save
+    a step). Seams between two touching obstacles are not caught here (a test world
+    lets its obstacles overlap instead).
+
     ``segments=True``: both end points of every segment outside the *same* face of
     each convex obstacle (one binary choice per segment, obstacle and face). This is
     *sufficient* for the segment to miss the obstacle's interior (a half-space is
@@ -159,6 +166,8 @@ def oracle_feasible(problem: ReachProblem, horizon: int, *, segments: bool, seco
                 if M <= 0:  # the workspace lies beyond this face: always outside
                     zs = None
                     break
+                if c >= float(np.sum(np.maximum(nrm * ws_lo, nrm * ws_hi))) - 1e-12:
+                    continue  # beyond this face lies at most the workspace's boundary: a slit
                 z = n_cont + n_bin
                 n_bin += 1
                 zs.append(z)

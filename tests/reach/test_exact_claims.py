@@ -197,6 +197,39 @@ def test_segment_safe_claims_hold_for_the_problem(p: ReachProblem, L: int, searc
         assert "not a proof" in r.message or "budget" in r.message, r.message
 
 
+@PROPS
+@given(worlds, st.integers(4, 12))
+def test_proved_segment_claims_hold_for_the_problem(p: ReachProblem, L: int) -> None:
+    """``prove=True`` (the relaxation MILP of lazy/relaxation.py): every claim for the
+    problem, now also above the proved bound, is a refutation for the face oracle."""
+    r = solve(p, "lazy-smt", max_horizon=L, prove=True)
+    event(f"prove: {r.status.value}, {r.counters.get('relaxation')}")
+    if r.status is ReachStatus.FOUND:
+        assert r.validated is True and r.segment_safe is True
+        if r.counters.get("minimal_relative_to") == "problem":
+            for h in range(r.horizon):
+                assert oracle_feasible(p, h, segments=True) is False, (h, r.horizon, r.message)
+    elif r.status is ReachStatus.INFEASIBLE:
+        for h in range(L + 1):
+            assert oracle_feasible(p, h, segments=True) is False, (h, r.message)
+
+
+@PROPS
+@given(worlds, st.integers(1, 12), st.sampled_from([1, 2, 4]))
+def test_relaxation_admits_every_face_oracle_solution(p: ReachProblem, h: int, k: int) -> None:
+    """The relaxation is necessary for segment safety, so it has a solution whenever the
+    face oracle (sufficient for segment safety) has one; with k = 1 it is the samples
+    oracle exactly."""
+    from plansynth.reach.lazy.relaxation import relaxation_feasible
+
+    relaxed = relaxation_feasible(p, h, subdivisions=k, seconds=60)
+    if oracle_feasible(p, h, segments=True):
+        assert relaxed is True
+    if k == 1:
+        assert relaxed is oracle_feasible(p, h, segments=False)
+    event(f"relaxation k={k}: {relaxed}")
+
+
 # -- the oracle itself ---------------------------------------------------------------
 
 

@@ -65,7 +65,11 @@ relative to:
   suffice, ``tests/reach/test_proved_bound.py``); and a found horizon is minimal for
   the problem only when it is at most that proved bound, else
   ``counters["minimal_relative_to"] == "decomposition"`` and the message says so
-  (the CLI prints "minimal through the decomposition only").
+  (the CLI prints "minimal through the decomposition only"). With ``prove=True`` the
+  MILP relaxation of :mod:`~plansynth.reach.lazy.relaxation` (samples and points along
+  each segment kept free: necessary for segment safety) may prove such a horizon
+  minimal, or every horizon up to ``max_horizon`` infeasible, for the problem
+  (``counters["relaxation"]``).
 * An abstraction that is not ``exact`` (obstacles replaced by outer polygons) makes
   every refutation relative to the decomposition, in both modes.
 
@@ -155,7 +159,9 @@ def plan_lazy(
     starts at rest, DIS-PLAN also adds every start-anchored conflict shifted earlier (it
     could have waited at the start). ``progress(L, iterations)`` is called when a horizon
     (window: its top) starts. ``abstraction``: a decomposition computed before (else it
-    is computed here, within the budget).
+    is computed here, within the budget). ``prove`` (segment-safe): after the loop, try
+    to prove its claims for the problem with the MILP relaxation of
+    :mod:`plansynth.reach.lazy.relaxation` (see "What infeasible and minimal mean").
     """
     opts = options if options is not None else LazyOptions()
     if values:
@@ -268,7 +274,7 @@ def plan_lazy(
             minimal=out.minimal,
         )
         if out.status is ReachStatus.FOUND:
-            counters.update(_minimal_claim(out, proved, exact))
+            counters.update(_minimal_claim(out, proved, exact or counters.get("relaxation") == "minimal"))
             if counters["minimal_relative_to"] == "decomposition":
                 out = replace(out, message=f"{out.message}; minimal only among plans through the decomposition "
                               f"({DECOMPOSITION_ONLY}), not proved for the problem (proved lower bound: {int(proved)})")
@@ -304,8 +310,9 @@ def plan_lazy(
             return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} "
                                       f"({EXACT_SAMPLES})"))
         counters["abstraction_refuted"] = L_max
-        return finish(LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
-                                  f"{why}; {_not_a_proof(proved)}"))
+        out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
+                          f"{why}; {_not_a_proof(proved)}")
+        return finish(_prove(problem, out, proved, clock, counters) if opts.prove and segment_safe else out)
     growth = window_growth if horizon_search == "window" else 0.0
     windows = horizon_windows(first, L_max, growth)
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
@@ -317,6 +324,8 @@ def plan_lazy(
         counters["abstraction_refuted"] = out.horizon
         out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for plans "
                           f"through the abstraction; {_not_a_proof(proved)}")
+    if opts.prove and segment_safe and not exact:
+        out = _prove(problem, out, proved, clock, counters)
     return finish(out)
 
 
@@ -341,6 +350,35 @@ def _minimal_claim(out: LoopOutcome, proved: float, exact: bool) -> dict[str, An
     if not out.minimal:
         return {"minimal_relative_to": None}
     return {"minimal_relative_to": "problem" if exact else "decomposition"}
+
+
+def _prove(problem: ReachProblem, out: LoopOutcome, proved: float, clock: Clock, counters: dict) -> LoopOutcome:
+    """``prove=True``, segment-safe: try to make the loop's claims hold for the problem
+    with :func:`~plansynth.reach.lazy.relaxation.refute_below` (a MILP relaxation of
+    segment safety; one MILP at h - 1 when the robot starts at rest), within the
+    budget left: a found horizon becomes proved minimal, every horizon refuted through
+    the abstraction becomes ``infeasible``. ``counters["relaxation"]`` says what it
+    proved (``minimal``, ``infeasible``, or ``not proved``)."""
+    from plansynth.reach.lazy.relaxation import SUBDIVISIONS, refute_below
+
+    lowest = 0 if math.isinf(proved) else int(proved)
+    if out.status is ReachStatus.FOUND and out.horizon is not None and out.horizon > lowest:
+        ok = refute_below(problem, out.horizon, lowest=lowest, seconds=clock.remaining())
+        counters["relaxation"] = "minimal" if ok else "not proved"
+        if ok:
+            return replace(out, minimal=True, message=f"{out.message}; proved minimal for the problem: no shorter "
+                           f"trajectory keeps its samples and {SUBDIVISIONS - 1} points per segment free")
+    elif out.status is ReachStatus.UNKNOWN and counters.get("abstraction_refuted") is not None:
+        L = int(counters["abstraction_refuted"])
+        ok = refute_below(problem, L + 1, lowest=lowest, seconds=clock.remaining())
+        counters["relaxation"] = "infeasible" if ok else "not proved"
+        if ok:
+            return LoopOutcome(ReachStatus.INFEASIBLE, L, f"infeasible up to horizon {L}: no trajectory keeps its "
+                               f"samples and {SUBDIVISIONS - 1} points per segment free (a MILP relaxation of "
+                               f"segment safety: a proof for the problem)")
+    if counters.get("relaxation") == "not proved":
+        return replace(out, message=f"{out.message}; --prove: the relaxation MILP has a solution or ran out of time")
+    return out
 
 
 def _not_a_proof(proved: float) -> str:
