@@ -261,6 +261,8 @@ PUBLIC = [
     # (file, segment-safe minimum of the face oracle, samples-only minimum)
     ("narrow-passage.yaml", 8, 8),
     ("wall-gap.yaml", 19, 19),
+    ("floors-3d.yaml", 22, 10),  # samples only, adjacency through both holes claimed 21 minimal
+    ("cross-intersection.yaml", 21, 20),
 ]
 
 
