@@ -78,8 +78,9 @@ slit (a face two obstacles share, or an obstacle face flush with the workspace's
 boundary) lies outside every obstacle's interior as the spec words it, but no region
 holds it, so no claim counts paths through such slits.
 
-Lower bound on the horizon where the search starts (a bound for plans through the
-abstraction, not for the problem): the largest of the region-graph distance from a
+Lower bound on the horizon where the search starts (segment-safe: a bound for plans
+through the abstraction, not for the problem; samples only, over the step relation: a
+bound for the problem): the largest of the region-graph distance from a
 start region to a goal region (BFS), the distance to the goal along each axis divided
 by the largest displacement per step (one small LP per axis and direction), and the
 first step at which the displacement-box relaxation reaches the goal along the region
