@@ -307,3 +307,25 @@ def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
     assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
     assert r.counters["minimal"] is True and r.counters["minimal_relative_to"] == "decomposition"
     assert "not proved for the problem" in r.message
+
+
+@pytest.mark.parametrize("target, goal, seg_min, samples_min", [
+    ("3", ((0, 4), (1.5, 6)), 8, 6),
+    ("21", ((4, 0.5), (6, 2.5)), 13, 6),  # samples only, region adjacency claimed 13 minimal
+    ("25", ((4, 3), (6, 6)), 13, 6),
+])
+def test_smc_ltl_map_targets(target: str, goal: tuple, seg_min: int, samples_min: int) -> None:
+    """SMC-LTL's 27-region map, one target region at a time: the samples-only minimum
+    is proved and is the oracle's; segment-safe, a claim for the problem is the face
+    oracle's minimum and the plan is never shorter than it (a box world)."""
+    import dataclasses
+
+    p = dataclasses.replace(load_reach_problem(CLAIMS / "smc-ltl-map.yaml"), goal=Box(*goal))
+    assert oracle_minimum(p, 30, segments=False) == samples_min
+    assert oracle_minimum(p, 30, segments=True) == seg_min
+    r = solve(p, "lazy-smt", segment_safe=False, horizon_search="linear")
+    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (ReachStatus.FOUND, True,
+                                                                                    samples_min, "problem")
+    r = solve(p, "lazy-smt", horizon_search="linear")
+    assert r.status is ReachStatus.FOUND and r.validated is True and r.horizon >= seg_min
+    assert r.counters["minimal_relative_to"] != "problem" or r.horizon == seg_min
