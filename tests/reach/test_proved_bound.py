@@ -116,8 +116,8 @@ def test_proved_bound_never_exceeds_a_found_horizon(p: ReachProblem, max_horizon
             assert bound <= r.horizon, (bound, r.horizon, r.planner)
         elif r.status is ReachStatus.INFEASIBLE:
             # the proved bound, or (samples only, regions covering the free space) the
-            # lazy loop's exact search, which tests/reach/test_exact_claims.py checks
-            assert bound > max_horizon or (r.planner == "lazy-smt" and not segment_safe and ab.exact)
+            # planners' exact search, which tests/reach/test_exact_claims.py checks
+            assert bound > max_horizon or (not segment_safe and ab.exact)
 
 
 @given(st.integers(OUTER_VERTICES + 1, 2000), st.floats(0.1, 100), st.floats(0.2, 5), st.floats(0, 6.3))
