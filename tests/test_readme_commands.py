@@ -145,8 +145,11 @@ CASES: dict[str, Case] = {
     "plansynth reach solve examples/reach/maze-1.yaml --animate run.gif": Case(
         out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"),
     "plansynth reach solve examples/reach/maze-4.yaml --horizon-search linear": Case(
-        out=("found", "proved minimal"),
+        out=("found", "minimal through the decomposition only"),
         fast="plansynth reach solve examples/reach/maze-2.yaml --horizon-search linear"),
+    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --no-segment-safe --horizon-search linear": Case(
+        out=("found", "8 (proved minimal)")),
+    "plansynth reach solve examples/reach/maze-1.yaml --prove": Case(out=("found", "57 (proved minimal)")),
     "plansynth reach solve examples/reach/maze-1.yaml --paper": Case(out=FOUND),
     "plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 60": Case(
         exit=(0, 3), out=("lazy-smt",),

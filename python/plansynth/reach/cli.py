@@ -85,7 +85,11 @@ def _result_table(result: Any) -> Table:
     if result.status.value == "infeasible":
         horizon = f"none up to {result.horizon}"
     if result.status.value == "found" and c.get("minimal") is not None:
-        horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
+        relative = c.get("minimal_relative_to", "problem")  # (planners that do not say: as before)
+        if c["minimal"] and relative == "decomposition":
+            horizon += " (minimal through the decomposition only)"
+        else:
+            horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     table.add_row("horizon", horizon)
     for key in ("regions", "first_horizon", "iterations", "sat_calls", "lp_calls", "transit_conflicts", "clauses",
                 "milp_calls", "mip_nodes"):
@@ -119,7 +123,7 @@ _OPTION_FLAGS = {
     "horizon_search": ("horizon_search", "--horizon-search"), "window_growth": ("window_growth", "--window-growth"),
     "transit": ("transit", "--transit/--no-transit"), "guided": ("guided", "--guide/--no-guide"),
     "wait_shifts": ("wait_shifts", "--wait-shifts/--no-wait-shifts"), "widen": ("widen", "--widen/--no-widen"),
-    "variant": ("variant", "--variant"),
+    "variant": ("variant", "--variant"), "prove": ("prove", "--prove/--no-prove"),
 }
 
 
@@ -172,6 +176,7 @@ def solve_command(
     guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
     widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
+    prove: bool = typer.Option(False, "--prove/--no-prove", help="lazy-smt, segment-safe: prove the minimal horizon (or infeasibility) for the problem, not only through the decomposition, by a MILP relaxation of segment safety (small instances; within the budget)."),
     paper: bool = typer.Option(False, "--paper", help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options above that are given apply on top."),
     variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest), surrogate (velocity continuity only as Drake's convex surrogate) or convex (continuity of the curve only)."),
 ) -> None:

@@ -31,7 +31,7 @@ from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["step_reach", "physical_lower_bound", "shape_box", "box_steps", "TimeWindows", "time_windows",
-           "touching", "proved_horizon_bound", "SWEEP_MAX_REGIONS", "SWEEP_MAX_WORK"]
+           "touching", "step_adjacency", "proved_horizon_bound", "SWEEP_MAX_REGIONS", "SWEEP_MAX_WORK"]
 
 
 def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
@@ -202,7 +202,8 @@ def _sweep(
     return first, hit
 
 
-def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) -> TimeWindows:
+def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int, *,
+                 adjacency: Sequence[Sequence[int]] | None = None) -> TimeWindows:
     """Reach times of the displacement-box relaxation (beyond the paper).
 
     Forget the dynamics except that a position moves by at most
@@ -214,6 +215,11 @@ def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) ->
     fewer than ``to_go[j]`` steps before the end" are impossible, and the first step at
     which a goal region's reach box meets the goal is a lower bound on the horizon.
 
+    The boxes grow along ``adjacency`` (default: the decomposition's, one region per
+    step, which holds for plans through the abstraction); with
+    :func:`step_adjacency` (every pair of regions one step can connect) the windows
+    hold for every samples-only trajectory of the problem.
+
     >>> from plansynth.reach.families import maze
     >>> from plansynth.reach.abstraction import abstract
     >>> w = time_windows(maze(1), abstract(maze(1)), 200)
@@ -222,7 +228,7 @@ def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int) ->
     """
     down, up = step_reach(problem)
     boxes = [_box_of(r.vertices) for r in abstraction.regions]
-    adjacency = abstraction.adjacency
+    adjacency = abstraction.adjacency if adjacency is None else adjacency
     s = np.asarray(problem.start_position, dtype=float)
     g_lo, g_hi = shape_box(problem.goal)
     down_f = np.where(np.isfinite(down), down, 1e300)
@@ -289,6 +295,63 @@ def touching(abstraction: Abstraction, tol: float = 1e-9) -> tuple[tuple[int, ..
                 if j != i:
                     out[i].add(j)
                     out[j].add(i)
+    return tuple(tuple(sorted(n)) for n in out)
+
+
+def step_adjacency(problem: ReachProblem, abstraction: Abstraction,
+                   reach: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[tuple[int, ...], ...]:
+    """The regions one step can connect, for samples-only trajectories (issue 13, item 7;
+    beyond Shoukry et al., CDC 2016, whose DIS-PLAN, Section IV, moves to adjacent
+    regions only): j is listed for i when some p in region i and q in region j have
+    ``q - p`` in the box ``[-r, r]`` with ``r = max(step_down, step_up)`` per axis
+    (:func:`step_reach`; symmetric, so the relation is too). Every step of every
+    trajectory goes between two such regions (the displacement of one step lies in
+    ``[-step_down, step_up]``), so with this relation, and regions that cover the free
+    space (an ``exact`` abstraction), DIS-PLAN's plans include the region sequence of
+    every samples-only trajectory; a pair no step can realise is refuted by CON-PLAN's
+    LP, whose counterexamples stay sound. The decomposition's own adjacency is included.
+
+    2-D: exact for the box (the Minkowski sum of a convex region and the box is the
+    convex hull of its vertices shifted to the box's corners; shapely tests it against
+    the other region, within 1e-9 of the workspace size); 3-D: the regions' bounding
+    boxes (boxes there).
+
+    >>> from plansynth.reach.families import maze
+    >>> from plansynth.reach.abstraction import abstract
+    >>> step_adjacency(maze(1), abstract(maze(1)))   # 1 m steps jump the 1 m walls
+    ((1, 2), (0, 2), (0, 1))
+    """
+    regions = abstraction.regions
+    k = len(regions)
+    if k == 0:
+        return ()
+    down, up = step_reach(problem) if reach is None else reach
+    lo = np.array([r.vertices.min(axis=0) for r in regions])
+    hi = np.array([r.vertices.max(axis=0) for r in regions])
+    size = float(np.max(hi) - np.min(lo))
+    eps = 1e-9 * (1.0 + size)
+    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
+    r = np.where(np.isfinite(r), r, 2.0 * size + 1.0) + eps
+    out: list[set[int]] = [set(a) for a in abstraction.adjacency]
+    if regions[0].dim == 2:
+        import shapely
+        from shapely.geometry import Polygon as ShPolygon
+
+        polys = [ShPolygon(g.vertices) for g in regions]
+        corners = np.array([[-r[0], -r[1]], [r[0], -r[1]], [r[0], r[1]], [-r[0], r[1]]])
+        grown = [shapely.convex_hull(shapely.multipoints((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2)))
+                 for g in regions]
+        tree = shapely.STRtree(polys)
+        left, right = tree.query(grown, predicate="dwithin", distance=eps)
+        pairs = zip(left.tolist(), right.tolist())
+    else:
+        pairs = ((i, int(j)) for i in range(k)
+                 for j in np.nonzero(np.all(lo <= hi[i] + r, axis=1) & np.all(hi >= lo[i] - r, axis=1))[0])
+    for i, j in pairs:
+        checkpoint()
+        if i != j:
+            out[i].add(j)
+            out[j].add(i)
     return tuple(tuple(sorted(n)) for n in out)
 
 

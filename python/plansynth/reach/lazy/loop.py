@@ -38,20 +38,49 @@ maps a region sequence to :class:`~plansynth.reach.lazy.conflict.Feasible` or to
 ``unknown`` when the budget (time or iterations, one iteration = one SAT call and its
 theory check) runs out.
 
-**What ``infeasible`` means.** DIS-PLAN moves one region per step and CON-PLAN keeps
-each segment inside one region, so refuting every horizon proves only that no plan
-*through this decomposition* exists: a real trajectory may cross several regions in
-one step (around a circle given as a 400-vertex polygon, hundreds of sliver regions
-made the loop answer "infeasible up to horizon 30" where 3 steps suffice; see
-``tests/reach/test_proved_bound.py``). The
-answer is therefore ``infeasible`` only when
-:func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`, which holds for every
-trajectory of the problem, exceeds ``max_horizon``; when the loop refutes every
-horizon without such a proof the answer is ``unknown`` and says so
-(``counters["abstraction_refuted"]``).
+**What ``infeasible`` and "minimal" mean** (issue 13, item 7). The claims are about
+the problem as ``shared/spec/reach-problem.md`` defines it, or they say what they are
+relative to:
 
-Lower bound on the horizon where the search starts (a bound for plans through the
-abstraction, not for the problem): the largest of the region-graph distance from a
+* *Samples only* (``segment_safe=False``): DIS-PLAN steps between any two regions one
+  step can connect (:func:`~plansynth.reach.lazy.bounds.step_adjacency`, an
+  over-approximation from the displacement bounds; CON-PLAN's LP refutes the pairs no
+  step realises, and its counterexamples are sound), and the lower bounds and time
+  windows follow the same relation. With regions that cover the free space (an
+  ``exact`` abstraction) every trajectory's region sequence is then a DIS-PLAN plan,
+  so a refuted horizon is refuted for the problem: ``infeasible up to L`` is a proof,
+  and a horizon found at the bottom of its window is minimal for the problem
+  (``counters["minimal_relative_to"] == "problem"``). Without the step relation a
+  thin wall that one step jumps, or a region that one step skips, made the loop claim
+  minimal horizons that were not (``tests/reach/test_exact_claims.py``).
+* *Segment-safe* (the default): CON-PLAN keeps each segment inside one convex region,
+  which is sufficient for safety but not necessary (a segment may cross several
+  regions; stlpy's narrow passage has an 8-step segment-safe plan where this search
+  needs 9). So a horizon the loop refutes is refuted only for plans whose consecutive
+  samples share a region, and: ``infeasible`` only when
+  :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`, which holds for every
+  trajectory of the problem, exceeds ``max_horizon`` (else ``unknown``,
+  ``counters["abstraction_refuted"]``: not a proof; around a circle given as a
+  400-vertex polygon the sliver regions made the loop refute horizon 30 where 3 steps
+  suffice, ``tests/reach/test_proved_bound.py``); and a found horizon is minimal for
+  the problem only when it is at most that proved bound, else
+  ``counters["minimal_relative_to"] == "decomposition"`` and the message says so
+  (the CLI prints "minimal through the decomposition only"). With ``prove=True`` the
+  MILP relaxation of :mod:`~plansynth.reach.lazy.relaxation` (samples and points along
+  each segment kept free: necessary for segment safety) may prove such a horizon
+  minimal, or every horizon up to ``max_horizon`` infeasible, for the problem
+  (``counters["relaxation"]``).
+* An abstraction that is not ``exact`` (obstacles replaced by outer polygons) makes
+  every refutation relative to the decomposition, in both modes.
+
+Both modes read the free space as the union of full-dimensional regions: a zero-width
+slit (a face two obstacles share, or an obstacle face flush with the workspace's
+boundary) lies outside every obstacle's interior as the spec words it, but no region
+holds it, so no claim counts paths through such slits.
+
+Lower bound on the horizon where the search starts (segment-safe: a bound for plans
+through the abstraction, not for the problem; samples only, over the step relation: a
+bound for the problem): the largest of the region-graph distance from a
 start region to a goal region (BFS), the distance to the goal along each axis divided
 by the largest displacement per step (one small LP per axis and direction), and the
 first step at which the displacement-box relaxation reaches the goal along the region
@@ -74,7 +103,7 @@ from typing import Any, Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
-from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, time_windows
+from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, step_adjacency, time_windows
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
@@ -131,7 +160,9 @@ def plan_lazy(
     starts at rest, DIS-PLAN also adds every start-anchored conflict shifted earlier (it
     could have waited at the start). ``progress(L, iterations)`` is called when a horizon
     (window: its top) starts. ``abstraction``: a decomposition computed before (else it
-    is computed here, within the budget).
+    is computed here, within the budget). ``prove`` (segment-safe): after the loop, try
+    to prove its claims for the problem with the MILP relaxation of
+    :mod:`plansynth.reach.lazy.relaxation` (see "What infeasible and minimal mean").
     """
     opts = options if options is not None else LazyOptions()
     if values:
@@ -167,7 +198,20 @@ def plan_lazy(
             timings["abstraction"] = time.perf_counter() - t0
             return ran_out(exc)
         timings["abstraction"] = time.perf_counter() - t0
+    step_graph = None  # samples only: every pair of regions one step can connect (exact search)
+    if not segment_safe:
+        t0 = time.perf_counter()
+        try:
+            with clock.phase("the one-step region pairs"):
+                step_graph = step_adjacency(problem, abstraction)
+        except BudgetExhausted as exc:
+            timings["bounds"] = time.perf_counter() - t0
+            return ran_out(exc)
+        timings["bounds"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
+    if step_graph is not None:
+        graph = RegionGraph(graph.n_regions, step_graph, graph.start_regions, graph.goal_regions)
+    exact = step_graph is not None and abstraction.exact  # are the loop's refutations proofs for the problem?
     counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
 
     t0 = time.perf_counter()
@@ -175,12 +219,13 @@ def plan_lazy(
     try:
         with clock.phase("the horizon bounds (time windows)"):
             phys = physical_lower_bound(problem) if lower_bound else 0
-            windows = time_windows(problem, abstraction, L_max) if (lower_bound and math.isfinite(bfs)) else None
+            windows = (time_windows(problem, abstraction, L_max, adjacency=graph.adjacency)
+                       if (lower_bound and math.isfinite(bfs)) else None)
             proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=segment_safe)
     except BudgetExhausted as exc:
         timings["bounds"] = time.perf_counter() - t0
         return ran_out(exc)
-    timings["bounds"] = time.perf_counter() - t0
+    timings["bounds"] += time.perf_counter() - t0
     counters["proved_bound"] = None if math.isinf(proved) else int(proved)
     counters["exact_abstraction"] = abstraction.exact
     counters["bfs_bound"] = None if math.isinf(bfs) else int(bfs)
@@ -229,6 +274,11 @@ def plan_lazy(
             horizon=out.horizon,
             minimal=out.minimal,
         )
+        if out.status is ReachStatus.FOUND:
+            counters.update(_minimal_claim(out, proved, exact or counters.get("relaxation") == "minimal"))
+            if counters["minimal_relative_to"] == "decomposition":
+                out = replace(out, message=f"{out.message}; minimal only among plans through the decomposition "
+                              f"({DECOMPOSITION_ONLY}), not proved for the problem (proved lower bound: {int(proved)})")
         if isinstance(theory, TransitCheck):
             counters.update(transit_conflicts=theory.conflicts, transit_lp_calls=theory.lp_calls,
                             transit_plans=theory.plans_caught, widened_conflicts=theory.widened)
@@ -257,19 +307,79 @@ def plan_lazy(
             why = f"no position in the regions reaches the goal within {L_max} steps of bounded displacement"
         else:
             why = f"the region-hop lower bound on the horizon ({first}) exceeds max_horizon"
+        if exact:
+            return finish(LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} "
+                                      f"({EXACT_SAMPLES})"))
         counters["abstraction_refuted"] = L_max
-        return finish(LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
-                                  f"{why}; {_not_a_proof(proved)}"))
+        out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
+                          f"{why}; {_not_a_proof(proved)}")
+        return finish(_prove(problem, out, proved, clock, counters) if opts.prove and segment_safe else out)
     growth = window_growth if horizon_search == "window" else 0.0
     windows = horizon_windows(first, L_max, growth)
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
     with clock.phase("the lazy SMT loop"):
         out = lazy_loop(displan, theory, windows, clock, timings, progress, guide)
-    if out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
+    if out.status is ReachStatus.INFEASIBLE and exact:
+        out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({EXACT_SAMPLES})")
+    elif out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
         counters["abstraction_refuted"] = out.horizon
         out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for plans "
                           f"through the abstraction; {_not_a_proof(proved)}")
+    if opts.prove and segment_safe and not exact:
+        out = _prove(problem, out, proved, clock, counters)
     return finish(out)
+
+
+#: What makes a samples-only refutation a proof (see the module docstring).
+EXACT_SAMPLES = ("samples only, steps between any two regions one step can connect, regions covering the free "
+                 "space: a proof for the problem")
+
+
+DECOMPOSITION_ONLY = "consecutive samples in one convex region"
+
+
+def _minimal_claim(out: LoopOutcome, proved: float, exact: bool) -> dict[str, Any]:
+    """What a found horizon's minimality claim is relative to (issue 13, item 7):
+    ``minimal_relative_to`` is ``"problem"`` when no trajectory of the problem (the
+    spec's semantics) has a shorter horizon (an exact samples-only search, or a horizon
+    no larger than :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound`), else
+    ``"decomposition"``: no shorter plan whose consecutive samples share a region of the
+    decomposition (segment-safe mode), or through an inexact decomposition."""
+    h = out.horizon
+    if h is not None and h <= proved:  # every trajectory needs at least `proved` steps
+        return {"minimal": True, "minimal_relative_to": "problem"}
+    if not out.minimal:
+        return {"minimal_relative_to": None}
+    return {"minimal_relative_to": "problem" if exact else "decomposition"}
+
+
+def _prove(problem: ReachProblem, out: LoopOutcome, proved: float, clock: Clock, counters: dict) -> LoopOutcome:
+    """``prove=True``, segment-safe: try to make the loop's claims hold for the problem
+    with :func:`~plansynth.reach.lazy.relaxation.refute_below` (a MILP relaxation of
+    segment safety; one MILP at h - 1 when the robot starts at rest), within the
+    budget left: a found horizon becomes proved minimal, every horizon refuted through
+    the abstraction becomes ``infeasible``. ``counters["relaxation"]`` says what it
+    proved (``minimal``, ``infeasible``, or ``not proved``)."""
+    from plansynth.reach.lazy.relaxation import SUBDIVISIONS, refute_below
+
+    lowest = 0 if math.isinf(proved) else int(proved)
+    if out.status is ReachStatus.FOUND and out.horizon is not None and out.horizon > lowest:
+        ok = refute_below(problem, out.horizon, lowest=lowest, seconds=clock.remaining())
+        counters["relaxation"] = "minimal" if ok else "not proved"
+        if ok:
+            return replace(out, minimal=True, message=f"{out.message}; proved minimal for the problem: no shorter "
+                           f"trajectory keeps its samples and {SUBDIVISIONS - 1} points per segment free")
+    elif out.status is ReachStatus.UNKNOWN and counters.get("abstraction_refuted") is not None:
+        L = int(counters["abstraction_refuted"])
+        ok = refute_below(problem, L + 1, lowest=lowest, seconds=clock.remaining())
+        counters["relaxation"] = "infeasible" if ok else "not proved"
+        if ok:
+            return LoopOutcome(ReachStatus.INFEASIBLE, L, f"infeasible up to horizon {L}: no trajectory keeps its "
+                               f"samples and {SUBDIVISIONS - 1} points per segment free (a MILP relaxation of "
+                               f"segment safety: a proof for the problem)")
+    if counters.get("relaxation") == "not proved":
+        return replace(out, message=f"{out.message}; --prove: the relaxation MILP has a solution or ran out of time")
+    return out
 
 
 def _not_a_proof(proved: float) -> str:

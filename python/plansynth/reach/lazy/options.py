@@ -56,6 +56,7 @@ class LazyOptions:
     guided: bool = True
     widen: bool = False
     wait_shifts: bool = True
+    prove: bool = False  # segment-safe: prove claims by the relaxation MILP (lazy/relaxation.py)
 
     def __post_init__(self) -> None:
         def bad(option: str, reason: str) -> InvalidOption:
@@ -105,6 +106,7 @@ class LazyOptions:
             "widen": self.widen,
             "wait_shifts": self.wait_shifts,
             "window_growth": self.window_growth,
+            "prove": self.prove,
             "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
         }
 

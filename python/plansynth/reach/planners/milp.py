@@ -38,7 +38,8 @@ import highspy
 import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, Clock, checkpoint
-from plansynth.reach.lazy.bounds import proved_horizon_bound
+from plansynth.reach.lazy.bounds import proved_horizon_bound, step_adjacency
+from plansynth.reach.lazy.loop import DECOMPOSITION_ONLY, EXACT_SAMPLES
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import RegionGraph
@@ -65,10 +66,12 @@ def solve_horizon(
     *,
     segment_safe: bool = True,
     seconds: float = math.inf,
+    adjacency: tuple[tuple[int, ...], ...] | None = None,
 ) -> tuple[str, tuple[int, ...] | None, dict]:
     """One MILP at horizon ``N``: ``("found", regions, stats)``, ``("infeasible", None,
     stats)`` or ``("unknown", None, stats)`` (time limit). ``seconds`` counts from the
-    call: building the model spends it too (and checks it, see :mod:`plansynth.budget`)."""
+    call: building the model spends it too (and checks it, see :mod:`plansynth.budget`).
+    ``adjacency``: the transitions allowed (default: the decomposition's adjacency)."""
     deadline = time.perf_counter() + seconds
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
@@ -77,6 +80,8 @@ def solve_horizon(
     d = len(pos)
     R = len(abstraction.regions)
     graph = RegionGraph.from_abstraction(abstraction)
+    if adjacency is not None:
+        graph = RegionGraph(graph.n_regions, adjacency, graph.start_regions, graph.goal_regions)
     ws_lo, ws_hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
     T = N + 1
     n_x, n_u, n_z = T * n, N * m, T * R
@@ -176,10 +181,17 @@ def plan_milp(
     """MILPs at horizons ``start_horizon`` (default: the region-graph distance) up to
     ``max_horizon`` within ``budget``; the trajectory is not yet validated here.
 
-    The MILP decides plans through the abstraction (one region per step), so having no
-    solution at every horizon from the BFS bound up to ``max_horizon`` is ``unknown``
-    with ``counters["abstraction_refuted"]``; ``infeasible`` is claimed only when
-    :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound` exceeds ``max_horizon``."""
+    Claims as the lazy planner's (issue 13, item 7; :mod:`plansynth.reach.lazy.loop`):
+    samples only, the transitions are every pair of regions one step can connect
+    (:func:`~plansynth.reach.lazy.bounds.step_adjacency`), so with regions covering the
+    free space no solution up to ``max_horizon`` is ``infeasible`` and the first horizon
+    found is minimal for the problem. Segment-safe, the MILP decides plans whose
+    consecutive samples share a region, so having no solution at every horizon from
+    the BFS bound up to ``max_horizon`` is ``unknown`` with
+    ``counters["abstraction_refuted"]`` (``infeasible`` only when
+    :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound` exceeds ``max_horizon``),
+    and the horizon found is minimal through the decomposition
+    (``counters["minimal_relative_to"]``) unless it is at most that bound."""
     t_start = time.perf_counter()
     clock: Clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -197,6 +209,10 @@ def plan_milp(
                                guarantee="segments" if segment_safe else "samples")
         timings["abstraction"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
+    step = None if segment_safe else step_adjacency(problem, abstraction)  # samples only: exact (see lazy/loop.py)
+    if step is not None:
+        graph = RegionGraph(graph.n_regions, step, graph.start_regions, graph.goal_regions)
+    exact = step is not None and abstraction.exact
     bfs = graph.horizon_lower_bound()
     first = int(bfs) if math.isfinite(bfs) else L_max + 1
     if start_horizon is not None:
@@ -222,6 +238,9 @@ def plan_milp(
         why = ("no trajectory reaches the goal through the free space" if math.isinf(proved)
                else f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)")
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
+    if first > L_max and exact and (start_horizon is None or first == int(bfs)):
+        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: no region path of at most "
+                      f"{L_max} steps ({EXACT_SAMPLES})")
     if first > L_max:
         if math.isinf(bfs):
             counters["abstraction_refuted"] = L_max
@@ -244,7 +263,7 @@ def plan_milp(
                 clock.tick()
                 t0 = time.perf_counter()
                 outcome, regions, stats = solve_horizon(problem, abstraction, N, segment_safe=segment_safe,
-                                                        seconds=clock.remaining())
+                                                        seconds=clock.remaining(), adjacency=step)
                 timings["milp"] += time.perf_counter() - t0
                 counters["milp_calls"] += 1
                 counters["mip_nodes"] += stats["mip_nodes"]
@@ -259,9 +278,19 @@ def plan_milp(
                     if trajectory is None:
                         return finish(ReachStatus.UNKNOWN, N, f"the MILP's region sequence at horizon {N} has no trajectory "
                                       "under exact LP tolerances (numerically borderline instance)", regions=regions)
-                    return finish(ReachStatus.FOUND, N, f"found at horizon {N}", trajectory, regions)
+                    message = f"found at horizon {N}"
+                    if start_horizon is None or first == int(bfs):  # every shorter horizon refuted
+                        relative = "problem" if (exact or N <= proved) else "decomposition"
+                        counters.update(minimal=True, minimal_relative_to=relative)
+                        if relative == "decomposition":
+                            message += (f"; minimal only among plans through the decomposition ({DECOMPOSITION_ONLY}), "
+                                        f"not proved for the problem (proved lower bound: {int(proved)})")
+                    return finish(ReachStatus.FOUND, N, message, trajectory, regions)
             if start_horizon is not None and first > (int(bfs) if math.isfinite(bfs) else 0):
                 return finish(ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)")
+            if exact:
+                return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: no MILP solution at any "
+                              f"horizon ({EXACT_SAMPLES})")
             counters["abstraction_refuted"] = L_max
             return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the abstraction at any horizon up to "
                           f"{L_max}; {not_proof}")

@@ -1,0 +1,331 @@
+"""Every ``infeasible`` and every minimal horizon claimed for the problem is checked
+against an independent exact formulation (issue 13, item 7): the big-M MILP of
+:func:`reach_oracles.oracle_feasible` over the spec's semantics, which shares no code
+with the planner (no decomposition, no regions).
+
+* samples only (``segment_safe=False``): the oracle is exact, and the lazy loop's search
+  is too (steps between any two regions one step can connect,
+  :func:`~plansynth.reach.lazy.bounds.step_adjacency`): its ``infeasible`` means no
+  trajectory at any horizon up to ``max_horizon``, and a horizon claimed minimal for
+  the problem (``counters["minimal_relative_to"] == "problem"``) is the oracle's
+  smallest feasible horizon;
+* segment-safe: the oracle keeps both end points of every segment beyond one face of
+  each convex obstacle, which is sufficient for the segment to be safe, so every
+  horizon the planner refutes for the problem must be infeasible there too; in a world
+  of boxes the planner's own plans (consecutive samples in one free box) are solutions
+  of the oracle as well, so a horizon claimed minimal for the problem is its minimum.
+  A minimum claimed only through the decomposition (``"decomposition"``) may be larger
+  than the oracle's: the public cases below show it, and that the claim says so.
+
+Workspaces: random boxes (:func:`reach_oracles.problems`' generator without the
+non-convex polygons), walls thinner than one step (samples jump them: region-skipping
+steps) with gaps narrower than one step (thin gaps), a convex triangle among them, and
+3-D floors with holes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+from plansynth.reach import ReachStatus, solve
+from plansynth.reach.abstraction import abstract
+from plansynth.reach.dynamics import integrator_chain
+from plansynth.reach.families import random_workspace
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.geometry import Box, Polygon
+from plansynth.reach.problem import ReachProblem
+
+from reach_oracles import oracle_feasible, oracle_minimum
+
+#: Zero-width slits: a position on a face two obstacles share, or on an obstacle's face
+#: flush with the workspace's boundary, is outside every obstacle's interior (the
+#: spec's words, which the oracle and the validator follow), but the decomposition's
+#: regions are full-dimensional and leave such faces out: through a slit the planner's
+#: claims hold only for the free space without its zero-width parts. The generated
+#: obstacles overlap and reach past the workspace, so that no slit arises.
+SLITS = "obstacles overlap by 0.01 and reach 0.1 beyond the workspace"
+CLAIMS = Path(__file__).resolve().parents[2] / "examples" / "reach" / "claims"
+PROPS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def _problem(ws: Box, obstacles: list, goal: Box, start_pos: list[float], order: int) -> ReachProblem:
+    dim = ws.dim
+    dyn = integrator_chain(order, dim, 1.0 if order == 1 else 0.5)
+    start = np.zeros(dyn.n_states)
+    start[:dim] = start_pos
+    bounds = None
+    if order == 2:
+        bounds = Box(tuple(ws.lo) + (-2.0,) * dim, tuple(ws.hi) + (2.0,) * dim)
+    return ReachProblem(workspace=ws, obstacles=tuple(obstacles), goal=goal, dynamics=dyn, start=start,
+                        input_bound=1.0, state_bounds=bounds)
+
+
+@st.composite
+def thin_walls(draw) -> ReachProblem:
+    """A wall across [0, 10]^2, 0.05..1.5 thick (below one step: samples may jump it),
+    with up to two gaps 0.05..1.2 wide (below one step: a segment must pass within the
+    gap's width), sometimes a triangle; start below, goal above."""
+    y0 = draw(st.floats(3.0, 6.0))
+    thick = draw(st.floats(0.05, 1.5))
+    cuts = sorted(draw(st.lists(st.floats(0.5, 9.0), min_size=0, max_size=2)))
+    widths = [draw(st.floats(0.05, 1.2)) for _ in cuts]
+    obstacles: list = []
+    x = -0.1  # (0.1 beyond the workspace: no zero-width slit at its boundary, see SLITS)
+    for c, w in zip(cuts, widths):
+        if c > x + 1e-3:
+            obstacles.append(Box((round(x, 3), round(y0, 3)), (round(c, 3), round(y0 + thick, 3))))
+        x = max(x, c + w)
+    if x < 10.0 - 1e-3:
+        obstacles.append(Box((round(x, 3), round(y0, 3)), (10.1, round(y0 + thick, 3))))
+    if draw(st.booleans()):
+        cx = draw(st.floats(2.0, 8.0))
+        obstacles.append(Polygon(((cx - 1.0, 8.0), (cx + 1.0, 8.0), (cx, 9.0))))
+    sx, gx = draw(st.floats(0.5, 9.5)), draw(st.floats(0.8, 9.2))
+    sy = draw(st.floats(0.5, y0 - 0.5))
+    goal = Box((round(gx - 0.4, 3), 9.2), (round(gx + 0.4, 3), 9.9))
+    return _problem(Box((0.0, 0.0), (10.0, 10.0)), obstacles, goal, [sx, sy], draw(st.sampled_from([1, 2])))
+
+
+@st.composite
+def floors(draw) -> ReachProblem:
+    """[0, 4]^3 with one or two floors (0.1..1.2 thick), each with a box hole; start
+    below, goal above (samples may jump a thin floor, a segment must pass its hole)."""
+    obstacles: list = []
+    levels = sorted(draw(st.lists(st.floats(0.8, 3.0), min_size=1, max_size=2)))
+    for z in levels:
+        t = draw(st.floats(0.1, 1.2))
+        hx, hy = draw(st.floats(0.2, 3.0)), draw(st.floats(0.2, 3.0))
+        w = draw(st.floats(0.1, 0.8))
+        z0, z1 = round(z, 3), round(min(z + t, 3.4), 3)
+        a, b, c, d = round(hx, 3), round(min(hx + w, 3.9), 3), round(hy, 3), round(min(hy + w, 3.9), 3)
+        # the pieces overlap by 0.01: on a face two obstacles share, a point is outside
+        # each one's interior but inside their union's, and the spec (outside every
+        # obstacle's interior) would let a trajectory pass through the seam
+        # ... and reach 0.1 beyond the workspace: a face flush with the workspace's
+        # boundary would leave a zero-width slit between them (see SLITS)
+        obstacles += [Box((-0.1, -0.1, z0), (a, 4.1, z1)), Box((b, -0.1, z0), (4.1, 4.1, z1)),
+                      Box((a - 0.01, -0.1, z0), (b + 0.01, c, z1)), Box((a - 0.01, d, z0), (b + 0.01, 4.1, z1))]
+    obstacles = [o for o in obstacles if all(l < h for l, h in zip(o.lo, o.hi))]
+    sx, sy = draw(st.floats(0.2, 3.8)), draw(st.floats(0.2, 3.8))
+    gx, gy = draw(st.floats(0.4, 3.6)), draw(st.floats(0.4, 3.6))
+    goal = Box((round(gx - 0.3, 3), round(gy - 0.3, 3), 3.6), (round(gx + 0.3, 3), round(gy + 0.3, 3), 3.9))
+    return _problem(Box((0.0,) * 3, (4.0,) * 3), obstacles, goal, [sx, sy, 0.3], draw(st.sampled_from([1, 2])))
+
+
+@st.composite
+def box_worlds(draw) -> ReachProblem:
+    seed = draw(st.integers(0, 10**6))
+    dim = draw(st.sampled_from([2, 2, 3]))
+    order = draw(st.sampled_from([1, 2]))
+    try:
+        return random_workspace(seed, draw(st.integers(1, 5)), dim=dim, polygons=False, order=order,
+                                dt=1.0 if order == 1 else 0.5)
+    except RuntimeError:  # no free point for start or goal
+        return random_workspace(seed % 97, 2, dim=dim, polygons=False, order=order)
+
+
+worlds = st.one_of(thin_walls(), floors(), box_worlds())
+
+
+def _solve(p: ReachProblem, L: int, segment_safe: bool, search: str):
+    """``search``: the lazy planner's horizon search, or ``"milp"`` (the region MILP)."""
+    try:
+        if search == "milp":
+            return solve(p, "milp", max_horizon=L, segment_safe=segment_safe)
+        return solve(p, "lazy-smt", max_horizon=L, segment_safe=segment_safe, horizon_search=search)
+    except Exception as exc:  # pragma: no cover - a planner crash is a failure with its problem
+        raise AssertionError(f"the planner failed on {p!r}") from exc
+
+
+def _check_samples(p: ReachProblem, L: int, search: str) -> None:
+    r = _solve(p, L, False, search)
+    exact = abstract(p).exact
+    event(f"samples: {r.status.value}, minimal for {r.counters.get('minimal_relative_to')}")
+    if r.status is ReachStatus.FOUND:
+        assert r.validated is True
+        if r.counters.get("minimal_relative_to") == "problem":
+            for h in range(r.horizon):
+                assert oracle_feasible(p, h, segments=False) is False, (h, r.horizon, r.message)
+        assert oracle_feasible(p, r.horizon, segments=False) is True
+    elif r.status is ReachStatus.INFEASIBLE:
+        for h in range(L + 1):
+            assert oracle_feasible(p, h, segments=False) is False, (h, r.message)
+    else:  # the exact search refutes or finds: never "unknown" on these small instances
+        assert not exact, r.message
+    if exact and r.status is ReachStatus.FOUND and search in ("linear", "milp"):
+        assert r.counters["minimal_relative_to"] == "problem"
+
+
+@PROPS
+@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "window", "milp"]))
+def test_samples_only_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
+    """Samples only (the lazy planner's two horizon searches and the region MILP):
+    ``infeasible`` means the oracle has no trajectory at any horizon up to L; a horizon
+    claimed minimal for the problem is the oracle's minimum; the linear search and the
+    MILP always claim it (every shorter horizon refuted by an exact search)."""
+    _check_samples(p, L, search)
+
+
+def _box_world(p: ReachProblem) -> bool:
+    return all(isinstance(o, Box) for o in p.obstacles)
+
+
+@PROPS
+@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "milp"]))
+def test_segment_safe_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
+    """Segment-safe: a refutation for the problem (``infeasible``, or a horizon claimed
+    minimal for the problem) is one for the face formulation, which is sufficient for
+    segment safety; in a box world the planner's plan is a face-formulation solution."""
+    r = _solve(p, L, True, search)
+    event(f"segments: {r.status.value}, minimal for {r.counters.get('minimal_relative_to')}")
+    if r.status is ReachStatus.FOUND:
+        assert r.validated is True and r.segment_safe is True
+        if r.counters.get("minimal_relative_to") == "problem":
+            for h in range(r.horizon):
+                assert oracle_feasible(p, h, segments=True) is False, (h, r.horizon, r.message)
+        if _box_world(p):
+            assert oracle_feasible(p, r.horizon, segments=True) is True
+    elif r.status is ReachStatus.INFEASIBLE:
+        for h in range(L + 1):
+            assert oracle_feasible(p, h, segments=True) is False, (h, r.message)
+    else:
+        assert "not a proof" in r.message or "budget" in r.message, r.message
+
+
+@PROPS
+@given(worlds, st.integers(4, 12))
+def test_proved_segment_claims_hold_for_the_problem(p: ReachProblem, L: int) -> None:
+    """``prove=True`` (the relaxation MILP of lazy/relaxation.py): every claim for the
+    problem, now also above the proved bound, is a refutation for the face oracle."""
+    r = solve(p, "lazy-smt", max_horizon=L, prove=True)
+    event(f"prove: {r.status.value}, {r.counters.get('relaxation')}")
+    if r.status is ReachStatus.FOUND:
+        assert r.validated is True and r.segment_safe is True
+        if r.counters.get("minimal_relative_to") == "problem":
+            for h in range(r.horizon):
+                assert oracle_feasible(p, h, segments=True) is False, (h, r.horizon, r.message)
+    elif r.status is ReachStatus.INFEASIBLE:
+        for h in range(L + 1):
+            assert oracle_feasible(p, h, segments=True) is False, (h, r.message)
+
+
+@PROPS
+@given(worlds, st.integers(1, 12), st.sampled_from([1, 2, 4]))
+def test_relaxation_admits_every_face_oracle_solution(p: ReachProblem, h: int, k: int) -> None:
+    """The relaxation is necessary for segment safety, so it has a solution whenever the
+    face oracle (sufficient for segment safety) has one; with k = 1 it is the samples
+    oracle exactly."""
+    from plansynth.reach.lazy.relaxation import relaxation_feasible
+
+    relaxed = relaxation_feasible(p, h, subdivisions=k, seconds=60)
+    if oracle_feasible(p, h, segments=True):
+        assert relaxed is True
+    if k == 1:
+        assert relaxed is oracle_feasible(p, h, segments=False)
+    event(f"relaxation k={k}: {relaxed}")
+
+
+# -- the oracle itself ---------------------------------------------------------------
+
+
+def test_oracle_separates_samples_from_segments() -> None:
+    """A wall 0.5 thick, single integrator (1 per axis per step): samples jump it (2
+    steps from y = 4.6 to 5.4 + ...), segments must go round its end."""
+    p = _problem(Box((0.0, 0.0), (10.0, 10.0)), [Box((0.0, 4.8), (9.0, 5.3))], Box((1.0, 9.0), (2.0, 9.5)),
+                 [1.5, 4.5], 1)
+    assert oracle_minimum(p, 20, segments=False) == 5  # 4.5 -> 9.0 in y: 4.5 steps of 1
+    assert oracle_minimum(p, 20, segments=True) > 5
+
+
+def test_oracle_face_formulation_is_only_sufficient() -> None:
+    """One step of the single integrator cuts past the corner of the box [0, 1]^2 from
+    (-0.5, 0.7) to (0.4, 1.6): the segment misses the box (the line passes above the
+    corner (0, 1)), but its end points lie beyond two different faces, so the face
+    formulation refuses one step; samples allow it."""
+    p = _problem(Box((-2.0, -2.0), (3.0, 3.0)), [Box((0.0, 0.0), (1.0, 1.0))], Box((0.35, 1.55), (0.45, 1.65)),
+                 [-0.5, 0.7], 1)
+    assert oracle_feasible(p, 1, segments=False) is True
+    assert oracle_feasible(p, 1, segments=True) is False
+    assert oracle_feasible(p, 2, segments=True) is True
+
+
+# -- the issue's public cases (examples/reach/claims/) -------------------------------
+
+
+PUBLIC = [
+    # (file, segment-safe minimum of the face oracle, samples-only minimum)
+    ("narrow-passage.yaml", 8, 8),
+    ("wall-gap.yaml", 19, 19),
+    ("floors-3d.yaml", 22, 10),  # samples only, adjacency through both holes claimed 21 minimal
+    ("cross-intersection.yaml", 21, 20),
+]
+
+
+@pytest.mark.parametrize("name, seg_min, samples_min", PUBLIC)
+def test_public_cases_minimal_horizons(name: str, seg_min: int, samples_min: int) -> None:
+    """On each public case: the samples-only minimum is proved and is the oracle's; the
+    segment-safe horizon found is claimed minimal for the problem only if it is the
+    face oracle's minimum (the planner's sufficient semantics may need more steps,
+    and then the claim says "decomposition")."""
+    p = load_reach_problem(CLAIMS / name)
+    L = p.max_horizon
+    assert oracle_minimum(p, L, segments=False) == samples_min
+    assert oracle_minimum(p, L, segments=True) == seg_min
+    r = solve(p, "lazy-smt", segment_safe=False, horizon_search="linear")
+    assert r.status is ReachStatus.FOUND and r.validated is True
+    assert (r.horizon, r.counters["minimal"], r.counters["minimal_relative_to"]) == (samples_min, True, "problem")
+    for search in ("linear", "window"):
+        r = solve(p, "lazy-smt", horizon_search=search)
+        assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
+        assert r.horizon >= seg_min
+        if r.counters["minimal_relative_to"] == "problem":
+            assert r.horizon == seg_min
+        elif r.counters["minimal"]:
+            assert r.counters["minimal_relative_to"] == "decomposition" and "not proved for the problem" in r.message
+    r = solve(p, "lazy-smt", max_horizon=seg_min, horizon_search="linear")  # was "infeasible" (issue 13)
+    assert r.status is not ReachStatus.INFEASIBLE
+
+
+def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
+    """The GCS paper's maze (10 x 10, seed 4, walls 0.1 thick): samples only, a step
+    (up to 0.5 per axis) jumps a wall, and the exact search proves 19 minimal, the
+    oracle's minimum (the robot starts at rest, so infeasibility at 18 covers every
+    shorter horizon: a shorter trajectory could wait). Segment-safe, the plan's horizon
+    is claimed minimal through the decomposition only (the face oracle, 18,800
+    binaries at horizon 45, does not finish within minutes here)."""
+    p = load_reach_problem(CLAIMS / "gcs-maze-10.yaml")
+    assert p.starts_at_rest
+    r = solve(p, "lazy-smt", segment_safe=False, horizon_search="linear")
+    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (ReachStatus.FOUND, True, 19, "problem")
+    assert oracle_feasible(p, 18, segments=False) is False and oracle_feasible(p, 19, segments=False) is True
+    r = solve(p, "lazy-smt", horizon_search="linear")
+    assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
+    assert r.counters["minimal"] is True and r.counters["minimal_relative_to"] == "decomposition"
+    assert "not proved for the problem" in r.message
+
+
+@pytest.mark.parametrize("target, goal, seg_min, samples_min", [
+    ("3", ((0, 4), (1.5, 6)), 8, 6),
+    ("21", ((4, 0.5), (6, 2.5)), 13, 6),  # samples only, region adjacency claimed 13 minimal
+    ("25", ((4, 3), (6, 6)), 13, 6),
+])
+def test_smc_ltl_map_targets(target: str, goal: tuple, seg_min: int, samples_min: int) -> None:
+    """SMC-LTL's 27-region map, one target region at a time: the samples-only minimum
+    is proved and is the oracle's; segment-safe, a claim for the problem is the face
+    oracle's minimum and the plan is never shorter than it (a box world)."""
+    import dataclasses
+
+    p = dataclasses.replace(load_reach_problem(CLAIMS / "smc-ltl-map.yaml"), goal=Box(*goal))
+    assert oracle_minimum(p, 30, segments=False) == samples_min
+    assert oracle_minimum(p, 30, segments=True) == seg_min
+    r = solve(p, "lazy-smt", segment_safe=False, horizon_search="linear")
+    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (ReachStatus.FOUND, True,
+                                                                                    samples_min, "problem")
+    r = solve(p, "lazy-smt", horizon_search="linear")
+    assert r.status is ReachStatus.FOUND and r.validated is True and r.horizon >= seg_min
+    assert r.counters["minimal_relative_to"] != "problem" or r.horizon == seg_min
