@@ -26,7 +26,7 @@ theory (CON-PLAN) unchanged, so this layer only saves work; it never decides fea
 
 >>> from plansynth.reach.families import maze
 >>> from plansynth.reach.abstraction import abstract
->>> from plansynth.reach.lazy.conplan import LONG_CHAIN_STATES, ConPlan
+>>> from plansynth.reach.lazy.conplan import ConPlan
 >>> p = maze(1); a = abstract(p)
 >>> tc = TransitCheck(ConPlan(p, a), a)
 >>> tc.box_gap(0, 2)              # region 0 (y <= 14.5) to region 2 (y >= 15.5): 1 m
@@ -47,7 +47,7 @@ import numpy as np
 
 from plansynth.reach.lazy.bounds import box_steps, shape_box, step_reach
 from plansynth.reach.lazy.conflict import Conflict, Feasible
-from plansynth.reach.lazy.conplan import LONG_CHAIN_STATES, ConPlan
+from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import Abstraction
 
 __all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
@@ -239,15 +239,12 @@ class TransitCheck:
         conflict together with its widened variants).
 
         When no leg is known to be violated but some legs would need LPs to decide
-        (their first gap not yet found), the plan's own LP comes first (up to
-        :data:`~plansynth.reach.lazy.conplan.LONG_CHAIN_STATES` states): a plan that is
+        (their first gap not yet found), the plan's own LP comes first: a plan that is
         realisable (the guided one usually is) then costs one LP, not one per unknown
         leg gap; when it is not, the legs are decided as usual and their conflicts come
         with CON-PLAN's."""
         unknown = False
-        # (not on long integrator chains: there a cold plan LP costs seconds, more than
-        # the leg LPs, and its answer is less accurate than the warm-started ones)
-        for a, b, _, gap in (self.legs(regions) if self.inner.n <= LONG_CHAIN_STATES else ()):
+        for a, b, _, gap in self.legs(regions):
             k = self.known(a, b, gap)
             if k is None:
                 unknown = True
