@@ -19,7 +19,9 @@ from the lower bound), which is monotone in hi: a window that admits a trajector
 usually yields one after a few counterexamples, and only windows without any are
 refuted whole. The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
-``"linear"``).
+``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
+refutes the horizons below the one found, with every learned clause kept (bisection
+when the start is at rest, where feasibility is monotone in the horizon).
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
 CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
@@ -122,7 +124,8 @@ def plan_lazy(
     needs (``trivial`` with ``generalize``); ``"zeroprefix"`` is the paper's
     (``generalize=False, slack_weights="uniform"``: as published). ``segment_safe``
     constrains whole segments, not only samples. ``lower_bound=False`` starts at horizon 0
-    without time windows. ``horizon_search`` (``window`` or ``linear``) and
+    without time windows. ``horizon_search`` (``window``, ``linear`` or ``minimal``:
+    windows, then :func:`prove_minimal`) and
     ``window_growth`` choose the horizons tried (see the module docstring). ``transit``
     puts :class:`~plansynth.reach.lazy.transit.TransitCheck` in front of CON-PLAN
     (transit-time conflicts without horizon-long LPs; ``widen`` also widens LP conflicts
@@ -268,9 +271,9 @@ def plan_lazy(
         if horizon_search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
             t0 = time.perf_counter()
             bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)  # (horizons below refuted)
-            out = prove_minimal(displan, theory, out, bottom, clock, timings, monotone=problem.starts_at_rest)
+            out, counters["minimal_probes"] = prove_minimal(displan, theory, out, bottom, clock, timings,
+                                                            monotone=problem.starts_at_rest)
             timings["minimal"] = time.perf_counter() - t0
-            counters["minimal_probes"] = timings.pop("_probes", 0)
     if out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
         counters["abstraction_refuted"] = out.horizon
         out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for plans "
@@ -406,7 +409,7 @@ def prove_minimal(
     timings: dict[str, float],
     *,
     monotone: bool,
-) -> LoopOutcome:
+) -> tuple[LoopOutcome, int]:
     """Prove the horizon of ``found`` minimal (``horizon_search="minimal"``, beyond the
     paper), given that every horizon below ``bottom`` is refuted and DIS-PLAN holds every
     clause learned so far.
@@ -422,7 +425,8 @@ def prove_minimal(
     Without it, the window bottom..h-1 is asked as a whole until it is refuted, each
     plan found lowering its top. Either way the answer is minimal relative to the
     transition relation DIS-PLAN uses (as under ``horizon_search="linear"``); when the
-    budget runs out the best plan so far is returned with ``minimal=False``."""
+    budget runs out the best plan so far is returned with ``minimal=False``. Returns the
+    outcome and the number of probes (single horizons, or windows) asked."""
     best, probes = found, 0
     assert best.horizon is not None
     while best.horizon > bottom:
@@ -440,18 +444,18 @@ def prove_minimal(
                     displan.close(L)  # (by monotonicity, when below the probe)
             bottom = probe + 1 if monotone else top + 1
         else:
-            timings["_probes"] = probes
-            return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}")
-    timings["_probes"] = probes
+            return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"), probes
     assert best.horizon is not None
+    how = ", by monotonicity from the start at rest" if monotone else ""
     return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every shorter "
-                                               f"horizon refuted{', by monotonicity from the start at rest' if monotone else ''})")
+                                               f"horizon refuted{how})"), probes
 
 
 def compressed(plan: Sequence[int], horizon: int) -> tuple[int, ...]:
     """``plan`` (r_0..r_h) shortened to ``horizon``: the same regions in the same order,
-    each stay shortened in proportion to its length (every stay keeps one step), the
-    steps removed spread evenly within a stay.
+    each stay shortened in proportion to its length (largest remainders first; every stay
+    keeps one step). Only a hint for DIS-PLAN's phases: when the stays have fewer spare
+    steps than must go, the plan is cut off at ``horizon``.
 
     >>> compressed((0, 0, 0, 0, 1, 2, 2, 2, 2), 6)
     (0, 0, 0, 1, 2, 2, 2)
