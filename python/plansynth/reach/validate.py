@@ -164,7 +164,7 @@ def _segments_enter_open_box(P: np.ndarray, Q: np.ndarray, lo: np.ndarray, hi: n
         d, p = D[:, k], P[:, k]
         still = d == 0.0
         ok &= ~still | ((lo[k] < p) & (p < hi[k]))
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             a, b = (lo[k] - p) / d, (hi[k] - p) / d
         a, b = np.where(still, -np.inf, np.minimum(a, b)), np.where(still, np.inf, np.maximum(a, b))
         t0, t1 = np.maximum(t0, a), np.minimum(t1, b)
