@@ -42,6 +42,20 @@ def test_gcs_finds_a_validated_curve_on_maze_1(maze1_gcs):
     assert r.to_json_dict()["curve_validation"]["ok"] is True
 
 
+def test_like_for_like_is_not_over_constrained(maze1_gcs):
+    """Velocity continuity only, not also dr/ds continuity (which would force equal piece
+    durations or a stop at every junction): the curve is the issue's 32.5 s on maze-1, not
+    the 38.9 s of the over-constrained form, and its velocity is continuous at every
+    junction of pieces (checked on the dense curve, which includes every piece's ends)."""
+    r = maze1_gcs
+    assert 32.0 <= r.counters["gcs_duration"] <= 33.0, r.counters
+    assert r.counters["curve_seconds"] == pytest.approx(32.5)
+    t = np.array(r.curve_times)
+    V = np.asarray(r.curve.states)[:, 2:]
+    jumps = np.abs(np.diff(V, axis=0)).max(axis=1) / np.maximum(np.diff(t), 1e-12)
+    assert jumps.max() <= 1.0 + 1e-3  # |dv/dt| <= |a| bound: no velocity jump anywhere
+
+
 def test_the_gcs_curve_is_collision_free_by_our_validator(maze1_gcs):
     """Cross-check: every dense sample and every segment between them avoid the walls,
     checked by the validator's own geometry (it does not know the regions)."""

@@ -63,3 +63,19 @@ def test_depart_never_rushes_the_first_leg() -> None:
     even = reference_plan(p, ab, 90)
     assert reference_plan(p, ab, 90, depart=2) == even
     assert departure(20) == 21 and departure(58) == 61
+
+
+@pytest.mark.parametrize("n", [1, 4])
+def test_the_first_plan_is_the_reference_at_the_window_top(n: int) -> None:
+    """DIS-PLAN's phases describe the whole reference plan: its regions, its end at the
+    window's top (the phases of the ends-before ladder, also when prefer() comes before the
+    first solve) and, beyond 8 regions (maze-4 has 9: the sequential counter), the
+    auxiliary variables of the exactly-one encoding. On the mazes that plan is realisable,
+    so the loop ends after one iteration and one plan LP, at the window's top."""
+    p = maze(n)
+    r = plan_lazy(p)
+    first = r.counters["first_horizon"]
+    top = first + int(0.25 * first)
+    assert r.counters["iterations"] == 1 and r.horizon == top
+    assert r.counters["lp_calls_by_kind"].get("plan") == 1
+    assert validate(p, r.trajectory, require_segment_safe=True).ok

@@ -54,6 +54,7 @@ jump fails.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
@@ -148,6 +149,36 @@ def _segment_enters_open_box(p: np.ndarray, q: np.ndarray, lo: np.ndarray, hi: n
             a, b = b, a
         t0, t1 = max(t0, a), min(t1, b)
     return t0 < t1 and t0 < 1.0 and t1 > 0.0
+
+
+def _segments_enter_open_box(P: np.ndarray, Q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """:func:`_segment_enters_open_box` for every segment P[i]-Q[i] at once (the same
+    arithmetic, per axis over all segments)."""
+    n = len(P)
+    if np.any(lo >= hi) or n == 0:
+        return np.zeros(n, dtype=bool)
+    ok = np.ones(n, dtype=bool)
+    t0, t1 = np.full(n, -np.inf), np.full(n, np.inf)
+    D = Q - P
+    for k in range(P.shape[1]):
+        d, p = D[:, k], P[:, k]
+        still = d == 0.0
+        ok &= ~still | ((lo[k] < p) & (p < hi[k]))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            a, b = (lo[k] - p) / d, (hi[k] - p) / d
+        a, b = np.where(still, -np.inf, np.minimum(a, b)), np.where(still, np.inf, np.maximum(a, b))
+        t0, t1 = np.maximum(t0, a), np.minimum(t1, b)
+    return ok & (t0 < t1) & (t0 < 1.0) & (t1 > 0.0)
+
+
+def _hits_all(ob: Any, P: np.ndarray, Q: np.ndarray | None = None) -> np.ndarray:
+    """``ob.hits(P[i], Q[i])`` (``Q`` None: ``ob.hits(P[i])``) for every i, vectorised for
+    box obstacles."""
+    if isinstance(ob, _Obstacle) and ob.geom is None:
+        return _segments_enter_open_box(P, P if Q is None else Q, ob.lo, ob.hi)
+    if Q is None:
+        return np.array([ob.hits(p) for p in P], dtype=bool)
+    return np.array([ob.hits(p, q) for p, q in zip(P, Q)], dtype=bool)
 
 
 class _Obstacle:
@@ -350,21 +381,23 @@ def validate(
         margin = np.array(problem.robot_shape.margins(problem.dim))
         ws_lo, ws_hi = ws_lo + margin, ws_hi - margin
     obstacles = _obstacle_checks(problem, tol)
+    inside = [_hits_all(ob, P) for ob in obstacles]
     for t in range(N + 1):
         p = P[t]
         if np.any(p < ws_lo - tol) or np.any(p > ws_hi + tol):
             viol.append(Violation("workspace", t, f"position {_fmt(p)} outside the workspace"))
         for i, ob in enumerate(obstacles):
-            if ob.hits(p):
+            if inside[i][t]:
                 viol.append(Violation("obstacle", t, f"position {_fmt(p)} inside obstacles[{i}]"))
     if not _in_shape(problem.goal, P[N], tol):
         viol.append(Violation("goal", N, f"final position {_fmt(P[N])} is not in the goal"))
 
     # segments
     segment_safe = True
+    crosses = [_hits_all(ob, P[:-1], P[1:]) for ob in obstacles]
     for t in range(N):
         for i, ob in enumerate(obstacles):
-            if ob.hits(P[t], P[t + 1]):
+            if crosses[i][t]:
                 segment_safe = False
                 if require_segment_safe:
                     viol.append(Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]"))

@@ -77,6 +77,27 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
     return down, up
 
 
+def _once_per_problem(f):  # (problems are immutable values with identity hashes)
+    import functools
+    import weakref
+
+    memo: "weakref.WeakKeyDictionary[ReachProblem, tuple[np.ndarray, np.ndarray]]" = weakref.WeakKeyDictionary()
+
+    @functools.wraps(f)
+    def cached(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
+        if problem not in memo:
+            memo[problem] = f(problem)
+        down, up = memo[problem]
+        return down.copy(), up.copy()
+
+    return cached
+
+
+#: computed once per problem (four callers per plan: the bounds, the windows, the
+#: proved bound and the transit layer; eight LPs each time)
+step_reach = _once_per_problem(step_reach)
+
+
 def physical_lower_bound(problem: ReachProblem) -> int:
     """A horizon below which no trajectory reaches the goal, obstacles ignored: along
     every axis, the distance from the start to the goal's bounding box divided by the

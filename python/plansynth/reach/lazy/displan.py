@@ -386,6 +386,9 @@ class DisPlan(LearnedClauses):
         if self.floor is None:
             self.floor = self.open_from = lo
             self._to_go_windows()
+            if self.preferred is not None:  # prefer() came first: the plan ends at its horizon, not before
+                self.solver.set_phases([-e for e in (self.ends_before(T) for T in range(lo + 1, self.preferred + 1))
+                                        if e is not None])
         elif lo < self.floor:
             raise ValueError(f"horizon {lo} is below the first horizon tried ({self.floor})")
         self._extend(horizon)
@@ -450,6 +453,12 @@ class DisPlan(LearnedClauses):
         phases = [self.at(t, i) if i == r else -self.at(t, i) for t, r in enumerate(plan) for i in range(self.graph.n_regions)]
         if self.floor is not None:  # ... and ending at H, not before
             phases += [-e for e in (self.ends_before(T) for T in range(self.floor + 1, H + 1)) if e is not None]
+        # the auxiliary variables of the exactly-one encoding (seqcounter, beyond 8
+        # regions) as the plan implies them: unphased, their default phase would steer
+        # the search off the plan at once
+        ok, implied = self.solver.propagate(assumptions=[self.at(t, r) for t, r in enumerate(plan)])
+        if ok:
+            phases += [v for v in implied if abs(v) > 0]
         self.solver.set_phases(phases)
 
     def plan(self, horizon: int) -> tuple[int, ...] | None:

@@ -155,7 +155,8 @@ def reference_plan(
 def _entry_fraction(region: Region, a: np.ndarray, b: np.ndarray, length: float, samples: int = 256) -> float:
     """The route fraction at which the segment a -> b (of route fraction ``length``)
     first enters ``region`` (sampled; ``length`` when it never does)."""
-    for j in range(samples + 1):
-        if region.contains(a + (j / samples) * (b - a), tol=1e-9):
-            return length * j / samples
-    return length
+    s = np.arange(samples + 1) / samples
+    pts = a[None, :] + s[:, None] * (b - a)[None, :]
+    inside = np.all(pts @ np.asarray(region.H, float).T <= np.asarray(region.h, float) + 1e-9, axis=1)
+    j = np.flatnonzero(inside)
+    return length * float(s[j[0]]) if j.size else length

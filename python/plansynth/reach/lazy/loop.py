@@ -19,7 +19,9 @@ from the lower bound), which is monotone in hi: a window that admits a trajector
 usually yields one after a few counterexamples, and only windows without any are
 refuted whole. The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
-``"linear"``).
+``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
+refutes the horizons below the one found, with every learned clause kept (bisection
+when the start is at rest, where feasibility is monotone in the horizon).
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
 CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
@@ -151,7 +153,8 @@ def plan_lazy(
     needs (``trivial`` with ``generalize``); ``"zeroprefix"`` is the paper's
     (``generalize=False, slack_weights="uniform"``: as published). ``segment_safe``
     constrains whole segments, not only samples. ``lower_bound=False`` starts at horizon 0
-    without time windows. ``horizon_search`` (``window`` or ``linear``) and
+    without time windows. ``horizon_search`` (``window``, ``linear`` or ``minimal``:
+    windows, then :func:`prove_minimal`) and
     ``window_growth`` choose the horizons tried (see the module docstring). ``transit``
     puts :class:`~plansynth.reach.lazy.transit.TransitCheck` in front of CON-PLAN
     (transit-time conflicts without horizon-long LPs; ``widen`` also widens LP conflicts
@@ -314,11 +317,17 @@ def plan_lazy(
         out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
                           f"{why}; {_not_a_proof(proved)}")
         return finish(_prove(problem, out, proved, clock, counters) if opts.prove and segment_safe else out)
-    growth = window_growth if horizon_search == "window" else 0.0
+    growth = window_growth if horizon_search != "linear" else 0.0
     windows = horizon_windows(first, L_max, growth)
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
     with clock.phase("the lazy SMT loop"):
         out = lazy_loop(displan, theory, windows, clock, timings, progress, guide)
+        if horizon_search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
+            t0 = time.perf_counter()
+            bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)  # (horizons below refuted)
+            out, counters["minimal_probes"] = prove_minimal(displan, theory, out, bottom, clock, timings,
+                                                            monotone=problem.starts_at_rest)
+            timings["minimal"] = time.perf_counter() - t0
     if out.status is ReachStatus.INFEASIBLE and exact:
         out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({EXACT_SAMPLES})")
     elif out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
@@ -499,6 +508,87 @@ def lazy_loop(
         return LoopOutcome(ReachStatus.UNKNOWN, hi, f"{exc} at horizon {_span(lo, hi)}")
     top = windows[-1][1] if windows else -1
     return LoopOutcome(ReachStatus.INFEASIBLE, top, f"infeasible: every horizon up to {top} refuted")
+
+
+def prove_minimal(
+    displan: DisPlan,
+    theory: TheoryChecker,
+    found: LoopOutcome,
+    bottom: int,
+    clock: Clock,
+    timings: dict[str, float],
+    *,
+    monotone: bool,
+) -> tuple[LoopOutcome, int]:
+    """Prove the horizon of ``found`` minimal (``horizon_search="minimal"``, beyond the
+    paper), given that every horizon below ``bottom`` is refuted and DIS-PLAN holds every
+    clause learned so far.
+
+    With ``monotone`` (the robot starts at rest, ``A x_0 = x_0``) feasibility is monotone
+    in the horizon: a plan of horizon L, preceded by one step of waiting at the start
+    (u = 0, in the start's region), is a plan of horizon L + 1, through the same regions
+    plus one. So refuting a single horizon L refutes every horizon <= L, and the least
+    feasible horizon is found by bisection over bottom..h-1, each probe one horizon (a
+    refuted probe closes every horizon below it; a realised one is the new best plan).
+    DIS-PLAN's phases follow the best plan so far, :func:`compressed` to the probe's
+    horizon.
+    Without it, the window bottom..h-1 is asked as a whole until it is refuted, each
+    plan found lowering its top. Either way the answer is minimal relative to the
+    transition relation DIS-PLAN uses (as under ``horizon_search="linear"``); when the
+    budget runs out the best plan so far is returned with ``minimal=False``. Returns the
+    outcome and the number of probes (single horizons, or windows) asked."""
+    best, probes = found, 0
+    assert best.horizon is not None
+    while best.horizon > bottom:
+        top = best.horizon - 1
+        probe = (bottom + top) // 2 if monotone else bottom
+        window = [(probe, probe)] if monotone else [(bottom, top)]
+        out = lazy_loop(displan, theory, window, clock, timings, None,
+                        lambda H, plan=best.regions: compressed(plan, H))
+        probes += 1
+        if out.status is ReachStatus.FOUND:
+            best = out
+        elif out.status is ReachStatus.INFEASIBLE:
+            for L in range(bottom, probe + 1 if monotone else top + 1):
+                if L not in displan.closed:
+                    displan.close(L)  # (by monotonicity, when below the probe)
+            bottom = probe + 1 if monotone else top + 1
+        else:
+            return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"), probes
+    assert best.horizon is not None
+    how = ", by monotonicity from the start at rest" if monotone else ""
+    return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every shorter "
+                                               f"horizon refuted{how})"), probes
+
+
+def compressed(plan: Sequence[int], horizon: int) -> tuple[int, ...]:
+    """``plan`` (r_0..r_h) shortened to ``horizon``: the same regions in the same order,
+    each stay shortened in proportion to its length (largest remainders first; every stay
+    keeps one step). Only a hint for DIS-PLAN's phases: when the stays have fewer spare
+    steps than must go, the plan is cut off at ``horizon``.
+
+    >>> compressed((0, 0, 0, 0, 1, 2, 2, 2, 2), 6)
+    (0, 0, 0, 1, 2, 2, 2)
+    """
+    runs: list[list[int]] = []
+    for r in plan:
+        if runs and runs[-1][0] == r:
+            runs[-1][1] += 1
+        else:
+            runs.append([r, 1])
+    drop = len(plan) - 1 - horizon
+    spare = [n - 1 for _, n in runs]
+    total = sum(spare)
+    if drop <= 0 or total < drop:
+        return tuple(plan) if drop <= 0 else tuple(plan[: horizon + 1])
+    share = [drop * s / total for s in spare]
+    cut = [int(x) for x in share]
+    for i in sorted(range(len(runs)), key=lambda i: share[i] - cut[i], reverse=True)[: drop - sum(cut)]:
+        cut[i] += 1
+    out: list[int] = []
+    for (r, n), c in zip(runs, cut):
+        out += [r] * (n - c)
+    return tuple(out)
 
 
 def _span(lo: int, hi: int) -> str:

@@ -29,7 +29,7 @@ __all__ = ["LazyOptions", "CONFIGURATIONS", "COUNTEREXAMPLES", "HORIZON_SEARCHES
 #: CON-PLAN's counterexample strategies (``farkas`` is ``trivial`` shrunk by its Farkas
 #: certificate; see :mod:`plansynth.reach.lazy.conplan`).
 COUNTEREXAMPLES = ("farkas", "zeroprefix", "trivial", "iis")
-HORIZON_SEARCHES = ("window", "linear")
+HORIZON_SEARCHES = ("window", "linear", "minimal")
 SLACK_WEIGHTS = ("geometric", "uniform")
 
 

@@ -223,15 +223,46 @@ class TransitCheck:
         self.widened += len(out)
         return out
 
+    def known(self, a: int, b: int, gap: int) -> bool | None:
+        """:meth:`impossible` when it needs no LP (the box bound, or the leg's first gap
+        already found), else None."""
+        box = self.box_gap(a, b)
+        if gap < box:
+            return True
+        if gap >= box + REFINE_SPAN:
+            return False
+        first = self._first.get((a, b))
+        return None if first is None else gap < first
+
     def check(self, regions: Sequence[int]) -> Feasible | Conflict | tuple[Conflict, ...]:
         """All transit violations of ``regions``, or the inner theory's answer (an LP
-        conflict together with its widened variants)."""
+        conflict together with its widened variants).
+
+        When no leg is known to be violated but some legs would need LPs to decide
+        (their first gap not yet found), the plan's own LP comes first: a plan that is
+        realisable (the guided one usually is) then costs one LP, not one per unknown
+        leg gap; when it is not, the legs are decided as usual and their conflicts come
+        with CON-PLAN's."""
+        unknown = False
+        for a, b, _, gap in self.legs(regions):
+            k = self.known(a, b, gap)
+            if k is None:
+                unknown = True
+            elif k:
+                unknown = False
+                break
+        first: Conflict | None = None
+        if unknown:
+            answer = self.inner.check(regions)
+            if isinstance(answer, Feasible):
+                return answer
+            first = answer
         found = self.violations(regions)
         if found:
             self.conflicts += len(found)
             self.plans_caught += 1
-            return tuple(found)
-        answer = self.inner.check(regions)
+            return tuple(found) if first is None else (first, *found)
+        answer = self.inner.check(regions) if first is None else first
         if isinstance(answer, Conflict) and self.widen and answer.literals:
             return (answer, *self.widened_conflicts(answer))
         return answer

@@ -69,8 +69,9 @@ class _Certificates:
         """The rows and columns of the Farkas certificate (dual ray) of the infeasible
         LP ``slot`` holds, and whether it checks (:func:`_farkas_certifies`); None when
         HiGHS has no ray."""
-        lay, b, coo = slot.layout, slot.bounds, slot.coo
-        assert lay is not None and b is not None and coo is not None
+        lay, b = slot.layout, slot.bounds
+        assert lay is not None and b is not None
+        coo = self._slot_coo(slot)
         self._ray_part = None
         if self._no_ray:  # the LP was decided by the fallback method
             return None

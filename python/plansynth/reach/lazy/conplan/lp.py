@@ -380,7 +380,7 @@ class _LpEdits:
         ``b``: in place when the layout is unchanged (warm start)."""
         h = slot.highs
         old = slot.layout
-        if old is None or old.frame != lay.frame or slot.coef is None or slot.coo is None:
+        if old is None or old.frame != lay.frame or slot.coef is None:
             slot.layout = lay
             slot.coef = self._coef_for(lay, assignment)
             slot.coo = self._matrix(lay, slot.coef)
@@ -409,7 +409,7 @@ class _LpEdits:
                         self._change_coeff(slot, r, lay.s(lay.t1), -1.0)
                 if slot.parts is None:  # (split LPs are feasibility LPs: no cost)
                     h.changeColsCost(lay.n_col, np.arange(lay.n_col, dtype=np.int32), self._cost(lay))
-                slot.coo = self._matrix(lay, slot.coef)
+                slot.coo = None  # (the goal rows moved: rebuilt when a certificate needs it)
             self._change_bounds(slot, b)
         slot.bounds = b
 
@@ -427,7 +427,16 @@ class _LpEdits:
                     for j in range(d):
                         self._change_coeff(slot, int(row0 + b * K + i), int(state_b * n + self.pos[j]), float(H[i, j]))
         slot.coef = coef
-        slot.coo = self._matrix(lay, coef)
+        slot.coo = None  # (rebuilt from coef and the layout when a certificate needs it)
+
+    def _slot_coo(self, slot: _Slot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The COO entries of the LP ``slot`` holds, built from its layout and
+        coefficients on first use after an edit (only Farkas certificates need them,
+        not every LP)."""
+        if slot.coo is None:
+            assert slot.layout is not None and slot.coef is not None
+            slot.coo = self._matrix(slot.layout, slot.coef)
+        return slot.coo
 
     def _held_layout(self) -> _Layout:
         assert self.slot.layout is not None
