@@ -163,7 +163,8 @@ def plan_lazy(
     starts at rest, DIS-PLAN also adds every start-anchored conflict shifted earlier (it
     could have waited at the start). ``progress(L, iterations)`` is called when a horizon
     (window: its top) starts. ``abstraction``: a decomposition computed before (else it
-    is computed here, within the budget). ``prove`` (segment-safe): after the loop, try
+    is computed here, within the budget). ``prove`` (segment-safe; it turns the window
+    search into ``minimal``): after the loop, try
     to prove its claims for the problem with the MILP relaxation of
     :mod:`plansynth.reach.lazy.relaxation` (see "What infeasible and minimal mean").
     """
@@ -178,6 +179,10 @@ def plan_lazy(
     minimize, slack_weights, cardinality, lower_bound = opts.minimize, opts.slack_weights, opts.cardinality, opts.lower_bound
     horizon_search, window_growth, transit, guided = opts.horizon_search, opts.window_growth, opts.transit, opts.guided
     widen, wait_shifts = opts.widen, opts.wait_shifts
+    if opts.prove and horizon_search == "window":
+        # the relaxation can only prove a horizon that is minimal through the decomposition
+        # (it refutes h - 1): the window search's plan sits at its window's top
+        horizon_search = "minimal"
     t_start = time.perf_counter()
     clock = budget.clock()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
