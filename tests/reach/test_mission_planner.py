@@ -58,10 +58,24 @@ def test_the_maze_example_is_the_benchmark_instance():
     assert p == replace(mission_problem("maze-2", "avoid-until"), name="mission-maze")
 
 
-def test_the_unsatisfiable_example_is_infeasible_up_to_its_max_horizon():
+@pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
+def test_the_unsatisfiable_example_is_infeasible_up_to_its_max_horizon(planner):
+    """The vault lies inside the moat: no word over the labels' geometry satisfies
+    ``F vault & G !moat``, a proof for every trajectory (plansynth.reach.mission.proof)."""
     p = load_reach_problem(f"{EXAMPLES}/mission-unsat.yaml")
-    r = solve(p, "lazy-smt", Budget(seconds=60))
+    r = solve(p, planner, Budget(seconds=60))
     assert r.status is ReachStatus.INFEASIBLE and r.horizon == p.max_horizon
+    assert r.counters["label_proof"] is True and "labels' geometry" in r.message
+
+
+@pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
+def test_a_mission_out_of_reach_in_time_is_unknown_not_infeasible(planner):
+    """Every horizon up to 10 refuted through the abstraction is no proof (a step may
+    cross several regions): ``unknown``, saying so, with the counter."""
+    p = replace(load_reach_problem(f"{EXAMPLES}/mission-visit.yaml"), max_horizon=10)
+    r = solve(p, planner, Budget(seconds=60))
+    assert r.status is ReachStatus.UNKNOWN and r.counters["abstraction_refuted"] == 10
+    assert r.counters["label_proof"] is False and "not a proof" in r.message
 
 
 def test_reach_validate_rejects_a_violating_trajectory_naming_the_first_failing_step(tmp_path):
@@ -142,10 +156,14 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
     lazy = solve(p, "lazy-smt", Budget(seconds=60))
     milp = solve(p, "milp-ltl", Budget(seconds=60))
     for r in (lazy, milp):
-        assert r.status is not ReachStatus.UNKNOWN, r.message
+        # unknown only as "every horizon refuted through the abstraction" (no proof), never out of budget
+        assert r.status is not ReachStatus.UNKNOWN or r.counters.get("abstraction_refuted") == p.max_horizon, r.message
         if r.status is ReachStatus.FOUND:
             assert r.validated is True and r.mission["ok"] is True
             assert check_mission(p, r.trajectory, r.mission["loop_start"]).ok
+        if r.status is ReachStatus.INFEASIBLE:  # claimed only with the geometry's proof
+            assert r.counters["label_proof"] is True
+    # the planner refutes (infeasible, or every horizon through the abstraction) => the MILP agrees
     assert lazy.status is milp.status
     assert lazy.horizon == milp.horizon  # both search horizons upwards from 0
 

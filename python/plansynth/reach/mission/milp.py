@@ -236,6 +236,15 @@ def plan_milp_ltl(
                            horizon=horizon, counters=counters, timings=timings, options=options, message=message,
                            guarantee="segments" if segment_safe else "samples", mission=mission)
 
+    from plansynth.reach.mission.planner import NOT_A_PROOF
+    from plansynth.reach.mission.proof import label_proof
+
+    t0 = time.perf_counter()
+    proved, why = label_proof(problem, labelled)
+    timings["proof"] = time.perf_counter() - t0
+    counters["label_proof"] = proved
+    if proved:
+        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     for L in range(0, L_max + 1):
         if progress is not None:
             progress(L, clock.iterations)
@@ -261,7 +270,9 @@ def plan_milp_ltl(
                 return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under exact "
                               "LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
             return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
-    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
+    counters["abstraction_refuted"] = L_max  # one region per step: no proof (see plan_mission)
+    return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the label-refined abstraction at any "
+                  f"horizon up to {L_max}; {NOT_A_PROOF} ({why})")
 
 
 @dataclass(frozen=True)

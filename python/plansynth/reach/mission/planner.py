@@ -4,6 +4,7 @@ Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
 ::
 
     abstraction <- convex decomposition refined by the labels          (labels.py)
+    no word over the labels' geometry satisfies the mission -> infeasible (proof.py)
     for L = 0 .. max_horizon:                    (one horizon at a time: L is minimal)
         loop:
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
@@ -20,6 +21,15 @@ missions add; it is checked by :class:`LoopLP` (CON-PLAN's rows plus the closure
 for sequences CON-PLAN realised, and a refuted loop blocks exactly that sequence with
 its loop selector. Every plan goes through the validator and the independent mission
 checker (:mod:`plansynth.reach.mission.check`) before it is reported.
+
+**What ``infeasible`` means** (as in :mod:`plansynth.reach.lazy.loop`). DIS-PLAN moves one
+region per step, so refuting every horizon proves only that no plan *through the
+label-refined decomposition* exists; a real trajectory may cross several regions in one
+step. The answer is ``infeasible`` only when :func:`~plansynth.reach.mission.proof.label_proof`
+holds: no infinite word over the letters the labels' geometry allows satisfies the
+mission, so no trajectory does at any horizon (``counters["label_proof"]``). When the loop
+refutes every horizon without it, the answer is ``unknown`` and says "not a proof"
+(``counters["abstraction_refuted"]``).
 
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = solve_mission(mission_problem("maze-1", "avoid-until"))
@@ -49,6 +59,7 @@ from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
+from plansynth.reach.mission.proof import label_proof
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
@@ -57,6 +68,9 @@ from plansynth.reach.lazy.transit import TransitCheck
 __all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
 ProgressFn = Callable[[int, int], None]
+
+#: what a refutation through the abstraction is not (see :mod:`plansynth.reach.mission.proof`)
+NOT_A_PROOF = "not a proof of infeasibility (a step may cross several regions)"
 
 
 class LoopLP:
@@ -273,8 +287,15 @@ def plan_mission(
                            regions=None if plan is None else plan.regions, horizon=horizon, counters=counters,
                            timings=timings, options=options, message=message, guarantee=guarantee, mission=mission)
 
+    t0 = time.perf_counter()
+    proved, why = label_proof(problem, labelled)
+    timings["proof"] = time.perf_counter() - t0
+    counters["label_proof"] = proved
+    if proved:
+        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     if not ab.start_regions:
-        return finish(ReachStatus.INFEASIBLE, L_max, "infeasible: the start lies in no region")
+        counters["abstraction_refuted"] = L_max
+        return finish(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
     L = 0
     try:
         for L in range(0, L_max + 1):
@@ -315,7 +336,12 @@ def plan_mission(
         return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
     except LpFailure as exc:
         return finish(ReachStatus.UNKNOWN, L, f"{exc} at horizon {L}")
-    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: every horizon up to {L_max} refuted")
+    # refuted through the label-refined decomposition only (one region per step): a real
+    # trajectory may cross several regions in one step, so this is no proof (as in the
+    # reach-avoid planner, plansynth.reach.lazy.loop); label_proof above is the proof
+    counters["abstraction_refuted"] = L_max
+    return finish(ReachStatus.UNKNOWN, L_max, f"every horizon up to {L_max} refuted for plans through the "
+                  f"label-refined abstraction; {NOT_A_PROOF} ({why})")
 
 
 def validate_mission_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
