@@ -55,7 +55,7 @@ from plansynth.reach.lazy.conflict import Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
-from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.highs import csc_lp, new_highs
 from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
@@ -97,6 +97,8 @@ class LoopLP:
         self.highs = new_highs(presolve="off")  # presolve off keeps the dual ray of an infeasible LP
         self.ray_times: set[int] | None = None
         self.certified = 0
+        self.warm = 0  # LPs re-solved from the last basis with literals switched off (see _lp)
+        self._loaded: tuple | None = None
 
     def solve(self, regions: tuple[int, ...], loop_start: int | None, seconds: float = math.inf) -> Trajectory | None:
         """A trajectory from the start through ``regions`` with x_L = x_loop_start, or None."""
@@ -160,42 +162,86 @@ class LoopLP:
             seconds: float) -> np.ndarray | None:
         """Feasibility LP over the states first..last (columns of every state and input,
         those outside unused): p_t in region assign[t] (and p_{t+1}, segments), the start
-        when ``anchored``, the closure x_last = x_loop_start."""
+        when ``anchored``, the closure x_last = x_loop_start.
+
+        The deletion filter of :meth:`conflict` asks for many subsets of one assignment:
+        when the model in HiGHS has the same frame (first, last, start, closure) and a
+        superset of the literals, the literals left out are switched off (their rows'
+        upper bounds set to +inf) and HiGHS re-solves from its last basis, instead of a
+        new model solved from scratch."""
+        key = (first, last, anchored, loop_start)
+        loaded = self._loaded
+        if loaded is not None and loaded[0] == key and all(loaded[1].get(t) == r for t, r in assign.items()):
+            owner, hi = loaded[2], loaded[3]
+            on = np.isin(owner, np.fromiter(assign, dtype=np.int64, count=len(assign)))
+            self.highs.changeRowsBounds(len(owner), loaded[4], np.full(len(owner), -np.inf),
+                                        np.where(on, hi, np.inf))
+            self.warm += 1
+        else:
+            self._load(assign, first, last, anchored, loop_start)
+        return self._run(assign, seconds)
+
+    def _load(self, assign: dict[int, int], first: int, last: int, anchored: bool, loop_start: int | None) -> None:
+        """Pass the LP of :meth:`_lp` to HiGHS (rows: dynamics, then the literals' region
+        rows, then the closure), assembled in a few array operations."""
         p = self.problem
         L = last
         n, m, pos = self.n, self.m, self.pos
         nx = (L + 1) * n
         ncol = nx + L * m
-        blocks = Rows()
-        add = blocks.add
-
         ai, aj, av, bi, bj, bv = self.dyn_nz
-        for t in range(first, L):  # x_{t+1} - A x_t - B u_t = 0
-            add(np.concatenate([np.arange(n), ai, bi]),
-                np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, nx + t * m + bj]),
-                np.concatenate([np.ones(n), -av, -bv]), np.zeros(n), np.zeros(n))
-        owner: list[np.ndarray] = []  # per row block: the literal time it belongs to (-1: none)
-        owner.append(np.full(blocks.n_row, -1))
+        R: list[np.ndarray] = []
+        C: list[np.ndarray] = []
+        V: list[np.ndarray] = []
+        T = np.arange(first, L)
+        if len(T):  # x_{t+1} - A x_t - B u_t = 0, all steps at once
+            base_r = np.concatenate([np.arange(n), ai, bi])
+            R.append(((T - first)[:, None] * n + base_r[None, :]).ravel())
+            C.append(np.concatenate([((T + 1)[:, None] * n + np.arange(n)[None, :]), T[:, None] * n + aj[None, :],
+                                     nx + T[:, None] * m + bj[None, :]], axis=1).ravel())
+            V.append(np.tile(np.concatenate([np.ones(n), -av, -bv]), len(T)))
+        row = len(T) * n
+        lit_from = row
+        owner: list[np.ndarray] = []  # per region row: the literal time it belongs to
+        his: list[np.ndarray] = []
+        npos = len(pos)
         for t, r in assign.items():
             H, hh = self.Hs[r], self.hs[r]
             k = H.shape[0]
+            rr = np.repeat(np.arange(k), npos)
             for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
-                add(np.repeat(np.arange(k), len(pos)), np.tile(s_ * n + pos, k), H.ravel(), np.full(k, -np.inf), hh)
+                R.append(row + rr)
+                C.append(np.tile(s_ * n + pos, k))
+                V.append(H.ravel())
+                his.append(hh)
                 owner.append(np.full(k, t))
+                row += k
+        lit_to = row
         if loop_start is not None:
-            add(np.concatenate([np.arange(n), np.arange(n)]),
-                np.concatenate([L * n + np.arange(n), loop_start * n + np.arange(n)]),
-                np.concatenate([np.ones(n), -np.ones(n)]), np.zeros(n), np.zeros(n))
+            R.append(row + np.concatenate([np.arange(n), np.arange(n)]))
+            C.append(np.concatenate([L * n + np.arange(n), loop_start * n + np.arange(n)]))
+            V.append(np.concatenate([np.ones(n), -np.ones(n)]))
+            row += n
+        n_dyn = len(T) * n
+        lit_hi = np.concatenate(his) if his else np.zeros(0)
+        row_lo = np.concatenate([np.zeros(n_dyn), np.full(lit_to - lit_from, -np.inf), np.zeros(row - lit_to)])
+        row_hi = np.concatenate([np.zeros(n_dyn), lit_hi, np.zeros(row - lit_to)])
         col_lo = np.concatenate([np.tile(self.state_lo, L + 1), np.full(L * m, -p.input_bound)])
         col_hi = np.concatenate([np.tile(self.state_hi, L + 1), np.full(L * m, p.input_bound)])
         if anchored:
             col_lo[first * n:(first + 1) * n] = col_hi[first * n:(first + 1) * n] = p.start
-        r0 = blocks.n_row
-        lp = csc_lp(ncol, r0, *blocks.coo(), np.zeros(ncol), col_lo, col_hi, *blocks.bounds())
+        coo = (np.concatenate(R).astype(np.int64), np.concatenate(C).astype(np.int64), np.concatenate(V)) if R else \
+            (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
+        lp = csc_lp(ncol, row, *coo, np.zeros(ncol), col_lo, col_hi, row_lo, row_hi)
+        self.highs.passModel(lp)
+        lit_owner = np.concatenate(owner) if owner else np.zeros(0, np.int64)
+        self._loaded = ((first, last, anchored, loop_start), dict(assign), lit_owner, lit_hi.copy(),
+                        np.arange(lit_from, lit_to, dtype=np.int32), row)
+
+    def _run(self, assign: dict[int, int], seconds: float) -> np.ndarray | None:
         h = self.highs
         if math.isfinite(seconds):
             h.setOptionValue("time_limit", float(h.getRunTime() + max(1e-3, float(seconds))))
-        h.passModel(lp)
         t0 = time.perf_counter()
         h.run()
         self.seconds += time.perf_counter() - t0
@@ -211,10 +257,10 @@ class LoopLP:
                 _, has_ray, ray = h.getDualRay()
             except Exception:  # pragma: no cover - depends on the HiGHS build
                 has_ray, ray = False, None
+            _, _, lit_owner, _, lit_rows, r0 = self._loaded
             if has_ray and ray is not None and len(ray) == r0:
-                rows_owner = np.concatenate(owner + [np.full(r0 - sum(len(o) for o in owner), -1)])
-                used = np.abs(np.asarray(ray)) > 1e-9
-                self.ray_times = set(int(t) for t in rows_owner[used] if t >= 0)
+                used = np.abs(np.asarray(ray)[lit_rows]) > 1e-9
+                self.ray_times = set(int(t) for t in lit_owner[used] if int(t) in assign)
             return None
         if status == S.kTimeLimit:
             raise LpBudgetExhausted()
