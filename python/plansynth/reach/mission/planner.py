@@ -8,6 +8,7 @@ Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
     for L = 0 .. max_horizon:                    (one horizon at a time: L is minimal)
         loop:
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
+            lasso, loop start k: no periodic trajectory through r_k..r_L -> block the loop, loop
             CON-PLAN(r_0..r_L) -> conflict: learn it, loop             (conplan.py, unchanged)
             finite plan: done
             lasso, loop start k: the LP with x_L = x_k -> trajectory: done
@@ -17,9 +18,10 @@ CON-PLAN runs unchanged on the problem with the whole workspace as its goal
 (:func:`~plansynth.reach.mission.labels.planning_problem`); its conflicts are sound
 for the mission planner because the mission adds constraints only through the region
 sequence and the loop. The loop closure x_L = x_k is the one CON-PLAN constraint
-missions add; it is checked by :class:`LoopLP` (CON-PLAN's rows plus the closure) only
-for sequences CON-PLAN realised, and a refuted loop blocks exactly that sequence with
-its loop selector. Every plan goes through the validator and the independent mission
+missions add; it is checked by :class:`LoopLP` (CON-PLAN's rows plus the closure):
+the loop alone before CON-PLAN (a refuted one holds at every horizon and rotation), the
+whole lasso for sequences CON-PLAN realised; a refuted loop blocks its literals with its
+loop selector. Every plan goes through the validator and the independent mission
 checker (:mod:`plansynth.reach.mission.check`) before it is reported.
 
 **What ``infeasible`` means** (as in :mod:`plansynth.reach.lazy.loop`). DIS-PLAN moves one
@@ -278,6 +280,7 @@ def plan_mission(
     lower_bound: bool = True,
     transit: bool = True,
     wait_shifts: bool = True,
+    loop_first: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """The lazy loop for the problem's mission within ``budget`` (not yet validated:
@@ -287,7 +290,10 @@ def plan_mission(
     (:func:`~plansynth.reach.lazy.bounds.time_windows`) as unit clauses. ``transit``: the
     transit-time layer (:class:`~plansynth.reach.lazy.transit.TransitCheck`) in front of
     CON-PLAN, as in the reach-avoid planner. ``wait_shifts``: start-anchored conflicts
-    also shifted earlier when the robot starts at rest."""
+    also shifted earlier when the robot starts at rest. ``loop_first``: a lasso's loop
+    alone (states k..L with x_L = x_k, any x_k) is checked before CON-PLAN sees the
+    plan: a loop that no periodic trajectory follows is refuted at every horizon and
+    rotation (:meth:`MissionDisPlan.learn_loop`), which a conflict of the prefix is not."""
     if problem.mission is None:
         raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
     if semantics not in SEMANTICS:
@@ -296,7 +302,7 @@ def plan_mission(
     clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "transit": transit, "wait_shifts": wait_shifts,
+               "transit": transit, "wait_shifts": wait_shifts, "loop_first": loop_first,
                "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     pp = planning_problem(problem)
@@ -361,6 +367,14 @@ def plan_mission(
                     break
                 assert plan is not None
                 t0 = time.perf_counter()
+                if loop_first and plan.loop_start is not None:
+                    k = plan.loop_start
+                    if loop_lp._lp({t: plan.regions[t] for t in range(k, L + 1)}, k, L, False, k,
+                                   clock.remaining()) is None:
+                        lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining())
+                        timings["lp"] += time.perf_counter() - t0
+                        displan.learn_loop(lits, k, L, shifted=shifted)
+                        continue
                 answer = theory.check(plan.regions)
                 if isinstance(answer, Feasible) and plan.loop_start is not None:
                     traj = loop_lp.solve(plan.regions, plan.loop_start, clock.remaining())
