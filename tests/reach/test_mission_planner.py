@@ -325,3 +325,22 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
     assert checked > 0
     if which == 0:  # the patrol learns loop clauses below horizon 12
         assert loops and loops_checked > 0
+
+
+def test_the_checker_shares_no_code_with_the_planner():
+    """The independent mission checker (issue 14, point 5) imports neither the encoding,
+    the planners, the label refinement, the decomposition nor the lazy loop: it is run
+    on the problem and the trajectory alone (LTL evaluation by ltl.holds, geometry by shapely)."""
+    import ast
+    import inspect
+
+    import plansynth.reach.mission.check as check
+
+    tree = ast.parse(inspect.getsource(check))
+    imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
+    imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    planner_side = ("plansynth.reach.mission.bmc", "plansynth.reach.mission.planner", "plansynth.reach.mission.milp",
+                    "plansynth.reach.mission.labels", "plansynth.reach.mission.proof", "plansynth.reach.abstraction",
+                    "plansynth.reach.lazy", "plansynth.reach.planners", "plansynth.reach.highs")
+    assert not [m for m in imported if m.startswith(planner_side)], imported
+    assert "plansynth.reach.mission.ltl" in imported
