@@ -52,6 +52,7 @@ MissionPlan(regions=(0, 1, 2, 2), loop_start=None)
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -143,6 +144,7 @@ class MissionDisPlan(LearnedClauses):
         self.loop_conflicts: list[tuple[tuple[tuple[int, int], ...], int, int, bool]] = []
         self._learned: set[tuple[int, ...]] = set()
         self.sat_calls = 0
+        self.encode_seconds = 0.0  # building positions and horizon boundaries (in solve)
         self.clauses = 0
         self.loop_clauses = 0
         self._add([self.v(self.formula, 0)])
@@ -349,8 +351,10 @@ class MissionDisPlan(LearnedClauses):
         clause, UNSAT, or INTERRUPTED when ``clock`` runs out."""
         if horizon < self.built:
             raise ValueError(f"horizons must not decrease: {horizon} after {self.built}")
+        t0 = time.perf_counter()
         self._extend(horizon)
         self._boundary(horizon)
+        self.encode_seconds += time.perf_counter() - t0
         self.sat_calls += 1
         if horizon in self.closed:
             return SatOutcome.UNSAT, None

@@ -331,6 +331,8 @@ def plan_mission(
                         loop_clauses=displan.loop_clauses, lp_calls=st.lp_calls + loop_lp.lp_calls,
                         loop_lp_calls=loop_lp.lp_calls, horizon=horizon, minimal=status is ReachStatus.FOUND)
         timings["highs"] = st.seconds + loop_lp.seconds
+        timings["encoding"] = displan.encode_seconds  # part of "sat"
+        timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
         timings["total"] = time.perf_counter() - t_start
         displan.delete()
         mission = {"formula": problem.mission, "semantics": None if plan is None else plan.semantics,
