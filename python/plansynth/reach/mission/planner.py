@@ -269,6 +269,21 @@ class LoopLP:
         raise LpFailure(f"HiGHS gave no answer on the loop LP ({h.modelStatusToString(status)})")
 
 
+def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
+                   ) -> tuple[tuple[int, int], tuple[int, int]] | None:
+    """Two loop positions i >= j whose wrap-around leg is too short: with x_L = x_k
+    the robot repeats the loop, so it is in r_i at step i and in r_j at step
+    L + (j - k), and if the transit layer proves r_i -> r_j impossible in that many
+    steps, no periodic trajectory realises the two literals (at any horizon or
+    rotation: :meth:`MissionDisPlan.learn_loop` with ``shifted``)."""
+    k, L = loop_start, len(regions) - 1
+    for i in range(L - 1, k - 1, -1):
+        for j in range(k, i):
+            if regions[i] != regions[j] and transit.impossible(regions[i], regions[j], (L - i) + (j - k)):
+                return ((j, regions[j]), (i, regions[i]))
+    return None
+
+
 def plan_mission(
     problem: ReachProblem,
     budget: Budget = Budget(),
@@ -371,6 +386,21 @@ def plan_mission(
                 t0 = time.perf_counter()
                 if loop_first and plan.loop_start is not None:
                     k = plan.loop_start
+                    if isinstance(theory, TransitCheck):
+                        # cheap first: transit-time violations of the sequence, then of the
+                        # loop's wrap-around legs (cached gaps, no horizon-long LP)
+                        found = theory.violations(plan.regions)
+                        if found:
+                            timings["lp"] += time.perf_counter() - t0
+                            for conflict in found:
+                                displan.learn(conflict)
+                            continue
+                        wrap = wrap_violation(theory, plan.regions, k)
+                        if wrap is not None:
+                            timings["lp"] += time.perf_counter() - t0
+                            counters["wrap_conflicts"] = counters.get("wrap_conflicts", 0) + 1
+                            displan.learn_loop(wrap, k, L, shifted=True)
+                            continue
                     if loop_lp._lp({t: plan.regions[t] for t in range(k, L + 1)}, k, L, False, k,
                                    clock.remaining()) is None:
                         lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining())
