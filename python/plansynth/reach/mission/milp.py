@@ -17,7 +17,9 @@ For a horizon L, one mixed-integer program decides regions, loop and trajectory:
   have its right side true at a loop position. P[mission, 0] = 1.
 
 Horizons are tried upwards from 0, as in the lazy planner; the first with a solution
-is the shortest. The trajectory is not taken from the MILP (big-M rows slip by the MIP
+is the shortest. As there, ``infeasible`` needs the proof of
+:func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
+region per step) is ``unknown``, not a proof. The trajectory is not taken from the MILP (big-M rows slip by the MIP
 tolerances): its regions and loop are re-solved as an exact LP
 (:class:`~plansynth.reach.mission.planner.LoopLP`).
 """

@@ -12,9 +12,10 @@ geometry allows satisfies the mission.**
 hold there: ``a`` when the sample (segment) lies in the closed label a, ``!a`` when it
 avoids a's interior. Every free position lies in the closure of a region of an exact
 decomposition, and a region lies inside or outside each label; so the letter of any
-sample or segment is contained in its first point's region's letter: ``a`` for the
-labels it lies in, ``!a`` for the others, and both for every label whose boundary comes
-near the region (a point on the boundary may read either way). The mission in negation
+sample or segment is contained in the letter of its first point, which is one of its
+region's letters: ``a`` for the labels the region lies in, ``!a`` for the others, and,
+at a point where the boundaries of a set B of labels meet, both literals of each label
+of B (a point on a boundary may read either way). The mission in negation
 normal form is monotone in the letters, so if no word over these letters satisfies it,
 no trajectory's word does (finite plans are read as words that repeat their last letter,
 lassos as lassos: both are infinite words).
