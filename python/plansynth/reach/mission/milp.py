@@ -157,14 +157,18 @@ def mission_milp(
     tr_r = np.concatenate([np.full(len(nb), i) for i, nb in enumerate(nbrs)]) if R else np.zeros(0, int)
     tr_j = np.concatenate(nbrs) if R else np.zeros(0, int)
     starts = set(ab.start_regions)
-    for t in range(L + 1):
-        mdl.block(np.zeros(R, int), Z[t], ones(R), np.ones(1), "==")
-        off = np.array([i for i in range(R) if (t == 0 and i not in starts) or t < ear[i]], int)
-        mdl.block(np.arange(len(off)), Z[t][off], ones(len(off)), np.zeros(len(off)), "==")
-        if t < L:
-            mdl.block(np.concatenate([np.arange(R), tr_r]), np.concatenate([Z[t], Z[t + 1][tr_j]]),
-                      np.concatenate([ones(R), -ones(len(tr_j))]), np.zeros(R), "<=")
+    T = np.arange(L + 1)
+    mdl.block(np.repeat(T, R), Z.ravel(), ones(Z.size), np.ones(L + 1), "==")
+    off = (T[:, None] < ear[None, :]) | ((T[:, None] == 0) & ~np.isin(np.arange(R), list(starts))[None, :])
+    mdl.block(np.arange(int(off.sum())), Z[off], ones(int(off.sum())), np.zeros(int(off.sum())), "==")
+    # z[t, i] <= sum of z[t + 1, j] over j equal or adjacent to i: row t R + i
+    Tl = np.arange(L)
+    mdl.block(np.concatenate([Z[:L].ravel() - Z[0, 0], (Tl[:, None] * R + tr_r[None, :]).ravel()]),
+              np.concatenate([Z[:L].ravel(), Z[1:][:, tr_j].ravel()]),
+              np.concatenate([ones(L * R), -ones(L * len(tr_j))]), np.zeros(L * R), "<=")
     # big-M membership H_i p_s + M z[t, i] <= h_i + M for s = t (and t + 1: segments)
+    pairs = ([t for t in range(L + 1) for _ in ((t, t + 1) if (segment_safe and t < L) else (t,))],
+             [s for t in range(L + 1) for s in ((t, t + 1) if (segment_safe and t < L) else (t,))])
     for i, reg in enumerate(ab.regions):
         H, hh = np.asarray(reg.H, float), np.asarray(reg.h, float)
         M = _big_m(H, hh, ws_lo, ws_hi)
@@ -172,10 +176,12 @@ def mission_milp(
         H, hh, M = H[live], hh[live], M[live]
         rk, kk = np.nonzero(np.abs(H) > SMALL_MATRIX_VALUE)
         k_rows = len(hh)
-        for t in range(L + 1):
-            for s in ((t, t + 1) if (segment_safe and t < L) else (t,)):
-                mdl.block(np.concatenate([rk, np.arange(k_rows)]), np.concatenate([X[s][pos[kk]], np.full(k_rows, Z[t][i])]),
-                          np.concatenate([H[rk, kk], M]), hh + M, "<=")
+        # one block for every (t, s): row q k_rows + j is row j of the pair q
+        q_t, q_s = np.array(pairs[0]), np.array(pairs[1])
+        q = np.arange(len(q_t))
+        mdl.block(np.concatenate([(q[:, None] * k_rows + rk).ravel(), (q[:, None] * k_rows + np.arange(k_rows)).ravel()]),
+                  np.concatenate([X[q_s][:, pos[kk]].ravel(), np.repeat(Z[q_t, i], k_rows)]),
+                  np.concatenate([np.tile(H[rk, kk], len(q)), np.tile(M, len(q))]), np.tile(hh + M, len(q)), "<=")
     # the successor of the last position: stay (finite) or loop_j (x_L = x_{j-1})
     sel_j: list[tuple[int, bool]] = []
     if semantics in ("any", "finite"):
