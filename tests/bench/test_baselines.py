@@ -180,3 +180,17 @@ def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytes
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
     if planner == "rrt":  # the sampling planners get the run's seed in their options value
         assert calls[0][1].seed == 5
+
+
+@pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
+def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
+    """The missions family (issue 14) through the bench: solved and validated, no oracle
+    LP (the reach-avoid oracle indexes the unlabelled abstraction and has no loop closure;
+    it crashed every mission run)."""
+    from plansynth.bench.execute import execute
+    from plansynth.bench.families import family
+
+    inst = next(i for i in family("reach", "missions", [1]) if i.name == "maze-1-avoid-until")
+    attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 120, "seed": 0, "options": {}})
+    assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
+    assert attrs["horizon"] == 29 and attrs["attributes"]["oracle_lp"] is None

@@ -80,3 +80,41 @@ def test_patrol_needs_a_lasso():
             break
         d.close(L)
     assert found == MissionPlan((0, 1, 2, 1, 0), 0)
+
+
+def test_conflicts_and_loop_clauses_carry_over_to_later_horizons_in_one_solver():
+    """One CaDiCaL instance across horizons (issue 14, point 3): a conflict learned at
+    horizon 2 (region 1 followed by region 2, at any time shift) and a loop refuted
+    without the start at horizon 2 still exclude their plans at horizon 4, where the
+    solver is the same object and nothing was re-encoded."""
+    from plansynth.reach.lazy.conflict import Conflict
+
+    g = RegionGraph(3, ((1,), (0, 2), (1,)), (0,), (0, 1, 2))
+    d = MissionDisPlan(g, [frozenset({"a"}), frozenset(), frozenset({"b"})], parse("F b"))
+    solver = d.solver
+    for L in range(2):
+        assert d.solve(L)[0] is SatOutcome.UNSAT
+        d.close(L)
+    assert d.solve(2)[1] == MissionPlan((0, 1, 2), None)
+    d.learn(Conflict(((1, 1), (2, 2)), anchored_start=False, anchored_goal=False, horizon=2))
+    assert d.solve(2)[0] is SatOutcome.UNSAT  # 0 1 2 was the only plan of horizon 2
+    d.close(2)
+    # horizon 3: 1 -> 2 is refuted at every shift, so b is out of reach
+    assert d.solve(3)[0] is SatOutcome.UNSAT
+    d.close(3)
+    assert d.solver is solver and d.clauses >= 3  # the shifted copies were added, not re-encoded
+
+    e = MissionDisPlan(g, [frozenset({"a"}), frozenset(), frozenset({"b"})], parse("G F a & G F b"), semantics="lasso")
+    for L in range(4):
+        assert e.solve(L)[0] is SatOutcome.UNSAT
+        e.close(L)
+    assert e.solve(4)[1] == MissionPlan((0, 1, 2, 1, 0), 0)
+    e.learn_loop(((0, 0), (2, 2)), 0, 4, shifted=True)  # the period-4 loop a . b . is refuted
+    assert e.solve(4)[0] is SatOutcome.UNSAT
+    e.close(4)
+    out, plan = e.solve(5)  # the same loop one step later (and rotated) stays refuted
+    assert out is SatOutcome.SAT and plan.horizon - plan.loop_start != 4
+    assert e.solver.solve(assumptions=[e.act(5), e.loop(5, 2)]) is False  # period 4 at horizon 5
+    assert e.solver.solve(assumptions=[e.act(5), e.loop(5, 1)]) is True  # period 5 is not refuted
+    d.delete()
+    e.delete()

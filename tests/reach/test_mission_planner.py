@@ -58,10 +58,24 @@ def test_the_maze_example_is_the_benchmark_instance():
     assert p == replace(mission_problem("maze-2", "avoid-until"), name="mission-maze")
 
 
-def test_the_unsatisfiable_example_is_infeasible_up_to_its_max_horizon():
+@pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
+def test_the_unsatisfiable_example_is_infeasible_up_to_its_max_horizon(planner):
+    """The vault lies inside the moat: no word over the labels' geometry satisfies
+    ``F vault & G !moat``, a proof for every trajectory (plansynth.reach.mission.proof)."""
     p = load_reach_problem(f"{EXAMPLES}/mission-unsat.yaml")
-    r = solve(p, "lazy-smt", Budget(seconds=60))
+    r = solve(p, planner, Budget(seconds=60))
     assert r.status is ReachStatus.INFEASIBLE and r.horizon == p.max_horizon
+    assert r.counters["label_proof"] is True and "labels' geometry" in r.message
+
+
+@pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
+def test_a_mission_out_of_reach_in_time_is_unknown_not_infeasible(planner):
+    """Every horizon up to 10 refuted through the abstraction is no proof (a step may
+    cross several regions): ``unknown``, saying so, with the counter."""
+    p = replace(load_reach_problem(f"{EXAMPLES}/mission-visit.yaml"), max_horizon=10)
+    r = solve(p, planner, Budget(seconds=60))
+    assert r.status is ReachStatus.UNKNOWN and r.counters["abstraction_refuted"] == 10
+    assert r.counters["label_proof"] is False and "not a proof" in r.message
 
 
 def test_reach_validate_rejects_a_violating_trajectory_naming_the_first_failing_step(tmp_path):
@@ -142,10 +156,14 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
     lazy = solve(p, "lazy-smt", Budget(seconds=60))
     milp = solve(p, "milp-ltl", Budget(seconds=60))
     for r in (lazy, milp):
-        assert r.status is not ReachStatus.UNKNOWN, r.message
+        # unknown only as "every horizon refuted through the abstraction" (no proof), never out of budget
+        assert r.status is not ReachStatus.UNKNOWN or r.counters.get("abstraction_refuted") == p.max_horizon, r.message
         if r.status is ReachStatus.FOUND:
             assert r.validated is True and r.mission["ok"] is True
             assert check_mission(p, r.trajectory, r.mission["loop_start"]).ok
+        if r.status is ReachStatus.INFEASIBLE:  # claimed only with the geometry's proof
+            assert r.counters["label_proof"] is True
+    # the planner refutes (infeasible, or every horizon through the abstraction) => the MILP agrees
     assert lazy.status is milp.status
     assert lazy.horizon == milp.horizon  # both search horizons upwards from 0
 
@@ -204,29 +222,70 @@ def oracle_feasible(p: ReachProblem, ab, walk, loop_start, segment_safe=True) ->
     return feasible(h, rows)
 
 
-def lassos(ab, N):
-    def extend(prefix):
-        if len(prefix) == N + 1:
-            yield prefix
-            return
-        for nxt in (prefix[-1], *ab.adjacency[prefix[-1]]):
-            yield from extend(prefix + (nxt,))
+def walks_through(ab, N, fixed: dict[int, int], close: int | None = None, limit: int = 3, seed: int = 0):
+    """Up to ``limit`` region walks of horizon N from a start region, each step staying
+    or moving to an adjacent region, with walk[t] == r for every (t, r) in ``fixed`` (and
+    walk[N] == walk[close]); found by a depth-first search pruned by the distances
+    between regions (waiting is a step, so "within d steps" is "in exactly d"), in an
+    order shuffled by ``seed`` so that the walks differ off the fixed times."""
+    R = ab.n_regions
+    dist = np.full((R, R), np.inf)
+    for r in range(R):  # breadth-first from r
+        dist[r, r], frontier, d = 0, [r], 0
+        while frontier:
+            d += 1
+            frontier = [q for x in frontier for q in ab.adjacency[x] if dist[r, q] == np.inf]
+            for q in frontier:
+                dist[r, q] = d
+    times = sorted(fixed)
+    rng = np.random.default_rng(seed)
+    out: list[tuple[int, ...]] = []
 
-    for s in ab.start_regions:
-        yield from extend((s,))
+    def ok(t: int, r: int, walk: tuple[int, ...]) -> bool:
+        if t in fixed and fixed[t] != r:
+            return False
+        nxt = next((u for u in times if u > t), None)
+        if nxt is not None and dist[r, fixed[nxt]] > nxt - t:
+            return False
+        if close is not None and t >= close:
+            target = r if t == close else walk[close]
+            if dist[r, target] > N - t or (t == N and r != target):
+                return False
+        return True
+
+    def extend(walk: tuple[int, ...]) -> None:
+        if len(out) >= limit:
+            return
+        t = len(walk)
+        if t == N + 1:
+            out.append(walk)
+            return
+        cands = list(ab.start_regions) if t == 0 else [walk[-1], *ab.adjacency[walk[-1]]]
+        for r in rng.permutation(cands):
+            if ok(t, int(r), walk):
+                extend(walk + (int(r),))
+
+    extend(())
+    return out
 
 
 def small_problems() -> list[ReachProblem]:
+    """The patrol example and a room whose wall makes the patrol between a and b long
+    (both learn CON-PLAN conflicts and refuted loops below their max horizons)."""
     patrol = load_reach_problem(f"{EXAMPLES}/mission-patrol.yaml")
     room = ReachProblem(workspace=Box((0, 0), (6, 6)), obstacles=(Box((0, 2), (4, 3)),), goal=None,
                         dynamics=patrol.dynamics, start=[0.5, 0.5, 0, 0], input_bound=1.5,
                         state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)),
                         labels=(("a", Box((0, 4), (2, 6))), ("b", Box((4, 0), (6, 2)))), mission="G F a & G F b")
-    return [replace(patrol, max_horizon=12), replace(room, max_horizon=7)]
+    return [replace(patrol, max_horizon=12), replace(room, max_horizon=14)]
 
 
-@pytest.mark.parametrize("which", [0])
+@pytest.mark.parametrize("which", [0, 1])
 def test_every_learned_clause_excludes_only_infeasible_plans(which):
+    """Every learned clause is checked at a few of the placements (horizon, shift,
+    rotation) where the planner applies it, spread over all of them, on a walk built to
+    match it: none has a trajectory (``oracle_feasible``), for CON-PLAN conflicts
+    (finite walks) and loop clauses (lassos back to the loop start)."""
     p = small_problems()[which]
     la = label_abstraction(p)
     ab = la.abstraction
@@ -246,64 +305,72 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
         plan_mission(p, Budget(seconds=60, iterations=150), labelled=la, lower_bound=False)
     finally:
         MissionDisPlan.learn, MissionDisPlan.learn_loop = orig_learn, orig_loop
-    checked = loops_checked = 0
-    for H in range(1, p.max_horizon + 1):
-        walks = list(itertools.islice(lassos(ab, H), 1500))
-        if not walks:
-            continue
-        W = np.array(walks)  # walks[i][t] == W[i, t]; the hits are the same, found per column
+    assert conflicts and loops  # both kinds are learned, so both are checked below
 
-        def matches(lits, shift):
-            """Which walks have every literal (t, r) at t + shift (all within 0..H)."""
-            hit = np.ones(len(walks), dtype=bool)
-            for t, r in lits:
-                if not 0 <= t + shift <= H:
-                    return np.zeros(len(walks), dtype=bool)
-                hit &= W[:, t + shift] == r
-            return hit
+    def placed(lits, shift, H):
+        """The literals at time + shift, as a map time -> region (None: off 0..H or contradictory)."""
+        fixed: dict[int, int] = {}
+        for t, r in lits:
+            if not 0 <= t + shift <= H or fixed.setdefault(t + shift, r) != r:
+                return None
+        return fixed
 
-        for c in conflicts:
-            if checked >= 400:  # no further walk would be checked
-                break
+    # every placement (horizon, shift, rotation) where the planner applies each clause
+    placements: list[list[tuple[int, dict[int, int], int | None, str]]] = []
+    for c in conflicts:
+        mine = []
+        for H in range(1, p.max_horizon + 1):
             if c.anchored_start and c.anchored_goal:
-                hit = matches(c.literals, 0) if H == c.horizon else np.zeros(len(walks), dtype=bool)
+                shifts = [0] if H == c.horizon else []
             elif c.anchored_start:  # and shifted earlier: the patrol starts at rest
-                earliest = -min((t for t, _ in c.literals), default=0)
-                hit = np.zeros(len(walks), dtype=bool)
-                for s in range(earliest, 1):
-                    if H >= c.last_time + s:
-                        hit |= matches(c.literals, s)
+                shifts = [s for s in range(-min((t for t, _ in c.literals), default=0), 1) if H >= c.last_time + s]
             else:
                 shifts = [H - c.horizon] if c.anchored_goal else range(-c.first_time, H - c.last_time + 1)
-                hit = np.zeros(len(walks), dtype=bool)
-                for s in shifts:
-                    if c.first_time + s >= 0:
-                        hit |= matches(c.literals, s)
-            for i in np.flatnonzero(hit):
-                if checked >= 400:
-                    break
-                assert not oracle_feasible(p, ab, walks[i], None), f"{c} excludes the feasible {walks[i]}"
-                checked += 1
-        for lits, k, L, shifted in loops:
-            period = L - k
-            variants = [lits] if not shifted else [tuple((k + (t - k + s) % period, r) for t, r in lits) for s in range(period)]
-            shifts = [H - L] if (shifted or H == L) else []
             for s in shifts:
-                if not shifted and s != 0:
-                    continue
-                if k + s < 0:
-                    continue
-                for v in variants:
-                    if checked >= 800:
-                        break
-                    hit = matches(v, s) & (W[:, H] == W[:, k + s])
-                    for i in np.flatnonzero(hit):
-                        if checked >= 800:
-                            break
-                        w = walks[i]
-                        assert not oracle_feasible(p, ab, w, k + s), f"loop clause {v} (k={k}, L={L}) excludes {w}"
-                        checked += 1
-                        loops_checked += 1
-    assert checked > 0
-    if which == 0:  # the patrol learns loop clauses below horizon 12
-        assert loops and loops_checked > 0
+                fixed = placed(c.literals, s, H)
+                if fixed is not None and c.first_time + s >= 0:
+                    mine.append((H, fixed, None, f"{c} (shift {s})"))
+        placements.append(mine)
+    n_conflicts = len(placements)
+    for lits, k, L, shifted in loops:
+        period = L - k
+        variants = [lits] if not shifted else [tuple((k + (t - k + s) % period, r) for t, r in lits) for s in range(period)]
+        mine = []
+        for H in range(L if not shifted else 1, (L if not shifted else p.max_horizon) + 1):
+            s = H - L
+            for v in variants:
+                fixed = placed(v, s, H)
+                if fixed is not None and k + s >= 0:
+                    mine.append((H, fixed, k + s, f"loop clause {v} (k={k}, L={L}) at horizon {H}"))
+        placements.append(mine)
+    # a few placements of each clause, spread over all of them; at each, one walk built to match it
+    checked = [0, 0]
+    for n, mine in enumerate(placements):
+        per = 5 if n < n_conflicts else 2
+        for j in sorted(set(np.linspace(0, len(mine) - 1, min(per, len(mine))).astype(int))) if mine else []:
+            H, fixed, close, what = mine[j]
+            for w in walks_through(ab, H, fixed, close=close, limit=1, seed=n * 100 + j):
+                assert not oracle_feasible(p, ab, w, close), f"{what} excludes the feasible {w}"
+                checked[close is not None] += 1
+    print(f"problem {which}: {len(conflicts)} conflicts, {len(loops)} loop clauses; "
+          f"{checked[0]} finite and {checked[1]} lasso walks refuted")
+    assert checked[0] > 0 and checked[1] > 0
+
+
+def test_the_checker_shares_no_code_with_the_planner():
+    """The independent mission checker (issue 14, point 5) imports neither the encoding,
+    the planners, the label refinement, the decomposition nor the lazy loop: it is run
+    on the problem and the trajectory alone (LTL evaluation by ltl.holds, geometry by shapely)."""
+    import ast
+    import inspect
+
+    import plansynth.reach.mission.check as check
+
+    tree = ast.parse(inspect.getsource(check))
+    imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
+    imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    planner_side = ("plansynth.reach.mission.bmc", "plansynth.reach.mission.planner", "plansynth.reach.mission.milp",
+                    "plansynth.reach.mission.labels", "plansynth.reach.mission.proof", "plansynth.reach.abstraction",
+                    "plansynth.reach.lazy", "plansynth.reach.planners", "plansynth.reach.highs")
+    assert not [m for m in imported if m.startswith(planner_side)], imported
+    assert "plansynth.reach.mission.ltl" in imported

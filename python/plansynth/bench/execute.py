@@ -293,7 +293,9 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     c = dict(res.counters or {})
     timings = {k: float(v) for k, v in (res.timings or {}).items() if isinstance(v, (int, float))}
     oracle = None
-    if status == "solved" and res.regions is not None and res.horizon is not None \
+    # (not for a mission: its regions index the label-refined abstraction, and a lasso's
+    # loop closure is no CON-PLAN row, so the reach-avoid oracle LP does not apply)
+    if status == "solved" and res.regions is not None and res.horizon is not None and problem.mission is None \
             and len(res.regions) == res.horizon + 1 and getattr(res, "guarantee", None) in ("segments", "samples"):
         from plansynth.reach.oracle import oracle_lp
 

@@ -43,6 +43,9 @@ NATIVE_REPEATS = 3
 #: ask for answers within 1 s, and with 10 s the 55 instances x 2 solvers finish in about
 #: 15 minutes on a shared 2-core machine (cvc5 answers few of them within any limit).
 CLI_TIMED_TIMEOUT = 10.0
+#: the missions family (issue 14): a limit the milp-ltl baseline finishes within (patrol, its
+#: slowest, about 13 s on a quiet machine), so that the speed-up is a measured ratio, not a bound
+MISSIONS_TIMEOUT = 300.0
 
 
 def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, part: str = "all") -> list[dict[str, Any]]:
@@ -57,7 +60,8 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         tasks += make_tasks(family("reach", "maze"), list(CX_VARIANTS), timeout=max(reach_timeout, CX_TIMEOUT))
         tasks += make_tasks(family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout)
         # LTL missions (issue 14): three per maze, lazy-smt and the milp-ltl baseline side by side
-        tasks += make_tasks(family("reach", "missions"), ["lazy-smt", "milp-ltl"], timeout=reach_timeout)
+        tasks += make_tasks(family("reach", "missions"), ["lazy-smt", "milp-ltl"],
+                            timeout=max(reach_timeout, MISSIONS_TIMEOUT))
         tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"],
                             timeout=reach_timeout)
         # Graphs of Convex Sets (Drake) beside lazy-smt on the mazes, interleaved, medians of 3

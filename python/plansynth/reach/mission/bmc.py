@@ -52,6 +52,7 @@ MissionPlan(regions=(0, 1, 2, 2), loop_start=None)
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -131,6 +132,7 @@ class MissionDisPlan(LearnedClauses):
                 nxt.append(s)
         self.next_subs = list(dict.fromkeys(nxt))
         self.pool = IDPool()
+        self._rows: list[list[int]] = []
         self.solver = Solver(name=SAT_SOLVER)
         self.true = self.pool.id(("true",))
         self.solver.add_clause([self.true])
@@ -143,6 +145,7 @@ class MissionDisPlan(LearnedClauses):
         self.loop_conflicts: list[tuple[tuple[tuple[int, int], ...], int, int, bool]] = []
         self._learned: set[tuple[int, ...]] = set()
         self.sat_calls = 0
+        self.encode_seconds = 0.0  # building positions and horizon boundaries (in solve)
         self.clauses = 0
         self.loop_clauses = 0
         self._add([self.v(self.formula, 0)])
@@ -150,7 +153,14 @@ class MissionDisPlan(LearnedClauses):
     # -- variables ---------------------------------------------------------------
     def at(self, t: int, i: int) -> int:
         """b[t, i]: the position at time t lies in region i."""
-        return self.pool.id(("at", t, i))
+        return self.row(t)[i]
+
+    def row(self, t: int) -> list[int]:
+        """[b[t, 0], ..., b[t, n-1]] (cached: the encoding asks for them very often)."""
+        while len(self._rows) <= t:
+            u = len(self._rows)
+            self._rows.append([self.pool.id(("at", u, i)) for i in range(self.graph.n_regions)])
+        return self._rows[t]
 
     def act(self, horizon: int) -> int:
         return self.pool.id(("horizon", horizon))
@@ -175,7 +185,7 @@ class MissionDisPlan(LearnedClauses):
 
     def _position(self, t: int) -> None:
         g = self.graph
-        lits = [self.at(t, i) for i in range(g.n_regions)]
+        lits = list(self.row(t))
         enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool,
                              encoding=EncType.pairwise if g.n_regions <= PAIRWISE_MAX_REGIONS else EncType.seqcounter)
         for c in enc.clauses:
@@ -186,8 +196,9 @@ class MissionDisPlan(LearnedClauses):
         if t == 0:
             self._add([self.at(0, i) for i in g.start_regions])
         else:
+            before, now = self.row(t - 1), self.row(t)
             for i in range(g.n_regions):
-                self._add([-self.at(t - 1, i), self.at(t, i)] + [self.at(t, j) for j in g.adjacency[i]])
+                self._add([-before[i], now[i]] + [now[j] for j in g.adjacency[i]])
         for f in self.subs:
             self._expand(f, t)
 
@@ -196,10 +207,12 @@ class MissionDisPlan(LearnedClauses):
         v = self.v(f, i)
         n = self.graph.n_regions
         if isinstance(f, Prop):
-            self._add([-v] + [self.at(i, r) for r in range(n) if f.name in self.labels_of[r]])
+            row = self.row(i)
+            self._add([-v] + [row[r] for r in range(n) if f.name in self.labels_of[r]])
         elif isinstance(f, Not):
             assert isinstance(f.arg, Prop), "negation normal form"
-            self._add([-v] + [self.at(i, r) for r in range(n) if f.arg.name not in self.labels_of[r]])
+            row = self.row(i)
+            self._add([-v] + [row[r] for r in range(n) if f.arg.name not in self.labels_of[r]])
         elif isinstance(f, And):
             self._add([-v, self.v(f.left, i)])
             self._add([-v, self.v(f.right, i)])
@@ -255,8 +268,9 @@ class MissionDisPlan(LearnedClauses):
                 self._add(c)
         for s, j in sels:
             if s != self.stay(L):  # x_L = x_{j-1}: the same region
+                last, back = self.row(L), self.row(j - 1)
                 for i in range(self.graph.n_regions):
-                    self._add([-s, -self.at(L, i), self.at(j - 1, i)])
+                    self._add([-s, -last[i], back[i]])
             for f in self.next_subs:
                 self._add([-s, -self.v(f, L + 1), self.v(f, j)])
         # in[L, i]: position i is in the loop (the successor of L is at or before i)
@@ -349,8 +363,10 @@ class MissionDisPlan(LearnedClauses):
         clause, UNSAT, or INTERRUPTED when ``clock`` runs out."""
         if horizon < self.built:
             raise ValueError(f"horizons must not decrease: {horizon} after {self.built}")
+        t0 = time.perf_counter()
         self._extend(horizon)
         self._boundary(horizon)
+        self.encode_seconds += time.perf_counter() - t0
         self.sat_calls += 1
         if horizon in self.closed:
             return SatOutcome.UNSAT, None
@@ -371,7 +387,8 @@ class MissionDisPlan(LearnedClauses):
         true = {v for v in self.solver.get_model() if v > 0}
         regions = []
         for t in range(horizon + 1):
-            rs = [i for i in range(self.graph.n_regions) if self.at(t, i) in true]
+            row = self.row(t)
+            rs = [i for i in range(self.graph.n_regions) if row[i] in true]
             if len(rs) != 1:  # pragma: no cover - exactly-one forbids it
                 raise AssertionError(f"SAT model puts time {t} in regions {rs}")
             regions.append(rs[0])

@@ -221,5 +221,6 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
         seconds=base.seconds + time.perf_counter() - t0,
         method=f"{base.method}+labels",
         candidates=base.candidates,
+        exact=base.exact,  # the pieces tile the base regions: they cover what those cover
     )
     return LabelledAbstraction(abstraction, names, tuple(labels_of), tuple(parent))

@@ -17,7 +17,9 @@ For a horizon L, one mixed-integer program decides regions, loop and trajectory:
   have its right side true at a loop position. P[mission, 0] = 1.
 
 Horizons are tried upwards from 0, as in the lazy planner; the first with a solution
-is the shortest. The trajectory is not taken from the MILP (big-M rows slip by the MIP
+is the shortest. As there, ``infeasible`` needs the proof of
+:func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
+region per step) is ``unknown``, not a proof. The trajectory is not taken from the MILP (big-M rows slip by the MIP
 tolerances): its regions and loop are re-solved as an exact LP
 (:class:`~plansynth.reach.mission.planner.LoopLP`).
 """
@@ -35,14 +37,14 @@ import numpy as np
 
 from plansynth.budget import Budget
 from plansynth.reach.lazy.bounds import time_windows
-from plansynth.reach.highs import new_highs
+from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 
-__all__ = ["plan_milp_ltl", "solve_mission_horizon"]
+__all__ = ["MissionMilp", "mission_milp", "plan_milp_ltl", "solve_mission_horizon"]
 
 
 #: HiGHS drops matrix entries at most this small (its ``small_matrix_value``) and
@@ -54,22 +56,81 @@ def _big_m(H: np.ndarray, h: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.n
     return np.maximum(0.0, np.maximum(H * lo, H * hi).sum(axis=1) - h)
 
 
-def solve_mission_horizon(
+@dataclass(frozen=True)
+class MissionMilp:
+    """The mission MILP of one horizon as a HiGHS model: ``lp`` (with its integrality),
+    the first column of the region binaries ``z[t, i]`` (column ``z0 + t R + i``) and the
+    loop selectors ``(column, j, is_loop)`` (``stay`` has j = L)."""
+
+    lp: highspy.HighsLp
+    n_regions: int
+    z0: int
+    sels: tuple[tuple[int, int, bool], ...]
+
+
+class _Model:
+    """Columns and row blocks of a MILP in COO form (the assembly of
+    :func:`~plansynth.reach.highs.csc_lp`): each ``rows`` call appends one block."""
+
+    def __init__(self) -> None:
+        self.lo: list[np.ndarray] = []
+        self.hi: list[np.ndarray] = []
+        self.n_col = 0
+        self.rows = Rows()
+
+    def cols(self, k: int, lo, hi) -> np.ndarray:
+        first = self.n_col
+        self.lo.append(np.broadcast_to(np.asarray(lo, float), (k,)))
+        self.hi.append(np.broadcast_to(np.asarray(hi, float), (k,)))
+        self.n_col += k
+        return np.arange(first, first + k)
+
+    def terms(self, terms: list[tuple[list[int], list[float], float]], sense: str) -> None:
+        """Rows ``sum(c x) <sense> rhs`` for ``(cols, coefs, rhs)`` in ``terms``, sense
+        one of ``<=``, ``==``, ``>=``."""
+        if not terms:
+            return
+        r = np.repeat(np.arange(len(terms)), [len(c) for c, _, _ in terms])
+        c = np.fromiter((j for cs, _, _ in terms for j in cs), np.int64, len(r))
+        v = np.fromiter((x for _, vs, _ in terms for x in vs), float, len(r))
+        rhs = np.array([b for _, _, b in terms], float)
+        self.block(r, c, v, rhs, sense)
+
+    def block(self, r, c, v, rhs, sense: str) -> None:
+        inf = np.full(len(rhs), np.inf)
+        lo, hi = {"<=": (-inf, rhs), "==": (rhs, rhs), ">=": (rhs, inf)}[sense]
+        self.rows.add(r, c, v, lo, hi)
+
+    def lp(self, integer: np.ndarray) -> highspy.HighsLp:
+        R, C, V = self.rows.coo()
+        # a column repeated in a row (P[a | a, t] <= P[a, t] + P[a, t]) is one entry
+        key, inv = np.unique(R * self.n_col + C, return_inverse=True)
+        V = np.bincount(inv.ravel(), weights=V, minlength=len(key))
+        keep = V != 0.0
+        R, C, V = (key // self.n_col)[keep], (key % self.n_col)[keep], V[keep]
+        row_lo, row_hi = self.rows.bounds()
+        integrality = np.full(self.n_col, highspy.HighsVarType.kContinuous)
+        integrality[integer] = highspy.HighsVarType.kInteger
+        return csc_lp(self.n_col, self.rows.n_row, R, C, V, np.zeros(self.n_col), np.concatenate(self.lo),
+                      np.concatenate(self.hi), row_lo, row_hi, integrality=list(integrality))
+
+
+def mission_milp(
     problem: ReachProblem, labelled: LabelledAbstraction, formula: Formula, L: int, *,
-    segment_safe: bool = True, semantics: str = "any", earliest=None, seconds: float = math.inf,
-) -> tuple[str, tuple[int, ...] | None, int | None, dict]:
-    """One MILP at horizon L: ``(status, regions, loop_start, stats)`` with status
-    ``found`` / ``infeasible`` / ``unknown`` (time limit)."""
+    segment_safe: bool = True, semantics: str = "any", earliest=None,
+) -> MissionMilp | None:
+    """The mission MILP at horizon L (the model the module docstring describes),
+    assembled in array operations and passed to HiGHS whole; ``None`` when the mission
+    is ``false`` (no model can hold it)."""
+    f = nnf(formula)
+    if isinstance(f, Const) and not f.value:
+        return None
     ab = labelled.abstraction
     dyn = problem.dynamics
     n, m = dyn.n_states, dyn.n_inputs
     A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
-    pos = list(dyn.position)
+    pos = np.array(dyn.position)
     R = ab.n_regions
-    h = new_highs()
-    if math.isfinite(seconds):
-        h.setOptionValue("time_limit", max(1e-3, float(seconds)))
-    inf = highspy.kHighsInf
     # not problem.state_box: a big-M needs finite bounds, so unbounded states get +-1e4
     slo = np.full(n, -1e4)
     shi = np.full(n, 1e4)
@@ -78,115 +139,175 @@ def solve_mission_horizon(
     ws_lo, ws_hi = np.array(problem.workspace.lo, float), np.array(problem.workspace.hi, float)
     slo[pos] = np.maximum(slo[pos], ws_lo)
     shi[pos] = np.minimum(shi[pos], ws_hi)
-    X = [[h.addVariable(lb=float(slo[i]), ub=float(shi[i])) for i in range(n)] for _ in range(L + 1)]
-    U = [[h.addVariable(lb=-problem.input_bound, ub=problem.input_bound) for _ in range(m)] for _ in range(L)]
-    Z = [[h.addBinary() for _ in range(R)] for _ in range(L + 1)]
-    for i in range(n):
-        h.addConstr(X[0][i] == float(problem.start[i]))
+    mdl = _Model()
+    X = mdl.cols((L + 1) * n, np.tile(slo, L + 1), np.tile(shi, L + 1)).reshape(L + 1, n)
+    U = mdl.cols(L * m, -problem.input_bound, problem.input_bound).reshape(L, m)
+    Z = mdl.cols((L + 1) * R, 0.0, 1.0).reshape(L + 1, R)
+    ones = lambda k: np.ones(k)  # noqa: E731
+    # the start, the dynamics x_{t+1} - A x_t - B u_t = 0
+    mdl.block(np.arange(n), X[0], ones(n), np.asarray(problem.start, float), "==")
+    ai, aj = np.nonzero(A)
+    bi, bj = np.nonzero(B)
     for t in range(L):
-        for i in range(n):
-            h.addConstr(X[t + 1][i] - sum(float(A[i, j]) * X[t][j] for j in range(n) if A[i, j] != 0)
-                        - sum(float(B[i, j]) * U[t][j] for j in range(m) if B[i, j] != 0) == 0.0)
-    ear = earliest if earliest is not None else [0] * R
-    for t in range(L + 1):
-        h.addConstr(sum(Z[t]) == 1.0)
-        for i in range(R):
-            if (t == 0 and i not in ab.start_regions) or t < ear[i]:
-                h.addConstr(Z[t][i] == 0.0)
-        if t < L:
-            for i in range(R):
-                h.addConstr(Z[t][i] - sum(Z[t + 1][j] for j in (i, *ab.adjacency[i])) <= 0.0)
+        mdl.block(np.concatenate([np.arange(n), ai, bi]), np.concatenate([X[t + 1], X[t][aj], U[t][bj]]),
+                  np.concatenate([ones(n), -A[ai, aj], -B[bi, bj]]), np.zeros(n), "==")
+    # one region per step, start regions, time windows, transitions to equal or adjacent regions
+    ear = np.asarray(earliest if earliest is not None else [0] * R)
+    nbrs = [np.array((i, *ab.adjacency[i])) for i in range(R)]
+    tr_r = np.concatenate([np.full(len(nb), i) for i, nb in enumerate(nbrs)]) if R else np.zeros(0, int)
+    tr_j = np.concatenate(nbrs) if R else np.zeros(0, int)
+    starts = set(ab.start_regions)
+    T = np.arange(L + 1)
+    mdl.block(np.repeat(T, R), Z.ravel(), ones(Z.size), np.ones(L + 1), "==")
+    off = (T[:, None] < ear[None, :]) | ((T[:, None] == 0) & ~np.isin(np.arange(R), list(starts))[None, :])
+    mdl.block(np.arange(int(off.sum())), Z[off], ones(int(off.sum())), np.zeros(int(off.sum())), "==")
+    # z[t, i] <= sum of z[t + 1, j] over j equal or adjacent to i: row t R + i
+    Tl = np.arange(L)
+    mdl.block(np.concatenate([Z[:L].ravel() - Z[0, 0], (Tl[:, None] * R + tr_r[None, :]).ravel()]),
+              np.concatenate([Z[:L].ravel(), Z[1:][:, tr_j].ravel()]),
+              np.concatenate([ones(L * R), -ones(L * len(tr_j))]), np.zeros(L * R), "<=")
+    # big-M membership H_i p_s + M z[t, i] <= h_i + M for s = t (and t + 1: segments)
+    pairs = ([t for t in range(L + 1) for _ in ((t, t + 1) if (segment_safe and t < L) else (t,))],
+             [s for t in range(L + 1) for s in ((t, t + 1) if (segment_safe and t < L) else (t,))])
     for i, reg in enumerate(ab.regions):
         H, hh = np.asarray(reg.H, float), np.asarray(reg.h, float)
         M = _big_m(H, hh, ws_lo, ws_hi)
-        for t in range(L + 1):
-            for s in ((t, t + 1) if (segment_safe and t < L) else (t,)):
-                for row, rhs, mm in zip(H, hh, M):
-                    if mm <= SMALL_MATRIX_VALUE:
-                        continue  # the row holds everywhere in the workspace (up to HiGHS's tolerance)
-                    h.addConstr(sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos))
-                                    if abs(row[k]) > SMALL_MATRIX_VALUE)
-                                + float(mm) * Z[t][i] <= float(rhs + mm))
+        live = M > SMALL_MATRIX_VALUE  # other rows hold everywhere in the workspace (up to HiGHS's tolerance)
+        H, hh, M = H[live], hh[live], M[live]
+        rk, kk = np.nonzero(np.abs(H) > SMALL_MATRIX_VALUE)
+        k_rows = len(hh)
+        # one block for every (t, s): row q k_rows + j is row j of the pair q
+        q_t, q_s = np.array(pairs[0]), np.array(pairs[1])
+        q = np.arange(len(q_t))
+        mdl.block(np.concatenate([(q[:, None] * k_rows + rk).ravel(), (q[:, None] * k_rows + np.arange(k_rows)).ravel()]),
+                  np.concatenate([X[q_s][:, pos[kk]].ravel(), np.repeat(Z[q_t, i], k_rows)]),
+                  np.concatenate([np.tile(H[rk, kk], len(q)), np.tile(M, len(q))]), np.tile(hh + M, len(q)), "<=")
     # the successor of the last position: stay (finite) or loop_j (x_L = x_{j-1})
-    sels: list[tuple[Any, int, bool]] = []
+    sel_j: list[tuple[int, bool]] = []
     if semantics in ("any", "finite"):
-        sels.append((h.addBinary(), L, False))
+        sel_j.append((L, False))
     if semantics in ("any", "lasso"):
-        sels += [(h.addBinary(), j, True) for j in range(1, L + 1)]
-    h.addConstr(sum(s for s, _, _ in sels) == 1.0)
+        sel_j += [(j, True) for j in range(1, L + 1)]
+    S = mdl.cols(len(sel_j), 0.0, 1.0)
+    sels = tuple((int(s), j, lp) for s, (j, lp) in zip(S, sel_j))
+    mdl.block(np.zeros(len(S), int), S, ones(len(S)), np.ones(1), "==")
+    Mx = shi - slo
     for s, j, is_loop in sels:
         if not is_loop:
             continue
-        for i in range(n):
-            Mx = float(shi[i] - slo[i])
-            h.addConstr(X[L][i] - X[j - 1][i] + Mx * s <= Mx)
-            h.addConstr(X[j - 1][i] - X[L][i] + Mx * s <= Mx)
-        for i in range(R):
-            h.addConstr(Z[L][i] - Z[j - 1][i] + s <= 1.0)
-    # the mission
-    f = nnf(formula)
+        rr = np.arange(n)
+        for sign in (1.0, -1.0):
+            mdl.block(np.concatenate([rr, rr, rr]), np.concatenate([X[L], X[j - 1], np.full(n, s)]),
+                      np.concatenate([np.full(n, sign), np.full(n, -sign), Mx]), Mx, "<=")
+        rr = np.arange(R)
+        mdl.block(np.concatenate([rr, rr, rr]), np.concatenate([Z[L], Z[j - 1], np.full(R, s)]),
+                  np.concatenate([ones(R), -ones(R), ones(R)]), np.ones(R), "<=")
+    # the mission: P[g, t] in [0, 1] for t = 0..L + 1, rows (cols, coefs, rhs) of "<= rhs"
     subs = [g for g in subformulas(f) if not isinstance(g, Const)]
-    P = {(g, t): h.addVariable(lb=0.0, ub=1.0) for g in subs for t in range(L + 2)}
+    P0 = mdl.cols(len(subs) * (L + 2), 0.0, 1.0)
+    index = {g: k for k, g in enumerate(subs)}
 
-    def val(g: Formula, t: int):
-        if isinstance(g, Const):
-            return 1.0 if g.value else 0.0
-        return P[g, t]
+    def P(g: Formula, t: int) -> int:
+        return int(P0[index[g] * (L + 2) + t])
 
+    rows: list[tuple[list[int], list[float], float]] = []
+
+    def le(v: int, terms: list[Formula | int], t: int | None = None, rhs: float = 0.0) -> None:
+        """v - sum(terms) <= rhs; a formula term is P[., t], a Const moves to the rhs."""
+        cs, vs = [v], [1.0]
+        for g in terms:
+            if isinstance(g, Const):
+                rhs += 1.0 if g.value else 0.0
+            else:
+                cs.append(int(g) if isinstance(g, (int, np.integer)) else P(g, t))
+                vs.append(-1.0)
+        rows.append((cs, vs, rhs))
+
+    with_label = {g: [int(r) for r in range(R) if g.name in labelled.labels_of[r]] for g in subs if isinstance(g, Prop)}
     for t in range(L + 1):
+        zt = [int(z) for z in Z[t]]
         for g in subs:
-            v = P[g, t]
+            v = P(g, t)
             if isinstance(g, Prop):
-                h.addConstr(v - sum(Z[t][r] for r in range(R) if g.name in labelled.labels_of[r]) <= 0.0)
+                le(v, [zt[r] for r in with_label[g]])
             elif isinstance(g, Not):
-                h.addConstr(v - sum(Z[t][r] for r in range(R) if g.arg.name not in labelled.labels_of[r]) <= 0.0)
+                le(v, [zt[r] for r in range(R) if g.arg.name not in labelled.labels_of[r]])
             elif isinstance(g, And):
-                h.addConstr(v - val(g.left, t) <= 0.0)
-                h.addConstr(v - val(g.right, t) <= 0.0)
+                le(v, [g.left], t)
+                le(v, [g.right], t)
             elif isinstance(g, Or):
-                h.addConstr(v - val(g.left, t) - val(g.right, t) <= 0.0)
+                le(v, [g.left, g.right], t)
             elif isinstance(g, Next):
-                h.addConstr(v - val(g.arg, t + 1) <= 0.0)
+                le(v, [g.arg], t + 1)
             elif isinstance(g, (Finally, Until)):
                 a = Const(True) if isinstance(g, Finally) else g.left
                 b = g.arg if isinstance(g, Finally) else g.right
-                h.addConstr(v - val(b, t) - val(a, t) <= 0.0)
-                h.addConstr(v - val(b, t) - P[g, t + 1] <= 0.0)
+                le(v, [b, a], t)
+                rows.append(_minus(v, b, t, P(g, t + 1), P))
             elif isinstance(g, (Globally, Release)):
                 a = Const(False) if isinstance(g, Globally) else g.left
                 b = g.arg if isinstance(g, Globally) else g.right
-                h.addConstr(v - val(b, t) <= 0.0)
-                h.addConstr(v - val(a, t) - P[g, t + 1] <= 0.0)
+                le(v, [b], t)
+                rows.append(_minus(v, a, t, P(g, t + 1), P))
     # position L + 1 takes the values of the selected successor (one-sided, as P <= ...)
     for s, j, _ in sels:
         for g in subs:
-            h.addConstr(P[g, L + 1] - P[g, j] + s <= 1.0)
+            rows.append(([P(g, L + 1), P(g, j), s], [1.0, -1.0, 1.0], 1.0))
     # eventualities: an until true at L has its right side true at a loop position
-    inloop = [h.addVariable(lb=0.0, ub=1.0) for _ in range(L + 1)]
+    inloop = [int(c) for c in mdl.cols(L + 1, 0.0, 1.0)]
     for i in range(L + 1):
-        h.addConstr(inloop[i] - (inloop[i - 1] if i > 0 else 0.0) - sum(s for s, j, _ in sels if j == i) <= 0.0)
+        cs = [inloop[i]] + ([inloop[i - 1]] if i > 0 else []) + [s for s, j, _ in sels if j == i]
+        rows.append((cs, [1.0] + [-1.0] * (len(cs) - 1), 0.0))
     for g in subs:
         if isinstance(g, (Finally, Until)):
             b = g.arg if isinstance(g, Finally) else g.right
-            w = [h.addVariable(lb=0.0, ub=1.0) for _ in range(L + 1)]
+            w = [int(c) for c in mdl.cols(L + 1, 0.0, 1.0)]
             for i in range(L + 1):
-                h.addConstr(w[i] - inloop[i] <= 0.0)
-                h.addConstr(w[i] - val(b, i) <= 0.0)
-            h.addConstr(P[g, L] - sum(w) <= 0.0)
-    if isinstance(f, Const) and not f.value:
-        return "infeasible", None, None, {"binaries": 0, "mip_nodes": 0}
+                rows.append(([w[i], inloop[i]], [1.0, -1.0], 0.0))
+                le(w[i], [b], i)
+            rows.append(([P(g, L)] + w, [1.0] + [-1.0] * len(w), 0.0))
+    mdl.terms(rows, "<=")
     if not isinstance(f, Const):
-        h.addConstr(P[f, 0] >= 1.0)
+        mdl.block(np.zeros(1, int), np.array([P(f, 0)]), np.ones(1), np.ones(1), ">=")
+    integer = np.concatenate([Z.ravel(), S])
+    return MissionMilp(mdl.lp(integer), R, (L + 1) * n + L * m, sels)
+
+
+def _minus(v: int, a: Formula, t: int, nxt: int, P) -> tuple[list[int], list[float], float]:
+    """The row v - a[t] - nxt <= 0 (a Const moves to the right-hand side)."""
+    if isinstance(a, Const):
+        return [v, nxt], [1.0, -1.0], 1.0 if a.value else 0.0
+    return [v, P(a, t), nxt], [1.0, -1.0, -1.0], 0.0
+
+
+def solve_mission_horizon(
+    problem: ReachProblem, labelled: LabelledAbstraction, formula: Formula, L: int, *,
+    segment_safe: bool = True, semantics: str = "any", earliest=None, seconds: float = math.inf,
+) -> tuple[str, tuple[int, ...] | None, int | None, dict]:
+    """One MILP at horizon L (:func:`mission_milp`): ``(status, regions, loop_start,
+    stats)`` with status ``found`` / ``infeasible`` / ``unknown`` (time limit)."""
+    t0 = time.perf_counter()
+    model = mission_milp(problem, labelled, formula, L, segment_safe=segment_safe, semantics=semantics,
+                         earliest=earliest)
+    if model is None:
+        return "infeasible", None, None, {"binaries": 0, "mip_nodes": 0, "build_seconds": time.perf_counter() - t0}
+    h = new_highs()
+    if math.isfinite(seconds):
+        h.setOptionValue("time_limit", max(1e-3, float(seconds)))
+    h.passModel(model.lp)
+    build = time.perf_counter() - t0
     t0 = time.perf_counter()
     h.run()
     status = h.getModelStatus()
     S = highspy.HighsModelStatus
-    stats = {"binaries": (L + 1) * R + len(sels), "mip_nodes": int(h.getInfo().mip_node_count),
-             "solve_seconds": time.perf_counter() - t0}
+    R = model.n_regions
+    stats = {"binaries": (L + 1) * R + len(model.sels), "mip_nodes": int(h.getInfo().mip_node_count),
+             "solve_seconds": time.perf_counter() - t0, "build_seconds": build}
     if status == S.kOptimal:
         col = np.asarray(h.getSolution().col_value)
-        regions = tuple(int(np.argmax([col[z.index] for z in Z[t]])) for t in range(L + 1))
-        chosen = max(sels, key=lambda sj: col[sj[0].index])
+        z = col[model.z0:model.z0 + (L + 1) * R].reshape(L + 1, R)
+        regions = tuple(int(r) for r in np.argmax(z, axis=1))
+        chosen = max(model.sels, key=lambda sj: col[sj[0]])
         return "found", regions, (chosen[1] - 1 if chosen[2] else None), stats
     if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
         return "infeasible", None, None, stats
@@ -236,6 +357,15 @@ def plan_milp_ltl(
                            horizon=horizon, counters=counters, timings=timings, options=options, message=message,
                            guarantee="segments" if segment_safe else "samples", mission=mission)
 
+    from plansynth.reach.mission.planner import NOT_A_PROOF
+    from plansynth.reach.mission.proof import label_proof
+
+    t0 = time.perf_counter()
+    proved, why = label_proof(problem, labelled)
+    timings["proof"] = time.perf_counter() - t0
+    counters["label_proof"] = proved
+    if proved:
+        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     for L in range(0, L_max + 1):
         if progress is not None:
             progress(L, clock.iterations)
@@ -261,7 +391,9 @@ def plan_milp_ltl(
                 return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under exact "
                               "LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
             return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
-    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: no MILP solution at any horizon up to {L_max}")
+    counters["abstraction_refuted"] = L_max  # one region per step: no proof (see plan_mission)
+    return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the label-refined abstraction at any "
+                  f"horizon up to {L_max}; {NOT_A_PROOF} ({why})")
 
 
 @dataclass(frozen=True)

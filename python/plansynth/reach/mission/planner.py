@@ -4,9 +4,11 @@ Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
 ::
 
     abstraction <- convex decomposition refined by the labels          (labels.py)
+    no word over the labels' geometry satisfies the mission -> infeasible (proof.py)
     for L = 0 .. max_horizon:                    (one horizon at a time: L is minimal)
         loop:
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
+            lasso, loop start k: no periodic trajectory through r_k..r_L -> block the loop, loop
             CON-PLAN(r_0..r_L) -> conflict: learn it, loop             (conplan.py, unchanged)
             finite plan: done
             lasso, loop start k: the LP with x_L = x_k -> trajectory: done
@@ -16,10 +18,20 @@ CON-PLAN runs unchanged on the problem with the whole workspace as its goal
 (:func:`~plansynth.reach.mission.labels.planning_problem`); its conflicts are sound
 for the mission planner because the mission adds constraints only through the region
 sequence and the loop. The loop closure x_L = x_k is the one CON-PLAN constraint
-missions add; it is checked by :class:`LoopLP` (CON-PLAN's rows plus the closure) only
-for sequences CON-PLAN realised, and a refuted loop blocks exactly that sequence with
-its loop selector. Every plan goes through the validator and the independent mission
+missions add; it is checked by :class:`LoopLP` (CON-PLAN's rows plus the closure):
+the loop alone before CON-PLAN (a refuted one holds at every horizon and rotation), the
+whole lasso for sequences CON-PLAN realised; a refuted loop blocks its literals with its
+loop selector. Every plan goes through the validator and the independent mission
 checker (:mod:`plansynth.reach.mission.check`) before it is reported.
+
+**What ``infeasible`` means** (as in :mod:`plansynth.reach.lazy.loop`). DIS-PLAN moves one
+region per step, so refuting every horizon proves only that no plan *through the
+label-refined decomposition* exists; a real trajectory may cross several regions in one
+step. The answer is ``infeasible`` only when :func:`~plansynth.reach.mission.proof.label_proof`
+holds: no infinite word over the letters the labels' geometry allows satisfies the
+mission, so no trajectory does at any horizon (``counters["label_proof"]``). When the loop
+refutes every horizon without it, the answer is ``unknown`` and says "not a proof"
+(``counters["abstraction_refuted"]``).
 
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = solve_mission(mission_problem("maze-1", "avoid-until"))
@@ -45,10 +57,11 @@ from plansynth.reach.lazy.conflict import Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
-from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.highs import csc_lp, new_highs
 from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
+from plansynth.reach.mission.proof import label_proof
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
@@ -57,6 +70,9 @@ from plansynth.reach.lazy.transit import TransitCheck
 __all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
 ProgressFn = Callable[[int, int], None]
+
+#: what a refutation through the abstraction is not (see :mod:`plansynth.reach.mission.proof`)
+NOT_A_PROOF = "not a proof of infeasibility (a step may cross several regions)"
 
 
 class LoopLP:
@@ -83,6 +99,8 @@ class LoopLP:
         self.highs = new_highs(presolve="off")  # presolve off keeps the dual ray of an infeasible LP
         self.ray_times: set[int] | None = None
         self.certified = 0
+        self.warm = 0  # LPs re-solved from the last basis with literals switched off (see _lp)
+        self._loaded: tuple | None = None
 
     def solve(self, regions: tuple[int, ...], loop_start: int | None, seconds: float = math.inf) -> Trajectory | None:
         """A trajectory from the start through ``regions`` with x_L = x_loop_start, or None."""
@@ -146,42 +164,86 @@ class LoopLP:
             seconds: float) -> np.ndarray | None:
         """Feasibility LP over the states first..last (columns of every state and input,
         those outside unused): p_t in region assign[t] (and p_{t+1}, segments), the start
-        when ``anchored``, the closure x_last = x_loop_start."""
+        when ``anchored``, the closure x_last = x_loop_start.
+
+        The deletion filter of :meth:`conflict` asks for many subsets of one assignment:
+        when the model in HiGHS has the same frame (first, last, start, closure) and a
+        superset of the literals, the literals left out are switched off (their rows'
+        upper bounds set to +inf) and HiGHS re-solves from its last basis, instead of a
+        new model solved from scratch."""
+        key = (first, last, anchored, loop_start)
+        loaded = self._loaded
+        if loaded is not None and loaded[0] == key and all(loaded[1].get(t) == r for t, r in assign.items()):
+            owner, hi = loaded[2], loaded[3]
+            on = np.isin(owner, np.fromiter(assign, dtype=np.int64, count=len(assign)))
+            self.highs.changeRowsBounds(len(owner), loaded[4], np.full(len(owner), -np.inf),
+                                        np.where(on, hi, np.inf))
+            self.warm += 1
+        else:
+            self._load(assign, first, last, anchored, loop_start)
+        return self._run(assign, seconds)
+
+    def _load(self, assign: dict[int, int], first: int, last: int, anchored: bool, loop_start: int | None) -> None:
+        """Pass the LP of :meth:`_lp` to HiGHS (rows: dynamics, then the literals' region
+        rows, then the closure), assembled in a few array operations."""
         p = self.problem
         L = last
         n, m, pos = self.n, self.m, self.pos
         nx = (L + 1) * n
         ncol = nx + L * m
-        blocks = Rows()
-        add = blocks.add
-
         ai, aj, av, bi, bj, bv = self.dyn_nz
-        for t in range(first, L):  # x_{t+1} - A x_t - B u_t = 0
-            add(np.concatenate([np.arange(n), ai, bi]),
-                np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, nx + t * m + bj]),
-                np.concatenate([np.ones(n), -av, -bv]), np.zeros(n), np.zeros(n))
-        owner: list[np.ndarray] = []  # per row block: the literal time it belongs to (-1: none)
-        owner.append(np.full(blocks.n_row, -1))
+        R: list[np.ndarray] = []
+        C: list[np.ndarray] = []
+        V: list[np.ndarray] = []
+        T = np.arange(first, L)
+        if len(T):  # x_{t+1} - A x_t - B u_t = 0, all steps at once
+            base_r = np.concatenate([np.arange(n), ai, bi])
+            R.append(((T - first)[:, None] * n + base_r[None, :]).ravel())
+            C.append(np.concatenate([((T + 1)[:, None] * n + np.arange(n)[None, :]), T[:, None] * n + aj[None, :],
+                                     nx + T[:, None] * m + bj[None, :]], axis=1).ravel())
+            V.append(np.tile(np.concatenate([np.ones(n), -av, -bv]), len(T)))
+        row = len(T) * n
+        lit_from = row
+        owner: list[np.ndarray] = []  # per region row: the literal time it belongs to
+        his: list[np.ndarray] = []
+        npos = len(pos)
         for t, r in assign.items():
             H, hh = self.Hs[r], self.hs[r]
             k = H.shape[0]
+            rr = np.repeat(np.arange(k), npos)
             for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
-                add(np.repeat(np.arange(k), len(pos)), np.tile(s_ * n + pos, k), H.ravel(), np.full(k, -np.inf), hh)
+                R.append(row + rr)
+                C.append(np.tile(s_ * n + pos, k))
+                V.append(H.ravel())
+                his.append(hh)
                 owner.append(np.full(k, t))
+                row += k
+        lit_to = row
         if loop_start is not None:
-            add(np.concatenate([np.arange(n), np.arange(n)]),
-                np.concatenate([L * n + np.arange(n), loop_start * n + np.arange(n)]),
-                np.concatenate([np.ones(n), -np.ones(n)]), np.zeros(n), np.zeros(n))
+            R.append(row + np.concatenate([np.arange(n), np.arange(n)]))
+            C.append(np.concatenate([L * n + np.arange(n), loop_start * n + np.arange(n)]))
+            V.append(np.concatenate([np.ones(n), -np.ones(n)]))
+            row += n
+        n_dyn = len(T) * n
+        lit_hi = np.concatenate(his) if his else np.zeros(0)
+        row_lo = np.concatenate([np.zeros(n_dyn), np.full(lit_to - lit_from, -np.inf), np.zeros(row - lit_to)])
+        row_hi = np.concatenate([np.zeros(n_dyn), lit_hi, np.zeros(row - lit_to)])
         col_lo = np.concatenate([np.tile(self.state_lo, L + 1), np.full(L * m, -p.input_bound)])
         col_hi = np.concatenate([np.tile(self.state_hi, L + 1), np.full(L * m, p.input_bound)])
         if anchored:
             col_lo[first * n:(first + 1) * n] = col_hi[first * n:(first + 1) * n] = p.start
-        r0 = blocks.n_row
-        lp = csc_lp(ncol, r0, *blocks.coo(), np.zeros(ncol), col_lo, col_hi, *blocks.bounds())
+        coo = (np.concatenate(R).astype(np.int64), np.concatenate(C).astype(np.int64), np.concatenate(V)) if R else \
+            (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
+        lp = csc_lp(ncol, row, *coo, np.zeros(ncol), col_lo, col_hi, row_lo, row_hi)
+        self.highs.passModel(lp)
+        lit_owner = np.concatenate(owner) if owner else np.zeros(0, np.int64)
+        self._loaded = ((first, last, anchored, loop_start), dict(assign), lit_owner, lit_hi.copy(),
+                        np.arange(lit_from, lit_to, dtype=np.int32), row)
+
+    def _run(self, assign: dict[int, int], seconds: float) -> np.ndarray | None:
         h = self.highs
         if math.isfinite(seconds):
             h.setOptionValue("time_limit", float(h.getRunTime() + max(1e-3, float(seconds))))
-        h.passModel(lp)
         t0 = time.perf_counter()
         h.run()
         self.seconds += time.perf_counter() - t0
@@ -197,14 +259,29 @@ class LoopLP:
                 _, has_ray, ray = h.getDualRay()
             except Exception:  # pragma: no cover - depends on the HiGHS build
                 has_ray, ray = False, None
+            _, _, lit_owner, _, lit_rows, r0 = self._loaded
             if has_ray and ray is not None and len(ray) == r0:
-                rows_owner = np.concatenate(owner + [np.full(r0 - sum(len(o) for o in owner), -1)])
-                used = np.abs(np.asarray(ray)) > 1e-9
-                self.ray_times = set(int(t) for t in rows_owner[used] if t >= 0)
+                used = np.abs(np.asarray(ray)[lit_rows]) > 1e-9
+                self.ray_times = set(int(t) for t in lit_owner[used] if int(t) in assign)
             return None
         if status == S.kTimeLimit:
             raise LpBudgetExhausted()
         raise LpFailure(f"HiGHS gave no answer on the loop LP ({h.modelStatusToString(status)})")
+
+
+def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
+                   ) -> tuple[tuple[int, int], tuple[int, int]] | None:
+    """Two loop positions i >= j whose wrap-around leg is too short: with x_L = x_k
+    the robot repeats the loop, so it is in r_i at step i and in r_j at step
+    L + (j - k), and if the transit layer proves r_i -> r_j impossible in that many
+    steps, no periodic trajectory realises the two literals (at any horizon or
+    rotation: :meth:`MissionDisPlan.learn_loop` with ``shifted``)."""
+    k, L = loop_start, len(regions) - 1
+    for i in range(L - 1, k - 1, -1):
+        for j in range(k, i):
+            if regions[i] != regions[j] and transit.impossible(regions[i], regions[j], (L - i) + (j - k)):
+                return ((j, regions[j]), (i, regions[i]))
+    return None
 
 
 def plan_mission(
@@ -218,6 +295,7 @@ def plan_mission(
     lower_bound: bool = True,
     transit: bool = True,
     wait_shifts: bool = True,
+    loop_first: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """The lazy loop for the problem's mission within ``budget`` (not yet validated:
@@ -227,7 +305,10 @@ def plan_mission(
     (:func:`~plansynth.reach.lazy.bounds.time_windows`) as unit clauses. ``transit``: the
     transit-time layer (:class:`~plansynth.reach.lazy.transit.TransitCheck`) in front of
     CON-PLAN, as in the reach-avoid planner. ``wait_shifts``: start-anchored conflicts
-    also shifted earlier when the robot starts at rest."""
+    also shifted earlier when the robot starts at rest. ``loop_first``: a lasso's loop
+    alone (states k..L with x_L = x_k, any x_k) is checked before CON-PLAN sees the
+    plan: a loop that no periodic trajectory follows is refuted at every horizon and
+    rotation (:meth:`MissionDisPlan.learn_loop`), which a conflict of the prefix is not."""
     if problem.mission is None:
         raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
     if semantics not in SEMANTICS:
@@ -236,7 +317,7 @@ def plan_mission(
     clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "transit": transit, "wait_shifts": wait_shifts,
+               "transit": transit, "wait_shifts": wait_shifts, "loop_first": loop_first,
                "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     pp = planning_problem(problem)
@@ -265,6 +346,8 @@ def plan_mission(
                         loop_clauses=displan.loop_clauses, lp_calls=st.lp_calls + loop_lp.lp_calls,
                         loop_lp_calls=loop_lp.lp_calls, horizon=horizon, minimal=status is ReachStatus.FOUND)
         timings["highs"] = st.seconds + loop_lp.seconds
+        timings["encoding"] = displan.encode_seconds  # part of "sat"
+        timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
         timings["total"] = time.perf_counter() - t_start
         displan.delete()
         mission = {"formula": problem.mission, "semantics": None if plan is None else plan.semantics,
@@ -273,8 +356,15 @@ def plan_mission(
                            regions=None if plan is None else plan.regions, horizon=horizon, counters=counters,
                            timings=timings, options=options, message=message, guarantee=guarantee, mission=mission)
 
+    t0 = time.perf_counter()
+    proved, why = label_proof(problem, labelled)
+    timings["proof"] = time.perf_counter() - t0
+    counters["label_proof"] = proved
+    if proved:
+        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     if not ab.start_regions:
-        return finish(ReachStatus.INFEASIBLE, L_max, "infeasible: the start lies in no region")
+        counters["abstraction_refuted"] = L_max
+        return finish(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
     L = 0
     try:
         for L in range(0, L_max + 1):
@@ -294,6 +384,29 @@ def plan_mission(
                     break
                 assert plan is not None
                 t0 = time.perf_counter()
+                if loop_first and plan.loop_start is not None:
+                    k = plan.loop_start
+                    if isinstance(theory, TransitCheck):
+                        # cheap first: transit-time violations of the sequence, then of the
+                        # loop's wrap-around legs (cached gaps, no horizon-long LP)
+                        found = theory.violations(plan.regions)
+                        if found:
+                            timings["lp"] += time.perf_counter() - t0
+                            for conflict in found:
+                                displan.learn(conflict)
+                            continue
+                        wrap = wrap_violation(theory, plan.regions, k)
+                        if wrap is not None:
+                            timings["lp"] += time.perf_counter() - t0
+                            counters["wrap_conflicts"] = counters.get("wrap_conflicts", 0) + 1
+                            displan.learn_loop(wrap, k, L, shifted=True)
+                            continue
+                    if loop_lp._lp({t: plan.regions[t] for t in range(k, L + 1)}, k, L, False, k,
+                                   clock.remaining()) is None:
+                        lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining())
+                        timings["lp"] += time.perf_counter() - t0
+                        displan.learn_loop(lits, k, L, shifted=shifted)
+                        continue
                 answer = theory.check(plan.regions)
                 if isinstance(answer, Feasible) and plan.loop_start is not None:
                     traj = loop_lp.solve(plan.regions, plan.loop_start, clock.remaining())
@@ -315,7 +428,12 @@ def plan_mission(
         return finish(ReachStatus.UNKNOWN, L, f"budget ran out in the LP solver at horizon {L}")
     except LpFailure as exc:
         return finish(ReachStatus.UNKNOWN, L, f"{exc} at horizon {L}")
-    return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible: every horizon up to {L_max} refuted")
+    # refuted through the label-refined decomposition only (one region per step): a real
+    # trajectory may cross several regions in one step, so this is no proof (as in the
+    # reach-avoid planner, plansynth.reach.lazy.loop); label_proof above is the proof
+    counters["abstraction_refuted"] = L_max
+    return finish(ReachStatus.UNKNOWN, L_max, f"every horizon up to {L_max} refuted for plans through the "
+                  f"label-refined abstraction; {NOT_A_PROOF} ({why})")
 
 
 def validate_mission_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
