@@ -16,6 +16,13 @@ For a horizon L, one mixed-integer program decides regions, loop and trajectory:
   and Wolff et al.'s eventuality constraint for U/F: an until-formula true at L must
   have its right side true at a loop position. P[mission, 0] = 1.
 
+The model of a horizon (:func:`mission_milp`) is assembled in array operations (row
+blocks in COO form, :class:`~plansynth.reach.highs.Rows` and
+:func:`~plansynth.reach.highs.csc_lp`, as for the reach MILP) and passed to HiGHS in one
+``passModel``, so the baseline's time is HiGHS's branch and bound plus a build about as
+long as the solve; tests/reach/test_mission_milp.py checks that it is the model a
+term-by-term build gives (the same columns, rows, bounds and objective).
+
 Horizons are tried upwards from 0, as in the lazy planner; the first with a solution
 is the shortest. As there, ``infeasible`` needs the proof of
 :func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
