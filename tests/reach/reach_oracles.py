@@ -28,9 +28,8 @@ def problems(draw, max_obstacles: int = 5) -> ReachProblem:
         return random_workspace(seed % 97, 2, dim=dim, order=order)
 
 
-def feasible(h: highspy.Highs, rows: list[Row]) -> bool:
-    """Add ``rows`` to ``h`` (its columns already added), solve, and say whether the LP
-    is feasible (an optimum exists: the objective is zero)."""
+def add_rows(h: highspy.Highs, rows: list[Row]) -> None:
+    """Add sparse ``rows`` (coefficients by column, lower, upper) to ``h`` in one call."""
     starts, index, value = [], [], []
     for coef, _, _ in rows:
         starts.append(len(index))
@@ -38,6 +37,12 @@ def feasible(h: highspy.Highs, rows: list[Row]) -> bool:
         value.extend(coef.values())
     h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
               np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
+
+
+def feasible(h: highspy.Highs, rows: list[Row]) -> bool:
+    """Add ``rows`` to ``h`` (its columns already added), solve, and say whether the LP
+    is feasible (an optimum exists: the objective is zero)."""
+    add_rows(h, rows)
     h.run()
     return h.getModelStatus() == highspy.HighsModelStatus.kOptimal
 
@@ -186,13 +191,7 @@ def oracle_feasible(problem: ReachProblem, horizon: int, *, segments: bool, seco
     if n_bin:
         h.changeColsIntegrality(n_bin, np.arange(n_cont, total, dtype=np.int32),
                                 np.full(n_bin, highspy.HighsVarType.kInteger))
-    starts, index, value = [], [], []
-    for coef, _, _ in rows:
-        starts.append(len(index))
-        index.extend(coef)
-        value.extend(coef.values())
-    h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
-              np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
+    add_rows(h, rows)
     h.run()
     status = h.getModelStatus()
     if status == highspy.HighsModelStatus.kOptimal:

@@ -365,12 +365,9 @@ def plan_milp_ltl(
                            guarantee="segments" if segment_safe else "samples", mission=mission)
 
     from plansynth.reach.mission.planner import NOT_A_PROOF
-    from plansynth.reach.mission.proof import label_proof
+    from plansynth.reach.mission.proof import timed_label_proof
 
-    t0 = time.perf_counter()
-    proved, why = label_proof(problem, labelled)
-    timings["proof"] = time.perf_counter() - t0
-    counters["label_proof"] = proved
+    proved, why = timed_label_proof(problem, labelled, timings, counters)
     if proved:
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     for L in range(0, L_max + 1):

@@ -61,7 +61,7 @@ from plansynth.reach.highs import csc_lp, new_highs
 from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.bmc import SEMANTICS, MissionDisPlan, MissionPlan
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
-from plansynth.reach.mission.proof import label_proof
+from plansynth.reach.mission.proof import timed_label_proof
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
@@ -356,10 +356,7 @@ def plan_mission(
                            regions=None if plan is None else plan.regions, horizon=horizon, counters=counters,
                            timings=timings, options=options, message=message, guarantee=guarantee, mission=mission)
 
-    t0 = time.perf_counter()
-    proved, why = label_proof(problem, labelled)
-    timings["proof"] = time.perf_counter() - t0
-    counters["label_proof"] = proved
+    proved, why = timed_label_proof(problem, labelled, timings, counters)
     if proved:
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     if not ab.start_regions:
