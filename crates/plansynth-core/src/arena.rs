@@ -52,6 +52,20 @@ pub type HashSet<K> = std::collections::HashSet<K, BuildHasherDefault<Fx>>;
 /// A set of cells: bit `i` of word `i / 64` is cell `i` (`y * width + x`).
 pub type Bits = Vec<u64>;
 
+/// Or `bits` into the entry of each configuration of `succ` in the layer being built
+/// (`at`: configuration -> its index in `nxt`), adding an entry for each new one.
+fn merge_into(nxt: &mut Vec<(u32, Bits)>, at: &mut HashMap<u32, usize>, succ: &[u32], bits: &[u64]) {
+    for &c2 in succ {
+        match at.get(&c2) {
+            Some(&i) => nxt[i].1.iter_mut().zip(bits).for_each(|(a, b)| *a |= b),
+            None => {
+                at.insert(c2, nxt.len());
+                nxt.push((c2, bits.to_vec()));
+            }
+        }
+    }
+}
+
 /// Move every cell of `src` by `d` cells (no border check: callers mask first).
 pub fn shift(src: &[u64], d: i64, out: &mut [u64]) {
     let nw = src.len();
@@ -559,15 +573,8 @@ impl Arena {
                     img.iter_mut().zip(&part).for_each(|(a, b)| *a |= b);
                 }
                 if any(&img) {
-                    for &c2 in self.successors(id).iter() {
-                        match at.get(&c2) {
-                            Some(&i) => nxt[i].1.iter_mut().zip(&img).for_each(|(a, b)| *a |= b),
-                            None => {
-                                at.insert(c2, nxt.len());
-                                nxt.push((c2, img.clone()));
-                            }
-                        }
-                    }
+                    let succ = self.successors(id);
+                    merge_into(&mut nxt, &mut at, &succ, &img);
                 }
                 out[t].push((id, r));
             }
@@ -657,15 +664,8 @@ impl Arena {
                         }
                     }
                 }
-                for &c2 in self.successors(id).iter() {
-                    match at.get(&c2) {
-                        Some(&j) => nxt[j].1.iter_mut().zip(&ends).for_each(|(a, b)| *a |= b),
-                        None => {
-                            at.insert(c2, nxt.len());
-                            nxt.push((c2, ends.clone()));
-                        }
-                    }
-                }
+                let succ = self.successors(id);
+                merge_into(&mut nxt, &mut at, &succ, &ends);
             }
             out.push(nxt);
         }
@@ -735,15 +735,8 @@ impl Arena {
                     let e = self.robot_end(r, k);
                     ends[e / 64] |= 1 << (e % 64);
                 }
-                for &c2 in self.successors(id).iter() {
-                    match at.get(&c2) {
-                        Some(&j) => nxt[j].1.iter_mut().zip(&ends).for_each(|(a, b)| *a |= b),
-                        None => {
-                            at.insert(c2, nxt.len());
-                            nxt.push((c2, ends.clone()));
-                        }
-                    }
-                }
+                let succ = self.successors(id);
+                merge_into(&mut nxt, &mut at, &succ, &ends);
             }
             reach.push(nxt);
         }
