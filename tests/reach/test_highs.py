@@ -51,3 +51,24 @@ def test_every_instance_is_single_threaded_and_silent() -> None:
 
     options = new_highs(time_limit=2.5).getOptions()
     assert (options.threads, options.output_flag, options.time_limit) == (THREADS, False, 2.5) == (1, False, 2.5)
+
+
+def test_no_banner_on_stdout_and_nothing_else_lost() -> None:
+    """HiGHS prints its banner when a process's first instance is constructed, before
+    any option can be set; plansynth's first instance sends it to the null device, and
+    what the process itself printed before and after stays, in order."""
+    code = "print('before', flush=False)\n" + SOLVE + "print('after')\n"
+    out = _run(code)
+    assert "HiGHS" not in out, out
+    assert out.split("\n") == ["before", "lazy-smt found True", "milp found True", "milp-bigm found True", "after", ""]
+
+
+def test_the_cli_prints_no_banner(tmp_path) -> None:
+    from pathlib import Path
+
+    maze = Path(__file__).resolve().parents[2] / "examples" / "reach" / "maze-1.yaml"
+    run = subprocess.run([str(Path(sys.executable).with_name("plansynth")), "reach", "solve", str(maze), "--out", str(tmp_path / "p.json")],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert run.stdout.startswith("lazy-smt: found"), run.stdout
+    assert "Running HiGHS" not in run.stdout + run.stderr

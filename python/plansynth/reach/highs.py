@@ -18,6 +18,14 @@ another thread count before plansynth (a default ``Highs()`` of the caller, say)
 replaced at plansynth's next run rather than refusing it. Code that creates its own
 instances later should leave ``threads`` at 0 or use this function.
 
+HiGHS 1.16 prints its banner ("Running HiGHS 1.16.0 ...") to the C library's standard
+output when the first instance of a process is constructed, before any option can be
+set (the maintainers' advice, ERGO-Code/HiGHS#1702, to set ``output_flag`` first, no
+longer suffices), so a command's stdout (a table, or JSON a script parses) began with
+two lines of licence text. :func:`new_highs` therefore constructs the process's first
+instance with file descriptor 1 pointed at the null device (the C buffer flushed before
+it is restored); later instances print nothing.
+
 >>> h = new_highs(presolve="off")
 >>> o = h.getOptions()
 >>> o.threads, o.output_flag, o.presolve
@@ -38,6 +46,7 @@ __all__ = ["THREADS", "new_highs", "reset_scheduler", "csc_lp", "Rows"]
 THREADS = 1
 
 _scheduler_reset = False
+_banner_done = False
 
 
 def reset_scheduler() -> None:
@@ -55,11 +64,34 @@ def new_highs(**options: Any) -> highspy.Highs:
     (option name -> value, e.g. ``time_limit=2.0``, ``presolve="off"``)."""
     if not _scheduler_reset:
         reset_scheduler()
-    h = highspy.Highs()
+    h = highspy.Highs() if _banner_done else _first_highs()
     h.setOptionValue("output_flag", False)
     h.setOptionValue("threads", THREADS)
     for name, value in options.items():
         h.setOptionValue(name, value)
+    return h
+
+
+def _first_highs() -> highspy.Highs:
+    """The process's first instance, its banner sent to the null device (see above)."""
+    global _banner_done
+    import ctypes
+    import os
+    import sys
+
+    sys.stdout.flush()
+    libc = ctypes.CDLL(None)
+    saved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        h = highspy.Highs()
+        libc.fflush(None)
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+    _banner_done = True
     return h
 
 
