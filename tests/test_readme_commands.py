@@ -311,3 +311,38 @@ def test_documented_command(documented: str, commands: tuple[str, ...], folder: 
     for name, key, value in case.json:
         doc = json.loads((folder / name).read_text(encoding="utf-8"))
         assert doc.get(key) == value, f"{name}: {key} is {doc.get(key)!r}, expected {value!r}"
+
+
+def documented_python() -> list[tuple[str, int, str]]:
+    """Every ``python`` code block of :data:`DOCS`: (document, line, code)."""
+    found = []
+    for doc in DOCS:
+        text = (ROOT / doc).read_text(encoding="utf-8")
+        for m in re.finditer(r"^```python\n(.*?)^```", text, re.S | re.M):
+            found.append((doc, text.count("\n", 0, m.start()) + 1, m.group(1)))
+    return found
+
+
+def _expected_prints(code: str) -> list[str]:
+    """The output a block promises: ``print(...)  # OUTPUT`` comments, in order."""
+    return [line.split("#", 1)[1].strip() for line in code.splitlines()
+            if line.lstrip().startswith("print(") and "#" in line]
+
+
+def test_the_documents_show_python() -> None:
+    blocks = documented_python()
+    assert {doc for doc, _, _ in blocks} == set(DOCS) and len(blocks) >= 3
+
+
+@pytest.mark.parametrize("doc,line,code", documented_python(), ids=lambda v: str(v) if isinstance(v, int) else None)
+def test_every_documented_python_block_runs(doc: str, line: int, code: str, folder: Path) -> None:
+    """A documented Python block runs as a user pastes it, in a folder with the examples,
+    and prints what its ``# ...`` comments say it prints (a block whose prints carry no
+    comment has to run without error)."""
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    run = subprocess.run([sys.executable, "-c", code], cwd=folder, env=env, capture_output=True, text=True,
+                         timeout=300, stdin=subprocess.DEVNULL)
+    assert run.returncode == 0, f"{doc}:{line}\n{run.stdout}{run.stderr}"
+    printed = run.stdout.splitlines()
+    for expected in _expected_prints(code):
+        assert expected in printed, f"{doc}:{line}: expected a line {expected!r}, got {printed}"
