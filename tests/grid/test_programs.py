@@ -115,11 +115,15 @@ def test_define_fun_and_comments() -> None:
         # found by tests/test_fuzz.py: an input named like a keyword parsed, then broke export
         ("(ite (<= if 1) 0 1)", "'if' cannot name an input: it is a keyword of Python or C"),
         ("(ite (<= rx while) 0 1)", "'while' cannot name an input"),
+        # found by tests/test_fuzz.py: the trailing text was quoted raw, so a control
+        # character in it (\x1e splits lines) broke the CLI's one-line error
+        ("0\r\x1e0", r"trailing text after the term: '\\x1e0'"),
     ],
 )
 def test_syntax_errors(text: str, message: str) -> None:
-    with pytest.raises(ProgramSyntaxError, match=message):
+    with pytest.raises(ProgramSyntaxError, match=message) as caught:
         parse_program(text)
+    assert len(str(caught.value).splitlines()) == 1
 
 
 @pytest.mark.parametrize(

@@ -221,7 +221,7 @@ def parse_sexpr(text: str) -> object:
     tokens = _tokens(text)
     value, i = _sexpr(tokens, 0)
     if i != len(tokens):
-        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i:i + 5])[:200]}")
+        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i:i + 5])[:200]!r}")
     return value
 
 
