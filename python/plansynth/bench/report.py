@@ -666,7 +666,7 @@ def _minimal_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[
          "refutes every shorter one). *decomposition*: minimal among plans whose consecutive samples share a convex "
          "region (segment-safe mode; see the README on claims); *problem*: for the problem as the spec defines it.", "",
          "| maze | lazy-smt (window) | its horizon | lazy-smt-minimal | proved minimal horizon | minimal for | probes | "
-         "LP calls | proof (s) | minimal / window |",
+         "LP calls | proof (s, first run) | minimal / window |",
          "|---|---|---|---|---|---|---|---|---|---|"]
     for exp, setup in mazes:
         w, m = cells.get((exp, "lazy-smt")), cells.get((exp, "lazy-smt-minimal"))

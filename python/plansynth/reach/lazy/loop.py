@@ -20,8 +20,9 @@ usually yields one after a few counterexamples, and only windows without any are
 refuted whole. The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
-refutes the horizons below the one found, with every learned clause kept (bisection
-when the start is at rest, where feasibility is monotone in the horizon).
+refutes the horizons below the one found, with every learned clause kept (the plan
+first :func:`retimed` by LPs alone, then single-horizon probes galloping down and
+bisecting when the start is at rest, where feasibility is monotone in the horizon).
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
 CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
