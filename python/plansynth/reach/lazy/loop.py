@@ -256,12 +256,14 @@ def plan_lazy(
     )
     if counterexample == "farkas":
         counterexample, generalize = "trivial", True
-    # the proof of a minimal horizon is hundreds of LPs over the longest horizons: split
-    # them into independent blocks where they separate (box regions, one block per axis;
-    # maze-4: HiGHS's time 2-3x less); the window search needs a handful, as built
+    # a proof of the minimal horizon (minimal, linear) is hundreds of LPs over the longest
+    # horizons: split them into independent blocks where they separate (box regions, one
+    # block per axis; maze-4: HiGHS's time 2-3x less); the window search needs a handful,
+    # and the paper's loop (no generalisation) keeps the LPs it was measured with
+    proof = horizon_search == "minimal" or (horizon_search == "linear" and opts.generalize)
     conplan = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample=counterexample,
                       generalize=generalize, minimize=minimize, slack_weights=slack_weights, clock=clock,
-                      split=True if horizon_search == "minimal" else None)
+                      split=True if proof else None)
 
     theory: TheoryChecker = TransitCheck(conplan, abstraction, widen=widen) if transit else conplan
 
