@@ -64,6 +64,26 @@ def test_report_tables_and_plots(tmp_path):
         assert (out / png).stat().st_size > 5000
 
 
+def test_the_proved_minimal_table_beside_the_window_search():
+    from plansynth.bench.report import Cell, _minimal_table
+
+    mazes = [("reach/maze/maze-1", {"params": {"n": 1}}), ("reach/maze/maze-2", {"params": {"n": 2}})]
+    claim = {"minimal": True, "minimal_relative_to": "decomposition", "minimal_probes": 1}
+    cells = {
+        ("reach/maze/maze-1", "lazy-smt"): Cell(1, 1, 0.1, 0.1, 60.0, {"solved": 1}, horizon=62, extra={}),
+        ("reach/maze/maze-1", "lazy-smt-minimal"): Cell(1, 1, 0.3, 0.3, 60.0, {"solved": 1}, horizon=57,
+                                                        extra={"minimal": claim, "lp_calls": 36,
+                                                               "timings": {"minimal": 0.2}}),
+        ("reach/maze/maze-2", "lazy-smt"): Cell(1, 1, 0.2, 0.2, 60.0, {"solved": 1}, horizon=92, extra={}),
+        ("reach/maze/maze-2", "lazy-smt-minimal"): Cell(1, 1, 60.0, 60.0, 60.0, {"solved": 1}, horizon=90,
+                                                        extra={"minimal": {"minimal": False}, "lp_calls": 900}),
+    }
+    text = "\n".join(_minimal_table(cells, mazes))
+    assert "| 1 | 0.1 | 62 | 0.3 | 57 | decomposition | 1 | 36 | 0.2 | 3 |" in text
+    assert "| 2 | 0.2 | 92 | 60 | not proved | - | - | 900 | - | 300 |" in text
+    assert _minimal_table({k: v for k, v in cells.items() if k[1] == "lazy-smt"}, mazes) == []
+
+
 def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
     from plansynth.bench.report import Cell, _suite_table
 

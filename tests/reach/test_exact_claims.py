@@ -157,17 +157,18 @@ def _check_samples(p: ReachProblem, L: int, search: str) -> None:
             assert oracle_feasible(p, h, segments=False) is False, (h, r.message)
     else:  # the exact search refutes or finds: never "unknown" on these small instances
         assert not exact, r.message
-    if exact and r.status is ReachStatus.FOUND and search in ("linear", "milp"):
+    if exact and r.status is ReachStatus.FOUND and search in ("linear", "milp", "minimal"):
         assert r.counters["minimal_relative_to"] == "problem"
 
 
 @PROPS
-@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "window", "milp"]))
+@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "window", "milp", "minimal"]))
 def test_samples_only_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
     """Samples only (the lazy planner's two horizon searches and the region MILP):
     ``infeasible`` means the oracle has no trajectory at any horizon up to L; a horizon
     claimed minimal for the problem is the oracle's minimum; the linear search and the
-    MILP always claim it (every shorter horizon refuted by an exact search)."""
+    MILP always claim it (every shorter horizon refuted by an exact search), and so does
+    the minimal search (windows, re-timing, probes)."""
     _check_samples(p, L, search)
 
 
@@ -176,7 +177,7 @@ def _box_world(p: ReachProblem) -> bool:
 
 
 @PROPS
-@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "milp"]))
+@given(worlds, st.integers(4, 14), st.sampled_from(["linear", "milp", "minimal"]))
 def test_segment_safe_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
     """Segment-safe: a refutation for the problem (``infeasible``, or a horizon claimed
     minimal for the problem) is one for the face formulation, which is sufficient for

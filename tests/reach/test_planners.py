@@ -30,6 +30,14 @@ def test_the_paper_configuration_is_the_published_loop() -> None:
     assert p.segment_safe and p.lower_bound  # what both modes share
     assert CONFIGURATIONS["lazy-smt-paper-trivial"] == dataclasses.replace(p, counterexample="trivial")
     assert CONFIGURATIONS["lazy-smt-zeroprefix"] == LazyOptions(counterexample="zeroprefix")
+    assert CONFIGURATIONS["lazy-smt-minimal"] == LazyOptions(horizon_search="minimal")
+
+
+def test_the_minimal_configuration_proves_maze_1s_horizon() -> None:
+    r = solve(maze(1), "lazy-smt-minimal")
+    assert r.status.value == "found" and r.validated is True and r.horizon == 57
+    assert r.counters["minimal"] is True and r.counters["minimal_relative_to"] == "decomposition"
+    assert r.options["horizon_search"] == "minimal"
 
 
 def test_the_counterexample_names_agree_with_conplan() -> None:

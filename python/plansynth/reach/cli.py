@@ -160,7 +160,7 @@ def _planner_options(ctx: typer.Context, planner: str, paper: bool) -> Any:
 def solve_command(
     ctx: typer.Context,
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
-    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve)."),
+    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (--horizon-search minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
@@ -170,7 +170,7 @@ def solve_command(
     generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
     segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
-    horizon_search: str = typer.Option("window", "--horizon-search", help="lazy-smt: window (goal at some step of a growing window), minimal (window, then the horizon found is proved minimal: every shorter one refuted, by bisection when the start is at rest) or linear (one horizon at a time, the paper; the horizon found is minimal)."),
+    horizon_search: str = typer.Option("window", "--horizon-search", help="lazy-smt: window (goal at some step of a growing window), minimal (window, then the horizon found is proved minimal: every shorter one refuted: the plan re-timed by LPs, then probes when the start is at rest) or linear (one horizon at a time, the paper; the horizon found is minimal)."),
     window_growth: float = typer.Option(0.25, "--window-growth", max=100.0, callback=finite_positive, help="lazy-smt, window search: each window is this fraction longer than its start."),
     transit: bool = typer.Option(True, "--transit/--no-transit", help="lazy-smt: refute plans with impossible transit times before CON-PLAN."),
     guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),

@@ -20,8 +20,9 @@ usually yields one after a few counterexamples, and only windows without any are
 refuted whole. The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
-refutes the horizons below the one found, with every learned clause kept (bisection
-when the start is at rest, where feasibility is monotone in the horizon).
+refutes the horizons below the one found, with every learned clause kept (the plan
+first :func:`retimed` by LPs alone, then single-horizon probes galloping down and
+bisecting when the start is at rest, where feasibility is monotone in the horizon).
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
 CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
@@ -255,8 +256,14 @@ def plan_lazy(
     )
     if counterexample == "farkas":
         counterexample, generalize = "trivial", True
+    # a proof of the minimal horizon (minimal, linear) is hundreds of LPs over the longest
+    # horizons: split them into independent blocks where they separate (box regions, one
+    # block per axis; maze-4: HiGHS's time 2-3x less); the window search needs a handful,
+    # and the paper's loop (no generalisation) keeps the LPs it was measured with
+    proof = horizon_search == "minimal" or (horizon_search == "linear" and opts.generalize)
     conplan = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample=counterexample,
-                      generalize=generalize, minimize=minimize, slack_weights=slack_weights, clock=clock)
+                      generalize=generalize, minimize=minimize, slack_weights=slack_weights, clock=clock,
+                      split=True if proof else None)
 
     theory: TheoryChecker = TransitCheck(conplan, abstraction, widen=widen) if transit else conplan
 
@@ -533,10 +540,20 @@ def prove_minimal(
     in the horizon: a plan of horizon L, preceded by one step of waiting at the start
     (u = 0, in the start's region), is a plan of horizon L + 1, through the same regions
     plus one. So refuting a single horizon L refutes every horizon <= L, and the least
-    feasible horizon is found by bisection over bottom..h-1, each probe one horizon (a
-    refuted probe closes every horizon below it; a realised one is the new best plan).
-    DIS-PLAN's phases follow the best plan so far, :func:`compressed` to the probe's
-    horizon.
+    feasible horizon is found by probes of one horizon each (a refuted probe closes
+    every horizon below it; a realised one is the new best plan): first the best plan
+    is :func:`retimed` (LPs only, no SAT call), then the probes gallop down from it
+    (h - 1, then 2, 4, ... steps below the best plan while they are realised, each new
+    plan re-timed too), and once a probe is refuted they bisect between it and the best
+    plan. DIS-PLAN's phases follow the best plan so far, :func:`compressed` to the
+    probe's horizon.
+
+    Why this order (issue 13, item 3): every probe above the minimum is a SAT search
+    for a near-tight timing, and on the mazes those cost as much as the refutation
+    below the minimum (maze-4, from the window's 152 and its start 122: the plain
+    bisection probed 136, 144, 140, 142, 141, 182 iterations; re-timing takes the plan
+    to 145 in ~25 LPs and the gallop probes 144, 142, 141, 140). The refutation of
+    h - 1 is what remains, about 40 iterations on maze-4.
     Without it, the window bottom..h-1 is asked as a whole until it is refuted, each
     plan found lowering its top. Either way the answer is minimal relative to the
     transition relation DIS-PLAN uses (as under ``horizon_search="linear"``); when the
@@ -544,16 +561,23 @@ def prove_minimal(
     outcome and the number of probes (single horizons, or windows) asked."""
     best, probes = found, 0
     assert best.horizon is not None
+    best = retimed(displan, theory, best, bottom, clock, timings)
+    step, refuted = 1, False  # downward gallop from the best plan until a probe is refuted
     while best.horizon > bottom:
         top = best.horizon - 1
-        probe = (bottom + top) // 2 if monotone else bottom
+        if refuted:
+            probe = (bottom + top) // 2
+        else:
+            probe = max(bottom, top + 1 - step)
         window = [(probe, probe)] if monotone else [(bottom, top)]
         out = lazy_loop(displan, theory, window, clock, timings, None,
                         lambda H, plan=best.regions: compressed(plan, H))
         probes += 1
         if out.status is ReachStatus.FOUND:
-            best = out
+            best = retimed(displan, theory, out, bottom, clock, timings)
+            step *= 2
         elif out.status is ReachStatus.INFEASIBLE:
+            refuted = True
             for L in range(bottom, probe + 1 if monotone else top + 1):
                 if L not in displan.closed:
                     displan.close(L)  # (by monotonicity, when below the probe)
@@ -564,6 +588,57 @@ def prove_minimal(
     how = ", by monotonicity from the start at rest" if monotone else ""
     return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every shorter "
                                                f"horizon refuted{how})"), probes
+
+
+def retimed(
+    displan: DisPlan,
+    theory: TheoryChecker,
+    found: LoopOutcome,
+    bottom: int,
+    clock: Clock,
+    timings: dict[str, float],
+) -> LoopOutcome:
+    """``found`` with its horizon lowered by re-timing alone (beyond the paper): while
+    some stay of the plan, shortened by one step (the longest stays first), is still
+    realised by the theory, keep the shorter plan. One theory check per candidate, no
+    SAT call; the conflicts of the candidates refuted are learned by DIS-PLAN (they hold
+    for every plan, as in the loop). Only an upper bound for :func:`prove_minimal`: its
+    probes, not this, prove the horizon minimal. Stops at ``bottom`` (no shorter plan
+    exists), when the budget runs out, or when no stay can lose a step.
+
+    On the mazes a plan at the first window's top (maze-4: 152) comes down to a few
+    steps above the minimum (145 of 141) in about 25 LPs, so the bisection's probes
+    above the minimum, each a SAT search for a near-tight timing, mostly go."""
+    best = found
+    try:
+        while best.horizon is not None and best.horizon > bottom and best.regions is not None:
+            stays: list[list[int]] = []
+            for r in best.regions:
+                if stays and stays[-1][0] == r:
+                    stays[-1][1] += 1
+                else:
+                    stays.append([r, 1])
+            shorter = None
+            for i in sorted(range(len(stays)), key=lambda i: -stays[i][1]):
+                if stays[i][1] <= 1 or clock.exhausted():
+                    continue
+                plan = tuple(r for j, (r, n) in enumerate(stays) for _ in range(n - (j == i)))
+                t0 = time.perf_counter()
+                answer = theory.check(plan)
+                timings["lp"] += time.perf_counter() - t0
+                if isinstance(answer, Feasible):
+                    h = len(plan) - 1
+                    shorter = LoopOutcome(ReachStatus.FOUND, h, f"found at horizon {h} (re-timed)", answer.trajectory,
+                                          plan, minimal=False)
+                    break
+                for conflict in answer if isinstance(answer, tuple) else (answer,):
+                    displan.learn(conflict)
+            if shorter is None:
+                break
+            best = shorter
+    except (LpBudgetExhausted, LpFailure, BudgetExhausted):
+        pass  # the best plan so far stands; the probes report the budget
+    return best
 
 
 def compressed(plan: Sequence[int], horizon: int) -> tuple[int, ...]:

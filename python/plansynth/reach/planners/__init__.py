@@ -155,6 +155,7 @@ _PLANNERS: dict[str, str | Planner | Callable[..., Any]] = {
     "lazy-smt-paper": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER",
     "lazy-smt-paper-trivial": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER_TRIVIAL",
     "lazy-smt-zeroprefix": "plansynth.reach.planners.lazy_smt:LAZY_SMT_ZEROPREFIX",
+    "lazy-smt-minimal": "plansynth.reach.planners.lazy_smt:LAZY_SMT_MINIMAL",  # horizon proved minimal
     "milp-bigm": "plansynth.reach.planners.milp_bigm:MILP_BIGM",
     "rrt": "plansynth.reach.planners.ompl:RRT",
     "est": "plansynth.reach.planners.ompl:EST",
@@ -175,7 +176,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl')
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl')
     """
     return tuple(_PLANNERS)
 
@@ -191,7 +192,7 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, milp-bigm, rrt, est, kpiece, gcs, milp-ltl
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl
     """
     entry = _PLANNERS.get(name)
     if entry is None:
