@@ -281,6 +281,40 @@ def small_problems() -> list[ReachProblem]:
 
 
 @pytest.mark.parametrize("which", [0, 1])
+def test_the_loop_lp_agrees_with_an_lp_written_from_scratch(which):
+    """LoopLP (its rows gathered from per-region templates) on random walks, finite and
+    lassos back to a random step, against ``oracle_feasible``: the same verdict, and a
+    trajectory through the walk when feasible."""
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.planner import LoopLP
+
+    p = small_problems()[which]
+    ab = label_abstraction(p).abstraction
+    rng = np.random.default_rng(which)
+    verdicts = []
+    for seg in (True, False):
+        lp = LoopLP(planning_problem(p), ab, segment_safe=seg)
+        for j in range(40):
+            H = int(rng.integers(1, 13))
+            close = None if j % 3 == 0 else int(rng.integers(0, H))
+            for w in walks_through(ab, H, {}, close=close, limit=1, seed=j):
+                traj = lp.solve(w, close)
+                expected = oracle_feasible(p, ab, w, close, segment_safe=seg)
+                assert (traj is not None) == expected, (w, close, seg)
+                verdicts.append(expected)
+                if traj is not None:
+                    assert len(traj.states) == H + 1
+                    for t, r in enumerate(w):  # p_t in r_t (and p_t+1, segments)
+                        reg = ab.regions[r]
+                        for s_ in ((t, t + 1) if seg and t < H else (t,)):
+                            pos = traj.states[s_][list(p.dynamics.position)]
+                            assert np.all(np.asarray(reg.H) @ pos <= np.asarray(reg.h) + 1e-6), (w, t, s_)
+                    if close is not None:
+                        assert np.allclose(traj.states[H], traj.states[close])
+    assert any(verdicts) and not all(verdicts)  # both verdicts are exercised
+
+
+@pytest.mark.parametrize("which", [0, 1])
 def test_every_learned_clause_excludes_only_infeasible_plans(which):
     """Every learned clause is checked at a few of the placements (horizon, shift,
     rotation) where the planner applies it, spread over all of them, on a walk built to

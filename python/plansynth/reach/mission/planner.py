@@ -95,6 +95,16 @@ class LoopLP:
         self.dyn_nz = (ai, aj, A[ai, aj], bi, bj, B[bi, bj])
         self.Hs = [np.asarray(r.H, float) for r in abstraction.regions]
         self.hs = [np.asarray(r.h, float) for r in abstraction.regions]
+        # the regions' rows as flat templates for _load: per region its rows' entries
+        # (row offset, position column within a state, coefficient) and right-hand sides
+        npos = len(self.pos)
+        self._n_rows = np.array([H.shape[0] for H in self.Hs], dtype=np.int64)
+        self._row_off = np.concatenate([[0], np.cumsum(self._n_rows)[:-1]]).astype(np.int64)
+        self._ent_off = self._row_off * npos
+        self._tr = np.concatenate([np.repeat(np.arange(H.shape[0]), npos) for H in self.Hs]).astype(np.int64)
+        self._tc = np.concatenate([np.tile(self.pos, H.shape[0]) for H in self.Hs]).astype(np.int64)
+        self._tv = np.concatenate([H.ravel() for H in self.Hs])
+        self._th = np.concatenate(self.hs)
         self.state_lo, self.state_hi = problem.state_box
         self.highs = new_highs(presolve="off")  # presolve off keeps the dual ray of an infeasible LP
         self.ray_times: set[int] | None = None
@@ -175,7 +185,9 @@ class LoopLP:
         loaded = self._loaded
         if loaded is not None and loaded[0] == key and all(loaded[1].get(t) == r for t, r in assign.items()):
             owner, hi = loaded[2], loaded[3]
-            on = np.isin(owner, np.fromiter(assign, dtype=np.int64, count=len(assign)))
+            mask = np.zeros(last + 1, dtype=bool)
+            mask[np.fromiter(assign, dtype=np.int64, count=len(assign))] = True
+            on = mask[owner]
             self.highs.changeRowsBounds(len(owner), loaded[4], np.full(len(owner), -np.inf),
                                         np.where(on, hi, np.inf))
             self.warm += 1
@@ -204,20 +216,25 @@ class LoopLP:
             V.append(np.tile(np.concatenate([np.ones(n), -av, -bv]), len(T)))
         row = len(T) * n
         lit_from = row
-        owner: list[np.ndarray] = []  # per region row: the literal time it belongs to
-        his: list[np.ndarray] = []
-        npos = len(pos)
+        # the literals' region rows: one block per (literal, sample), each its region's
+        # template (row offsets, position columns, coefficients) moved to its rows and
+        # sample, gathered for all blocks at once
+        bt, br, bs = [], [], []
         for t, r in assign.items():
-            H, hh = self.Hs[r], self.hs[r]
-            k = H.shape[0]
-            rr = np.repeat(np.arange(k), npos)
             for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
-                R.append(row + rr)
-                C.append(np.tile(s_ * n + pos, k))
-                V.append(H.ravel())
-                his.append(hh)
-                owner.append(np.full(k, t))
-                row += k
+                bt.append(t)
+                br.append(r)
+                bs.append(s_)
+        br_ = np.asarray(br, dtype=np.int64)
+        k_of = self._n_rows[br_]  # rows per block
+        row_start = row + np.concatenate([[0], np.cumsum(k_of)[:-1]]) if len(br) else np.zeros(0, np.int64)
+        ent = _gather(self._ent_off[br_], k_of * len(pos))
+        R.append(self._tr[ent] + np.repeat(row_start, k_of * len(pos)))
+        C.append(self._tc[ent] + np.repeat(np.asarray(bs, dtype=np.int64) * n, k_of * len(pos)))
+        V.append(self._tv[ent])
+        his = [self._th[_gather(self._row_off[br_], k_of)]]
+        owner = [np.repeat(np.asarray(bt, dtype=np.int64), k_of)]
+        row += int(k_of.sum())
         lit_to = row
         if loop_start is not None:
             R.append(row + np.concatenate([np.arange(n), np.arange(n)]))
@@ -267,6 +284,15 @@ class LoopLP:
         if status == S.kTimeLimit:
             raise LpBudgetExhausted()
         raise LpFailure(f"HiGHS gave no answer on the loop LP ({h.modelStatusToString(status)})")
+
+
+def _gather(starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """The indices starts[0]..starts[0]+lengths[0]-1, starts[1].., concatenated."""
+    total = int(lengths.sum())
+    if not total:
+        return np.zeros(0, dtype=np.int64)
+    first = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    return np.repeat(starts - first, lengths) + np.arange(total)
 
 
 def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
