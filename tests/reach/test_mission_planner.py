@@ -280,6 +280,36 @@ def small_problems() -> list[ReachProblem]:
     return [replace(patrol, max_horizon=12), replace(room, max_horizon=14)]
 
 
+def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal():
+    """MissionTransit on random walks of the visit maze: no LP for a leg to the goal
+    (the workspace) or above its box bound before the leg is decided; every conflict
+    it reports is infeasible by a fresh LP of exactly its claim (cold, its own model);
+    it reports a subset of the full layer's conflicts, with fewer LPs."""
+    from plansynth.reach.lazy.conplan import ConPlan
+    from plansynth.reach.lazy.transit import GOAL, TransitCheck
+    from plansynth.reach.mission.families import mission_problem
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.planner import MissionTransit
+
+    p = mission_problem("maze-1", "visit")
+    ab = label_abstraction(p).abstraction
+    pp = planning_problem(p)
+    mine, full = MissionTransit(ConPlan(pp, ab), ab), TransitCheck(ConPlan(pp, ab), ab)
+    judge = ConPlan(pp, ab)
+    walks = [w for j in range(30) for w in walks_through(ab, 8 + j % 14, {}, limit=1, seed=j)]
+    reported = 0
+    for w in walks:
+        ours = mine.violations(w)
+        theirs = {(c.literals, c.anchored_start, c.anchored_goal) for c in full.violations(w)}
+        for c in ours:
+            assert not c.anchored_goal
+            assert judge.refutes(c, cold=True), c
+            assert (c.literals, c.anchored_start, c.anchored_goal) in theirs
+        reported += len(ours)
+    assert all(b != GOAL for _, b in mine._first)
+    assert reported > 0 and mine.lp_calls < full.lp_calls
+
+
 @pytest.mark.parametrize("which", [0, 1])
 def test_the_loop_lp_agrees_with_an_lp_written_from_scratch(which):
     """LoopLP (its rows gathered from per-region templates) on random walks, finite and

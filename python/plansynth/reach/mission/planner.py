@@ -65,9 +65,9 @@ from plansynth.reach.mission.proof import timed_label_proof
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.lazy.transit import TransitCheck
+from plansynth.reach.lazy.transit import GOAL, TransitCheck
 
-__all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
+__all__ = ["plan_mission", "LoopLP", "MissionTransit", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
 ProgressFn = Callable[[int, int], None]
 
@@ -295,6 +295,30 @@ def _gather(starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
     return np.repeat(starts - first, lengths) + np.arange(total)
 
 
+class MissionTransit(TransitCheck):
+    """The transit-time layer (:class:`~plansynth.reach.lazy.transit.TransitCheck`) as the
+    mission planner uses it: a leg's gaps are decided by LPs only when the plan's gap
+    is the leg's box bound (the fewest steps the displacement bounds allow), and legs
+    to the goal are never checked (a mission's goal is the whole workspace).
+
+    On the mazes most legs a plan's infeasibility brings up have their first feasible
+    gap at or just above the box bound, and a plan's gap far above it is almost never
+    the reason: scanning every leg (one LP per gap from the box bound up) cost the visit
+    missions twice the LPs of CON-PLAN and the mission loop together. A leg whose plan
+    gap lies above its box bound is decided as soon as another plan puts it at the
+    bound, or by CON-PLAN. This only drops conflicts: every one reported is still proved
+    (by the box bound or an LP), so the loop's clauses stay sound."""
+
+    def _skip(self, a: int, b: int, gap: int) -> bool:
+        return b == GOAL or ((a, b) not in self._first and gap > self.box_gap(a, b))
+
+    def impossible(self, a: int, b: int, gap: int) -> bool:
+        return False if self._skip(a, b, gap) else super().impossible(a, b, gap)
+
+    def known(self, a: int, b: int, gap: int) -> bool | None:
+        return False if self._skip(a, b, gap) else super().known(a, b, gap)
+
+
 def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
                    ) -> tuple[tuple[int, int], tuple[int, int]] | None:
     """Two loop positions i >= j whose wrap-around leg is too short: with x_L = x_k
@@ -360,7 +384,7 @@ def plan_mission(
                              waits_at_start=wait_shifts and problem.starts_at_rest)
     conplan = ConPlan(pp, ab, segment_safe=segment_safe, counterexample="trivial", generalize=True, minimize=True,
                       clock=clock)
-    theory = TransitCheck(conplan, ab) if transit else conplan
+    theory = MissionTransit(conplan, ab) if transit else conplan
     loop_lp = LoopLP(pp, ab, segment_safe=segment_safe)
     counters: dict[str, Any] = {"regions": graph.n_regions, "edges": ab.n_edges}
     guarantee = "segments" if segment_safe else "samples"
