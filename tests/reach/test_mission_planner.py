@@ -24,7 +24,7 @@ from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
 from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
 from plansynth.reach.mission.labels import label_abstraction
-from plansynth.reach.mission.planner import plan_mission
+from plansynth.reach.mission.planner import plan_mission, solve_mission
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
@@ -165,7 +165,11 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
             assert r.counters["label_proof"] is True
     # the planner refutes (infeasible, or every horizon through the abstraction) => the MILP agrees
     assert lazy.status is milp.status
-    assert lazy.horizon == milp.horizon  # both search horizons upwards from 0
+    assert lazy.horizon == milp.horizon  # both search horizons upwards (from the proved bound)
+    # the horizon bound prunes nothing the search from 0 would find: the MILP from 0 agrees
+    unbounded = solve_mission(p, "milp-ltl", Budget(seconds=60), horizon_bound=False)
+    assert unbounded.status is milp.status and unbounded.horizon == milp.horizon
+    assert milp.counters.get("horizon_bound", 0) <= (milp.horizon if milp.status is ReachStatus.FOUND else p.max_horizon + 1)
 
 
 # ------------------------------------------------------------ soundness of learned clauses

@@ -330,10 +330,14 @@ def plan_milp_ltl(
     semantics: str = "any",
     segment_safe: bool = True,
     lower_bound: bool = True,
+    horizon_bound: bool = True,
     progress: Callable[[int, int], None] | None = None,
 ) -> ReachResult:
-    """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated)."""
-    from plansynth.reach.mission.planner import LoopLP
+    """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated);
+    ``horizon_bound``: from the proved lower bound of
+    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` on, as the lazy planner."""
+    from plansynth.reach.lazy.displan import RegionGraph
+    from plansynth.reach.mission.planner import LoopLP, mission_horizon_bound
 
     if problem.mission is None:
         raise ValueError("milp-ltl plans missions; this problem has none")
@@ -352,7 +356,7 @@ def plan_milp_ltl(
     formula = parse(problem.mission)
     polish = LoopLP(pp, labelled.abstraction, segment_safe=segment_safe)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+               "horizon_bound": horizon_bound, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     counters: dict[str, Any] = {"regions": labelled.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0}
 
     def finish(status, horizon, message, traj=None, regions=None, loop_start=None) -> ReachResult:
@@ -370,7 +374,11 @@ def plan_milp_ltl(
     proved, why = timed_label_proof(problem, labelled, timings, counters)
     if proved:
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
-    for L in range(0, L_max + 1):
+    L0 = 0
+    if horizon_bound:
+        graph = RegionGraph.from_abstraction(labelled.abstraction)
+        L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters)
+    for L in range(L0, L_max + 1):
         if progress is not None:
             progress(L, clock.iterations)
         if clock.exhausted():
@@ -408,6 +416,7 @@ class MilpLtlOptions:
     semantics: str = "any"
     segment_safe: bool = True
     lower_bound: bool = True
+    horizon_bound: bool = True
 
 
 #: ``milp-ltl`` as a planner of :func:`plansynth.reach.solve` (missions only)

@@ -319,6 +319,20 @@ class MissionTransit(TransitCheck):
         return False if self._skip(a, b, gap) else super().known(a, b, gap)
 
 
+def mission_horizon_bound(problem: ReachProblem, labelled: LabelledAbstraction, graph: RegionGraph,
+                          earliest, L_max: int, timings: dict, counters: dict) -> int:
+    """:func:`~plansynth.reach.mission.horizon.horizon_lower_bound` as both mission
+    planners run it: its time goes to ``timings["horizon_bound"]``, the bound to
+    ``counters["horizon_bound"]``."""
+    from plansynth.reach.mission.horizon import horizon_lower_bound
+
+    t0 = time.perf_counter()
+    bound = horizon_lower_bound(graph, labelled.labels_of, parse(problem.mission), earliest, L_max)
+    timings["horizon_bound"] = time.perf_counter() - t0
+    counters["horizon_bound"] = bound
+    return bound
+
+
 def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
                    ) -> tuple[tuple[int, int], tuple[int, int]] | None:
     """Two loop positions i >= j whose wrap-around leg is too short: with x_L = x_k
@@ -346,6 +360,7 @@ def plan_mission(
     transit: bool = True,
     wait_shifts: bool = True,
     loop_first: bool = True,
+    horizon_bound: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """The lazy loop for the problem's mission within ``budget`` (not yet validated:
@@ -358,7 +373,10 @@ def plan_mission(
     also shifted earlier when the robot starts at rest. ``loop_first``: a lasso's loop
     alone (states k..L with x_L = x_k, any x_k) is checked before CON-PLAN sees the
     plan: a loop that no periodic trajectory follows is refuted at every horizon and
-    rotation (:meth:`MissionDisPlan.learn_loop`), which a conflict of the prefix is not."""
+    rotation (:meth:`MissionDisPlan.learn_loop`), which a conflict of the prefix is not.
+    ``horizon_bound``: the horizons start at the proved lower bound of
+    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` (no DIS-PLAN plan exists
+    below it), not at 0."""
     if problem.mission is None:
         raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
     if semantics not in SEMANTICS:
@@ -368,6 +386,7 @@ def plan_mission(
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
                "transit": transit, "wait_shifts": wait_shifts, "loop_first": loop_first,
+               "horizon_bound": horizon_bound,
                "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     pp = planning_problem(problem)
@@ -412,9 +431,14 @@ def plan_mission(
     if not ab.start_regions:
         counters["abstraction_refuted"] = L_max
         return finish(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
-    L = 0
+    L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters) if horizon_bound else 0
+    if L0 > L_max:
+        counters["abstraction_refuted"] = L_max
+        return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the label-refined abstraction at any horizon "
+                      f"up to {L_max} (product graph); {NOT_A_PROOF} ({why})")
+    L = L0
     try:
-        for L in range(0, L_max + 1):
+        for L in range(L0, L_max + 1):
             if progress is not None:
                 progress(L, clock.iterations)
             while True:
