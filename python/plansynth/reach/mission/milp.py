@@ -23,8 +23,9 @@ blocks in COO form, :class:`~plansynth.reach.highs.Rows` and
 long as the solve; tests/reach/test_mission_milp.py checks that it is the model a
 term-by-term build gives (the same columns, rows, bounds and objective).
 
-Horizons are tried upwards from 0, as in the lazy planner; the first with a solution
-is the shortest. As there, ``infeasible`` needs the proof of
+Horizons are tried upwards from the proved lower bound of
+:func:`~plansynth.reach.mission.horizon.horizon_lower_bound` (``horizon_bound``; from 0
+without it), as in the lazy planner; the first with a solution is the shortest. As there, ``infeasible`` needs the proof of
 :func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
 region per step) is ``unknown``, not a proof. The trajectory is not taken from the MILP (big-M rows slip by the MIP
 tolerances): its regions and loop are re-solved as an exact LP

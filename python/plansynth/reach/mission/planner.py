@@ -5,7 +5,8 @@ Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
 
     abstraction <- convex decomposition refined by the labels          (labels.py)
     no word over the labels' geometry satisfies the mission -> infeasible (proof.py)
-    for L = 0 .. max_horizon:                    (one horizon at a time: L is minimal)
+    L0 <- the product graph's lower bound on the horizon                  (horizon.py)
+    for L = L0 .. max_horizon:                   (one horizon at a time: L is minimal)
         loop:
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
             lasso, loop start k: no periodic trajectory through r_k..r_L -> block the loop, loop
