@@ -126,18 +126,22 @@ class LoopLP:
             xs[L] = xs[loop_start]  # the closure holds to tolerance; make it exact
         return Trajectory(states=xs, inputs=us)
 
-    def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf
-                 ) -> tuple[tuple[tuple[int, int], ...], bool]:
+    def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf, *,
+                 loop_refuted: bool = False) -> tuple[tuple[tuple[int, int], ...], bool]:
         """Why the lasso has no trajectory: (literals, shifted). First the loop alone
         (states k..L, any x_k): if it is infeasible, the literals are among its steps and
         hold at every shift (``shifted``); else the whole plan from the start. Then a
         deletion filter drops every literal whose region rows the infeasibility does not
         need (each drop proved by an LP). Sound: the returned literals with the loop
-        closure have an infeasible LP."""
+        closure have an infeasible LP. ``loop_refuted``: the caller's last LP was the loop
+        alone, infeasible (its model and dual ray are the loaded ones), so it is not
+        solved again."""
         L, k = len(regions) - 1, loop_start
         assign = {t: regions[t] for t in range(k, L + 1)}
         first, anchored = k, False
-        if self._lp(assign, k, L, False, k, seconds) is not None:
+        if loop_refuted:
+            assert self._loaded is not None and self._loaded[0] == (k, L, False, k) and self._loaded[1] == assign
+        if not loop_refuted and self._lp(assign, k, L, False, k, seconds) is not None:
             assign, first, anchored = dict(enumerate(regions)), 0, True
             if self._lp(assign, 0, L, True, k, seconds) is not None:  # pragma: no cover - solve() said infeasible
                 raise LpFailure("the loop LP is feasible on a second solve (numerically borderline)")
@@ -475,7 +479,7 @@ def plan_mission(
                             continue
                     if loop_lp._lp({t: plan.regions[t] for t in range(k, L + 1)}, k, L, False, k,
                                    clock.remaining()) is None:
-                        lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining())
+                        lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining(), loop_refuted=True)
                         timings["lp"] += time.perf_counter() - t0
                         displan.learn_loop(lits, k, L, shifted=shifted)
                         continue
