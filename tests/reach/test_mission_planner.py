@@ -24,7 +24,7 @@ from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
 from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
 from plansynth.reach.mission.labels import label_abstraction
-from plansynth.reach.mission.planner import plan_mission
+from plansynth.reach.mission.planner import plan_mission, solve_mission
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
@@ -165,7 +165,11 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
             assert r.counters["label_proof"] is True
     # the planner refutes (infeasible, or every horizon through the abstraction) => the MILP agrees
     assert lazy.status is milp.status
-    assert lazy.horizon == milp.horizon  # both search horizons upwards from 0
+    assert lazy.horizon == milp.horizon  # both search horizons upwards (from the proved bound)
+    # the horizon bound prunes nothing the search from 0 would find: the MILP from 0 agrees
+    unbounded = solve_mission(p, "milp-ltl", Budget(seconds=60), horizon_bound=False)
+    assert unbounded.status is milp.status and unbounded.horizon == milp.horizon
+    assert milp.counters.get("horizon_bound", 0) <= (milp.horizon if milp.status is ReachStatus.FOUND else p.max_horizon + 1)
 
 
 # ------------------------------------------------------------ soundness of learned clauses
@@ -278,6 +282,70 @@ def small_problems() -> list[ReachProblem]:
                         state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)),
                         labels=(("a", Box((0, 4), (2, 6))), ("b", Box((4, 0), (6, 2)))), mission="G F a & G F b")
     return [replace(patrol, max_horizon=12), replace(room, max_horizon=14)]
+
+
+def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal():
+    """MissionTransit on random walks of the visit maze: no LP for a leg to the goal
+    (the workspace) or above its box bound before the leg is decided; every conflict
+    it reports is infeasible by a fresh LP of exactly its claim (cold, its own model);
+    it reports a subset of the full layer's conflicts, with fewer LPs."""
+    from plansynth.reach.lazy.conplan import ConPlan
+    from plansynth.reach.lazy.transit import GOAL, TransitCheck
+    from plansynth.reach.mission.families import mission_problem
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.planner import MissionTransit
+
+    p = mission_problem("maze-1", "visit")
+    ab = label_abstraction(p).abstraction
+    pp = planning_problem(p)
+    mine, full = MissionTransit(ConPlan(pp, ab), ab), TransitCheck(ConPlan(pp, ab), ab)
+    judge = ConPlan(pp, ab)
+    walks = [w for j in range(30) for w in walks_through(ab, 8 + j % 14, {}, limit=1, seed=j)]
+    reported = 0
+    for w in walks:
+        ours = mine.violations(w)
+        theirs = {(c.literals, c.anchored_start, c.anchored_goal) for c in full.violations(w)}
+        for c in ours:
+            assert not c.anchored_goal
+            assert judge.refutes(c, cold=True), c
+            assert (c.literals, c.anchored_start, c.anchored_goal) in theirs
+        reported += len(ours)
+    assert all(b != GOAL for _, b in mine._first)
+    assert reported > 0 and mine.lp_calls < full.lp_calls
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_the_loop_lp_agrees_with_an_lp_written_from_scratch(which):
+    """LoopLP (its rows gathered from per-region templates) on random walks, finite and
+    lassos back to a random step, against ``oracle_feasible``: the same verdict, and a
+    trajectory through the walk when feasible."""
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.planner import LoopLP
+
+    p = small_problems()[which]
+    ab = label_abstraction(p).abstraction
+    rng = np.random.default_rng(which)
+    verdicts = []
+    for seg in (True, False):
+        lp = LoopLP(planning_problem(p), ab, segment_safe=seg)
+        for j in range(40):
+            H = int(rng.integers(1, 13))
+            close = None if j % 3 == 0 else int(rng.integers(0, H))
+            for w in walks_through(ab, H, {}, close=close, limit=1, seed=j):
+                traj = lp.solve(w, close)
+                expected = oracle_feasible(p, ab, w, close, segment_safe=seg)
+                assert (traj is not None) == expected, (w, close, seg)
+                verdicts.append(expected)
+                if traj is not None:
+                    assert len(traj.states) == H + 1
+                    for t, r in enumerate(w):  # p_t in r_t (and p_t+1, segments)
+                        reg = ab.regions[r]
+                        for s_ in ((t, t + 1) if seg and t < H else (t,)):
+                            pos = traj.states[s_][list(p.dynamics.position)]
+                            assert np.all(np.asarray(reg.H) @ pos <= np.asarray(reg.h) + 1e-6), (w, t, s_)
+                    if close is not None:
+                        assert np.allclose(traj.states[H], traj.states[close])
+    assert any(verdicts) and not all(verdicts)  # both verdicts are exercised
 
 
 @pytest.mark.parametrize("which", [0, 1])

@@ -158,8 +158,8 @@ def check_mission(
     P = problem.position_of(X)
     N = len(X) - 1
     semantics = "finite" if loop_start is None else "lasso"
-    shown = tuple(tuple(sorted(n for n, s in problem.mission_labels.items() if _Label(s, tol).enters(Point(p[0], p[1]))))
-                  for p in P)
+    labels = {n: _Label(s, tol) for n, s in problem.mission_labels.items()}  # each label's geometry once
+    shown = tuple(tuple(sorted(n for n, lab in labels.items() if lab.enters(Point(p[0], p[1])))) for p in P)
 
     def fail(step: int | None, reason: str) -> MissionReport:
         return MissionReport(False, semantics, loop_start, step, reason, shown)

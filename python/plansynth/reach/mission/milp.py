@@ -23,8 +23,9 @@ blocks in COO form, :class:`~plansynth.reach.highs.Rows` and
 long as the solve; tests/reach/test_mission_milp.py checks that it is the model a
 term-by-term build gives (the same columns, rows, bounds and objective).
 
-Horizons are tried upwards from 0, as in the lazy planner; the first with a solution
-is the shortest. As there, ``infeasible`` needs the proof of
+Horizons are tried upwards from the proved lower bound of
+:func:`~plansynth.reach.mission.horizon.horizon_lower_bound` (``horizon_bound``; from 0
+without it), as in the lazy planner; the first with a solution is the shortest. As there, ``infeasible`` needs the proof of
 :func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
 region per step) is ``unknown``, not a proof. The trajectory is not taken from the MILP (big-M rows slip by the MIP
 tolerances): its regions and loop are re-solved as an exact LP
@@ -330,10 +331,14 @@ def plan_milp_ltl(
     semantics: str = "any",
     segment_safe: bool = True,
     lower_bound: bool = True,
+    horizon_bound: bool = True,
     progress: Callable[[int, int], None] | None = None,
 ) -> ReachResult:
-    """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated)."""
-    from plansynth.reach.mission.planner import LoopLP
+    """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated);
+    ``horizon_bound``: from the proved lower bound of
+    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` on, as the lazy planner."""
+    from plansynth.reach.lazy.displan import RegionGraph
+    from plansynth.reach.mission.planner import LoopLP, mission_horizon_bound
 
     if problem.mission is None:
         raise ValueError("milp-ltl plans missions; this problem has none")
@@ -352,7 +357,7 @@ def plan_milp_ltl(
     formula = parse(problem.mission)
     polish = LoopLP(pp, labelled.abstraction, segment_safe=segment_safe)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+               "horizon_bound": horizon_bound, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     counters: dict[str, Any] = {"regions": labelled.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0}
 
     def finish(status, horizon, message, traj=None, regions=None, loop_start=None) -> ReachResult:
@@ -370,7 +375,11 @@ def plan_milp_ltl(
     proved, why = timed_label_proof(problem, labelled, timings, counters)
     if proved:
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
-    for L in range(0, L_max + 1):
+    L0 = 0
+    if horizon_bound:
+        graph = RegionGraph.from_abstraction(labelled.abstraction)
+        L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters)
+    for L in range(L0, L_max + 1):
         if progress is not None:
             progress(L, clock.iterations)
         if clock.exhausted():
@@ -408,6 +417,7 @@ class MilpLtlOptions:
     semantics: str = "any"
     segment_safe: bool = True
     lower_bound: bool = True
+    horizon_bound: bool = True
 
 
 #: ``milp-ltl`` as a planner of :func:`plansynth.reach.solve` (missions only)

@@ -5,7 +5,8 @@ Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
 
     abstraction <- convex decomposition refined by the labels          (labels.py)
     no word over the labels' geometry satisfies the mission -> infeasible (proof.py)
-    for L = 0 .. max_horizon:                    (one horizon at a time: L is minimal)
+    L0 <- the product graph's lower bound on the horizon                  (horizon.py)
+    for L = L0 .. max_horizon:                   (one horizon at a time: L is minimal)
         loop:
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
             lasso, loop start k: no periodic trajectory through r_k..r_L -> block the loop, loop
@@ -65,9 +66,9 @@ from plansynth.reach.mission.proof import timed_label_proof
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.lazy.transit import TransitCheck
+from plansynth.reach.lazy.transit import GOAL, TransitCheck
 
-__all__ = ["plan_mission", "LoopLP", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
+__all__ = ["plan_mission", "LoopLP", "MissionTransit", "solve_mission", "validate_mission_result", "MISSION_PLANNERS"]
 
 ProgressFn = Callable[[int, int], None]
 
@@ -95,6 +96,16 @@ class LoopLP:
         self.dyn_nz = (ai, aj, A[ai, aj], bi, bj, B[bi, bj])
         self.Hs = [np.asarray(r.H, float) for r in abstraction.regions]
         self.hs = [np.asarray(r.h, float) for r in abstraction.regions]
+        # the regions' rows as flat templates for _load: per region its rows' entries
+        # (row offset, position column within a state, coefficient) and right-hand sides
+        npos = len(self.pos)
+        self._n_rows = np.array([H.shape[0] for H in self.Hs], dtype=np.int64)
+        self._row_off = np.concatenate([[0], np.cumsum(self._n_rows)[:-1]]).astype(np.int64)
+        self._ent_off = self._row_off * npos
+        self._tr = np.concatenate([np.repeat(np.arange(H.shape[0]), npos) for H in self.Hs]).astype(np.int64)
+        self._tc = np.concatenate([np.tile(self.pos, H.shape[0]) for H in self.Hs]).astype(np.int64)
+        self._tv = np.concatenate([H.ravel() for H in self.Hs])
+        self._th = np.concatenate(self.hs)
         self.state_lo, self.state_hi = problem.state_box
         self.highs = new_highs(presolve="off")  # presolve off keeps the dual ray of an infeasible LP
         self.ray_times: set[int] | None = None
@@ -115,18 +126,22 @@ class LoopLP:
             xs[L] = xs[loop_start]  # the closure holds to tolerance; make it exact
         return Trajectory(states=xs, inputs=us)
 
-    def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf
-                 ) -> tuple[tuple[tuple[int, int], ...], bool]:
+    def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf, *,
+                 loop_refuted: bool = False) -> tuple[tuple[tuple[int, int], ...], bool]:
         """Why the lasso has no trajectory: (literals, shifted). First the loop alone
         (states k..L, any x_k): if it is infeasible, the literals are among its steps and
         hold at every shift (``shifted``); else the whole plan from the start. Then a
         deletion filter drops every literal whose region rows the infeasibility does not
         need (each drop proved by an LP). Sound: the returned literals with the loop
-        closure have an infeasible LP."""
+        closure have an infeasible LP. ``loop_refuted``: the caller's last LP was the loop
+        alone, infeasible (its model and dual ray are the loaded ones), so it is not
+        solved again."""
         L, k = len(regions) - 1, loop_start
         assign = {t: regions[t] for t in range(k, L + 1)}
         first, anchored = k, False
-        if self._lp(assign, k, L, False, k, seconds) is not None:
+        if loop_refuted:
+            assert self._loaded is not None and self._loaded[0] == (k, L, False, k) and self._loaded[1] == assign
+        if not loop_refuted and self._lp(assign, k, L, False, k, seconds) is not None:
             assign, first, anchored = dict(enumerate(regions)), 0, True
             if self._lp(assign, 0, L, True, k, seconds) is not None:  # pragma: no cover - solve() said infeasible
                 raise LpFailure("the loop LP is feasible on a second solve (numerically borderline)")
@@ -175,7 +190,9 @@ class LoopLP:
         loaded = self._loaded
         if loaded is not None and loaded[0] == key and all(loaded[1].get(t) == r for t, r in assign.items()):
             owner, hi = loaded[2], loaded[3]
-            on = np.isin(owner, np.fromiter(assign, dtype=np.int64, count=len(assign)))
+            mask = np.zeros(last + 1, dtype=bool)
+            mask[np.fromiter(assign, dtype=np.int64, count=len(assign))] = True
+            on = mask[owner]
             self.highs.changeRowsBounds(len(owner), loaded[4], np.full(len(owner), -np.inf),
                                         np.where(on, hi, np.inf))
             self.warm += 1
@@ -204,20 +221,25 @@ class LoopLP:
             V.append(np.tile(np.concatenate([np.ones(n), -av, -bv]), len(T)))
         row = len(T) * n
         lit_from = row
-        owner: list[np.ndarray] = []  # per region row: the literal time it belongs to
-        his: list[np.ndarray] = []
-        npos = len(pos)
+        # the literals' region rows: one block per (literal, sample), each its region's
+        # template (row offsets, position columns, coefficients) moved to its rows and
+        # sample, gathered for all blocks at once
+        bt, br, bs = [], [], []
         for t, r in assign.items():
-            H, hh = self.Hs[r], self.hs[r]
-            k = H.shape[0]
-            rr = np.repeat(np.arange(k), npos)
             for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
-                R.append(row + rr)
-                C.append(np.tile(s_ * n + pos, k))
-                V.append(H.ravel())
-                his.append(hh)
-                owner.append(np.full(k, t))
-                row += k
+                bt.append(t)
+                br.append(r)
+                bs.append(s_)
+        br_ = np.asarray(br, dtype=np.int64)
+        k_of = self._n_rows[br_]  # rows per block
+        row_start = row + np.concatenate([[0], np.cumsum(k_of)[:-1]]) if len(br) else np.zeros(0, np.int64)
+        ent = _gather(self._ent_off[br_], k_of * len(pos))
+        R.append(self._tr[ent] + np.repeat(row_start, k_of * len(pos)))
+        C.append(self._tc[ent] + np.repeat(np.asarray(bs, dtype=np.int64) * n, k_of * len(pos)))
+        V.append(self._tv[ent])
+        his = [self._th[_gather(self._row_off[br_], k_of)]]
+        owner = [np.repeat(np.asarray(bt, dtype=np.int64), k_of)]
+        row += int(k_of.sum())
         lit_to = row
         if loop_start is not None:
             R.append(row + np.concatenate([np.arange(n), np.arange(n)]))
@@ -269,6 +291,53 @@ class LoopLP:
         raise LpFailure(f"HiGHS gave no answer on the loop LP ({h.modelStatusToString(status)})")
 
 
+def _gather(starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """The indices starts[0]..starts[0]+lengths[0]-1, starts[1].., concatenated."""
+    total = int(lengths.sum())
+    if not total:
+        return np.zeros(0, dtype=np.int64)
+    first = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    return np.repeat(starts - first, lengths) + np.arange(total)
+
+
+class MissionTransit(TransitCheck):
+    """The transit-time layer (:class:`~plansynth.reach.lazy.transit.TransitCheck`) as the
+    mission planner uses it: a leg's gaps are decided by LPs only when the plan's gap
+    is the leg's box bound (the fewest steps the displacement bounds allow), and legs
+    to the goal are never checked (a mission's goal is the whole workspace).
+
+    On the mazes most legs a plan's infeasibility brings up have their first feasible
+    gap at or just above the box bound, and a plan's gap far above it is almost never
+    the reason: scanning every leg (one LP per gap from the box bound up) cost the visit
+    missions twice the LPs of CON-PLAN and the mission loop together. A leg whose plan
+    gap lies above its box bound is decided as soon as another plan puts it at the
+    bound, or by CON-PLAN. This only drops conflicts: every one reported is still proved
+    (by the box bound or an LP), so the loop's clauses stay sound."""
+
+    def _skip(self, a: int, b: int, gap: int) -> bool:
+        return b == GOAL or ((a, b) not in self._first and gap > self.box_gap(a, b))
+
+    def impossible(self, a: int, b: int, gap: int) -> bool:
+        return False if self._skip(a, b, gap) else super().impossible(a, b, gap)
+
+    def known(self, a: int, b: int, gap: int) -> bool | None:
+        return False if self._skip(a, b, gap) else super().known(a, b, gap)
+
+
+def mission_horizon_bound(problem: ReachProblem, labelled: LabelledAbstraction, graph: RegionGraph,
+                          earliest, L_max: int, timings: dict, counters: dict) -> int:
+    """:func:`~plansynth.reach.mission.horizon.horizon_lower_bound` as both mission
+    planners run it: its time goes to ``timings["horizon_bound"]``, the bound to
+    ``counters["horizon_bound"]``."""
+    from plansynth.reach.mission.horizon import horizon_lower_bound
+
+    t0 = time.perf_counter()
+    bound = horizon_lower_bound(graph, labelled.labels_of, parse(problem.mission), earliest, L_max)
+    timings["horizon_bound"] = time.perf_counter() - t0
+    counters["horizon_bound"] = bound
+    return bound
+
+
 def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
                    ) -> tuple[tuple[int, int], tuple[int, int]] | None:
     """Two loop positions i >= j whose wrap-around leg is too short: with x_L = x_k
@@ -296,6 +365,7 @@ def plan_mission(
     transit: bool = True,
     wait_shifts: bool = True,
     loop_first: bool = True,
+    horizon_bound: bool = True,
     progress: ProgressFn | None = None,
 ) -> ReachResult:
     """The lazy loop for the problem's mission within ``budget`` (not yet validated:
@@ -308,7 +378,10 @@ def plan_mission(
     also shifted earlier when the robot starts at rest. ``loop_first``: a lasso's loop
     alone (states k..L with x_L = x_k, any x_k) is checked before CON-PLAN sees the
     plan: a loop that no periodic trajectory follows is refuted at every horizon and
-    rotation (:meth:`MissionDisPlan.learn_loop`), which a conflict of the prefix is not."""
+    rotation (:meth:`MissionDisPlan.learn_loop`), which a conflict of the prefix is not.
+    ``horizon_bound``: the horizons start at the proved lower bound of
+    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` (no DIS-PLAN plan exists
+    below it), not at 0."""
     if problem.mission is None:
         raise ValueError("the problem has no mission (plan it with the reach-avoid planners)")
     if semantics not in SEMANTICS:
@@ -318,6 +391,7 @@ def plan_mission(
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
                "transit": transit, "wait_shifts": wait_shifts, "loop_first": loop_first,
+               "horizon_bound": horizon_bound,
                "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     pp = planning_problem(problem)
@@ -334,7 +408,7 @@ def plan_mission(
                              waits_at_start=wait_shifts and problem.starts_at_rest)
     conplan = ConPlan(pp, ab, segment_safe=segment_safe, counterexample="trivial", generalize=True, minimize=True,
                       clock=clock)
-    theory = TransitCheck(conplan, ab) if transit else conplan
+    theory = MissionTransit(conplan, ab) if transit else conplan
     loop_lp = LoopLP(pp, ab, segment_safe=segment_safe)
     counters: dict[str, Any] = {"regions": graph.n_regions, "edges": ab.n_edges}
     guarantee = "segments" if segment_safe else "samples"
@@ -362,9 +436,14 @@ def plan_mission(
     if not ab.start_regions:
         counters["abstraction_refuted"] = L_max
         return finish(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
-    L = 0
+    L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters) if horizon_bound else 0
+    if L0 > L_max:
+        counters["abstraction_refuted"] = L_max
+        return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the label-refined abstraction at any horizon "
+                      f"up to {L_max} (product graph); {NOT_A_PROOF} ({why})")
+    L = L0
     try:
-        for L in range(0, L_max + 1):
+        for L in range(L0, L_max + 1):
             if progress is not None:
                 progress(L, clock.iterations)
             while True:
@@ -400,7 +479,7 @@ def plan_mission(
                             continue
                     if loop_lp._lp({t: plan.regions[t] for t in range(k, L + 1)}, k, L, False, k,
                                    clock.remaining()) is None:
-                        lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining())
+                        lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining(), loop_refuted=True)
                         timings["lp"] += time.perf_counter() - t0
                         displan.learn_loop(lits, k, L, shifted=shifted)
                         continue
