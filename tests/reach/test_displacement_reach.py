@@ -78,3 +78,24 @@ def test_random_trajectories_stay_within_the_bound(states: int) -> None:
         P = np.array(P)
         for k in (1, 5, 20, 60):
             assert np.all(np.abs(P[k:] - P[:-k]).max(axis=0) <= W[k] + 1e-9)
+
+
+def test_transit_box_gaps_from_the_start_are_refuted_by_the_exact_lp() -> None:
+    """Every gap out of the start that the table calls impossible is infeasible for
+    CON-PLAN's exact LP (dynamics, input and state bounds, anchored at the start)."""
+    from plansynth.reach.abstraction import abstract
+    from plansynth.reach.lazy.conplan import ConPlan
+    from plansynth.reach.lazy.transit import START, TransitCheck
+
+    p = random_dynamics(1, 6, 2)
+    a = abstract(p)
+    tc = TransitCheck(ConPlan(p, a), a)
+    assert tc.reach_table is not None
+    for b in range(len(a.regions)):
+        box = tc.box_gap(START, b)
+        for k in range(1, box):
+            assert tc.inner.refutes(tc.leg(START, b, k, N=k), cold=True), (b, k)
+    # the table raises some box gap above the one-step bound's
+    plain = [tc.box_gap(START, b) for b in range(len(a.regions))]
+    tc.reach_table = None
+    assert any(x > tc.box_gap(START, b) for b, x in enumerate(plain))
