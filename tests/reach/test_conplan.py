@@ -215,3 +215,23 @@ def test_a_trajectory_that_misses_the_dynamics_is_polished() -> None:
     fixed = cp._polished(regions, Feasible(sloppy)).trajectory
     assert cp.residual(fixed) <= 1e-8 and validate(p, fixed, require_segment_safe=True).ok
     assert cp.stats.polished == 1 and cp.stats.by_kind["polish"] == 1
+
+
+def test_the_warm_polish_needs_the_plan_in_the_model() -> None:
+    """The polish first re-solves the plan's LP from its own basis at tight tolerances,
+    but only while the model holds exactly that LP; otherwise it gives None and the cold
+    polish runs."""
+    from plansynth.reach.lazy.loop import plan_lazy
+
+    p = maze(1, order=4)
+    ab = abstract(p)
+    regions = plan_lazy(p).regions
+    cp = ConPlan(p, ab)
+    assert cp.feasible(regions) is not None
+    warm = cp._polished_warm(regions)
+    assert warm is not None and cp.residual(warm.trajectory) <= 1e-8
+    assert validate(p, warm.trajectory, require_segment_safe=True).ok
+    assert cp._polished_warm(regions) is None  # (the model's answer was at other tolerances)
+    assert cp.prefix_feasible(regions, 3)
+    assert cp._polished_warm(regions) is None  # the model holds a prefix LP now
+    assert cp._polished_warm(regions[:-1]) is None

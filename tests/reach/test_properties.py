@@ -197,3 +197,31 @@ def detour() -> ReachProblem:
 @pytest.mark.parametrize("search", ["linear", "window"])
 def test_learned_clauses_are_sound_on_a_detour(strategy: str, generalize: bool, segment_safe: bool, search: str) -> None:
     assert soundness_checked(detour(), strategy, generalize, segment_safe, top=5, search=search) > 0
+
+
+def small_random_robot(seed: int) -> ReachProblem:
+    """A 3 x 3 m room with a wall and a random robot of 6 states (the random-dynamics
+    family's draw): the multi-step displacement bound of the transit layer applies."""
+    from plansynth.reach.families import random_dynamics
+
+    r = random_dynamics(0, 6, seed)
+    lo, hi = r.state_bounds.lo, r.state_bounds.hi
+    start = np.zeros(6)
+    start[:2] = (0.3, 0.3)
+    return ReachProblem(workspace=Box((0, 0), (3, 3)), obstacles=(Box((0, 1.2), (2, 1.5)),),
+                        goal=Box((0.2, 2.3), (0.9, 2.9)), dynamics=r.dynamics, start=start, input_bound=1.0,
+                        state_bounds=Box((0, 0, *lo[2:]), (3, 3, *hi[2:])))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("segment_safe", [False, True])
+def test_learned_clauses_are_sound_with_random_dynamics(seed: int, segment_safe: bool) -> None:
+    p = small_random_robot(seed)
+    from plansynth.reach.lazy.transit import TransitCheck
+    from plansynth.reach.lazy.conplan import ConPlan
+
+    ab = abstract(p)
+    assert TransitCheck(ConPlan(p, ab), ab).reach_table is not None
+    assert soundness_checked(p, "trivial", True, segment_safe, top=9, search="linear") > 0
+    # some walk up to the top is feasible, so a clause that cut it would be caught
+    assert any(oracle_feasible(p, ab, w, segment_safe) for w in itertools.islice(walks(ab, 9), 400))

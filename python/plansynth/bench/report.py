@@ -591,7 +591,10 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
 
             L.append("### Figure 4 with random dynamics (the paper's setting: random A, B)")
             L.append("")
-            L.append((random_dynamics.__doc__ or "").split("\n\n")[1].replace("\n", " ").strip())
+            import re
+
+            text = " ".join((random_dynamics.__doc__ or "").split("\n\n")[1].split())
+            L.append(re.sub(r":\w+:`~?(?:[\w.]+\.)?(\w+)`", r"`\1`", text).replace("``", "`"))
             L.append("")
             used = [p for p in reach_planners if any((e, p) in cells for e, _ in rdyn)]
             hdr = ["passages", "states n", "seed"] + used + ["lazy-smt horizon", "lazy-smt total / limit"]

@@ -106,9 +106,16 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
     the robot at up to 1.5 m/s per axis). Bounds: |u| <= 1, the position within the
     workspace, each internal state within twice the largest steady-state magnitude it
     takes under the four corner inputs (and at least 1). The pair (A, B) is controllable
-    (the PBH test at every eigenvalue, relative tolerance 1e-9); a draw that fails is
-    redrawn from the same generator. Start (1, 1) at rest (z = 0), goal as in
-    :func:`maze`.
+    (the PBH test at every eigenvalue, relative tolerance 1e-9); a draw that fails, or
+    whose steady-state gain -C F^-1 G is singular (|det| < 1e-6), is redrawn from the
+    same generator. Start (1, 1) at rest (z = 0), goal as in :func:`maze`. The internal
+    bounds bind: bang-bang inputs can drive an internal state past them (the l1 norm of
+    its impulse response exceeds its bound up to 11x at n = 50, seed 0), so they are
+    constraints, not decoration; the position moves at most 0.75 m per step in the long
+    run but up to 4.3 m in one step (:func:`plansynth.reach.dynamics.displacement_reach`).
+    A is dense (n = 50: 2,402 nonzeros). Plans are checked by the validator against
+    these exact A, B (dynamics residual at most 1e-6 max(1, |x|); CON-PLAN re-solves a
+    plan whose residual is above 1e-8).
 
     >>> p = random_dynamics(1, 8, seed=3)
     >>> p.dynamics.n_states, p.dynamics.position, p.starts_at_rest

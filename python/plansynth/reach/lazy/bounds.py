@@ -27,6 +27,7 @@ import numpy as np
 from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.highs import new_highs
+from plansynth.reach.dynamics import displacement_reach, reach_steps
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 
@@ -98,6 +99,10 @@ def _once_per_problem(f):  # (problems are immutable values with identity hashes
 step_reach = _once_per_problem(step_reach)
 
 
+#: steps covered by the multi-step displacement table (random dynamics; issue 13)
+MULTISTEP_TABLE = 1000
+
+
 def physical_lower_bound(problem: ReachProblem) -> int:
     """A horizon below which no trajectory reaches the goal, obstacles ignored: along
     every axis, the distance from the start to the goal's bounding box divided by the
@@ -109,7 +114,9 @@ def physical_lower_bound(problem: ReachProblem) -> int:
     """
     down, up = step_reach(problem)
     s = np.asarray(problem.start_position, dtype=float)
-    return box_steps((s, s), shape_box(problem.goal), down, up)
+    table = (displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE)
+             if problem.starts_at_rest else None)
+    return box_steps((s, s), shape_box(problem.goal), down, up, table)
 
 
 def shape_box(shape: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -120,9 +127,11 @@ def shape_box(shape: Any) -> tuple[np.ndarray, np.ndarray]:
 
 
 def box_steps(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray],
-              down: Sequence[float], up: Sequence[float]) -> int:
+              down: Sequence[float], up: Sequence[float], table: np.ndarray | None = None) -> int:
     """The fewest steps from a position in box ``a`` to one in box ``b`` when a step moves
-    at most ``down[i]``/``up[i]`` along axis i (1 << 30: some axis cannot move that way).
+    at most ``down[i]``/``up[i]`` along axis i (1 << 30: some axis cannot move that way),
+    and (``table``, :func:`plansynth.reach.dynamics.displacement_reach`) k steps move at
+    most ``table[k, i]`` either way.
 
     >>> box_steps((np.zeros(2), np.zeros(2)), (np.array([3.0, -1.0]), np.array([4.0, 1.0])), [1, 1], [1.5, 1])
     2
@@ -137,6 +146,8 @@ def box_steps(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]
                 if math.isfinite(reach):
                     # shave the LP's tolerance off before rounding up
                     need = max(need, math.ceil(dist / reach * (1 - 1e-9) - 1e-9))
+                if table is not None:
+                    need = max(need, reach_steps(table, dist, ax))
     return need
 
 

@@ -10,6 +10,9 @@ questions without the horizon-long LPs:
 * ``box`` gaps: a position moves by at most ``step_up``/``step_down`` per step along
   each axis (:func:`~plansynth.reach.lazy.bounds.step_reach`), so fewer steps than the
   distance between the bounding boxes of X and Y divided by that are impossible (no LP);
+  from a start at rest with a stable internal block, also fewer steps than the table of
+  :func:`~plansynth.reach.dynamics.displacement_reach` allows (a bound on the move of
+  any k consecutive steps, far below k one-step bounds on random dynamics);
 * ``lp`` gaps: just above the box bound, the two-literal LP "p_0 in X, p_k in Y"
   (dynamics, input and state bounds, segment rows as CON-PLAN writes them) decides gap
   k exactly; gaps are scanned upwards until the first feasible one, once per pair.
@@ -45,7 +48,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from plansynth.reach.lazy.bounds import box_steps, shape_box, step_reach
+from plansynth.reach.dynamics import displacement_reach
+from plansynth.reach.lazy.bounds import MULTISTEP_TABLE, box_steps, shape_box, step_reach
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import Abstraction
@@ -83,6 +87,10 @@ class TransitCheck:
         s = np.asarray(problem.start_position, float)
         self.boxes[START] = (s, s)
         self.boxes[GOAL] = shape_box(problem.goal)
+        # from rest, a stable internal block bounds the displacement of k steps by far
+        # less than k one-step bounds (random dynamics; None for integrator chains)
+        self.reach_table = (displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE)
+                            if problem.starts_at_rest else None)
         # the start is an equilibrium: legs out of it are monotone in the gap
         self.start_at_rest = problem.starts_at_rest
         self._first: dict[tuple[int, int], int] = {}
@@ -95,7 +103,7 @@ class TransitCheck:
     # ---------------------------------------------------------------- gap bounds
     def box_gap(self, a: int, b: int) -> int:
         """The fewest steps of leg (a, b) that the displacement bounds allow."""
-        return box_steps(self.boxes[a], self.boxes[b], self.step_down, self.step_up)
+        return box_steps(self.boxes[a], self.boxes[b], self.step_down, self.step_up, self.reach_table)
 
     def first_gap(self, a: int, b: int) -> int:
         """The smallest gap of leg (a, b) not proved impossible: the box bound, then one
