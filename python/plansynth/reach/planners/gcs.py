@@ -70,7 +70,7 @@ from typing import Any
 
 import numpy as np
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
@@ -171,7 +171,10 @@ def plan_gcs(
     ``budget.seconds`` becomes the time limit of Drake's solvers (Clarabel's
     ``time_limit``, IPOPT's ``max_wall_time``) and is checked once more when Drake
     returns: past it the status is ``unknown`` (GCS cannot be interrupted between its
-    solver calls, so it may overrun by one solver call). ``budget.iterations`` is not
+    solver calls, so it may overrun by one solver call). The relaxation gets half of
+    the time left after the abstraction (which runs within the budget too), each
+    rounded path's restriction an equal share of the other half; Drake's preprocessing
+    and the graph's construction are not interruptible. ``budget.iterations`` is not
     used. The trajectory is *not* yet validated (:func:`plansynth.reach.solve` does it).
     ``segment_safe``, ``max_horizon`` and ``progress`` (the options every planner is
     given) do not apply: the whole curve is kept in the regions, and GCS has no horizon.
@@ -198,7 +201,14 @@ def plan_gcs(
                            timings=timings, options=options, message=message, guarantee="curve")
 
     ta = time.perf_counter()
-    a = abstraction if abstraction is not None else abstract(problem)
+    if abstraction is None:
+        try:
+            with budget.clock().phase("the convex decomposition (abstraction)"):
+                abstraction = abstract(problem)
+        except BudgetExhausted as exc:
+            timings["abstraction"] = time.perf_counter() - ta
+            return unknown(str(exc))
+    a = abstraction
     timings["abstraction"] = time.perf_counter() - ta
     counters["regions"] = a.n_regions
     pbox = _position_box(problem)
@@ -252,12 +262,17 @@ def plan_gcs(
     so = D["SolverOptions"]()
     rso = D["SolverOptions"]()
     if budget.seconds is not None:
+        # the relaxation gets half of what is left, each of the (up to
+        # max_rounded_paths) restrictions an equal share of the other half: each limit
+        # is per solver call, so giving every call all that is left let a 50 x 50 maze
+        # overrun its budget several times over
         left = max(0.05, float(budget.seconds) - (time.perf_counter() - t0))
-        so.SetOption(D["Clarabel"].id(), "time_limit", left)
+        share = max(0.05, 0.5 * left / max(1, int(max_rounded_paths)))
+        so.SetOption(D["Clarabel"].id(), "time_limit", 0.5 * left)
         if nonconvex:
-            rso.SetOption(D["Ipopt"].id(), "max_wall_time", left)
+            rso.SetOption(D["Ipopt"].id(), "max_wall_time", share)
         else:
-            rso.SetOption(D["Clarabel"].id(), "time_limit", left)
+            rso.SetOption(D["Clarabel"].id(), "time_limit", share)
     opts.solver_options = so
     opts.restriction_solver_options = rso
     ts = time.perf_counter()
