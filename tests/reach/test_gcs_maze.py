@@ -24,6 +24,7 @@ def test_gcs_maze_10_is_the_claims_file() -> None:
     assert (p.workspace, p.goal, p.input_bound, p.state_bounds) == (q.workspace, q.goal, q.input_bound, q.state_bounds)
     assert np.array_equal(p.start, q.start) and p.dynamics.dt == q.dynamics.dt
     assert np.array_equal(p.dynamics.A, q.dynamics.A) and np.array_equal(p.dynamics.B, q.dynamics.B)
+    assert p.max_horizon == q.max_horizon == 200 and gcs_maze(50).max_horizon == 2000
 
 
 def _cells_open(p, n: int) -> int:
