@@ -119,8 +119,8 @@ def gcs_maze(n: int, *, seed: int = 4, knock_downs: int | None = None) -> ReachP
     axis (the notebook's velocity limits), position within the workspace; from the
     centre of cell (0, 0) at rest to the goal box of side 0.4 at the centre of cell
     (n-1, n-1) (the notebook's start and goal are the entrance and exit points on the
-    border; ours stay inside); ``max_horizon`` 200 or 40 n steps, whichever is larger
-    (20 s per cell of the side). For n = 10 this is ``examples/reach/claims/gcs-maze-10.yaml``.
+    border; ours stay inside); ``max_horizon`` 200 up to n = 10 (the claims file's), 40 n
+    steps beyond (20 s per cell of the side). For n = 10 this is ``examples/reach/claims/gcs-maze-10.yaml``.
 
     >>> p = gcs_maze(10)
     >>> len(p.obstacles), p.goal, p.start.tolist()
@@ -184,7 +184,7 @@ def gcs_maze(n: int, *, seed: int = 4, knock_downs: int | None = None) -> ReachP
         input_bound=1.0,
         state_bounds=Box((0.0, 0.0, -1.0, -1.0), (float(n), float(n), 1.0, 1.0)),
         name=f"gcs-maze-{n}",
-        max_horizon=max(200, 40 * n),
+        max_horizon=200 if n <= 10 else 40 * n,
     )
 
 
