@@ -286,7 +286,7 @@ class DisPlan(LearnedClauses):
         for t in range(self.built + 1, horizon + 1):
             checkpoint()  # thousands of regions per step: within the budget phase
             if t == 0:
-                self._add([self.at(0, i) for i in g.start_regions])
+                self._add([self.at(0, i) for i in g.start_regions if self.exists(0, i)])
                 self.sat_clauses_encoding += 1
             else:
                 for i in range(g.n_regions):
