@@ -83,6 +83,11 @@ __all__ = ["plan_gcs", "VARIANTS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBS
 
 VARIANTS = ("like-for-like", "surrogate", "convex")
 DEFAULT_TIME_UNIT = 10.0
+IPOPT_MAX_ITER = 100_000  # with a time budget: its share of the time ends IPOPT first
+#: Drake's preprocessing (one small convex program per edge, to drop edges no path can
+#: use) cannot be interrupted: on the 50 x 50 GCS maze (3,300 edges) it ran for minutes
+#: past a 20 s budget. Beyond this many regions it is off.
+PREPROCESS_MAX_REGIONS = 200
 CURVE_SUBSTEPS = 10
 
 #: What a ``gcs`` result guarantees, and how that differs from the discrete planners.
@@ -173,8 +178,9 @@ def plan_gcs(
     returns: past it the status is ``unknown`` (GCS cannot be interrupted between its
     solver calls, so it may overrun by one solver call). The relaxation gets half of
     the time left after the abstraction (which runs within the budget too), each
-    rounded path's restriction an equal share of the other half; Drake's preprocessing
-    and the graph's construction are not interruptible. ``budget.iterations`` is not
+    rounded path's restriction an equal share of the other half; the graph's
+    construction is not interruptible, nor is Drake's preprocessing, which is therefore
+    off beyond :data:`PREPROCESS_MAX_REGIONS` regions. ``budget.iterations`` is not
     used. The trajectory is *not* yet validated (:func:`plansynth.reach.solve` does it).
     ``segment_safe``, ``max_horizon`` and ``progress`` (the options every planner is
     given) do not apply: the whole curve is kept in the regions, and GCS has no horizon.
@@ -254,7 +260,8 @@ def plan_gcs(
 
     opts = D["Options"]()
     opts.convex_relaxation = True
-    opts.preprocessing = True
+    opts.preprocessing = a.n_regions <= PREPROCESS_MAX_REGIONS
+    counters["preprocessing"] = bool(opts.preprocessing)
     opts.max_rounded_paths = int(max_rounded_paths)
     opts.solver = D["Clarabel"]()
     nonconvex = variant != "convex" and k == 2
@@ -271,6 +278,9 @@ def plan_gcs(
         so.SetOption(D["Clarabel"].id(), "time_limit", 0.5 * left)
         if nonconvex:
             rso.SetOption(D["Ipopt"].id(), "max_wall_time", share)
+            # the wall time, not IPOPT's 3,000 iterations, ends a long restriction (the
+            # 20 x 20 GCS maze's 150-region path stopped at the iteration limit in 27 s)
+            rso.SetOption(D["Ipopt"].id(), "max_iter", IPOPT_MAX_ITER)
         else:
             rso.SetOption(D["Clarabel"].id(), "time_limit", share)
     opts.solver_options = so
