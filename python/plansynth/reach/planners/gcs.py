@@ -84,6 +84,7 @@ __all__ = ["plan_gcs", "VARIANTS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBS
 VARIANTS = ("like-for-like", "surrogate", "convex")
 DEFAULT_TIME_UNIT = 10.0
 IPOPT_MAX_ITER = 100_000  # with a time budget: its share of the time ends IPOPT first
+SOLVER_SHARE = 0.4  # of the time left: the relaxation's, and all restrictions' together
 #: Drake's preprocessing (one small convex program per edge, to drop edges no path can
 #: use) cannot be interrupted: on the 50 x 50 GCS maze (3,300 edges) it ran for minutes
 #: past a 20 s budget. Beyond this many regions it is off.
@@ -176,9 +177,9 @@ def plan_gcs(
     ``budget.seconds`` becomes the time limit of Drake's solvers (Clarabel's
     ``time_limit``, IPOPT's ``max_wall_time``) and is checked once more when Drake
     returns: past it the status is ``unknown`` (GCS cannot be interrupted between its
-    solver calls, so it may overrun by one solver call). The relaxation gets half of
+    solver calls, so it may overrun by one solver call). The relaxation gets 40% of
     the time left after the abstraction (which runs within the budget too), each
-    rounded path's restriction an equal share of the other half; the graph's
+    rounded path's restriction an equal share of another 40%; the graph's
     construction is not interruptible, nor is Drake's preprocessing, which is therefore
     off beyond :data:`PREPROCESS_MAX_REGIONS` regions. ``budget.iterations`` is not
     used. The trajectory is *not* yet validated (:func:`plansynth.reach.solve` does it).
@@ -269,13 +270,14 @@ def plan_gcs(
     so = D["SolverOptions"]()
     rso = D["SolverOptions"]()
     if budget.seconds is not None:
-        # the relaxation gets half of what is left, each of the (up to
-        # max_rounded_paths) restrictions an equal share of the other half: each limit
-        # is per solver call, so giving every call all that is left let a 50 x 50 maze
-        # overrun its budget several times over
+        # the relaxation gets 40% of what is left, each of the (up to
+        # max_rounded_paths) restrictions an equal share of another 40%, the rest is
+        # for Drake's rounding between them: each limit is per solver call, so giving
+        # every call all that is left let a 50 x 50 maze overrun its budget several
+        # times over (with halves it still overran 120 s by 12 s once)
         left = max(0.05, float(budget.seconds) - (time.perf_counter() - t0))
-        share = max(0.05, 0.5 * left / max(1, int(max_rounded_paths)))
-        so.SetOption(D["Clarabel"].id(), "time_limit", 0.5 * left)
+        share = max(0.05, SOLVER_SHARE * left / max(1, int(max_rounded_paths)))
+        so.SetOption(D["Clarabel"].id(), "time_limit", SOLVER_SHARE * left)
         if nonconvex:
             rso.SetOption(D["Ipopt"].id(), "max_wall_time", share)
             # the wall time, not IPOPT's 3,000 iterations, ends a long restriction (the
