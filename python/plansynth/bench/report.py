@@ -662,9 +662,9 @@ def _gcs_maze_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
     from plansynth.reach.families import gcs_maze
 
     L = ["### The GCS paper's mazes (n x n)", "",
-         (gcs_maze.__doc__ or "").split("\n\n")[0].replace("\n", " ").strip(), "",
+         " ".join((gcs_maze.__doc__ or "").split("\n\n")[0].split()), "",
          "A time is a solved run: planned and validated (lazy-smt: the exact discrete dynamics, every sample and "
-         "segment free; gcs: its curve, see the guarantee above). lazy-smt's horizon is not proved minimal here "
+         "segment free; gcs: its continuous-time curve, see the Graphs of Convex Sets section). lazy-smt's horizon is not proved minimal here "
          "(a window search: horizons below the window's bottom refuted).", "",
          "| n | regions | lazy-smt | lazy-smt horizon x dt (s) | lazy-smt LP calls / learned clauses | gcs | "
          "gcs curve duration (s) | gcs / lazy-smt |",
