@@ -189,6 +189,9 @@ CASES: dict[str, Case] = {
     "plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,20,50 --planners lazy-smt": Case(
         files=("b.db",), slow=False,
         fast="plansynth bench reach --family random-dynamics --values 1 --states 4 --planners lazy-smt --timeout 30 --db b.db"),
+    "plansynth bench reach --family gcs-maze --planners lazy-smt,gcs --timeout 120": Case(
+        files=("b.db",), slow=False,
+        fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt --timeout 60 --db b.db"),
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
         files=("bench-report/",), before=(TINY_BENCH,)),
     "plansynth bench publish '[--report-only]'": Case(

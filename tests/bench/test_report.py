@@ -153,3 +153,28 @@ def test_the_published_missions_run_gives_the_baseline_time_to_finish():
     tasks = [t for t in published_tasks(part="reach") if "/missions/" in t["experiment"]]
     assert len(tasks) == 24 and {t["solver"] for t in tasks} == {"lazy-smt", "milp-ltl"}
     assert {t["timeout"] for t in tasks} == {MISSIONS_TIMEOUT} and MISSIONS_TIMEOUT >= 300
+
+
+def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
+    """The GCS paper's mazes (issue 13, item 8): regions, lazy-smt's time, horizon and
+    work, gcs's time and curve duration, and gcs with no answer shown as such."""
+    from plansynth.bench.report import _gcs_maze_table
+
+    with ResultsDB(tmp_path / "g.db") as db:
+        for inst, (t_lazy, t_gcs) in zip(reach_family("gcs-maze", [10, 50]), [(0.5, 4.0), (50.0, None)]):
+            e = db.experiment(inst.key, kind="reach", family="gcs-maze", instance=inst.name, setup=inst.to_dict(),
+                              timelimit=120)
+            regions = 55 if inst.params["n"] == 10 else 1571
+            db.add_run(e, db.planner("lazy-smt", {}), 0, {
+                "time": t_lazy, "status": "solved", "solved": 1, "valid": 1, "horizon": 60, "regions": regions,
+                "attributes": {"duration": 30.0, "counters": {"lp_calls": 12, "clauses": 3400}}})
+            if t_gcs is None:
+                db.add_run(e, db.planner("gcs", {}), 0, {"time": 130.0, "status": "unknown", "solved": 0,
+                                                       "regions": regions})
+            else:
+                db.add_run(e, db.planner("gcs", {}), 0, {"time": t_gcs, "status": "solved", "solved": 1, "valid": 1,
+                                                       "regions": regions, "attributes": {"duration": 20.0}})
+        cells = summarise(db.runs())
+    text = "\n".join(_gcs_maze_table(cells))
+    assert "| 10 | 55 | 0.5 | 60 x dt = 30 | 12 / 3400 | 4 | 20 | 8 |" in text
+    assert "| 50 | 1571 | 50 | 60 x dt = 30 | 12 / 3400 | > 120 (1 unknown) | - | > 2.4 |" in text

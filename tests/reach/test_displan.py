@@ -70,7 +70,7 @@ def test_models_are_exactly_the_walks(graph: RegionGraph, L: int) -> None:
 
 
 @settings(max_examples=40)
-@given(graphs(), st.integers(0, 3), st.sampled_from(sorted(CARDINALITY_ENCODINGS)))
+@given(graphs(), st.integers(0, 3), st.sampled_from(sorted(CARDINALITY_ENCODINGS) + ["paths"]))
 def test_models_are_exactly_the_walks_on_random_graphs(graph: RegionGraph, L: int, encoding: str) -> None:
     assert models(DisPlan(graph, cardinality=encoding), L) == walks(graph, L)
 
@@ -80,9 +80,77 @@ def test_models_are_exactly_the_walks_on_random_graphs(graph: RegionGraph, L: in
 def test_time_windows_exclude_exactly_the_early_and_late_visits(graph: RegionGraph, data) -> None:
     earliest = data.draw(st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions))
     to_go = data.draw(st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions))
-    d = DisPlan(graph, earliest=earliest, to_go=to_go)
-    for L in range(4):
-        assert models(d, L) == walks(graph, L, earliest, to_go)
+    for encoding in ("auto", "paths"):
+        d = DisPlan(graph, earliest=earliest, to_go=to_go, cardinality=encoding)
+        for L in range(4):
+            assert models(d, L) == walks(graph, L, earliest, to_go)
+
+
+def _satisfies(plan, conflicts, graph: RegionGraph) -> bool:
+    """Is ``plan`` a walk of ``graph`` that breaks none of ``conflicts`` (at the shifts
+    DIS-PLAN instantiates them: start-anchored as given, goal-anchored moved with the
+    horizon, free ones at every shift)?"""
+    H = len(plan) - 1
+    if plan[0] not in graph.start_regions or plan[-1] not in graph.goal_regions:
+        return False
+    if any(b != a and b not in graph.adjacency[a] for a, b in zip(plan, plan[1:])):
+        return False
+    for c in conflicts:
+        if c.anchored_start:
+            shifts = [H - c.horizon] if c.anchored_goal else [0]
+        elif c.anchored_goal:
+            shifts = [H - c.horizon]
+        else:
+            shifts = range(-c.first_time, H - c.last_time + 1)
+        for sh in shifts:
+            if c.anchored_start and c.anchored_goal and sh != 0:
+                continue
+            if c.literals and all(0 <= t + sh <= H and plan[t + sh] == i for t, i in c.literals) and \
+                    c.last_time + sh <= H:
+                return False
+    return True
+
+
+@settings(max_examples=60, deadline=None)
+@given(graphs(max_regions=5), st.data())
+def test_paths_encoding_agrees_with_the_dense_one(graph: RegionGraph, data) -> None:
+    """The ``paths`` encoding (no exactly-one, backward transitions, variables only
+    inside the time windows) answers a random run of windows and learned conflicts as
+    the dense encoding does: the same SAT / UNSAT at each question, and every plan it
+    returns a walk that breaks no learned clause."""
+    k = graph.n_regions
+    earliest = data.draw(st.lists(st.sampled_from([0, 0, 1, 2]), min_size=k, max_size=k))
+    to_go = data.draw(st.lists(st.sampled_from([0, 0, 1, 2]), min_size=k, max_size=k))
+    dense = DisPlan(graph, earliest=earliest, to_go=to_go, cardinality="seqcounter")
+    paths = DisPlan(graph, earliest=earliest, to_go=to_go, cardinality="paths")
+    learned: list[Conflict] = []
+    lo = data.draw(st.integers(0, 2))
+    for _ in range(data.draw(st.integers(1, 6))):
+        hi = lo + data.draw(st.integers(0, 2))
+        a, pa = dense.solve(hi, lowest=lo)
+        b, pb = paths.solve(hi, lowest=lo)
+        assert a is b
+        if b is SatOutcome.SAT:
+            assert lo <= len(pb) - 1 <= hi
+            assert _satisfies(pb, [c for c in learned if c.anchored_start], graph)
+            assert all(earliest[r] <= t for t, r in enumerate(pb))
+            # learn a conflict about the plan just seen: one of its literals, or a pair
+            H = len(pb) - 1
+            t1 = data.draw(st.integers(0, H))
+            t2 = data.draw(st.integers(t1, H))
+            lits = ((t1, pb[t1]),) if t1 == t2 else ((t1, pb[t1]), (t2, pb[t2]))
+            kind = data.draw(st.sampled_from(["start", "free", "goal"]))
+            c = Conflict(lits, anchored_start=kind == "start", anchored_goal=kind == "goal", horizon=H)
+            learned.append(c)
+            dense.learn(c)
+            paths.learn(c)
+        else:
+            for h in range(lo, hi + 1):
+                dense.close(h)
+                paths.close(h)
+            lo = hi + 1
+    dense.delete()
+    paths.delete()
 
 
 def test_one_solver_serves_every_horizon_and_keeps_start_anchored_clauses() -> None:

@@ -189,7 +189,7 @@ def grid_cmd(
 
 @app.command("reach", epilog=REACH_EPILOG)
 def reach_cmd(
-    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics, missions (repeatable or comma-separated), or all."),
+    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics, missions, gcs-maze (repeatable or comma-separated), or all."),
     values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
     states: str = typer.Option("4,10,20,50", "--states", help="State counts n for the random-dynamics family."),

@@ -41,6 +41,8 @@ k, i.e. 2k states; Figure 4), ``random-dynamics`` (the same mazes with seeded ra
 controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
 :func:`plansynth.reach.families.random_dynamics`), and ``random`` workspaces (random
 boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
+``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
+sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
 
 >>> [i.name for i in grid_family("steps", [5, 10])]
 ['steps-5', 'steps-10']
@@ -507,6 +509,12 @@ def _random_dynamics(n: int, states: int, seed: int = 0) -> Any:
     return random_dynamics(n, states, seed)
 
 
+def _gcs_maze(n: int) -> Any:
+    from plansynth.reach.families import gcs_maze
+
+    return gcs_maze(n)
+
+
 def _missions(n: int, mission: str) -> Any:
     from plansynth.reach.mission.families import mission_problem
 
@@ -514,7 +522,7 @@ def _missions(n: int, mission: str) -> Any:
 
 
 _REACH_BUILDERS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "random-dynamics": _random_dynamics,
-                                   "missions": _missions}
+                                   "missions": _missions, "gcs-maze": _gcs_maze}
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
 PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
@@ -524,7 +532,7 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions")
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze")
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 
 
@@ -538,7 +546,12 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     1..4), crossed with ``states`` (n, default 4, 10, 20, 50), random (A, B) drawn with
     ``seed`` (:func:`plansynth.reach.families.random_dynamics` says how).
     ``missions``: values are passage counts, each with the
-    three missions of :mod:`plansynth.reach.mission.families`.
+    three missions of :mod:`plansynth.reach.mission.families`. ``gcs-maze``: values are
+    maze sizes n (default 10, 20, 50), the n x n mazes of the GCS paper
+    (:func:`plansynth.reach.families.gcs_maze`: seed 4, walls 0.1 thick, 100 extra
+    knock-downs at n = 50 as in its notebook; the double integrator with dt 0.5 s,
+    |u| <= 1, |v| <= 1 per axis, from the centre of cell (0, 0) at rest to a 0.4 box at
+    the centre of cell (n-1, n-1)).
     """
     out = []
     if name == "maze":
@@ -563,6 +576,9 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
         for n in values or [1, 2, 3, 4]:
             for m in MISSIONS:
                 out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
+    elif name == "gcs-maze":
+        for n in values or [10, 20, 50]:
+            out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))
     else:
         raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
     return out

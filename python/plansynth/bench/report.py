@@ -158,7 +158,9 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
                    "depth_minimal": (first.get("attributes") or {}).get("depth_minimal"),
                    # the lazy planner's minimality claim (issue 13): proved? for what? how many probes?
                    "minimal": {k: ((first.get("attributes") or {}).get("counters") or {}).get(k)
-                               for k in ("minimal", "minimal_relative_to", "minimal_probes")}},
+                               for k in ("minimal", "minimal_relative_to", "minimal_probes")},
+                   "regions": first.get("regions"),
+                   "counters": (first.get("attributes") or {}).get("counters") or {}},
         )
     return out
 
@@ -609,6 +611,7 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 L.append("| " + " | ".join(row) + " |")
             L.append("")
         L += _missions_table(cells)
+        L += _gcs_maze_table(cells)
         rnd = _instances(cells, "random")
         if rnd:
             L.append("### Random workspaces")
@@ -680,6 +683,37 @@ def _minimal_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[
                  f"{m.text() if m else '-'} | {proved if proved is not None else 'not proved'} | "
                  f"{claim.get('minimal_relative_to') or '-'} | {claim.get('minimal_probes') if claim.get('minimal_probes') is not None else '-'} | "
                  f"{(m.extra or {}).get('lp_calls') if m else '-'} | {_fmt(proof)} | {_ratio(m, w)} |")
+    L.append("")
+    return L
+
+
+def _gcs_maze_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
+    """The GCS paper's n x n mazes (issue 13, item 8): lazy-smt and gcs on the same
+    instances in the same run."""
+    insts = sorted(_instances(cells, "gcs-maze"), key=lambda es: int(es[1]["params"]["n"]))
+    if not insts:
+        return []
+    from plansynth.reach.families import gcs_maze
+
+    L = ["### The GCS paper's mazes (n x n)", "",
+         " ".join((gcs_maze.__doc__ or "").split("\n\n")[0].split()), "",
+         "A time is a solved run: planned and validated (lazy-smt: the exact discrete dynamics, every sample and "
+         "segment free; gcs: its continuous-time curve, see the Graphs of Convex Sets section). lazy-smt's horizon is not proved minimal here "
+         "(a window search: horizons below the window's bottom refuted).", "",
+         "| n | regions | lazy-smt | lazy-smt horizon x dt (s) | lazy-smt LP calls / learned clauses | gcs | "
+         "gcs curve duration (s) | gcs / lazy-smt |",
+         "|---|---|---|---|---|---|---|---|"]
+    for exp, setup in insts:
+        g, lz = cells.get((exp, "gcs")), cells.get((exp, "lazy-smt"))
+        regions = next((c.extra or {}).get("regions") for c in (lz, g) if c is not None)
+        ld = (lz.extra or {}).get("duration") if lz and lz.solved else None
+        gd = (g.extra or {}).get("duration") if g and g.solved else None
+        cnt = (lz.extra or {}).get("counters", {}) if lz else {}
+        work = f"{cnt.get('lp_calls', '-')} / {cnt.get('clauses', '-')}" if lz else "-"
+        hor = f"{lz.horizon} x dt = {_fmt(ld)}" if lz and lz.solved and lz.horizon is not None else "-"
+        L.append(f"| {int(setup['params']['n'])} | {regions if regions is not None else '-'} | "
+                 f"{lz.text() if lz else '-'} | {hor} | {work} | {g.text() if g else '-'} | {_fmt(gd)} | "
+                 f"{_ratio(g, lz)} |")
     L.append("")
     return L
 

@@ -156,7 +156,40 @@ def _orient(a: Pt, b: Pt, c: Pt) -> int:
 
 
 def _drop_collinear(cycle: list[Pt]) -> list[Pt]:
-    """Remove repeated and (exactly) collinear vertices of a closed cycle."""
+    """Remove repeated and (exactly) collinear vertices of a closed cycle.
+
+    One pass with a stack (a vertex is dropped when it is collinear with the last kept
+    one and the next; the wrap-around is settled at the end), linear in the cycle's
+    length: the free space of the GCS paper's 50 x 50 maze is one ring of ~10,000
+    vertices, on which the restarting scan of :func:`_drop_collinear_reference` took 5 s.
+    The same vertices survive, in the same order (a hypothesis test compares the two on
+    cycles without spikes)."""
+    pts = [p for i, p in enumerate(cycle) if p != cycle[i - 1]] if len(cycle) > 1 else list(cycle)
+    if len(pts) <= 3:
+        return _drop_collinear_reference(pts)
+    kept: list[Pt] = []
+    for p in pts:
+        while len(kept) >= 2 and _orient(kept[-2], kept[-1], p) == 0:
+            kept.pop()
+        kept.append(p)
+    changed = True
+    while changed and len(kept) > 3:  # the wrap-around: the last and the first vertices
+        checkpoint()
+        changed = False
+        if _orient(kept[-2], kept[-1], kept[0]) == 0:
+            kept.pop()
+            changed = True
+        elif _orient(kept[-1], kept[0], kept[1]) == 0:
+            del kept[0]
+            changed = True
+    if len(kept) < 3:  # a degenerate cycle (all on one line): as the reference leaves it
+        return _drop_collinear_reference(pts)
+    return kept
+
+
+def _drop_collinear_reference(cycle: list[Pt]) -> list[Pt]:
+    """The plain version of :func:`_drop_collinear` (quadratic: it rescans from the
+    start after each removal): the reference the tests compare it with."""
     pts = [p for i, p in enumerate(cycle) if p != cycle[i - 1]] if len(cycle) > 1 else list(cycle)
     changed = True
     while changed and len(pts) > 3:

@@ -171,7 +171,7 @@ def solve_command(
     minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
     segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
     horizon_search: str = typer.Option("window", "--horizon-search", help="lazy-smt: window (goal at some step of a growing window), minimal (window, then the horizon found is proved minimal: every shorter one refuted: the plan re-timed by LPs, then probes when the start is at rest) or linear (one horizon at a time, the paper; the horizon found is minimal)."),
-    window_growth: float = typer.Option(0.25, "--window-growth", max=100.0, callback=finite_positive, help="lazy-smt, window search: each window is this fraction longer than its start."),
+    window_growth: float = typer.Option(0.25, "--window-growth", max=100.0, callback=finite_positive, help="lazy-smt, window search: each window is this fraction longer than its start (default 0.25; 1.0 on abstractions of more than 200 regions)."),
     transit: bool = typer.Option(True, "--transit/--no-transit", help="lazy-smt: refute plans with impossible transit times before CON-PLAN."),
     guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
     wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),

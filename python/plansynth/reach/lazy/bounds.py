@@ -181,6 +181,71 @@ def _sweep(
     limit: int,
     targets: dict[int, tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> tuple[list[float], float]:
+    """:func:`_sweep_reference`, one step over every region at once (numpy over the
+    edges of the region graph, self-loops included): the same boxes, the same answer
+    (a hypothesis test compares them), in ~0.5 ms a step where the region-by-region loop
+    took ~1,500 regions x their neighbours of small numpy calls (the GCS paper's 50 x 50
+    maze: about 20 s for the two sweeps)."""
+    k = len(boxes)
+    if k == 0:
+        return [], math.inf
+    d = len(grow_lo)
+    blo = np.array([b[0] for b in boxes], dtype=float).reshape(k, d)
+    bhi = np.array([b[1] for b in boxes], dtype=float).reshape(k, d)
+    src = np.array([j for j in range(k)] + [i for j in range(k) for i in adjacency[j]], dtype=np.int64)
+    dst = np.array([j for j in range(k)] + [j for j in range(k) for _ in adjacency[j]], dtype=np.int64)
+    inf = np.inf
+    rlo = np.full((k, d), inf)
+    rhi = np.full((k, d), -inf)
+    have = np.zeros(k, dtype=bool)
+    first = np.full(k, inf)
+    for j, (lo, hi) in seeds.items():
+        rlo[j], rhi[j], have[j], first[j] = lo, hi, True, 0
+    tj = np.array(sorted((targets or {}).keys()), dtype=np.int64)
+    tlo = np.array([targets[j][0] for j in tj.tolist()], dtype=float).reshape(len(tj), d) if len(tj) else None
+    thi = np.array([targets[j][1] for j in tj.tolist()], dtype=float).reshape(len(tj), d) if len(tj) else None
+
+    def hits() -> bool:
+        if tlo is None:
+            return False
+        ok = have[tj] & np.all(np.maximum(rlo[tj], tlo) <= np.minimum(rhi[tj], thi), axis=1)
+        return bool(ok.any())
+
+    hit = 0 if hits() else math.inf
+    for t in range(1, limit + 1):
+        checkpoint()
+        live = have[src]
+        s_, d_ = src[live], dst[live]
+        clo = np.maximum(rlo[s_] - grow_lo, blo[d_])
+        chi = np.minimum(rhi[s_] + grow_hi, bhi[d_])
+        ok = np.all(clo <= chi, axis=1)
+        s_, d_, clo, chi = s_[ok], d_[ok], clo[ok], chi[ok]
+        nlo, nhi = rlo.copy(), rhi.copy()
+        np.minimum.at(nlo, d_, clo)
+        np.maximum.at(nhi, d_, chi)
+        reached = np.zeros(k, dtype=bool)
+        reached[d_] = True
+        grew = reached & (~have | np.any(nlo < rlo, axis=1) | np.any(nhi > rhi, axis=1))
+        first[grew & ~have] = t
+        changed = bool(grew.any())
+        rlo, rhi = np.where(grew[:, None], nlo, rlo), np.where(grew[:, None], nhi, rhi)
+        have = have | grew
+        if hit == math.inf and hits():
+            hit = t
+        if not changed:
+            break
+    return [math.inf if math.isinf(f) else int(f) for f in first.tolist()], hit
+
+
+def _sweep_reference(
+    seeds: dict[int, tuple[np.ndarray, np.ndarray]],
+    boxes: Sequence[tuple[np.ndarray, np.ndarray]],
+    adjacency: Sequence[Sequence[int]],
+    grow_lo: np.ndarray,
+    grow_hi: np.ndarray,
+    limit: int,
+    targets: dict[int, tuple[np.ndarray, np.ndarray]] | None = None,
+) -> tuple[list[float], float]:
     """Grow reach boxes from ``seeds`` by [-grow_lo, grow_hi] per step along region
     adjacency, clipped to the region boxes, for at most ``limit`` steps (boxes only
     grow: 0 is a displacement, so a step may stay put). Returns the first step at

@@ -57,7 +57,7 @@ from pysat.card import CardEnc, EncType
 from pysat.formula import IDPool
 from pysat.solvers import Solver
 
-from plansynth.budget import Clock
+from plansynth.budget import Clock, checkpoint
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.conflict import Conflict
 
@@ -74,6 +74,10 @@ SAT_SOLVER = "cadical195"
 #: Up to this many regions "exactly one region per step" is pairwise (k(k-1)/2 binary
 #: clauses, no auxiliary variables); beyond, the sequential counter (linear in k).
 PAIRWISE_MAX_REGIONS = 8
+#: Beyond this many regions ``cardinality="auto"`` is the ``paths`` encoding (see
+#: :class:`DisPlan`): no cardinality constraint, variables only where the time windows
+#: allow them (the GCS paper's 50 x 50 maze: 1,571 regions over ~600 steps).
+PATHS_MIN_REGIONS = 200
 # python-sat's CaDiCaL 1.9.5 refuses interrupt() and prop_budget() but honours
 # conf_budget() with solve_limited(): it runs in slices of conflicts, the clock checked
 # between slices. The slice adapts so that one takes about SLICE_SECONDS (conflicts get
@@ -167,8 +171,25 @@ class DisPlan(LearnedClauses):
     """One incremental SAT instance over a growing horizon (paper, Section IV).
 
     ``cardinality`` names the exactly-one encoding (``pairwise`` or a PySAT encoding
-    such as ``seqcounter``; ``"auto"``: pairwise up to 8 regions). Counters: ``sat_calls``,
-    ``clauses`` (learned conflict clauses, counting shifted copies).
+    such as ``seqcounter``; ``"auto"``: pairwise up to 8 regions, ``paths`` beyond
+    :data:`PATHS_MIN_REGIONS`). Counters: ``sat_calls``, ``clauses`` (learned conflict
+    clauses, counting shifted copies).
+
+    ``cardinality="paths"`` (beyond the paper; for large abstractions) drops the
+    exactly-one constraint and the forward transitions. Its variables are only the
+    b[t, i] with t >= ``earliest[i]`` (the others are false in the dense encoding too:
+    it adds them as unit clauses) and at t = 0 only the start regions; its clauses are
+    the *backward* transitions ``b[t,i] -> OR_{j in {i} + N[i]} b[t-1,j]`` over those
+    variables, and the goal and every learned clause as in the dense encoding (a clause
+    with a literal that cannot be true is not added). A model may set several regions
+    true at a step; the plan is read backwards from a true goal region at the horizon,
+    one true predecessor per step (the region itself when it is true), down to a start
+    region at t = 0. That walk is a region sequence of the dense encoding's semantics,
+    and every learned clause (negative literals over the b's, and guards) holds for it
+    because it holds for the model's larger true set; conversely a plan's own bits
+    satisfy every clause. So the two encodings answer every question alike (a test
+    compares them on random workspaces), with about a fifth of the clauses and none of
+    the counter's auxiliary variables.
     """
 
     def __init__(
@@ -181,9 +202,13 @@ class DisPlan(LearnedClauses):
         waits_at_start: bool = False,
     ) -> None:
         if cardinality == "auto":
-            cardinality = "pairwise" if graph.n_regions <= PAIRWISE_MAX_REGIONS else "seqcounter"
-        if cardinality not in CARDINALITY_ENCODINGS:
-            raise ValueError(f"unknown cardinality encoding {cardinality!r} (known: auto, {', '.join(CARDINALITY_ENCODINGS)})")
+            cardinality = ("pairwise" if graph.n_regions <= PAIRWISE_MAX_REGIONS else
+                           "paths" if graph.n_regions > PATHS_MIN_REGIONS else "seqcounter")
+        if cardinality not in CARDINALITY_ENCODINGS and cardinality != "paths":
+            raise ValueError(f"unknown cardinality encoding {cardinality!r} "
+                             f"(known: auto, {', '.join(CARDINALITY_ENCODINGS)}, paths)")
+        self.paths = cardinality == "paths"
+        self._starts = frozenset(graph.start_regions)
         self.graph = graph
         self.cardinality = cardinality
         self.pool = IDPool()
@@ -250,9 +275,40 @@ class DisPlan(LearnedClauses):
     def _add(self, clause: list[int]) -> None:
         self.solver.add_clause(clause)
 
-    def _extend(self, horizon: int) -> None:
+    def exists(self, t: int, i: int) -> bool:
+        """Can b[t, i] be true at all? (False before ``earliest[i]``, and at t = 0 outside
+        the start regions; the ``paths`` encoding has no variable there.)"""
+        return t >= self.earliest[i] and (t > 0 or i in self._starts)
+
+    def _extend_paths(self, horizon: int) -> None:
+        """The ``paths`` encoding of steps built+1..horizon (see the class docstring)."""
         g = self.graph
         for t in range(self.built + 1, horizon + 1):
+            checkpoint()  # thousands of regions per step: within the budget phase
+            if t == 0:
+                self._add([self.at(0, i) for i in g.start_regions if self.exists(0, i)])
+                self.sat_clauses_encoding += 1
+            else:
+                for i in range(g.n_regions):
+                    if not self.exists(t, i):
+                        continue
+                    preds = [self.at(t - 1, j) for j in (i, *g.adjacency[i]) if self.exists(t - 1, j)]
+                    self._add([-self.at(t, i)] + preds)
+                    self.sat_clauses_encoding += 1
+            old = self.built
+            self.built = t
+            for c in self.conflicts:
+                if not c.anchored_start and not c.anchored_goal:
+                    self._instantiate_free(c, old, t)
+        self._to_go_windows()
+
+    def _extend(self, horizon: int) -> None:
+        if self.paths:
+            self._extend_paths(horizon)
+            return
+        g = self.graph
+        for t in range(self.built + 1, horizon + 1):
+            checkpoint()
             lits = [self.at(t, i) for i in range(g.n_regions)]
             if self.cardinality == "pairwise":
                 enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool, encoding=EncType.pairwise)
@@ -285,8 +341,9 @@ class DisPlan(LearnedClauses):
         if self.floor is None:
             return
         for t in range(self.to_go_built + 1, self.built + 1):
+            checkpoint()
             for i in range(self.graph.n_regions):
-                if t < self.earliest[i] or self.to_go[i] <= 0:
+                if not self.exists(t, i) or self.to_go[i] <= 0:
                     continue  # excluded for good already, or a goal region
                 if self.to_go[i] == math.inf:
                     self._add([-self.at(t, i)])
@@ -303,7 +360,7 @@ class DisPlan(LearnedClauses):
             return
         self.goal_added.add(horizon)
         act = self.act(horizon)
-        self._add([-act] + [self.at(horizon, i) for i in self.graph.goal_regions])
+        self._add([-act] + [self.at(horizon, i) for i in self.graph.goal_regions if self.exists(horizon, i)])
         for c in self.conflicts:
             if c.anchored_goal and not c.anchored_start:
                 self._instantiate_goal(c, horizon)
@@ -311,6 +368,8 @@ class DisPlan(LearnedClauses):
     def _clause(self, c: Conflict, shift: int, guard: int | None) -> None:
         """Add ``c`` shifted by ``shift``: under ``act[guard]`` when goal-anchored, else
         for plans that reach its last time step."""
+        if not all(self.exists(t + shift, i) for t, i in c.literals):
+            return  # a literal that is false in every plan: the clause holds already
         clause = [-self.at(t + shift, i) for t, i in c.literals]
         if guard is not None:
             clause.append(-guard)
@@ -343,6 +402,7 @@ class DisPlan(LearnedClauses):
         (old_built, built]."""
         span = c.last_time - c.first_time
         for end in range(max(old_built + 1, span), built + 1):
+            checkpoint()
             self._clause(c, end - c.last_time, None)
 
     def learn(self, conflict: Conflict) -> None:
@@ -431,6 +491,8 @@ class DisPlan(LearnedClauses):
         # the plan ends at the smallest horizon whose activation literal is true: every
         # guarded clause then holds for it (see before())
         horizon = next(h for h in range(self.floor, horizon + 1) if self.act(h) in true)
+        if self.paths:
+            return SatOutcome.SAT, self._walk_back(true, horizon)
         plan: list[int | None] = [None] * (horizon + 1)
         for v in model:
             if v > 0:
@@ -443,6 +505,30 @@ class DisPlan(LearnedClauses):
             raise AssertionError("SAT model leaves a time step without a region")
         return SatOutcome.SAT, tuple(int(r) for r in plan)  # type: ignore[arg-type]
 
+    def _walk_back(self, true: set[int], horizon: int) -> tuple[int, ...]:
+        """The ``paths`` encoding's plan: from a true goal region at ``horizon`` back to
+        t = 0, each step the region itself when its bit is true, else a true neighbour
+        (the backward clauses guarantee one; see the class docstring)."""
+        g = self.graph
+        obj = self.pool.obj2id
+
+        def on(t: int, i: int) -> bool:
+            v = obj.get(("at", t, i))
+            return v is not None and v in true
+
+        r = next((i for i in g.goal_regions if on(horizon, i)), None)
+        if r is None:  # pragma: no cover - the goal clause forbids it
+            raise AssertionError("SAT model has no goal region at the horizon")
+        plan = [r]
+        for t in range(horizon, 0, -1):
+            r = next((j for j in (r, *g.adjacency[r]) if self.exists(t - 1, j) and on(t - 1, j)), None)
+            if r is None:  # pragma: no cover - the backward clauses forbid it
+                raise AssertionError(f"SAT model has no predecessor at time {t - 1}")
+            plan.append(r)
+        if plan[-1] not in self._starts:  # pragma: no cover - only start regions exist at t = 0
+            raise AssertionError("SAT model's walk does not start in a start region")
+        return tuple(plan[::-1])
+
     def prefer(self, plan: Sequence[int]) -> None:
         """Set the SAT solver's decision phases to ``plan`` (r_0..r_h): b[t, plan[t]]
         true, the other regions false, and the plan ending at h (a window that contains h
@@ -450,9 +536,18 @@ class DisPlan(LearnedClauses):
         H = len(plan) - 1
         self.preferred = H
         self._extend(H)
-        phases = [self.at(t, i) if i == r else -self.at(t, i) for t, r in enumerate(plan) for i in range(self.graph.n_regions)]
+        if self.paths:
+            obj = self.pool.obj2id
+            phases = [v if i == r else -v for t, r in enumerate(plan) for i in range(self.graph.n_regions)
+                      if (v := obj.get(("at", t, i))) is not None]
+        else:
+            phases = [self.at(t, i) if i == r else -self.at(t, i) for t, r in enumerate(plan)
+                      for i in range(self.graph.n_regions)]
         if self.floor is not None:  # ... and ending at H, not before
             phases += [-e for e in (self.ends_before(T) for T in range(self.floor + 1, H + 1)) if e is not None]
+        if self.paths:  # no auxiliary variables to phase
+            self.solver.set_phases(phases)
+            return
         # the auxiliary variables of the exactly-one encoding (seqcounter, beyond 8
         # regions) as the plan implies them: unphased, their default phase would steer
         # the search off the plan at once

@@ -17,7 +17,9 @@ the work (maze-4: horizons 122..140 cost ~1,700 LPs before 141 succeeds). The de
 *some* horizon in a window lo..hi (windows grow geometrically by ``window_growth``
 from the lower bound), which is monotone in hi: a window that admits a trajectory
 usually yields one after a few counterexamples, and only windows without any are
-refuted whole. The result's ``counters["minimal"]`` says whether the horizon found is
+refuted whole (``window_growth=None``, the default: 0.25, and 1.0 on an abstraction of
+more than 200 regions, see :func:`~plansynth.reach.lazy.options.window_growth_for`).
+The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
 refutes the horizons below the one found, with every learned clause kept (the plan
@@ -111,7 +113,7 @@ from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph, SatOutcome
-from plansynth.reach.lazy.options import COUNTEREXAMPLES, HORIZON_SEARCHES, LazyOptions
+from plansynth.reach.lazy.options import COUNTEREXAMPLES, HORIZON_SEARCHES, LazyOptions, window_growth_for
 from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -329,7 +331,8 @@ def plan_lazy(
         out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: "
                           f"{why}; {_not_a_proof(proved)}")
         return finish(_prove(problem, out, proved, clock, counters) if opts.prove and segment_safe else out)
-    growth = window_growth if horizon_search != "linear" else 0.0
+    growth = window_growth_for(window_growth, graph.n_regions) if horizon_search != "linear" else 0.0
+    options_record["window_growth"] = window_growth_for(window_growth, graph.n_regions)  # (None: resolved)
     windows = horizon_windows(first, L_max, growth)
     guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
     with clock.phase("the lazy SMT loop"):

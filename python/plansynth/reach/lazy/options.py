@@ -24,12 +24,32 @@ from typing import Any
 
 from plansynth.errors import InvalidOption
 
-__all__ = ["LazyOptions", "CONFIGURATIONS", "COUNTEREXAMPLES", "HORIZON_SEARCHES", "SLACK_WEIGHTS"]
+__all__ = ["LazyOptions", "CONFIGURATIONS", "COUNTEREXAMPLES", "HORIZON_SEARCHES", "SLACK_WEIGHTS", "WINDOW_GROWTH",
+           "LARGE_WINDOW_GROWTH", "LARGE_REGIONS", "window_growth_for"]
 
 #: CON-PLAN's counterexample strategies (``farkas`` is ``trivial`` shrunk by its Farkas
 #: certificate; see :mod:`plansynth.reach.lazy.conplan`).
 COUNTEREXAMPLES = ("farkas", "zeroprefix", "trivial", "iis")
 HORIZON_SEARCHES = ("window", "linear", "minimal")
+#: The window search's growth (``window_growth=None``): each window this fraction longer
+#: than its start, or, on an abstraction of more than LARGE_REGIONS regions, twice as
+#: long. There the region-hop and displacement bounds ignore turning, the first feasible
+#: horizon lies far above them (the GCS paper's 50 x 50 maze: box bound 286, nothing
+#: found below 357 in minutes), and refuting one window costs more than a longer plan.
+WINDOW_GROWTH = 0.25
+LARGE_WINDOW_GROWTH = 1.0
+LARGE_REGIONS = 200
+
+
+def window_growth_for(growth: float | None, regions: int) -> float:
+    """The window growth used: ``growth`` when given, else by the abstraction's size.
+
+    >>> window_growth_for(None, 10), window_growth_for(None, 1571), window_growth_for(0.5, 1571)
+    (0.25, 1.0, 0.5)
+    """
+    if growth is not None:
+        return float(growth)
+    return LARGE_WINDOW_GROWTH if regions > LARGE_REGIONS else WINDOW_GROWTH
 SLACK_WEIGHTS = ("geometric", "uniform")
 
 
@@ -51,7 +71,7 @@ class LazyOptions:
     cardinality: str = "auto"
     lower_bound: bool = True
     horizon_search: str = "window"
-    window_growth: float = 0.25
+    window_growth: float | None = None  # None: WINDOW_GROWTH, or LARGE_WINDOW_GROWTH on large abstractions
     transit: bool = True
     guided: bool = True
     widen: bool = False
@@ -70,7 +90,8 @@ class LazyOptions:
                                         f"(known: {', '.join(HORIZON_SEARCHES)})")
         if self.slack_weights not in SLACK_WEIGHTS:
             raise bad("slack_weights", f"unknown slack weights {self.slack_weights!r} (known: {', '.join(SLACK_WEIGHTS)})")
-        if not (isinstance(self.window_growth, (int, float)) and math.isfinite(self.window_growth)
+        if self.window_growth is not None and not (
+                isinstance(self.window_growth, (int, float)) and math.isfinite(self.window_growth)
                 and self.window_growth > 0):
             raise bad("window_growth", f"window_growth must be positive, got {self.window_growth}")
         if self.max_horizon is not None and not (isinstance(self.max_horizon, int) and self.max_horizon >= 0):

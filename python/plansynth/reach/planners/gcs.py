@@ -70,7 +70,7 @@ from typing import Any
 
 import numpy as np
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.planners import OptionsPlanner, keyword_runner
@@ -83,6 +83,12 @@ __all__ = ["plan_gcs", "VARIANTS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBS
 
 VARIANTS = ("like-for-like", "surrogate", "convex")
 DEFAULT_TIME_UNIT = 10.0
+IPOPT_MAX_ITER = 100_000  # with a time budget: its share of the time ends IPOPT first
+SOLVER_SHARE = 0.4  # of the time left: the relaxation's, and all restrictions' together
+#: Drake's preprocessing (one small convex program per edge, to drop edges no path can
+#: use) cannot be interrupted: on the 50 x 50 GCS maze (3,300 edges) it ran for minutes
+#: past a 20 s budget. Beyond this many regions it is off.
+PREPROCESS_MAX_REGIONS = 200
 CURVE_SUBSTEPS = 10
 
 #: What a ``gcs`` result guarantees, and how that differs from the discrete planners.
@@ -171,7 +177,11 @@ def plan_gcs(
     ``budget.seconds`` becomes the time limit of Drake's solvers (Clarabel's
     ``time_limit``, IPOPT's ``max_wall_time``) and is checked once more when Drake
     returns: past it the status is ``unknown`` (GCS cannot be interrupted between its
-    solver calls, so it may overrun by one solver call). ``budget.iterations`` is not
+    solver calls, so it may overrun by one solver call). The relaxation gets 40% of
+    the time left after the abstraction (which runs within the budget too), each
+    rounded path's restriction an equal share of another 40%; the graph's
+    construction is not interruptible, nor is Drake's preprocessing, which is therefore
+    off beyond :data:`PREPROCESS_MAX_REGIONS` regions. ``budget.iterations`` is not
     used. The trajectory is *not* yet validated (:func:`plansynth.reach.solve` does it).
     ``segment_safe``, ``max_horizon`` and ``progress`` (the options every planner is
     given) do not apply: the whole curve is kept in the regions, and GCS has no horizon.
@@ -198,7 +208,14 @@ def plan_gcs(
                            timings=timings, options=options, message=message, guarantee="curve")
 
     ta = time.perf_counter()
-    a = abstraction if abstraction is not None else abstract(problem)
+    if abstraction is None:
+        try:
+            with budget.clock().phase("the convex decomposition (abstraction)"):
+                abstraction = abstract(problem)
+        except BudgetExhausted as exc:
+            timings["abstraction"] = time.perf_counter() - ta
+            return unknown(str(exc))
+    a = abstraction
     timings["abstraction"] = time.perf_counter() - ta
     counters["regions"] = a.n_regions
     pbox = _position_box(problem)
@@ -244,7 +261,8 @@ def plan_gcs(
 
     opts = D["Options"]()
     opts.convex_relaxation = True
-    opts.preprocessing = True
+    opts.preprocessing = a.n_regions <= PREPROCESS_MAX_REGIONS
+    counters["preprocessing"] = bool(opts.preprocessing)
     opts.max_rounded_paths = int(max_rounded_paths)
     opts.solver = D["Clarabel"]()
     nonconvex = variant != "convex" and k == 2
@@ -252,12 +270,21 @@ def plan_gcs(
     so = D["SolverOptions"]()
     rso = D["SolverOptions"]()
     if budget.seconds is not None:
+        # the relaxation gets 40% of what is left, each of the (up to
+        # max_rounded_paths) restrictions an equal share of another 40%, the rest is
+        # for Drake's rounding between them: each limit is per solver call, so giving
+        # every call all that is left let a 50 x 50 maze overrun its budget several
+        # times over (with halves it still overran 120 s by 12 s once)
         left = max(0.05, float(budget.seconds) - (time.perf_counter() - t0))
-        so.SetOption(D["Clarabel"].id(), "time_limit", left)
+        share = max(0.05, SOLVER_SHARE * left / max(1, int(max_rounded_paths)))
+        so.SetOption(D["Clarabel"].id(), "time_limit", SOLVER_SHARE * left)
         if nonconvex:
-            rso.SetOption(D["Ipopt"].id(), "max_wall_time", left)
+            rso.SetOption(D["Ipopt"].id(), "max_wall_time", share)
+            # the wall time, not IPOPT's 3,000 iterations, ends a long restriction (the
+            # 20 x 20 GCS maze's 150-region path stopped at the iteration limit in 27 s)
+            rso.SetOption(D["Ipopt"].id(), "max_iter", IPOPT_MAX_ITER)
         else:
-            rso.SetOption(D["Clarabel"].id(), "time_limit", left)
+            rso.SetOption(D["Clarabel"].id(), "time_limit", share)
     opts.solver_options = so
     opts.restriction_solver_options = rso
     ts = time.perf_counter()
