@@ -37,6 +37,7 @@ N50_TIMEOUT = 300.0  # order-25 chains (n = 50 states)
 N50_REPEATS = 3  # the issue's target is on maze-4 at order 25: a median, not one run
 RRT_REPEATS = 3
 GCS_REPEATS = 3
+GCS_MAZE_TIMEOUT = 120.0  # the GCS paper's 50 x 50 maze: lazy-smt's target is 60 s, gcs gets longer
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 NATIVE_REPEATS = 3
 #: ``--timeout`` of the families run through the CLI (reactive suite, doors): the targets
@@ -66,6 +67,10 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
                             timeout=reach_timeout)
         # Graphs of Convex Sets (Drake) beside lazy-smt on the mazes, interleaved, medians of 3
         tasks += make_tasks(family("reach", "maze"), ["gcs"], repeat=GCS_REPEATS, timeout=reach_timeout)
+        # the horizon proved minimal beside the window search (issue 13, item 3), medians of 3
+        tasks += make_tasks(family("reach", "maze"), ["lazy-smt-minimal"], repeat=GCS_REPEATS, timeout=reach_timeout)
+        # the GCS paper's n x n mazes (issue 13, item 8): lazy-smt and gcs on the same instances
+        tasks += make_tasks(family("reach", "gcs-maze"), ["lazy-smt", "gcs"], timeout=max(reach_timeout, GCS_MAZE_TIMEOUT))
         # Figure 4 with random dynamics (the paper's setting): seeded random controllable (A, B)
         tasks += make_tasks(family("reach", "random-dynamics", [1, 2, 3, 4], states=RANDOM_DYNAMICS_STATES),
                             ["lazy-smt"], timeout=max(reach_timeout, N50_TIMEOUT))
