@@ -295,11 +295,7 @@ class DisPlan(LearnedClauses):
                     preds = [self.at(t - 1, j) for j in (i, *g.adjacency[i]) if self.exists(t - 1, j)]
                     self._add([-self.at(t, i)] + preds)
                     self.sat_clauses_encoding += 1
-            old = self.built
-            self.built = t
-            for c in self.conflicts:
-                if not c.anchored_start and not c.anchored_goal:
-                    self._instantiate_free(c, old, t)
+            self._built_to(t)
         self._to_go_windows()
 
     def _extend(self, horizon: int) -> None:
@@ -328,12 +324,17 @@ class DisPlan(LearnedClauses):
                 for i in range(g.n_regions):
                     self._add([-self.at(t - 1, i), self.at(t, i)] + [self.at(t, j) for j in g.adjacency[i]])
                 self.sat_clauses_encoding += g.n_regions
-            old = self.built
-            self.built = t
-            for c in self.conflicts:
-                if not c.anchored_start and not c.anchored_goal:
-                    self._instantiate_free(c, old, t)
+            self._built_to(t)
         self._to_go_windows()
+
+    def _built_to(self, t: int) -> None:
+        """The encoding now reaches step ``t``: the free (unanchored) conflicts learned so
+        far are instantiated at the shifts the new step opens."""
+        old = self.built
+        self.built = t
+        for c in self.conflicts:
+            if not c.anchored_start and not c.anchored_goal:
+                self._instantiate_free(c, old, t)
 
     def _to_go_windows(self) -> None:
         """Region i at time t only if the plan ends at t + to_go[i] or later:
