@@ -2,7 +2,7 @@
 # Set up (if needed) and run the whole test suite: Rust core tests, then pytest in
 # three random orders (pytest-randomly), each seed printed, so that a test that only
 # passes after another one fails here:
-#   order 1: the whole suite;
+#   order 1: the whole suite, with its 20 slowest tests listed (CI keeps under 15 min);
 #   orders 2 and 3: the whole suite but the README-command tests (marker `commands`:
 #   each already runs in a fresh process, so their order cannot matter).
 # The three orders are independent pytest sessions, so they run at the same time (each
@@ -38,7 +38,7 @@ for i in 1 2; do
   pids+=($!)
 done
 status=0
-pytest_order 1 "${seeds[0]}" "$@" || status=$?
+pytest_order 1 "${seeds[0]}" --durations=20 "$@" || status=$?
 for i in 1 2; do
   rc=0
   wait "${pids[$((i - 1))]}" || rc=$?

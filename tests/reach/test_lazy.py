@@ -106,7 +106,9 @@ def test_iteration_budget_gives_unknown() -> None:
 
 
 def test_time_budget_gives_unknown() -> None:
-    r = solve(maze(2), budget=Budget(seconds=0.05))
+    # maze-4 takes ~0.15 s on a quiet machine (its abstraction alone ~0.01 s); maze-2 with
+    # 0.05 s, as before, was solved within the budget once the planner got faster
+    r = solve(maze(4), budget=Budget(seconds=0.01))
     assert r.status is ReachStatus.UNKNOWN and "budget" in r.message
 
 
