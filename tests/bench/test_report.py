@@ -178,3 +178,23 @@ def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
     text = "\n".join(_gcs_maze_table(cells))
     assert "| 10 | 55 | 0.5 | 60 x dt = 30 | 12 / 3400 | 4 | 20 | 8 |" in text
     assert "| 50 | 1571 | 50 | 60 x dt = 30 | 12 / 3400 | > 120 (1 unknown) | - | > 2.4 |" in text
+
+
+def test_a_run_that_gave_up_early_bounds_no_ratio(tmp_path):
+    """gcs ending `unknown` after 13 s of a 120 s limit (an iteration limit, not the
+    clock) says nothing about how long it would take: no "> 120 / t" ratio, and its cell
+    says when it gave up."""
+    from plansynth.bench.report import _gcs_maze_table
+
+    with ResultsDB(tmp_path / "g.db") as db:
+        inst = reach_family("gcs-maze", [20])[0]
+        e = db.experiment(inst.key, kind="reach", family="gcs-maze", instance=inst.name, setup=inst.to_dict(),
+                          timelimit=120)
+        db.add_run(e, db.planner("lazy-smt", {}), 0, {
+            "time": 3.5, "status": "solved", "solved": 1, "valid": 1, "horizon": 532, "regions": 249,
+            "attributes": {"duration": 266.0, "counters": {"lp_calls": 18, "clauses": 3807}}})
+        db.add_run(e, db.planner("gcs", {}), 0, {"time": 13.1, "status": "unknown", "solved": 0, "regions": 249})
+        cells = summarise(db.runs())
+    row = next(line for line in _gcs_maze_table(cells) if line.startswith("| 20 |"))
+    assert "no answer (1 unknown after 13.1 s of 120)" in row
+    assert row.endswith("| - | - |"), row

@@ -74,7 +74,7 @@ class Cell:
             if self.out_of_time:
                 lim = f"> {_fmt(self.limit)}" if self.limit else "-"
                 t = self.median_any
-                if t is not None and self.limit and t < 0.9 * self.limit:
+                if t is not None and self.limit and not self.used_its_limit:
                     return f"no answer ({_status_summary(self.statuses)} after {_fmt(t)} s of {_fmt(self.limit)})"
                 return f"{lim} ({_status_summary(self.statuses)})"
             return _status_summary(self.statuses)
@@ -89,6 +89,14 @@ class Cell:
     def out_of_time(self) -> bool:
         """No answer because time ran out (not a crash or an invalid plan)."""
         return self.solved == 0 and set(self.statuses) <= {"unknown", "timeout"}
+
+    @property
+    def used_its_limit(self) -> bool:
+        """No answer within (nearly) the whole limit: the limit is then a lower bound of
+        the time it would need. A run that gave up well before it (an iteration limit of
+        the solver, say) bounds nothing."""
+        t = self.median_any
+        return self.out_of_time and bool(self.limit) and (t is None or t >= 0.9 * self.limit)
 
     @property
     def median_any(self) -> float | None:
@@ -212,9 +220,9 @@ def _ratio_value(a: Cell | None, b: Cell | None) -> tuple[float, str] | None:
     ta, tb = a.decided_time(), b.decided_time()
     if ta is not None and tb is not None:
         return ta / max(tb, 1e-6), "="
-    if ta is None and tb is not None and a.limit and a.out_of_time:
+    if ta is None and tb is not None and a.used_its_limit:
         return a.limit / max(tb, 1e-6), ">"
-    if tb is None and ta is not None and b.limit and b.out_of_time:
+    if tb is None and ta is not None and b.used_its_limit:
         return ta / b.limit, "<"
     return None
 
