@@ -144,3 +144,17 @@ def test_cli_solves_with_gcs_and_validates_the_curve_result(tmp_path):
     assert exact.exit_code == 1 and "dynamics" in exact.output
     bad = CliRunner().invoke(app, ["reach", "solve", str(f), "--planner", "lazy-smt", "--variant", "convex"])
     assert bad.exit_code != 0
+
+
+def test_large_graphs_round_to_one_path(maze1_gcs):
+    """Beyond PREPROCESS_MAX_REGIONS regions one rounded path gets the whole restriction
+    share (five shares left the 20 x 20 GCS maze's IPOPT restriction 10 s of the 40 s it
+    needs); an explicit request wins, and maze-1 keeps Drake's five."""
+    from plansynth.reach.planners import gcs
+
+    assert maze1_gcs.options["max_rounded_paths"] == gcs.DEFAULT_MAX_ROUNDED_PATHS == 5
+    assert gcs.rounded_paths(gcs.PREPROCESS_MAX_REGIONS) == 5
+    assert gcs.rounded_paths(gcs.PREPROCESS_MAX_REGIONS + 1) == gcs.LARGE_MAX_ROUNDED_PATHS == 1
+    assert gcs.rounded_paths(1571, 3) == 3
+    with pytest.raises(ValueError, match="at least 1"):
+        gcs.rounded_paths(10, 0)

@@ -89,6 +89,14 @@ SOLVER_SHARE = 0.4  # of the time left: the relaxation's, and all restrictions' 
 #: use) cannot be interrupted: on the 50 x 50 GCS maze (3,300 edges) it ran for minutes
 #: past a 20 s budget. Beyond this many regions it is off.
 PREPROCESS_MAX_REGIONS = 200
+#: rounded paths tried by default: Drake's 5 up to PREPROCESS_MAX_REGIONS regions, 1
+#: beyond. Every restriction's share of the budget is fixed before Drake starts (it
+#: cannot be interrupted between them), and on the GCS paper's 20 x 20 and 50 x 50
+#: mazes a 150-piece path's IPOPT restriction needs about 40 s: with five shares of
+#: 120 s it stopped at its wall-time limit (reported as an iteration limit) after
+#: 10 s, with one it finds the curve.
+LARGE_MAX_ROUNDED_PATHS = 1
+DEFAULT_MAX_ROUNDED_PATHS = 5
 CURVE_SUBSTEPS = 10
 
 #: What a ``gcs`` result guarantees, and how that differs from the discrete planners.
@@ -159,6 +167,17 @@ def _position_box(problem: ReachProblem) -> Box:
     return Box(tuple(lo), tuple(hi))
 
 
+def rounded_paths(n_regions: int, requested: int | None = None) -> int:
+    """How many paths Drake rounds the relaxation to: ``requested``, else
+    :data:`DEFAULT_MAX_ROUNDED_PATHS` up to :data:`PREPROCESS_MAX_REGIONS` regions and
+    :data:`LARGE_MAX_ROUNDED_PATHS` beyond (see there)."""
+    if requested is not None:
+        if requested < 1:
+            raise ValueError(f"max_rounded_paths must be at least 1, got {requested}")
+        return int(requested)
+    return DEFAULT_MAX_ROUNDED_PATHS if n_regions <= PREPROCESS_MAX_REGIONS else LARGE_MAX_ROUNDED_PATHS
+
+
 def plan_gcs(
     problem: ReachProblem,
     budget: Budget = Budget(seconds=60.0),
@@ -166,7 +185,7 @@ def plan_gcs(
     variant: str = "like-for-like",
     order: int = 5,
     time_unit: float = DEFAULT_TIME_UNIT,
-    max_rounded_paths: int = 5,
+    max_rounded_paths: int | None = None,
     abstraction: Abstraction | None = None,
     segment_safe: bool = True,
     max_horizon: int | None = None,
@@ -181,7 +200,9 @@ def plan_gcs(
     the time left after the abstraction (which runs within the budget too), each
     rounded path's restriction an equal share of another 40%; the graph's
     construction is not interruptible, nor is Drake's preprocessing, which is therefore
-    off beyond :data:`PREPROCESS_MAX_REGIONS` regions. ``budget.iterations`` is not
+    off beyond :data:`PREPROCESS_MAX_REGIONS` regions, where ``max_rounded_paths``
+    also defaults to :data:`LARGE_MAX_ROUNDED_PATHS` (else Drake's 5), so that one
+    restriction gets the whole share. ``budget.iterations`` is not
     used. The trajectory is *not* yet validated (:func:`plansynth.reach.solve` does it).
     ``segment_safe``, ``max_horizon`` and ``progress`` (the options every planner is
     given) do not apply: the whole curve is kept in the regions, and GCS has no horizon.
@@ -196,7 +217,7 @@ def plan_gcs(
     T = float(time_unit)
     d = problem.dim
     dt = float(problem.dynamics.dt)  # type: ignore[arg-type]
-    options = {"variant": variant, "order": order, "time_unit": T, "max_rounded_paths": max_rounded_paths,
+    options = {"variant": variant, "order": order, "time_unit": T,
                "drake": drake_version(), "relaxation_solver": "Clarabel",
                "restriction_solver": "IPOPT" if variant != "convex" and k == 2 else "Clarabel"}
     counters: dict[str, Any] = {}
@@ -218,6 +239,8 @@ def plan_gcs(
     a = abstraction
     timings["abstraction"] = time.perf_counter() - ta
     counters["regions"] = a.n_regions
+    max_rounded_paths = rounded_paths(a.n_regions, max_rounded_paths)
+    options["max_rounded_paths"] = max_rounded_paths
     pbox = _position_box(problem)
     Hb, hb = halfspaces(pbox)
     sets = [D["HPolyhedron"](np.vstack([r.H, Hb]), np.concatenate([r.h, hb])) for r in a.regions]
@@ -363,7 +386,7 @@ class GcsOptions:
     variant: str = "like-for-like"
     order: int = 5
     time_unit: float = DEFAULT_TIME_UNIT
-    max_rounded_paths: int = 5
+    max_rounded_paths: int | None = None  # 5, or 1 beyond PREPROCESS_MAX_REGIONS regions
     segment_safe: bool = True
     max_horizon: int | None = None
 
