@@ -77,29 +77,25 @@ Poly = list[tuple[float, float]]
 
 def _hull(points: Poly) -> Poly:
     """Convex hull (counter-clockwise, Andrew's monotone chain) of a few points; only
-    exactly collinear or inner points are dropped (the hull never shrinks)."""
-    pts = sorted(set(points))
+    exactly collinear, repeated or inner points are dropped (the hull never shrinks)."""
+    pts = sorted(points)
     if len(pts) <= 2:
-        return pts
+        return pts if len(pts) < 2 or pts[0] != pts[1] else pts[:1]
     lower: Poly = []
-    for p in pts:
-        while len(lower) >= 2:
-            o, a = lower[-2], lower[-1]
-            if (a[0] - o[0]) * (p[1] - o[1]) - (a[1] - o[1]) * (p[0] - o[0]) <= 0:
-                lower.pop()
-            else:
-                break
-        lower.append(p)
     upper: Poly = []
-    for p in reversed(pts):
-        while len(upper) >= 2:
-            o, a = upper[-2], upper[-1]
-            if (a[0] - o[0]) * (p[1] - o[1]) - (a[1] - o[1]) * (p[0] - o[0]) <= 0:
-                upper.pop()
-            else:
-                break
-        upper.append(p)
-    return lower[:-1] + upper[:-1]
+    for chain, seq in ((lower, pts), (upper, reversed(pts))):
+        for p in seq:
+            px, py = p
+            while len(chain) >= 2:
+                ox, oy = chain[-2]
+                ax, ay = chain[-1]
+                if (ax - ox) * (py - oy) - (ay - oy) * (px - ox) <= 0:
+                    chain.pop()
+                else:
+                    break
+            chain.append(p)
+    out = lower[:-1] + upper[:-1]
+    return out if out else pts[:1]
 
 
 def _cut(P: Poly, a0: float, a1: float, b: float) -> Poly | None:
@@ -124,11 +120,17 @@ def _cut(P: Poly, a0: float, a1: float, b: float) -> Poly | None:
 
 def _box(P: Poly | None, plo: float, phi: float, vlo: float, vhi: float) -> Poly | None:
     """``P`` cut to plo <= position <= phi, vlo <= velocity <= vhi (infinite: no cut)."""
-    for a0, a1, b in ((1.0, 0.0, phi), (-1.0, 0.0, -plo), (0.0, 1.0, vhi), (0.0, -1.0, -vlo)):
+    if P is None:
+        return None
+    xs = [x for x, _ in P]
+    ys = [y for _, y in P]
+    for a0, a1, b, top in ((1.0, 0.0, phi, max(xs)), (-1.0, 0.0, -plo, -min(xs)), (0.0, 1.0, vhi, max(ys)),
+                           (0.0, -1.0, -vlo, -min(ys))):
+        if top <= b + EPS:  # (also b infinite) the polygon is within: no cut
+            continue
+        P = _cut(P, a0, a1, b)
         if P is None:
             return None
-        if math.isfinite(b):
-            P = _cut(P, a0, a1, b)
     return P
 
 
