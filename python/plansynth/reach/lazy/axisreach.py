@@ -66,11 +66,15 @@ from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.bounds import shape_box
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["AxisReach", "EPS"]
+__all__ = ["AxisReach", "EPS", "MAX_SWEEPS"]
 
 #: Every cut of a polygon by a bound is relaxed by this much (metres, metres per second):
 #: the sets are over-approximations also in floating point and within LP tolerances.
 EPS = 1e-6
+
+#: The forward sweep stops after this many (region, step) polygon steps (maze-4: 303;
+#: the GCS paper's 20 x 20 maze, 249 regions, would need tens of thousands, seconds).
+MAX_SWEEPS = 3000
 
 Poly = list[tuple[float, float]]
 
@@ -203,6 +207,7 @@ class AxisReach:
         self._early: list[float] = []
         self._togo: list[float] = []
         self.sweeps = 0  # polygon steps computed (a work counter)
+        self.reached = False  # did first_horizon's answer reach the goal (else: its work cap)?
 
     @classmethod
     def build(cls, problem: ReachProblem, abstraction: Abstraction, adjacency: Sequence[Sequence[int]],
@@ -273,17 +278,23 @@ class AxisReach:
         does, so no plan of any horizon up to ``limit`` exists). Every horizon below the
         answer has no plan (module docstring). ``earliest``/``to_go``: DIS-PLAN's time
         windows (sound), which prune the sweep for the horizons up to ``limit``; the sets
-        are kept for :meth:`tube` (at most ``limit``)."""
+        are kept for :meth:`tube` (at most ``limit``). After :data:`MAX_SWEEPS` polygon
+        steps the sweep stops and answers the first step it did not sweep, still a lower
+        bound, with ``reached`` False (True when the answer is a goal step)."""
         nr = len(self.boxes)
         self._early = [0.0] * nr if earliest is None else list(earliest)
         self._togo = [0.0] * nr if to_go is None else list(to_go)
         self.limit = limit
+        self.reached = False
         self.forward = [{i: [[s] for s in self.start] for i in self.start_regions if self._togo[i] <= limit}]
         for t in range(0, limit + 1):
             if t > 0:
+                if self.sweeps > MAX_SWEEPS:
+                    return t  # no plan below t (swept so far); ``reached`` stays False
                 self._step()
             G = self.forward[t]
             if any(self._reaches_goal(i, G[i]) is not None for i in self.goal_regions if i in G):
+                self.reached = True
                 return t
         return None
 

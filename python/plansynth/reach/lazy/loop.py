@@ -590,13 +590,14 @@ def prove_minimal(
         t0 = time.perf_counter()
         try:
             bound = reach.first_horizon(best.horizon - 1, displan.earliest, displan.to_go)
-            tube = reach.tube(bound) if bound is not None and bound >= bottom else None
+            tube = reach.tube(bound) if bound is not None and bound >= bottom and reach.reached else None
         except BudgetExhausted as exc:
             return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {exc}"), probes
         finally:
             timings["reach_sets"] = timings.get("reach_sets", 0.0) + time.perf_counter() - t0
         if counters is not None:
             counters["reach_sets_bound"] = bound
+            counters["reach_sets_reached"] = reach.reached
         if bound is None:
             return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every "
                                                        f"shorter horizon {REACH_SETS})"), probes
@@ -605,23 +606,25 @@ def prove_minimal(
             if L not in displan.closed:
                 displan.close(L)  # no plan of these horizons: the sets do not reach the goal
         bottom = bound
-        if tube is not None:
-            displan.forbid(bound, tube)
-        # under the tube the plans proposed keep to feasible crossing times, and the
-        # transit layer's leg LPs (maze-4: 80 to decide the legs of one refuted plan)
-        # would only repeat what CON-PLAN's conflict says: CON-PLAN alone
-        plain = theory.inner if isinstance(theory, TransitCheck) and tube is not None else theory
-        out = lazy_loop(displan, plain, [(bound, bound)], clock, timings, None,
-                        lambda H, plan=best.regions: compressed(plan, H))
-        probes += 1
-        if out.status is ReachStatus.FOUND:
-            return replace(out, minimal=True, message=f"found at horizon {out.horizon} (proved minimal: every "
-                                                      f"shorter horizon {REACH_SETS})"), probes
-        if out.status is not ReachStatus.INFEASIBLE:
-            return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"), probes
-        if bound not in displan.closed:
-            displan.close(bound)
-        bottom = bound + 1
+        if reach.reached and best.horizon > bound:  # (else the sweep stopped at its work cap: no probe there)
+            if tube is not None:
+                displan.forbid(bound, tube)
+            # under the tube the plans proposed keep to feasible crossing times, and the
+            # transit layer's leg LPs (maze-4: 80 to decide the legs of one refuted plan)
+            # would only repeat what CON-PLAN's conflict says: CON-PLAN alone
+            plain = theory.inner if isinstance(theory, TransitCheck) and tube is not None else theory
+            out = lazy_loop(displan, plain, [(bound, bound)], clock, timings, None,
+                            lambda H, plan=best.regions: compressed(plan, H))
+            probes += 1
+            if out.status is ReachStatus.FOUND:
+                return replace(out, minimal=True, message=f"found at horizon {out.horizon} (proved minimal: every "
+                                                          f"shorter horizon {REACH_SETS})"), probes
+            if out.status is not ReachStatus.INFEASIBLE:
+                return (replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"),
+                        probes)
+            if bound not in displan.closed:
+                displan.close(bound)
+            bottom = bound + 1
     best = retimed(displan, theory, best, bottom, clock, timings)
     step, refuted = 1, False  # downward gallop from the best plan until a probe is refuted
     while best.horizon > bottom:
