@@ -142,3 +142,15 @@ def test_the_minimal_search_with_the_sets_is_the_milp_minimum(problem: ReachProb
         assert solve_horizon(problem, ab, r.horizon)[0] == "found"
         if r.horizon > 0:
             assert solve_horizon(problem, ab, r.horizon - 1)[0] == "infeasible"
+
+
+def test_a_capped_sweep_is_a_bound_and_the_probes_continue(monkeypatch: pytest.MonkeyPatch) -> None:
+    """At its work cap the sweep answers the step it reached (no plan below it), without
+    the probe at it; the probes above prove the minimum as without the sets."""
+    from plansynth.reach.lazy import axisreach
+
+    monkeypatch.setattr(axisreach, "MAX_SWEEPS", 20)
+    r = plan_lazy(maze(1), horizon_search="minimal")
+    assert r.status is ReachStatus.FOUND and r.horizon == 57 and r.counters["minimal"] is True
+    assert r.counters["reach_sets_reached"] is False and 0 < r.counters["reach_sets_bound"] < 57
+    assert "monotonicity" in r.message

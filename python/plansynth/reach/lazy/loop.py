@@ -22,9 +22,13 @@ more than 200 regions, see :func:`~plansynth.reach.lazy.options.window_growth_fo
 The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
-refutes the horizons below the one found, with every learned clause kept (the plan
-first :func:`retimed` by LPs alone, then single-horizon probes galloping down and
-bisecting when the start is at rest, where feasibility is monotone in the horizon).
+refutes the horizons below the one found, with every learned clause kept: for dynamics
+that separate by axis, first the per-axis reachable sets of
+:mod:`~plansynth.reach.lazy.axisreach` (every horizon below their first goal step
+refuted without an LP, then one probe there under their tube), else (or when that probe
+is refuted) the plan :func:`retimed` by LPs alone, then single-horizon probes galloping
+down and bisecting when the start is at rest, where feasibility is monotone in the
+horizon.
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
 CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
