@@ -28,10 +28,11 @@ from plansynth.reach.validate import validate
 def test_minimal_on_maze_1_is_the_milp_minimum() -> None:
     p = maze(1)
     window = plan_lazy(p)
-    r = plan_lazy(p, horizon_search="minimal")
+    r = plan_lazy(p, horizon_search="minimal", reach_sets=False)  # the probes alone
     assert window.counters["minimal"] is False and window.horizon > r.horizon  # the window's top, not minimal
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is True and r.counters["minimal_probes"] >= 1
     assert "proved minimal" in r.message and "monotonicity" in r.message
+    assert "reach_sets_bound" not in r.counters
     assert validate(p, r.trajectory, require_segment_safe=True).ok
     ab = abstract(p)
     assert solve_horizon(p, ab, r.horizon)[0] == "found"
@@ -48,13 +49,18 @@ def moving_start() -> ReachProblem:
     )
 
 
+@pytest.mark.parametrize("reach_sets", [True, False], ids=["reach-sets", "probes"])
 @pytest.mark.parametrize("problem", [maze(2), moving_start()], ids=["maze-2", "moving-start"])
-def test_minimal_equals_the_linear_search(problem: ReachProblem) -> None:
+def test_minimal_equals_the_linear_search(problem: ReachProblem, reach_sets: bool) -> None:
     linear = plan_lazy(problem, horizon_search="linear")
-    r = plan_lazy(problem, horizon_search="minimal")
+    r = plan_lazy(problem, horizon_search="minimal", reach_sets=reach_sets)
     assert linear.counters["minimal"] is True and r.counters["minimal"] is True
     assert r.horizon == linear.horizon
-    assert ("monotonicity" in r.message) == problem.starts_at_rest
+    if reach_sets:  # the sets' bound is the minimum here: one probe, under the tube
+        assert r.counters["reach_sets_bound"] == r.horizon and r.counters["minimal_probes"] == 1
+        assert "per-axis reachable sets" in r.message
+    else:
+        assert ("monotonicity" in r.message) == problem.starts_at_rest
 
 
 def test_minimal_within_an_iteration_budget_is_not_proved() -> None:

@@ -425,6 +425,29 @@ class DisPlan(LearnedClauses):
         else:
             self._instantiate_free(c, -1, self.built)
 
+    def forbid(self, horizon: int, allowed: set[tuple[int, int]]) -> int:
+        """Facts for the plans of exactly ``horizon`` steps (the tube of
+        :meth:`plansynth.reach.lazy.axisreach.AxisReach.tube`): such a plan is at time
+        t <= horizon only in regions i with (t, i) in ``allowed``. Each other b[t, i]
+        gets ``not act[L] or e[L] or not b[t, i]`` ("the plan ends exactly at L" implies
+        not region i at t; e[L]: it ends before L), so no plan of another horizon is
+        affected. Returns the number of clauses added (also counted in
+        ``window_clauses``)."""
+        self._extend(horizon)
+        self._ensure_goal(horizon)
+        guard = [-self.act(horizon)]
+        e = self.ends_before(horizon)
+        if e is not None:
+            guard.append(e)
+        added = 0
+        for t in range(horizon + 1):
+            for i in range(self.graph.n_regions):
+                if (t, i) not in allowed and self.exists(t, i):
+                    self._add(guard + [-self.at(t, i)])
+                    added += 1
+        self.window_clauses += added
+        return added
+
     def close(self, horizon: int) -> None:
         """Horizon L is refuted: fix its activation literal false for good."""
         self.closed.add(horizon)

@@ -22,9 +22,13 @@ more than 200 regions, see :func:`~plansynth.reach.lazy.options.window_growth_fo
 The result's ``counters["minimal"]`` says whether the horizon found is
 proved minimal (it is when it equals the window's lower end, and always under
 ``"linear"``). ``"minimal"`` runs the windows and then :func:`prove_minimal`, which
-refutes the horizons below the one found, with every learned clause kept (the plan
-first :func:`retimed` by LPs alone, then single-horizon probes galloping down and
-bisecting when the start is at rest, where feasibility is monotone in the horizon).
+refutes the horizons below the one found, with every learned clause kept: for dynamics
+that separate by axis, first the per-axis reachable sets of
+:mod:`~plansynth.reach.lazy.axisreach` (every horizon below their first goal step
+refuted without an LP, then one probe there under their tube), else (or when that probe
+is refuted) the plan :func:`retimed` by LPs alone, then single-horizon probes galloping
+down and bisecting when the start is at rest, where feasibility is monotone in the
+horizon.
 
 **Cheaper iterations** (beyond the paper, both on by default): the theory is
 CON-PLAN behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans
@@ -108,6 +112,7 @@ from typing import Any, Protocol
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
+from plansynth.reach.lazy.axisreach import AxisReach
 from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, step_adjacency, time_windows
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
@@ -340,8 +345,11 @@ def plan_lazy(
         if horizon_search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
             t0 = time.perf_counter()
             bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)  # (horizons below refuted)
+            reach = (AxisReach.build(problem, abstraction, graph.adjacency, graph.start_regions, graph.goal_regions,
+                                     segment_safe=segment_safe) if opts.reach_sets else None)
             out, counters["minimal_probes"] = prove_minimal(displan, theory, out, bottom, clock, timings,
-                                                            monotone=problem.starts_at_rest)
+                                                            monotone=problem.starts_at_rest, reach=reach,
+                                                            counters=counters)
             timings["minimal"] = time.perf_counter() - t0
     if out.status is ReachStatus.INFEASIBLE and exact:
         out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({EXACT_SAMPLES})")
@@ -404,6 +412,10 @@ def _prove(problem: ReachProblem, out: LoopOutcome, proved: float, clock: Clock,
     if counters.get("relaxation") == "not proved":
         return replace(out, message=f"{out.message}; --prove: the relaxation MILP has a solution or ran out of time")
     return out
+
+
+#: How the per-axis reachable sets refute the shorter horizons (prove_minimal).
+REACH_SETS = "refuted by the per-axis reachable sets over the region graph, which do not reach the goal"
 
 
 def _not_a_proof(proved: float) -> str:
@@ -534,6 +546,8 @@ def prove_minimal(
     timings: dict[str, float],
     *,
     monotone: bool,
+    reach: AxisReach | None = None,
+    counters: dict | None = None,
 ) -> tuple[LoopOutcome, int]:
     """Prove the horizon of ``found`` minimal (``horizon_search="minimal"``, beyond the
     paper), given that every horizon below ``bottom`` is refuted and DIS-PLAN holds every
@@ -561,9 +575,60 @@ def prove_minimal(
     plan found lowering its top. Either way the answer is minimal relative to the
     transition relation DIS-PLAN uses (as under ``horizon_search="linear"``); when the
     budget runs out the best plan so far is returned with ``minimal=False``. Returns the
-    outcome and the number of probes (single horizons, or windows) asked."""
+    outcome and the number of probes (single horizons, or windows) asked.
+
+    With ``reach`` (:class:`~plansynth.reach.lazy.axisreach.AxisReach`, for dynamics that
+    separate by axis; ``reach_sets=True``) the per-axis reachable sets come first, with
+    no LP: every horizon below their first goal step b has no plan (the module's
+    soundness argument, relative to the same transition relation as DIS-PLAN's), so
+    those are closed; if b is the plan's own horizon or above, the plan is minimal.
+    Otherwise one probe at b, under the tube of horizon b (the regions a trajectory of
+    that horizon can visit at each step, added as clauses for that horizon only); a
+    plan found there is minimal. On maze-1..4 b is the minimum and the tube leaves 1-2
+    steps per gap, so that probe costs a few iterations where the probes above took
+    ~100 (``counters["reach_sets_bound"]``: b, or None when no horizon below the
+    plan's is reached). If b is refuted, the probes above continue from b + 1."""
     best, probes = found, 0
     assert best.horizon is not None
+    if reach is not None and best.horizon > bottom:
+        t0 = time.perf_counter()
+        try:
+            bound = reach.first_horizon(best.horizon - 1, displan.earliest, displan.to_go)
+            tube = reach.tube(bound) if bound is not None and bound >= bottom and reach.reached else None
+        except BudgetExhausted as exc:
+            return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {exc}"), probes
+        finally:
+            timings["reach_sets"] = timings.get("reach_sets", 0.0) + time.perf_counter() - t0
+        if counters is not None:
+            counters["reach_sets_bound"] = bound
+            counters["reach_sets_reached"] = reach.reached
+        if bound is None:
+            return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every "
+                                                       f"shorter horizon {REACH_SETS})"), probes
+        bound = max(bound, bottom)
+        for L in range(bottom, bound):
+            if L not in displan.closed:
+                displan.close(L)  # no plan of these horizons: the sets do not reach the goal
+        bottom = bound
+        if reach.reached and best.horizon > bound:  # (else the sweep stopped at its work cap: no probe there)
+            if tube is not None:
+                displan.forbid(bound, tube)
+            # under the tube the plans proposed keep to feasible crossing times, and the
+            # transit layer's leg LPs (maze-4: 80 to decide the legs of one refuted plan)
+            # would only repeat what CON-PLAN's conflict says: CON-PLAN alone
+            plain = theory.inner if isinstance(theory, TransitCheck) and tube is not None else theory
+            out = lazy_loop(displan, plain, [(bound, bound)], clock, timings, None,
+                            lambda H, plan=best.regions: compressed(plan, H))
+            probes += 1
+            if out.status is ReachStatus.FOUND:
+                return replace(out, minimal=True, message=f"found at horizon {out.horizon} (proved minimal: every "
+                                                          f"shorter horizon {REACH_SETS})"), probes
+            if out.status is not ReachStatus.INFEASIBLE:
+                return (replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"),
+                        probes)
+            if bound not in displan.closed:
+                displan.close(bound)
+            bottom = bound + 1
     best = retimed(displan, theory, best, bottom, clock, timings)
     step, refuted = 1, False  # downward gallop from the best plan until a probe is refuted
     while best.horizon > bottom:

@@ -77,6 +77,7 @@ class LazyOptions:
     widen: bool = False
     wait_shifts: bool = True
     prove: bool = False  # segment-safe: prove claims by the relaxation MILP (lazy/relaxation.py)
+    reach_sets: bool = True  # horizon_search="minimal": the per-axis reachable sets first (lazy/axisreach.py)
 
     def __post_init__(self) -> None:
         def bad(option: str, reason: str) -> InvalidOption:
@@ -128,6 +129,7 @@ class LazyOptions:
             "wait_shifts": self.wait_shifts,
             "window_growth": self.window_growth,
             "prove": self.prove,
+            "reach_sets": self.reach_sets,
             "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
         }
 
