@@ -442,3 +442,41 @@ def test_the_checker_shares_no_code_with_the_planner():
                     "plansynth.reach.lazy", "plansynth.reach.planners", "plansynth.reach.highs")
     assert not [m for m in imported if m.startswith(planner_side)], imported
     assert "plansynth.reach.mission.ltl" in imported
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_loop_alone_verdicts_from_the_memo_and_at_rest_are_the_lps(which):
+    """LoopLP.loop_infeasible answers from its memo (period and times relative to the
+    loop start) and from rest witnesses (:meth:`LoopLP.rests`); on random partial loops
+    of random walks, at random loop starts and shifted to others, its verdict is the
+    LP's own (``_lp`` of a LoopLP without memo, the LP checked against the oracle
+    above), and a rest witness, anchored at the start or not, is never claimed for an
+    infeasible LP."""
+    import math
+
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.planner import LoopLP
+
+    p = small_problems()[which]
+    ab = label_abstraction(p).abstraction
+    pp = planning_problem(p)
+    mine, plain = LoopLP(pp, ab), LoopLP(pp, ab)
+    rng = np.random.default_rng(which)
+    verdicts = []
+    for j in range(80):
+        k, period = int(rng.integers(0, 4)), int(rng.integers(1, 9))
+        L = k + period
+        for w in walks_through(ab, L, {}, close=k, limit=1, seed=j):
+            times = [t for t in range(k, L + 1) if rng.random() < 0.6]
+            assign = {t: w[t] for t in times}
+            expected = plain._lp(assign, k, L, False, k, math.inf) is None
+            verdicts.append(expected)
+            assert mine.loop_infeasible(assign, k, L) is expected, (assign, k, L)
+            if mine.rests(assign, False):
+                assert not expected
+            s = int(rng.integers(1, 4))  # the same loop later: the memo's (or the witness's) answer
+            assert mine.loop_infeasible({t + s: r for t, r in assign.items()}, k + s, L + s) is expected
+            if mine.rests(assign, True):  # resting at the start, through the literals' regions
+                assert plain._lp(assign, 0, L, True, k, math.inf) is not None
+    assert mine.memo_hits > 0 and mine.rest_answers > 0
+    assert any(verdicts) and not all(verdicts)  # both verdicts are exercised
