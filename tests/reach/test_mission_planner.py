@@ -231,7 +231,9 @@ def walks_through(ab, N, fixed: dict[int, int], close: int | None = None, limit:
     or moving to an adjacent region, with walk[t] == r for every (t, r) in ``fixed`` (and
     walk[N] == walk[close]); found by a depth-first search pruned by the distances
     between regions (waiting is a step, so "within d steps" is "in exactly d"), in an
-    order shuffled by ``seed`` so that the walks differ off the fixed times."""
+    order shuffled by ``seed`` so that the walks differ off the fixed times; every
+    region a step takes has a completion (:func:`ok` decides it exactly), so the search
+    never backtracks out of a dead end."""
     R = ab.n_regions
     dist = np.full((R, R), np.inf)
     for r in range(R):  # breadth-first from r
@@ -245,17 +247,27 @@ def walks_through(ab, N, fixed: dict[int, int], close: int | None = None, limit:
     rng = np.random.default_rng(seed)
     out: list[tuple[int, ...]] = []
 
+    def chain(points: list[tuple[int, int]]) -> bool:
+        """Can one walk pass through every (time, region) of ``points`` (sorted by time)?
+        Exactly when each consecutive pair is within reach (waiting is a step)."""
+        return all(a == b if u == v else dist[a, b] <= v - u for (u, a), (v, b) in zip(points, points[1:]))
+
     def ok(t: int, r: int, walk: tuple[int, ...]) -> bool:
+        """Does some completion of walk + (r,) meet every constraint? (Exact, so the
+        search never enters a subtree without a walk: the pruning by the next fixed
+        time alone left it to enumerate millions of dead ends, most of the clause
+        soundness test's time.)"""
         if t in fixed and fixed[t] != r:
             return False
-        nxt = next((u for u in times if u > t), None)
-        if nxt is not None and dist[r, fixed[nxt]] > nxt - t:
-            return False
-        if close is not None and t >= close:
+        later = [(u, fixed[u]) for u in times if u > t]
+        if close is None:
+            return chain([(t, r)] + later)
+        if t >= close:
             target = r if t == close else walk[close]
-            if dist[r, target] > N - t or (t == N and r != target):
-                return False
-        return True
+            return chain(sorted([(t, r)] + later + [(N, target)]))
+        # walk[close] is still open: some region q for it (and for walk[N])
+        return any(chain(sorted([(t, r)] + later + [(close, q), (N, q)]))
+                   for q in ([fixed[close]] if close in fixed else range(R)))
 
     def extend(walk: tuple[int, ...]) -> None:
         if len(out) >= limit:
