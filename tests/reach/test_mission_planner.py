@@ -300,7 +300,9 @@ def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal()
     """MissionTransit on random walks of the visit maze: no LP for a leg to the goal
     (the workspace) or above its box bound before the leg is decided; every conflict
     it reports is infeasible by a fresh LP of exactly its claim (cold, its own model);
-    it reports a subset of the full layer's conflicts, with fewer LPs."""
+    it reports a subset of the full layer's conflicts, with fewer LPs; and it decides every
+    leg of the plan, whatever span CON-PLAN's conflict covers (the same conflicts with a
+    span as without)."""
     from plansynth.reach.lazy.conplan import ConPlan
     from plansynth.reach.lazy.transit import GOAL, TransitCheck
     from plansynth.reach.mission.families import mission_problem
@@ -311,11 +313,14 @@ def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal()
     ab = label_abstraction(p).abstraction
     pp = planning_problem(p)
     mine, full = MissionTransit(ConPlan(pp, ab), ab), TransitCheck(ConPlan(pp, ab), ab)
+    spanned = MissionTransit(ConPlan(pp, ab), ab)
     judge = ConPlan(pp, ab)
     walks = [w for j in range(30) for w in walks_through(ab, 8 + j % 14, {}, limit=1, seed=j)]
     reported = 0
-    for w in walks:
+    key = lambda c: (c.literals, c.anchored_start, c.anchored_goal)  # noqa: E731
+    for j, w in enumerate(walks):
         ours = mine.violations(w)
+        assert [key(c) for c in spanned.violations(w, (j % 3, j % 3 + 1))] == [key(c) for c in ours]
         theirs = {(c.literals, c.anchored_start, c.anchored_goal) for c in full.violations(w)}
         for c in ours:
             assert not c.anchored_goal
