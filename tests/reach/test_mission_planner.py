@@ -231,7 +231,9 @@ def walks_through(ab, N, fixed: dict[int, int], close: int | None = None, limit:
     or moving to an adjacent region, with walk[t] == r for every (t, r) in ``fixed`` (and
     walk[N] == walk[close]); found by a depth-first search pruned by the distances
     between regions (waiting is a step, so "within d steps" is "in exactly d"), in an
-    order shuffled by ``seed`` so that the walks differ off the fixed times."""
+    order shuffled by ``seed`` so that the walks differ off the fixed times; every
+    region a step takes has a completion (:func:`ok` decides it exactly), so the search
+    never backtracks out of a dead end."""
     R = ab.n_regions
     dist = np.full((R, R), np.inf)
     for r in range(R):  # breadth-first from r
@@ -245,17 +247,27 @@ def walks_through(ab, N, fixed: dict[int, int], close: int | None = None, limit:
     rng = np.random.default_rng(seed)
     out: list[tuple[int, ...]] = []
 
+    def chain(points: list[tuple[int, int]]) -> bool:
+        """Can one walk pass through every (time, region) of ``points`` (sorted by time)?
+        Exactly when each consecutive pair is within reach (waiting is a step)."""
+        return all(a == b if u == v else dist[a, b] <= v - u for (u, a), (v, b) in zip(points, points[1:]))
+
     def ok(t: int, r: int, walk: tuple[int, ...]) -> bool:
+        """Does some completion of walk + (r,) meet every constraint? (Exact, so the
+        search never enters a subtree without a walk: the pruning by the next fixed
+        time alone left it to enumerate millions of dead ends, most of the clause
+        soundness test's time.)"""
         if t in fixed and fixed[t] != r:
             return False
-        nxt = next((u for u in times if u > t), None)
-        if nxt is not None and dist[r, fixed[nxt]] > nxt - t:
-            return False
-        if close is not None and t >= close:
+        later = [(u, fixed[u]) for u in times if u > t]
+        if close is None:
+            return chain([(t, r)] + later)
+        if t >= close:
             target = r if t == close else walk[close]
-            if dist[r, target] > N - t or (t == N and r != target):
-                return False
-        return True
+            return chain(sorted([(t, r)] + later + [(N, target)]))
+        # walk[close] is still open: some region q for it (and for walk[N])
+        return any(chain(sorted([(t, r)] + later + [(close, q), (N, q)]))
+                   for q in ([fixed[close]] if close in fixed else range(R)))
 
     def extend(walk: tuple[int, ...]) -> None:
         if len(out) >= limit:
@@ -288,7 +300,9 @@ def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal()
     """MissionTransit on random walks of the visit maze: no LP for a leg to the goal
     (the workspace) or above its box bound before the leg is decided; every conflict
     it reports is infeasible by a fresh LP of exactly its claim (cold, its own model);
-    it reports a subset of the full layer's conflicts, with fewer LPs."""
+    it reports a subset of the full layer's conflicts, with fewer LPs; and it decides every
+    leg of the plan, whatever span CON-PLAN's conflict covers (the same conflicts with a
+    span as without)."""
     from plansynth.reach.lazy.conplan import ConPlan
     from plansynth.reach.lazy.transit import GOAL, TransitCheck
     from plansynth.reach.mission.families import mission_problem
@@ -299,11 +313,14 @@ def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal()
     ab = label_abstraction(p).abstraction
     pp = planning_problem(p)
     mine, full = MissionTransit(ConPlan(pp, ab), ab), TransitCheck(ConPlan(pp, ab), ab)
+    spanned = MissionTransit(ConPlan(pp, ab), ab)
     judge = ConPlan(pp, ab)
     walks = [w for j in range(30) for w in walks_through(ab, 8 + j % 14, {}, limit=1, seed=j)]
     reported = 0
-    for w in walks:
+    key = lambda c: (c.literals, c.anchored_start, c.anchored_goal)  # noqa: E731
+    for j, w in enumerate(walks):
         ours = mine.violations(w)
+        assert [key(c) for c in spanned.violations(w, (j % 3, j % 3 + 1))] == [key(c) for c in ours]
         theirs = {(c.literals, c.anchored_start, c.anchored_goal) for c in full.violations(w)}
         for c in ours:
             assert not c.anchored_goal
@@ -442,3 +459,41 @@ def test_the_checker_shares_no_code_with_the_planner():
                     "plansynth.reach.lazy", "plansynth.reach.planners", "plansynth.reach.highs")
     assert not [m for m in imported if m.startswith(planner_side)], imported
     assert "plansynth.reach.mission.ltl" in imported
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_loop_alone_verdicts_from_the_memo_and_at_rest_are_the_lps(which):
+    """LoopLP.loop_infeasible answers from its memo (period and times relative to the
+    loop start) and from rest witnesses (:meth:`LoopLP.rests`); on random partial loops
+    of random walks, at random loop starts and shifted to others, its verdict is the
+    LP's own (``_lp`` of a LoopLP without memo, the LP checked against the oracle
+    above), and a rest witness, anchored at the start or not, is never claimed for an
+    infeasible LP."""
+    import math
+
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.planner import LoopLP
+
+    p = small_problems()[which]
+    ab = label_abstraction(p).abstraction
+    pp = planning_problem(p)
+    mine, plain = LoopLP(pp, ab), LoopLP(pp, ab)
+    rng = np.random.default_rng(which)
+    verdicts = []
+    for j in range(80):
+        k, period = int(rng.integers(0, 4)), int(rng.integers(1, 9))
+        L = k + period
+        for w in walks_through(ab, L, {}, close=k, limit=1, seed=j):
+            times = [t for t in range(k, L + 1) if rng.random() < 0.6]
+            assign = {t: w[t] for t in times}
+            expected = plain._lp(assign, k, L, False, k, math.inf) is None
+            verdicts.append(expected)
+            assert mine.loop_infeasible(assign, k, L) is expected, (assign, k, L)
+            if mine.rests(assign, False):
+                assert not expected
+            s = int(rng.integers(1, 4))  # the same loop later: the memo's (or the witness's) answer
+            assert mine.loop_infeasible({t + s: r for t, r in assign.items()}, k + s, L + s) is expected
+            if mine.rests(assign, True):  # resting at the start, through the literals' regions
+                assert plain._lp(assign, 0, L, True, k, math.inf) is not None
+    assert mine.memo_hits > 0 and mine.rest_answers > 0
+    assert any(verdicts) and not all(verdicts)  # both verdicts are exercised

@@ -64,3 +64,32 @@ def test_the_unsat_example_is_proved_by_its_geometry_and_a_touching_variant_is_n
     q = replace(p, labels=(("moat", Box((4, 4), (8, 8))), ("vault", Box((5, 5), (8, 7)))))
     lq = label_abstraction(q)
     assert satisfiable(parse(q.mission), geometry_letters(lq, q.mission_labels, margin=1e-5))
+
+
+@settings(max_examples=40, deadline=None)
+@given(formulas(depth=3), st.integers(0, 10**6),
+       st.lists(st.tuples(st.integers(0, 7), st.integers(0, 7), st.integers(1, 3), st.integers(1, 3)),
+                min_size=len(NAMES), max_size=len(NAMES)))
+def test_label_proof_gives_the_verdict_of_the_whole_letter_set(f, seed, rects):
+    """label_proof decides on the regions' interior letters first (a subset of
+    geometry_letters: satisfiable there is satisfiable over all of them) and only then
+    on the boundary letters: its verdict is the whole letter set's, on random rooms
+    whose integer labels often share edges and corners (so boundary letters matter)."""
+    from dataclasses import replace
+
+    from plansynth.reach.families import random_workspace
+    from plansynth.reach.geometry import Box
+    from plansynth.reach.mission.labels import label_abstraction
+    from plansynth.reach.mission.proof import label_proof
+
+    try:
+        base = random_workspace(seed % 50, seed % 3, order=1, dt=1.0, input_bound=1.5, polygons=False)
+    except RuntimeError:
+        base = random_workspace(7, 1, order=1, dt=1.0, input_bound=1.5, polygons=False)
+    labels = tuple((n, Box((x, y), (x + w, y + h))) for n, (x, y, w, h) in zip(NAMES, rects))
+    p = replace(base, goal=None, labels=labels, mission=str(f), max_horizon=3)
+    la = label_abstraction(p)
+    ws = p.workspace
+    letters = geometry_letters(la, p.mission_labels, margin=1e-5 * max(1.0, max(h - l for l, h in zip(ws.lo, ws.hi))))
+    verdict, _ = label_proof(p, la)
+    assert verdict is (None if letters is None else not satisfiable(f, letters))

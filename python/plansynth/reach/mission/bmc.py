@@ -65,7 +65,7 @@ from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.lazy.displan import (CONFLICTS_PER_SLICE, PAIRWISE_MAX_REGIONS, SAT_SOLVER, LearnedClauses,
                                          RegionGraph, SatOutcome)
 from plansynth.reach.mission.ltl import (
-    And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, subformulas,
+    And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, _children, nnf, subformulas,
 )
 
 __all__ = ["MissionDisPlan", "MissionPlan", "SEMANTICS"]
@@ -123,6 +123,18 @@ class MissionDisPlan(LearnedClauses):
         self.semantics = semantics
         self.subs = [s for s in subformulas(self.formula) if not isinstance(s, Const)]
         self.index = {s: k for k, s in enumerate(self.subs)}
+        # the index of every node of the formula's tree by identity: v() is asked for
+        # [[f]]_i for each subformula and position, and a formula's own hash walks its
+        # whole subtree (frozen dataclasses); the tree is held by self.formula, so no
+        # other live object shares an id with one of its nodes
+        self._ids: dict[int, int] = {}
+        todo = [self.formula]
+        while todo:
+            g = todo.pop()
+            if id(g) in self._ids or isinstance(g, Const):
+                continue
+            self._ids[id(g)] = self.index[g]
+            todo.extend(_children(g))
         # the subformulas whose value at position i + 1 the clauses of position i use
         nxt: list[Formula] = []
         for s in self.subs:
@@ -167,9 +179,12 @@ class MissionDisPlan(LearnedClauses):
 
     def v(self, f: Formula, i: int) -> int:
         """The literal [[f]]_i (constants are the fixed literal ``true`` or its negation)."""
-        if isinstance(f, Const):
-            return self.true if f.value else -self.true
-        return self.pool.id(("f", self.index[f], i))
+        k = self._ids.get(id(f))
+        if k is None:
+            if isinstance(f, Const):
+                return self.true if f.value else -self.true
+            k = self.index[f]
+        return self.pool.id(("f", k, i))
 
     def loop(self, horizon: int, j: int) -> int:
         """The selector "the successor of position L is j" with x_L = x_{j-1} (lasso)."""
@@ -282,9 +297,10 @@ class MissionDisPlan(LearnedClauses):
             if not isinstance(f, (Finally, Until)):
                 continue
             b = f.arg if isinstance(f, Finally) else f.right
-            ev = [self.pool.id(("ev", self.index[f], L, i)) for i in range(L + 1)]
+            fi = self.index[f]
+            ev = [self.pool.id(("ev", fi, L, i)) for i in range(L + 1)]
             for i in range(L + 1):
-                c = self.pool.id(("evat", self.index[f], L, i))
+                c = self.pool.id(("evat", fi, L, i))
                 self._add([-ev[i]] + ([ev[i - 1]] if i > 0 else []) + [c])
                 self._add([-c, inl[i]])
                 self._add([-c, self.v(b, i)])

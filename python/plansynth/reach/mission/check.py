@@ -106,22 +106,36 @@ class _Label:
         return (not self.inner.is_empty) and bool(shapely.relate_pattern(self.inner, geom, "T********"))
 
 
-def trajectory_word(problem: ReachProblem, positions: np.ndarray, loop_start: int | None, tol: float = 1e-6):
+def trajectory_word(problem: ReachProblem, positions: np.ndarray, loop_start: int | None, tol: float = 1e-6, *,
+                    labels: dict | None = None):
     """The letters (sets of "may hold" literals) of the trajectory's word, and the first
     segment crossing, as ``(letters, crossing)`` with ``crossing = (step, label, into)``
-    or None. A lasso's word has N letters (position N is position k again)."""
-    labels = {n: _Label(s, tol) for n, s in problem.mission_labels.items()}
+    or None. A lasso's word has N letters (position N is position k again). ``labels``:
+    the labels' geometry (name -> ``_Label``), if the caller has built it."""
+    if labels is None:
+        labels = {n: _Label(s, tol) for n, s in problem.mission_labels.items()}
     N = len(positions) - 1
     last = N - 1 if loop_start is not None else N
-    letters, crossing = [], None
+    geoms = []
     for t in range(last + 1):
         p = positions[t]
         geom = Point(p[0], p[1]) if t == N else LineString([tuple(p[:2]), tuple(positions[t + 1][:2])])
         if t < N and np.allclose(positions[t], positions[t + 1], rtol=0, atol=0):
             geom = Point(p[0], p[1])
+        geoms.append(geom)
+    # each label's predicates over all the samples and segments at once (shapely's
+    # vectorised predicates: the same answers as one call per geometry)
+    garr = np.array(geoms, dtype=object)
+    covers = {n: np.asarray(shapely.covers(lab.closed, garr), dtype=bool) for n, lab in labels.items()}
+    enter = {n: (np.zeros(len(geoms), dtype=bool) if lab.inner.is_empty else
+                 np.asarray(shapely.relate_pattern(lab.inner, garr, "T********"), dtype=bool))
+             for n, lab in labels.items()}
+    letters, crossing = [], None
+    for t in range(last + 1):
+        p = positions[t]
         letter = set()
         for n, lab in labels.items():
-            inside, enters = lab.covers(geom), lab.enters(geom)
+            inside, enters = bool(covers[n][t]), bool(enter[n][t])
             if inside:
                 letter.add(n)
             if not enters:
@@ -159,7 +173,11 @@ def check_mission(
     N = len(X) - 1
     semantics = "finite" if loop_start is None else "lasso"
     labels = {n: _Label(s, tol) for n, s in problem.mission_labels.items()}  # each label's geometry once
-    shown = tuple(tuple(sorted(n for n, lab in labels.items() if lab.enters(Point(p[0], p[1])))) for p in P)
+    points = np.array([Point(p[0], p[1]) for p in P], dtype=object)
+    inside = {n: (np.zeros(len(P), dtype=bool) if lab.inner.is_empty else
+                  np.asarray(shapely.relate_pattern(lab.inner, points, "T********"), dtype=bool))
+              for n, lab in labels.items()}
+    shown = tuple(tuple(sorted(n for n in labels if inside[n][t])) for t in range(len(P)))
 
     def fail(step: int | None, reason: str) -> MissionReport:
         return MissionReport(False, semantics, loop_start, step, reason, shown)
@@ -170,7 +188,7 @@ def check_mission(
         err = float(np.max(np.abs(X[N] - X[loop_start])))
         if err > tol * max(1.0, float(np.max(np.abs(X[N])))):
             return fail(N, f"the loop does not close: |x_{N} - x_{loop_start}|_inf = {err:.3g}")
-    letters, crossing = trajectory_word(problem, P, loop_start, tol)
+    letters, crossing = trajectory_word(problem, P, loop_start, tol, labels=labels)
     if crossing is not None:
         t, name, into = crossing
         return fail(t, f"segment {t} crosses {'into' if into else 'out of'} label {name}")

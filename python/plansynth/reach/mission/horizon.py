@@ -64,7 +64,7 @@ def product_graph(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formu
     f = nnf(formula)
     names = props(f)
     letters = [(frozenset(labels_of[r]) & names, names - frozenset(labels_of[r])) for r in range(graph.n_regions)]
-    expand_cache: dict[tuple[frozenset, int], list[tuple[frozenset, frozenset]]] = {}
+    expand_cache: dict[tuple[frozenset, tuple], list[tuple[frozenset, frozenset]]] = {}
     edges: dict[State, list[tuple[State, frozenset]]] = {}
     todo = [(r, frozenset({f})) for r in graph.start_regions]
     while todo:
@@ -74,7 +74,7 @@ def product_graph(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formu
         if len(edges) >= max_nodes:
             raise TooLarge(f"more than {max_nodes} product states")
         r, node = s
-        key = (node, r)
+        key = (node, letters[r])  # regions with the same letter expand alike
         if key not in expand_cache:
             expand_cache[key] = _expand(node, letters[r])
         out = [((r2, nxt), pend) for nxt, pend in expand_cache[key] for r2 in (r, *graph.adjacency[r])]
@@ -83,13 +83,16 @@ def product_graph(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formu
     return edges
 
 
-def live_states(edges: dict[State, list[tuple[State, frozenset]]], allowed: frozenset[int]) -> set[State]:
+def live_states(edges: dict[State, list[tuple[State, frozenset]]], allowed: frozenset[int],
+                eventualities: frozenset | None = None) -> set[State]:
     """The states of the product restricted to the regions ``allowed`` from which an
     accepting path (inside ``allowed``) leaves: those that reach a strongly connected
     component with an inner edge that does not carry each eventuality on (the generalized
-    Büchi condition of :func:`~plansynth.reach.mission.proof.witness`)."""
+    Büchi condition of :func:`~plansynth.reach.mission.proof.witness`).
+    ``eventualities``: :func:`eventualities` of ``edges``, if the caller has it."""
     sub = {s: [(v, p) for v, p in es if v[0] in allowed] for s, es in edges.items() if s[0] in allowed}
-    eventualities = {g for es in edges.values() for _, pend in es for g in pend}
+    if eventualities is None:
+        eventualities = _eventualities(edges)
     good: set[State] = set()
     for comp in _components({s: [(v, p, 0) for v, p in es] for s, es in sub.items()}):
         inner = [p for s in comp for v, p in sub[s] if v in comp]
@@ -110,6 +113,12 @@ def live_states(edges: dict[State, list[tuple[State, frozenset]]], allowed: froz
     return live
 
 
+def _eventualities(edges: dict[State, list[tuple[State, frozenset]]]) -> frozenset:
+    """Every until (finally) formula some edge of the product carries on (hashing the
+    formulas of every edge is most of a :func:`live_states` call: once per graph)."""
+    return frozenset(g for pend in {pend for es in edges.values() for _, pend in es} for g in pend)
+
+
 def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula,
                         earliest: Sequence[float] | None, max_horizon: int, *, max_nodes: int = MAX_NODES) -> int:
     """The smallest horizon L <= ``max_horizon`` at which DIS-PLAN may have a plan (see
@@ -120,6 +129,7 @@ def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]],
     except TooLarge:
         return 0
     early = list(earliest) if earliest is not None else [0] * graph.n_regions
+    evs = _eventualities(edges)
     f = nnf(formula)
     frontier = {(r, frozenset({f})) for r in graph.start_regions if early[r] <= 0}
     live: dict[frozenset[int], set[State]] = {}
@@ -130,7 +140,7 @@ def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]],
         seen |= {r for r, _ in frontier}
         allowed = frozenset(seen)
         if allowed not in live:
-            live[allowed] = live_states(edges, allowed)
+            live[allowed] = live_states(edges, allowed, evs)
         if frontier & live[allowed]:
             return t
         frontier = {v for s in frontier for v, _ in edges[s] if early[v[0]] <= t + 1}

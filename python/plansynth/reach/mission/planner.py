@@ -112,6 +112,25 @@ class LoopLP:
         self.certified = 0
         self.warm = 0  # LPs re-solved from the last basis with literals switched off (see _lp)
         self._loaded: tuple | None = None
+        # verdicts of loop-alone LPs (see loop_infeasible): (period, literals relative to
+        # the loop start) -> (infeasible, the Farkas certificate's relative times or None)
+        self._loop_memo: dict[tuple, tuple[bool, tuple[int, ...] | None]] = {}
+        self.memo_hits = 0
+        self._last_loop: tuple | None = None  # (k, L, literals) of the last loop_infeasible call
+        # resting (see rests): every state with zero non-position components is an
+        # equilibrium of x+ = A x (u = 0) and satisfies the state bounds, for positions
+        # in the state box
+        other = np.setdiff1d(np.arange(self.n), self.pos)
+        eye = np.eye(self.n)
+        self._rest_ok = bool(np.array_equal(A[:, self.pos], eye[:, self.pos])
+                             and np.all(self.state_lo[other] <= 0) and np.all(self.state_hi[other] >= 0)
+                             and problem.input_bound >= 0)
+        start = np.asarray(problem.start, float)
+        self._start_rests = self._rest_ok and bool(np.all(start[other] == 0))
+        self._start_pos = start[self.pos]
+        ws = problem.workspace
+        self._rest_tol = 1e-9 * max(1.0, max(h - l for l, h in zip(ws.lo, ws.hi)))
+        self.rest_answers = 0
 
     def solve(self, regions: tuple[int, ...], loop_start: int | None, seconds: float = math.inf) -> Trajectory | None:
         """A trajectory from the start through ``regions`` with x_L = x_loop_start, or None."""
@@ -140,24 +159,28 @@ class LoopLP:
         assign = {t: regions[t] for t in range(k, L + 1)}
         first, anchored = k, False
         if loop_refuted:
-            assert self._loaded is not None and self._loaded[0] == (k, L, False, k) and self._loaded[1] == assign
-        if not loop_refuted and self._lp(assign, k, L, False, k, seconds) is not None:
+            assert self._last_loop == (k, L, assign), "loop_refuted: the last loop-alone LP was another one"
+        if not loop_refuted and not self.loop_infeasible(assign, k, L, seconds):
             assign, first, anchored = dict(enumerate(regions)), 0, True
             if self._lp(assign, 0, L, True, k, seconds) is not None:  # pragma: no cover - solve() said infeasible
                 raise LpFailure("the loop LP is feasible on a second solve (numerically borderline)")
+
+        def lp_infeasible(trial: dict[int, int]) -> bool:
+            if anchored:
+                return not self.rests(trial, True) and self._lp(trial, first, L, anchored, k, seconds) is None
+            return self.loop_infeasible(trial, k, L, seconds)
+
         # shrink to the Farkas certificate's literals first, if that LP is still infeasible
         if self.ray_times is not None and len(self.ray_times) < len(assign):
             shrunk = {t: r for t, r in assign.items() if t in self.ray_times}
-            ray = self.ray_times
-            if self._lp(shrunk, first, L, anchored, k, seconds) is None:
+            if lp_infeasible(shrunk):
                 assign = shrunk
                 self.certified += 1
-            del ray
         keep: dict[int, int] = {}
 
         def infeasible(without: list[int], rest: list[int]) -> bool:
             trial = {**keep, **{t: assign[t] for t in rest}}
-            return self._lp(trial, first, L, anchored, k, seconds) is None
+            return lp_infeasible(trial)
 
         def drop(cands: list[int], rest: list[int]) -> None:
             # keep a subset of cands that, with keep and rest, stays infeasible
@@ -175,8 +198,69 @@ class LoopLP:
         drop(sorted(assign), [])
         return tuple(sorted(keep.items())), not anchored
 
+    def rests(self, assign: dict[int, int], anchored: bool) -> bool:
+        """Is there a trajectory that rests at one point p, in every literal's region
+        (the start's position when ``anchored``)? Then the LP of ``assign`` is feasible
+        (x_t = (p, 0) for all t, u = 0: the dynamics, every sample and segment row and
+        the closure x_L = x_k hold), and the deletion filter of :meth:`conflict` needs
+        no LP to keep a literal. p: the start's position, or the mean of the first
+        region's vertices that lie in all the others (within a tolerance far below
+        HiGHS's). Only ever answers "feasible", and a "feasible" only keeps literals in
+        a conflict (it never drops one, nor blocks a plan), so a wrong one on a borderline
+        point costs generality, never soundness."""
+        if not self._rest_ok or (anchored and not self._start_rests):
+            return False
+        regs = sorted(set(assign.values()))
+        tol = self._rest_tol
+        if anchored:
+            p = self._start_pos
+            ok = all(np.all(self.Hs[r] @ p <= self.hs[r] + tol) for r in regs)
+        else:
+            if not self.regions:
+                return False
+            V = np.asarray(self.regions[regs[0] if regs else 0].vertices, float)  # no literal: any region's point
+            inside = np.ones(len(V), dtype=bool)
+            for r in regs[1:]:
+                inside &= np.all(V @ self.Hs[r].T <= self.hs[r] + tol, axis=1)
+            if not inside.any():
+                return False
+            p = V[inside].mean(axis=0)
+            ok = all(np.all(self.Hs[r] @ p <= self.hs[r] + tol) for r in regs)
+        if ok:
+            ok = bool(np.all(p >= self.state_lo[self.pos] - tol) and np.all(p <= self.state_hi[self.pos] + tol))
+        self.rest_answers += ok
+        return ok
+
+    def loop_infeasible(self, assign: dict[int, int], k: int, L: int, seconds: float = math.inf) -> bool:
+        """Is the loop alone infeasible: states k..L with x_L = x_k (any x_k, no start)
+        and p_t in region assign[t] (and p_{t+1}, segments)? Sets :attr:`ray_times` (the
+        literals of the Farkas certificate, when HiGHS gives one) on an infeasible answer.
+
+        Memoised by (period L - k, the literals' times relative to k): that LP is the same
+        LP at every loop start and horizon (time-invariant dynamics and constraints, the
+        columns outside k..L unused), so its verdict, and its certificate's literals
+        moved by the same shift, are those of the first solve. The deletion filter of
+        :meth:`conflict` asks for the same small subsets (the empty one, single
+        literals) again and again, and DIS-PLAN proposes the same loop behind
+        different prefixes."""
+        key = (L - k, tuple(sorted((t - k, r) for t, r in assign.items())))
+        self._last_loop = (k, L, dict(assign))
+        if self.rests(assign, False):
+            return False
+        hit = self._loop_memo.get(key)
+        if hit is not None:
+            self.memo_hits += 1
+            infeasible, ray = hit
+            if infeasible:
+                self.ray_times = None if ray is None else {t + k for t in ray}
+            return infeasible
+        infeasible = self._lp(assign, k, L, False, k, seconds, solution=False) is None
+        ray = None if not infeasible or self.ray_times is None else tuple(sorted(t - k for t in self.ray_times))
+        self._loop_memo[key] = (infeasible, ray)
+        return infeasible
+
     def _lp(self, assign: dict[int, int], first: int, last: int, anchored: bool, loop_start: int | None,
-            seconds: float) -> np.ndarray | None:
+            seconds: float, *, solution: bool = True) -> np.ndarray | None:
         """Feasibility LP over the states first..last (columns of every state and input,
         those outside unused): p_t in region assign[t] (and p_{t+1}, segments), the start
         when ``anchored``, the closure x_last = x_loop_start.
@@ -198,7 +282,7 @@ class LoopLP:
             self.warm += 1
         else:
             self._load(assign, first, last, anchored, loop_start)
-        return self._run(assign, seconds)
+        return self._run(assign, seconds, solution)
 
     def _load(self, assign: dict[int, int], first: int, last: int, anchored: bool, loop_start: int | None) -> None:
         """Pass the LP of :meth:`_lp` to HiGHS (rows: dynamics, then the literals' region
@@ -262,7 +346,7 @@ class LoopLP:
         self._loaded = ((first, last, anchored, loop_start), dict(assign), lit_owner, lit_hi.copy(),
                         np.arange(lit_from, lit_to, dtype=np.int32), row)
 
-    def _run(self, assign: dict[int, int], seconds: float) -> np.ndarray | None:
+    def _run(self, assign: dict[int, int], seconds: float, solution: bool = True) -> np.ndarray | None:
         h = self.highs
         if math.isfinite(seconds):
             h.setOptionValue("time_limit", float(h.getRunTime() + max(1e-3, float(seconds))))
@@ -273,7 +357,7 @@ class LoopLP:
         status = h.getModelStatus()
         S = highspy.HighsModelStatus
         if status == S.kOptimal:
-            return np.asarray(h.getSolution().col_value)
+            return np.asarray(h.getSolution().col_value) if solution else np.zeros(0)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
             # the literals whose rows carry the Farkas certificate (dual ray), if any
             self.ray_times = None
@@ -314,11 +398,33 @@ class MissionTransit(TransitCheck):
     bound, or by CON-PLAN. This only drops conflicts: every one reported is still proved
     (by the box bound or an LP), so the loop's clauses stay sound."""
 
+    def box_gap(self, a: int, b: int) -> int:
+        """:meth:`TransitCheck.box_gap`, once per leg (a pure function of the two boxes
+        and the step bounds; the mission loop asks for every leg of every plan, ~10,000
+        times on a patrol)."""
+        memo = self.__dict__.setdefault("_box_gaps", {})
+        g = memo.get((a, b))
+        if g is None:
+            g = memo[(a, b)] = super().box_gap(a, b)
+        return g
+
     def _skip(self, a: int, b: int, gap: int) -> bool:
         return b == GOAL or ((a, b) not in self._first and gap > self.box_gap(a, b))
 
     def impossible(self, a: int, b: int, gap: int) -> bool:
         return False if self._skip(a, b, gap) else super().impossible(a, b, gap)
+
+    def violations(self, regions, span=None, *, known_only: bool = False):
+        """:meth:`TransitCheck.violations` over every leg of the plan, also when CON-PLAN's
+        conflict covers only part of it (``span`` is ignored). The reach-avoid planner
+        restricts the legs to the conflict's span because deciding every leg of a plan
+        through a 1,500-region maze took thousands of LPs; here a leg above its box bound
+        is never decided by an LP (:meth:`_skip`), and the legs outside the span, reported
+        together with CON-PLAN's conflict, spare DIS-PLAN the plans it would otherwise
+        propose one by one: visit 21 -> 10 SAT calls and 84 -> 58 LPs, avoid-until 8 -> 6
+        SAT calls, patrol unchanged. Sound as before: every reported leg is proved
+        impossible (box bound or LP)."""
+        return super().violations(regions, None, known_only=known_only)
 
     def known(self, a: int, b: int, gap: int) -> bool | None:
         return False if self._skip(a, b, gap) else super().known(a, b, gap)
@@ -418,7 +524,8 @@ def plan_mission(
         st = conplan.stats
         counters.update(iterations=clock.iterations, sat_calls=displan.sat_calls, clauses=displan.clauses,
                         loop_clauses=displan.loop_clauses, lp_calls=st.lp_calls + loop_lp.lp_calls,
-                        loop_lp_calls=loop_lp.lp_calls, horizon=horizon, minimal=status is ReachStatus.FOUND)
+                        loop_lp_calls=loop_lp.lp_calls, loop_lp_memo_hits=loop_lp.memo_hits,
+                        loop_lp_rest_answers=loop_lp.rest_answers, horizon=horizon, minimal=status is ReachStatus.FOUND)
         timings["highs"] = st.seconds + loop_lp.seconds
         timings["encoding"] = displan.encode_seconds  # part of "sat"
         timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
@@ -477,8 +584,7 @@ def plan_mission(
                             counters["wrap_conflicts"] = counters.get("wrap_conflicts", 0) + 1
                             displan.learn_loop(wrap, k, L, shifted=True)
                             continue
-                    if loop_lp._lp({t: plan.regions[t] for t in range(k, L + 1)}, k, L, False, k,
-                                   clock.remaining()) is None:
+                    if loop_lp.loop_infeasible({t: plan.regions[t] for t in range(k, L + 1)}, k, L, clock.remaining()):
                         lits, shifted = loop_lp.conflict(plan.regions, k, clock.remaining(), loop_refuted=True)
                         timings["lp"] += time.perf_counter() - t0
                         displan.learn_loop(lits, k, L, shifted=shifted)
