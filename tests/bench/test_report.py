@@ -144,6 +144,25 @@ def test_the_missions_table_shows_the_baselines_highs_time_beside_its_total(tmp_
     assert "| maze-1-visit | 0.5 | 5 | 10 | 1 | 2 |" in text
     assert "**10x** over 3 instances" in text  # ratios 10, 5, 20
     assert "HiGHS time alone: 2x in median over 3 instances" in text  # 2, 4.5, 2
+    assert "milp-ltl-oneshot" not in text  # no such runs: no such columns
+
+
+def test_the_missions_table_adds_the_one_shot_baseline_with_its_horizon(tmp_path):
+    from plansynth.bench.report import _missions_table
+
+    with ResultsDB(tmp_path / "m.db") as db:
+        for inst, (t_lazy, t_one) in zip(reach_family("missions", [1]), [(0.5, 6.0), (2.0, 4.0), (0.25, 5.0)]):
+            e = db.experiment(inst.key, kind="reach", family="missions", instance=inst.name, setup=inst.to_dict(),
+                              timelimit=300)
+            db.add_run(e, db.planner("lazy-smt", {}), 0, {"time": t_lazy, "status": "solved", "solved": 1, "valid": 1})
+            db.add_run(e, db.planner("milp-ltl", {}), 0, {"time": 1.0, "status": "solved", "solved": 1, "valid": 1})
+            db.add_run(e, db.planner("milp-ltl-oneshot", {}), 0, {"time": t_one, "status": "solved", "solved": 1,
+                                                                  "valid": 1, "horizon": 60})
+        cells = summarise(db.runs())
+    text = "\n".join(_missions_table(cells))
+    assert "| milp-ltl-oneshot (horizon) | milp-ltl-oneshot / lazy-smt |" in text
+    assert "| maze-1-visit | 0.5 | 1 | 2 | - | - | 6 (at 60) | 12 |" in text
+    assert "Over milp-ltl-oneshot (one MILP at the max horizon): **12x** in median over 3 instances" in text  # 12, 2, 20
 
 
 def test_the_published_missions_run_gives_the_baseline_time_to_finish():
@@ -151,7 +170,7 @@ def test_the_published_missions_run_gives_the_baseline_time_to_finish():
     from plansynth.bench.publish import MISSIONS_TIMEOUT, published_tasks
 
     tasks = [t for t in published_tasks(part="reach") if "/missions/" in t["experiment"]]
-    assert len(tasks) == 24 and {t["solver"] for t in tasks} == {"lazy-smt", "milp-ltl"}
+    assert len(tasks) == 36 and {t["solver"] for t in tasks} == {"lazy-smt", "milp-ltl", "milp-ltl-oneshot"}
     assert {t["timeout"] for t in tasks} == {MISSIONS_TIMEOUT} and MISSIONS_TIMEOUT >= 300
 
 

@@ -23,7 +23,12 @@ blocks in COO form, :class:`~plansynth.reach.highs.Rows` and
 long as the solve; tests/reach/test_mission_milp.py checks that it is the model a
 term-by-term build gives (the same columns, rows, bounds and objective).
 
-Horizons are tried upwards from the proved lower bound of
+``milp-ltl-oneshot`` (``one_shot=True``) is Wolff et al.'s setting as published: one MILP
+at the fixed horizon K = ``max_horizon``, whose plan has exactly K steps (any plan of the
+bounded mission, not the shortest); a MILP without a solution there proves nothing about
+shorter horizons (a shorter finite plan need not extend to K steps), so it is ``unknown``
+unless the label proof below decides. Otherwise
+horizons are tried upwards from the proved lower bound of
 :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` (``horizon_bound``; from 0
 without it), as in the lazy planner; the first with a solution is the shortest. As there, ``infeasible`` needs the proof of
 :func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
@@ -332,11 +337,14 @@ def plan_milp_ltl(
     segment_safe: bool = True,
     lower_bound: bool = True,
     horizon_bound: bool = True,
+    one_shot: bool = False,
     progress: Callable[[int, int], None] | None = None,
 ) -> ReachResult:
     """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated);
     ``horizon_bound``: from the proved lower bound of
-    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` on, as the lazy planner."""
+    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` on, as the lazy planner;
+    ``one_shot``: one MILP at ``max_horizon`` only (Wolff et al.'s fixed horizon; see the
+    module doc), planner ``milp-ltl-oneshot``."""
     from plansynth.reach.lazy.displan import RegionGraph
     from plansynth.reach.mission.planner import LoopLP, mission_horizon_bound
 
@@ -357,7 +365,7 @@ def plan_milp_ltl(
     formula = parse(problem.mission)
     polish = LoopLP(pp, labelled.abstraction, segment_safe=segment_safe)
     options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "horizon_bound": horizon_bound, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+               "horizon_bound": horizon_bound, "one_shot": one_shot, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     counters: dict[str, Any] = {"regions": labelled.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0}
 
     def finish(status, horizon, message, traj=None, regions=None, loop_start=None) -> ReachResult:
@@ -365,7 +373,7 @@ def plan_milp_ltl(
         counters["iterations"] = clock.iterations
         mission = {"formula": problem.mission, "semantics": None if regions is None else ("finite" if loop_start is None else "lasso"),
                    "loop_start": loop_start}
-        return ReachResult(status=status, planner="milp-ltl", seconds=timings["total"], trajectory=traj, regions=regions,
+        return ReachResult(status=status, planner="milp-ltl-oneshot" if one_shot else "milp-ltl", seconds=timings["total"], trajectory=traj, regions=regions,
                            horizon=horizon, counters=counters, timings=timings, options=options, message=message,
                            guarantee="segments" if segment_safe else "samples", mission=mission)
 
@@ -376,7 +384,9 @@ def plan_milp_ltl(
     if proved:
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     L0 = 0
-    if horizon_bound:
+    if one_shot:
+        L0 = L_max
+    elif horizon_bound:
         graph = RegionGraph.from_abstraction(labelled.abstraction)
         L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters)
     for L in range(L0, L_max + 1):
@@ -403,7 +413,13 @@ def plan_milp_ltl(
             if traj is None:
                 return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under exact "
                               "LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
+            if one_shot:
+                return finish(ReachStatus.FOUND, L, f"found at horizon {L} (one MILP at the max horizon: a plan of "
+                              "exactly that many steps, not the shortest)", traj, regions, loop_start)
             return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
+    if one_shot:
+        return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution at horizon {L_max} (one MILP at the max "
+                      f"horizon: shorter horizons not tried, no proof); {NOT_A_PROOF} ({why})")
     counters["abstraction_refuted"] = L_max  # one region per step: no proof (see plan_mission)
     return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the label-refined abstraction at any "
                   f"horizon up to {L_max}; {NOT_A_PROOF} ({why})")
@@ -418,7 +434,11 @@ class MilpLtlOptions:
     segment_safe: bool = True
     lower_bound: bool = True
     horizon_bound: bool = True
+    one_shot: bool = False
 
 
 #: ``milp-ltl`` as a planner of :func:`plansynth.reach.solve` (missions only)
 MILP_LTL = OptionsPlanner("milp-ltl", MilpLtlOptions(), keyword_runner(plan_milp_ltl, progress=True), "highspy")
+#: ``milp-ltl-oneshot``: one MILP at the max horizon (Wolff et al.'s fixed horizon K)
+MILP_LTL_ONESHOT = OptionsPlanner("milp-ltl-oneshot", MilpLtlOptions(one_shot=True),
+                                  keyword_runner(plan_milp_ltl, progress=True), "highspy")

@@ -648,11 +648,16 @@ def _milp_ltl(problem: ReachProblem, budget: Budget = Budget(), **options: Any) 
     return plan_milp_ltl(problem, budget, **options)
 
 
-MISSION_PLANNERS: dict[str, Callable[..., ReachResult]] = {"lazy-smt": plan_mission, "milp-ltl": _milp_ltl}
+def _milp_ltl_oneshot(problem: ReachProblem, budget: Budget = Budget(), **options: Any) -> ReachResult:
+    return _milp_ltl(problem, budget, **{"one_shot": True, **options})
+
+
+MISSION_PLANNERS: dict[str, Callable[..., ReachResult]] = {"lazy-smt": plan_mission, "milp-ltl": _milp_ltl,
+                                                           "milp-ltl-oneshot": _milp_ltl_oneshot}
 
 
 def solve_mission(problem: ReachProblem, planner: str = "lazy-smt", budget: Budget = Budget(), **options: Any) -> ReachResult:
-    """Plan the problem's mission with ``lazy-smt`` or ``milp-ltl``; every plan is
+    """Plan the problem's mission with ``lazy-smt``, ``milp-ltl`` or ``milp-ltl-oneshot``; every plan is
     validated and mission-checked before it is reported."""
     if planner not in MISSION_PLANNERS:
         raise ValueError(f"planner {planner!r} does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")

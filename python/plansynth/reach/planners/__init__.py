@@ -162,6 +162,7 @@ _PLANNERS: dict[str, str | Planner | Callable[..., Any]] = {
     "kpiece": "plansynth.reach.planners.ompl:KPIECE",
     "gcs": "plansynth.reach.planners.gcs:GCS",  # Drake's Graphs of Convex Sets
     "milp-ltl": "plansynth.reach.mission.milp:MILP_LTL",  # LTL missions: one big-M MILP per horizon
+    "milp-ltl-oneshot": "plansynth.reach.mission.milp:MILP_LTL_ONESHOT",  # one MILP at the max horizon
 }
 
 
@@ -176,7 +177,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl')
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot')
     """
     return tuple(_PLANNERS)
 
@@ -192,7 +193,7 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot
     """
     entry = _PLANNERS.get(name)
     if entry is None:
