@@ -46,7 +46,7 @@ Examples:
 
 Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
 (Figure 4 with random controllable A, B of n states), random, missions (LTL missions on
-the mazes: use --planners lazy-smt,milp-ltl), or all.
+the mazes: use --planners lazy-smt,milp-ltl,milp-ltl-oneshot), or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
