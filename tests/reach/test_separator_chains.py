@@ -151,3 +151,21 @@ def test_deferral_comes_back_to_the_deferred_window() -> None:
                     defer_after=1)
     assert out.status is ReachStatus.FOUND and out.regions == target and out.minimal is False
     assert {5, 6} <= displan.closed
+
+
+def test_dense_dynamics_keep_sound_farkas_conflicts() -> None:
+    """n = 50 random dynamics (2,402 nonzeros in A) make CON-PLAN's LPs dear: a conflict
+    keeps its Farkas support without the deletion filter; it is still refuted by an LP
+    over exactly its claims (the double integrator keeps the filter)."""
+    from plansynth.reach.abstraction import abstract
+    from plansynth.reach.lazy.conplan import ConPlan
+    from plansynth.reach.lazy.guide import reference_plan
+
+    p = random_dynamics(1, 50, seed=0)
+    a = abstract(p)
+    cp = ConPlan(p, a, counterexample="trivial", generalize=True, minimize=True)
+    assert cp.dear and not ConPlan(maze(1), abstract(maze(1))).dear
+    out = cp.check(reference_plan(p, a, 30))  # 30 steps: far too fast
+    assert isinstance(out, Conflict) and out.literals
+    assert cp.refutes(out, cold=True)
+    assert "minimize" not in cp.stats.by_kind and "unanchor" not in cp.stats.by_kind
