@@ -113,7 +113,8 @@ from typing import Any, Protocol
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
 from plansynth.reach.lazy.axisreach import AxisReach
-from plansynth.reach.lazy.bounds import physical_lower_bound, proved_horizon_bound, step_adjacency, time_windows
+from plansynth.reach.lazy.bounds import (SEPARATOR_MAX_REGIONS, ChainBounds, chain_gaps, physical_lower_bound,
+                                         proved_horizon_bound, separator_bounds, step_adjacency, time_windows)
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
@@ -254,13 +255,6 @@ def plan_lazy(
         first = int(max(bfs, phys, box)) if lower_bound else 0
     counters["first_horizon"] = first
 
-    displan = DisPlan(
-        graph,
-        cardinality=cardinality,
-        earliest=windows.earliest if windows is not None else None,
-        to_go=windows.to_go if windows is not None else None,
-        waits_at_start=wait_shifts and problem.starts_at_rest,
-    )
     if counterexample == "farkas":
         counterexample, generalize = "trivial", True
     # a proof of the minimal horizon (minimal, linear) is hundreds of LPs over the longest
@@ -273,6 +267,33 @@ def plan_lazy(
                       split=True if proof else None)
 
     theory: TheoryChecker = TransitCheck(conplan, abstraction, widen=widen) if transit else conplan
+    path = route(problem, abstraction) if guided else None
+
+    earliest = windows.earliest if windows is not None else None
+    to_go = windows.to_go if windows is not None else None
+    if windows is not None and first <= L_max:
+        t0 = time.perf_counter()
+        try:
+            with clock.phase("the separator chains (time windows)"):
+                chain = _chain_bounds(problem, abstraction, graph, theory, path)
+        except (BudgetExhausted, LpBudgetExhausted) as exc:
+            timings["bounds"] += time.perf_counter() - t0
+            return ran_out(exc if isinstance(exc, BudgetExhausted) else BudgetExhausted("the separator chains"))
+        timings["bounds"] += time.perf_counter() - t0
+        if chain is not None:
+            counters["chain_bound"] = None if math.isinf(chain.horizon) else int(chain.horizon)
+            earliest = tuple(max(a, b) for a, b in zip(earliest, chain.earliest))
+            to_go = tuple(max(a, b) for a, b in zip(to_go, chain.to_go))
+            first = L_max + 1 if math.isinf(chain.horizon) else max(first, int(chain.horizon))
+            counters["first_horizon"] = first
+
+    displan = DisPlan(
+        graph,
+        cardinality=cardinality,
+        earliest=earliest,
+        to_go=to_go,
+        waits_at_start=wait_shifts and problem.starts_at_rest,
+    )
 
     def finish(out: LoopOutcome) -> ReachResult:
         st = conplan.stats
@@ -339,9 +360,10 @@ def plan_lazy(
     growth = window_growth_for(window_growth, graph.n_regions) if horizon_search != "linear" else 0.0
     options_record["window_growth"] = window_growth_for(window_growth, graph.n_regions)  # (None: resolved)
     windows = horizon_windows(first, L_max, growth)
-    guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None) if guided else None
+    guide = _guide(problem, abstraction, theory if isinstance(theory, TransitCheck) else None, path) if guided else None
     with clock.phase("the lazy SMT loop"):
-        out = lazy_loop(displan, theory, windows, clock, timings, progress, guide)
+        defer = (DEAR_DEFER_AFTER if conplan.dear else DEFER_AFTER) if horizon_search == "window" else None
+        out = lazy_loop(displan, theory, windows, clock, timings, progress, guide, defer)
         if horizon_search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
             t0 = time.perf_counter()
             bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)  # (horizons below refuted)
@@ -423,14 +445,59 @@ def _not_a_proof(proved: float) -> str:
             f"horizon: {int(proved)})")
 
 
+def _chain_bounds(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, theory: TheoryChecker,
+                  path: Sequence[int] | None) -> ChainBounds | None:
+    """The separator chains of :func:`~plansynth.reach.lazy.bounds.separator_bounds` over
+    DIS-PLAN's region graph (beyond the paper; issue 13, item 4), or None when they do
+    not apply: no multi-step displacement table (integrator chains, whose one-step
+    bounds the sweep of :func:`~plansynth.reach.lazy.bounds.time_windows` already
+    uses), or more than :data:`~plansynth.reach.lazy.bounds.SEPARATOR_MAX_REGIONS`
+    regions. The gaps are those of :func:`~plansynth.reach.lazy.bounds.chain_gaps`,
+    raised by the transit layer's LP bound
+    (:meth:`~plansynth.reach.lazy.transit.TransitCheck.first_gap`: every smaller gap
+    refuted by an LP; exact for a leg out of the start at rest) from the start into the
+    guide's first region (``path[1]``; the guide asks for it anyway) and on the legs of
+    the chain that gives the horizon bound, for up to :data:`CHAIN_ROUNDS` rounds
+    (the chain may move to other legs once these are raised). Each is a lower bound on
+    the steps between two samples of a plan through the region graph, as the chains
+    need; the transit layer reuses the LPs. Maze-3 with n = 4 random dynamics: horizon
+    bound 86 where the sweep gives 17 (no plan below 108); with n = 50, 93 (sweep: 22)."""
+    if graph.n_regions > SEPARATOR_MAX_REGIONS:
+        return None
+    base = chain_gaps(problem, abstraction)
+    if base is None:
+        return None
+    transit = theory if isinstance(theory, TransitCheck) else None
+    refined: dict[tuple[int, int], int] = {}
+
+    def gap(a: int, b: int) -> int:
+        return max(base(a, b), refined.get((a, b), 0))
+
+    if transit is not None and path is not None and len(path) > 1:
+        refined[(START, path[1])] = transit.first_gap(START, path[1])
+    out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
+    for _ in range(CHAIN_ROUNDS if transit is not None else 0):
+        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:]) if (a, b) not in refined]
+        if not legs:
+            break
+        for a, b in legs:
+            refined[(a, b)] = transit.first_gap(a, b)
+        out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
+    return out
+
+
+#: rounds of LP refinement of the critical separator chain (see _chain_bounds)
+CHAIN_ROUNDS = 4
+
+
 def _guide(
-    problem: ReachProblem, abstraction: Abstraction, transit: TransitCheck | None
+    problem: ReachProblem, abstraction: Abstraction, transit: TransitCheck | None, path: Sequence[int] | None = None,
 ) -> Callable[[int], Sequence[int] | None] | None:
     """DIS-PLAN's reference plan per horizon (:mod:`plansynth.reach.lazy.guide`): the route
     at constant speed, its first leg held back to the fewest steps the transit layer
     proves for it (plus :data:`~plansynth.reach.lazy.guide.DEPART_SLACK`; LPs, so computed on
     the first call, inside the loop and its budget)."""
-    path = route(problem, abstraction)
+    path = route(problem, abstraction) if path is None else list(path)
     if path is None:
         return None
     held = transit is not None and len(path) > 1
@@ -483,18 +550,37 @@ def lazy_loop(
     timings: dict[str, float],
     progress: ProgressFn | None = None,
     guide: Callable[[int], Sequence[int] | None] | None = None,
+    defer_after: int | None = None,
 ) -> LoopOutcome:
     """Algorithm 1, the loop: for each horizon window lo..hi (a ``range`` means one
     horizon at a time), ask DIS-PLAN for a region sequence ending at a horizon in the
     window, ask the theory to realise it, learn its counterexample, until a trajectory
     is found or DIS-PLAN is UNSAT (then every horizon of the window is refuted: the
     next window). Adds the seconds spent in the SAT solver and in the theory to
-    ``timings["sat"]`` and ``timings["lp"]``."""
+    ``timings["sat"]`` and ``timings["lp"]``.
+
+    ``defer_after`` (the window search; beyond the paper): a window other than the
+    last whose plans have needed that many horizon-long LPs without a trajectory (plans
+    that the transit layer refutes alone do not count) is *deferred*: the loop moves on
+    to the next window and comes back to the deferred ones, lowest first and without
+    the limit, only when no later window yields a trajectory. Refuting the window just
+    below the least feasible horizon is the dearest part of the search (long conflicts
+    that each rule out a few timings; maze-3 with n = 4 random dynamics: window 92..115,
+    over 1,000 iterations, not refuted in 60 s), while a window above it is usually
+    realised at once. Nothing learned is lost (the clauses hold for every horizon), a
+    deferred window's horizons stay open, and the answer says so: a trajectory is
+    ``minimal`` only when every horizon below it is refuted, and ``infeasible`` needs
+    every window refuted."""
     if isinstance(windows, range):
         windows = [(L, L) for L in windows]
+    first_lo = windows[0][0] if windows else 0
     lo, hi = windows[0] if windows else (0, -1)
+    pending = list(windows)
+    deferred: list[tuple[int, int]] = []
     try:
-        for lo, hi in windows:
+        while pending or deferred:
+            lo, hi = pending.pop(0) if pending else deferred.pop(0)
+            cap = defer_after if pending else None  # the last window, and deferred ones: no limit
             if progress is not None:
                 progress(hi, clock.iterations)
             if guide is not None:
@@ -503,7 +589,12 @@ def lazy_loop(
                 timings["guide"] = timings.get("guide", 0.0) + time.perf_counter() - t0  # (its first LPs)
                 if ref is not None:
                     displan.prefer(ref)
+            costly = 0  # plans of this window that needed CON-PLAN's LPs
             while True:
+                if cap is not None and costly >= cap:
+                    deferred.append((lo, hi))
+                    deferred.sort()
+                    break
                 if clock.exhausted():
                     return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the lazy SMT loop (between SAT and LP calls) at horizon {_span(lo, hi)} after {clock.iterations} iterations")
                 clock.tick()
@@ -517,14 +608,22 @@ def lazy_loop(
                         displan.close(L)
                     break
                 assert plan is not None
+                checked = getattr(theory, "plans_checked", None)
                 t0 = time.perf_counter()
                 answer = theory.check(plan)
                 timings["lp"] += time.perf_counter() - t0
+                costly += 1 if checked is None or getattr(theory, "plans_checked") > checked else 0
                 if isinstance(answer, Feasible):
                     h = len(plan) - 1
-                    note = "" if h == lo else f" (horizons below {lo} refuted)"
+                    below = next((L for L in range(first_lo, h) if L not in displan.closed), h)
+                    if h == first_lo:
+                        note = ""
+                    elif below in (h, lo):
+                        note = f" (horizons below {below} refuted)"
+                    else:  # a window below was deferred
+                        note = f" (horizons below {below} refuted; deferred ones in {below}..{lo - 1} not all)"
                     return LoopOutcome(ReachStatus.FOUND, h, f"found at horizon {h}{note}", answer.trajectory, plan,
-                                       minimal=h == lo)
+                                       minimal=below == h)
                 for conflict in answer if isinstance(answer, tuple) else (answer,):
                     displan.learn(conflict)
     except LpBudgetExhausted:
@@ -535,6 +634,14 @@ def lazy_loop(
         return LoopOutcome(ReachStatus.UNKNOWN, hi, f"{exc} at horizon {_span(lo, hi)}")
     top = windows[-1][1] if windows else -1
     return LoopOutcome(ReachStatus.INFEASIBLE, top, f"infeasible: every horizon up to {top} refuted")
+
+
+#: the window search defers a window after this many of its plans needed CON-PLAN's LPs
+DEFER_AFTER = 4
+#: ... and after one on dense dynamics (``ConPlan.dear``), where one plan LP over a horizon
+#: of 150 takes 5-15 s: the window's reference plan is then the only one asked for
+#: before the loop moves on (random dynamics, n = 50, maze-3: 9 plan LPs -> 3)
+DEAR_DEFER_AFTER = 1
 
 
 def prove_minimal(

@@ -73,7 +73,8 @@ class TransitCheck:
     try them one by one.
 
     Counters: ``conflicts`` (transit conflicts reported), ``lp_calls`` (leg LPs),
-    ``plans_caught`` (sequences refuted without CON-PLAN).
+    ``plans_caught`` (sequences refuted by transit conflicts), ``plans_checked``
+    (sequences passed to CON-PLAN's horizon-long LPs).
     """
 
     def __init__(self, inner: ConPlan, abstraction: Abstraction, *, widen: bool = False) -> None:
@@ -98,6 +99,7 @@ class TransitCheck:
         self.conflicts = 0
         self.lp_calls = 0
         self.plans_caught = 0
+        self.plans_checked = 0  # plans whose horizon-long LP CON-PLAN solved
         self.widened = 0
 
     # ---------------------------------------------------------------- gap bounds
@@ -270,6 +272,7 @@ class TransitCheck:
                 break
         first: Conflict | None = None
         if unknown:
+            self.plans_checked += 1
             answer = self.inner.check(regions)
             if isinstance(answer, Feasible):
                 return answer
@@ -288,6 +291,8 @@ class TransitCheck:
             self.conflicts += len(found)
             self.plans_caught += 1
             return tuple(found) if first is None else (first, *found)
+        if first is None:
+            self.plans_checked += 1
         answer = self.inner.check(regions) if first is None else first
         if isinstance(answer, Conflict) and self.widen and answer.literals:
             return (answer, *self.widened_conflicts(answer))

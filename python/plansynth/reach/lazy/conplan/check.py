@@ -25,6 +25,8 @@ from plansynth.reach.trajectory import Trajectory
 COUNTEREXAMPLES = ("zeroprefix", "trivial", "iis")
 SLACK_WEIGHTS = ("geometric", "uniform")
 ZERO_SLACK = 1e-7  # a slack at most this is zero (HiGHS's primal feasibility tolerance)
+#: Dynamics whose A has more nonzeros than this make every LP dear (see ConPlan.dear)
+DEAR_NONZEROS = 1000
 POLISH_RESIDUAL = 1e-8  # dynamics residual above which a found trajectory is re-solved (validator: 1e-6)
 WARM_POLISH_RESIDUAL = 1e-7  # a warm re-solve at tight tolerances is kept at this (10x within the validator's 1e-6)
 
@@ -90,6 +92,12 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         dyn = problem.dynamics
         self.n, self.m = dyn.n_states, dyn.n_inputs
         self.A, self.B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+        # dense dynamics (n = 50 random dynamics: 2,402 nonzeros in A, 0.1-2 s per LP at
+        # horizon 100): a conflict keeps its Farkas support, without the deletion filter
+        # (one LP per literal) and the unanchoring LP, which were two thirds of the LP
+        # time there (maze-3: 84 of 133 LPs, 95 of 141 s) while the window search defers
+        # such windows after a few plans anyway (issue 13, item 4)
+        self.dear = int(np.count_nonzero(self.A)) > DEAR_NONZEROS
         self.pos = np.array(dyn.position, dtype=np.int64)
         self.d = len(self.pos)
         self.start = np.asarray(problem.start, dtype=float)
@@ -242,6 +250,8 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
             out = self._whole(regions)
         if isinstance(out, Conflict) and self.generalize:
             out = self._from_ray(regions, out)  # HiGHS holds out's LP
+            if self.dear:
+                return out  # (see __init__)
             if self.minimize:
                 out = self._minimize(regions, out)
             out = self._unanchor(regions, out)
