@@ -97,7 +97,9 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         # (one LP per literal) and the unanchoring LP, which were two thirds of the LP
         # time there (maze-3: 84 of 133 LPs, 95 of 141 s) while the window search defers
         # such windows after a few plans anyway (issue 13, item 4)
-        self.dear = int(np.count_nonzero(self.A)) > DEAR_NONZEROS
+        # long integrator chains too (an order-25 chain: 0.4-1.5 s per plan LP; maze-2:
+        # 55 LPs in 5.0 s -> 37 in 2.9 s, order 10 on maze-4: 108 LPs in 1.5 s -> 79 in 0.7 s)
+        self.dear = int(np.count_nonzero(self.A)) > DEAR_NONZEROS or dyn.n_states > LONG_CHAIN_STATES
         self.pos = np.array(dyn.position, dtype=np.int64)
         self.d = len(self.pos)
         self.start = np.asarray(problem.start, dtype=float)

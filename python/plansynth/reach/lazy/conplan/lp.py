@@ -137,6 +137,7 @@ class _Part:
     highs: highspy.Highs
     rows: np.ndarray
     cols: np.ndarray
+    cold: bool = True  # not solved yet: no basis to warm-start from
 
 
 @dataclass

@@ -17,6 +17,10 @@ import numpy as np
 from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES, _Layout, _Slot
 
+#: HiGHS options of :meth:`_HighsRuns._run_interior` (no presolve: as every CON-PLAN LP)
+INTERIOR = {"solver": "ipm", "run_crossover": "off"}
+
+
 class LpBudgetExhausted(Exception):
     """HiGHS stopped at the time limit; the lazy loop turns this into ``unknown``."""
 
@@ -38,6 +42,7 @@ class LpStats:
     ipm_fallbacks: int = 0
     slack_failures: int = 0
     polished: int = 0
+    interior: int = 0  # plan LPs run by the interior-point method first (_run_interior)
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -71,12 +76,48 @@ class _HighsRuns:
             order = [only]
         for k, i in enumerate(order):
             part = slot.parts[i]
-            sub = self._run(part.highs, purpose, count=k == 0)
+            if part.cold and purpose == "plan" and self.n > LONG_CHAIN_STATES:
+                sub = self._run_interior(part.highs, purpose, count=k == 0)
+            else:
+                sub = self._run(part.highs, purpose, count=k == 0)
+            part.cold = False
             if sub is None:
                 slot.infeasible_part = i
                 return None
             col[part.cols] = sub
         return col
+
+    def _run_interior(self, h: highspy.Highs, purpose: str, count: bool = True) -> np.ndarray | None:
+        """A plan LP of a long chain with no basis to start from: the interior-point
+        method without crossover first, the simplex method (:meth:`_run`) when it does
+        not find a solution, for the Farkas ray of an infeasible LP (the interior-point
+        method gives none). On a cold start the simplex method takes about as many
+        iterations as the LP has rows (an order-25 chain at horizon 146: 4,500 per axis,
+        0.75 s; the interior-point method 0.5 s in 20 iterations), and its answer can
+        miss the dynamics by 1e-6 unscaled, which costs a polish (an LP more); the
+        interior point's residual is about 1e-10 (issue 13, item 4)."""
+        S = highspy.HighsModelStatus
+        if self.clock is not None:
+            if self.clock.remaining() <= 0:
+                raise LpBudgetExhausted()
+            h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
+        t0 = time.perf_counter()
+        with _options(h, INTERIOR):
+            h.run()
+        self.stats.seconds += time.perf_counter() - t0
+        self.stats.interior += 1
+        status = h.getModelStatus()
+        if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
+            raise LpBudgetExhausted()
+        if status == S.kOptimal:
+            if count:
+                self.stats.lp_calls += 1
+                self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
+            return np.asarray(h.getSolution().col_value)
+        self.stats.lp_calls += 1  # (the interior-point run, not counted below)
+        self.stats.by_kind["interior"] = self.stats.by_kind.get("interior", 0) + 1
+        h.clearSolver()
+        return self._run(h, purpose, count)
 
     @staticmethod
     def _new_highs() -> highspy.Highs:
