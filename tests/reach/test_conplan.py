@@ -235,3 +235,29 @@ def test_the_warm_polish_needs_the_plan_in_the_model() -> None:
     assert cp.prefix_feasible(regions, 3)
     assert cp._polished_warm(regions) is None  # the model holds a prefix LP now
     assert cp._polished_warm(regions[:-1]) is None
+
+
+def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex() -> None:
+    """On a long chain a plan LP with no basis is first solved by the interior-point
+    method (no polish needed: its residual is far below the validator's); when that finds
+    no solution, the simplex method decides and the conflict comes from its Farkas ray."""
+    from plansynth.reach.lazy.conplan import POLISH_RESIDUAL
+    from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES
+    from plansynth.reach.lazy.loop import plan_lazy
+
+    p = maze(1, order=5)
+    assert p.dynamics.n_states > LONG_CHAIN_STATES
+    ab = abstract(p)
+    regions = plan_lazy(p).regions
+    cp = ConPlan(p, ab)
+    found = cp.feasible(regions)
+    assert found is not None and cp.residual(found) <= POLISH_RESIDUAL
+    assert validate(p, found, require_segment_safe=True).ok
+    assert cp.stats.interior == 2 and "interior" not in cp.stats.by_kind  # one per axis, both solved
+    # too short by half: no trajectory; the interior-point run is counted, the simplex decides
+    short = regions[: len(regions) // 2]
+    cp = ConPlan(p, ab, generalize=True)
+    out = cp.check(short)
+    assert isinstance(out, Conflict) and cp.refutes(out, cold=True)
+    assert cp.stats.by_kind["interior"] == 1  # (the axis with no trajectory; the other may have one)
+    assert cp.stats.ray_calls >= 1
