@@ -242,11 +242,11 @@ def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex() -> No
     method (no polish needed: its residual is far below the validator's); when that finds
     no solution, the simplex method decides and the conflict comes from its Farkas ray."""
     from plansynth.reach.lazy.conplan import POLISH_RESIDUAL
-    from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES
+    from plansynth.reach.lazy.conplan.runs import INTERIOR_STATES
     from plansynth.reach.lazy.loop import plan_lazy
 
-    p = maze(1, order=5)
-    assert p.dynamics.n_states > LONG_CHAIN_STATES
+    p = maze(1, order=15)
+    assert p.dynamics.n_states >= INTERIOR_STATES
     ab = abstract(p)
     regions = plan_lazy(p).regions
     cp = ConPlan(p, ab)

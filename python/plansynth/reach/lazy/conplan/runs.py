@@ -19,6 +19,11 @@ from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES, _Layout, _Slot
 
 #: HiGHS options of :meth:`_HighsRuns._run_interior` (no presolve: as every CON-PLAN LP)
 INTERIOR = {"solver": "ipm", "run_crossover": "off"}
+#: Split (per-axis) plan LPs of dynamics with at least this many states start interior
+#: (:meth:`_HighsRuns._run_interior`). Chains of order 15 and up gain (order 20 on maze-4:
+#: 4.2 -> 2.7 s; order 25: the polish of 2-4 s is gone), below they lose a little (order 5:
+#: 0.09 -> 0.15 s, the simplex is quick and its residuals small there).
+INTERIOR_STATES = 30
 
 
 class LpBudgetExhausted(Exception):
@@ -76,7 +81,7 @@ class _HighsRuns:
             order = [only]
         for k, i in enumerate(order):
             part = slot.parts[i]
-            if part.cold and purpose == "plan" and self.n > LONG_CHAIN_STATES:
+            if part.cold and purpose == "plan" and self.n >= INTERIOR_STATES:
                 sub = self._run_interior(part.highs, purpose, count=k == 0)
             else:
                 sub = self._run(part.highs, purpose, count=k == 0)
