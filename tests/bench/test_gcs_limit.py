@@ -22,6 +22,17 @@ def test_the_oracle_lp_is_feasible_on_the_final_regions_and_not_on_a_wrong_seque
     assert 0 < lim.solve_seconds <= lim.seconds and lim.build_seconds > 0
     stuck = [r.regions[0]] * len(r.regions)  # never leaves the start region: cannot reach the goal
     assert not oracle_lp(maze(1), stuck).feasible
+    assert oracle_lp(maze(1), r.regions, seconds=1e-9) is None  # out of time: no limit, not a wrong one
+
+
+def test_the_oracle_lp_of_a_long_chain_is_solved_as_conplan_solves_it():
+    """Split per axis and interior-point first (from 30 states), with no iteration cap:
+    an answer, not a stopped simplex."""
+    p = maze(1, order=15)
+    r = solve(p, "lazy-smt", Budget(seconds=60))
+    lim = oracle_lp(p, r.regions)
+    assert lim.feasible and lim.horizon == r.horizon
+    assert not oracle_lp(p, [r.regions[0]] * len(r.regions)).feasible
 
 
 def test_bench_records_the_limit_and_runs_gcs():

@@ -267,6 +267,7 @@ def solver_version(solver: str) -> str:
 def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.reach.solve import get_planner, solve
 
+    started = time.perf_counter()
     problem = inst.build()
     solver = task["solver"]
     budget = Budget(seconds=float(task["timeout"]))
@@ -299,9 +300,16 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
             and len(res.regions) == res.horizon + 1 and getattr(res, "guarantee", None) in ("segments", "samples"):
         from plansynth.reach.oracle import oracle_lp
 
-        lim = oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments")
-        oracle = {"seconds": lim.seconds, "build": lim.build_seconds, "solve": lim.solve_seconds,
-                  "feasible": lim.feasible}
+        from plansynth.bench.runner import grace
+
+        # within the child's wall-clock limit (the budget plus its grace), 2 s kept for the rest
+        T = float(task["timeout"])
+        extra = grace(T) if task.get("grace") is None else float(task["grace"])
+        left = T + extra - (time.perf_counter() - started) - 2.0
+        lim = oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments", seconds=max(1.0, left))
+        if lim is not None:
+            oracle = {"seconds": lim.seconds, "build": lim.build_seconds, "solve": lim.solve_seconds,
+                      "feasible": lim.feasible}
     return {
         "status": status,
         "solved": int(status == "solved"),

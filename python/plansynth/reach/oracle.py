@@ -5,9 +5,15 @@ would cost one linear program: CON-PLAN's feasibility LP for that sequence (Shou
 al., CDC 2016, Section IV, Problem 4.1, here with the segment-safe constraints when the
 planner kept segments in the regions), built and solved from scratch. Its time is the
 floor under any search over region sequences; a planner's total divided by it shows
-the search's overhead. The LP is built and run by
-:class:`~plansynth.reach.lazy.conplan.ConPlan` on a fresh HiGHS instance (no warm start,
-no basis), and its time counts the model's construction (``passModel``) and the solve.
+the search's overhead. The LP is built and solved as
+:class:`~plansynth.reach.lazy.conplan.ConPlan` solves a plan LP that has no basis to
+start from, in a fresh ConPlan: split into independent blocks (one per axis) beyond
+:data:`~plansynth.reach.lazy.conplan.lp.LONG_CHAIN_STATES` states, by the
+interior-point method first from
+:data:`~plansynth.reach.lazy.conplan.runs.INTERIOR_STATES` on, and without the
+simplex iteration cap the planner puts on long chains (so the limit is a solved LP: with
+the cap, an order-25 chain's cold simplex stopped at 5,000 iterations, short of an
+answer). Its time counts the model's construction (``passModel``) and the solve.
 
 >>> from plansynth.reach.families import maze
 >>> from plansynth.reach.solve import solve
@@ -23,9 +29,9 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import highspy
-
+from plansynth.budget import Budget
 from plansynth.reach.lazy.conplan import ConPlan
+from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.problem import ReachProblem
 
@@ -44,17 +50,26 @@ class OracleLP:
 
 
 def oracle_lp(problem: ReachProblem, regions: Sequence[int], *, abstraction: Abstraction | None = None,
-              segment_safe: bool = True) -> OracleLP:
-    """Time one cold CON-PLAN LP over ``regions`` (indices into ``abstract(problem)``)."""
+              segment_safe: bool = True, seconds: float | None = None) -> OracleLP | None:
+    """Time one cold CON-PLAN LP over ``regions`` (indices into ``abstract(problem)``);
+    None when it takes more than ``seconds`` (a dense n = 50 LP can take a minute)."""
     a = abstraction if abstraction is not None else abstract(problem)
-    cp = ConPlan(problem, a, segment_safe=segment_safe)
+    clock = None if seconds is None else Budget(seconds=seconds).clock()
+    cp = ConPlan(problem, a, segment_safe=segment_safe, clock=clock)
     regs = [int(r) for r in regions]
+    N = len(regs) - 1
+    plan = dict(enumerate(regs))
+    slot = cp.slot
     t0 = time.perf_counter()
-    lay = cp.layout(0, len(regs) - 1)
-    cp._pass_cold(lay, dict(enumerate(regs)), goal=True, anchored_start=True)
+    lay = cp.layout(0, N)  # (exactly the plan's states: no spare frame)
+    cp._load(slot, lay, plan, cp.bounds(lay, plan, goal=True, anchored_start=True, slack=False))
     t1 = time.perf_counter()
-    cp.cold.run()
+    for h in [p.highs for p in slot.parts] if slot.parts is not None else [slot.highs]:
+        h.setOptionValue("simplex_iteration_limit", 2**31 - 1)
+    try:
+        col = cp._run_slot(slot, "plan")
+    except LpBudgetExhausted:
+        return None
     t2 = time.perf_counter()
-    feasible = cp.cold.getModelStatus() == highspy.HighsModelStatus.kOptimal
-    return OracleLP(seconds=t2 - t0, build_seconds=t1 - t0, solve_seconds=t2 - t1, feasible=bool(feasible),
-                    horizon=len(regs) - 1)
+    return OracleLP(seconds=t2 - t0, build_seconds=t1 - t0, solve_seconds=t2 - t1, feasible=col is not None,
+                    horizon=N)
