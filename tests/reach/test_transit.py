@@ -156,3 +156,19 @@ def test_a_moving_start_is_not_treated_as_monotone() -> None:
     for k in range(tc.box_gap(START, 1), first):
         assert not leg_feasible(moving, ab.regions, START, 1, k)
     assert leg_feasible(moving, ab.regions, START, 1, first)
+
+
+def test_a_start_leg_searched_per_axis_agrees_with_the_joint_scan() -> None:
+    """Split LPs (an order-5 chain on a maze of boxes): the first gap of a start leg is
+    the largest of the axes' own first gaps, each searched with that axis's LP alone;
+    the scan asks the whole LP at every gap."""
+    p = maze(2, order=5)
+    ab = abstract(p)
+    fast = TransitCheck(ConPlan(p, ab), ab)
+    assert fast.inner.span_parts() == 2
+    slow = TransitCheck(ConPlan(p, ab), ab)
+    slow.start_at_rest = False  # the scan, one LP of both axes per gap
+    for b in range(len(ab.regions)):
+        assert fast.first_gap(START, b) == slow.first_gap(START, b), b
+    with pytest.raises(ValueError, match="split"):
+        ConPlan(maze(1), abstract(maze(1))).refutes(TransitCheck.leg(START, 1, 5, N=5), part=0)

@@ -200,17 +200,21 @@ class _Certificates:
         self.stats.rejected += 1
         return fallback
 
-    def refutes(self, c: Conflict, *, cold: bool = False) -> bool:
+    def refutes(self, c: Conflict, *, cold: bool = False, part: int | None = None) -> bool:
         """Is the LP of exactly what ``c`` claims infeasible? (states c.first_time ..
         c.last_time, the literals' region and segment rows, the goal and the start as
         anchored). By default in a persistent model (a window of its frame, split when
-        the LPs split, warm-started); ``cold``: a fresh LP of exactly that layout."""
+        the LPs split, warm-started); ``cold``: a fresh LP of exactly that layout.
+        ``part`` (split LPs, see :meth:`span_parts`): only that part's LP, so the answer
+        "infeasible" holds for the whole LP and "feasible" only for that part."""
         assign = dict(c.literals)
-        if not cold:
+        if part is not None and self.span_parts() is None:
+            raise ValueError("refutes(part=...) needs split LPs")
+        if not cold or part is not None:
             # the span model, shared with the deletion filter: warm from the LPs that
             # just shrank this conflict
             col = self._solve_model(c.last_time, assign, "verify", goal=c.anchored_goal,
-                                    anchored_start=c.anchored_start, span=(c.first_time, c.last_time))
+                                    anchored_start=c.anchored_start, span=(c.first_time, c.last_time), part=part)
             return col is None
         lay = self.layout(c.first_time, c.last_time)
         self._pass_cold(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start)

@@ -277,6 +277,13 @@ class _LpEdits:
             part.highs.changeRowsBounds(r.size, np.arange(r.size, dtype=np.int32), b.row_lo[r], b.row_hi[r])
             part.highs.changeColsBounds(c.size, np.arange(c.size, dtype=np.int32), b.col_lo[c], b.col_hi[c])
 
+    def span_parts(self) -> int | None:
+        """The number of independent parts the span model's LPs split into (one per axis
+        when the dynamics and every region separate), or None when they are not split."""
+        if not self.span_slot.splits or self.blocks is None:
+            return None
+        return int(self.blocks[0].max()) + 1
+
     def layout(self, first: int, last: int) -> _Layout:
         return _Layout(first, last, self.n, self.m, self.d, self.K, len(self.hgoal))
 
