@@ -133,7 +133,12 @@ ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
 
 class TheoryChecker(Protocol):
-    """The theory side of the lazy loop (CON-PLAN or any other)."""
+    """The theory side of the lazy loop (CON-PLAN or any other).
+
+    A theory may also have a boolean attribute ``expendable``, which :func:`lazy_loop`
+    sets before each check: True when the window is deferred should the plan fail, so
+    that a cheaper, weaker (still sound) counterexample will do (CON-PLAN on dense
+    dynamics then skips the Farkas ray of a plan the interior-point method refutes)."""
 
     def check(self, regions: Sequence[int]) -> Feasible | Conflict | tuple[Conflict, ...]:
         """A trajectory following ``regions`` or one or more counterexample clauses."""
@@ -609,6 +614,8 @@ def lazy_loop(
                     break
                 assert plan is not None
                 checked = getattr(theory, "plans_checked", None)
+                if hasattr(theory, "expendable"):  # (see TheoryChecker)
+                    theory.expendable = cap is not None and costly + 1 >= cap
                 t0 = time.perf_counter()
                 answer = theory.check(plan)
                 timings["lp"] += time.perf_counter() - t0

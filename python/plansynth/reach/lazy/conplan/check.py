@@ -98,6 +98,10 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         # time there (maze-3: 84 of 133 LPs, 95 of 141 s) while the window search defers
         # such windows after a few plans anyway (issue 13, item 4)
         self.dear = int(np.count_nonzero(self.A)) > DEAR_NONZEROS
+        # set by the lazy loop (TheoryChecker): a plan whose failure defers its window;
+        # dense dynamics then keep the interior-point method's refutation, without the
+        # simplex run for its Farkas ray (the conflict is the whole plan, unshrunk)
+        self.expendable = False
         self.pos = np.array(dyn.position, dtype=np.int64)
         self.d = len(self.pos)
         self.start = np.asarray(problem.start, dtype=float)
