@@ -124,7 +124,7 @@ from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.lazy.transit import START, TransitCheck
+from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
 
 __all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES",
            "COUNTEREXAMPLES", "LazyOptions"]
@@ -482,7 +482,9 @@ def _chain_bounds(problem: ReachProblem, abstraction: Abstraction, graph: Region
         refined[(START, path[1])] = transit.first_gap(START, path[1])
     out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
     for _ in range(CHAIN_ROUNDS if transit is not None else 0):
-        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:]) if (a, b) not in refined]
+        # (start straight to goal, one region holding both: no leg LP, the box gap stands)
+        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:])
+                if (a, b) not in refined and (a, b) != (START, GOAL)]
         if not legs:
             break
         for a, b in legs:
