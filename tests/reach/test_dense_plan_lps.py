@@ -96,7 +96,6 @@ def test_the_loop_marks_the_plans_whose_failure_defers_their_window() -> None:
     assert np.all([isinstance(e, bool) for _, e in theory.seen])
 
 
-
 def test_a_random_robot_in_the_empty_maze_is_solved() -> None:
     """n_passages = 0: one region holds start and goal, and the separator chain is the
     leg start -> goal, which has no leg LP (it crashed the chain refinement)."""
