@@ -44,6 +44,8 @@ WALL_THICKNESS = 1.0
 RIGHT_GAP = (27.0, 29.0)
 LEFT_GAP = (1.0, 3.0)
 DERIVATIVE_BOUND = 2.0
+#: ``max_horizon`` of every :func:`random_dynamics` instance (its docstring says why)
+RANDOM_DYNAMICS_MAX_HORIZON = 400
 
 
 def maze(n_passages: int, order: int = 2, *, dt: float = 0.5, input_bound: float = 1.0) -> ReachProblem:
@@ -213,7 +215,12 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
     run but up to 4.3 m in one step (:func:`plansynth.reach.dynamics.displacement_reach`).
     A is dense (n = 50: 2,402 nonzeros). Plans are checked by the validator against
     these exact A, B (dynamics residual at most 1e-6 max(1, |x|); CON-PLAN re-solves a
-    plan whose residual is above 1e-8).
+    plan whose residual is above 1e-8). ``max_horizon`` is
+    :data:`RANDOM_DYNAMICS_MAX_HORIZON` = 400 for every instance, twice the default of
+    :class:`~plansynth.reach.problem.ReachProblem`: at the long-run speed of 0.75 m per step
+    per axis, maze-4's horizontal travel alone (x from 1 to 27, then four times across
+    between 3 and 27: 122 m) takes about 163 steps, before the turns at its gaps; at 200
+    its plans at n = 4 and 20 sat at the very top and n = 50 found none.
 
     >>> p = random_dynamics(1, 8, seed=3)
     >>> p.dynamics.n_states, p.dynamics.position, p.starts_at_rest
@@ -268,7 +275,7 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
     return ReachProblem(
         workspace=base.workspace, obstacles=base.obstacles, goal=base.goal, dynamics=dyn, start=start,
         input_bound=1.0, state_bounds=Box(tuple([0.0, 0.0] + list(-zb)), tuple([S_, S_] + list(zb))),
-        name=f"random-dynamics-{n_passages}-n{n_states}-s{seed}",
+        name=f"random-dynamics-{n_passages}-n{n_states}-s{seed}", max_horizon=RANDOM_DYNAMICS_MAX_HORIZON,
     )
 
 

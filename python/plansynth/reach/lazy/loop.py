@@ -124,7 +124,7 @@ from plansynth.reach.lazy.guide import departure, reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
-from plansynth.reach.lazy.transit import START, TransitCheck
+from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
 
 __all__ = ["TheoryChecker", "LoopOutcome", "lazy_loop", "plan_lazy", "horizon_windows", "HORIZON_SEARCHES",
            "COUNTEREXAMPLES", "LazyOptions"]
@@ -133,7 +133,12 @@ ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
 
 class TheoryChecker(Protocol):
-    """The theory side of the lazy loop (CON-PLAN or any other)."""
+    """The theory side of the lazy loop (CON-PLAN or any other).
+
+    A theory may also have a boolean attribute ``expendable``, which :func:`lazy_loop`
+    sets before each check: True when the window is deferred should the plan fail, so
+    that a cheaper, weaker (still sound) counterexample will do (CON-PLAN on dense
+    dynamics then skips the Farkas ray of a plan the interior-point method refutes)."""
 
     def check(self, regions: Sequence[int]) -> Feasible | Conflict | tuple[Conflict, ...]:
         """A trajectory following ``regions`` or one or more counterexample clauses."""
@@ -477,7 +482,9 @@ def _chain_bounds(problem: ReachProblem, abstraction: Abstraction, graph: Region
         refined[(START, path[1])] = transit.first_gap(START, path[1])
     out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
     for _ in range(CHAIN_ROUNDS if transit is not None else 0):
-        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:]) if (a, b) not in refined]
+        # (start straight to goal, one region holding both: no leg LP, the box gap stands)
+        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:])
+                if (a, b) not in refined and (a, b) != (START, GOAL)]
         if not legs:
             break
         for a, b in legs:
@@ -609,6 +616,8 @@ def lazy_loop(
                     break
                 assert plan is not None
                 checked = getattr(theory, "plans_checked", None)
+                if hasattr(theory, "expendable"):  # (see TheoryChecker)
+                    theory.expendable = cap is not None and costly + 1 >= cap
                 t0 = time.perf_counter()
                 answer = theory.check(plan)
                 timings["lp"] += time.perf_counter() - t0

@@ -102,6 +102,15 @@ class TransitCheck:
         self.plans_checked = 0  # plans whose horizon-long LP CON-PLAN solved
         self.widened = 0
 
+    @property
+    def expendable(self) -> bool:
+        """The inner theory's (see :class:`~plansynth.reach.lazy.loop.TheoryChecker`)."""
+        return self.inner.expendable
+
+    @expendable.setter
+    def expendable(self, value: bool) -> None:
+        self.inner.expendable = value
+
     # ---------------------------------------------------------------- gap bounds
     def box_gap(self, a: int, b: int) -> int:
         """The fewest steps of leg (a, b) that the displacement bounds allow."""

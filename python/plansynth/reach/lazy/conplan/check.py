@@ -100,6 +100,10 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         # long integrator chains too (an order-25 chain: 0.4-1.5 s per plan LP; maze-2:
         # 55 LPs in 5.0 s -> 37 in 2.9 s, order 10 on maze-4: 108 LPs in 1.5 s -> 79 in 0.7 s)
         self.dear = int(np.count_nonzero(self.A)) > DEAR_NONZEROS or dyn.n_states > LONG_CHAIN_STATES
+        # set by the lazy loop (TheoryChecker): a plan whose failure defers its window; a
+        # plan LP the interior-point method refutes then keeps that answer, without the
+        # simplex run for its Farkas ray (the conflict is the whole plan, unshrunk)
+        self.expendable = False
         self.pos = np.array(dyn.position, dtype=np.int64)
         self.d = len(self.pos)
         self.start = np.asarray(problem.start, dtype=float)

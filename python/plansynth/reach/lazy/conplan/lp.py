@@ -162,6 +162,7 @@ class _Slot:
     col_part: np.ndarray | None = None
     col_local: np.ndarray | None = None
     infeasible_part: int = 0  # the part that was infeasible last (tried first)
+    fresh: bool = False  # was the model passed whole for this LP (no basis to warm-start from)?
 
 
 @dataclass
@@ -388,7 +389,8 @@ class _LpEdits:
         ``b``: in place when the layout is unchanged (warm start)."""
         h = slot.highs
         old = slot.layout
-        if old is None or old.frame != lay.frame or slot.coef is None:
+        slot.fresh = old is None or old.frame != lay.frame or slot.coef is None
+        if slot.fresh:
             slot.layout = lay
             slot.coef = self._coef_for(lay, assignment)
             slot.coo = self._matrix(lay, slot.coef)

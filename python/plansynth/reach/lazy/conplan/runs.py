@@ -17,10 +17,8 @@ import numpy as np
 from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES, _Layout, _Slot
 
-#: HiGHS options of :meth:`_HighsRuns._run_interior` (no presolve: as every CON-PLAN LP)
-INTERIOR = {"solver": "ipm", "run_crossover": "off"}
-#: Split (per-axis) plan LPs of dynamics with at least this many states start interior
-#: (:meth:`_HighsRuns._run_interior`). Chains of order 15 and up gain (order 20 on maze-4:
+#: Plan LPs with no basis, of dynamics with at least this many states, start interior
+#: (``ipm_first`` in :meth:`_HighsRuns._run`). Chains of order 15 and up gain (order 20 on maze-4:
 #: 4.2 -> 2.7 s; order 25: the polish of 2-4 s is gone), below they lose a little (order 5:
 #: 0.09 -> 0.15 s, the simplex is quick and its residuals small there).
 INTERIOR_STATES = 30
@@ -47,7 +45,7 @@ class LpStats:
     ipm_fallbacks: int = 0
     slack_failures: int = 0
     polished: int = 0
-    interior: int = 0  # plan LPs run by the interior-point method first (_run_interior)
+    interior: int = 0  # plan LPs run by the interior-point method first (ipm_first in _run)
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -71,9 +69,12 @@ class _HighsRuns:
     def _run_slot(self, slot: _Slot, purpose: str, only: int | None = None) -> np.ndarray | None:
         """Solve the LP ``slot`` holds (part by part: infeasible as soon as one part is,
         the part infeasible last time first). ``only``: solve just that part; then
-        "feasible" means only that this part is (the column values of the others are 0)."""
+        "feasible" means only that this part is (the column values of the others are 0).
+        A plan LP with no basis to start from, from :data:`INTERIOR_STATES` states on,
+        goes to the interior-point method first (see :meth:`_run`)."""
+        interior = purpose == "plan" and self.n >= INTERIOR_STATES
         if slot.parts is None:
-            return self._run(slot.highs, purpose)
+            return self._run(slot.highs, purpose, ipm_first=interior and slot.fresh)
         assert slot.layout is not None
         col = np.zeros(slot.layout.n_col)
         order = sorted(range(len(slot.parts)), key=lambda i: i != slot.infeasible_part)
@@ -81,10 +82,9 @@ class _HighsRuns:
             order = [only]
         for k, i in enumerate(order):
             part = slot.parts[i]
-            if part.cold and purpose == "plan" and self.n >= INTERIOR_STATES:
-                sub = self._run_interior(part.highs, purpose, count=k == 0)
-            else:
-                sub = self._run(part.highs, purpose, count=k == 0)
+            # (a part is cold until its first run: the first plan LP of a frame may stop
+            # at another part's refutation, and this part's next LP is then cold too)
+            sub = self._run(part.highs, purpose, count=k == 0, ipm_first=interior and part.cold, crossover=False)
             part.cold = False
             if sub is None:
                 slot.infeasible_part = i
@@ -92,46 +92,31 @@ class _HighsRuns:
             col[part.cols] = sub
         return col
 
-    def _run_interior(self, h: highspy.Highs, purpose: str, count: bool = True) -> np.ndarray | None:
-        """A plan LP of a long chain with no basis to start from: the interior-point
-        method without crossover first, the simplex method (:meth:`_run`) when it does
-        not find a solution, for the Farkas ray of an infeasible LP (the interior-point
-        method gives none). On a cold start the simplex method takes about as many
-        iterations as the LP has rows (an order-25 chain at horizon 146: 4,500 per axis,
-        0.75 s; the interior-point method 0.5 s in 20 iterations), and its answer can
-        miss the dynamics by 1e-6 unscaled, which costs a polish (an LP more); the
-        interior point's residual is about 1e-10 (issue 13, item 4)."""
-        S = highspy.HighsModelStatus
-        if self.clock is not None:
-            if self.clock.remaining() <= 0:
-                raise LpBudgetExhausted()
-            h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
-        t0 = time.perf_counter()
-        with _options(h, INTERIOR):
-            h.run()
-        self.stats.seconds += time.perf_counter() - t0
-        self.stats.interior += 1
-        status = h.getModelStatus()
-        if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
-            raise LpBudgetExhausted()
-        if status == S.kOptimal:
-            if count:
-                self.stats.lp_calls += 1
-                self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
-            return np.asarray(h.getSolution().col_value)
-        self.stats.lp_calls += 1  # (the interior-point run, not counted below)
-        self.stats.by_kind["interior"] = self.stats.by_kind.get("interior", 0) + 1
-        h.clearSolver()
-        return self._run(h, purpose, count)
-
     @staticmethod
     def _new_highs() -> highspy.Highs:
         # small LPs: presolve costs more than it saves, and the Farkas ray of an
         # infeasible LP (for shrinking conflicts) is only available without it
         return new_highs(presolve="off")
 
-    def _run(self, h: highspy.Highs, purpose: str, count: bool = True) -> np.ndarray | None:
+    def _run(self, h: highspy.Highs, purpose: str, count: bool = True, ipm_first: bool = False,
+             crossover: bool = True) -> np.ndarray | None:
         """Solve the model ``h`` holds: column values when optimal, None when infeasible.
+
+        ``ipm_first`` (a plan LP with no basis to start from, many states): the
+        interior-point method first (with ``crossover`` or without), and the simplex
+        method from scratch only when that finds no solution, for the Farkas ray of an
+        infeasible LP (the interior-point method has none). On a cold start the simplex
+        method takes about as many iterations as the LP has rows: on the n = 50 random
+        robots (A with 2,402 nonzeros) a cold plan LP of 135-267 steps took the dual
+        simplex 5-32 s (8,000-17,000 iterations) and the interior-point method 1.4-7.6 s
+        (11-20 iterations), a feasible one as an optimal basic solution (crossover); on
+        an order-25 chain, split per axis, at horizon 146, 0.75 s (4,500 iterations) per
+        axis against 0.5 s (20 iterations, without crossover, which costs 15% more
+        there), and the simplex answer missed the dynamics by 1e-6 unscaled, which cost a
+        polish of 2-4 s, where the interior point's residual is about 1e-10. When the
+        plan is ``expendable`` (the lazy loop defers its window if it fails) an
+        infeasible answer of the interior-point method is kept as it is (the conflict
+        then is the whole plan: sound, only weaker); else a refuted plan costs both methods.
 
         HiGHS occasionally refuses a warm start after in-place edits (an error before
         any iteration), and the simplex method can stall on badly conditioned LPs (long
@@ -148,11 +133,15 @@ class _HighsRuns:
         status = S.kNotset
         fresh = {"ipm": {"solver": "ipm", "presolve": "off", "run_crossover": "on"},
                  "presolved": {"solver": "simplex", "presolve": "on", "simplex_iteration_limit": 2**31 - 1}}
-        for attempt in ("warm", "cold", "ipm", "presolved"):
+        methods = {"first": {"solver": "ipm", "run_crossover": "on" if crossover else "off"},  # (in h itself)
+                   **fresh}
+        for attempt in ("first", "warm", "cold", "ipm", "presolved")[0 if ipm_first else 1:]:
             if self.clock is not None:
                 remaining = self.clock.remaining()
                 if remaining <= 0:
                     raise LpBudgetExhausted()
+            if attempt == "warm" and ipm_first:
+                h.clearSolver()  # (HiGHS would not run a solved model again)
             if attempt == "cold":
                 if status == S.kIterationLimit:
                     continue  # a stalled simplex stalls again: straight to the other methods
@@ -167,9 +156,16 @@ class _HighsRuns:
             if self.clock is not None:
                 # HiGHS compares time_limit with the instance's run time summed over runs
                 h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
-            with _options(h, fresh.get(attempt, {})):
+            with _options(h, methods.get(attempt, {})):
                 h.run()
             status = h.getModelStatus()
+            if attempt == "first":
+                self.stats.interior += 1
+                if status in (S.kOptimal, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
+                    break
+                if status == S.kInfeasible and self.expendable:
+                    break  # (no ray: the caller's conflict stays unshrunk)
+                continue  # infeasible (no ray) or no answer: the simplex method decides
             if status in answers:
                 break
         self.stats.seconds += time.perf_counter() - t0
@@ -180,7 +176,8 @@ class _HighsRuns:
             return np.asarray(h.getSolution().col_value)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
             # objectives are bounded below (0 or a weighted sum of slacks >= 0)
-            self._no_ray = h is self.cold  # the persistent model holds no Farkas ray
+            # (no Farkas ray: a fallback copy decided it, or the interior-point method)
+            self._no_ray = h is self.cold or attempt == "first"
             return None
         if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
             raise LpBudgetExhausted()
