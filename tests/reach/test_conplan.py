@@ -266,3 +266,25 @@ def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex() -> No
     whole = cp.check(short)
     assert isinstance(whole, Conflict) and cp.refutes(whole, cold=True)
     assert cp.stats.ray_calls == 0 and len(whole.literals) == len(short)  # the whole plan
+    assert cp.stats.uncertified == 1  # (and the loop's claims say so: see the next test)
+
+
+def test_claims_resting_on_uncertified_refutations_are_withdrawn() -> None:
+    """An expendable plan refuted by the interior-point method has no Farkas certificate:
+    a loop that kept such refutations reports no unproved `infeasible` and no minimal
+    horizon (unless the relaxation MILP proved it)."""
+    from dataclasses import replace as _replace
+
+    from plansynth.reach.lazy.loop import LoopOutcome, _uncertified
+    from plansynth.reach.result import ReachStatus
+
+    inf = LoopOutcome(ReachStatus.INFEASIBLE, 40, "infeasible up to horizon 40: every horizon refuted")
+    out = _uncertified(inf, 2, None)
+    assert out.status is ReachStatus.UNKNOWN and "2 plan refutations by the interior-point method" in out.message
+    assert _uncertified(inf, 2, "infeasible") is inf  # proved by the relaxation MILP
+    found = LoopOutcome(ReachStatus.FOUND, 30, "found at horizon 30", minimal=True)
+    out = _uncertified(found, 1, None)
+    assert out.status is ReachStatus.FOUND and out.minimal is False and "not proved minimal" in out.message
+    assert _uncertified(found, 1, "minimal") is found
+    plain = _replace(found, minimal=False)
+    assert _uncertified(plain, 1, None) is plain

@@ -302,6 +302,8 @@ def plan_lazy(
 
     def finish(out: LoopOutcome) -> ReachResult:
         st = conplan.stats
+        if st.uncertified:
+            out = _uncertified(out, st.uncertified, counters.get("relaxation"))
         counters.update(
             iterations=clock.iterations,
             sat_calls=displan.sat_calls,
@@ -387,6 +389,21 @@ def plan_lazy(
     if opts.prove and segment_safe and not exact:
         out = _prove(problem, out, proved, clock, counters)
     return finish(out)
+
+
+def _uncertified(out: LoopOutcome, n: int, relaxation: str | None) -> LoopOutcome:
+    """The claims of a loop that kept ``n`` plan refutations of the interior-point method
+    without a Farkas certificate (expendable plans, see :class:`TheoryChecker`): an
+    ``infeasible`` from the loop alone becomes ``unknown`` and a minimal horizon is no
+    longer claimed, unless the independent relaxation MILP proved it (``--prove``). The
+    refutations stay sound as far as HiGHS's verdict goes, but a "no" is certified
+    before it is reported, and these are not."""
+    why = f"{n} plan refutation{'s' * (n != 1)} by the interior-point method without a Farkas certificate"
+    if out.status is ReachStatus.INFEASIBLE and relaxation != "infeasible":  # (bounds refute before any LP)
+        return LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"{out.message}; not a proof: {why}")
+    if out.status is ReachStatus.FOUND and out.minimal and relaxation != "minimal":
+        return replace(out, minimal=False, message=f"{out.message}; not proved minimal: {why}")
+    return out
 
 
 #: What makes a samples-only refutation a proof (see the module docstring).

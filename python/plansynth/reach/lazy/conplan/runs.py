@@ -46,6 +46,7 @@ class LpStats:
     slack_failures: int = 0
     polished: int = 0
     interior: int = 0  # plan LPs run by the interior-point method first (ipm_first in _run)
+    uncertified: int = 0  # plan refutations kept from the interior-point method (no Farkas ray)
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -164,6 +165,7 @@ class _HighsRuns:
                 if status in (S.kOptimal, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
                     break
                 if status == S.kInfeasible and self.expendable:
+                    self.stats.uncertified += 1  # (no certificate: the loop's claims say so)
                     break  # (no ray: the caller's conflict stays unshrunk)
                 continue  # infeasible (no ray) or no answer: the simplex method decides
             if status in answers:
