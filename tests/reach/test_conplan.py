@@ -237,10 +237,15 @@ def test_the_warm_polish_needs_the_plan_in_the_model() -> None:
     assert cp._polished_warm(regions[:-1]) is None
 
 
-def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex() -> None:
+@pytest.mark.parametrize("threads", [1, 2])
+def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex(threads: int, monkeypatch) -> None:
     """On a long chain a plan LP with no basis is first solved by the interior-point
-    method (no polish needed: its residual is far below the validator's); when that finds
-    no solution, the simplex method decides and the conflict comes from its Farkas ray."""
+    method (no polish needed: its residual is far below the validator's), the axes one
+    after the other or on two threads at once; when that finds no solution, the simplex
+    method decides and the conflict comes from its Farkas ray."""
+    import plansynth.reach.lazy.conplan.runs as runs
+
+    monkeypatch.setattr(runs, "PART_THREADS", threads)
     from plansynth.reach.lazy.conplan import POLISH_RESIDUAL
     from plansynth.reach.lazy.conplan.runs import INTERIOR_STATES
     from plansynth.reach.lazy.loop import plan_lazy
