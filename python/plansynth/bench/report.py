@@ -564,7 +564,8 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 L.append("The limit is one cold LP over the final region sequence: what the plan would cost if an oracle "
                          "handed the planner its regions (CON-PLAN's feasibility LP built and solved from scratch in a "
                          "fresh CON-PLAN, as it solves a plan LP with no basis: per axis beyond 8 states, by the "
-                         "interior-point method first from 30 on, no iteration cap; median over the solved runs); "
+                         "interior-point method first from 30 on, the axes on two threads, no iteration cap; median "
+                         "over the solved runs); "
                          "total / limit is the search's overhead.")
                 L.append("")
             _plot_bars(groups, dict(series), "Reach, Table I: mazes (log scale)", out / "reach-table1.png", dict(lims))

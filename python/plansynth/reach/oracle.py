@@ -10,7 +10,8 @@ the search's overhead. The LP is built and solved as
 start from, in a fresh ConPlan: split into independent blocks (one per axis) beyond
 :data:`~plansynth.reach.lazy.conplan.lp.LONG_CHAIN_STATES` states, by the
 interior-point method first from
-:data:`~plansynth.reach.lazy.conplan.runs.INTERIOR_STATES` on, and without the
+:data:`~plansynth.reach.lazy.conplan.runs.INTERIOR_STATES` on (the parts on two
+threads at once, as the planner runs them), and without the
 simplex iteration cap the planner puts on long chains (so the limit is a solved LP: with
 the cap, an order-25 chain's cold simplex stopped at 5,000 iterations, short of an
 answer). Its time counts the model's construction (``passModel``) and the solve.
