@@ -300,12 +300,10 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
             and len(res.regions) == res.horizon + 1 and getattr(res, "guarantee", None) in ("segments", "samples"):
         from plansynth.reach.oracle import oracle_lp
 
-        from plansynth.bench.runner import grace
+        from plansynth.bench.runner import wall_limit
 
         # within the child's wall-clock limit (the budget plus its grace), 2 s kept for the rest
-        T = float(task["timeout"])
-        extra = grace(T) if task.get("grace") is None else float(task["grace"])
-        left = T + extra - (time.perf_counter() - started) - 2.0
+        left = wall_limit(task) - (time.perf_counter() - started) - 2.0
         lim = oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments", seconds=max(1.0, left))
         if lim is not None:
             oracle = {"seconds": lim.seconds, "build": lim.build_seconds, "solve": lim.solve_seconds,

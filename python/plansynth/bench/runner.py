@@ -77,6 +77,13 @@ def grace(timeout: float) -> float:
     return max(5.0, 0.2 * timeout)
 
 
+def wall_limit(task: Mapping[str, Any]) -> float:
+    """The child's wall-clock limit for ``task``: its budget plus the task's grace (default
+    :func:`grace`)."""
+    extra = task.get("grace")
+    return float(task["timeout"]) + (grace(float(task["timeout"])) if extra is None else float(extra))
+
+
 def run_task(task: Mapping[str, Any]) -> dict[str, Any]:
     """Run one task in an isolated child process; always returns the run's attributes.
 
@@ -87,8 +94,7 @@ def run_task(task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.bench.execute import execute
     from plansynth.isolate import Crash, Finished, run_isolated
 
-    extra = task.get("grace")
-    limit = float(task["timeout"]) + (grace(float(task["timeout"])) if extra is None else float(extra))
+    limit = wall_limit(task)
     proc = multiprocessing.current_process()
     was_daemon = proc._config.get("daemon")  # type: ignore[attr-defined]
     if was_daemon:

@@ -91,22 +91,10 @@ class _HighsRuns:
         together = (interior and len(order) > 1 and PART_THREADS > 1
                     and all(slot.parts[i].cold for i in order))
         statuses = self._interior_together([slot.parts[i] for i in order]) if together else None
-        S = highspy.HighsModelStatus
         for k, i in enumerate(order):
             part = slot.parts[i]
-            if statuses is None:
-                sub = self._run(part.highs, purpose, count=k == 0, ipm_first=interior and part.cold, crossover=False)
-            elif statuses[k] == S.kOptimal:
-                sub = np.asarray(part.highs.getSolution().col_value)
-                self._count(purpose, k == 0)
-            elif statuses[k] == S.kInfeasible and self.expendable:
-                self.stats.uncertified += 1  # (as in _run: no certificate, the loop's claims say so)
-                self._count(purpose, k == 0)
-                self._no_ray = True
-                sub = None
-            else:  # refuted, or no answer: the simplex method decides (for the Farkas ray)
-                part.highs.clearSolver()
-                sub = self._run(part.highs, purpose, count=k == 0)
+            sub = self._run(part.highs, purpose, count=k == 0, ipm_first=interior and part.cold, crossover=False,
+                            first=None if statuses is None else statuses[k])
             part.cold = False
             if sub is None:
                 slot.infeasible_part = i
@@ -114,17 +102,12 @@ class _HighsRuns:
             col[part.cols] = sub
         return col
 
-    def _count(self, purpose: str, count: bool) -> None:
-        if count:
-            self.stats.lp_calls += 1
-            self.stats.by_kind[purpose] = self.stats.by_kind.get(purpose, 0) + 1
-
     def _interior_together(self, parts: list[_Part]) -> list[highspy.HighsModelStatus]:
         """The interior-point runs (no crossover) of the cold parts of a split plan LP,
         on up to :data:`PART_THREADS` threads at once: the parts share nothing, and
         HiGHS releases the GIL while it solves (an order-25 chain on maze-4, horizon 191:
         the two axes in 0.87 s where one after the other took 1.62 s). Their statuses,
-        in the order of ``parts``; the caller reads the solutions and decides the rest."""
+        in the order of ``parts``, for :meth:`_run` (``first``) to decide on."""
         S = highspy.HighsModelStatus
         if self.clock is not None:
             if self.clock.remaining() <= 0:
@@ -141,7 +124,6 @@ class _HighsRuns:
         with ThreadPoolExecutor(min(PART_THREADS, len(parts))) as pool:  # (joined here: no idle threads left)
             statuses = list(pool.map(run, parts))
         self.stats.seconds += time.perf_counter() - t0
-        self.stats.interior += len(parts)
         if any(st in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt) for st in statuses):
             raise LpBudgetExhausted()
         return statuses
@@ -153,7 +135,7 @@ class _HighsRuns:
         return new_highs(presolve="off")
 
     def _run(self, h: highspy.Highs, purpose: str, count: bool = True, ipm_first: bool = False,
-             crossover: bool = True) -> np.ndarray | None:
+             crossover: bool = True, first: highspy.HighsModelStatus | None = None) -> np.ndarray | None:
         """Solve the model ``h`` holds: column values when optimal, None when infeasible.
 
         ``ipm_first`` (a plan LP with no basis to start from, many states): the
@@ -171,6 +153,8 @@ class _HighsRuns:
         plan is ``expendable`` (the lazy loop defers its window if it fails) an
         infeasible answer of the interior-point method is kept as it is (the conflict
         then is the whole plan: sound, only weaker); else a refuted plan costs both methods.
+        ``first``: the status of that interior-point run when it has already been made on
+        ``h`` (:meth:`_interior_together`); it is decided on here as if just run.
 
         HiGHS occasionally refuses a warm start after in-place edits (an error before
         any iteration), and the simplex method can stall on badly conditioned LPs (long
@@ -189,8 +173,11 @@ class _HighsRuns:
                  "presolved": {"solver": "simplex", "presolve": "on", "simplex_iteration_limit": 2**31 - 1}}
         methods = {"first": {"solver": "ipm", "run_crossover": "on" if crossover else "off"},  # (in h itself)
                    **fresh}
+        assert first is None or ipm_first, "a status of an interior-point run without ipm_first"
         for attempt in ("first", "warm", "cold", "ipm", "presolved")[0 if ipm_first else 1:]:
-            if self.clock is not None:
+            if attempt == "first" and first is not None:
+                status = first
+            elif self.clock is not None:
                 remaining = self.clock.remaining()
                 if remaining <= 0:
                     raise LpBudgetExhausted()
@@ -207,12 +194,13 @@ class _HighsRuns:
                 lp = h.getLp()
                 h = self.cold
                 h.passModel(lp)
-            if self.clock is not None:
-                # HiGHS compares time_limit with the instance's run time summed over runs
-                h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
-            with _options(h, methods.get(attempt, {})):
-                h.run()
-            status = h.getModelStatus()
+            if attempt != "first" or first is None:
+                if self.clock is not None:
+                    # HiGHS compares time_limit with the instance's run time summed over runs
+                    h.setOptionValue("time_limit", float(h.getRunTime() + min(self.clock.remaining(), 1e9)))
+                with _options(h, methods.get(attempt, {})):
+                    h.run()
+                status = h.getModelStatus()
             if attempt == "first":
                 self.stats.interior += 1
                 if status in (S.kOptimal, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
