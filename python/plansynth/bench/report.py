@@ -40,7 +40,7 @@ GRID_FIGURES = [
     ("dimensions", "Figure 5: time vs grid size", "grid size S (S x S)"),
 ]
 REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk", "door", "door-stall", "scale", "lanes",
-            "lanes-rush"]
+            "lanes-rush", "roads30", "roads30-stall", "guards30"]
 CLI_TIMED_NOTE = ("Each run is `plansynth grid solve FILE --solver S --timeout T` in a fresh process, as a user "
                   "runs it: *wall* is that process's wall clock from spawn to exit (start-up included), *solve* the "
                   "time the result file reports; *budget kept*: wall <= T + 1 s (issue 11's Targets). *depth - "
