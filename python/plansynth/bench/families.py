@@ -452,9 +452,9 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
 
 #: Answers of the 30x30 families, found by the native engine (the realizable ones'
 #: controllers independently verified; the unrealizable ones lose the time-dependent
-#: game, decided exactly by backward induction). Instances not listed: not decided
-#: within 60 s and 4 GiB (roads30-stall-3: 25.7 million joint states; guards30-4:
-#: more than 1.5 million configurations by step 22).
+#: game, decided exactly by backward induction). Instances not listed: not always decided
+#: within 60 s and 4 GiB (roads30-stall-3: 25.7 million joint states, a verified program in
+#: 52-55 s in two runs of three; guards30-4: more than 1.5 million configurations by step 22).
 _KNOWN = {("roads30", 32): "unrealizable", ("roads30", 36): "realizable", ("roads30-stall", 2): "realizable",
           ("guards30", 3): "unrealizable"}
 
