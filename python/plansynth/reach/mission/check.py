@@ -6,9 +6,10 @@ evaluates the mission with :func:`plansynth.reach.mission.ltl.holds` (the direct
 not the BMC encoding).
 
 **The word of a trajectory.** Labels are closed sets, and a robot that touches a
-label's boundary counts as both in and out of it (as touching an obstacle is no
+label's boundary may be read as in or as out of it (as touching an obstacle is no
 collision): at step t, ``a`` may hold when the position lies in the label (within
-``tol``), ``!a`` may hold when it is not in the label's interior deeper than ``tol``.
+``tol``), ``!a`` may hold when it is not in the label's interior deeper than ``tol``;
+which of the two a touch is, is fixed once per step (below).
 Along a segment the labels are those of its first sample: for t < N, letter t is read
 off the whole segment [p_t, p_{t+1}] (``a`` may hold when the segment lies in the label,
 ``!a`` when it avoids the interior), and a segment that goes from outside a label into
@@ -17,9 +18,15 @@ samples. The last letter of a finite plan is its last position, held forever; a 
 with loop start k (x_N = x_k within tol, else a ``loop`` violation) is the word of
 positions 0..N-1 whose successor of N-1 is k.
 
-The mission, in negation normal form, holds when it holds with every literal read as
-"may hold" (this is monotone: the planner's word, which fixes each boundary touch one
-way, satisfies it only if this one does).
+The mission, in negation normal form, holds when some *consistent reading* of the
+boundary touches satisfies it: at each step, each label the robot only touches is read
+as in or as out, once for every literal of that step (the planner's word fixes each
+touch one way, so it is such a reading). "May hold" for every literal at once is the
+quick upper bound: a mission that fails under it fails under every reading, and when
+no letter is ambiguous the two coincide; otherwise :func:`consistent_reading` decides
+whether a reading exists, by a SAT encoding of the lasso semantics (CaDiCaL). So
+``F a & G !a`` fails on a trajectory that only touches ``a``, which the "may hold"
+reading alone would accept.
 
 **The first failing step.** When the mission fails, :func:`check_mission` descends the
 formula from position 0 (a conjunction into a failing conjunct, ``G f`` into the first
@@ -54,7 +61,7 @@ from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["MissionReport", "check_mission", "trajectory_word"]
+__all__ = ["MissionReport", "check_mission", "consistent_reading", "trajectory_word"]
 
 NEG = "!"  # letters hold "a" (a may hold) and "!a" (not a may hold)
 
@@ -197,10 +204,132 @@ def check_mission(
     else:
         word = Lasso(tuple(letters[:loop_start]), tuple(letters[loop_start:]))
     f = _literal_form(nnf(parse(problem.mission)))
-    if holds(f, word):
-        return MissionReport(True, semantics, loop_start, None, None, shown)
-    step, reason = _first_failure(f, word, 0)
-    return fail(step, reason)
+    if not holds(f, word):  # fails even with every boundary touch read both ways
+        step, reason = _first_failure(f, word, 0)
+        return fail(step, reason)
+    if consistent_reading(f, word) is None:
+        touched = sorted({t for t, a in enumerate(word.letters) for n in labels if n in a and NEG + n in a})
+        return fail(touched[0], "no consistent reading of the boundary touches satisfies the mission "
+                                f"(the robot touches a label's boundary at steps {', '.join(map(str, touched))})")
+    return MissionReport(True, semantics, loop_start, None, None, shown)
+
+
+def consistent_reading(f: Formula, word: Lasso) -> Lasso | None:
+    """A consistent reading of the "may hold" word that satisfies ``f`` (NNF, with
+    ``!a`` as the proposition "!a", as :func:`_literal_form` writes it), or None when
+    there is none. A reading keeps, at each position, exactly one of ``a`` and ``!a``
+    for every label the letter has both of (and the letter's other literals); the
+    result's letters are those readings, so :func:`holds` can confirm it.
+
+    No ambiguous letter: the word itself (when f holds on it). Otherwise the two uniform
+    readings (every touch in, every touch out), then SAT over one variable per
+    ambiguous (position, label): each subformula gets one literal per lasso position,
+    defined by exact (two-sided) Tseitin gates; ``a U b`` on a loop position i is
+    ``OR_j (b_{i+j} & a_i & ... & a_{i+j-1})`` over one turn of the loop (a witness
+    that exists lies within one turn), on a prefix position ``b_i | (a_i & (a U b)_{i+1})``;
+    ``a R b`` is ``!(!a U !b)``, ``F`` and ``G`` are ``U`` and ``R`` with a constant.
+
+    >>> w = Lasso((), (frozenset({"a", "!a"}),))   # the robot rests on a's boundary
+    >>> consistent_reading(_literal_form(nnf(parse("F a & G !a"))), w) is None
+    True
+    >>> consistent_reading(_literal_form(nnf(parse("F a"))), w).loop
+    (frozenset({'a'}),)
+    """
+    letters = word.letters
+    ambiguous = sorted({(i, n[len(NEG):]) for i, a in enumerate(letters) for n in a
+                        if n.startswith(NEG) and n[len(NEG):] in a})
+    if not ambiguous:
+        return word if holds(f, word) else None
+
+    def reading(value) -> Lasso:
+        out = [set(a) for a in letters]
+        for i, n in ambiguous:
+            out[i].discard(NEG + n if value(i, n) else n)
+        k = len(word.prefix)
+        return Lasso(tuple(out[:k]), tuple(out[k:]))
+
+    for uniform in (True, False):
+        w = reading(lambda i, n, u=uniform: u)
+        if holds(f, w):
+            return w
+    from pysat.solvers import Solver
+
+    n_pos, k = len(letters), len(word.prefix)
+    m = n_pos - k
+    TRUE = 1
+    clauses: list[list[int]] = [[TRUE]]
+    top = [TRUE]
+
+    def new() -> int:
+        top[0] += 1
+        return top[0]
+
+    var = {key: new() for key in ambiguous}
+
+    def gate(xs: list[int], conj: bool) -> int:
+        xs = [x for x in xs if x != (TRUE if conj else -TRUE)]
+        if (-TRUE if conj else TRUE) in xs:
+            return -TRUE if conj else TRUE
+        if not xs:
+            return TRUE if conj else -TRUE
+        if len(xs) == 1:
+            return xs[0]
+        v = new()
+        s = 1 if conj else -1  # conj: v -> x for all x, (all x) -> v; disj: the dual
+        clauses.extend([-s * v, s * x] for x in xs)
+        clauses.append([s * v] + [-s * x for x in xs])
+        return v
+
+    def until(a: list[int], b: list[int]) -> list[int]:
+        out = [0] * n_pos
+        for i in range(k, n_pos):
+            terms, chain = [], TRUE
+            for j in range(m):
+                p = k + (i - k + j) % m
+                terms.append(gate([chain, b[p]], True))
+                chain = gate([chain, a[p]], True)
+            out[i] = gate(terms, False)
+        for i in range(k - 1, -1, -1):
+            out[i] = gate([b[i], gate([a[i], out[i + 1]], True)], False)
+        return out
+
+    memo: dict[Formula, list[int]] = {}
+
+    def enc(g: Formula) -> list[int]:
+        if g in memo:
+            return memo[g]
+        if isinstance(g, Const):
+            v = [TRUE if g.value else -TRUE] * n_pos
+        elif isinstance(g, Prop):
+            neg = g.name.startswith(NEG)
+            name = g.name[len(NEG):] if neg else g.name
+            v = []
+            for i, a in enumerate(letters):
+                lit = var[(i, name)] if (i, name) in var else (TRUE if g.name in a else -TRUE)
+                v.append(-lit if neg and (i, name) in var else lit)
+        elif isinstance(g, (And, Or)):
+            v = [gate([x, y], isinstance(g, And)) for x, y in zip(enc(g.left), enc(g.right))]
+        elif isinstance(g, Next):
+            a = enc(g.arg)
+            v = [a[word.successor(i)] for i in range(n_pos)]
+        elif isinstance(g, (Finally, Until)):
+            a = [TRUE] * n_pos if isinstance(g, Finally) else enc(g.left)
+            v = until(a, enc(g.arg if isinstance(g, Finally) else g.right))
+        elif isinstance(g, (Globally, Release)):
+            a = [-TRUE] * n_pos if isinstance(g, Globally) else enc(g.left)
+            b = enc(g.arg if isinstance(g, Globally) else g.right)
+            v = [-x for x in until([-x for x in a], [-x for x in b])]
+        else:
+            raise TypeError(f"not in negation normal form: {g!r}")
+        memo[g] = v
+        return v
+
+    clauses.append([enc(f)[0]])
+    with Solver(name="cadical195", bootstrap_with=clauses) as solver:
+        if not solver.solve():
+            return None
+        model = set(solver.get_model())
+    return reading(lambda i, n: var[(i, n)] in model)
 
 
 def _first_failure(f: Formula, word: Lasso, i: int) -> tuple[int, str]:
