@@ -25,6 +25,25 @@ def test_the_oracle_lp_is_feasible_on_the_final_regions_and_not_on_a_wrong_seque
     assert oracle_lp(maze(1), r.regions, seconds=1e-9) is None  # out of time: no limit, not a wrong one
 
 
+def test_an_lp_the_oracle_cannot_solve_records_no_limit_and_keeps_the_run(monkeypatch):
+    """HiGHS failing on the oracle's LP is a measurement that did not happen, not a
+    crash of the run it measures (which is solved and validated already)."""
+    from plansynth.reach.lazy.conplan import ConPlan
+    from plansynth.reach.lazy.conplan.runs import LpFailure
+
+    r = solve(maze(1), "lazy-smt", Budget(seconds=60))
+
+    class Failing(ConPlan):  # the oracle's own CON-PLAN only: the planner's is the real one
+        def _run_slot(self, *args, **kwargs):
+            raise LpFailure("HiGHS could not solve a CON-PLAN LP (plan): Solve error")
+
+    monkeypatch.setattr("plansynth.reach.oracle.ConPlan", Failing)
+    assert oracle_lp(maze(1), r.regions) is None
+    (task,) = make_tasks(reach_family("maze", [1]), ["lazy-smt"], timeout=60)
+    out = execute(task)
+    assert out["status"] == "solved" and out["attributes"]["oracle_lp"] is None
+
+
 def test_the_oracle_lp_of_a_long_chain_is_solved_as_conplan_solves_it():
     """Split per axis and interior-point first (from 30 states), with no iteration cap:
     an answer, not a stopped simplex."""

@@ -302,9 +302,11 @@ def _reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
 
         from plansynth.bench.runner import wall_limit
 
-        # within the child's wall-clock limit (the budget plus its grace), 2 s kept for the rest
+        # within the child's wall-clock limit (the budget plus its grace), 2 s kept for the rest;
+        # with less than a second left the run records no limit
         left = wall_limit(task) - (time.perf_counter() - started) - 2.0
-        lim = oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments", seconds=max(1.0, left))
+        lim = None if left < 1.0 else oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments",
+                                                seconds=left)
         if lim is not None:
             oracle = {"seconds": lim.seconds, "build": lim.build_seconds, "solve": lim.solve_seconds,
                       "feasible": lim.feasible}

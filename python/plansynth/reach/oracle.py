@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 from plansynth.budget import Budget
 from plansynth.reach.lazy.conplan import ConPlan
-from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted
+from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted, LpFailure
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.problem import ReachProblem
 
@@ -53,9 +53,13 @@ class OracleLP:
 def oracle_lp(problem: ReachProblem, regions: Sequence[int], *, abstraction: Abstraction | None = None,
               segment_safe: bool = True, seconds: float | None = None) -> OracleLP | None:
     """Time one cold CON-PLAN LP over ``regions`` (indices into ``abstract(problem)``);
-    None when it takes more than ``seconds`` (a dense n = 50 LP can take a minute)."""
-    a = abstraction if abstraction is not None else abstract(problem)
+    None when it does not finish within ``seconds``, computing the abstraction included
+    (a dense n = 50 LP can take a minute), or HiGHS cannot solve it (a measurement: the
+    run it measures keeps its answer)."""
     clock = None if seconds is None else Budget(seconds=seconds).clock()
+    a = abstraction if abstraction is not None else abstract(problem)
+    if clock is not None and clock.exhausted():
+        return None
     cp = ConPlan(problem, a, segment_safe=segment_safe, clock=clock)
     regs = [int(r) for r in regions]
     N = len(regs) - 1
@@ -69,7 +73,7 @@ def oracle_lp(problem: ReachProblem, regions: Sequence[int], *, abstraction: Abs
         h.setOptionValue("simplex_iteration_limit", 2**31 - 1)
     try:
         col = cp._run_slot(slot, "plan")
-    except LpBudgetExhausted:
+    except (LpBudgetExhausted, LpFailure):
         return None
     t2 = time.perf_counter()
     return OracleLP(seconds=t2 - t0, build_seconds=t1 - t0, solve_seconds=t2 - t1, feasible=col is not None,
