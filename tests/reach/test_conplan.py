@@ -265,6 +265,21 @@ def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex(threads
     out = cp.check(short)
     assert isinstance(out, Conflict) and cp.refutes(out, cold=True)
     assert cp.stats.interior >= 1 and cp.stats.ray_calls >= 1  # (the simplex after the interior-point run)
+    assert cp.stats.uncertified == 0  # (the simplex method's "no" has its ray)
+    # the simplex method stalls (as on a badly conditioned chain): the fallback's
+    # interior-point run decides, and its "no" is counted as uncertified too
+    cp = ConPlan(p, ab, counterexample="trivial", generalize=True)
+    split = cp._split
+
+    def stalling(slot, lay, b):
+        split(slot, lay, b)
+        for part in slot.parts:
+            part.highs.setOptionValue("simplex_iteration_limit", 1)
+
+    cp._split = stalling
+    out = cp.check(short)
+    assert isinstance(out, Conflict) and cp.refutes(out, cold=True)
+    assert cp.stats.ipm_fallbacks >= 1 and cp.stats.uncertified >= 1
     # a plan whose window is deferred if it fails keeps the interior-point refutation: no ray
     cp = ConPlan(p, ab, counterexample="trivial", generalize=True)
     cp.expendable = True
@@ -285,7 +300,7 @@ def test_claims_resting_on_uncertified_refutations_are_withdrawn() -> None:
 
     inf = LoopOutcome(ReachStatus.INFEASIBLE, 40, "infeasible up to horizon 40: every horizon refuted")
     out = _uncertified(inf, 2, None)
-    assert out.status is ReachStatus.UNKNOWN and "2 plan refutations by the interior-point method" in out.message
+    assert out.status is ReachStatus.UNKNOWN and "2 LP refutations without a Farkas certificate" in out.message
     assert _uncertified(inf, 2, "infeasible") is inf  # proved by the relaxation MILP
     found = LoopOutcome(ReachStatus.FOUND, 30, "found at horizon 30", minimal=True)
     out = _uncertified(found, 1, None)

@@ -563,8 +563,9 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 L.append("")
                 L.append("The limit is one cold LP over the final region sequence: what the plan would cost if an oracle "
                          "handed the planner its regions (CON-PLAN's feasibility LP built and solved from scratch in a "
-                         "fresh CON-PLAN, as it solves a plan LP with no basis: per axis beyond 8 states, by the "
-                         "interior-point method first from 30 on, the axes on two threads, no iteration cap; median "
+                         "fresh CON-PLAN, as it solves a plan LP with no basis: beyond 8 states split per axis where "
+                         "the dynamics and regions separate (the axes then on two threads), by the interior-point "
+                         "method first from 30 states on, no iteration cap; median "
                          "over the solved runs); "
                          "total / limit is the search's overhead.")
                 L.append("")

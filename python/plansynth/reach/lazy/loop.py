@@ -395,13 +395,14 @@ def plan_lazy(
 
 
 def _uncertified(out: LoopOutcome, n: int, relaxation: str | None) -> LoopOutcome:
-    """The claims of a loop that kept ``n`` plan refutations of the interior-point method
-    without a Farkas certificate (expendable plans, see :class:`TheoryChecker`): an
-    ``infeasible`` from the loop alone becomes ``unknown`` and a minimal horizon is no
-    longer claimed, unless the independent relaxation MILP proved it (``--prove``). The
-    refutations stay sound as far as HiGHS's verdict goes, but a "no" is certified
-    before it is reported, and these are not."""
-    why = f"{n} plan refutation{'s' * (n != 1)} by the interior-point method without a Farkas certificate"
+    """The claims of a loop that kept ``n`` LP refutations without a Farkas certificate
+    (the interior-point method's, on expendable plans (see :class:`TheoryChecker`) or
+    as a fallback when the simplex method stalls, and presolve's): an ``infeasible``
+    from the loop alone becomes ``unknown`` and a minimal horizon is no longer claimed,
+    unless the independent relaxation MILP proved it (``--prove``). The refutations
+    stay sound as far as HiGHS's verdict goes, but a "no" is certified before it is
+    reported, and these are not."""
+    why = f"{n} LP refutation{'s' * (n != 1)} without a Farkas certificate (interior-point method or presolve)"
     if out.status is ReachStatus.INFEASIBLE and relaxation != "infeasible":  # (bounds refute before any LP)
         return LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"{out.message}; not a proof: {why}")
     if out.status is ReachStatus.FOUND and out.minimal and relaxation != "minimal":
@@ -644,13 +645,8 @@ def lazy_loop(
                 costly += 1 if checked is None or getattr(theory, "plans_checked") > checked else 0
                 if isinstance(answer, Feasible):
                     h = len(plan) - 1
-                    below = next((L for L in range(first_lo, h) if L not in displan.closed), h)
-                    if h == first_lo:
-                        note = ""
-                    elif below in (h, lo):
-                        note = f" (horizons below {below} refuted)"
-                    else:  # a window below was deferred
-                        note = f" (horizons below {below} refuted; deferred ones in {below}..{lo - 1} not all)"
+                    below = _lowest_open(displan, first_lo, h)
+                    note = "" if h == first_lo else _refuted_note(below, h if below == h else lo)
                     return LoopOutcome(ReachStatus.FOUND, h, f"found at horizon {h}{note}", answer.trajectory, plan,
                                        minimal=below == h)
                 for conflict in answer if isinstance(answer, tuple) else (answer,):
@@ -867,7 +863,7 @@ def shortened(
     h = found.horizon
     if h is None or found.regions is None:
         return found
-    below = next((L for L in range(windows[0][0], h) if L not in displan.closed), h)
+    below = _lowest_open(displan, windows[0][0], h)
     own = next((lo for lo, hi in windows if lo <= h <= hi), h)  # the bottom of the plan's window
     if below >= own:
         return found  # no deferred window below: the plan's own window is the lowest open one
@@ -894,9 +890,22 @@ def shortened(
     if best is found:
         return found
     minimal = hi == below
-    note = f" (horizons below {below} refuted)" if minimal else f" (horizons below {below} refuted; deferred ones in {below}..{hi - 1} not all)"
+    note = _refuted_note(below, hi)
     return replace(best, message=f"found at horizon {hi}{note}; shortened from {h} by compressing its stays",
                    minimal=minimal)
+
+
+def _lowest_open(displan: DisPlan, lo: int, h: int) -> int:
+    """The lowest horizon in lo..h - 1 that DIS-PLAN has not refuted (h if none)."""
+    return next((L for L in range(lo, h) if L not in displan.closed), h)
+
+
+def _refuted_note(below: int, top: int) -> str:
+    """What a found plan's message says of the horizons below it: every one below
+    ``below`` refuted, and when ``below < top`` the deferred ones in below..top - 1 not all."""
+    if below >= top:
+        return f" (horizons below {below} refuted)"
+    return f" (horizons below {below} refuted; deferred ones in {below}..{top - 1} not all)"
 
 
 def compressed(plan: Sequence[int], horizon: int) -> tuple[int, ...]:

@@ -137,7 +137,7 @@ class _Part:
     highs: highspy.Highs
     rows: np.ndarray
     cols: np.ndarray
-    cold: bool = True  # not solved yet: no basis to warm-start from
+    cold: bool = True  # no basis to warm-start from (not solved yet, or by the interior-point method alone)
 
 
 @dataclass

@@ -50,8 +50,8 @@ class LpStats:
     ipm_fallbacks: int = 0
     slack_failures: int = 0
     polished: int = 0
-    interior: int = 0  # plan LPs run by the interior-point method first (ipm_first in _run)
-    uncertified: int = 0  # plan refutations kept from the interior-point method (no Farkas ray)
+    interior: int = 0  # interior-point runs first (ipm_first in _run): one per part of a split plan LP
+    uncertified: int = 0  # infeasible answers without a certificate (interior-point method or presolve)
     seconds: float = 0.0
     by_kind: dict[str, int] = field(default_factory=dict)
 
@@ -86,8 +86,9 @@ class _HighsRuns:
         order = sorted(range(len(slot.parts)), key=lambda i: i != slot.infeasible_part)
         if only is not None:
             order = [only]
-        # (a part is cold until its first run: the first plan LP of a frame may stop at
-        # another part's refutation, and this part's next LP is then cold too)
+        # (a part is cold while it has no basis: before its first run, since the first plan
+        # LP of a frame may stop at another part's refutation, and after an interior-point
+        # run without crossover)
         together = (interior and len(order) > 1 and PART_THREADS > 1
                     and all(slot.parts[i].cold for i in order))
         statuses = self._interior_together([slot.parts[i] for i in order]) if together else None
@@ -95,7 +96,8 @@ class _HighsRuns:
             part = slot.parts[i]
             sub = self._run(part.highs, purpose, count=k == 0, ipm_first=interior and part.cold, crossover=False,
                             first=None if statuses is None else statuses[k])
-            part.cold = False
+            # (an interior-point run without crossover leaves no basis: the part stays cold)
+            part.cold = not part.highs.getInfo().basis_validity
             if sub is None:
                 slot.infeasible_part = i
                 return None
@@ -206,8 +208,7 @@ class _HighsRuns:
                 if status in (S.kOptimal, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
                     break
                 if status == S.kInfeasible and self.expendable:
-                    self.stats.uncertified += 1  # (no certificate: the loop's claims say so)
-                    break  # (no ray: the caller's conflict stays unshrunk)
+                    break  # (no ray: the caller's conflict stays unshrunk; counted below)
                 continue  # infeasible (no ray) or no answer: the simplex method decides
             if status in answers:
                 break
@@ -221,6 +222,9 @@ class _HighsRuns:
             # objectives are bounded below (0 or a weighted sum of slacks >= 0)
             # (no Farkas ray: a fallback copy decided it, or the interior-point method)
             self._no_ray = h is self.cold or attempt == "first"
+            # a "no" of the interior-point method or of presolve has no certificate, and
+            # the loop's claims say so (loop._uncertified); the simplex method's has one
+            self.stats.uncertified += attempt in ("first", "ipm", "presolved")
             return None
         if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
             raise LpBudgetExhausted()
