@@ -110,6 +110,23 @@ def test_the_validator_checks_clearance_itself():
         assert not rep.ok and ({"obstacle", "segment", "workspace"} & set(rep.counts))
 
 
+@pytest.mark.parametrize("radius,tol", [(1e-7, 1e-6), (1e-6, 1e-6), (0.01, 0.02)])
+def test_a_disc_no_larger_than_the_tolerance_still_may_not_enter_an_obstacle(radius, tol):
+    """The clearance test (distance < R - tol) never fires when R <= tol: the interior
+    test of a point robot still applies (found by a review: such a robot passed straight
+    through an obstacle)."""
+    from plansynth.reach.dynamics import single_integrator
+    from plansynth.reach.problem import ReachProblem
+    from plansynth.reach.trajectory import Trajectory
+
+    p = ReachProblem(workspace=Box((0, 0), (30, 30)), obstacles=(Box((10, 10), (20, 20)),),
+                     goal=Box((25, 25), (27, 27)), dynamics=single_integrator(2, 1.0), start=[5, 5],
+                     input_bound=20.0, robot_shape=RobotShape(radius=radius))
+    t = Trajectory(states=[[5, 5], [15, 15], [26, 26]], inputs=[[10, 10], [11, 11]])
+    r = validate(p, t, require_segment_safe=True, tol=tol)
+    assert not r.ok and {v.kind for v in r.violations} >= {"obstacle", "segment"}
+
+
 def test_the_plot_draws_the_robot(tmp_path):
     from plansynth.reach.abstraction import abstract
     from plansynth.reach.plot import plot_problem

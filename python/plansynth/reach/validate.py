@@ -209,18 +209,25 @@ class _Obstacle:
 
 class _DiscClearance:
     """A disc robot of radius R against one obstacle: a sample or a segment is too close
-    when its Euclidean distance to the obstacle is below R - tol (or it is inside)."""
+    when its Euclidean distance to the obstacle is below R - tol, or it meets the
+    obstacle's interior deeper than tol (as for a point robot: with R <= tol the
+    distance test alone would never fire)."""
 
     def __init__(self, shape: Shape, radius: float, tol: float) -> None:
         from plansynth.reach.geometry import shape_to_shapely
 
         self.geom = shape_to_shapely(shape)
         shapely.prepare(self.geom)
+        self.inner = self.geom.buffer(-tol, join_style="mitre") if tol > 0 else self.geom
+        if not self.inner.is_empty:
+            shapely.prepare(self.inner)
         self.limit = radius - tol
 
     def hits(self, p: np.ndarray, q: np.ndarray | None = None) -> bool:
         g = Point(p[0], p[1]) if q is None or np.array_equal(p, q) else LineString([p[:2], q[:2]])
-        return bool(self.geom.distance(g) < self.limit)
+        if self.geom.distance(g) < self.limit:
+            return True
+        return (not self.inner.is_empty) and bool(shapely.relate_pattern(self.inner, g, "T********"))
 
 
 class _SweptBox:
