@@ -523,3 +523,25 @@ def test_loop_alone_verdicts_from_the_memo_and_at_rest_are_the_lps(which):
                 assert plain._lp(assign, 0, L, True, k, math.inf) is not None
     assert mine.memo_hits > 0 and mine.rest_answers > 0
     assert any(verdicts) and not all(verdicts)  # both verdicts are exercised
+
+
+def test_the_shortest_mission_horizon_is_claimed_through_the_decomposition_only():
+    """DIS-PLAN moves one region per step; a real step may cross several, so a shorter
+    plan can exist (found by a review: the CLI said "proved minimal" at horizon 2 while
+    a valid 1-step plan exists)."""
+    from plansynth.reach.fileformat import reach_problem_from_dict
+    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.trajectory import Trajectory
+    from plansynth.reach.validate import validate
+
+    obs = [{"min": [x, 0], "max": [x + 0.2, 1]} for x in (2, 4, 6)] + \
+          [{"min": [x, 9], "max": [x + 0.2, 10]} for x in (3, 5, 7)]
+    p = reach_problem_from_dict({"workspace": {"min": [0, 0], "max": [10, 10]}, "obstacles": obs,
+                                 "labels": {"a": {"min": [9, 4], "max": [10, 6]}}, "mission": "F a",
+                                 "robot": {"dynamics": {"model": "single-integrator", "dt": 1},
+                                           "start": [0.5, 5], "input_bound": 20}})
+    r = solve_mission(p)
+    assert r.status is ReachStatus.FOUND and r.horizon == 2
+    assert r.counters["minimal"] and r.counters["minimal_relative_to"] == "decomposition"
+    one = Trajectory(np.array([[0.5, 5], [9.0, 5]]), np.array([[8.5, 0]]))  # a shorter plan to a's edge, valid
+    assert validate(planning_problem(p), one, require_segment_safe=True).ok and check_mission(p, one).ok

@@ -525,7 +525,10 @@ def plan_mission(
         counters.update(iterations=clock.iterations, sat_calls=displan.sat_calls, clauses=displan.clauses,
                         loop_clauses=displan.loop_clauses, lp_calls=st.lp_calls + loop_lp.lp_calls,
                         loop_lp_calls=loop_lp.lp_calls, loop_lp_memo_hits=loop_lp.memo_hits,
-                        loop_lp_rest_answers=loop_lp.rest_answers, horizon=horizon, minimal=status is ReachStatus.FOUND)
+                        loop_lp_rest_answers=loop_lp.rest_answers, horizon=horizon, minimal=status is ReachStatus.FOUND,
+                        # DIS-PLAN moves one region per step, and a real step may cross several: the
+                        # shortest horizon is the shortest through the label-refined decomposition only
+                        minimal_relative_to="decomposition" if status is ReachStatus.FOUND else None)
         timings["highs"] = st.seconds + loop_lp.seconds
         timings["encoding"] = displan.encode_seconds  # part of "sat"
         timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
