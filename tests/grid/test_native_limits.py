@@ -133,3 +133,16 @@ def test_cvc5_leaves_no_process_running():
     proc.wait(timeout=60)
     time.sleep(0.2)
     assert _live_members(proc.pid) == []
+
+
+@pytest.mark.parametrize("flag", [("--depth-bound", "6"), ("--minimize",)])
+def test_the_exact_depth_search_keeps_the_budget(flag):
+    """The exact depth search (``--depth-bound``, ``--minimize``) builds a tree SAT
+    instance in Python over thousands of states and conditions: the build and the
+    condition enumeration before it read the clock (found by a review: r01_traffic-big
+    with --depth-bound 6 --timeout 5 answered after 20 s)."""
+    from plansynth.bench.families import reactive_suite_dir
+
+    code, out, wall, _ = _run(reactive_suite_dir() / "r01_traffic-big.yaml", *flag)
+    assert code == 3 and "budget" in out, out
+    assert wall < BUDGET + 1.0, f"{flag}: answered after {wall:.2f} s with --timeout {BUDGET}"

@@ -427,7 +427,7 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
         last = d
         need = max(2, min(d - 1, cap))  # the root's conditions have depth <= d - 1
         if need not in enums:
-            enums[need] = engine._conditions(inputs, arena.variables(), problem, need)
+            enums[need] = engine._conditions(inputs, arena.variables(), problem, need, clock)
         enum = enums[need]
         by_level = conditions_by_level(enum.conditions, d, len(states))
         est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
@@ -441,7 +441,7 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
             v = ids.get(("m", r, oc, 0, k))
             return False if v is None else v
 
-        enc.build(out_lit)
+        enc.build(out_lit, clock)
         try:
             model = solve_clauses(enc.clauses, clock, max_conflicts=max_conflicts, max_seconds=max_seconds)
         except ConflictLimit:

@@ -69,11 +69,15 @@ class TreeEncoding:
     def n_internal(self) -> int:
         return 2**self.levels - 1
 
-    def build(self, out_lit) -> None:
-        """Emit the tree's clauses; ``out_lit(s, k)`` gives the literal 'state s plays k'."""
+    def build(self, out_lit, clock: Clock | None = None) -> None:
+        """Emit the tree's clauses; ``out_lit(s, k)`` gives the literal 'state s plays k'.
+        With ``clock``, the build (pure Python, seconds on thousands of states and
+        conditions) raises :class:`BudgetExhausted` when the budget runs out."""
         self.structure()
         for s in range(self.n_states):
             self.add_state(s, out_lit)
+            if clock is not None and clock.exhausted():
+                raise BudgetExhausted("building the tree SAT instance")
 
     def structure(self) -> None:
         """Every node picks exactly one condition, every leaf a move."""
