@@ -68,8 +68,18 @@ def reference_model(problem, labelled, formula: Formula, L: int, *, segment_safe
     if semantics in ("any", "lasso"):
         sels += [(h.addBinary(), j, True) for j in range(1, L + 1)]
     h.addConstr(sum(s for s, _, _ in sels) == 1.0)
+    AI = A - np.eye(n)
     for s, j, is_loop in sels:
         if not is_loop:
+            # stay: at rest, |((A - I) x_L + B u)_i| <= Mr_i (1 - stay) for an admissible u
+            u = [h.addVariable(lb=-problem.input_bound, ub=problem.input_bound) for _ in range(m)]
+            for i in range(n):
+                Mr = float(sum(abs(AI[i, k]) * max(abs(slo[k]), abs(shi[k])) for k in range(n))
+                           + sum(abs(B[i, k]) for k in range(m)) * problem.input_bound)
+                expr = (sum(float(AI[i, k]) * X[L][k] for k in range(n) if AI[i, k] != 0)
+                        + sum(float(B[i, k]) * u[k] for k in range(m) if B[i, k] != 0))
+                h.addConstr(expr + Mr * s <= Mr)
+                h.addConstr(-1.0 * expr + Mr * s <= Mr)
             continue
         for i in range(n):
             Mx = float(shi[i] - slo[i])

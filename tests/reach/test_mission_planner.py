@@ -545,3 +545,35 @@ def test_the_shortest_mission_horizon_is_claimed_through_the_decomposition_only(
     assert r.counters["minimal"] and r.counters["minimal_relative_to"] == "decomposition"
     one = Trajectory(np.array([[0.5, 5], [9.0, 5]]), np.array([[8.5, 0]]))  # a shorter plan to a's edge, valid
     assert validate(planning_problem(p), one, require_segment_safe=True).ok and check_mission(p, one).ok
+
+
+def _edge_of_b(mission: str = "F a & G !b"):
+    from plansynth.reach.fileformat import reach_problem_from_dict
+
+    return reach_problem_from_dict({
+        "workspace": {"min": [0, 0], "max": [10, 10]},
+        "labels": {"a": {"min": [4, 0], "max": [5, 10]}, "b": {"min": [5, 0], "max": [10, 10]}},
+        "mission": mission,
+        "robot": {"dynamics": {"model": "double-integrator", "dt": 1}, "start": [0.4, 5, 0, 0], "input_bound": 1}})
+
+
+def test_a_finite_plan_must_end_where_the_robot_can_stay():
+    """The finite reading holds the last state forever, so the robot must be able to
+    rest there (found by a review: a plan ending at 0.7 m/s towards b passed G !b,
+    although every input takes it into b at the next step)."""
+    from plansynth.reach.mission.check import can_rest
+
+    p = _edge_of_b()
+    X, U = [[0.4, 5, 0, 0]], []
+    for u in (1, 1, -0.8, -0.5):
+        x, y, vx, vy = X[-1]
+        X.append([x + vx + 0.5 * u, y, vx + u, vy])
+        U.append([u, 0])
+    moving = Trajectory(np.array(X), np.array(U, float))
+    r = check_mission(p, moving)
+    assert not r.ok and r.step == 4 and "cannot end" in r.reason
+    # both planners end their finite plans at rest, and the checker accepts them
+    for planned in (solve(p, "lazy-smt", Budget(seconds=60)), solve(p, "milp-ltl", Budget(seconds=60))):
+        assert planned.status is ReachStatus.FOUND and planned.mission["semantics"] == "finite", planned.message
+        assert can_rest(p, planned.trajectory.states[-1]) and planned.mission["ok"]
+        assert np.allclose(planned.trajectory.states[-1][2:], 0.0, atol=1e-6)

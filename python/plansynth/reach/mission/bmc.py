@@ -160,6 +160,7 @@ class MissionDisPlan(LearnedClauses):
         self.encode_seconds = 0.0  # building positions and horizon boundaries (in solve)
         self.clauses = 0
         self.loop_clauses = 0
+        self.stay_clauses = 0  # finite plans refuted for not ending at rest (learn_stay)
         self._add([self.v(self.formula, 0)])
 
     # -- variables ---------------------------------------------------------------
@@ -359,6 +360,17 @@ class MissionDisPlan(LearnedClauses):
         for lits in dict.fromkeys(variants):
             self.loop_conflicts.append((lits, k, L, bool(shifted)))
             self._loop_clause(lits, k, L, 0)
+
+    def learn_stay(self, literals: Sequence[tuple[int, int]], horizon: int) -> None:
+        """A finite plan of horizon L with these (time, region) literals cannot end at
+        rest (no admissible input keeps x_L where it is, which the finite reading needs):
+        block them with the stay selector, at this horizon only."""
+        if self.semantics == "lasso":
+            return
+        L = int(horizon)
+        lits = sorted({(int(t), int(r)) for t, r in literals})
+        self._learn_clause([-self.at(t, r) for t, r in lits] + [-self.stay(L)])
+        self.stay_clauses += 1
 
     def _loop_clause(self, lits: tuple[tuple[int, int], ...], k: int, L: int, shift: int) -> None:
         if k + shift < 0 or L + shift > self.built + 1 and L + shift not in self.bounded:

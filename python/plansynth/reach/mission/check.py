@@ -14,7 +14,9 @@ Along a segment the labels are those of its first sample: for t < N, letter t is
 off the whole segment [p_t, p_{t+1}] (``a`` may hold when the segment lies in the label,
 ``!a`` when it avoids the interior), and a segment that goes from outside a label into
 its interior or back is a violation (``crossing``), since its labels change between
-samples. The last letter of a finite plan is its last position, held forever; a lasso
+samples. The last letter of a finite plan is its last position, held forever, so the
+robot must be able to hold it: some admissible input keeps x_N where it is
+(:func:`can_rest`; for the integrator models, every derivative is 0 there); a lasso
 with loop start k (x_N = x_k within tol, else a ``loop`` violation) is the word of
 positions 0..N-1 whose successor of N-1 is k.
 
@@ -61,7 +63,7 @@ from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["MissionReport", "check_mission", "consistent_reading", "trajectory_word"]
+__all__ = ["MissionReport", "can_rest", "check_mission", "consistent_reading", "trajectory_word"]
 
 NEG = "!"  # letters hold "a" (a may hold) and "!a" (not a may hold)
 
@@ -195,6 +197,9 @@ def check_mission(
         err = float(np.max(np.abs(X[N] - X[loop_start])))
         if err > tol * max(1.0, float(np.max(np.abs(X[N])))):
             return fail(N, f"the loop does not close: |x_{N} - x_{loop_start}|_inf = {err:.3g}")
+    elif not can_rest(problem, X[N], tol):
+        return fail(N, f"the plan cannot end at x_{N}: no admissible input keeps the robot there, and a finite "
+                       "plan's robot stays at its last state")
     letters, crossing = trajectory_word(problem, P, loop_start, tol, labels=labels)
     if crossing is not None:
         t, name, into = crossing
@@ -212,6 +217,30 @@ def check_mission(
         return fail(touched[0], "no consistent reading of the boundary touches satisfies the mission "
                                 f"(the robot touches a label's boundary at steps {', '.join(map(str, touched))})")
     return MissionReport(True, semantics, loop_start, None, None, shown)
+
+
+def can_rest(problem: ReachProblem, x: np.ndarray, tol: float = 1e-6) -> bool:
+    """Some input u with |u|_inf <= the bound keeps the state x where it is:
+    |x - (A x + B u)|_inf <= tol max(1, |x|_inf) (the validator's dynamics tolerance).
+    The finite reading needs it: the robot stays at its last state forever. The input
+    tried is the least-squares one, B^+ (x - A x): exact when B has full column rank
+    (every named model, and the random robots), where it is the only one that fits;
+    with a rank-deficient B another input might fit within the bound where this one
+    does not, and the answer is then a conservative no (a valid plan may be rejected,
+    an invalid one never accepted).
+
+    >>> from plansynth.reach.families import maze
+    >>> can_rest(maze(1), [3.0, 4.0, 0.0, 0.0]), can_rest(maze(1), [3.0, 4.0, 0.5, 0.0])
+    (True, False)
+    """
+    A, B = np.asarray(problem.dynamics.A, float), np.asarray(problem.dynamics.B, float)
+    x = np.asarray(x, float)
+    r = x - A @ x  # B u must equal r
+    scale = tol * max(1.0, float(np.max(np.abs(x))))
+    if B.shape[1] == 0:
+        return float(np.max(np.abs(r))) <= scale
+    u, *_ = np.linalg.lstsq(B, r, rcond=None)
+    return float(np.max(np.abs(B @ u - r))) <= scale and float(np.max(np.abs(u))) <= problem.input_bound + tol
 
 
 def consistent_reading(f: Formula, word: Lasso) -> Lasso | None:

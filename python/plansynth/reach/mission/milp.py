@@ -9,7 +9,8 @@ For a horizon L, one mixed-integer program decides regions, loop and trajectory:
   big-M membership ``H_i p_t <= h_i + M (1 - z[t, i])`` (segments: p_{t+1} too);
 * the dynamics, input, state and workspace bounds;
 * binaries for the successor of the last position (Wolff et al.'s loop variables):
-  ``stay`` (a finite plan) or ``loop_j`` with ``|x_L - x_{j-1}| <= M (1 - loop_j)``;
+  ``stay`` (a finite plan, which must end at rest: ``|(A - I) x_L + B u| <= M (1 - stay)``
+  for an admissible u) or ``loop_j`` with ``|x_L - x_{j-1}| <= M (1 - loop_j)``;
 * the mission in negation normal form as continuous [0, 1] variables P[f, t] with the
   linear inequalities of its recursive definition (P[a & b, t] <= P[a, t], P[a U b, t]
   <= P[b, t] + P[a, t], ... ; at t = L + 1 the values of the loop's target position),
@@ -205,8 +206,18 @@ def mission_milp(
     sels = tuple((int(s), j, lp) for s, (j, lp) in zip(S, sel_j))
     mdl.block(np.zeros(len(S), int), S, ones(len(S)), np.ones(1), "==")
     Mx = shi - slo
+    AI = A - np.eye(n)
     for s, j, is_loop in sels:
         if not is_loop:
+            # stay: the robot rests at x_L, (A - I) x_L + B u = 0 for an admissible u (the
+            # finite reading), each row within +-Mr (1 - stay) of 0
+            u_rest = mdl.cols(m, -problem.input_bound, problem.input_bound)
+            Mr = np.abs(AI) @ np.maximum(np.abs(slo), np.abs(shi)) + np.abs(B).sum(axis=1) * problem.input_bound
+            ri, rj = np.nonzero(AI)
+            qi, qj = np.nonzero(B)
+            for sign in (1.0, -1.0):
+                mdl.block(np.concatenate([ri, qi, np.arange(n)]), np.concatenate([X[L][rj], u_rest[qj], np.full(n, s)]),
+                          np.concatenate([sign * AI[ri, rj], sign * B[qi, qj], Mr]), Mr, "<=")
             continue
         rr = np.arange(n)
         for sign in (1.0, -1.0):
@@ -408,7 +419,7 @@ def plan_milp_ltl(
             return finish(ReachStatus.UNKNOWN, L, f"HiGHS stopped without an answer at horizon {L} (time limit)")
         if status == "found":
             t0 = time.perf_counter()
-            traj = polish.solve(regions, loop_start)
+            traj = polish.solve(regions, loop_start) if loop_start is not None else polish.solve_finite(regions)
             timings["lp"] += time.perf_counter() - t0
             if traj is None:
                 return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under exact "

@@ -11,7 +11,8 @@ Algorithm 1 with DIS-PLAN replaced by the BMC encoding of the mission).
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
             lasso, loop start k: no periodic trajectory through r_k..r_L -> block the loop, loop
             CON-PLAN(r_0..r_L) -> conflict: learn it, loop             (conplan.py, unchanged)
-            finite plan: done
+            finite plan: the LP that also keeps x_L at rest -> trajectory: done
+                                                    -> block this finite plan (stay), loop
             lasso, loop start k: the LP with x_L = x_k -> trajectory: done
                                                     -> block this lasso, loop
 
@@ -144,6 +145,33 @@ class LoopLP:
         if loop_start is not None:
             xs[L] = xs[loop_start]  # the closure holds to tolerance; make it exact
         return Trajectory(states=xs, inputs=us)
+
+    def solve_finite(self, regions: tuple[int, ...], seconds: float = math.inf) -> Trajectory | None:
+        """A trajectory from the start through ``regions`` that ends at rest: some
+        admissible input keeps x_L where it is (x_L = A x_L + B u, |u| <= the bound, in
+        r_L), as the finite reading (the robot stays at its last state forever) needs.
+        It is the lasso of one more step in r_L with the loop closed at L; the trajectory
+        returned stops at x_L, or None."""
+        L = len(regions) - 1
+        lasso = self.solve(tuple(regions) + (regions[-1],), L, seconds)
+        if lasso is None:
+            return None
+        return Trajectory(states=lasso.states[: L + 1], inputs=lasso.inputs[:L])
+
+    def ends_at_rest(self, trajectory: Trajectory) -> bool:
+        """x_L rests with u = 0 (every state with zero non-position components does,
+        when A keeps positions and the bounds allow 0; see :meth:`rests`)."""
+        other = np.setdiff1d(np.arange(self.n), self.pos)
+        return self._rest_ok and not np.any(np.asarray(trajectory.states[-1], float)[other])
+
+    def rest_conflict(self, regions: tuple[int, ...], seconds: float = math.inf) -> tuple[tuple[int, int], ...]:
+        """Why the finite plan ``regions`` cannot end at rest: (time, region) literals,
+        a subset of the plan's, whose LP with the start and rest at x_L is infeasible
+        (:meth:`conflict` on the lasso of :meth:`solve_finite`; its extra step, in r_L,
+        maps back to step L)."""
+        L = len(regions) - 1
+        lits, _ = self.conflict(tuple(regions) + (regions[-1],), L, seconds)
+        return tuple(sorted({(min(t, L), r) for t, r in lits}))
 
     def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf, *,
                  loop_refuted: bool = False) -> tuple[tuple[tuple[int, int], ...], bool]:
@@ -604,9 +632,17 @@ def plan_mission(
                         continue
                     return finish(ReachStatus.FOUND, L, f"found a lasso at horizon {L} (loop from step {plan.loop_start})",
                                   traj, plan)
+                if isinstance(answer, Feasible):  # a finite plan: it must also end at rest
+                    traj = answer.trajectory if loop_lp.ends_at_rest(answer.trajectory) else \
+                        loop_lp.solve_finite(plan.regions, clock.remaining())
+                    timings["lp"] += time.perf_counter() - t0
+                    if traj is None:
+                        t0 = time.perf_counter()
+                        displan.learn_stay(loop_lp.rest_conflict(plan.regions, clock.remaining()), L)
+                        timings["lp"] += time.perf_counter() - t0
+                        continue
+                    return finish(ReachStatus.FOUND, L, f"found a finite plan at horizon {L}", traj, plan)
                 timings["lp"] += time.perf_counter() - t0
-                if isinstance(answer, Feasible):
-                    return finish(ReachStatus.FOUND, L, f"found a finite plan at horizon {L}", answer.trajectory, plan)
                 for conflict in answer if isinstance(answer, tuple) else (answer,):
                     displan.learn(conflict)
     except LpBudgetExhausted:
