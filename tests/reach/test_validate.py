@@ -249,3 +249,27 @@ def test_bad_result_files(tmp_path, doc, match) -> None:
     f.write_text(json.dumps(doc))
     with pytest.raises(InvalidProblem, match=match):
         load_trajectory(f)
+
+
+def test_each_dynamics_row_is_held_to_its_own_size() -> None:
+    """Far from the origin (positions near 1e6) a tolerance scaled by |x|_inf allowed a
+    velocity error of 0.9 per step: a trajectory that gains 0.9 m/s a step with u = 0
+    passed (found by a review). Each row is now held to the size of its own terms."""
+    from dataclasses import replace
+
+    o = 1e6
+    dyn = double_integrator(2, 1.0)
+    p = ReachProblem(workspace=Box((o, o), (o + 10, o + 10)), obstacles=(), goal=Box((o + 7, o), (o + 8, o + 10)),
+                     dynamics=dyn, start=[o + 1, o + 1, 0, 0], input_bound=0.1)
+    X = [np.array([o + 1, o + 1, 0, 0])]
+    for _ in range(4):
+        nxt = dyn.A @ X[-1]
+        nxt[2] += 0.9  # a velocity nobody's input gives
+        X.append(nxt)
+    r = validate(p, Trajectory(np.array(X), np.zeros((4, 2))))
+    assert not r.ok and r.counts.get("dynamics") == 4
+    # the honest rollout at the same coordinates passes
+    Y = [np.array([o + 1, o + 1, 0, 0])]
+    for _ in range(12):
+        Y.append(dyn.A @ Y[-1] + dyn.B @ np.array([0.1, 0.0]))
+    assert validate(replace(p, goal=Box((o + 7, o), (o + 10, o + 10))), Trajectory(np.array(Y), np.tile([0.1, 0.0], (12, 1)))).ok

@@ -194,8 +194,9 @@ def check_mission(
     if loop_start is not None:
         if not 0 <= loop_start < N:
             return fail(None, f"loop start {loop_start} outside 0..{N - 1}")
-        err = float(np.max(np.abs(X[N] - X[loop_start])))
-        if err > tol * max(1.0, float(np.max(np.abs(X[N])))):
+        gap = np.abs(X[N] - X[loop_start])
+        err = float(np.max(gap))
+        if np.any(gap > tol * np.maximum(1.0, np.abs(X[loop_start]))):  # (per component, as the validator)
             return fail(N, f"the loop does not close: |x_{N} - x_{loop_start}|_inf = {err:.3g}")
     elif not can_rest(problem, X[N], tol):
         return fail(N, f"the plan cannot end at x_{N}: no admissible input keeps the robot there, and a finite "
@@ -221,7 +222,8 @@ def check_mission(
 
 def can_rest(problem: ReachProblem, x: np.ndarray, tol: float = 1e-6) -> bool:
     """Some input u with |u|_inf <= the bound keeps the state x where it is:
-    |x - (A x + B u)|_inf <= tol max(1, |x|_inf) (the validator's dynamics tolerance).
+    each row of x - (A x + B u) within tol max(1, sum_j |A_ij x_j| + sum_j |B_ij u_j|)
+    (the validator's dynamics tolerance).
     The finite reading needs it: the robot stays at its last state forever. The input
     tried is the least-squares one, B^+ (x - A x): exact when B has full column rank
     (every named model, and the random robots), where it is the only one that fits;
@@ -236,11 +238,11 @@ def can_rest(problem: ReachProblem, x: np.ndarray, tol: float = 1e-6) -> bool:
     A, B = np.asarray(problem.dynamics.A, float), np.asarray(problem.dynamics.B, float)
     x = np.asarray(x, float)
     r = x - A @ x  # B u must equal r
-    scale = tol * max(1.0, float(np.max(np.abs(x))))
     if B.shape[1] == 0:
-        return float(np.max(np.abs(r))) <= scale
+        return bool(np.all(np.abs(r) <= tol * np.maximum(1.0, np.abs(A) @ np.abs(x))))
     u, *_ = np.linalg.lstsq(B, r, rcond=None)
-    return float(np.max(np.abs(B @ u - r))) <= scale and float(np.max(np.abs(u))) <= problem.input_bound + tol
+    scale = tol * np.maximum(1.0, np.abs(A) @ np.abs(x) + np.abs(B) @ np.abs(u))
+    return bool(np.all(np.abs(B @ u - r) <= scale)) and float(np.max(np.abs(u))) <= problem.input_bound + tol
 
 
 def consistent_reading(f: Formula, word: Lasso) -> Lasso | None:
