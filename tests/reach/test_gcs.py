@@ -81,6 +81,20 @@ def test_the_derivative_check_catches_a_velocity_jump(maze1_gcs):
     assert not rep.ok and "derivative" in rep.counts
 
 
+def test_the_derivative_check_catches_a_position_that_moves_against_its_velocity(maze1_gcs):
+    """Positions against the sampled velocities (found by a review: only each block's own
+    change was bounded, so the curve could shift sideways, within |v| <= 2 per sample
+    gap, while its velocity samples said it moved along)."""
+    dense = maze1_gcs.curve
+    X = np.array(dense.states)
+    t = np.array(maze1_gcs.curve_times)
+    k = len(X) // 3
+    X[k:, 1] += 0.05  # y shifted by 5 cm at one sample gap, the velocities left as they are
+    rep = validate(maze(1), Trajectory(X, dense.inputs), dynamics="curve", times=t)
+    assert not rep.ok and "derivative" in rep.counts
+    assert any("derivative 1 allows" in v.detail for v in rep.violations if v.kind == "derivative")
+
+
 def test_the_convex_variant_runs_and_is_not_a_peer_of_the_dynamics():
     r = solve(maze(1), "gcs", Budget(seconds=120), variant="convex")
     assert r.options["variant"] == "convex"

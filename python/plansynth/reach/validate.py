@@ -32,7 +32,10 @@ Checks, each reported as a :class:`Violation` of a named ``kind``:
 ``derivative``  (``dynamics="curve"`` with sample ``times``, named integrator models
                 only) a derivative changes faster between two samples than the bound
                 of the next derivative allows: ``|d_i(t') - d_i(t)|_inf > b_{i+1} (t' - t)
-                + tol`` (``b`` from the state bounds, the input bound for the last).
+                + tol`` (``b`` from the state bounds, the input bound for the last), or
+                moves away from what the next derivative's samples say, by more than
+                ``b_{i+2} (t' - t)^2 / 2 + tol`` (a position that jumps while its velocity
+                samples stand still).
 
 ``dynamics="exact"`` (the default) is Definition 2.3. ``dynamics="curve"`` is for the
 samples of a continuous-time curve (the ``gcs`` planner, guarantee ``"curve"``): the
@@ -451,6 +454,24 @@ def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, t
         for t in bad[:5]:
             what = "position" if i == 0 else f"derivative {i}"
             viol.append(Violation("derivative", int(t), f"{what} moves by {moved[t]:.4g} in {gaps[t]:.4g} s, more than the bound {b:g} allows"))
+    if order >= 2:
+        # each block against the next one's samples: with |d_{i+2}| <= b, d_i(t') - d_i(t)
+        # differs from d_{i+1}(t) (t' - t) by at most b (t' - t)^2 / 2, and likewise with
+        # d_{i+1}(t') (Taylor with the remainder bounded): a position that jumps while the
+        # sampled velocity says it stands still fails
+        for i in range(order - 1):
+            b = bounds[i + 1]
+            if b is None:
+                continue
+            block, rate = X[:, i * d:(i + 1) * d], X[:, (i + 1) * d:(i + 2) * d]
+            step = np.diff(block, axis=0)
+            slack = b * gaps ** 2 / 2 + tol * max(1.0, b)
+            off = np.maximum(np.max(np.abs(step - rate[:-1] * gaps[:, None]), axis=1),
+                             np.max(np.abs(step - rate[1:] * gaps[:, None]), axis=1))
+            what = "position" if i == 0 else f"derivative {i}"
+            for t in np.nonzero(off > slack)[0][:5]:
+                viol.append(Violation("derivative", int(t), f"{what} moves by {np.max(np.abs(step[t])):.4g} in "
+                                      f"{gaps[t]:.4g} s, {off[t]:.4g} away from what derivative {i + 1} allows"))
 
 
 def _fmt(p: np.ndarray) -> str:
