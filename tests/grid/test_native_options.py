@@ -80,3 +80,20 @@ def test_bench_refuses_options_for_no_solver_of_the_sweep_and_bad_native_options
     res = CliRunner().invoke(app, [*base, "-O", "native:minimise=true"])
     assert res.exit_code == 2 and "unknown native solver option" in res.output
     assert not (tmp_path / "b.db").exists()
+
+
+def test_a_program_deeper_than_the_depth_bound_is_no_answer_to_it(monkeypatch) -> None:
+    """A path that builds its program without the bound (the clock-obstacle reading)
+    must not report it as the answer to "a program of depth <= D" (found by a review)."""
+    from plansynth.budget import Budget
+    from plansynth.grid.native import engine as eng
+    from plansynth.grid.problem import load_grid_problem
+    from plansynth.grid.programs import parse_program
+    from plansynth.grid.result import GridStatus
+
+    p = load_grid_problem(ROOT / "examples" / "grid" / "figure1.yaml")
+    deep = parse_program("(ite (<= rx 3) (ite (<= ry 3) 2 1) (ite (<= ry 2) 2 1))")
+    monkeypatch.setattr(eng._Run, "_solve", lambda self, problem, steps, clock, bound: (GridStatus.REALIZABLE, deep, "", None))
+    out = eng.Engine().solve_length(p, 6, Budget(seconds=10), depth_bound=4)
+    assert out.status is GridStatus.UNKNOWN and out.program is None and "none of depth <= 4" in out.message
+    assert eng.Engine().solve_length(p, 6, Budget(seconds=10)).status is GridStatus.REALIZABLE

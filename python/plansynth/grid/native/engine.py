@@ -131,6 +131,11 @@ class _Run:
             status, program, message, witness = GridStatus.UNKNOWN, None, f"budget exhausted: {exc}", None
         except AssertionError as exc:  # an engine bug must never become an answer
             status, program, message, witness = GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: {exc}", None
+        if status is GridStatus.REALIZABLE and depth_bound is not None and depth(program) > depth_bound:
+            # (a path that builds its program without the bound, e.g. reading clock obstacles):
+            # the question was "a program of depth <= D", and this one does not answer it
+            status, program, message = GridStatus.UNKNOWN, None, (
+                f"a winning program of depth {depth(program)} was found, none of depth <= {depth_bound}")
         if status is GridStatus.REALIZABLE:
             self.counters["depth_minimal"] = "proved" if self.counters.get("minimal_depth_proved") else "not proved"
         return LengthOutcome(
