@@ -330,3 +330,33 @@ def test_smc_ltl_map_targets(target: str, goal: tuple, seg_min: int, samples_min
     r = solve(p, "lazy-smt", horizon_search="linear")
     assert r.status is ReachStatus.FOUND and r.validated is True and r.horizon >= seg_min
     assert r.counters["minimal_relative_to"] != "problem" or r.horizon == seg_min
+
+
+def _doc(**kw):
+    from plansynth.reach.fileformat import reach_problem_from_dict
+
+    return reach_problem_from_dict(kw)
+
+
+#: found by a review: a goal region next to the start region got "one step to go" from the
+#: transit layer's gap (never below 1), so no plan could end in it: "infeasible up to 9" as
+#: a proof, where a 5-step trajectory exists (damped double integrator, explicit A, B)
+DAMPED = dict(workspace={"min": [0, 0], "max": [10, 10]}, obstacles=[{"min": [5, 0], "max": [8, 2]}],
+              goal={"min": [5.4, 8], "max": [6.2, 9]}, max_horizon=9,
+              robot={"dynamics": {"A": [[1, 0, 0.5, 0], [0, 1, 0, 0.5], [0, 0, 0.8, 0], [0, 0, 0, 0.8]],
+                                  "B": [[0.125, 0], [0, 0.125], [0.5, 0], [0, 0.5]], "position": [0, 1]},
+                     "start": [3, 8, 0, 0], "input_bound": 1.0,
+                     "state_bounds": {"min": [0, 0, -2, -2], "max": [10, 10, 2, 2]}})
+#: found by a review: the goal's only free part is a face of a region (the goal's interior
+#: beside it is obstacle), which counted as no goal region: "infeasible up to 5" as a proof
+GOAL_FACE = dict(workspace={"min": [0, 0], "max": [10, 10]}, obstacles=[{"min": [4, 4], "max": [6, 9]}],
+                 goal={"min": [4, 4], "max": [6, 9.5]}, max_horizon=5,
+                 robot={"dynamics": {"model": "single-integrator", "dt": 1}, "start": [5, 1], "input_bound": 1})
+
+
+@pytest.mark.parametrize("doc,minimum", [(DAMPED, 5), (GOAL_FACE, 3)], ids=["goal-region-to-go", "goal-on-a-face"])
+def test_the_goal_regions_end_plans_where_a_trajectory_can_end(doc, minimum):
+    p = _doc(**doc)
+    assert oracle_minimum(p, doc["max_horizon"], segments=False) == minimum
+    r = solve(p, "lazy-smt", max_horizon=doc["max_horizon"], segment_safe=False, horizon_search="linear")
+    assert r.status is ReachStatus.FOUND and r.horizon == minimum, r.message

@@ -109,7 +109,8 @@ class Abstraction:
 
     ``adjacency[i]`` is the sorted tuple of neighbours of region i (symmetric, no
     self-loops). ``start_regions``: regions whose closure contains the start position;
-    ``goal_regions``: regions meeting the goal in positive measure. ``method`` says
+    ``goal_regions``: regions whose closure meets the goal (a face or a point is
+    enough: a plan may end there, where the goal's interior beside it is obstacle). ``method`` says
     which construction won; ``candidates`` gives the region count of each one tried.
     ``exact``: the regions cover exactly the free space; False when some finely sampled
     convex obstacle was decomposed around its outer polygon (:func:`outer_polygon`),
@@ -725,16 +726,14 @@ def _goal_regions(problem: ReachProblem, regions: Sequence[Region]) -> tuple[int
         gb = g.bounds
         for r in regions:
             v = r.vertices
-            if v[:, 0].max() <= gb[0] or v[:, 0].min() >= gb[2] or v[:, 1].max() <= gb[1] or v[:, 1].min() >= gb[3]:
+            if v[:, 0].max() < gb[0] or v[:, 0].min() > gb[2] or v[:, 1].max() < gb[1] or v[:, 1].min() > gb[3]:
                 continue
-            a = ShPolygon(v).intersection(g).area
-            if a > 1e-9 * min(g.area, r.measure()):
+            if ShPolygon(v).intersects(g):  # closed sets: touching counts
                 out.append(r.index)
         return tuple(out)
     assert isinstance(goal, Box)
     for r in regions:
         lo, hi = r.vertices.min(axis=0), r.vertices.max(axis=0)
-        ext = np.minimum(hi, goal.hi) - np.maximum(lo, goal.lo)
-        if np.all(ext > 0) and float(np.prod(ext)) > 1e-9 * min(goal.volume(), r.measure()):
+        if np.all(np.minimum(hi, goal.hi) - np.maximum(lo, goal.lo) >= 0):  # (3-D regions are boxes)
             out.append(r.index)
     return tuple(out)

@@ -679,7 +679,7 @@ def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence
         earliest[j] = e
     to_go = [inf] * k
     for j in sorted((j for j in range(k) if d_goal[j] < inf), key=lambda j: d_goal[j]):
-        r = max(0, gap(j, GOAL_NODE))
+        r = 0 if j in goals else max(0, gap(j, GOAL_NODE))  # (a goal region can hold the end itself)
         for c in sep_goal[j]:
             r = max(r, max(1, gap(j, c)) + to_go[c])
         to_go[j] = r
