@@ -397,3 +397,18 @@ def test_a_long_unicode_name_still_gives_a_valid_sl_file_name(tmp_path: Path) ->
     name = sl_file_name(problem, 7, 3)
     assert len(name.encode("utf-8")) <= 255 and name.endswith("-l7-d3.sl")
     assert Path(keep_file(tmp_path, problem, 7, 3, "(check-synth)")).read_text(encoding="utf-8") == "(check-synth)"
+
+
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "milp-ltl"], "this problem has none"),
+        (["reach", "solve", "examples/reach/mission-visit.yaml", "-p", "gcs"], "does not plan LTL missions"),
+        (["reach", "solve", "examples/reach/dubins.yaml", "-p", "gcs"], "starts at rest"),
+        (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "gcs", "--variant", "bogus"], "unknown variant 'bogus'"),
+    ],
+)
+def test_a_planner_the_problem_cannot_use_is_a_one_line_error(args: list[str], fragment: str) -> None:
+    """A planner's refusal (a mission planner without a mission, gcs on a moving start, an
+    unknown gcs variant) is one line and exit 2, not a traceback (found by a review)."""
+    _refused(args, fragment)

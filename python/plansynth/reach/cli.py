@@ -16,13 +16,16 @@ from rich.markup import escape
 from rich.table import Table
 
 from plansynth.budget import Budget
-from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_UNKNOWN, fail, finite_positive, positive_seconds
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_UNKNOWN, fail, finite_positive, positive_seconds, seconds_since_start
 from plansynth.cli_support import EXIT_NO as EXIT_INFEASIBLE
 from plansynth.cli_support import EXIT_YES as EXIT_FOUND
 from plansynth.errors import InvalidOption, InvalidProblem, PlansynthError
 from plansynth.io import check_output_path
 
 app = typer.Typer(no_args_is_help=True, add_completion=False)
+
+#: seconds kept from --timeout for printing the result and exiting (as grid solve keeps)
+EXIT_RESERVE = 0.5
 
 #: plansynth.reach.problem's MAX_HORIZON and MAX_ORDER, repeated so that this module
 #: loads without numpy (a test checks that they agree).
@@ -205,9 +208,12 @@ def solve_command(
         def progress(horizon: int, iterations: int) -> None:
             bar.update(task, description=f"{planner}: horizon {horizon} ({iterations} iterations so far)")
 
+        # the budget counts from the process's start, as grid solve's does (loading a large
+        # problem file is part of the answer's time), less a reserve for printing and exiting
+        left = None if timeout is None else max(timeout - seconds_since_start() - EXIT_RESERVE, 0.01)
         try:
-            result = solve(problem, planner, Budget(seconds=timeout), options, progress=progress)
-        except InvalidOption as exc:  # an option of reach-avoid planning given for a mission
+            result = solve(problem, planner, Budget(seconds=left), options, progress=progress)
+        except PlansynthError as exc:  # an option the planner does not take, a planner this problem cannot use
             raise fail(err, exc) from None
     console.print(_result_table(result))
     try:

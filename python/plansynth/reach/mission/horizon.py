@@ -120,10 +120,11 @@ def _eventualities(edges: dict[State, list[tuple[State, frozenset]]]) -> frozens
 
 
 def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula,
-                        earliest: Sequence[float] | None, max_horizon: int, *, max_nodes: int = MAX_NODES) -> int:
+                        earliest: Sequence[float] | None, max_horizon: int, *, max_nodes: int = MAX_NODES,
+                        clock=None) -> int:
     """The smallest horizon L <= ``max_horizon`` at which DIS-PLAN may have a plan (see
     the module doc), ``max_horizon + 1`` when none has one, 0 when the product graph
-    is past ``max_nodes`` states (no bound)."""
+    is past ``max_nodes`` states or the ``clock`` runs out (no bound: 0 is always one)."""
     try:
         edges = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
     except TooLarge:
@@ -135,6 +136,8 @@ def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]],
     live: dict[frozenset[int], set[State]] = {}
     seen: set[int] = set()  # the regions a plan may visit at steps 0..t
     for t in range(max_horizon + 1):
+        if clock is not None and clock.exhausted():
+            return 0
         if not frontier:
             return max_horizon + 1
         seen |= {r for r, _ in frontier}

@@ -360,7 +360,10 @@ def plan_milp_ltl(
     from plansynth.reach.mission.planner import LoopLP, mission_horizon_bound
 
     if problem.mission is None:
-        raise ValueError("milp-ltl plans missions; this problem has none")
+        from plansynth.errors import InvalidOption
+
+        raise InvalidOption("milp-ltl", "planner", "plans LTL missions, and this problem has none (reach-avoid "
+                            "planners: lazy-smt, milp, milp-bigm, rrt, est, kpiece, gcs)")
     t_start = time.perf_counter()
     clock = budget.clock()
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -399,7 +402,7 @@ def plan_milp_ltl(
         L0 = L_max
     elif horizon_bound:
         graph = RegionGraph.from_abstraction(labelled.abstraction)
-        L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters)
+        L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters, clock)
     for L in range(L0, L_max + 1):
         if progress is not None:
             progress(L, clock.iterations)

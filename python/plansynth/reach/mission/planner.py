@@ -52,7 +52,7 @@ from typing import Any
 import highspy
 import numpy as np
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, Clock
 from plansynth.errors import InvalidOption
 from plansynth.reach.lazy.bounds import time_windows
 from plansynth.reach.lazy.conflict import Feasible
@@ -459,14 +459,14 @@ class MissionTransit(TransitCheck):
 
 
 def mission_horizon_bound(problem: ReachProblem, labelled: LabelledAbstraction, graph: RegionGraph,
-                          earliest, L_max: int, timings: dict, counters: dict) -> int:
+                          earliest, L_max: int, timings: dict, counters: dict, clock: Clock | None = None) -> int:
     """:func:`~plansynth.reach.mission.horizon.horizon_lower_bound` as both mission
     planners run it: its time goes to ``timings["horizon_bound"]``, the bound to
     ``counters["horizon_bound"]``."""
     from plansynth.reach.mission.horizon import horizon_lower_bound
 
     t0 = time.perf_counter()
-    bound = horizon_lower_bound(graph, labelled.labels_of, parse(problem.mission), earliest, L_max)
+    bound = horizon_lower_bound(graph, labelled.labels_of, parse(problem.mission), earliest, L_max, clock=clock)
     timings["horizon_bound"] = time.perf_counter() - t0
     counters["horizon_bound"] = bound
     return bound
@@ -574,7 +574,7 @@ def plan_mission(
     if not ab.start_regions:
         counters["abstraction_refuted"] = L_max
         return finish(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
-    L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters) if horizon_bound else 0
+    L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters, clock) if horizon_bound else 0
     if L0 > L_max:
         counters["abstraction_refuted"] = L_max
         return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the label-refined abstraction at any horizon "
@@ -699,7 +699,9 @@ def solve_mission(problem: ReachProblem, planner: str = "lazy-smt", budget: Budg
     """Plan the problem's mission with ``lazy-smt``, ``milp-ltl`` or ``milp-ltl-oneshot``; every plan is
     validated and mission-checked before it is reported."""
     if planner not in MISSION_PLANNERS:
-        raise ValueError(f"planner {planner!r} does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")
+        from plansynth.errors import InvalidOption
+
+        raise InvalidOption(planner, "planner", f"does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")
     import inspect
 
     accepted = set(inspect.signature(plan_mission if planner == "lazy-smt" else _plan_milp_ltl()).parameters)

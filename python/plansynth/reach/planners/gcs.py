@@ -390,6 +390,12 @@ class GcsOptions:
     segment_safe: bool = True
     max_horizon: int | None = None
 
+    def __post_init__(self) -> None:
+        if self.variant not in VARIANTS:  # at the door: exit 2 at the CLI, before any work
+            from plansynth.errors import InvalidOption
+
+            raise InvalidOption("gcs", "variant", f"unknown variant {self.variant!r} (known: {', '.join(VARIANTS)})")
+
 
 #: ``gcs`` as a planner of :func:`plansynth.reach.solve`
 GCS = OptionsPlanner("gcs", GcsOptions(), keyword_runner(plan_gcs, progress=True), "drake", takes_abstraction=True)
