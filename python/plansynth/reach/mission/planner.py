@@ -38,7 +38,7 @@ refutes every horizon without it, the answer is ``unknown`` and says "not a proo
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = solve_mission(mission_problem("maze-1", "avoid-until"))
 >>> r.status.value, r.horizon, r.mission["semantics"], r.mission["ok"], r.validated
-('found', 29, 'finite', True, True)
+('found', 31, 'finite', True, True)
 """
 
 from __future__ import annotations
