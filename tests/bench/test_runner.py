@@ -91,3 +91,20 @@ def test_retry_reruns_only_runs_with_the_given_statuses(tmp_path):
     assert counts["skipped"] == 1 and counts["done"] == 1 and counts["crash"] == 1
     with ResultsDB(db) as d:
         assert len(d.runs()) == 2  # the rerun replaced the crashed row
+
+
+def test_a_program_the_verifier_refutes_is_recorded_invalid(tmp_path):
+    """A backend that answers with a losing program gave status unknown (the message said
+    "refutes", the runner looked for "verif" and "fail"): a wrong answer hid among the
+    timeouts (found by a review). It is recorded invalid."""
+    import stat
+
+    from plansynth.bench.execute import execute
+
+    fake = tmp_path / "fake.sh"  # a SyGuS "solver" that always answers "stay"
+    fake.write_text("#!/bin/sh\necho '(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int 0)'\n")
+    fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
+    (task,) = make_tasks(grid_family("figure1"), ["external"], timeout=30,
+                         options={"external": {"command": f"{fake} {{file}}"}})
+    out = execute(task)
+    assert out["status"] == "invalid", out

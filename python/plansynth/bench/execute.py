@@ -187,8 +187,8 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         status = "solved" if result.get("verified") is True else "invalid"
     elif answer == "unrealizable":
         status = "unrealizable"
-    else:
-        status = "unknown"
+    else:  # a program the verifier refuted is a wrong answer, not a missing one
+        status = "invalid" if counters.get("refuted_by_verifier") else "unknown"
     program = result.get("program")
     attributes.update({"program": program, "depth_minimal": result.get("depth_minimal"), "counters": counters,
                        "attempts": [(a.get("steps"), a.get("status"), round(float(a.get("seconds") or 0), 4))
@@ -232,8 +232,8 @@ def _grid_in_process(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         status = "solved" if res.verified is True else "invalid"
     elif res.status == GridStatus.UNREALIZABLE:
         status = "unrealizable"
-    else:
-        status = "invalid" if "verif" in res.message.lower() and "fail" in res.message.lower() else "unknown"
+    else:  # a program the verifier refuted is a wrong answer, not a missing one
+        status = "invalid" if counters.get("refuted_by_verifier") else "unknown"
     return {
         "status": status,
         "solved": int(status == "solved"),

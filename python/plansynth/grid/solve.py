@@ -140,7 +140,7 @@ def solve(
             outcome = replace(
                 outcome,
                 status=GridStatus.UNKNOWN,
-                counters=counters,
+                counters={**counters, "refuted_by_verifier": 1},  # (bench records the run invalid)
                 message=(
                     f"BACKEND BUG: {backend.name} returned {outcome.program} for l = {l}, but the independent "
                     f"verifier refutes it: {reason}{moves}. The program is not reported."
