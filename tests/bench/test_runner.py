@@ -108,3 +108,18 @@ def test_a_program_the_verifier_refutes_is_recorded_invalid(tmp_path):
                          options={"external": {"command": f"{fake} {{file}}"}})
     out = execute(task)
     assert out["status"] == "invalid", out
+
+
+def test_a_run_under_other_solver_options_is_not_taken_as_done(tmp_path):
+    """Resuming compared only the time and memory limits: a sweep with -O
+    native:minimize=true skipped the runs made without it (found by a review)."""
+    db = tmp_path / "r.db"
+    plain = make_tasks(grid_family("depth", [4]), ["native"], timeout=20)
+    counts = run_sweep(db, plain, progress=False)
+    assert counts["done"] == 1
+    assert run_sweep(db, plain, progress=False)["skipped"] == 1  # the same options: resumed
+    minimize = make_tasks(grid_family("depth", [4]), ["native"], timeout=20, options={"native": {"minimize": True}})
+    counts = run_sweep(db, minimize, progress=False)
+    assert counts["skipped"] == 0 and counts["done"] == 1
+    (run,) = _by_solver(db).values()
+    assert run["attributes"]["options"] == {"minimize": True}

@@ -227,16 +227,17 @@ class ResultsDB:
         rows = self.conn.execute(q, retry)
         return {(a, b, int(c)) for a, b, c in rows}
 
-    def recorded_budgets(self, retry: Iterable[str] = ()) -> dict[tuple[str, str, int], tuple[Any, Any]]:
+    def recorded_budgets(self, retry: Iterable[str] = ()) -> dict[tuple[str, str, int], tuple[Any, Any, Any]]:
         """The resume key of every recorded run (as :meth:`done_keys`) -> the (time limit,
-        memory limit) it ran with (None: no limit; :data:`UNRECORDED` or a None time limit:
-        the database does not say, and the run counts as done under any budget)."""
+        memory limit, solver options) it ran with (None: no limit; :data:`UNRECORDED` or a
+        None time limit: the database does not say, and the run counts as done under any
+        budget or options)."""
         retry = tuple(retry)
         q = ('SELECT e.name, p.name, r."repeat", r.attributes, e.timelimit, e.memorylimit FROM runs r'
              " JOIN experiments e ON r.experimentid = e.id JOIN plannerConfigs p ON r.plannerid = p.id")
         if retry:
             q += f" WHERE r.status NOT IN ({', '.join('?' for _ in retry)})"
-        out: dict[tuple[str, str, int], tuple[Any, Any]] = {}
+        out: dict[tuple[str, str, int], tuple[Any, Any, Any]] = {}
         for a, b, c, attributes, e_time, e_memory in self.conn.execute(q, retry):
             try:
                 attrs = json.loads(attributes or "{}")
@@ -247,7 +248,7 @@ class ResultsDB:
             # None in attributes: the run had no memory limit; absent (older rows): the
             # experiment's limit, else UNRECORDED
             memorylimit = attrs["memorylimit"] if "memorylimit" in attrs else (UNRECORDED if e_memory is None else e_memory)
-            out[(a, b, int(c))] = (timelimit, memorylimit)
+            out[(a, b, int(c))] = (timelimit, memorylimit, attrs.get("options", UNRECORDED))
         return out
 
     def runs(self, kind: str | None = None) -> list[dict[str, Any]]:

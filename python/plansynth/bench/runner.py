@@ -217,7 +217,7 @@ def run_sweep(
             if attrs.get("message"):
                 attrs["message"] = scrub_paths(str(attrs["message"]))
             attrs["attributes"] = {**dict(attrs.get("attributes") or {}), "timelimit": float(task["timeout"]),
-                                   "memorylimit": task.get("memory_mb")}
+                                   "memorylimit": task.get("memory_mb"), "options": dict(task.get("options") or {})}
             db.add_run(eid, pid, int(task["repeat"]), attrs)
             counts["done"] += 1
             counts[attrs.get("status", "?")] = counts.get(attrs.get("status", "?"), 0) + 1
@@ -238,12 +238,15 @@ def run_sweep(
         db.close()
 
 
-def _same_budget(recorded: tuple[Any, Any] | None, task: Mapping[str, Any]) -> bool:
-    """Was a recorded run (its time and memory limit, :meth:`ResultsDB.recorded_budgets`;
-    None: no such run) made under ``task``'s budget?"""
+def _same_budget(recorded: tuple[Any, Any, Any] | None, task: Mapping[str, Any]) -> bool:
+    """Was a recorded run (its time and memory limit and solver options,
+    :meth:`ResultsDB.recorded_budgets`; None: no such run) made under ``task``'s budget
+    and with its options? (A run under other options answers another question.)"""
     if recorded is None:
         return False
-    timelimit, memorylimit = recorded
+    timelimit, memorylimit, options = recorded
+    if options != UNRECORDED and dict(options or {}) != dict(task.get("options") or {}):
+        return False
     if timelimit is not None and float(timelimit) != float(task["timeout"]):
         return False
     if memorylimit != UNRECORDED:
