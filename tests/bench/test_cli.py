@@ -43,3 +43,22 @@ def test_families_writes_problem_files(tmp_path):
     assert (tmp_path / "grid" / "steps" / "steps-25.yaml").exists()
     assert (tmp_path / "grid" / "crossing" / "crossing-2.yaml").read_text().startswith("# plansynth bench family")
     assert (tmp_path / "reach" / "maze" / "maze-4.yaml").exists()
+
+
+def test_a_bad_database_or_value_is_one_line_and_exit_2(tmp_path):
+    """Not SQLite, a folder that does not exist, a family value it lacks: one line and
+    exit 2, not a traceback (found by a review; the missing folder used to be created)."""
+    junk = tmp_path / "junk.db"
+    junk.write_text("not a database\n")
+    cases = [
+        (["bench", "grid", "--family", "figure1", "--solvers", "native", "--db", str(junk)], "not a results database"),
+        (["bench", "report", "--db", str(junk), "--out", str(tmp_path / "rep")], "not a results database"),
+        (["bench", "grid", "--family", "figure1", "--solvers", "native", "--db", str(tmp_path / "no" / "x.db")],
+         "folder does not exist"),
+        (["bench", "reach", "--family", "maze", "--values", "0", "--planners", "lazy-smt", "--db", str(tmp_path / "v.db")],
+         "--values"),
+    ]
+    for args, fragment in cases:
+        r = CliRunner().invoke(app, args)
+        assert r.exit_code == 2 and fragment in r.output and "Traceback" not in r.output, (args, r.output)
+    assert not (tmp_path / "no").exists()

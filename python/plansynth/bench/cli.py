@@ -139,7 +139,7 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
             console.print(f"[red]{exc}")
             if not every:
                 raise typer.Exit(2) from None
-        except (ValueError, TypeError):  # a value the family cannot use (a name where it takes numbers)
+        except (ValueError, TypeError, KeyError):  # a value the family cannot use (a name, a value it lacks)
             _refuse("--values", f"expected comma-separated integers (or, for reactive-suite, instance names) "
                                 f"that family {f!r} has, got {values!r}")
     if kind == "reach" and "milp" in solvers:
@@ -158,8 +158,13 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
                        options=solver_options)
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
+    from plansynth.errors import OutputUnwritable
+
     try:
         counts = run_sweep(db, tasks, jobs=jobs, cluster=cluster, progress=True, retry=_split(retry))
+    except OutputUnwritable as exc:  # the database (not SQLite, a folder that does not exist)
+        console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
     except KeyboardInterrupt:
         console.print(f"[yellow]interrupted: every finished run is kept in {db}; rerun the same command to resume")
         raise typer.Exit(130) from None

@@ -115,13 +115,19 @@ class ResultsDB:
     """A results database file (created with the schema if it does not exist)."""
 
     def __init__(self, path: str | Path) -> None:
+        from plansynth.errors import OutputUnwritable
+
         self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.conn = sqlite3.connect(str(self.path), timeout=30.0)
-        self.conn.row_factory = sqlite3.Row
-        self.conn.executescript(_SCHEMA)
-        self.conn.execute("INSERT OR IGNORE INTO info VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),))
-        self.conn.commit()
+        if not self.path.parent.is_dir():  # (as for every output: the folder must exist)
+            raise OutputUnwritable(str(self.path), "folder does not exist")
+        try:
+            self.conn = sqlite3.connect(str(self.path), timeout=30.0)
+            self.conn.row_factory = sqlite3.Row
+            self.conn.executescript(_SCHEMA)
+            self.conn.execute("INSERT OR IGNORE INTO info VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),))
+            self.conn.commit()
+        except sqlite3.DatabaseError as exc:  # not SQLite, a directory, a file it may not open
+            raise OutputUnwritable(str(self.path), f"not a results database ({exc})") from None
 
     def close(self) -> None:
         self.conn.close()
