@@ -699,8 +699,6 @@ def solve_mission(problem: ReachProblem, planner: str = "lazy-smt", budget: Budg
     """Plan the problem's mission with ``lazy-smt``, ``milp-ltl`` or ``milp-ltl-oneshot``; every plan is
     validated and mission-checked before it is reported."""
     if planner not in MISSION_PLANNERS:
-        from plansynth.errors import InvalidOption
-
         raise InvalidOption(planner, "planner", f"does not plan LTL missions (mission planners: {', '.join(MISSION_PLANNERS)})")
     import inspect
 
