@@ -32,7 +32,7 @@ from __future__ import annotations
 import os
 import resource
 import time
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from plansynth.budget import Budget
@@ -177,18 +177,8 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         status = "timeout" if killed else "crash"
         return {"status": status, "solved": 0, "time": wall, "wall": wall,
                 "message": (stderr or stdout or f"exit status {proc.returncode}")[-2000:], "attributes": attributes}
-    counters: dict[str, Any] = {}
-    for a in result.get("attempts") or []:
-        for k, v in (a.get("counters") or {}).items():
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                counters[k] = counters.get(k, 0) + v
-    answer = result.get("status")
-    if answer == "realizable":
-        status = "solved" if result.get("verified") is True else "invalid"
-    elif answer == "unrealizable":
-        status = "unrealizable"
-    else:  # a program the verifier refuted is a wrong answer, not a missing one
-        status = "invalid" if counters.get("refuted_by_verifier") else "unknown"
+    counters = _summed(a.get("counters") or {} for a in result.get("attempts") or [])
+    status = _grid_status(result.get("status"), result.get("verified"), counters)
     program = result.get("program")
     attributes.update({"program": program, "depth_minimal": result.get("depth_minimal"), "counters": counters,
                        "attempts": [(a.get("steps"), a.get("status"), round(float(a.get("seconds") or 0), 4))
@@ -210,9 +200,28 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     }
 
 
+def _summed(per_attempt: Iterable[Mapping[str, Any]]) -> dict[str, Any]:
+    """The numeric counters of a grid run's attempts (one per path length), summed."""
+    out: dict[str, Any] = {}
+    for counters in per_attempt:
+        for k, v in counters.items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                out[k] = out.get(k, 0) + v
+    return out
+
+
+def _grid_status(answer: str | None, verified: Any, counters: Mapping[str, Any]) -> str:
+    """A grid run's status from its answer (``status`` of the result): a program the
+    verifier refuted, in any attempt, is a wrong answer, ``invalid``, not a missing one."""
+    if answer == "realizable":
+        return "solved" if verified is True else "invalid"
+    if answer == "unrealizable":
+        return "unrealizable"
+    return "invalid" if counters.get("refuted_by_verifier") else "unknown"
+
+
 def _grid_in_process(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.grid.programs import size
-    from plansynth.grid.result import GridStatus
     from plansynth.grid.solve import solve
 
     problem = inst.build()
@@ -223,17 +232,8 @@ def _grid_in_process(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
 
         options = {"options": NativeOptions.parse([f"{k}={v}" for k, v in options.items()])}
     res = solve(problem, solver=task["solver"], budget=budget, **options)
-    counters: dict[str, Any] = {}
-    for a in res.attempts:
-        for k, v in a.counters.items():
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                counters[k] = counters.get(k, 0) + v
-    if res.status == GridStatus.REALIZABLE:
-        status = "solved" if res.verified is True else "invalid"
-    elif res.status == GridStatus.UNREALIZABLE:
-        status = "unrealizable"
-    else:  # a program the verifier refuted is a wrong answer, not a missing one
-        status = "invalid" if counters.get("refuted_by_verifier") else "unknown"
+    counters = _summed(a.counters for a in res.attempts)
+    status = _grid_status(res.status.value, res.verified, counters)
     return {
         "status": status,
         "solved": int(status == "solved"),

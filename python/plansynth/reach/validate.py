@@ -188,6 +188,17 @@ def _hits_all(ob: Any, P: np.ndarray, Q: np.ndarray | None = None) -> np.ndarray
     return np.array([ob.hits(p, q) for p, q in zip(P, Q)], dtype=bool)
 
 
+def row_tolerance(A: np.ndarray, B: np.ndarray, x: np.ndarray, u: np.ndarray, tol: float) -> np.ndarray:
+    """The allowed residual of each row of x' = A x + B u: ``tol`` times the size of the
+    row's own terms, at least 1 (so a velocity row is not excused by a position of 1e6)."""
+    return tol * np.maximum(1.0, np.abs(A) @ np.abs(x) + np.abs(B) @ np.abs(u))
+
+
+def component_tolerance(ref: np.ndarray, tol: float) -> np.ndarray:
+    """The allowed difference of each component from ``ref`` (a start, a loop's closure)."""
+    return tol * np.maximum(1.0, np.abs(ref))
+
+
 class _Obstacle:
     """One obstacle shrunk by ``tol``: "inside deeper than tol" = meets the open shrunk set."""
 
@@ -361,20 +372,19 @@ def validate(
     start = np.asarray(problem.start, float)
     off = np.abs(X[0] - start)
     err0 = float(np.max(off))
-    if np.any(off > tol * np.maximum(1.0, np.abs(start))):
+    if np.any(off > component_tolerance(start, tol)):
         viol.append(Violation("start", 0, f"x_0 differs from the start by {err0:.3g}"))
 
     # dynamics and inputs
     max_err = 0.0
     max_u = 0.0
-    absA, absB = np.abs(np.asarray(dyn.A, float)), np.abs(np.asarray(dyn.B, float))
+    A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
     for t in range(N):
-        pred = dyn.A @ X[t] + dyn.B @ U[t]
+        pred = A @ X[t] + B @ U[t]
         row = np.abs(X[t + 1] - pred)
         err = float(np.max(row))
         max_err = max(max_err, err)
-        scale = np.maximum(1.0, absA @ np.abs(X[t]) + absB @ np.abs(U[t]))
-        if dynamics == "exact" and np.any(row > tol * scale):
+        if dynamics == "exact" and np.any(row > row_tolerance(A, B, X[t], U[t], tol)):
             viol.append(Violation("dynamics", t, f"|x_{t + 1} - (A x_{t} + B u_{t})|_inf = {err:.3g}"))
         un = float(np.max(np.abs(U[t]))) if m else 0.0
         max_u = max(max_u, un)

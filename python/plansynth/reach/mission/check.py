@@ -62,6 +62,7 @@ from plansynth.reach.mission.ltl import (
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.validate import component_tolerance, row_tolerance
 
 __all__ = ["MissionReport", "can_rest", "check_mission", "consistent_reading", "trajectory_word"]
 
@@ -196,7 +197,7 @@ def check_mission(
             return fail(None, f"loop start {loop_start} outside 0..{N - 1}")
         gap = np.abs(X[N] - X[loop_start])
         err = float(np.max(gap))
-        if np.any(gap > tol * np.maximum(1.0, np.abs(X[loop_start]))):  # (per component, as the validator)
+        if np.any(gap > component_tolerance(X[loop_start], tol)):
             return fail(N, f"the loop does not close: |x_{N} - x_{loop_start}|_inf = {err:.3g}")
     elif not can_rest(problem, X[N], tol):
         return fail(N, f"the plan cannot end at x_{N}: no admissible input keeps the robot there, and a finite "
@@ -238,11 +239,9 @@ def can_rest(problem: ReachProblem, x: np.ndarray, tol: float = 1e-6) -> bool:
     A, B = np.asarray(problem.dynamics.A, float), np.asarray(problem.dynamics.B, float)
     x = np.asarray(x, float)
     r = x - A @ x  # B u must equal r
-    if B.shape[1] == 0:
-        return bool(np.all(np.abs(r) <= tol * np.maximum(1.0, np.abs(A) @ np.abs(x))))
-    u, *_ = np.linalg.lstsq(B, r, rcond=None)
-    scale = tol * np.maximum(1.0, np.abs(A) @ np.abs(x) + np.abs(B) @ np.abs(u))
-    return bool(np.all(np.abs(B @ u - r) <= scale)) and float(np.max(np.abs(u))) <= problem.input_bound + tol
+    u = np.linalg.lstsq(B, r, rcond=None)[0] if B.shape[1] else np.zeros(0)
+    fits = bool(np.all(np.abs(B @ u - r) <= row_tolerance(A, B, x, u, tol)))
+    return fits and (not u.size or float(np.max(np.abs(u))) <= problem.input_bound + tol)
 
 
 def consistent_reading(f: Formula, word: Lasso) -> Lasso | None:

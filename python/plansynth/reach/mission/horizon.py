@@ -46,6 +46,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Sequence
 
+from plansynth.budget import Clock
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.mission.ltl import Formula, nnf, props
 from plansynth.reach.mission.proof import MAX_NODES, TooLarge, _components, _expand
@@ -121,7 +122,7 @@ def _eventualities(edges: dict[State, list[tuple[State, frozenset]]]) -> frozens
 
 def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula,
                         earliest: Sequence[float] | None, max_horizon: int, *, max_nodes: int = MAX_NODES,
-                        clock=None) -> int:
+                        clock: Clock | None = None) -> int:
     """The smallest horizon L <= ``max_horizon`` at which DIS-PLAN may have a plan (see
     the module doc), ``max_horizon + 1`` when none has one, 0 when the product graph
     is past ``max_nodes`` states or the ``clock`` runs out (no bound: 0 is always one)."""

@@ -121,7 +121,7 @@ class LoopLP:
         # resting (see rests): every state with zero non-position components is an
         # equilibrium of x+ = A x (u = 0) and satisfies the state bounds, for positions
         # in the state box
-        other = np.setdiff1d(np.arange(self.n), self.pos)
+        other = self._other = np.setdiff1d(np.arange(self.n), self.pos)
         eye = np.eye(self.n)
         self._rest_ok = bool(np.array_equal(A[:, self.pos], eye[:, self.pos])
                              and np.all(self.state_lo[other] <= 0) and np.all(self.state_hi[other] >= 0)
@@ -161,8 +161,7 @@ class LoopLP:
     def ends_at_rest(self, trajectory: Trajectory) -> bool:
         """x_L rests with u = 0 (every state with zero non-position components does,
         when A keeps positions and the bounds allow 0; see :meth:`rests`)."""
-        other = np.setdiff1d(np.arange(self.n), self.pos)
-        return self._rest_ok and not np.any(np.asarray(trajectory.states[-1], float)[other])
+        return self._rest_ok and not np.any(np.asarray(trajectory.states[-1], float)[self._other])
 
     def rest_conflict(self, regions: tuple[int, ...], seconds: float = math.inf) -> tuple[tuple[int, int], ...]:
         """Why the finite plan ``regions`` cannot end at rest: (time, region) literals,
