@@ -136,5 +136,5 @@ def test_an_unknown_grid_backend_lists_the_names() -> None:
     from plansynth.errors import UnknownSolver
     from plansynth.grid.result import get_backend
 
-    with pytest.raises(UnknownSolver, match="unknown grid solver; choose one of: cvc5, external, native"):
+    with pytest.raises(UnknownSolver, match="unknown grid solver; choose one of: native, cvc5, external"):
         get_backend("nosuch")

@@ -159,7 +159,9 @@ def test_a_tiny_budget_gives_unknown_not_a_wrong_answer():
 
 
 def test_unknown_options_are_rejected():
-    with pytest.raises(TypeError, match="unknown native solver option"):
+    from plansynth.errors import InvalidOption
+
+    with pytest.raises(InvalidOption, match="option 'minimise': not an option of this solver"):
         get_backend("native", minimise=True)
 
 

@@ -69,8 +69,13 @@ def test_the_budget_holds_at_the_limits(shape, tmp_path):
     path = tmp_path / f"{shape}.yaml"
     path.write_text(yaml.safe_dump(SHAPES[shape], default_flow_style=None))
     code, out, wall, peak_kb = _run(path)
-    assert code == 3, out  # unknown: far more work than the budget
-    assert "unknown" in out and "budget" in out, out
+    if shape == "walls" and code == 1:
+        # the goal is walled off (the row y = 400 leaves only x = 999 open, the column
+        # x = 600 only y = 0): on a quiet machine the engine proves it within the budget
+        assert "unrealizable" in out and "certified" in out, out
+    else:
+        assert code == 3, out  # unknown: far more work than the budget
+        assert "unknown" in out and "budget" in out, out
     assert wall < BUDGET + 1.0, f"{shape}: answered after {wall:.2f} s with --timeout {BUDGET}"
     assert peak_kb < MEMORY_MB * 1024, f"{shape}: peak RSS {peak_kb} KB over --memory-mb {MEMORY_MB}"
 

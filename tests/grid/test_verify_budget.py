@@ -156,11 +156,14 @@ def test_grid_solve_gives_its_verifier_the_budget_left_and_reports_no_unverified
     from plansynth.grid import result
 
     # Registered for this test only (other tests list the registry's names).
-    monkeypatch.setitem(result._BACKENDS, "instant-for-verify-budget", _Instant)
-    p = grid_problem_from_dict(BIG)
-    t0 = time.perf_counter()
-    r = solve(p, "instant-for-verify-budget", Budget(seconds=1.5), program=BIG_PROGRAM)
-    wall = time.perf_counter() - t0
+    result.BACKENDS.register("instant-for-verify-budget", _Instant)
+    try:
+        p = grid_problem_from_dict(BIG)
+        t0 = time.perf_counter()
+        r = solve(p, "instant-for-verify-budget", Budget(seconds=1.5), program=BIG_PROGRAM)
+        wall = time.perf_counter() - t0
+    finally:
+        result.BACKENDS.unregister("instant-for-verify-budget")
     assert r.status is GridStatus.UNKNOWN and r.program is None and wall < 2.5, (r.status, wall)
     (attempt,) = r.attempts
     assert attempt.status is GridStatus.UNKNOWN and attempt.program is None

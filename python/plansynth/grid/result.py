@@ -12,10 +12,11 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from plansynth.budget import Budget
-from plansynth.errors import InvalidProblem, SolverUnavailable, UnknownSolver
+from plansynth.errors import InvalidProblem
 from plansynth.grid.problem import MAX_STEPS, GridProblem
 from plansynth.grid.programs import ProgramSyntaxError, Term, depth, parse_program
 from plansynth.io import parse_document, read_text, show, write_output
+from plansynth.registry import Registry
 
 
 class GridStatus(str, Enum):
@@ -66,22 +67,19 @@ class GridBackend(Protocol):
         ...
 
 
-#: The built-in backends, loaded on first use: name -> "module:factory". Importing a
-#: backend's module (and so its solver's library) happens only when that backend is
-#: asked for, whatever was imported before. A new built-in backend is one line here.
-BUILTIN_BACKENDS: dict[str, str] = {
+#: The grid backends by name (:mod:`plansynth.registry`): a built-in's module, and so its
+#: solver's library, is imported only when that backend is asked for. A new built-in
+#: backend is one line here; plugins use :func:`register_backend`.
+BACKENDS: Registry[Callable[..., GridBackend]] = Registry("grid solver", {
     "native": "plansynth.grid.backends.native:NativeBackend",
     "cvc5": "plansynth.grid.backends.cvc5:Cvc5Backend",
     "external": "plansynth.grid.backends.external:ExternalBackend",
-}
-
-#: Backends registered by :func:`register_backend` (plugins) or loaded from the table.
-_BACKENDS: dict[str, Callable[..., GridBackend]] = {}
+})
 
 
 def register_backend(name: str, factory: Callable[..., GridBackend]) -> None:
     """Make a backend available by name. ``factory(**options)`` builds it."""
-    _BACKENDS[name] = factory
+    BACKENDS.register(name, factory, replace_existing=True)
 
 
 def backend_names() -> list[str]:
@@ -90,7 +88,7 @@ def backend_names() -> list[str]:
     >>> {"native", "cvc5", "external"} <= set(backend_names())
     True
     """
-    return sorted({*BUILTIN_BACKENDS, *_BACKENDS})
+    return sorted(BACKENDS.names())
 
 
 def backend_factory(name: str) -> Callable[..., GridBackend]:
@@ -99,19 +97,7 @@ def backend_factory(name: str) -> Callable[..., GridBackend]:
     Raises :class:`~plansynth.errors.UnknownSolver` (a ``SolverUnavailable``) listing the
     known names when there is none.
     """
-    if name in _BACKENDS:
-        return _BACKENDS[name]
-    if name not in BUILTIN_BACKENDS:
-        raise UnknownSolver("grid solver", name, backend_names())
-    import importlib
-
-    module, attribute = BUILTIN_BACKENDS[name].split(":")
-    try:
-        factory = getattr(importlib.import_module(module), attribute)
-    except ModuleNotFoundError as exc:  # the backend exists but a library it needs does not
-        raise SolverUnavailable(name, f"it needs the Python module {exc.name!r}; install it") from exc
-    _BACKENDS.setdefault(name, factory)
-    return _BACKENDS[name]
+    return BACKENDS.get(name)
 
 
 def get_backend(name: str, **options: Any) -> GridBackend:

@@ -106,16 +106,14 @@ def solve(
         if clock.exhausted():
             notes.append(f"the budget ran out before l = {l}")
             break
-        remaining = clock.remaining()
-        sub = Budget(seconds=None if math.isinf(remaining) else max(remaining, 1e-3), memory_mb=budget.memory_mb)
-        outcome = backend.solve_length(problem, l, sub, depth_bound=depth_bound)
+        outcome = backend.solve_length(problem, l, clock.left(), depth_bound=depth_bound)
         clock.tick()
         if outcome.status is GridStatus.UNREALIZABLE:
             outcome = _certified(problem, backend.name, outcome, clock, budget, depth_bound)
         if outcome.status is GridStatus.REALIZABLE:
             assert outcome.program is not None, f"backend {backend.name} said realizable without a program"
             started = time.perf_counter()
-            verdict = verify(problem, outcome.program, l, budget=_left(clock, budget))
+            verdict = verify(problem, outcome.program, l, budget=clock.left())
             counters = {**outcome.counters, "verify_seconds": round(time.perf_counter() - started, 6),
                         "verify_states": verdict.states_explored}
             if verdict.status is VerifyStatus.UNKNOWN:
@@ -160,12 +158,6 @@ def solve(
     return result(GridStatus.UNKNOWN, message="; ".join(unknown + notes) or "no answer")
 
 
-def _left(clock: Any, budget: Budget) -> Budget:
-    """The part of ``budget`` that ``clock`` has left (at least a millisecond), with its memory."""
-    remaining = clock.remaining()
-    return Budget(seconds=None if math.isinf(remaining) else max(remaining, 1e-3), memory_mb=budget.memory_mb)
-
-
 def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, clock: Any, budget: Budget,
                depth_bound: int | None) -> LengthOutcome:
     """``outcome`` (an unrealizable claim by ``claimant``) re-decided by the native
@@ -180,15 +172,14 @@ def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, cloc
     if remaining <= 0:
         return replace(outcome, status=GridStatus.UNKNOWN,
                        message=f"{claimant} claims unrealizable at l = {l}, not certified: the budget ran out")
-    sub = Budget(seconds=None if math.isinf(remaining) else remaining, memory_mb=budget.memory_mb)
     started = time.perf_counter()
-    check = get_backend(CERTIFIER).solve_length(problem, l, sub, depth_bound=depth_bound)
+    check = get_backend(CERTIFIER).solve_length(problem, l, clock.left(), depth_bound=depth_bound)
     counters = {**outcome.counters, "certify_seconds": round(time.perf_counter() - started, 6)}
     if check.status is GridStatus.UNREALIZABLE:
         return replace(outcome, counters={**counters, "certified_by": CERTIFIER})
     fits = check.program is not None and (depth_bound is None or depth(check.program) <= depth_bound)
     if check.status is GridStatus.REALIZABLE and fits:
-        verdict = verify(problem, check.program, l, budget=_left(clock, budget))
+        verdict = verify(problem, check.program, l, budget=clock.left())
         if verdict.status is VerifyStatus.WINS:
             return replace(outcome, status=GridStatus.UNKNOWN, counters=counters, message=(
                 f"BACKEND ERROR: {claimant} claims unrealizable at l = {l}, but the native engine finds the "

@@ -1,2 +1,2 @@
-"""Grid solver backends, one module each (STYLE.md, point 5). Importing a module
-registers its backend with :func:`plansynth.grid.result.register_backend`."""
+"""Grid solver backends, one module each (STYLE.md, point 5), named in
+:data:`plansynth.grid.result.BACKENDS` and imported when asked for by name."""

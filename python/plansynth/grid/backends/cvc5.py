@@ -27,7 +27,7 @@ from plansynth.errors import InvalidProblem
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
 from plansynth.isolate import Crash, Finished, preload, run_isolated
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
+from plansynth.grid.result import GridStatus, LengthOutcome
 from plansynth.grid.sygus import compile_sygus
 
 __all__ = ["Cvc5Backend", "run_sygus_text", "run_smt_text", "cvc5_version", "parse_options", "check_options"]
@@ -172,5 +172,3 @@ class Cvc5Backend:
         return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
                              message=f"cvc5 ran out of the time budget ({budget.seconds:.3g} s)", artefact=artefact)
 
-
-register_backend("cvc5", Cvc5Backend)

@@ -31,7 +31,7 @@ from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.result import GridStatus, LengthOutcome, register_backend
+from plansynth.grid.result import GridStatus, LengthOutcome
 from plansynth.grid.sygus import compile_sygus
 from plansynth.io import write_output
 
@@ -176,5 +176,3 @@ def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | N
     out, err = (bytes(buffers[fd]).decode("utf-8", errors="replace") for fd in (fd_out, fd_err))
     return status, out, err, proc.returncode
 
-
-register_backend("external", ExternalBackend)

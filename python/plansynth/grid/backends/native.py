@@ -16,7 +16,7 @@ from plansynth.budget import Budget
 from plansynth.grid.native.engine import Engine
 from plansynth.grid.native.options import InvalidOption, NativeOptions
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.result import LengthOutcome, register_backend
+from plansynth.grid.result import LengthOutcome
 
 __all__ = ["NativeBackend", "InvalidOption"]
 
@@ -29,7 +29,7 @@ class NativeBackend:
     def __init__(self, options: NativeOptions | list[str] | tuple[str, ...] = (), **kwargs: Any) -> None:
         if isinstance(options, NativeOptions):
             if kwargs:
-                raise InvalidOption("give the native options as one NativeOptions or as keywords, not both")
+                raise InvalidOption("native", "options", "give the native options as one NativeOptions or as keywords, not both")
             self.options = options
         else:
             self.options = NativeOptions.parse(options, **kwargs)
@@ -45,5 +45,3 @@ class NativeBackend:
     def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
         return self._engine.solve_length(problem, steps, budget, depth_bound=depth_bound)
 
-
-register_backend("native", NativeBackend)

@@ -102,7 +102,7 @@ class Engine:
 
     def __init__(self, options: NativeOptions | None = None, **values: Any) -> None:
         if options is not None and values:
-            raise InvalidOption("give the native options as one NativeOptions or as keywords, not both")
+            raise InvalidOption("native", "options", "give the native options as one NativeOptions or as keywords, not both")
         self.options = options if options is not None else NativeOptions.parse(**values)
 
     def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:

@@ -8,7 +8,7 @@ validates. :meth:`Planner.configure` builds the options value once from names an
 values; an option the planner does not take is an error
 (:class:`~plansynth.errors.InvalidOption`), never dropped.
 
-One table names every planner (:data:`_PLANNERS`); each entry is ``"module:attribute"``,
+One registry names every planner (:data:`PLANNERS`); each entry is ``"module:attribute"``,
 imported on first use (:func:`get_planner`), so every name works whatever was imported
 before, and a planner's libraries load only when it is asked for. Modules:
 
@@ -28,13 +28,13 @@ no fallback from one planner to another: an unknown name is an error
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from dataclasses import dataclass, fields, is_dataclass, replace
 from typing import Any, Protocol
 
 from plansynth.budget import Budget
-from plansynth.errors import InvalidOption, SolverUnavailable, UnknownSolver
+from plansynth.errors import InvalidOption
+from plansynth.registry import Registry, package_version
 
 __all__ = ["Planner", "OptionsPlanner", "planners", "get_planner", "register_planner", "package_version",
            "SHARED_OPTIONS"]
@@ -65,20 +65,6 @@ class Planner(Protocol):
         """Plan ``problem`` within ``budget`` (a ``ReachResult``, not yet validated);
         ``abstraction``: a decomposition computed before (an input, not an option)."""
         ...
-
-
-def package_version(package: str) -> str:
-    """``"package version"``, or the package name alone when it is not installed.
-
-    >>> package_version("plansynth-no-such-package")
-    'plansynth-no-such-package'
-    """
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return f"{package} {version(package)}"
-    except PackageNotFoundError:
-        return package
 
 
 @dataclass(frozen=True)
@@ -146,10 +132,11 @@ def keyword_runner(function: Callable[..., Any], *, progress: bool) -> Callable[
 
 
 #: Every planner :func:`plansynth.reach.solve` knows, in the order :func:`planners`
-#: lists them: a name maps to ``"module:attribute"`` (loaded on first use) or to a
-#: planner itself. A new built-in planner is one line here; plugins use
-#: :func:`register_planner`.
-_PLANNERS: dict[str, str | Planner | Callable[..., Any]] = {
+#: lists them (:mod:`plansynth.registry`): a name maps to ``"module:attribute"`` (loaded
+#: on first use) or to a planner itself. A new built-in planner is one line here;
+#: plugins use :func:`register_planner`. The baselines' libraries (OMPL, Drake) come
+#: with the ``baselines`` extra.
+PLANNERS: Registry[Planner | Callable[..., Any]] = Registry("planner", {
     "lazy-smt": "plansynth.reach.planners.lazy_smt:LAZY_SMT",
     "milp": "plansynth.reach.planners.milp:MILP",
     "lazy-smt-paper": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER",
@@ -163,14 +150,12 @@ _PLANNERS: dict[str, str | Planner | Callable[..., Any]] = {
     "gcs": "plansynth.reach.planners.gcs:GCS",  # Drake's Graphs of Convex Sets
     "milp-ltl": "plansynth.reach.mission.milp:MILP_LTL",  # LTL missions: one big-M MILP per horizon
     "milp-ltl-oneshot": "plansynth.reach.mission.milp:MILP_LTL_ONESHOT",  # one MILP at the max horizon
-}
+}, extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs")})
 
 
 def register_planner(name: str, planner: Planner | Callable[..., Any], *, replace_existing: bool = False) -> None:
     """Make ``planner`` available to :func:`plansynth.reach.solve` as ``name``."""
-    if name in _PLANNERS and not replace_existing:
-        raise ValueError(f"a planner named {name!r} is already registered")
-    _PLANNERS[name] = planner
+    PLANNERS.register(name, planner, replace_existing=replace_existing)
 
 
 def planners() -> tuple[str, ...]:
@@ -179,14 +164,15 @@ def planners() -> tuple[str, ...]:
     >>> planners()
     ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot')
     """
-    return tuple(_PLANNERS)
+    return PLANNERS.names()
 
 
 def get_planner(name: str) -> Planner | Callable[..., Any]:
     """The planner called ``name``, importing its module on first use.
 
     An unknown name raises :class:`~plansynth.errors.UnknownSolver` (a ``ValueError``
-    and a ``SolverUnavailable``) that lists every known name.
+    and a ``SolverUnavailable``) that lists every known name; a baseline whose library
+    is not installed raises :class:`~plansynth.errors.SolverUnavailable` naming the extra.
 
     >>> get_planner("milp").name, get_planner("milp").version().split()[0]
     ('milp', 'highspy')
@@ -195,14 +181,4 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     ...
     plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot
     """
-    entry = _PLANNERS.get(name)
-    if entry is None:
-        raise UnknownSolver("planner", name, planners())
-    if isinstance(entry, str):
-        module, attribute = entry.split(":")
-        try:
-            entry = getattr(importlib.import_module(module), attribute)
-        except ModuleNotFoundError as exc:  # the planner exists but a library it needs does not
-            raise SolverUnavailable(name, f"it needs the Python module {exc.name!r}; install it") from exc
-        _PLANNERS[name] = entry
-    return entry
+    return PLANNERS.get(name)
