@@ -417,7 +417,7 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
                 L.append(f"Decided by one side only ({len(h['bounds'])} instances; ratio bounds from the time limit): "
                          + "; ".join(f"{e.split('/')[-1]} {s} {v:.3g}x" for v, e, s in h["bounds"]) + ".")
             L.append("")
-        from plansynth.bench.families import _PAPER_GRID
+        from plansynth.bench.families import PAPER_GRID_SECONDS
 
         for fam, caption, pname in GRID_FIGURES:
             insts = _instances(cells, fam)
@@ -428,7 +428,7 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
             L.extend(_grid_table(cells, insts, grid_planners, paper=True))
             L.append("")
             png = f"grid-{fam}.png"
-            paper = {float(k): v for k, v in _PAPER_GRID[fam].items() if v is not None}
+            paper = {float(k): v for k, v in PAPER_GRID_SECONDS[fam].items() if v is not None}
             if _plot_family(cells, fam, grid_planners, f"Grid, {caption} ({fam})", pname, out / png, paper):
                 L.append(f"![{caption}]({image_prefix}{png})")
                 figs.append(png)
