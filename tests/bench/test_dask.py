@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from plansynth.bench.db import ResultsDB
 from plansynth.bench.families import grid_family
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 
 
 def test_sweep_on_local_cluster_with_two_worker_processes(tmp_path):
@@ -20,3 +21,4 @@ def test_sweep_on_local_cluster_with_two_worker_processes(tmp_path):
         runs = {r["planner"]: r for r in db.runs()}
     assert runs["native"]["status"] == "solved" and runs["native"]["valid"] == 1
     assert runs["debug-ok"]["status"] == "solved"
+

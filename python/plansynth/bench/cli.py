@@ -68,9 +68,6 @@ def _options(items: list[str]) -> dict[str, dict[str, str]]:
     return out
 
 
-DEBUG_SOLVERS = ("debug-ok", "debug-sleep", "debug-crash", "debug-raise", "debug-memory")
-
-
 def _refuse(option: str, reason: str) -> None:
     """One line naming the option and the reason; exit 2 before anything is written."""
     console.print(f"[red]error: {option}: {reason}", highlight=False, soft_wrap=True)
@@ -96,6 +93,8 @@ def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: i
     flag = "--solvers" if kind == "grid" else "--planners"
     if not solvers:
         _refuse(flag, "give at least one name")
+    from plansynth.bench.execute import DEBUG_SOLVERS
+
     known = _known_solvers(kind)
     for name in solvers:
         if name not in known and name not in DEBUG_SOLVERS:
@@ -116,7 +115,8 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
            timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
            retry: str = "", options: Optional[list[str]] = None, states: Optional[list[int]] = None) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
-    from plansynth.bench.runner import make_tasks, run_sweep
+    from plansynth.bench.runner import run_sweep
+    from plansynth.bench.tasks import make_tasks
 
     _check_arguments(kind, solvers, timeout=timeout, repeat=repeat, jobs=jobs, memory=memory, orders=orders)
 

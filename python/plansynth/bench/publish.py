@@ -24,7 +24,8 @@ from typing import Any
 
 from plansynth.bench.families import CLI_TIMED_FAMILIES, GRID_FAMILIES, family
 from plansynth.bench.report import CX_VARIANTS
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 from plansynth.io import write_output
 
 __all__ = ["published_tasks", "publish"]
