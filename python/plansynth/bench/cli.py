@@ -158,6 +158,7 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
                        options=solver_options)
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
+    from plansynth.bench.errors import ClusterUnreachable
     from plansynth.errors import OutputUnwritable
 
     try:
@@ -165,6 +166,8 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     except OutputUnwritable as exc:  # the database (not SQLite, a folder that does not exist)
         console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
+    except ClusterUnreachable as exc:  # no scheduler answers: refused before the database is touched
+        _refuse("--cluster", str(exc))
     except KeyboardInterrupt:
         console.print(f"[yellow]interrupted: every finished run is kept in {db}; rerun the same command to resume")
         raise typer.Exit(130) from None
@@ -285,9 +288,13 @@ def publish_cmd(
 
     Example: plansynth bench publish            # resumable; rerun to continue
     """
+    from plansynth.bench.errors import ClusterUnreachable
     from plansynth.bench.publish import publish
 
     with _outputs_checked(out):
-        path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
-                       jobs=jobs, cluster=cluster)
+        try:
+            path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
+                           jobs=jobs, cluster=cluster)
+        except ClusterUnreachable as exc:
+            _refuse("--cluster", str(exc))
     console.print(f"wrote {path}")

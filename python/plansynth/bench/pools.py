@@ -6,6 +6,10 @@ them to a Dask cluster (:func:`connect`), whose workers isolate every run in a c
 process again. Both record each run the moment it finishes and, on Ctrl-C
 (KeyboardInterrupt), drop what is queued, kill what runs, keep what finished and raise
 again.
+
+:func:`connect` gives up on a scheduler address after :data:`CONNECT_SECONDS`, with
+:class:`~plansynth.bench.errors.ClusterUnreachable` naming the address and the reason
+(Dask's own default waits 30 s and ends in a traceback).
 """
 
 from __future__ import annotations
@@ -16,8 +20,12 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from typing import Any
 
 from plansynth.bench.child import run_task
+from plansynth.bench.errors import ClusterUnreachable
 
-__all__ = ["run_local", "connect", "run_on_cluster", "settled"]
+__all__ = ["run_local", "connect", "run_on_cluster", "settled", "CONNECT_SECONDS", "PROBE_SECONDS"]
+
+#: How long :func:`connect` waits for a Dask scheduler to answer.
+CONNECT_SECONDS = 3.0
 
 
 def run_local(todo: Sequence[Mapping[str, Any]], jobs: int, record: Callable[..., None], bar: Any) -> None:
@@ -68,9 +76,11 @@ def settled(fut: Any, task: Mapping[str, Any]) -> dict[str, Any] | None:
         return {"status": "crash", "solved": 0, "message": f"runner error: {type(exc).__name__}: {exc}"[:4000]}
 
 
-def connect(cluster: str | Any) -> tuple[Any, bool]:
+def connect(cluster: str | Any, seconds: float = CONNECT_SECONDS) -> tuple[Any, bool]:
     """A ``distributed.Client`` for ``cluster`` (a scheduler address, or a client, used as
-    it is), and whether it is ours to close."""
+    it is), and whether it is ours to close. An address that no scheduler answers within
+    ``seconds`` (or that is not an address) is :class:`ClusterUnreachable`, whose reason
+    comes from one plain connection attempt made after the client gave up."""
     try:
         from distributed import Client
     except ImportError as exc:  # pragma: no cover - dask is a test/bench extra
@@ -79,7 +89,43 @@ def connect(cluster: str | Any) -> tuple[Any, bool]:
         raise SolverUnavailable("dask", 'install dask.distributed: pip install "dask[distributed]"') from exc
     if isinstance(cluster, Client):
         return cluster, False
-    return Client(cluster), True
+    try:
+        return Client(cluster, timeout=seconds), True
+    except Exception as exc:  # noqa: BLE001 - refused, no answer, a bad address, a peer that is no scheduler
+        reason, waited = _diagnose(str(cluster), exc)
+        raise ClusterUnreachable(str(cluster), reason, seconds if waited else None) from None
+
+
+#: How long :func:`_diagnose` waits for a plain connection to say why the client failed.
+PROBE_SECONDS = 2.0
+
+
+def _diagnose(address: str, exc: BaseException) -> tuple[str, bool]:
+    """Why no scheduler answered at ``address``, in a few words, and whether the client
+    waited for it (not for a malformed address). For a TCP address, one plain connection
+    attempt tells refused (nothing listens), an unknown host and no answer apart, and a
+    peer that accepts the connection is no Dask scheduler. (Dask's own error says only
+    that time ran out.)"""
+    import socket
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, location = parse_address(address)
+        host, port = parse_host_port(location) if scheme in ("tcp", "tls") else (None, None)
+    except ValueError as bad:
+        return "not a scheduler address: " + " ".join(str(bad).split()), False
+    if host is None:  # another transport: Dask's own words
+        return " ".join(str(exc).split()) or type(exc).__name__, True
+    try:
+        socket.create_connection((host, port), timeout=PROBE_SECONDS).close()
+    except socket.gaierror as err:
+        return f"unknown host {host!r} ({err.strerror})", True
+    except TimeoutError:
+        return "no answer", True
+    except OSError as err:
+        return err.strerror or type(err).__name__, True
+    return f"it accepts connections but answers as no Dask scheduler does ({type(exc).__name__})", True
 
 
 def run_on_cluster(client: Any, todo: Sequence[Mapping[str, Any]], record: Callable[..., None], bar: Any) -> None:

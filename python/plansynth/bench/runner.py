@@ -17,7 +17,9 @@ A sweep is a list of tasks (instance x solver x repeat). :func:`run_sweep`
 - runs tasks on a local pool (``jobs`` children at once, default 1 so that timings are
   not disturbed) or on an existing Dask distributed cluster (``cluster="tcp://..."``),
   where each worker again isolates every run in a child process
-  (:mod:`plansynth.bench.pools`).
+  (:mod:`plansynth.bench.pools`); a scheduler that does not answer within a few
+  seconds is :class:`~plansynth.bench.errors.ClusterUnreachable`, before anything is
+  written.
 
 The tasks come from :func:`plansynth.bench.tasks.make_tasks`; the run inside each child
 is :func:`plansynth.bench.execute.execute`.
@@ -52,7 +54,9 @@ def run_sweep(
 
     ``cluster`` is a Dask scheduler address (or a ``distributed.Client``); without it, a
     local pool of ``jobs`` concurrent children runs the tasks. Recorded runs whose status
-    is in ``retry`` (e.g. ``("crash", "timeout")``) are run again.
+    is in ``retry`` (e.g. ``("crash", "timeout")``) are run again. A scheduler that does
+    not answer is :class:`~plansynth.bench.errors.ClusterUnreachable`, raised before the
+    database is opened.
     """
     client, owned = connect(cluster) if cluster is not None else (None, False)
     try:

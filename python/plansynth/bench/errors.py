@@ -1,0 +1,27 @@
+"""The bench's named errors: inputs it refuses before it runs or writes anything.
+
+Each is a :class:`~plansynth.errors.PlansynthError` whose message is one line
+naming what is wrong; the ``plansynth bench`` commands print it and exit with status 2.
+
+>>> str(ClusterUnreachable("tcp://127.0.0.1:1", "Connection refused", 5.0))
+'cannot reach the Dask scheduler at tcp://127.0.0.1:1: Connection refused (gave up after 5 s)'
+"""
+
+from __future__ import annotations
+
+from plansynth.errors import PlansynthError
+
+__all__ = ["ClusterUnreachable"]
+
+
+class ClusterUnreachable(PlansynthError):
+    """No Dask scheduler answers at ``address`` within ``seconds`` (None: the address is
+    not one, nothing was waited for)."""
+
+    def __init__(self, address: str, reason: str, seconds: float | None) -> None:
+        self.address = address
+        self.reason = reason
+        self.seconds = seconds
+        waited = "" if seconds is None else f" (gave up after {seconds:g} s)"
+        super().__init__(f"cannot reach the Dask scheduler at {address}: {reason}{waited}")
+
