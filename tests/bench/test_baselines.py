@@ -178,6 +178,10 @@ def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytes
     attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 60, "seed": 5, "options": {}})
     assert [name for name, _ in calls] == [planner]
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
+    # the version the run reports (the planner's own), not one guessed from its name
+    # (which made lazy-smt-paper a "plansynth" run)
+    package = {"lazy-smt-paper": "python-sat", "milp-bigm": "highspy", "rrt": "ompl"}[planner]
+    assert attrs["solver_version"].split()[0] == package, attrs["solver_version"]
     if planner == "rrt":  # the sampling planners get the run's seed in their options value
         assert calls[0][1].seed == 5
 
@@ -194,3 +198,26 @@ def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
     attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 120, "seed": 0, "options": {}})
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
     assert attrs["horizon"] == 31 and attrs["attributes"]["oracle_lp"] is None  # (a finite plan ends at rest)
+    # milp-ltl solves with HiGHS (its version was guessed as plansynth's from the name)
+    assert attrs["solver_version"].split()[0] == {"lazy-smt": "python-sat", "milp-ltl": "highspy"}[planner]
+
+
+def test_bench_records_the_version_a_reach_result_reports():
+    """The version of a reach run is the result's ``solver_version`` when it reports one,
+    else the registered planner's ``version()``; never a name-to-package guess."""
+    from plansynth.bench.execute.reach import reported_version
+    from plansynth.reach.planners import get_planner
+
+    class Reports:
+        def to_json_dict(self):
+            return {"solver_version": "highspy 0.0-test"}
+
+    class Silent:
+        def to_json_dict(self):
+            return {"versions": {"highspy": "0.0"}}
+
+    assert reported_version(Reports(), "lazy-smt-paper") == "highspy 0.0-test"
+    for name in ("lazy-smt-paper", "milp-ltl", "milp-ltl-oneshot", "lazy-smt-minimal"):
+        assert reported_version(Silent(), name) == get_planner(name).version()
+    assert reported_version(Silent(), "milp-ltl").startswith("highspy")
+    assert reported_version(Silent(), "lazy-smt-paper").startswith("python-sat")

@@ -7,6 +7,10 @@ validator's ``dynamics="curve"`` mode; a mission also by the mission checker). F
 every solved run whose regions are one per time step, the run also records
 ``oracle_lp``: the time of one cold LP over its final region sequence
 (:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with.
+
+The run's ``solver_version`` is the one the result reports (its ``solver_version``
+key), else the registered planner's own :meth:`~plansynth.reach.planners.Planner.version`
+(:func:`reported_version`): never guessed from the planner's name.
 """
 
 from __future__ import annotations
@@ -18,21 +22,34 @@ from typing import Any
 from plansynth.budget import Budget
 from plansynth.bench.tasks import wall_limit
 
-__all__ = ["run_reach", "solver_version", "REACH_SOLVERS"]
+__all__ = ["run_reach", "reported_version", "REACH_SOLVERS"]
 
 #: The reach planners the bench lists first (then every other registered planner).
 REACH_SOLVERS = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
 
 
-def solver_version(solver: str) -> str:
-    from importlib.metadata import version
+def reported_version(result: Any, planner: str) -> str | None:
+    """The solver version of a reach run: what ``result`` reports as ``solver_version``
+    in its record (:meth:`~plansynth.reach.result.ReachResult.to_json_dict`), else the
+    ``version()`` of the planner registered as ``planner`` (None for a plugin that has
+    none).
 
-    pkg = {"rrt": "ompl", "est": "ompl", "kpiece": "ompl", "milp-bigm": "highspy", "milp": "highspy",
-           "lazy-smt": "python-sat", "native": "plansynth", "cvc5": "cvc5", "gcs": "drake"}.get(solver, "plansynth")
-    try:
-        return f"{pkg} {version(pkg)}"
-    except Exception:
-        return pkg
+    >>> class Result:
+    ...     def to_json_dict(self): return {"solver_version": "highspy 9.9"}
+    >>> reported_version(Result(), "milp")
+    'highspy 9.9'
+    >>> class Older:
+    ...     def to_json_dict(self): return {"versions": {}}
+    >>> reported_version(Older(), "milp-ltl").split()[0]
+    'highspy'
+    """
+    reported = result.to_json_dict().get("solver_version")
+    if reported:
+        return str(reported)
+    from plansynth.reach.planners import get_planner
+
+    version = getattr(get_planner(planner), "version", None)
+    return str(version()) if callable(version) else None
 
 
 def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
@@ -91,7 +108,7 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         "lp_calls": c.get("lp_calls"),
         "sat_calls": c.get("sat_calls"),
         "regions": c.get("regions"),
-        "solver_version": solver_version(solver),
+        "solver_version": reported_version(res, solver),
         "message": (res.message or "")[:2000],
         "attributes": {"counters": {k: v for k, v in c.items() if isinstance(v, (int, float, str))},
                        "timings": timings, "seed": seed, "oracle_lp": oracle,
