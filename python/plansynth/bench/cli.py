@@ -241,6 +241,25 @@ def _outputs_checked(folder: Path) -> Iterator[None]:
         raise typer.Exit(2) from None
 
 
+def _require_runs(db: Path) -> None:
+    """One line and exit 2, before any output is written, when ``db`` does not exist, is
+    not a results database or holds no run (a report of nothing is not a report)."""
+    from plansynth.bench.db import ResultsDB
+    from plansynth.bench.errors import NoRuns
+    from plansynth.errors import OutputUnwritable
+
+    if not db.exists():
+        console.print(f"[red]{db}: no such results database")
+        raise typer.Exit(2)
+    try:
+        with ResultsDB(db) as d:
+            if d.run_count() == 0:
+                raise NoRuns(str(db))
+    except (OutputUnwritable, NoRuns) as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+
+
 @app.command("report")
 def report_cmd(
     db: Path = DB_OPTION,
@@ -252,9 +271,7 @@ def report_cmd(
     """
     from plansynth.bench.report import write_report
 
-    if not db.exists():
-        console.print(f"[red]{db}: no such results database")
-        raise typer.Exit(2)
+    _require_runs(db)
     with _outputs_checked(out):
         path = write_report(db, out)
     console.print(f"wrote {path} and {len(list(out.glob('*.png')))} plots")
@@ -291,6 +308,8 @@ def publish_cmd(
     from plansynth.bench.errors import ClusterUnreachable
     from plansynth.bench.publish import publish
 
+    if report_only:
+        _require_runs(db)
     with _outputs_checked(out):
         try:
             path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,

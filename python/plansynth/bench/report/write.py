@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from plansynth.bench.db import ResultsDB
+from plansynth.bench.errors import NoRuns
 from plansynth.bench.report.cells import summarise
 from plansynth.bench.report.grid import grid_section
 from plansynth.bench.report.reach import reach_section
@@ -24,16 +25,20 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
     """Write ``out_dir/REPORT.md`` and its PNG figures from the database; returns the path.
 
     ``planned`` (resume keys) lets the report list the runs that are missing. Images
-    are referred to as ``image_prefix + name`` (for a report that lives elsewhere).
+    are referred to as ``image_prefix + name`` (for a report that lives elsewhere). A
+    database without a run is :class:`~plansynth.bench.errors.NoRuns`, and nothing is
+    written.
     """
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     with ResultsDB(db_path) as db:
         runs = db.runs()
         info = db.info()
         if planned is None and "planned" in info:
             planned = [tuple(k) for k in json.loads(info["planned"])]  # type: ignore[misc]
         done = db.done_keys()
+    if not runs:
+        raise NoRuns(str(db_path))
+    out.mkdir(parents=True, exist_ok=True)
     cells = summarise(runs)
     machine = json.loads(info.get("machine", "{}"))
     L: list[str] = [f"# {title}", ""]
