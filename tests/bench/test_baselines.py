@@ -159,7 +159,7 @@ def test_baselines_are_planners_of_reach_solve():
 
 @pytest.mark.parametrize("planner", ["lazy-smt-paper", "milp-bigm", "rrt"])
 def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    """One path (issue 12): bench's run of any planner is reach.solve()'s answer, validated there."""
+    """One path: bench's run of any planner is reach.solve()'s answer, validated there."""
     import importlib
 
     from plansynth.bench.execute import execute
@@ -188,7 +188,7 @@ def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytes
 
 @pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
 def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
-    """The missions family (issue 14) through the bench: solved and validated, no oracle
+    """The missions family through the bench: solved and validated, no oracle
     LP (the reach-avoid oracle indexes the unlabelled abstraction and has no loop closure;
     it crashed every mission run)."""
     from plansynth.bench.execute import execute

@@ -1,4 +1,4 @@
-"""Runs timed through the CLI (issue 11's Targets): a fresh ``plansynth grid solve``
+"""Runs timed through the CLI (their timing targets): a fresh ``plansynth grid solve``
 process per run, its wall clock beside the solve time, the budget check T + 1 s."""
 
 from __future__ import annotations

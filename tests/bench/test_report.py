@@ -169,7 +169,7 @@ def test_the_missions_table_adds_the_one_shot_baseline_with_its_horizon(tmp_path
 
 
 def test_the_published_missions_run_gives_the_baseline_time_to_finish():
-    """A measured milp-ltl time, not a timeout bound, makes the speed-up honest (issue 14)."""
+    """A measured milp-ltl time, not a timeout bound, makes the speed-up honest."""
     from plansynth.bench.publish import MISSIONS_TIMEOUT, published_tasks
 
     tasks = [t for t in published_tasks(part="reach") if "/missions/" in t["experiment"]]
@@ -178,7 +178,7 @@ def test_the_published_missions_run_gives_the_baseline_time_to_finish():
 
 
 def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
-    """The GCS paper's mazes (issue 13, item 8): regions, lazy-smt's time, horizon and
+    """The GCS paper's mazes: regions, lazy-smt's time, horizon and
     work, gcs's time and curve duration, and gcs with no answer shown as such."""
     from plansynth.bench.report.gcs import gcs_maze_table
 

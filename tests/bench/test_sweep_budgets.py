@@ -1,4 +1,4 @@
-"""Bench sweeps (issue 10, item 7): the resume key includes the budget, and the sweep's
+"""Bench sweeps: the resume key includes the budget, and the sweep's
 arguments are checked before anything is run or written."""
 
 from __future__ import annotations

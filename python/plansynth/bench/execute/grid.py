@@ -27,7 +27,7 @@ __all__ = ["run_grid", "BUDGET_SLACK_SECONDS"]
 
 
 #: Slack of the budget check: a run through the CLI keeps ``--timeout T`` when its whole
-#: process (start-up included) ends within T + 1 s (issue 11, Targets: "at most T + 1 s").
+#: process (start-up included) ends within T + 1 s (the CLI timing target: "at most T + 1 s").
 BUDGET_SLACK_SECONDS = 1.0
 
 
@@ -56,7 +56,7 @@ def _cli_command(solver: str, problem_file: str, out: str, timeout: float, optio
 
 def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     """One run of ``plansynth grid solve FILE --timeout T`` in a fresh process, as a user
-    runs it (issue 11, Targets): ``cli_wall`` is that process's wall clock from spawn
+    runs it (the CLI timing targets): ``cli_wall`` is that process's wall clock from spawn
     to exit, start-up included; ``time`` is the solve time the result file reports.
     The answer, program, depth, ``depth_minimal`` and verification are read from the
     result file (the CLI runs the independent verifier before writing it)."""

@@ -72,7 +72,7 @@ def reactive_suite() -> list[Instance]:
 
 
 #: Grid families timed through the command line in a fresh process (start-up included),
-#: as issue 11's targets are stated; see :mod:`plansynth.bench.execute`.
+#: as their timing targets are stated; see :mod:`plansynth.bench.execute.grid`.
 CLI_TIMED_FAMILIES = frozenset({"reactive-suite", "doors", "doors-rush", "doors-jam", "patrols", "patrols-walk"})
 
 

@@ -114,7 +114,7 @@ def _door(steps: int, stall: bool = False, height: int = 11) -> dict[str, Any]:
 
 
 def _scale(size: int) -> dict[str, Any]:
-    """Beyond the paper (issue: 64 x 64, l = 60): a size x size grid, robot (2,2) ->
+    """Beyond the paper (64 x 64, l = 60): a size x size grid, robot (2,2) ->
     (size/2, size/2), eight [stay, up, down] obstacles on a diagonal that can all reach
     the robot's possible paths in time (examples/grid/scale64.yaml for size 64)."""
     half = size // 2

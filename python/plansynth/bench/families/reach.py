@@ -71,7 +71,7 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     elif name == "random":
         for s in values or [0, 1, 2, 3, 4]:
             out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))
-    elif name == "missions":  # LTL missions (issue 14): three per maze, values are passage counts
+    elif name == "missions":  # LTL missions: three per maze, values are passage counts
         from plansynth.reach.mission.families import MISSIONS
 
         for n in values or [1, 2, 3, 4]:

@@ -143,7 +143,7 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
                    "budget_kept": [bool((r.get("attributes") or {}).get("budget_kept")) for r in rs
                                    if "budget_kept" in (r.get("attributes") or {})],
                    "depth_minimal": (first.get("attributes") or {}).get("depth_minimal"),
-                   # the lazy planner's minimality claim (issue 13): proved? for what? how many probes?
+                   # the lazy planner's minimality claim: proved? for what? how many probes?
                    "minimal": {k: ((first.get("attributes") or {}).get("counters") or {}).get(k)
                                for k in ("minimal", "minimal_relative_to", "minimal_probes")},
                    "regions": first.get("regions"),

@@ -46,7 +46,7 @@ def gcs_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, 
 
 
 def gcs_maze_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
-    """The GCS paper's n x n mazes (issue 13, item 8): lazy-smt and gcs on the same
+    """The GCS paper's n x n mazes: lazy-smt and gcs on the same
     instances in the same run."""
     insts = sorted(instances_of(cells, "gcs-maze"), key=lambda es: int(es[1]["params"]["n"]))
     if not insts:

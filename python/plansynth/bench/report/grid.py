@@ -139,7 +139,7 @@ def grid_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str,
 
 
 def paper_regression(cells: Mapping[tuple[str, str], Cell], planner: str = "native") -> str:
-    """Issue 11's "no regression on the paper's families": every instance solved in under
+    """The target "no regression on the paper's families": every instance solved in under
     1 s (median solve time) with a program no deeper than the paper's; one line."""
     got = [(setup["name"], cells[(exp, planner)]) for f in PAPER_FAMILIES for exp, setup in instances_of(cells, f)
            if (exp, planner) in cells]

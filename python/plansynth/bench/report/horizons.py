@@ -14,7 +14,7 @@ __all__ = ["minimal_table"]
 
 
 def minimal_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, dict[str, Any]]]) -> list[str]:
-    """The proved-minimal horizon (issue 13, item 3): ``lazy-smt-minimal`` (the window
+    """The proved-minimal horizon: ``lazy-smt-minimal`` (the window
     search, then the re-timing and probes of ``horizon_search="minimal"``) beside the
     default window search, with what the minimality holds for."""
     if not any((e, "lazy-smt-minimal") in cells for e, _ in mazes):

@@ -15,7 +15,7 @@ __all__ = ["missions_table"]
 
 
 def missions_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
-    """LTL missions on the mazes (issue 14): lazy-smt against the milp-ltl baseline.
+    """LTL missions on the mazes: lazy-smt against the milp-ltl baseline.
     Beside the baseline's total, the seconds HiGHS spent in its MILP solves
     (``timings["milp_solve"]``): the rest of its total is mostly building the models."""
     insts = instances_of(cells, "missions")

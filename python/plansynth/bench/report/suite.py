@@ -55,7 +55,7 @@ def _answer(c: Cell | None) -> str:
 
 def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str, dict[str, Any]]],
                  planners: Sequence[str]) -> list[str]:
-    """Per instance and solver (issue 11, Targets): the wall time of the run through the
+    """Per instance and solver (the CLI timing targets): the wall time of the run through the
     CLI in a fresh process (start-up included), the solve time the result reports, the
     answer and whether it matches the certified label, the program depth, depth minus
     the label's witness depth, ``depth_minimal``, and whether ``--timeout T`` was kept
@@ -107,7 +107,7 @@ def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str
 
 def _suite_summary(planner: str, sm: Mapping[str, list[Any]]) -> str:
     """One line: correct answers, median and max CLI wall, depth against the witnesses,
-    budgets kept (issue 11's Targets, in the order it states them)."""
+    budgets kept (the CLI timing targets, in the order they are stated)."""
     wall = (f"wall through the CLI median {fmt(statistics.median(sm['wall']))} s, max {fmt(max(sm['wall']))} s"
             if sm["wall"] else "no CLI wall recorded")
     dd = (f"depth - witness depth median {statistics.median(sm['dd']):+g}, max {max(sm['dd']):+d} "
