@@ -79,10 +79,10 @@ def _known_solvers(kind: str) -> list[str]:
         from plansynth.grid.result import backend_names
 
         return list(backend_names())
-    from plansynth.bench.execute import REACH_SOLVERS
+    from plansynth.bench.solvers import REACH_ORDER
     from plansynth.reach.solve import planners
 
-    return list(dict.fromkeys([*REACH_SOLVERS, *planners()]))
+    return list(dict.fromkeys([*REACH_ORDER, *planners()]))
 
 
 def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: int, jobs: int, memory: int,
@@ -241,9 +241,10 @@ def _outputs_checked(folder: Path) -> Iterator[None]:
         raise typer.Exit(2) from None
 
 
-def _require_runs(db: Path) -> None:
+def _require_runs(db: Path, out: Path) -> None:
     """One line and exit 2, before any output is written, when ``db`` does not exist, is
-    not a results database or holds no run (a report of nothing is not a report)."""
+    not a results database or holds no run (a report of nothing is not a report). An
+    output ``out`` that is a file is left to the folder check, which names it first."""
     from plansynth.bench.db import ResultsDB
     from plansynth.bench.errors import NoRuns
     from plansynth.errors import OutputUnwritable
@@ -251,6 +252,8 @@ def _require_runs(db: Path) -> None:
     if not db.exists():
         console.print(f"[red]{db}: no such results database")
         raise typer.Exit(2)
+    if out.exists() and not out.is_dir():
+        return
     try:
         with ResultsDB(db) as d:
             if d.run_count() == 0:
@@ -271,7 +274,7 @@ def report_cmd(
     """
     from plansynth.bench.report import write_report
 
-    _require_runs(db)
+    _require_runs(db, out)
     with _outputs_checked(out):
         path = write_report(db, out)
     console.print(f"wrote {path} and {len(list(out.glob('*.png')))} plots")
@@ -309,7 +312,7 @@ def publish_cmd(
     from plansynth.bench.publish import publish
 
     if report_only:
-        _require_runs(db)
+        _require_runs(db, out)
     with _outputs_checked(out):
         try:
             path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
