@@ -30,10 +30,10 @@ from typing import Any
 
 from plansynth.bench.execute.debug import DEBUG_SOLVERS, run_debug
 from plansynth.bench.execute.grid import run_grid
-from plansynth.bench.execute.reach import REACH_SOLVERS, run_reach
+from plansynth.bench.execute.reach import run_reach
 from plansynth.bench.families.instance import instance_from_task
 
-__all__ = ["execute", "DEBUG_SOLVERS", "REACH_SOLVERS"]
+__all__ = ["execute", "DEBUG_SOLVERS"]
 
 
 def _peak_memory_mb() -> float:

@@ -22,10 +22,7 @@ from typing import Any
 from plansynth.budget import Budget
 from plansynth.bench.tasks import wall_limit
 
-__all__ = ["run_reach", "reported_version", "REACH_SOLVERS"]
-
-#: The reach planners the bench lists first (then every other registered planner).
-REACH_SOLVERS = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
+__all__ = ["run_reach", "reported_version"]
 
 
 def reported_version(result: Any, planner: str) -> str | None:

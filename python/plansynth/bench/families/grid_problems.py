@@ -154,7 +154,6 @@ def _reactive_suite(name: str, **_: Any) -> dict[str, Any]:
     return doc
 
 
-
 def _lanes(lanes: int, steps: int | None = None) -> dict[str, Any]:
     """Several lanes of cars to cross: a 9-wide corridor going up through ``lanes`` roads
     (rows 2, 4, ...), each with one car driving right or left at one or two cells per step
@@ -220,7 +219,6 @@ def _patrols(roads: int, run: bool = True, width: int = 11) -> dict[str, Any]:
     name = f"patrols-{roads}" if run else f"patrols-walk-{roads}"
     return _grid_doc(width, height, (mid, 0), (mid, height - 1), guards, steps=4 * roads + 8, walls=walls,
                      robot_moves=moves, name=name)
-
 
 
 def _field30(lanes: int, steps: int, *, cars: str) -> dict[str, Any]:

@@ -103,7 +103,6 @@ def status_summary(statuses: Mapping[str, int]) -> str:
     return ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
 
 
-
 def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
     """(experiment, planner) -> :class:`Cell`."""
     groups: dict[tuple[str, str], list[Mapping[str, Any]]] = defaultdict(list)

@@ -16,6 +16,7 @@ from plansynth.bench.report.cells import Cell, fmt, instances_of, planners_of
 from plansynth.bench.report.plots import plot_bars, plot_family
 from plansynth.bench.report.ratios import headline, ratio
 from plansynth.bench.report.suite import cli_timed_sections
+from plansynth.bench.solvers import GRID_ORDER
 
 __all__ = ["grid_section", "grid_table", "paper_regression", "GRID_FIGURES", "REACTIVE", "PAPER_FIG6"]
 
@@ -33,7 +34,7 @@ PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0
 def grid_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix: str) -> list[str]:
     """The grid half's Markdown lines (figures written under ``out``, referred to as
     ``image_prefix + name``); none without a grid run."""
-    grid_planners = planners_of(cells, "grid/", ["native", "cvc5", "external"])
+    grid_planners = planners_of(cells, "grid/", GRID_ORDER)
     if not grid_planners:
         return []
     L: list[str] = []

@@ -16,12 +16,9 @@ from plansynth.bench.report.gcs import gcs_maze_table, gcs_table
 from plansynth.bench.report.horizons import minimal_table
 from plansynth.bench.report.mazes import table_one
 from plansynth.bench.report.missions import missions_table
+from plansynth.bench.solvers import REACH_ORDER
 
-__all__ = ["reach_section", "REACH_ORDER"]
-
-
-#: The reach planners in table order (others follow, sorted).
-REACH_ORDER = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
+__all__ = ["reach_section"]
 
 
 def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix: str) -> list[str]:
