@@ -8,7 +8,10 @@
 - :mod:`plansynth.bench.execute` -- one run inside its child process;
 - :mod:`plansynth.bench.db` -- the SQLite results database (OMPL's benchmark schema);
 - :mod:`plansynth.bench.report` -- Markdown tables and log-scale plots;
-- :mod:`plansynth.bench.publish` -- the sweep behind ``benchmarks/RESULTS.md``.
+- :mod:`plansynth.bench.publish` -- the sweep behind ``benchmarks/RESULTS.md``;
+- :mod:`plansynth.bench.solvers` -- the order the bench lists solvers in;
+- :mod:`plansynth.bench.errors` -- the bench's named errors (an unreachable cluster, a
+  database without runs).
 
 The Python API does everything the ``plansynth bench`` commands do:
 
