@@ -159,7 +159,7 @@ def test_baselines_are_planners_of_reach_solve():
 
 @pytest.mark.parametrize("planner", ["lazy-smt-paper", "milp-bigm", "rrt"])
 def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytest.MonkeyPatch) -> None:
-    """One path (issue 12): bench's run of any planner is reach.solve()'s answer, validated there."""
+    """One path: bench's run of any planner is reach.solve()'s answer, validated there."""
     import importlib
 
     from plansynth.bench.execute import execute
@@ -178,13 +178,17 @@ def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytes
     attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 60, "seed": 5, "options": {}})
     assert [name for name, _ in calls] == [planner]
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
+    # the version the run reports (the planner's own), not one guessed from its name
+    # (which made lazy-smt-paper a "plansynth" run)
+    package = {"lazy-smt-paper": "python-sat", "milp-bigm": "highspy", "rrt": "ompl"}[planner]
+    assert attrs["solver_version"].split()[0] == package, attrs["solver_version"]
     if planner == "rrt":  # the sampling planners get the run's seed in their options value
         assert calls[0][1].seed == 5
 
 
 @pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
 def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
-    """The missions family (issue 14) through the bench: solved and validated, no oracle
+    """The missions family through the bench: solved and validated, no oracle
     LP (the reach-avoid oracle indexes the unlabelled abstraction and has no loop closure;
     it crashed every mission run)."""
     from plansynth.bench.execute import execute
@@ -194,3 +198,26 @@ def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
     attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 120, "seed": 0, "options": {}})
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
     assert attrs["horizon"] == 31 and attrs["attributes"]["oracle_lp"] is None  # (a finite plan ends at rest)
+    # milp-ltl solves with HiGHS (its version was guessed as plansynth's from the name)
+    assert attrs["solver_version"].split()[0] == {"lazy-smt": "python-sat", "milp-ltl": "highspy"}[planner]
+
+
+def test_bench_records_the_version_a_reach_result_reports():
+    """The version of a reach run is the result's ``solver_version`` when it reports one,
+    else the registered planner's ``version()``; never a name-to-package guess."""
+    from plansynth.bench.execute.reach import reported_version
+    from plansynth.reach.planners import get_planner
+
+    class Reports:
+        def to_json_dict(self):
+            return {"solver_version": "highspy 0.0-test"}
+
+    class Silent:
+        def to_json_dict(self):
+            return {"versions": {"highspy": "0.0"}}
+
+    assert reported_version(Reports(), "lazy-smt-paper") == "highspy 0.0-test"
+    for name in ("lazy-smt-paper", "milp-ltl", "milp-ltl-oneshot", "lazy-smt-minimal"):
+        assert reported_version(Silent(), name) == get_planner(name).version()
+    assert reported_version(Silent(), "milp-ltl").startswith("highspy")
+    assert reported_version(Silent(), "lazy-smt-paper").startswith("python-sat")

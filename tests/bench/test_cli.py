@@ -62,3 +62,25 @@ def test_a_bad_database_or_value_is_one_line_and_exit_2(tmp_path):
         r = CliRunner().invoke(app, args)
         assert r.exit_code == 2 and fragment in r.output and "Traceback" not in r.output, (args, r.output)
     assert not (tmp_path / "no").exists()
+
+
+def test_a_report_of_a_database_without_runs_is_refused_and_writes_nothing(tmp_path):
+    """`bench report` on a database with no runs wrote an empty report and exit 0: now
+    one line naming the file, exit 2, and no output folder (nor `publish --report-only`)."""
+    import pytest
+
+    from plansynth.bench.errors import NoRuns
+    from plansynth.bench.report import write_report
+
+    db = tmp_path / "empty.db"
+    with ResultsDB(db) as d:  # the schema and an experiment, as a sweep stopped before its first run leaves it
+        d.experiment("grid/depth/depth-1", kind="grid", family="depth", instance="depth-1", setup={})
+    for args, out in ((["bench", "report"], tmp_path / "rep"), (["bench", "publish", "--report-only"], tmp_path / "pub")):
+        r = CliRunner().invoke(app, [*args, "--db", str(db), "--out", str(out)])
+        assert r.exit_code == 2, r.output
+        (line,) = r.output.strip().splitlines()
+        assert "empty.db" in line and "holds no runs" in line and "Traceback" not in r.output
+        assert not out.exists()
+    with pytest.raises(NoRuns, match="empty.db: the results database holds no runs"):
+        write_report(db, tmp_path / "api")
+    assert not (tmp_path / "api").exists()

@@ -1,4 +1,4 @@
-"""Runs timed through the CLI (issue 11's Targets): a fresh ``plansynth grid solve``
+"""Runs timed through the CLI (their timing targets): a fresh ``plansynth grid solve``
 process per run, its wall clock beside the solve time, the budget check T + 1 s."""
 
 from __future__ import annotations
@@ -10,8 +10,10 @@ import yaml
 
 from plansynth.bench import execute as execute_module
 from plansynth.bench.db import ResultsDB
+from plansynth.bench.execute import grid as grid_run
 from plansynth.bench.families import CLI_TIMED_FAMILIES, grid_family
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 
 
 def _suite(tmp_path, monkeypatch):
@@ -49,7 +51,7 @@ def test_a_cli_run_that_overruns_is_killed_and_counted_as_a_broken_budget(monkey
     """A command that ignores its budget (here: a sleep in place of the solver) is killed
     4 s past T and recorded as a timeout with the budget not kept; no result is read."""
     (inst,) = grid_family("doors", [1])
-    monkeypatch.setattr(execute_module, "_cli_command",
+    monkeypatch.setattr(grid_run, "_cli_command",
                         lambda *a, **k: [sys.executable, "-c", "import time, sys; print('grid'); time.sleep(60)", "grid"])
     (task,) = make_tasks([inst], ["native"], timeout=0.5)
     attrs = execute_module.execute(task)

@@ -7,7 +7,7 @@ import numpy as np
 
 from plansynth.bench.execute import execute
 from plansynth.bench.families import reach_family
-from plansynth.bench.runner import make_tasks
+from plansynth.bench.tasks import make_tasks
 from plansynth.budget import Budget
 from plansynth.reach.families import maze, random_dynamics
 from plansynth.reach.oracle import oracle_lp

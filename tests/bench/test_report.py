@@ -65,7 +65,8 @@ def test_report_tables_and_plots(tmp_path):
 
 
 def test_the_proved_minimal_table_beside_the_window_search():
-    from plansynth.bench.report import Cell, _minimal_table
+    from plansynth.bench.report import Cell
+    from plansynth.bench.report.horizons import minimal_table
 
     mazes = [("reach/maze/maze-1", {"params": {"n": 1}}), ("reach/maze/maze-2", {"params": {"n": 2}})]
     claim = {"minimal": True, "minimal_relative_to": "decomposition", "minimal_probes": 1}
@@ -78,14 +79,15 @@ def test_the_proved_minimal_table_beside_the_window_search():
         ("reach/maze/maze-2", "lazy-smt-minimal"): Cell(1, 1, 60.0, 60.0, 60.0, {"solved": 1}, horizon=90,
                                                         extra={"minimal": {"minimal": False}, "lp_calls": 900}),
     }
-    text = "\n".join(_minimal_table(cells, mazes))
+    text = "\n".join(minimal_table(cells, mazes))
     assert "| 1 | 0.1 | 62 | 0.3 | 57 | decomposition | 1 | 36 | 0.2 | 3 |" in text
     assert "| 2 | 0.2 | 92 | 60 | not proved | - | - | 900 | - | 300 |" in text
-    assert _minimal_table({k: v for k, v in cells.items() if k[1] == "lazy-smt"}, mazes) == []
+    assert minimal_table({k: v for k, v in cells.items() if k[1] == "lazy-smt"}, mazes) == []
 
 
 def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
-    from plansynth.bench.report import Cell, _suite_table
+    from plansynth.bench.report import Cell
+    from plansynth.bench.report.suite import suite_table
 
     insts = [("grid/reactive-suite/a", {"name": "a", "expected": "realizable", "params": {"witness_depth": 7}}),
              ("grid/reactive-suite/b", {"name": "b", "expected": "unrealizable", "params": {}}),
@@ -102,7 +104,7 @@ def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
         ("grid/reactive-suite/d", "native"): Cell(1, 0, None, None, 60.0, {"unknown": 1},
                                                   extra={"median_any": 60.0, "cli_wall": 61.7, "budget_kept": [False]}),
     }
-    text = "\n".join(_suite_table(cells, insts, ["native"]))
+    text = "\n".join(suite_table(cells, insts, ["native"]))
     assert ("- **native**: correct 2/4 (1 contradict the label); wall through the CLI median 1.35 s, max 61.7 s; "
             "depth - witness depth median +1, max +1 (1 programs); budget kept 3/4; depth_minimal proved on 0/1.") in text
     assert "| a | realizable | 7 | 0.9 | 0.1 | realizable | yes | 8 | +1 | not proved | yes |" in text
@@ -111,7 +113,8 @@ def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
 
 
 def test_the_paper_regression_line_fails_on_a_slow_or_deep_instance():
-    from plansynth.bench.report import Cell, _paper_regression
+    from plansynth.bench.report import Cell
+    from plansynth.bench.report.grid import paper_regression
 
     def cell(name, t, d):
         fam = name.rsplit("-", 1)[0]
@@ -121,15 +124,15 @@ def test_the_paper_regression_line_fails_on_a_slow_or_deep_instance():
     good = {("grid/depth/depth-4", "native"): cell("depth-4", 0.01, 4),
             ("grid/steps/steps-25", "native"): cell("steps-25", 0.3, 4)}
     assert "solved 2/2, under 1 s 2/2 (slowest steps-25, 0.3 s), depth at most the paper's 2/2: holds" \
-        in _paper_regression(good)
+        in paper_regression(good)
     slow = {**good, ("grid/steps/steps-20", "native"): cell("steps-20", 1.5, 4)}
-    assert "under 1 s 2/3 (slowest steps-20, 1.5 s), depth at most the paper's 3/3: FAILS" in _paper_regression(slow)
+    assert "under 1 s 2/3 (slowest steps-20, 1.5 s), depth at most the paper's 3/3: FAILS" in paper_regression(slow)
     deep = {**good, ("grid/depth/depth-1", "native"): cell("depth-1", 0.01, 2)}
-    assert "depth at most the paper's 2/3: FAILS" in _paper_regression(deep)
+    assert "depth at most the paper's 2/3: FAILS" in paper_regression(deep)
 
 
 def test_the_missions_table_shows_the_baselines_highs_time_beside_its_total(tmp_path):
-    from plansynth.bench.report import _missions_table
+    from plansynth.bench.report.missions import missions_table
 
     with ResultsDB(tmp_path / "m.db") as db:
         for inst, (t_lazy, t_milp, t_highs) in zip(reach_family("missions", [1]), [(0.5, 5.0, 1.0), (2.0, 10.0, 9.0),
@@ -140,7 +143,7 @@ def test_the_missions_table_shows_the_baselines_highs_time_beside_its_total(tmp_
             db.add_run(e, db.planner("milp-ltl", {}), 0, {"time": t_milp, "status": "solved", "solved": 1, "valid": 1,
                                                           "attributes": {"timings": {"milp_solve": t_highs}}})
         cells = summarise(db.runs())
-    text = "\n".join(_missions_table(cells))
+    text = "\n".join(missions_table(cells))
     assert "| maze-1-visit | 0.5 | 5 | 10 | 1 | 2 |" in text
     assert "**10x** over 3 instances" in text  # ratios 10, 5, 20
     assert "HiGHS time alone: 2x in median over 3 instances" in text  # 2, 4.5, 2
@@ -148,7 +151,7 @@ def test_the_missions_table_shows_the_baselines_highs_time_beside_its_total(tmp_
 
 
 def test_the_missions_table_adds_the_one_shot_baseline_with_its_horizon(tmp_path):
-    from plansynth.bench.report import _missions_table
+    from plansynth.bench.report.missions import missions_table
 
     with ResultsDB(tmp_path / "m.db") as db:
         for inst, (t_lazy, t_one) in zip(reach_family("missions", [1]), [(0.5, 6.0), (2.0, 4.0), (0.25, 5.0)]):
@@ -159,14 +162,14 @@ def test_the_missions_table_adds_the_one_shot_baseline_with_its_horizon(tmp_path
             db.add_run(e, db.planner("milp-ltl-oneshot", {}), 0, {"time": t_one, "status": "solved", "solved": 1,
                                                                   "valid": 1, "horizon": 60})
         cells = summarise(db.runs())
-    text = "\n".join(_missions_table(cells))
+    text = "\n".join(missions_table(cells))
     assert "| milp-ltl-oneshot (horizon) | milp-ltl-oneshot / lazy-smt |" in text
     assert "| maze-1-visit | 0.5 | 1 | 2 | - | - | 6 (at 60) | 12 |" in text
     assert "Over milp-ltl-oneshot (one MILP at the max horizon): **12x** in median over 3 instances" in text  # 12, 2, 20
 
 
 def test_the_published_missions_run_gives_the_baseline_time_to_finish():
-    """A measured milp-ltl time, not a timeout bound, makes the speed-up honest (issue 14)."""
+    """A measured milp-ltl time, not a timeout bound, makes the speed-up honest."""
     from plansynth.bench.publish import MISSIONS_TIMEOUT, published_tasks
 
     tasks = [t for t in published_tasks(part="reach") if "/missions/" in t["experiment"]]
@@ -175,9 +178,9 @@ def test_the_published_missions_run_gives_the_baseline_time_to_finish():
 
 
 def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
-    """The GCS paper's mazes (issue 13, item 8): regions, lazy-smt's time, horizon and
+    """The GCS paper's mazes: regions, lazy-smt's time, horizon and
     work, gcs's time and curve duration, and gcs with no answer shown as such."""
-    from plansynth.bench.report import _gcs_maze_table
+    from plansynth.bench.report.gcs import gcs_maze_table
 
     with ResultsDB(tmp_path / "g.db") as db:
         for inst, (t_lazy, t_gcs) in zip(reach_family("gcs-maze", [10, 50]), [(0.5, 4.0), (50.0, None)]):
@@ -194,7 +197,7 @@ def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
                 db.add_run(e, db.planner("gcs", {}), 0, {"time": t_gcs, "status": "solved", "solved": 1, "valid": 1,
                                                        "regions": regions, "attributes": {"duration": 20.0}})
         cells = summarise(db.runs())
-    text = "\n".join(_gcs_maze_table(cells))
+    text = "\n".join(gcs_maze_table(cells))
     assert "| 10 | 55 | 0.5 | 60 x dt = 30 | 12 / 3400 | 4 | 20 | 8 |" in text
     assert "| 50 | 1571 | 50 | 60 x dt = 30 | 12 / 3400 | > 120 (1 unknown) | - | > 2.4 |" in text
 
@@ -203,7 +206,7 @@ def test_a_run_that_gave_up_early_bounds_no_ratio(tmp_path):
     """gcs ending `unknown` after 13 s of a 120 s limit (an iteration limit, not the
     clock) says nothing about how long it would take: no "> 120 / t" ratio, and its cell
     says when it gave up."""
-    from plansynth.bench.report import _gcs_maze_table
+    from plansynth.bench.report.gcs import gcs_maze_table
 
     with ResultsDB(tmp_path / "g.db") as db:
         inst = reach_family("gcs-maze", [20])[0]
@@ -214,7 +217,7 @@ def test_a_run_that_gave_up_early_bounds_no_ratio(tmp_path):
             "attributes": {"duration": 266.0, "counters": {"lp_calls": 18, "clauses": 3807}}})
         db.add_run(e, db.planner("gcs", {}), 0, {"time": 13.1, "status": "unknown", "solved": 0, "regions": 249})
         cells = summarise(db.runs())
-    row = next(line for line in _gcs_maze_table(cells) if line.startswith("| 20 |"))
+    row = next(line for line in gcs_maze_table(cells) if line.startswith("| 20 |"))
     assert "no answer (1 unknown after 13.1 s of 120)" in row
     assert row.endswith("| - | - |"), row
 

@@ -14,7 +14,8 @@ import pytest
 
 from plansynth.bench.db import ResultsDB
 from plansynth.bench.families import family
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 
 
 @pytest.mark.slow

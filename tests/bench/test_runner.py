@@ -6,7 +6,8 @@ import pytest
 
 from plansynth.bench.db import ResultsDB
 from plansynth.bench.families import grid_family
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 
 
 def _tasks(solvers, repeat=1):

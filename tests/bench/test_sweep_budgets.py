@@ -1,4 +1,4 @@
-"""Bench sweeps (issue 10, item 7): the resume key includes the budget, and the sweep's
+"""Bench sweeps: the resume key includes the budget, and the sweep's
 arguments are checked before anything is run or written."""
 
 from __future__ import annotations
@@ -11,7 +11,8 @@ from typer.testing import CliRunner
 
 from plansynth.bench.db import ResultsDB
 from plansynth.bench.families import grid_family
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 from plansynth.cli import app
 
 

@@ -68,9 +68,6 @@ def _options(items: list[str]) -> dict[str, dict[str, str]]:
     return out
 
 
-DEBUG_SOLVERS = ("debug-ok", "debug-sleep", "debug-crash", "debug-raise", "debug-memory")
-
-
 def _refuse(option: str, reason: str) -> None:
     """One line naming the option and the reason; exit 2 before anything is written."""
     console.print(f"[red]error: {option}: {reason}", highlight=False, soft_wrap=True)
@@ -82,10 +79,10 @@ def _known_solvers(kind: str) -> list[str]:
         from plansynth.grid.result import backend_names
 
         return list(backend_names())
-    from plansynth.bench.execute import REACH_SOLVERS
+    from plansynth.bench.solvers import REACH_ORDER
     from plansynth.reach.solve import planners
 
-    return list(dict.fromkeys([*REACH_SOLVERS, *planners()]))
+    return list(dict.fromkeys([*REACH_ORDER, *planners()]))
 
 
 def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: int, jobs: int, memory: int,
@@ -96,6 +93,8 @@ def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: i
     flag = "--solvers" if kind == "grid" else "--planners"
     if not solvers:
         _refuse(flag, "give at least one name")
+    from plansynth.bench.execute import DEBUG_SOLVERS
+
     known = _known_solvers(kind)
     for name in solvers:
         if name not in known and name not in DEBUG_SOLVERS:
@@ -116,7 +115,8 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
            timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
            retry: str = "", options: Optional[list[str]] = None, states: Optional[list[int]] = None) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
-    from plansynth.bench.runner import make_tasks, run_sweep
+    from plansynth.bench.runner import run_sweep
+    from plansynth.bench.tasks import make_tasks
 
     _check_arguments(kind, solvers, timeout=timeout, repeat=repeat, jobs=jobs, memory=memory, orders=orders)
 
@@ -158,6 +158,7 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
                        options=solver_options)
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
+    from plansynth.bench.errors import ClusterUnreachable
     from plansynth.errors import OutputUnwritable
 
     try:
@@ -165,6 +166,8 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
     except OutputUnwritable as exc:  # the database (not SQLite, a folder that does not exist)
         console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
+    except ClusterUnreachable as exc:  # no scheduler answers: refused before the database is touched
+        _refuse("--cluster", str(exc))
     except KeyboardInterrupt:
         console.print(f"[yellow]interrupted: every finished run is kept in {db}; rerun the same command to resume")
         raise typer.Exit(130) from None
@@ -238,6 +241,28 @@ def _outputs_checked(folder: Path) -> Iterator[None]:
         raise typer.Exit(2) from None
 
 
+def _require_runs(db: Path, out: Path) -> None:
+    """One line and exit 2, before any output is written, when ``db`` does not exist, is
+    not a results database or holds no run (a report of nothing is not a report). An
+    output ``out`` that is a file is left to the folder check, which names it first."""
+    from plansynth.bench.db import ResultsDB
+    from plansynth.bench.errors import NoRuns
+    from plansynth.errors import OutputUnwritable
+
+    if not db.exists():
+        console.print(f"[red]{db}: no such results database")
+        raise typer.Exit(2)
+    if out.exists() and not out.is_dir():
+        return
+    try:
+        with ResultsDB(db) as d:
+            if d.run_count() == 0:
+                raise NoRuns(str(db))
+    except (OutputUnwritable, NoRuns) as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+
+
 @app.command("report")
 def report_cmd(
     db: Path = DB_OPTION,
@@ -249,9 +274,7 @@ def report_cmd(
     """
     from plansynth.bench.report import write_report
 
-    if not db.exists():
-        console.print(f"[red]{db}: no such results database")
-        raise typer.Exit(2)
+    _require_runs(db, out)
     with _outputs_checked(out):
         path = write_report(db, out)
     console.print(f"wrote {path} and {len(list(out.glob('*.png')))} plots")
@@ -285,9 +308,15 @@ def publish_cmd(
 
     Example: plansynth bench publish            # resumable; rerun to continue
     """
+    from plansynth.bench.errors import ClusterUnreachable
     from plansynth.bench.publish import publish
 
+    if report_only:
+        _require_runs(db, out)
     with _outputs_checked(out):
-        path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
-                       jobs=jobs, cluster=cluster)
+        try:
+            path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
+                           jobs=jobs, cluster=cluster)
+        except ClusterUnreachable as exc:
+            _refuse("--cluster", str(exc))
     console.print(f"wrote {path}")

@@ -276,5 +276,9 @@ class ResultsDB:
             out.append(d)
         return out
 
+    def run_count(self) -> int:
+        """How many runs the database holds."""
+        return int(self.conn.execute("SELECT COUNT(*) FROM runs").fetchone()[0])
+
     def info(self) -> dict[str, str]:
         return {k: v for k, v in self.conn.execute("SELECT key, value FROM info")}

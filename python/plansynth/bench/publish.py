@@ -24,7 +24,8 @@ from typing import Any
 
 from plansynth.bench.families import CLI_TIMED_FAMILIES, GRID_FAMILIES, family
 from plansynth.bench.report import CX_VARIANTS
-from plansynth.bench.runner import make_tasks, run_sweep
+from plansynth.bench.runner import run_sweep
+from plansynth.bench.tasks import make_tasks
 from plansynth.io import write_output
 
 __all__ = ["published_tasks", "publish"]
@@ -34,7 +35,7 @@ MAZE_PLANNERS = ["lazy-smt", "rrt", "milp-bigm", "milp"]
 CHAIN_ORDERS = [1, 2, 3, 5, 10, 25]  # 25: n = 50 states, the paper's largest (Figure 4)
 CX_TIMEOUT = 300.0  # the paper's loop on maze-3/4 runs for minutes
 N50_TIMEOUT = 300.0  # order-25 chains (n = 50 states)
-N50_REPEATS = 3  # the issue's target is on maze-4 at order 25: a median, not one run
+N50_REPEATS = 3  # the scalability target is on maze-4 at order 25: a median, not one run
 RRT_REPEATS = 3
 GCS_REPEATS = 3
 GCS_MAZE_TIMEOUT = 120.0  # the GCS paper's 50 x 50 maze: lazy-smt's target is 60 s, gcs gets longer
@@ -44,7 +45,7 @@ NATIVE_REPEATS = 3
 #: ask for answers within 1 s, and with 10 s the 55 instances x 2 solvers finish in about
 #: 15 minutes on a shared 2-core machine (cvc5 answers few of them within any limit).
 CLI_TIMED_TIMEOUT = 10.0
-#: the missions family (issue 14): a limit the milp-ltl baseline finishes within (patrol, its
+#: the missions family: a limit the milp-ltl baseline finishes within (patrol, its
 #: slowest, about 13 s on a quiet machine), so that the speed-up is a measured ratio, not a bound
 MISSIONS_TIMEOUT = 300.0
 
@@ -60,7 +61,7 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         # counterexamples compared (Section V): the paper's loop with ZEROPREFIX / trivial, ours with ZEROPREFIX
         tasks += make_tasks(family("reach", "maze"), list(CX_VARIANTS), timeout=max(reach_timeout, CX_TIMEOUT))
         tasks += make_tasks(family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout)
-        # LTL missions (issue 14): three per maze, lazy-smt and the milp-ltl baselines side by side
+        # LTL missions: three per maze, lazy-smt and the milp-ltl baselines side by side
         # (horizons upward from the proved bound, and Wolff et al.'s one MILP at the max horizon)
         tasks += make_tasks(family("reach", "missions"), ["lazy-smt", "milp-ltl", "milp-ltl-oneshot"],
                             timeout=max(reach_timeout, MISSIONS_TIMEOUT))
@@ -68,14 +69,14 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
                             timeout=reach_timeout)
         # Graphs of Convex Sets (Drake) beside lazy-smt on the mazes, interleaved, medians of 3
         tasks += make_tasks(family("reach", "maze"), ["gcs"], repeat=GCS_REPEATS, timeout=reach_timeout)
-        # the horizon proved minimal beside the window search (issue 13, item 3), medians of 3
+        # the horizon proved minimal beside the window search, medians of 3
         tasks += make_tasks(family("reach", "maze"), ["lazy-smt-minimal"], repeat=GCS_REPEATS, timeout=reach_timeout)
-        # the GCS paper's n x n mazes (issue 13, item 8): lazy-smt and gcs on the same instances
+        # the GCS paper's n x n mazes: lazy-smt and gcs on the same instances
         tasks += make_tasks(family("reach", "gcs-maze"), ["lazy-smt", "gcs"], timeout=max(reach_timeout, GCS_MAZE_TIMEOUT))
         # Figure 4 with random dynamics (the paper's setting): seeded random controllable (A, B)
         tasks += make_tasks(family("reach", "random-dynamics", [1, 2, 3, 4], states=RANDOM_DYNAMICS_STATES),
                             ["lazy-smt"], timeout=max(reach_timeout, N50_TIMEOUT))
-        # n = 50 states: the issue's scalability target, with a longer limit so that it is measured
+        # n = 50 states: the scalability target, with a longer limit so that it is measured
         tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[-1:]), ["lazy-smt"],
                             repeat=N50_REPEATS, timeout=max(reach_timeout, N50_TIMEOUT))
     if part in ("all", "grid"):
@@ -91,7 +92,7 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         tasks += make_tasks(insts, GRID_SOLVERS, timeout=grid_timeout)
         # native answers in milliseconds: repeat it for medians (cvc5 once: its runs take minutes)
         tasks += [t for t in make_tasks(insts, ["native"], repeat=NATIVE_REPEATS, timeout=grid_timeout) if t["repeat"] > 0]
-        # through the CLI, one sweep with native and cvc5 side by side (issue 11's Targets)
+        # through the CLI, one sweep with native and cvc5 side by side (the CLI timing targets)
         tasks += make_tasks(timed, GRID_SOLVERS, timeout=CLI_TIMED_TIMEOUT)
     return tasks
 

@@ -1,0 +1,86 @@
+"""The reach-avoid benchmark families: which instances each has and the paper's Table I.
+
+Reach families reproduce Shoukry et al. (CDC 2016, Section VI): ``maze`` (n passages,
+double integrator; Table I), ``chain`` (the same mazes with integrator chains of order
+k, i.e. 2k states; Figure 4), ``random-dynamics`` (the same mazes with seeded random
+controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
+:func:`plansynth.reach.families.random_dynamics`), and ``random`` workspaces (random
+boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
+``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
+sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
+``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`).
+The problems themselves are built by :mod:`plansynth.bench.families.reach_problems`.
+
+>>> [i.name for i in reach_family("chain", [1], orders=[1, 2])]
+['chain-1-k1', 'chain-1-k2']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from plansynth.bench.families.instance import Instance
+
+__all__ = ["REACH_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "reach_family"]
+
+
+# Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
+PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
+    1: {"abstraction": 1.998, "dis-plan": 0.136, "con-plan": 0.254, "rrt": 10.44, "ltl-opt": "> 7200"},
+    2: {"abstraction": 7.146, "dis-plan": 1.129, "con-plan": 0.929, "rrt": 122.3, "ltl-opt": "time out"},
+    3: {"abstraction": 19.33, "dis-plan": 3.650, "con-plan": 1.005, "rrt": 423.7, "ltl-opt": "time out"},
+    4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
+}
+
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze")
+RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
+
+
+def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequence[int] = (1, 2, 3, 5),
+                 states: Sequence[int] = RANDOM_DYNAMICS_STATES, seed: int = 0) -> list[Instance]:
+    """Instances of reach family ``name``.
+
+    ``maze``: values are passage counts (default 1..4). ``chain``: values are passage
+    counts, crossed with ``orders`` (the chain order k; 2k states). ``random``: values
+    are seeds (default 0..4). ``random-dynamics``: values are passage counts (default
+    1..4), crossed with ``states`` (n, default 4, 10, 20, 50), random (A, B) drawn with
+    ``seed`` (:func:`plansynth.reach.families.random_dynamics` says how).
+    ``missions``: values are passage counts, each with the
+    three missions of :mod:`plansynth.reach.mission.families`. ``gcs-maze``: values are
+    maze sizes n (default 10, 20, 50), the n x n mazes of the GCS paper
+    (:func:`plansynth.reach.families.gcs_maze`: seed 4, walls 0.1 thick, 100 extra
+    knock-downs at n = 50 as in its notebook; the double integrator with dt 0.5 s,
+    |u| <= 1, |v| <= 1 per axis, from the centre of cell (0, 0) at rest to a 0.4 box at
+    the centre of cell (n-1, n-1)).
+    """
+    out = []
+    if name == "maze":
+        for n in values or [1, 2, 3, 4]:
+            tot = sum(float(v) for k, v in PAPER_TABLE_I[int(n)].items() if k in ("abstraction", "dis-plan", "con-plan"))
+            out.append(Instance("reach", "maze", f"maze-{n}", {"n": int(n)}, "found", tot if int(n) in PAPER_TABLE_I else None))
+    elif name == "chain":
+        for n in values or [1, 2, 3, 4]:
+            for k in orders:
+                out.append(Instance("reach", "chain", f"chain-{n}-k{k}", {"n": int(n), "k": int(k)}, "found"))
+    elif name == "random-dynamics":
+        for n in values or [1, 2, 3, 4]:
+            for k in states:
+                out.append(Instance("reach", "random-dynamics", f"rdyn-{n}-n{k}-s{seed}",
+                                    {"n": int(n), "states": int(k), "seed": int(seed)}, None))
+    elif name == "random":
+        for s in values or [0, 1, 2, 3, 4]:
+            out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))
+    elif name == "missions":  # LTL missions: three per maze, values are passage counts
+        from plansynth.reach.mission.families import MISSIONS
+
+        for n in values or [1, 2, 3, 4]:
+            for m in MISSIONS:
+                out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
+    elif name == "gcs-maze":
+        for n in values or [10, 20, 50]:
+            out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))
+    else:
+        raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
+    return out
+

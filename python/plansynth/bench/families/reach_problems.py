@@ -1,0 +1,57 @@
+"""The reach-avoid benchmark problems as code: each family's problem from its parameters.
+
+Thin builders over :mod:`plansynth.reach.families` (the mazes of Shoukry et al., CDC 2016,
+Section VI, their integrator chains and random dynamics, random workspaces, the GCS
+paper's mazes) and :mod:`plansynth.reach.mission.families` (LTL missions on the mazes);
+:data:`REACH_PROBLEMS` names them by family. Which instances a family has is
+:mod:`plansynth.bench.families.reach`.
+
+>>> REACH_PROBLEMS["chain"](n=1, k=3).dynamics.n_states
+6
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["REACH_PROBLEMS"]
+
+
+def _maze(n: int) -> Any:
+    from plansynth.reach.families import maze
+
+    return maze(n, 2)
+
+
+def _chain(n: int, k: int) -> Any:
+    from plansynth.reach.families import maze
+
+    return maze(n, k)
+
+
+def _random(seed: int, obstacles: int = 6) -> Any:
+    from plansynth.reach.families import random_workspace
+
+    return random_workspace(seed, obstacles)
+
+
+def _random_dynamics(n: int, states: int, seed: int = 0) -> Any:
+    from plansynth.reach.families import random_dynamics
+
+    return random_dynamics(n, states, seed)
+
+
+def _gcs_maze(n: int) -> Any:
+    from plansynth.reach.families import gcs_maze
+
+    return gcs_maze(n)
+
+
+def _missions(n: int, mission: str) -> Any:
+    from plansynth.reach.mission.families import mission_problem
+
+    return mission_problem(f"maze-{n}", mission)
+
+
+REACH_PROBLEMS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "random-dynamics": _random_dynamics,
+                                   "missions": _missions, "gcs-maze": _gcs_maze}

@@ -1,0 +1,16 @@
+"""The solver names the bench puts first, in order: the order of the command line's
+listings and of the report's columns (any other registered name follows, sorted).
+
+Which names exist is the registries' business (:data:`plansynth.grid.result.BACKENDS`,
+:data:`plansynth.reach.planners.PLANNERS`); this is only their order in the bench.
+
+>>> GRID_ORDER[0], REACH_ORDER[0]
+('native', 'lazy-smt')
+"""
+
+from __future__ import annotations
+
+__all__ = ["GRID_ORDER", "REACH_ORDER"]
+
+GRID_ORDER = ("native", "cvc5", "external")
+REACH_ORDER = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
