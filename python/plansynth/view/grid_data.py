@@ -31,6 +31,7 @@ The evidence depends on the answer:
 from __future__ import annotations
 
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
 
 from plansynth.budget import Budget
@@ -112,6 +113,29 @@ def read_grid_result(raw: Any, problem: GridProblem, source: str) -> tuple[str, 
     if status == "realizable" and (program is None or steps is None):
         raise InvalidProblem(source, "program" if program is None else "steps", "a realizable result needs both")
     return status, steps, program
+
+
+def check_recorded_problem(problem: GridProblem, raw: Mapping[str, Any], source: str, base: Path | None = None) -> None:
+    """A result names the problem file it was solved for (``problem``); when that file
+    can be read and holds another problem than ``problem`` (its name aside), the result
+    is for another problem: an :class:`InvalidProblem` naming ``source``."""
+    from dataclasses import replace
+
+    from plansynth.errors import PlansynthError
+    from plansynth.grid import load
+
+    where = raw.get("problem")
+    if not isinstance(where, str) or not where:
+        return
+    for path in (Path(where), *((base / where,) if base is not None else ())):
+        try:
+            recorded = load(path)
+        except (PlansynthError, OSError, ValueError):
+            continue
+        if replace(recorded, name=problem.name).to_dict() != problem.to_dict():
+            raise InvalidProblem(source, "problem", f"the result was solved for {where}, which holds another problem "
+                                 f"than {problem.source or problem.name}")
+        return
 
 
 def grid_page_data(problem: GridProblem, result: Mapping[str, Any] | None, *, source: str = "<result>",

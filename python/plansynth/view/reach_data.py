@@ -101,7 +101,20 @@ def read_reach_result(doc: Any, problem: ReachProblem, source: str) -> tuple[str
     if trajectory.horizon > 0 and trajectory.n_inputs != m:
         raise InvalidProblem(source, "inputs[0]", f"has {trajectory.n_inputs} components, but the dynamics of "
                              f"{problem.name} have {m} inputs: a result of another problem")
+    start = np.asarray(problem.start, float)
+    if not np.allclose(trajectory.states[0], start, rtol=0, atol=1e-6 * max(1.0, float(np.abs(start).max()))):
+        raise InvalidProblem(source, "states[0]", f"{_vector(trajectory.states[0])} is not the start "
+                             f"{_vector(start)} of {problem.name}: a result of another problem")
+    planned_mission = isinstance(doc.get("mission"), Mapping) and doc["mission"].get("formula") is not None
+    if planned_mission != (problem.mission is not None):
+        has = "has a mission" if problem.mission is not None else "has no mission"
+        raise InvalidProblem(source, "mission", f"the result {'is' if planned_mission else 'is not'} a mission's "
+                             f"plan, and {problem.name} {has}: a result of another problem")
     return status, trajectory
+
+
+def _vector(v: Any) -> str:
+    return "(" + ", ".join(f"{float(x):g}" for x in v) + ")"
 
 
 def reach_words(doc: Mapping[str, Any]) -> list[str]:
