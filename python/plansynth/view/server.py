@@ -176,8 +176,12 @@ class _Handler(BaseHTTPRequestHandler):
 def serve_forever(server: PlanServer, announce: Callable[[str], None] = print) -> None:
     """Serve until Ctrl-C or SIGTERM (which the CLI turns into KeyboardInterrupt), then
     stop every re-plan child and close the socket."""
+    import signal
+
     from plansynth.isolate import cancel_all
 
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.default_int_handler)  # also when started with SIGINT ignored (&)
     announce(f"serving on {server.url} (Ctrl-C stops)")
     try:
         server.serve_forever(poll_interval=0.2)
