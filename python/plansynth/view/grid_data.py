@@ -150,7 +150,9 @@ def grid_page_data(problem: GridProblem, result: Mapping[str, Any] | None, *, so
         return data
     status, steps, program = read_grid_result(result, problem, source)
     steps = steps or _default_steps(problem)
-    data.update(status=status, steps=steps, result_problem=result.get("problem") or None)
+    recorded = result.get("problem")
+    data.update(status=status, steps=steps,
+                result_problem=Path(recorded).name if isinstance(recorded, str) and recorded else None)
     if program is not None:
         data.update(program=term_json(program), program_text=str(program))
         verdict = verify(problem, program, steps, budget=Budget(seconds=budget_seconds))
