@@ -40,6 +40,7 @@ from plansynth.grid import GridProblem, verify
 from plansynth.grid.programs import App, Const, ProgramSyntaxError, Term, Var, check_program, parse_program
 from plansynth.grid.semantics import State, initial_state, step
 from plansynth.io import show
+from plansynth.view.status import result_status
 
 #: Most (step, state) entries of an unrealizable problem's strategy table; beyond it the
 #: page plays the strategy only along the table's states and says where it stops.
@@ -47,8 +48,6 @@ MAX_STRATEGY_STATES = 20_000
 
 #: Seconds the verifier and the explanation may take while a page is built.
 EVIDENCE_SECONDS = 60.0
-
-GRID_STATUSES = ("realizable", "unrealizable", "unknown")
 
 
 def problem_json(problem: GridProblem) -> dict[str, Any]:
@@ -92,12 +91,7 @@ def read_grid_result(raw: Any, problem: GridProblem, source: str) -> tuple[str, 
     ``problem``: a result of the other half, or a program that is not a controller of
     this problem (another problem's inputs or moves), is an :class:`InvalidProblem`
     naming ``source`` and the field."""
-    if not isinstance(raw, Mapping):
-        raise InvalidProblem(source, "<document>", "expected a JSON object (a result of plansynth grid solve -o)")
-    status = raw.get("status")
-    if status not in GRID_STATUSES:
-        other = " (a reach result: give it with a reach problem)" if status in ("found", "infeasible") else ""
-        raise InvalidProblem(source, "status", f"expected one of {'/'.join(GRID_STATUSES)}, got {show(status)}{other}")
+    status = result_status(raw, source, "grid")
     steps = raw.get("steps")
     if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or steps < 1):
         raise InvalidProblem(source, "steps", f"expected a positive integer, got {show(steps)}")

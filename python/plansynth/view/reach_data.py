@@ -30,8 +30,7 @@ import numpy as np
 from plansynth.errors import InvalidProblem
 from plansynth.io import show
 from plansynth.reach import Box, ReachProblem, abstract, validate
-
-REACH_STATUSES = ("found", "infeasible", "unknown")
+from plansynth.view.status import result_status
 
 
 def shape_json(shape: Any) -> dict[str, Any]:
@@ -85,12 +84,7 @@ def read_reach_result(doc: Any, problem: ReachProblem, source: str) -> tuple[str
     problem's dynamics, is an :class:`InvalidProblem` naming ``source`` and the field."""
     from plansynth.reach.trajectory import trajectory_from_dict
 
-    if not isinstance(doc, Mapping):
-        raise InvalidProblem(source, "<document>", "expected a JSON object (a result of plansynth reach solve -o)")
-    status = doc.get("status")
-    if status not in REACH_STATUSES:
-        other = " (a grid result: give it with a grid problem)" if status in ("realizable", "unrealizable") else ""
-        raise InvalidProblem(source, "status", f"expected one of {'/'.join(REACH_STATUSES)}, got {show(status)}{other}")
+    status = result_status(doc, source, "reach")
     if doc.get("states") is None:
         return status, None
     trajectory = trajectory_from_dict(doc, source)
