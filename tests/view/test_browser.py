@@ -157,16 +157,14 @@ def test_reach_page_positions_equal_the_result(browser: Any, results: dict, tmp_
     screenshot(browser, tmp_path / "view-reach.png")
 
 
-class _Recording:
-    """A PlanServer that keeps the documents it planned and its answers."""
-
-
 @pytest.fixture()
 def plan_server() -> Any:
     from plansynth.view import build_page
     from plansynth.view.server import PlanServer
 
     class Server(PlanServer):
+        """Keeps the documents it planned and its answers."""
+
         planned: list = []
 
         def plan(self, body: Any) -> tuple[int, dict]:
