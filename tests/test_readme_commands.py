@@ -112,6 +112,17 @@ FOUND = ("found",)
 CASES: dict[str, Case] = {
     # README: top
     "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out figure1-result.json": FIGURE1_CVC5,
+    # README: see it in the browser (plansynth view; tests/view/ drives the pages in Chromium)
+    "plansynth grid solve examples/grid/traffic.yaml -o traffic.json": Case(
+        out=("realizable",), json=(("traffic.json", "status", "realizable"),)),
+    "plansynth view examples/grid/traffic.yaml --result traffic.json -o traffic.html": Case(
+        out=("page written to traffic.html",), files=("traffic.html",),
+        before=("plansynth grid solve examples/grid/traffic.yaml -o traffic.json",)),
+    "plansynth reach solve examples/reach/mission-patrol.yaml -o patrol.json": Case(
+        out=FOUND, json=(("patrol.json", "status", "found"),)),
+    "plansynth view examples/reach/mission-patrol.yaml --result patrol.json -o patrol.html": Case(
+        out=("page written to patrol.html",), files=("patrol.html",),
+        before=("plansynth reach solve examples/reach/mission-patrol.yaml -o patrol.json",)),
     # README: reactive grid controllers
     "plansynth grid solve examples/grid/figure1.yaml": Case(out=("realizable", "l =   6")),
     "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json": Case(

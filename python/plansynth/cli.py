@@ -23,6 +23,7 @@ GROUPS: dict[str, tuple[str, str]] = {
     "grid": ("plansynth.grid.cli", "Reactive grid controllers (Chasins & Newcomb, SYNT 2016)."),
     "reach": ("plansynth.reach.cli", "Reach-avoid planning with linear dynamics (Shoukry et al., CDC 2016)."),
     "bench": ("plansynth.bench.cli", "Benchmarks: both papers' evaluations side by side with peers."),
+    "view": ("plansynth.view.cli", "Interactive pages in the browser: a controller against your obstacle moves, a trajectory."),
 }
 
 

@@ -51,7 +51,8 @@ class Turn:
 class Explanation:
     """``kind``: ``realizable`` (nothing to explain), ``goal``, ``game``,
     ``stationary`` or ``unknown``; ``summary`` is one sentence; ``play`` the witness
-    strategy against the robot's best try (for ``game``); ``final`` the last state."""
+    strategy against the robot's best try (for ``game``); ``final`` the last state;
+    ``strategy`` the obstacles' strategy itself (for ``game``), to play against any move."""
 
     kind: str
     steps: int
@@ -59,6 +60,7 @@ class Explanation:
     play: tuple[Turn, ...] = ()
     final: State | None = None
     counters: dict = field(default_factory=dict)
+    strategy: ObstacleStrategy | None = field(default=None, compare=False, repr=False)
 
 
 def explain(problem: GridProblem, steps: int, budget: Budget = Budget(seconds=60)) -> Explanation:
@@ -79,8 +81,9 @@ def explain(problem: GridProblem, steps: int, budget: Budget = Budget(seconds=60
             "only positions must, in some state it reaches twice, make a move that loses one of the times",
             counters=out.counters,
         )
-    play, final = witness_play(problem, ref.arena)
-    return Explanation("game", steps, ref.detail, tuple(play), final, out.counters)
+    strategy = ObstacleStrategy(problem, ref.arena)
+    play, final = witness_play(problem, ref.arena, strategy)
+    return Explanation("game", steps, ref.detail, tuple(play), final, out.counters, strategy)
 
 
 def _joint_to(problem: GridProblem, arena: Arena, state: State, oc2) -> tuple[int, ...]:
@@ -110,20 +113,32 @@ def _collision_reply(problem: GridProblem, state: State, k: int) -> tuple[int, .
     return None
 
 
-def witness_play(problem: GridProblem, arena: Arena) -> tuple[list[Turn], State]:
-    """Play the obstacles' strategy against a robot that postpones its loss for as long
-    as it can (minimax over the explored game: the robot maximises the step at which it
-    loses, the obstacles minimise it; a win would count as infinitely late)."""
-    steps = arena.steps
-    inf = steps + 1
-    memo: dict = {}
+class ObstacleStrategy:
+    """The obstacles' winning strategy of a refuted game, as a reply to any robot move.
 
-    def value(t: int, r: int, oc) -> int:
+    The backward induction of the game (minimax over the explored arena): the robot
+    maximises the step at which it loses, the obstacles minimise it; a win would count
+    as infinitely late. :meth:`reply` answers a robot move in any state of the game, so
+    the strategy can be played against a person choosing the robot's moves, not only
+    against the robot's best try (:func:`witness_play`).
+    """
+
+    def __init__(self, problem: GridProblem, arena: Arena) -> None:
+        self.problem = problem
+        self.arena = arena
+        self.steps = arena.steps
+        self._memo: dict = {}
+
+    def value(self, t: int, r: int, oc) -> int:
+        """The step at which the robot at cell index ``r`` loses from step ``t`` against
+        this strategy, however it plays (``steps + 1``: it cannot be made to lose)."""
+        arena, problem, steps = self.arena, self.problem, self.steps
         key = (t, r, oc)
+        memo = self._memo
         if key in memo:
             return memo[key]
         if t == steps:
-            v = inf if r == arena.sem.index(problem.robot.goal) else steps
+            v = steps + 1 if r == arena.sem.index(problem.robot.goal) else steps
         else:
             v = -1
             safe = arena.safe_sources(t, oc)
@@ -132,27 +147,40 @@ def witness_play(problem: GridProblem, arena: Arena) -> tuple[list[Turn], State]
                     val = t
                 else:
                     e = arena.robot_end(r, k)
-                    val = min(value(t + 1, e, oc2) for oc2 in arena.successors(oc))
+                    val = min(self.value(t + 1, e, oc2) for oc2 in arena.successors(oc))
                 v = max(v, val)
         memo[key] = v
         return v
 
+    def reply(self, t: int, state: State, k: int) -> tuple[tuple[int, ...], int]:
+        """The obstacles' joint move against robot move ``k`` in ``state`` at step ``t``,
+        and the step at which the robot then loses at the latest."""
+        arena, problem = self.arena, self.problem
+        r = arena.sem.index(state.robot)
+        oc = tuple(arena.sem.index(state.obstacles[i]) for i in arena.read)
+        if not arena.safe_sources(t, oc)[k] >> r & 1:
+            joint, val = _collision_reply(problem, state, k), t
+        else:
+            e = arena.robot_end(r, k)
+            val, oc2 = min((self.value(t + 1, e, oc2), oc2) for oc2 in arena.successors(oc))
+            joint = _joint_to(problem, arena, state, oc2)
+        if joint is None:  # unsafe only through an obstacle outside the arena: cannot happen
+            raise AssertionError("unsafe move without a colliding obstacle")
+        return joint, val
+
+
+def witness_play(problem: GridProblem, arena: Arena,
+                 strategy: ObstacleStrategy | None = None) -> tuple[list[Turn], State]:
+    """Play the obstacles' strategy (:class:`ObstacleStrategy`) against a robot that
+    postpones its loss for as long as it can."""
+    strategy = strategy or ObstacleStrategy(problem, arena)
+    steps = arena.steps
     state = initial_state(problem)
     play: list[Turn] = []
     for t in range(steps):
-        r = arena.sem.index(state.robot)
-        oc = tuple(arena.sem.index(state.obstacles[i]) for i in arena.read)
-        safe = arena.safe_sources(t, oc)
         best = None
         for k in range(len(problem.robot.moves)):
-            if not safe[k] >> r & 1:
-                joint, val = _collision_reply(problem, state, k), t
-            else:
-                e = arena.robot_end(r, k)
-                val, oc2 = min((value(t + 1, e, oc2), oc2) for oc2 in arena.successors(oc))
-                joint = _joint_to(problem, arena, state, oc2)
-            if joint is None:  # unsafe only through an obstacle outside the arena: cannot happen
-                raise AssertionError("unsafe move without a colliding obstacle")
+            joint, val = strategy.reply(t, state, k)
             end, _ = robot_move(problem, state.robot, k)
             closer = -abs(end[0] - problem.robot.goal[0]) - abs(end[1] - problem.robot.goal[1])
             if best is None or (val, closer) > best[0]:
