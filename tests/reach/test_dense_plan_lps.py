@@ -1,4 +1,4 @@
-"""Random dynamics (issue 13, item 4): the family's horizon rule, and the plan LPs of
+"""Random dynamics: the family's horizon rule, and the plan LPs of
 dense dynamics, which the interior-point method solves first (a refuted plan whose
 window is deferred keeps the whole plan as its conflict)."""
 

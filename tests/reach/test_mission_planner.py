@@ -1,4 +1,4 @@
-"""Mission planning end to end (issue 14): the examples, the checker's verdicts, the
+"""Mission planning end to end: the examples, the checker's verdicts, the
 lazy planner against the milp-ltl baseline on random small workspaces and random
 formulas, and the soundness of every clause the mission loop learns (checked by an LP
 written here from scratch over every lasso or finite plan the clause excludes)."""
@@ -472,7 +472,7 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
 
 
 def test_the_checker_shares_no_code_with_the_planner():
-    """The independent mission checker (issue 14, point 5) imports neither the encoding,
+    """The independent mission checker imports neither the encoding,
     the planners, the label refinement, the decomposition nor the lazy loop: it is run
     on the problem and the trajectory alone (LTL evaluation by ltl.holds, geometry by shapely)."""
     import ast

@@ -1,4 +1,4 @@
-"""The planner protocol, the registry and the options values (issue 12)."""
+"""The planner protocol, the registry and the options values."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Random dynamics (issue 13, item 4): the separator-chain bounds and the window
+"""Random dynamics: the separator-chain bounds and the window
 search's deferral, against brute force over small region graphs."""
 
 from __future__ import annotations

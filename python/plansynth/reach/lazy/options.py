@@ -150,6 +150,6 @@ CONFIGURATIONS: dict[str, LazyOptions] = {
     "lazy-smt-paper": LazyOptions.paper(),
     "lazy-smt-paper-trivial": replace(LazyOptions.paper(), counterexample="trivial"),
     "lazy-smt-zeroprefix": LazyOptions(counterexample="zeroprefix"),
-    # our loop, its horizon proved minimal (windows, re-timing, probes; issue 13, item 3)
+    # our loop, its horizon proved minimal (windows, re-timing, probes)
     "lazy-smt-minimal": LazyOptions(horizon_search="minimal"),
 }
