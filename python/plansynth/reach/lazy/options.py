@@ -2,7 +2,7 @@
 Algorithm 1, and the refinements beyond the paper).
 
 :class:`LazyOptions` is built once (by the CLI, by bench, or by a caller) and passed
-to :func:`plansynth.reach.lazy.loop.plan_lazy`, which records it in the result.
+to :func:`plansynth.reach.lazy.planner.plan_lazy`, which records it in the result.
 :meth:`LazyOptions.paper` is the loop as published; :data:`CONFIGURATIONS` holds the
 named configurations that :func:`plansynth.reach.solve` knows as planners
 (``lazy-smt-paper`` and the others), as values. Nothing heavy is imported here, so the
@@ -52,6 +52,13 @@ def window_growth_for(growth: float | None, regions: int) -> float:
     return LARGE_WINDOW_GROWTH if regions > LARGE_REGIONS else WINDOW_GROWTH
 
 
+#: The help lines of the options several planners take (the lazy planner's for a mission,
+#: the MILPs' and the baselines' say the same).
+MAX_HORIZON_DOC = "largest horizon tried (none: the problem's max_horizon)"
+SEGMENT_SAFE_DOC = "keep each segment between samples in one convex region (false: the samples only, the paper's guarantee)"
+TRANSIT_DOC = "refute plans with impossible transit times between regions before CON-PLAN"
+WAIT_SHIFTS_DOC = "robot at rest at its start: counterexamples anchored at the start also hold shifted earlier"
+
 #: ZEROPREFIX's slack objectives (see :mod:`plansynth.reach.lazy.conplan`).
 SLACK_WEIGHTS = ("geometric", "uniform")
 #: DIS-PLAN's exactly-one encodings (:class:`~plansynth.reach.lazy.displan.DisPlan`).
@@ -68,13 +75,12 @@ class LazyOptions:
     planner shares; the others tune the loop.
     """
 
-    max_horizon: int | None = option(None, "largest horizon tried (none: the problem's max_horizon)", minimum=0)
+    max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
     counterexample: str = option("farkas", "how CON-PLAN explains an infeasible plan (Section V): farkas (one LP "
                                            "over the whole plan, shrunk by its Farkas certificate), zeroprefix (the "
                                            "paper's ZEROPREFIX), trivial (the whole plan) or iis (HiGHS's IIS)",
                                  choices=COUNTEREXAMPLES)
-    segment_safe: bool = option(True, "keep each segment between samples in one convex region (false: the samples "
-                                      "only, the paper's guarantee)")
+    segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
     generalize: bool = option(True, "shrink counterexamples to their Farkas certificate's literals and reuse them "
                                     "at every time shift")
     minimize: bool = option(True, "with generalize: also drop every region literal a counterexample does not need "
@@ -91,11 +97,10 @@ class LazyOptions:
     window_growth: float | None = option(None, "window search: each window this fraction longer than its start "
                                                "(none: 0.25, and 1.0 on abstractions of more than 200 regions)",
                                          positive=True)
-    transit: bool = option(True, "refute plans with impossible transit times between regions before CON-PLAN")
+    transit: bool = option(True, TRANSIT_DOC)
     guided: bool = option(True, "make DIS-PLAN's decisions follow an evenly timed route")
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")
-    wait_shifts: bool = option(True, "robot at rest at its start: counterexamples anchored at the start also hold "
-                                     "shifted earlier")
+    wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
     prove: bool = option(False, "segment-safe: prove the minimal horizon (or infeasibility) for the problem by a MILP "
                                 "relaxation of segment safety (small instances; within the budget)")
     reach_sets: bool = option(True, "horizon_search=minimal: refute shorter horizons by per-axis reachable sets "

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from plansynth.options import check_fields, option
+from plansynth.reach.lazy.options import MAX_HORIZON_DOC, SEGMENT_SAFE_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
 
 __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 
@@ -27,43 +28,39 @@ __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 #: forever), ``lasso`` (x_L = x_k: it repeats x_k..x_L forever) or ``any`` of the two.
 SEMANTICS = ("any", "finite", "lasso")
 
-_SEMANTICS_DOC = "the plans looked for: any (finite or lasso, finite first), finite (ending at rest) or lasso"
 
 
 @dataclass(frozen=True)
-class MissionOptions:
-    """How the lazy loop plans a mission (see :func:`~plansynth.reach.mission.planner.plan_mission`)."""
+class _BoundedMission:
+    """The options both mission planners take: the horizons and plans they search."""
 
-    max_horizon: int | None = option(None, "largest horizon tried (none: the problem's max_horizon)", minimum=0)
-    semantics: str = option("any", _SEMANTICS_DOC, choices=SEMANTICS)
-    segment_safe: bool = option(True, "keep each segment between samples in one convex region (false: the samples "
-                                      "only)")
-    lower_bound: bool = option(True, "each region's earliest step from the displacement-box relaxation, as unit "
-                                     "clauses")
-    transit: bool = option(True, "refute plans with impossible transit times between regions before CON-PLAN")
-    wait_shifts: bool = option(True, "robot at rest at its start: counterexamples anchored at the start also hold "
-                                     "shifted earlier")
-    loop_first: bool = option(True, "check a lasso's loop alone (any x_k with x_L = x_k) before CON-PLAN sees the "
-                                    "plan: a refuted loop is refuted at every horizon and rotation")
+    max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
+    semantics: str = option("any", "the plans looked for: any (finite or lasso, finite first), finite (ending at "
+                                   "rest) or lasso", choices=SEMANTICS)
+    segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
+    lower_bound: bool = option(True, "each region impossible before its earliest step from the displacement-box "
+                                     "relaxation")
     horizon_bound: bool = option(True, "start at the product graph's proved lower bound on the horizon (false: "
                                        "from 0)")
+
+
+@dataclass(frozen=True)
+class MissionOptions(_BoundedMission):
+    """How the lazy loop plans a mission (see :func:`~plansynth.reach.mission.planner.plan_mission`)."""
+
+    transit: bool = option(True, TRANSIT_DOC)
+    wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
+    loop_first: bool = option(True, "check a lasso's loop alone (any x_k with x_L = x_k) before CON-PLAN sees the "
+                                    "plan: a refuted loop is refuted at every horizon and rotation")
 
     def __post_init__(self) -> None:
         check_fields(self, "lazy-smt")
 
 
 @dataclass(frozen=True)
-class MilpLtlOptions:
+class MilpLtlOptions(_BoundedMission):
     """The options of the mission MILP (see :func:`~plansynth.reach.mission.milp.plan_milp_ltl`)."""
 
-    max_horizon: int | None = option(None, "largest horizon tried (none: the problem's max_horizon)", minimum=0)
-    semantics: str = option("any", _SEMANTICS_DOC, choices=SEMANTICS)
-    segment_safe: bool = option(True, "keep each segment between samples in one convex region (false: the samples "
-                                      "only)")
-    lower_bound: bool = option(True, "each region's earliest step from the displacement-box relaxation fixes its "
-                                     "binaries")
-    horizon_bound: bool = option(True, "start at the product graph's proved lower bound on the horizon (false: "
-                                       "from 0)")
     one_shot: bool = option(False, "one MILP at max_horizon only (Wolff et al.'s fixed horizon: a plan of exactly "
                                    "that many steps, not the shortest)")
 

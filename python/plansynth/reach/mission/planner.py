@@ -8,7 +8,7 @@ problem with a mission.
     no word over the labels' geometry satisfies the mission -> infeasible (proof.py)
     L0 <- the product graph's lower bound on the horizon                  (horizon.py)
     for L = L0 .. max_horizon:                   (one horizon at a time: L is minimal)
-        loop:                                    (the one lazy loop, lazy/loop.py)
+        loop:                                    (the one lazy loop: lazy/loop.py)
             r_0..r_L, loop <- DIS-PLAN(L)          (bmc.py; UNSAT -> next L)
             the mission's theory (theory.py): transit times, the loop alone, CON-PLAN,
                 the LP with the loop closure or the rest at x_L -> trajectory: done

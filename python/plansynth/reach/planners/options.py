@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 from plansynth.errors import InvalidOption
 from plansynth.options import check_fields, option
+from plansynth.reach.lazy.options import MAX_HORIZON_DOC as _MAX_HORIZON
+from plansynth.reach.lazy.options import SEGMENT_SAFE_DOC as _SEGMENT_SAFE
 
 __all__ = ["MilpOptions", "BigMOptions", "OmplOptions", "GcsOptions", "GCS_VARIANTS", "BIGM_OBJECTIVES"]
 
@@ -27,8 +29,6 @@ __all__ = ["MilpOptions", "BigMOptions", "OmplOptions", "GcsOptions", "GCS_VARIA
 GCS_VARIANTS = ("like-for-like", "surrogate", "convex")
 #: The big-M MILP's objectives.
 BIGM_OBJECTIVES = ("feasibility", "l1")
-_SEGMENT_SAFE = "keep each segment between samples in one convex region (false: the samples only, the paper's guarantee)"
-_MAX_HORIZON = "largest horizon tried (none: the problem's max_horizon)"
 
 
 @dataclass(frozen=True)

@@ -232,7 +232,7 @@ class _HighsRuns:
             # (no Farkas ray: a fallback copy decided it, or the interior-point method)
             self._no_ray = h is self.cold or attempt == "first"
             # a "no" of the interior-point method or of presolve has no certificate, and
-            # the loop's claims say so (loop._uncertified); the simplex method's has one
+            # the loop's claims say so (claims.uncertified); the simplex method's has one
             self.stats.uncertified += attempt in ("first", "ipm", "presolved")
             return None
         if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):
