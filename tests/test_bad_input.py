@@ -343,10 +343,13 @@ def test_budget_options_must_be_finite_and_positive(command: list[str], value: s
     _refused([*command, "--timeout", value], "Invalid value for '--timeout'")
 
 
-@pytest.mark.parametrize("args", [["grid", "animate", FIGURE1, WINNER, "--steps", "6", "-o", "x.gif", "--fps", "nan"],
-                                  ["reach", "solve", MAZE1, "--window-growth", "inf"]])
-def test_other_real_options_must_be_finite(args: list[str]) -> None:
-    _refused(args, "Invalid value for")
+@pytest.mark.parametrize("args, fragment", [
+    (["grid", "animate", FIGURE1, WINNER, "--steps", "6", "-o", "x.gif", "--fps", "nan"], "Invalid value for"),
+    (["reach", "solve", MAZE1, "-O", "window_growth=inf"], "lazy-smt: option 'window_growth': must be positive and finite"),
+    (["reach", "solve", MAZE1, "-O", "window_growth=nan"], "lazy-smt: option 'window_growth': expected float"),
+])
+def test_other_real_options_must_be_finite(args: list[str], fragment: str) -> None:
+    _refused(args, fragment)
 
 
 def test_usage_errors_are_one_line() -> None:
@@ -405,7 +408,8 @@ def test_a_long_unicode_name_still_gives_a_valid_sl_file_name(tmp_path: Path) ->
         (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "milp-ltl"], "this problem has none"),
         (["reach", "solve", "examples/reach/mission-visit.yaml", "-p", "gcs"], "does not plan LTL missions"),
         (["reach", "solve", "examples/reach/dubins.yaml", "-p", "gcs"], "starts at rest"),
-        (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "gcs", "--variant", "bogus"], "unknown variant 'bogus'"),
+        (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "gcs", "-O", "variant=bogus"],
+         "gcs: option 'variant': unknown value 'bogus'"),
     ],
 )
 def test_a_planner_the_problem_cannot_use_is_a_one_line_error(args: list[str], fragment: str) -> None:

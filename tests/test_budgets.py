@@ -102,18 +102,21 @@ def test_displan_sat_solver_stops_between_cadical_slices():
 
 
 def test_lazy_smt_stops_in_the_lp_solver():
-    from plansynth.reach.lazy.loop import plan_lazy
+    from plansynth.reach.lazy.options import LazyOptions
+    from plansynth.reach.lazy.planner import plan_lazy
 
-    r, seconds = timed(plan_lazy, slow_chain(), Budget(seconds=BUDGET), horizon_search="linear")
+    r, seconds = timed(plan_lazy, slow_chain(), Budget(seconds=BUDGET), LazyOptions(horizon_search="linear"))
     assert r.status is ReachStatus.UNKNOWN
     # in the LP solver, the SAT solver or between their calls: each named
-    assert any(f"budget ran out in the {phase}" in r.message for phase in ("LP solver", "SAT solver", "lazy SMT loop")), r.message
+    assert any(f"budget ran out {phase}" in r.message for phase in ("in the LP solver", "in the SAT solver",
+                                                                     "in the lazy SMT loop",
+                                                                     "before the lazy SMT loop's iteration")), r.message
     assert "at horizon" in r.message, r.message
     assert seconds < LIMIT
 
 
 def test_lazy_smt_and_milp_stop_in_the_convex_decomposition():
-    from plansynth.reach.lazy.loop import plan_lazy
+    from plansynth.reach.lazy.planner import plan_lazy
     from plansynth.reach.planners.milp import plan_milp
 
     problem = many_vertex_circle()

@@ -305,10 +305,12 @@ _OPTIONS = {
     "--option": ["sygus-enum=fast", "x", "=", "minimize=true", "nosuch=1"], "--out": ["{out}"], "-o": ["{out}"],
     "--keep-sl": ["{outdir}"], "--minimize": None, "--lang": ["python", "c", "sygus", "rust", ""],
     "--problem": ["{grid}", "{missing}", "{fifo}"], "--planner": ["lazy-smt", "milp", "lazy-smt-paper", "nosuch", ""],
-    "--max-horizon": _VALUES, "--counterexample": ["farkas", "trivial", "iis", "zeroprefix", "x"],
-    "--horizon-search": ["window", "linear", "x"], "--window-growth": ["nan", "inf", "0", "0.25", "1e9", "x"],
+    "--max-horizon": _VALUES,
+    "-O": ["counterexample=farkas", "counterexample=trivial", "counterexample=x", "horizon_search=linear",
+           "horizon_search=x", "window_growth=nan", "window_growth=inf", "window_growth=0", "window_growth=0.25",
+           "window_growth=1e9", "window_growth=x", "generalize=false", "semantics=lasso", "max_horizon=1e400", "x", "="],
     "--fps": ["nan", "inf", "0", "3", "1e9"], "--seed": ["0", "-1", "1e3", "99999999999999999999"],
-    "--obstacles": ["adversarial", "random", "x"], "--no-generalize": None, "--paper": None,
+    "--obstacles": ["adversarial", "random", "x"], "--paper": None,
     "--bogus": None, "--segment-safe": None,
 }
 

@@ -1,4 +1,4 @@
-"""The README's commands are tests (issue 10, item 3).
+"""The README's commands are tests.
 
 Every ``plansynth ...`` line in a code block of README.md or docs/tutorial.md is run
 here as a user would run it: the installed ``plansynth`` command in a fresh process,
@@ -155,23 +155,23 @@ CASES: dict[str, Case] = {
     "plansynth reach validate examples/reach/maze-3.yaml traj.json": Case(out=("valid",), before=(SOLVED_MAZE3,)),
     "plansynth reach solve examples/reach/maze-1.yaml --animate run.gif": Case(
         out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"),
-    "plansynth reach solve examples/reach/maze-4.yaml --horizon-search linear": Case(
+    "plansynth reach solve examples/reach/maze-4.yaml -O horizon_search=linear": Case(
         out=("found", "minimal through the decomposition only"),
-        fast="plansynth reach solve examples/reach/maze-2.yaml --horizon-search linear"),
-    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --no-segment-safe --horizon-search linear": Case(
+        fast="plansynth reach solve examples/reach/maze-2.yaml -O horizon_search=linear"),
+    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --no-segment-safe -O horizon_search=linear": Case(
         out=("found", "8 (proved minimal)")),
-    "plansynth reach solve examples/reach/maze-1.yaml --prove": Case(out=("found", "57 (proved minimal)")),
+    "plansynth reach solve examples/reach/maze-1.yaml -O prove=true": Case(out=("found", "57 (proved minimal)")),
     "plansynth reach solve examples/reach/maze-1.yaml --paper": Case(out=FOUND),
-    "plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 60": Case(
+    "plansynth reach solve examples/reach/maze-2.yaml -O counterexample=trivial -O generalize=false --timeout 60": Case(
         exit=(0, 3), out=("lazy-smt",),
-        fast="plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 3"),
+        fast="plansynth reach solve examples/reach/maze-2.yaml -O counterexample=trivial -O generalize=false --timeout 3"),
     "plansynth reach solve examples/reach/cluttered.yaml --planner milp --max-horizon 60": Case(out=FOUND),
     "plansynth reach plot examples/reach/cluttered.yaml traj.json -o cluttered.png": Case(
         files=("cluttered.png",), before=(SOLVED_CLUTTERED,)),
     "plansynth grid solve examples/grid/corridor.yaml --timeout 30": Case(out=("realizable",)),
     "plansynth grid solve examples/grid/corridor.yaml --effort 0": Case(out=("realizable", "not proved")),
     "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --timeout 120": Case(out=FOUND),
-    "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --variant convex": Case(exit=(3,), out=("gcs",)),
+    "plansynth reach solve examples/reach/maze-1.yaml --planner gcs -O variant=convex": Case(exit=(3,), out=("gcs",)),
     "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json --plot plan.png --animate plan.gif": Case(
         out=FOUND, files=("plan.png", "plan.gif"), json=(("plan.json", "status", "found"), ("plan.json", "validated", True))),
     "plansynth reach validate examples/reach/mission-patrol.yaml plan.json": Case(before=(SOLVED_PATROL,)),

@@ -209,9 +209,10 @@ class Clock:
     def steps(self, values: Iterable[T], *, progress: Callable[[T, int], None] | None = None,
               what: str = "step") -> Iterator[T]:
         """The main loop over ``values`` (horizons, path lengths) under this budget:
-        before each value, ``progress(value, iterations so far)`` is called and the
-        budget is checked (:class:`BudgetExhausted` naming ``what`` and the value once
-        time, memory or iterations are out); after it, one iteration is counted.
+        before each value, ``progress(value, iterations so far)`` is called, the budget
+        is checked (:class:`BudgetExhausted` naming ``what`` and the value once time,
+        memory or iterations are out) and one iteration is counted, so that the
+        iteration the loop leaves by ``break`` or ``return`` counts too.
 
         >>> clock = Budget(iterations=2).clock()
         >>> seen = []
@@ -230,5 +231,5 @@ class Clock:
                 raise BudgetExhausted(f"before {what} {value}", resource,
                                       f"budget ran out before {what} {value}" + (
                                           "" if resource == "time" else f" ({resource})"))
-            yield value
             self.tick()
+            yield value

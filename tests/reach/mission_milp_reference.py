@@ -1,5 +1,5 @@
 """The expression-API build of the milp-ltl model, as milp.py had it before its model
-was assembled in array operations (issue 14): one ``addVariable``/``addConstr`` per
+was assembled in array operations: one ``addVariable``/``addConstr`` per
 column and row. Kept here as the reference the array build is compared against
 (tests/reach/test_mission_milp.py): the same columns, rows, bounds and objective."""
 

@@ -100,23 +100,25 @@ def test_options_reach_the_planner(tmp_path: Path) -> None:
         "robot": {"dynamics": {"model": "double-integrator", "dt": 1.0}, "start": [1, 1, 0, 0], "input_bound": 1.0},
     }))
     out = tmp_path / "r.json"
-    r = runner.invoke(app, ["reach", "solve", str(small), "--counterexample", "trivial", "--no-generalize",
+    r = runner.invoke(app, ["reach", "solve", str(small), "-O", "counterexample=trivial", "--option", "generalize=false",
                             "--no-segment-safe", "--out", str(out)])
     assert r.exit_code == 0, r.output
     doc = json.loads(out.read_text())
     assert doc["options"]["counterexample"] == "trivial" and doc["options"]["generalize"] is False
     assert doc["guarantee"] == "samples"
     r = runner.invoke(app, ["reach", "solve", str(small), "--planner", "milp", "--out", str(out)])
-    assert r.exit_code == 0 and json.loads(out.read_text())["planner"] == "milp"
+    doc = json.loads(out.read_text())
+    assert r.exit_code == 0 and doc["planner"] == doc["solver"] == "milp" and doc["solver_version"].startswith("highspy")
 
 
 def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
     out = tmp_path / "r.json"
-    r = runner.invoke(app, ["reach", "solve", str(maze1), "--horizon-search", "linear", "--no-transit", "--no-guide",
-                            "--widen", "--window-growth", "0.5", "--no-wait-shifts", "--out", str(out)])
+    r = runner.invoke(app, ["reach", "solve", str(maze1), "-O", "horizon_search=linear", "-O", "transit=false",
+                            "-O", "guided=false", "-O", "widen=true", "-O", "window-growth=0.5", "-O", "wait_shifts=no",
+                            "--out", str(out)])
     assert r.exit_code == 0, r.output
     # segment-safe: the horizon is minimal among plans whose consecutive samples share a
-    # region, above the proved bound for the problem (issue 13, item 7)
+    # region, above the proved bound for the problem
     assert "(minimal through the decomposition only)" in r.output and "(proved minimal)" not in r.output
     assert json.loads(out.read_text())["counters"]["minimal_relative_to"] == "decomposition"
     opts = json.loads(out.read_text())["options"]
@@ -131,10 +133,51 @@ def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
 
 def test_bad_options_exit_2(maze1: Path) -> None:
     assert runner.invoke(app, ["reach", "solve", str(maze1), "--planner", "astar"]).exit_code == 2
-    assert runner.invoke(app, ["reach", "solve", str(maze1), "--counterexample", "magic"]).exit_code == 2
-    assert runner.invoke(app, ["reach", "solve", str(maze1), "--horizon-search", "binary"]).exit_code == 2
-    assert runner.invoke(app, ["reach", "solve", str(maze1), "--window-growth", "0"]).exit_code == 2
+    for bad, why in [("counterexample=magic", "unknown value 'magic'"), ("horizon_search=binary", "unknown value"),
+                     ("window_growth=0", "must be positive"), ("window_growth=nan", "expected float"),
+                     ("max_horizon=-3", "below its minimum 0"), ("transit=maybe", "expected bool"),
+                     ("transit", "not KEY=VALUE")]:
+        r = runner.invoke(app, ["reach", "solve", str(maze1), "-O", bad])
+        assert r.exit_code == 2 and why in r.output, (bad, r.output)
     assert runner.invoke(app, ["reach", "solve", str(maze1), "--timeout", "-1"]).exit_code == 2
+
+
+def test_the_help_lists_every_planners_options_with_defaults_and_help() -> None:
+    from plansynth.options import describe
+    from plansynth.reach.planners import get_planner, planners
+
+    r = runner.invoke(app, ["reach", "solve", "--help"], env={"COLUMNS": "400"})
+    assert r.exit_code == 0
+    text = r.output
+    for name in planners():
+        assert f"  {name}" in text, name
+        p = get_planner(name)
+        for value in (p.defaults, p.mission_defaults):
+            for key, default, doc in describe(value) if value is not None else ():
+                if key in p.option_names(mission=value is p.mission_defaults):
+                    assert key in text
+    lazy = text.split("  lazy-smt:", 1)[1].split("  lazy-smt, for a problem with a mission:", 1)[0]
+    assert "counterexample (default farkas): how CON-PLAN explains an infeasible plan" in " ".join(lazy.split())
+    assert "semantics (default any)" in text and "loop_first (default true)" in text
+    assert "lazy-smt-paper: max_horizon, segment_safe (as lazy-smt, with counterexample=zeroprefix" in text
+
+
+def test_the_solve_help_loads_no_solver() -> None:
+    """The options listed by --help come from light modules: with the reach package's own
+    __init__ set aside, building the help text loads neither numpy nor a solver."""
+    import subprocess
+    import sys
+
+    code = ("import os, sys, types\n"
+            "import plansynth\n"
+            "pkg = types.ModuleType('plansynth.reach')\n"
+            "pkg.__path__ = [os.path.join(os.path.dirname(plansynth.__file__), 'reach')]\n"
+            "sys.modules['plansynth.reach'] = pkg\n"
+            "from plansynth.reach.cli import planner_options_help\n"
+            "assert 'lazy-smt' in planner_options_help()\n"
+            "print(sorted(m for m in ('numpy', 'highspy', 'shapely', 'pysat', 'matplotlib') if m in sys.modules))\n")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout == "[]\n", run.stdout + run.stderr
 
 
 def test_help_shows_examples() -> None:
@@ -152,11 +195,14 @@ def test_table_runs_the_maze_family() -> None:
 
 @pytest.mark.parametrize("args, flag", [
     (["--paper", "-p", "milp"], "--paper"),
-    (["-p", "lazy-smt-zeroprefix", "--counterexample", "trivial"], "--counterexample"),
-    (["-p", "lazy-smt-paper", "--no-transit"], "--transit/--no-transit"),
-    (["-p", "milp", "--no-generalize"], "--generalize/--no-generalize"),
-    (["-p", "rrt", "--max-horizon", "40"], "--max-horizon"),
-    (["-p", "lazy-smt", "--variant", "convex"], "--variant"),
+    (["-p", "lazy-smt-zeroprefix", "-O", "counterexample=trivial"],
+     "lazy-smt-zeroprefix: option 'counterexample': not an option of this planner (a named configuration: its "
+     "other options are fixed); its options: max_horizon, segment_safe"),
+    (["-p", "lazy-smt-paper", "-O", "transit=false"], "lazy-smt-paper: option 'transit'"),
+    (["-p", "milp", "-O", "generalize=false"],
+     "milp: option 'generalize': not an option of this planner; its options: max_horizon, start_horizon, segment_safe"),
+    (["-p", "rrt", "--max-horizon", "40"], "rrt: option 'max_horizon'"),
+    (["-p", "lazy-smt", "-O", "variant=convex"], "lazy-smt: option 'variant'"),
 ])
 def test_an_option_the_planner_does_not_take_is_one_line_and_exit_2(maze1: Path, args: list[str], flag: str) -> None:
     import os
@@ -173,7 +219,31 @@ def test_an_option_the_planner_does_not_take_is_one_line_and_exit_2(maze1: Path,
 
 def test_paper_mode_takes_the_options_given_on_top(maze1: Path, tmp_path: Path) -> None:
     out = tmp_path / "r.json"
-    r = runner.invoke(app, ["reach", "solve", str(maze1), "--paper", "--counterexample", "trivial", "--out", str(out)])
+    r = runner.invoke(app, ["reach", "solve", str(maze1), "--paper", "-O", "counterexample=trivial", "--out", str(out)])
     assert r.exit_code == 0, r.output
     opts = json.loads(out.read_text())["options"]
     assert opts["counterexample"] == "trivial" and opts["horizon_search"] == "linear" and opts["transit"] is False
+
+
+def test_a_mission_takes_its_options_through_the_same_flag(tmp_path: Path) -> None:
+    out = tmp_path / "r.json"
+    mission = "examples/reach/mission-patrol.yaml"
+    r = runner.invoke(app, ["reach", "solve", mission, "-O", "semantics=lasso", "-O", "loop_first=false",
+                            "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    doc = json.loads(out.read_text())
+    assert doc["mission"]["semantics"] == "lasso" and doc["options"]["loop_first"] is False
+    assert doc["solver"] == "lazy-smt" and doc["mission"]["ok"] is True
+    bad = runner.invoke(app, ["reach", "solve", mission, "-O", "counterexample=trivial"])
+    assert bad.exit_code == 2 and "not an option of this planner for a problem with a mission" in bad.output
+    assert "semantics" in bad.output  # the options it does take
+    paper = runner.invoke(app, ["reach", "solve", mission, "--paper"])
+    assert paper.exit_code == 2 and "--paper" in paper.output
+
+
+def test_table_takes_the_lazy_options_through_O() -> None:
+    r = runner.invoke(app, ["reach", "table", "--mazes", "1", "-c", "zeroprefix", "-O", "generalize=false"])
+    assert r.exit_code == 0, r.output
+    assert "zeroprefix " in r.output and "+gen" not in r.output and r.output.count("found") == 1
+    bad = runner.invoke(app, ["reach", "table", "--mazes", "1", "-O", "variant=convex"])
+    assert bad.exit_code == 2 and "lazy-smt: option 'variant'" in bad.output

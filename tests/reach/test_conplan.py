@@ -198,7 +198,7 @@ def test_a_trajectory_that_misses_the_dynamics_is_polished() -> None:
     """Long chains can leave unscaled dynamics residuals of 1e-5 after a scaled simplex
     run; CON-PLAN then re-solves the plan's LP tightly instead of reporting it."""
     from plansynth.reach.lazy.conplan import POLISH_RESIDUAL
-    from plansynth.reach.lazy.loop import plan_lazy
+    from plansynth.reach.lazy.planner import plan_lazy
     from plansynth.reach.trajectory import Trajectory
     from plansynth.reach.validate import validate
 
@@ -221,7 +221,7 @@ def test_the_warm_polish_needs_the_plan_in_the_model() -> None:
     """The polish first re-solves the plan's LP from its own basis at tight tolerances,
     but only while the model holds exactly that LP; otherwise it gives None and the cold
     polish runs."""
-    from plansynth.reach.lazy.loop import plan_lazy
+    from plansynth.reach.lazy.planner import plan_lazy
 
     p = maze(1, order=4)
     ab = abstract(p)
@@ -248,7 +248,7 @@ def test_long_chain_plan_lps_start_interior_and_fall_back_to_the_simplex(threads
     monkeypatch.setattr(runs, "PART_THREADS", threads)
     from plansynth.reach.lazy.conplan import POLISH_RESIDUAL
     from plansynth.reach.lazy.conplan.runs import INTERIOR_STATES
-    from plansynth.reach.lazy.loop import plan_lazy
+    from plansynth.reach.lazy.planner import plan_lazy
 
     p = maze(1, order=15)
     assert p.dynamics.n_states >= INTERIOR_STATES
@@ -295,16 +295,17 @@ def test_claims_resting_on_uncertified_refutations_are_withdrawn() -> None:
     horizon (unless the relaxation MILP proved it)."""
     from dataclasses import replace as _replace
 
-    from plansynth.reach.lazy.loop import LoopOutcome, _uncertified
+    from plansynth.reach.lazy.claims import uncertified
+    from plansynth.reach.lazy.loop import LoopOutcome
     from plansynth.reach.result import ReachStatus
 
     inf = LoopOutcome(ReachStatus.INFEASIBLE, 40, "infeasible up to horizon 40: every horizon refuted")
-    out = _uncertified(inf, 2, None)
+    out = uncertified(inf, 2, None)
     assert out.status is ReachStatus.UNKNOWN and "2 LP refutations without a Farkas certificate" in out.message
-    assert _uncertified(inf, 2, "infeasible") is inf  # proved by the relaxation MILP
+    assert uncertified(inf, 2, "infeasible") is inf  # proved by the relaxation MILP
     found = LoopOutcome(ReachStatus.FOUND, 30, "found at horizon 30", minimal=True)
-    out = _uncertified(found, 1, None)
+    out = uncertified(found, 1, None)
     assert out.status is ReachStatus.FOUND and out.minimal is False and "not proved minimal" in out.message
-    assert _uncertified(found, 1, "minimal") is found
+    assert uncertified(found, 1, "minimal") is found
     plain = _replace(found, minimal=False)
-    assert _uncertified(plain, 1, None) is plain
+    assert uncertified(plain, 1, None) is plain

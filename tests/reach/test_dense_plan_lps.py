@@ -1,4 +1,4 @@
-"""Random dynamics (issue 13, item 4): the family's horizon rule, and the plan LPs of
+"""Random dynamics: the family's horizon rule, and the plan LPs of
 dense dynamics, which the interior-point method solves first (a refuted plan whose
 window is deferred keeps the whole plan as its conflict)."""
 
@@ -13,7 +13,8 @@ from plansynth.reach.families import RANDOM_DYNAMICS_MAX_HORIZON, random_dynamic
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
-from plansynth.reach.lazy.loop import lazy_loop, plan_lazy
+from plansynth.reach.lazy.loop import lazy_loop
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.oracle import oracle_lp
 from plansynth.reach.problem import DEFAULT_MAX_HORIZON
 from plansynth.reach.result import ReachStatus

@@ -1,5 +1,5 @@
 """Every ``infeasible`` and every minimal horizon claimed for the problem is checked
-against an independent exact formulation (issue 13, item 7): the big-M MILP of
+against an independent exact formulation: the big-M MILP of
 :func:`reach_oracles.oracle_feasible` over the spec's semantics, which shares no code
 with the planner (no decomposition, no regions).
 
@@ -288,7 +288,7 @@ def test_public_cases_minimal_horizons(name: str, seg_min: int, samples_min: int
             assert r.horizon == seg_min
         elif r.counters["minimal"]:
             assert r.counters["minimal_relative_to"] == "decomposition" and "not proved for the problem" in r.message
-    r = solve(p, "lazy-smt", max_horizon=seg_min, horizon_search="linear")  # was "infeasible" (issue 13)
+    r = solve(p, "lazy-smt", max_horizon=seg_min, horizon_search="linear")  # was "infeasible"
     assert r.status is not ReachStatus.INFEASIBLE
 
 

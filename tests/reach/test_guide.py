@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import pytest
 
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, maze
 from plansynth.reach.lazy.guide import departure, reference_plan, route
-from plansynth.reach.lazy.loop import plan_lazy
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.validate import validate
@@ -37,10 +38,10 @@ def test_no_route_to_a_walled_off_goal() -> None:
 @pytest.mark.parametrize("guided", [True, False])
 def test_guidance_changes_the_search_not_the_answer(guided: bool) -> None:
     p = maze(2)
-    r = plan_lazy(p, guided=guided, horizon_search="linear")
+    r = plan_lazy(p, options=LazyOptions(guided=guided, horizon_search="linear"))
     assert r.status.value == "found" and r.counters["minimal"] is True
     assert validate(p, r.trajectory, require_segment_safe=True).ok
-    assert r.horizon == plan_lazy(p, guided=not guided, horizon_search="linear").horizon
+    assert r.horizon == plan_lazy(p, options=LazyOptions(guided=not guided, horizon_search="linear")).horizon
 
 
 @pytest.mark.parametrize("depart", [40, 55])

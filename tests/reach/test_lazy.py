@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from plansynth.budget import Budget
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach import ReachStatus, plan_lazy, solve
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.lazy.conflict import Conflict, Feasible
@@ -46,7 +47,7 @@ def test_maze1_end_to_end() -> None:
 
 def test_maze1_horizon_is_minimal_by_the_milp() -> None:
     p = maze(1)
-    r = plan_lazy(p, horizon_search="linear")
+    r = plan_lazy(p, options=LazyOptions(horizon_search="linear"))
     assert r.counters["minimal"] is True
     ab = abstract(p)
     assert solve_horizon(p, ab, r.horizon)[0] == "found"
@@ -78,7 +79,7 @@ def test_refuting_every_horizon_through_the_abstraction_is_not_infeasible() -> N
     searched from horizon 0. Refuting plans through the abstraction proves nothing
     about trajectories that cross several regions per step: ``unknown``, saying why."""
     p = maze(1)
-    r = plan_lazy(p, max_horizon=55, lower_bound=False)
+    r = plan_lazy(p, options=LazyOptions(max_horizon=55, lower_bound=False))
     assert r.status is ReachStatus.UNKNOWN and r.horizon == 55
     assert "every horizon up to 55 refuted for plans through the abstraction" in r.message
     assert "not a proof" in r.message and r.counters["abstraction_refuted"] == 55
@@ -86,14 +87,14 @@ def test_refuting_every_horizon_through_the_abstraction_is_not_infeasible() -> N
 
 
 def test_too_short_max_horizon_is_infeasible_by_the_proved_bound() -> None:
-    r = plan_lazy(maze(1), max_horizon=37)  # the proved bound is 38
+    r = plan_lazy(maze(1), options=LazyOptions(max_horizon=37))  # the proved bound is 38
     assert r.counters["proved_bound"] == 38
     assert r.status is ReachStatus.INFEASIBLE and r.counters["iterations"] == 0
     assert "needs at least 38 steps" in r.message
 
 
 def test_region_hop_bound_alone_gives_unknown() -> None:
-    r = plan_lazy(maze(1), max_horizon=40)  # region hops say 50, proved only 38
+    r = plan_lazy(maze(1), options=LazyOptions(max_horizon=40))  # region hops say 50, proved only 38
     assert r.status is ReachStatus.UNKNOWN and r.counters["iterations"] == 0
     assert "no plan through the abstraction up to horizon 40" in r.message
 

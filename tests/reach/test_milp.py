@@ -10,7 +10,7 @@ from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.planners.milp import _big_m, plan_milp, solve_horizon
+from plansynth.reach.planners.milp import MilpOptions, _big_m, plan_milp, solve_horizon
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 
@@ -51,13 +51,13 @@ def test_milp_samples_only_is_never_longer() -> None:
 
 
 def test_milp_infeasible_up_to_max_horizon_by_the_proved_bound() -> None:
-    r = plan_milp(maze(1), max_horizon=30)  # every trajectory needs 38 steps or more
+    r = plan_milp(maze(1), options=MilpOptions(max_horizon=30))  # every trajectory needs 38 steps or more
     assert r.status is ReachStatus.INFEASIBLE and r.horizon == 30
     assert r.counters["proved_bound"] == 31 and r.counters["milp_calls"] == 0  # (the sweep stops at 31)
 
 
 def test_milp_refuting_the_abstraction_is_not_infeasible() -> None:
-    r = plan_milp(maze(1), max_horizon=45)
+    r = plan_milp(maze(1), options=MilpOptions(max_horizon=45))
     assert r.status is ReachStatus.UNKNOWN and r.horizon == 45
     assert r.counters["milp_calls"] == 45 - 2 + 1  # every horizon from the BFS distance 2
     assert r.counters["abstraction_refuted"] == 45 and "not a proof" in r.message
@@ -69,7 +69,7 @@ def test_milp_proved_bound_is_tight_on_the_corridor() -> None:
 
 
 def test_milp_with_a_start_horizon_does_not_claim_infeasibility() -> None:
-    r = plan_milp(maze(1), start_horizon=40, max_horizon=42)
+    r = plan_milp(maze(1), options=MilpOptions(start_horizon=40, max_horizon=42))
     assert r.status is ReachStatus.UNKNOWN and "shorter ones not tried" in r.message
 
 

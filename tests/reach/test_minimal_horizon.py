@@ -17,7 +17,8 @@ from plansynth.reach.families import maze
 from plansynth.reach.geometry import Box
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
-from plansynth.reach.lazy.loop import LoopOutcome, compressed, retimed
+from plansynth.reach.lazy.loop import LoopOutcome
+from plansynth.reach.lazy.minimal import compressed, retimed
 from plansynth.reach.lazy.transit import TransitCheck
 from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.planners.milp import solve_horizon
@@ -28,7 +29,7 @@ from plansynth.reach.validate import validate
 def test_minimal_on_maze_1_is_the_milp_minimum() -> None:
     p = maze(1)
     window = plan_lazy(p)
-    r = plan_lazy(p, horizon_search="minimal", reach_sets=False)  # the probes alone
+    r = plan_lazy(p, options=LazyOptions(horizon_search="minimal", reach_sets=False))  # the probes alone
     assert window.counters["minimal"] is False and window.horizon > r.horizon  # the window's top, not minimal
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is True and r.counters["minimal_probes"] >= 1
     assert "proved minimal" in r.message and "monotonicity" in r.message
@@ -52,8 +53,8 @@ def moving_start() -> ReachProblem:
 @pytest.mark.parametrize("reach_sets", [True, False], ids=["reach-sets", "probes"])
 @pytest.mark.parametrize("problem", [maze(2), moving_start()], ids=["maze-2", "moving-start"])
 def test_minimal_equals_the_linear_search(problem: ReachProblem, reach_sets: bool) -> None:
-    linear = plan_lazy(problem, horizon_search="linear")
-    r = plan_lazy(problem, horizon_search="minimal", reach_sets=reach_sets)
+    linear = plan_lazy(problem, options=LazyOptions(horizon_search="linear"))
+    r = plan_lazy(problem, options=LazyOptions(horizon_search="minimal", reach_sets=reach_sets))
     assert linear.counters["minimal"] is True and r.counters["minimal"] is True
     assert r.horizon == linear.horizon
     if reach_sets:  # the sets' bound is the minimum here: one probe, under the tube
@@ -66,7 +67,7 @@ def test_minimal_equals_the_linear_search(problem: ReachProblem, reach_sets: boo
 def test_minimal_within_an_iteration_budget_is_not_proved() -> None:
     from plansynth.budget import Budget
 
-    r = plan_lazy(maze(2), Budget(iterations=3), horizon_search="minimal")
+    r = plan_lazy(maze(2), Budget(iterations=3), options=LazyOptions(horizon_search="minimal"))
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is False and "not proved minimal" in r.message
 
 
@@ -154,7 +155,7 @@ def test_minimal_is_the_region_milp_minimum(problem: ReachProblem) -> None:
     """On random walls with gaps (start at rest: probes; moving: windows), the horizon
     the minimal search proves minimal is the region MILP's minimum: a plan at h, none at
     h - 1 (an independent formulation over the same region graph)."""
-    r = plan_lazy(problem, Budget(seconds=60), horizon_search="minimal")
+    r = plan_lazy(problem, Budget(seconds=60), options=LazyOptions(horizon_search="minimal"))
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is True, r.message
     assert validate(problem, r.trajectory, require_segment_safe=True).ok
     ab = abstract(problem)
@@ -194,7 +195,8 @@ def test_prove_minimal_finds_the_least_horizon_past_a_stuck_retiming() -> None:
     """The search logic alone, against a theory whose answers are known: the window's
     plan (horizon 17) re-times only to 16 (every shorter stay breaks it), probes find
     other timings below, and the minimum 11 is proved by refuting 10 (monotone)."""
-    from plansynth.reach.lazy.loop import lazy_loop, prove_minimal
+    from plansynth.reach.lazy.loop import lazy_loop
+    from plansynth.reach.lazy.minimal import prove_minimal
 
     graph = RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(2,))
     displan = DisPlan(graph, waits_at_start=True)

@@ -83,7 +83,7 @@ def test_patrol_needs_a_lasso():
 
 
 def test_conflicts_and_loop_clauses_carry_over_to_later_horizons_in_one_solver():
-    """One CaDiCaL instance across horizons (issue 14, point 3): a conflict learned at
+    """One CaDiCaL instance across horizons: a conflict learned at
     horizon 2 (region 1 followed by region 2, at any time shift) and a loop refuted
     without the start at horizon 2 still exclude their plans at horizon 4, where the
     solver is the same object and nothing was re-encoded."""

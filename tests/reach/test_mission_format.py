@@ -1,4 +1,4 @@
-"""The reach problem format with ``labels`` and ``mission`` (issue 14): validation at
+"""The reach problem format with ``labels`` and ``mission``: validation at
 the door, the optional goal, round trips; and the label-refined abstraction."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The milp-ltl baseline's array build (issue 14: the baseline's wall time is HiGHS's
+"""The milp-ltl baseline's array build (the baseline's wall time is HiGHS's
 solve plus a small build) is the same model as the expression-API build it replaced
 (tests/reach/mission_milp_reference.py): the same columns with the same bounds,
 integrality and objective, and the same rows with the same bounds, on the examples at

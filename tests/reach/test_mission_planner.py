@@ -1,4 +1,4 @@
-"""Mission planning end to end (issue 14): the examples, the checker's verdicts, the
+"""Mission planning end to end: the examples, the checker's verdicts, the
 lazy planner against the milp-ltl baseline on random small workspaces and random
 formulas, and the soundness of every clause the mission loop learns (checked by an LP
 written here from scratch over every lasso or finite plan the clause excludes)."""
@@ -21,10 +21,12 @@ from plansynth.cli import app
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.families import random_workspace
 from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
+from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
 from plansynth.reach.mission.labels import label_abstraction
-from plansynth.reach.mission.planner import plan_mission, solve_mission
+from plansynth.reach.mission.options import MissionOptions
+from plansynth.reach.mission.planner import plan_mission
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
@@ -193,7 +195,7 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
     assert lazy.status is milp.status
     assert lazy.horizon == milp.horizon  # both search horizons upwards (from the proved bound)
     # the horizon bound prunes nothing the search from 0 would find: the MILP from 0 agrees
-    unbounded = solve_mission(p, "milp-ltl", Budget(seconds=60), horizon_bound=False)
+    unbounded = solve(p, "milp-ltl", Budget(seconds=60), horizon_bound=False)
     assert unbounded.status is milp.status and unbounded.horizon == milp.horizon
     assert milp.counters.get("horizon_bound", 0) <= (milp.horizon if milp.status is ReachStatus.FOUND else p.max_horizon + 1)
 
@@ -333,7 +335,7 @@ def test_the_mission_transit_layer_reports_only_proved_legs_and_never_the_goal()
     from plansynth.reach.lazy.transit import GOAL, TransitCheck
     from plansynth.reach.mission.families import mission_problem
     from plansynth.reach.mission.labels import planning_problem
-    from plansynth.reach.mission.planner import MissionTransit
+    from plansynth.reach.mission.theory import MissionTransit
 
     p = mission_problem("maze-1", "visit")
     ab = label_abstraction(p).abstraction
@@ -363,7 +365,7 @@ def test_the_loop_lp_agrees_with_an_lp_written_from_scratch(which):
     lassos back to a random step, against ``oracle_feasible``: the same verdict, and a
     trajectory through the walk when feasible."""
     from plansynth.reach.mission.labels import planning_problem
-    from plansynth.reach.mission.planner import LoopLP
+    from plansynth.reach.mission.looplp import LoopLP
 
     p = small_problems()[which]
     ab = label_abstraction(p).abstraction
@@ -404,7 +406,8 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
     orig_learn, orig_loop = MissionDisPlan.learn, MissionDisPlan.learn_loop
 
     def learn(self, c):
-        conflicts.append(c)
+        if isinstance(c, Conflict):  # (the loop's refuted loops and stays come through learn_loop, learn_stay)
+            conflicts.append(c)
         orig_learn(self, c)
 
     def learn_loop(self, lits, k, L, *, shifted):
@@ -413,7 +416,7 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
 
     MissionDisPlan.learn, MissionDisPlan.learn_loop = learn, learn_loop
     try:
-        plan_mission(p, Budget(seconds=60, iterations=150), labelled=la, lower_bound=False)
+        plan_mission(p, Budget(seconds=60, iterations=150), MissionOptions(lower_bound=False), labelled=la)
     finally:
         MissionDisPlan.learn, MissionDisPlan.learn_loop = orig_learn, orig_loop
     assert conflicts and loops  # both kinds are learned, so both are checked below
@@ -469,7 +472,7 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
 
 
 def test_the_checker_shares_no_code_with_the_planner():
-    """The independent mission checker (issue 14, point 5) imports neither the encoding,
+    """The independent mission checker imports neither the encoding,
     the planners, the label refinement, the decomposition nor the lazy loop: it is run
     on the problem and the trajectory alone (LTL evaluation by ltl.holds, geometry by shapely)."""
     import ast
@@ -481,6 +484,7 @@ def test_the_checker_shares_no_code_with_the_planner():
     imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
     imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     planner_side = ("plansynth.reach.mission.bmc", "plansynth.reach.mission.planner", "plansynth.reach.mission.milp",
+                    "plansynth.reach.mission.theory", "plansynth.reach.mission.looplp", "plansynth.reach.mission.plans",
                     "plansynth.reach.mission.labels", "plansynth.reach.mission.proof", "plansynth.reach.abstraction",
                     "plansynth.reach.lazy", "plansynth.reach.planners", "plansynth.reach.highs")
     assert not [m for m in imported if m.startswith(planner_side)], imported
@@ -498,7 +502,7 @@ def test_loop_alone_verdicts_from_the_memo_and_at_rest_are_the_lps(which):
     import math
 
     from plansynth.reach.mission.labels import planning_problem
-    from plansynth.reach.mission.planner import LoopLP
+    from plansynth.reach.mission.looplp import LoopLP
 
     p = small_problems()[which]
     ab = label_abstraction(p).abstraction
@@ -540,7 +544,7 @@ def test_the_shortest_mission_horizon_is_claimed_through_the_decomposition_only(
                                  "labels": {"a": {"min": [9, 4], "max": [10, 6]}}, "mission": "F a",
                                  "robot": {"dynamics": {"model": "single-integrator", "dt": 1},
                                            "start": [0.5, 5], "input_bound": 20}})
-    r = solve_mission(p)
+    r = solve(p)
     assert r.status is ReachStatus.FOUND and r.horizon == 2
     assert r.counters["minimal"] and r.counters["minimal_relative_to"] == "decomposition"
     one = Trajectory(np.array([[0.5, 5], [9.0, 5]]), np.array([[8.5, 0]]))  # a shorter plan to a's edge, valid

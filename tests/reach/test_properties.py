@@ -18,13 +18,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.lazy.displan import DisPlan
 from plansynth.reach.dynamics import double_integrator
 from plansynth.reach.highs import new_highs
-from plansynth.reach.lazy.loop import plan_lazy
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.geometry import Box, halfspaces
 from plansynth.reach.problem import ReachProblem
 
@@ -157,8 +158,9 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
 
     DisPlan.learn = recording  # type: ignore[method-assign]
     try:
-        plan_lazy(p, abstraction=ab, max_horizon=top, counterexample=strategy, generalize=generalize,
-                  segment_safe=segment_safe, lower_bound=False, horizon_search=search, window_growth=2.0)
+        plan_lazy(p, options=LazyOptions(max_horizon=top, counterexample=strategy, generalize=generalize,
+                                         segment_safe=segment_safe, lower_bound=False, horizon_search=search,
+                                         window_growth=2.0), abstraction=ab)
     finally:
         DisPlan.learn = original  # type: ignore[method-assign]
     checked = 0

@@ -1,4 +1,4 @@
-"""``infeasible`` must be proved (issue 10): DIS-PLAN moves one region per step, so
+"""``infeasible`` must be proved: DIS-PLAN moves one region per step, so
 refuting every horizon through a decomposition of thousands of sliver regions is not
 a proof. Only :func:`plansynth.reach.lazy.bounds.proved_horizon_bound` may prove it; these
 tests check that it is a lower bound on every trajectory found, and that the cases that

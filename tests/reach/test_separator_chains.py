@@ -1,4 +1,4 @@
-"""Random dynamics (issue 13, item 4): the separator-chain bounds and the window
+"""Random dynamics: the separator-chain bounds and the window
 search's deferral, against brute force over small region graphs."""
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ from plansynth.reach.families import maze, random_dynamics
 from plansynth.reach.lazy.bounds import GOAL_NODE, START_NODE, separator_bounds
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
-from plansynth.reach.lazy.loop import lazy_loop, plan_lazy
+from plansynth.reach.lazy.loop import lazy_loop
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.trajectory import Trajectory
 

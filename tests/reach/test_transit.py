@@ -9,12 +9,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.lazy.conflict import Feasible
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import maze, random_workspace
 from plansynth.reach.highs import new_highs
-from plansynth.reach.lazy.loop import plan_lazy
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.geometry import halfspaces
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
@@ -100,8 +101,8 @@ def test_a_plan_that_jumps_a_corridor_too_fast_is_caught_without_conplan() -> No
 @pytest.mark.parametrize("n", [1, 2])
 def test_the_transit_layer_saves_lps_and_keeps_answers(n: int) -> None:
     p = maze(n)
-    with_t = plan_lazy(p, transit=True, horizon_search="linear")
-    without = plan_lazy(p, transit=False, horizon_search="linear")
+    with_t = plan_lazy(p, options=LazyOptions(transit=True, horizon_search="linear"))
+    without = plan_lazy(p, options=LazyOptions(transit=False, horizon_search="linear"))
     assert with_t.status.value == without.status.value == "found"
     assert with_t.horizon == without.horizon  # both minimal: the layer only prunes infeasible plans
     assert with_t.counters["transit_conflicts"] > 0

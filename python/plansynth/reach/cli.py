@@ -16,7 +16,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from plansynth.budget import Budget
-from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_UNKNOWN, fail, finite_positive, positive_seconds, seconds_since_start
+from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_UNKNOWN, fail, positive_seconds, seconds_since_start
 from plansynth.cli_support import EXIT_NO as EXIT_INFEASIBLE
 from plansynth.cli_support import EXIT_YES as EXIT_FOUND
 from plansynth.errors import InvalidOption, InvalidProblem, PlansynthError
@@ -31,21 +31,63 @@ EXIT_RESERVE = 0.5
 #: loads without numpy (a test checks that they agree).
 MAX_HORIZON_OPTION, MAX_ORDER_OPTION = 10_000, 50
 
-SOLVE_EPILOG = """\
+SOLVE_EXAMPLES = """\
 Examples:
 
   plansynth reach solve examples/reach/maze-3.yaml --out traj.json --plot traj.png
 
   plansynth reach solve examples/reach/maze-1.yaml --animate run.gif
 
-  plansynth reach solve examples/reach/maze-2.yaml --counterexample trivial --no-generalize --timeout 60
+  plansynth reach solve examples/reach/maze-2.yaml -O counterexample=trivial -O generalize=false --timeout 60
 
   plansynth reach solve examples/reach/cluttered.yaml --planner milp --max-horizon 60
+
+  plansynth reach solve examples/reach/mission-patrol.yaml -O semantics=lasso
 
   plansynth reach solve p.yaml --no-segment-safe        # the paper's guarantee: samples only
 
 Exit status: 0 found (validated), 1 infeasible up to the max horizon, 2 bad input, 3 unknown (budget ran out).
 """
+
+
+def planner_options_help() -> str:
+    """Every planner's options for ``-O KEY=VALUE``, each with its default and its help
+    line, read from the options values' field metadata (:mod:`plansynth.options`). The
+    planners' entries and options modules are light: no solver loads. A planner whose
+    options were listed before under another name (a named configuration, OMPL's three
+    planners) is one line: what it may set, and its values that differ from the
+    declared defaults."""
+    from plansynth.options import describe, help_lines
+    from plansynth.reach.planners import get_planner, planners
+
+    blocks = ["Planner options (-O KEY=VALUE, repeatable; values true/false, none, numbers or text; dashes "
+              "in keys are underscores):"]
+    listed: dict[type, str] = {}  # options class -> the first planner listed with it
+    for name in planners():
+        planner = get_planner(name)
+        for mission, value in ((False, getattr(planner, "defaults", None)),
+                               (True, getattr(planner, "mission_defaults", None))):
+            if value is None:
+                continue
+            title = f"{name}, for a problem with a mission" if mission and planner.defaults is not None else name
+            settable = planner.option_names(mission=mission)
+            if type(value) in listed:
+                declared = {n: d for n, d, _ in describe(type(value))}
+                own = [f"{n}={_shown(getattr(value, n))}" for n in declared if getattr(value, n) != declared[n]]
+                blocks.append(f"  {title}: {', '.join(settable)} (as {listed[type(value)]}"
+                              + (f", with {', '.join(own)}" if own else "") + ")")
+                continue
+            listed[type(value)] = title
+            rows = [line for line in help_lines(value) if line.split(" ", 1)[0] in settable]
+            blocks.append("\n".join([f"  {title}:"] + [f"    {row}" for row in rows]))
+    return "\n\n".join(blocks) + "\n"
+
+
+def _shown(value: Any) -> str:
+    return "none" if value is None else str(value).lower() if isinstance(value, bool) else str(value)
+
+
+SOLVE_EPILOG = SOLVE_EXAMPLES + "\n" + planner_options_help()
 
 VALIDATE_EPILOG = """\
 Examples:
@@ -79,7 +121,7 @@ def _read_result(path: Path) -> dict[str, Any]:
 
 def _result_table(result: Any) -> Table:
     c, t = result.counters, result.timings
-    table = Table(title=f"{result.planner}: {result.status.value}", show_header=False, title_justify="left")
+    table = Table(title=f"{result.solver}: {result.status.value}", show_header=False, title_justify="left")
     table.add_column("item", style="bold")
     table.add_column("value")
     style = _STYLE[result.status.value]
@@ -103,13 +145,15 @@ def _result_table(result: Any) -> Table:
     phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate", "mission_check") if k in t]
     table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
     table.add_row("total time", f"{result.seconds:.3f} s")
+    if result.solver_version:
+        table.add_row("solver", escape(f"{result.solver} ({result.solver_version})"))
     if result.validated is not None:
         table.add_row("validated", "[green]yes[/green]" if result.validated else "[red]NO[/red]")
     if result.guarantee is not None:
         held = "" if result.segment_safe is None else (", segments safe" if result.segment_safe else ", segments NOT safe")
         table.add_row("guarantee", f"{result.guarantee}{held}")
     mission = getattr(result, "mission", None)
-    if mission and mission.get("semantics"):  # LTL missions (issue 14)
+    if mission and mission.get("semantics"):  # LTL missions
         loop = "" if mission.get("loop_start") is None else f", loop from step {mission['loop_start']} (x_N = x_k)"
         verdict = {True: ", mission checked", False: ", mission check FAILED"}.get(mission.get("ok"), "")
         table.add_row("mission", escape(f"{mission['formula']}: {mission['semantics']} plan{loop}{verdict}"))
@@ -118,16 +162,8 @@ def _result_table(result: Any) -> Table:
     return table
 
 
-#: ``reach solve`` flags that set a planner option (parameter name -> option name, flag)
-_OPTION_FLAGS = {
-    "max_horizon": ("max_horizon", "--max-horizon"), "counterexample": ("counterexample", "--counterexample"),
-    "generalize": ("generalize", "--generalize/--no-generalize"), "minimize": ("minimize", "--minimize/--no-minimize"),
-    "segment_safe": ("segment_safe", "--segment-safe/--no-segment-safe"),
-    "horizon_search": ("horizon_search", "--horizon-search"), "window_growth": ("window_growth", "--window-growth"),
-    "transit": ("transit", "--transit/--no-transit"), "guided": ("guided", "--guide/--no-guide"),
-    "wait_shifts": ("wait_shifts", "--wait-shifts/--no-wait-shifts"), "widen": ("widen", "--widen/--no-widen"),
-    "variant": ("variant", "--variant"), "prove": ("prove", "--prove/--no-prove"),
-}
+#: ``reach solve`` flags that set an option every planner takes (parameter name -> flag)
+_SHARED_FLAGS = {"max_horizon": "--max-horizon", "segment_safe": "--segment-safe/--no-segment-safe"}
 
 
 def _given(ctx: typer.Context, name: str) -> bool:
@@ -136,52 +172,41 @@ def _given(ctx: typer.Context, name: str) -> bool:
     return source is not None and source.name not in ("DEFAULT", "DEFAULT_MAP")
 
 
-def _planner_options(ctx: typer.Context, planner: str, paper: bool) -> Any:
-    """The planner's options value, built once from the flags given; a flag that does
-    not apply to the planner is a usage error (exit 2, one line), never dropped."""
+def _planner_options(ctx: typer.Context, planner: str, items: list[str], paper: bool, mission: bool) -> Any:
+    """The planner's options value, built once from ``-O KEY=VALUE`` and the shared flags
+    given (the flags win); an option the planner does not take is
+    :class:`~plansynth.errors.InvalidOption` (exit 2, one line naming the planner and its
+    options), never dropped."""
+    from plansynth.options import parse_assignments
     from plansynth.reach.solve import configure
 
-    values = {option: ctx.params[name] for name, (option, _) in _OPTION_FLAGS.items() if _given(ctx, name)}
+    values = parse_assignments(items, planner)
+    values.update({name: ctx.params[name] for name in _SHARED_FLAGS if _given(ctx, name)})
     base = None
     if paper:
-        if planner != "lazy-smt":
-            raise typer.BadParameter(f"applies to the lazy-smt planner only, not {planner} (the paper's "
-                                     "configurations are also planners: lazy-smt-paper, lazy-smt-paper-trivial)",
-                                     param_hint="--paper")
+        if planner != "lazy-smt" or mission:
+            raise typer.BadParameter(f"applies to the lazy-smt planner on a reach-avoid problem only, not {planner}"
+                                     f"{' on a mission' if mission else ''} (the paper's configurations are also "
+                                     "planners: lazy-smt-paper, lazy-smt-paper-trivial)", param_hint="--paper")
         from plansynth.reach.lazy.options import LazyOptions
 
         base = LazyOptions.paper()
-    try:
-        return configure(planner, base, **values)
-    except InvalidOption as exc:
-        flag = {option: flag for option, flag in _OPTION_FLAGS.values()}.get(exc.option, exc.option)
-        raise typer.BadParameter(f"does not apply to the {planner} planner ({exc.reason})"
-                                 if "not an option" in exc.reason else exc.reason, param_hint=flag) from None
+    return configure(planner, base, mission=mission, **values)
 
 
 @app.command("solve", epilog=SOLVE_EPILOG)
 def solve_command(
     ctx: typer.Context,
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
-    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (--horizon-search minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, milp-ltl, milp-ltl-oneshot."),
+    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot."),
+    option: list[str] = typer.Option([], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
     timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (then status unknown)."),
-    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, max=MAX_HORIZON_OPTION, help="Largest horizon to try (overrides the file; at most 10,000)."),
-    counterexample: str = typer.Option("farkas", "--counterexample", help="lazy-smt: farkas (whole-plan LP, shrunk by its Farkas certificate), zeroprefix (paper), trivial or iis."),
-    generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="lazy-smt: shrink counterexamples by Farkas certificates and reuse them at every time shift."),
-    minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="lazy-smt, with --generalize: also drop every region literal a counterexample does not need."),
-    segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper)."),
-    horizon_search: str = typer.Option("window", "--horizon-search", help="lazy-smt: window (goal at some step of a growing window), minimal (window, then the horizon found is proved minimal: every shorter one refuted: the plan re-timed by LPs, then probes when the start is at rest) or linear (one horizon at a time, the paper; the horizon found is minimal)."),
-    window_growth: float = typer.Option(0.25, "--window-growth", max=100.0, callback=finite_positive, help="lazy-smt, window search: each window is this fraction longer than its start (default 0.25; 1.0 on abstractions of more than 200 regions)."),
-    transit: bool = typer.Option(True, "--transit/--no-transit", help="lazy-smt: refute plans with impossible transit times before CON-PLAN."),
-    guided: bool = typer.Option(True, "--guide/--no-guide", help="lazy-smt: make DIS-PLAN prefer an evenly timed route."),
-    wait_shifts: bool = typer.Option(True, "--wait-shifts/--no-wait-shifts", help="lazy-smt, robot at rest at its start: counterexamples anchored at the start also hold shifted earlier."),
-    widen: bool = typer.Option(False, "--widen/--no-widen", help="lazy-smt: also widen LP counterexamples in time (more LPs, fewer iterations)."),
-    prove: bool = typer.Option(False, "--prove/--no-prove", help="lazy-smt, segment-safe: prove the minimal horizon (or infeasibility) for the problem, not only through the decomposition, by a MILP relaxation of segment safety (small instances; within the budget)."),
-    paper: bool = typer.Option(False, "--paper", help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options above that are given apply on top."),
-    variant: Optional[str] = typer.Option(None, "--variant", help="gcs: like-for-like (default: velocity continuity, |v| and |a| bounds, start at rest), surrogate (velocity continuity only as Drake's convex surrogate) or convex (continuity of the curve only)."),
+    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, max=MAX_HORIZON_OPTION, help="Largest horizon to try (overrides the file; at most 10,000; the option max_horizon every planner takes)."),
+    segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper; the option segment_safe)."),
+    paper: bool = typer.Option(False, "--paper", help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options given apply on top."),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -193,12 +218,13 @@ def solve_command(
     err = Console(stderr=True, soft_wrap=True)
     if planner not in planners():  # exit 2, naming every planner (all load on first use)
         raise typer.BadParameter(f"unknown planner {planner!r}; choose one of: {', '.join(planners())}", param_hint="--planner")
-    options = _planner_options(ctx, planner, paper)
     try:
         for path in (out, plot, animate):
             if path is not None:
                 check_output_path(path)  # before solving: a result is never computed and then lost
         problem = load_reach_problem(file)
+        # an option the planner does not take, a planner this problem cannot use
+        options = _planner_options(ctx, planner, option, paper, problem.mission is not None)
     except PlansynthError as exc:
         raise fail(err, exc) from None
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=err,
@@ -213,7 +239,7 @@ def solve_command(
         left = None if timeout is None else max(timeout - seconds_since_start() - EXIT_RESERVE, 0.01)
         try:
             result = solve(problem, planner, Budget(seconds=left), options, progress=progress)
-        except PlansynthError as exc:  # an option the planner does not take, a planner this problem cannot use
+        except PlansynthError as exc:  # a planner this problem cannot use (gcs on a moving start, ...)
             raise fail(err, exc) from None
     console.print(_result_table(result))
     try:
@@ -245,7 +271,7 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
             abstraction = abstract(configuration_space(problem))  # the regions the planner saw
         if plot is not None:
             plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
-                         title=f"{problem.name}: {result.planner}, horizon {result.horizon}, {abstraction.n_regions} regions")
+                         title=f"{problem.name}: {result.solver}, horizon {result.horizon}, {abstraction.n_regions} regions")
             console.print(f"picture written to {escape(str(plot))}", highlight=False)
         if animate is not None:
             make_gif(problem, abstraction, result.trajectory, result.regions, animate)
@@ -285,7 +311,7 @@ def validate_command(
     claimed = claim is True or doc.get("guarantee") == "segments"
     if claimed and not segment_safe:
         console.print("the result claims segment safety: segments are checked too", highlight=False)
-    if problem.mission is not None:  # LTL missions (issue 14): validator + mission checker
+    if problem.mission is not None:  # LTL missions: validator + mission checker
         from plansynth.reach.mission.check import validate_mission_file
 
         ok, lines = validate_mission_file(problem, trajectory, doc, segment_safe=segment_safe or claimed, tol=tol)
@@ -363,14 +389,15 @@ Examples:
 
   plansynth reach table                                   # maze-1..4, double integrator, defaults
 
-  plansynth reach table --mazes 1,2 -c zeroprefix -c trivial -c iis --no-generalize --timeout 120
+  plansynth reach table --mazes 1,2 -c zeroprefix -c trivial -c iis -O generalize=false --timeout 120
 
-  plansynth reach table --mazes 1,2 --no-generalize --slack-weights uniform   # the paper's method as published
+  plansynth reach table --mazes 1,2 -O generalize=false -O slack_weights=uniform   # the paper's method as published
 
   plansynth reach table --mazes 4 --order 25 --timeout 600  # the scalability study (n = 50 states)
 
 Times are wall clock and process CPU seconds of the whole solve (abstraction, bounds,
-SAT, LP, validation); on a shared machine the CPU column is the steadier one.
+SAT, LP, validation); on a shared machine the CPU column is the steadier one. The
+options -O sets are lazy-smt's (see plansynth reach solve --help).
 """
 
 
@@ -378,40 +405,48 @@ SAT, LP, validation); on a shared machine the CPU column is the steadier one.
 def table_command(
     mazes: str = typer.Option("1,2,3,4", "--mazes", help="Comma-separated passage counts."),
     order: int = typer.Option(2, "--order", min=1, max=MAX_ORDER_OPTION, help="Integrators per axis (2: the paper's double integrator)."),
-    counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Strategies to compare (repeatable)."),
-    generalize: bool = typer.Option(True, "--generalize/--no-generalize", help="Shrink counterexamples (Farkas) and shift them."),
-    minimize: bool = typer.Option(True, "--minimize/--no-minimize", help="With --generalize: deletion-filter the literals."),
-    slack_weights: str = typer.Option("geometric", "--slack-weights", help="zeroprefix slack LP objective: geometric or uniform (the paper's sum)."),
+    counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Counterexample strategies to compare, one row each (repeatable)."),
+    option: list[str] = typer.Option([], "--option", "-O", help="Another lazy-smt option KEY=VALUE for every row, repeatable (generalize, minimize, slack_weights, ...)."),
     timeout: float = typer.Option(120.0, "--timeout", callback=positive_seconds, help="Budget per solve in seconds."),
 ) -> None:
     """Solve the paper's maze family (Section VI, Table I and Figure 4) and print the
     time of each phase and the SAT/LP call counts, one row per maze and strategy."""
     import time
 
+    from plansynth.options import parse_assignments
     from plansynth.reach.families import maze
-    from plansynth.reach.solve import solve
+    from plansynth.reach.solve import configure, solve
 
     console = Console(soft_wrap=True)
+    err = Console(stderr=True, soft_wrap=True)
     if not console.is_terminal:
         console = Console(width=160)
     try:
         ns = [int(x) for x in mazes.split(",") if x.strip()]
     except ValueError:
         raise typer.BadParameter("expected comma-separated integers", param_hint="--mazes") from None
+    try:  # every row's options, checked before the first solve
+        values = parse_assignments(option, "lazy-smt")
+        if "counterexample" in values:
+            raise InvalidOption("lazy-smt", "counterexample", "the strategies compared are given by -c")
+        rows = [configure("lazy-smt", counterexample=ce, **values) for ce in counterexample]
+    except PlansynthError as exc:
+        raise fail(err, exc) from None
     table = Table(title=f"maze-n, integrator chains of order {order} ({2 * order} states)")
     for col in ("maze", "strategy", "status", "horizon", "abstraction s", "SAT s", "LP s", "total s", "CPU s",
                 "iterations", "SAT calls", "LP calls"):
         table.add_column(col, justify="right" if col not in ("strategy", "status") else "left")
     for n in ns:
         problem = maze(n, order=order)
-        for ce in counterexample:
+        for opts in rows:
             c0 = time.process_time()
-            r = solve(problem, "lazy-smt", Budget(seconds=timeout), counterexample=ce, generalize=generalize,
-                      minimize=minimize, slack_weights=slack_weights)
+            r = solve(problem, "lazy-smt", Budget(seconds=timeout), opts)
             cpu = time.process_time() - c0
             t, c = r.timings, r.counters
             style = _STYLE[r.status.value]
-            table.add_row(str(n), ce + ("+gen" if generalize else "") + ("+min" if generalize and minimize else ""), f"[{style}]{r.status.value}[/{style}]",
+            strategy = opts.counterexample + ("+gen" if opts.generalize else "") + \
+                ("+min" if opts.generalize and opts.minimize else "")
+            table.add_row(str(n), strategy, f"[{style}]{r.status.value}[/{style}]",
                           str(r.horizon), f"{t.get('abstraction', 0):.3f}", f"{t.get('sat', 0):.3f}",
                           f"{t.get('lp', 0):.3f}", f"{r.seconds:.3f}", f"{cpu:.3f}", str(c.get("iterations")),
                           str(c.get("sat_calls")), str(c.get("lp_calls")))

@@ -2,8 +2,11 @@
 
 A :class:`ReachResult` carries the status (``found`` / ``infeasible`` / ``unknown``,
 spec "Result file"), the trajectory and region sequence when one was found, and the
-record of the run: planner name, options, seconds, per-phase timings, counters, solver
-versions and the independent validator's report (STYLE.md, points 1 and 3).
+record of the run as a grid result keeps it: ``solver`` (the planner's registered
+name), ``solver_version`` (its solvers' versions), ``options``, ``seconds``,
+``counters``, with per-phase timings and the independent validator's report
+(STYLE.md, points 1 and 3). :func:`plansynth.reach.solve` records the name, the version
+and the options value of the planner that ran.
 
 >>> ReachStatus.FOUND.value
 'found'
@@ -77,7 +80,7 @@ class ReachResult:
     """
 
     status: ReachStatus
-    planner: str
+    solver: str
     seconds: float
     trajectory: Trajectory | None = None
     regions: tuple[int, ...] | None = None
@@ -96,14 +99,23 @@ class ReachResult:
     curve_times: tuple[float, ...] | None = None
     curve_validation: ValidationReport | None = None
     mission: dict[str, Any] | None = None  # LTL missions: semantics, loop_start, the checker's verdict
+    solver_version: str = ""  # the planner's solvers and their versions (Planner.version())
+
+    @property
+    def planner(self) -> str:
+        """The planner's name (``solver``; the spec's result key)."""
+        return self.solver
 
     def to_json_dict(self) -> dict[str, Any]:
         """The result file of the spec (keys status, planner, seconds, states, inputs,
-        regions, segment_safe) plus the record of the run."""
+        regions, segment_safe) plus the record of the run (``solver`` and
+        ``solver_version`` as in a grid result; ``versions``: every library's)."""
         states, inputs = (None, None) if self.trajectory is None else trajectory_to_lists(self.trajectory)
         return {
             "status": self.status.value,
-            "planner": self.planner,
+            "planner": self.solver,
+            "solver": self.solver,
+            "solver_version": self.solver_version,
             "seconds": self.seconds,
             "states": states,
             "inputs": inputs,

@@ -1,39 +1,42 @@
-"""``solve()``: reach-avoid planners chosen by name, every answer validated.
+"""``solve()``: planners chosen by name, every answer validated.
 
 Planners live one per module behind the small :class:`~plansynth.reach.planners.Planner`
 protocol (STYLE.md, point 5), in :mod:`plansynth.reach.planners`: ``lazy-smt``
-(:mod:`plansynth.reach.lazy`, the paper's Algorithm 1) and its named configurations,
-``milp`` (the one-shot region MILP) and the baselines ``milp-bigm``, ``rrt``, ``est``,
-``kpiece``, ``gcs``; ``milp-ltl`` for missions. Each planner's options are one frozen
-value, built once (:meth:`~plansynth.reach.planners.Planner.configure`); an option the
-planner does not take is an :class:`~plansynth.errors.InvalidOption`. There is no
-fallback from one planner to another: an unknown name is an error
-(:class:`~plansynth.errors.UnknownSolver`, listing the names) and the result names the
-planner that ran.
+(:mod:`plansynth.reach.lazy`, the paper's Algorithm 1; with an LTL mission, the same
+loop over the mission's BMC encoding) and its named configurations, ``milp`` (the
+one-shot region MILP) and the baselines ``milp-bigm``, ``rrt``, ``est``, ``kpiece``,
+``gcs``; ``milp-ltl`` and ``milp-ltl-oneshot`` for missions. Each planner's options are
+one frozen value, built once (:meth:`~plansynth.reach.planners.Planner.configure`, for
+the kind of problem: with a mission or without); an option the planner does not take is
+an :class:`~plansynth.errors.InvalidOption`. There is no fallback from one planner to
+another: an unknown name is an error (:class:`~plansynth.errors.UnknownSolver`, listing
+the names) and the result records the planner that ran (``solver``, ``solver_version``,
+``options``).
 
 Every trajectory a planner returns is checked here, and only here, by the independent
 validator (:func:`plansynth.reach.validate.validate`, which knows neither the
 decomposition nor the planners) before it is reported; segment safety is required when
-the planner claims it. A trajectory that fails is never reported as ``found``: the
-status becomes ``unknown``, the message says why, and the failure is logged as an error.
+the planner claims it. A plan for a mission is also checked by the independent mission
+checker (:func:`plansynth.reach.mission.check.check_mission`). A trajectory that fails
+is never reported as ``found``: the status becomes ``unknown``, the message says why,
+and the failure is logged as an error.
 
 >>> from plansynth.reach.families import maze
 >>> r = solve(maze(1))
->>> r.status.value, r.validated, r.segment_safe, r.planner
-('found', True, True, 'lazy-smt')
+>>> r.status.value, r.validated, r.segment_safe, r.solver, r.solver_version.split()[0]
+('found', True, True, 'lazy-smt', 'python-sat')
 """
 
 from __future__ import annotations
 
 import logging
 import time
-
-import numpy as np
-from dataclasses import fields, is_dataclass, replace
+from dataclasses import asdict, is_dataclass, replace
 from typing import Any
 
+import numpy as np
+
 from plansynth.budget import Budget
-from plansynth.errors import InvalidOption
 from plansynth.reach.planners import Planner, get_planner, planners, register_planner
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -44,26 +47,36 @@ __all__ = ["Planner", "solve", "register_planner", "planners", "get_planner", "v
 log = logging.getLogger("plansynth.reach")
 
 
-def configure(planner: str, base: Any = None, **values: Any) -> Any:
+def configure(planner: str, base: Any = None, *, mission: bool | None = None, **values: Any) -> Any:
     """The options value of the planner called ``planner``: ``base`` (default: the
-    planner's) with ``values`` set; an option it does not take is an
-    :class:`~plansynth.errors.InvalidOption`.
+    planner's, for a problem with a mission when ``mission``) with ``values`` set; an
+    option it does not take is an :class:`~plansynth.errors.InvalidOption`.
 
     >>> configure("milp", max_horizon=60)
     MilpOptions(max_horizon=60, start_horizon=None, segment_safe=True)
+    >>> configure("lazy-smt", mission=True, semantics="lasso").semantics
+    'lasso'
     """
-    return get_planner(planner).configure(base, **values)
+    return get_planner(planner).configure(base, mission=mission, **values)
 
 
 def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
-    """Run the validator on a ``found`` result and record the verdict; a failed
-    trajectory turns the status into ``unknown``."""
+    """Run the validator on a ``found`` result and record the verdict, then, for a
+    problem with a mission, the mission checker; a failed trajectory turns the status
+    into ``unknown``."""
     if result.status is not ReachStatus.FOUND:
         return result
+    if problem.mission is not None:
+        return _validate_mission(problem, result, tol=tol)
+    return _validate_trajectory(problem, result, tol=tol)
+
+
+def _validate_trajectory(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
+    """The validator on a ``found`` result's trajectory (a curve: :func:`_validate_curve`)."""
     if result.trajectory is None:
-        log.error("planner %s reported found without a trajectory", result.planner)
+        log.error("planner %s reported found without a trajectory", result.solver)
         return replace(result, status=ReachStatus.UNKNOWN, validated=False,
-                       message=f"{result.planner} reported found without a trajectory")
+                       message=f"{result.solver} reported found without a trajectory")
     t0 = time.perf_counter()
     if result.guarantee == "curve":
         return _validate_curve(problem, result, tol=tol)
@@ -75,12 +88,35 @@ def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 
     if report.ok:
         return replace(result, validated=True, validation=report, segment_safe=report.segment_safe,
                        timings=timings, seconds=total)
-    log.error("planner %s returned a trajectory that fails validation: %s", result.planner, report.summary())
+    log.error("planner %s returned a trajectory that fails validation: %s", result.solver, report.summary())
     return replace(
         result, status=ReachStatus.UNKNOWN, validated=False, validation=report, segment_safe=report.segment_safe,
         timings=timings, seconds=total,
-        message=f"the {result.planner} trajectory failed validation and is not reported as found: {report.summary()}",
+        message=f"the {result.solver} trajectory failed validation and is not reported as found: {report.summary()}",
     )
+
+
+def _validate_mission(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
+    """The validator on the problem with the workspace as its goal (a mission has no goal
+    constraint), then the independent mission checker on the trajectory and its loop;
+    a failure of either turns the result into ``unknown``."""
+    from plansynth.reach.mission.check import check_mission
+    from plansynth.reach.mission.labels import planning_problem
+
+    checked = _validate_trajectory(planning_problem(problem), result, tol=tol)
+    if checked.status is not ReachStatus.FOUND:
+        return checked
+    t0 = time.perf_counter()
+    report = check_mission(problem, checked.trajectory, (checked.mission or {}).get("loop_start"), tol=tol)
+    seconds = time.perf_counter() - t0
+    timings = {**checked.timings, "mission_check": seconds, "total": checked.seconds + seconds}
+    mission = {**(checked.mission or {}), **report.to_json_dict()}
+    if report.ok:
+        return replace(checked, mission=mission, timings=timings, seconds=timings["total"])
+    log.error("planner %s returned a plan that fails the mission checker: %s", checked.solver, report.summary())
+    return replace(checked, status=ReachStatus.UNKNOWN, validated=False, mission=mission, timings=timings,
+                   seconds=timings["total"], message=f"the {checked.solver} plan fails the mission checker and is "
+                                                     f"not reported as found: {report.summary()}")
 
 
 def _validate_curve(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
@@ -102,10 +138,10 @@ def _validate_curve(problem: ReachProblem, result: ReachResult, *, tol: float) -
         return replace(result, validated=True, validation=report, curve_validation=dense,
                        segment_safe=report.segment_safe, timings=timings, seconds=total)
     why = report.summary() if not report.ok else ("no dense curve to check" if dense is None else f"dense curve: {dense.summary()}")
-    log.error("planner %s returned a curve that fails validation: %s", result.planner, why)
+    log.error("planner %s returned a curve that fails validation: %s", result.solver, why)
     return replace(result, status=ReachStatus.UNKNOWN, validated=False, validation=report, curve_validation=dense,
                    segment_safe=report.segment_safe, timings=timings, seconds=total,
-                   message=f"the {result.planner} curve failed validation and is not reported as found: {why}")
+                   message=f"the {result.solver} curve failed validation and is not reported as found: {why}")
 
 
 def solve(
@@ -121,38 +157,39 @@ def solve(
     """Plan with the planner called ``planner`` within ``budget``; validate the answer.
 
     ``options``: the planner's options value (:func:`configure`; default: the
-    planner's), with ``values`` set on it (lazy-smt: ``max_horizon``,
-    ``counterexample``, ``segment_safe``, ``generalize``, ...; milp: ``max_horizon``,
-    ``segment_safe``, ``start_horizon``; rrt: ``seed``, ...). ``progress(L, iterations)``
-    is called by the planners that report progress. ``abstraction``: a decomposition
-    computed before, for the planners that plan over one (lazy-smt, milp, gcs).
+    planner's for the kind of problem), with ``values`` set on it (lazy-smt:
+    ``max_horizon``, ``counterexample``, ``segment_safe``, ``generalize``, ...; with a
+    mission: ``semantics``, ``loop_first``, ...; milp: ``max_horizon``, ``segment_safe``,
+    ``start_horizon``; rrt: ``seed``, ...). ``progress(L, iterations)`` is called by the
+    planners that report progress. ``abstraction``: a decomposition computed before, for
+    the planners that plan over one (lazy-smt, milp, gcs; not for a mission).
     """
     run = get_planner(planner)
     if not hasattr(run, "configure"):  # a plugin registered as a plain function
         extra = {k: v for k, v in (("progress", progress), ("abstraction", abstraction)) if v is not None}
-        return validate_result(problem, run(problem, budget, **values, **extra))
-    opts = run.configure(options, **values)
-    if problem.mission is not None:  # LTL missions (issue 14): lazy-smt and milp-ltl plan them
-        from plansynth.reach.mission.planner import solve_mission
-
-        # the options set away from the planner's defaults: those a mission planner does
-        # not take are an error there, not dropped
-        defaults = run.defaults
-        kwargs = {f.name: getattr(opts, f.name) for f in fields(opts)
-                  if getattr(opts, f.name) != getattr(defaults, f.name)} if is_dataclass(opts) else {}
-        if abstraction is not None:
-            raise InvalidOption(planner, "abstraction", "a mission plans over its label-refined regions")
-        return solve_mission(problem, planner, budget, **kwargs, progress=progress)
+        return validate_result(problem, replace(run(problem, budget, **values, **extra), solver=planner))
+    opts = run.configure(options, mission=problem.mission is not None, **values)
     robot = problem.robot_shape
-    if robot is not None and not robot.is_point:
+    planned = problem
+    if problem.mission is None and robot is not None and not robot.is_point:
         # a sized robot: every planner plans for its reference point in the configuration
         # space (obstacles grown, workspace shrunk: plansynth.reach.robot); the validator
         # checks the answer against the original problem, clearance included
-        from plansynth.reach.robot import configuration_space, robot_note
+        from plansynth.reach.robot import configuration_space
 
-        result = run.solve(configuration_space(problem), budget, opts, progress=progress, abstraction=abstraction)
+        planned = configuration_space(problem)
+    result = run.solve(planned, budget, opts, progress=progress, abstraction=abstraction)
+    result = replace(result, solver=planner, solver_version=run.version(), options=_record(opts, result.options))
+    if planned is not problem:
+        from plansynth.reach.robot import robot_note
+
         note = robot_note(robot)
         result = replace(result, message=f"{result.message}; {note}" if result.message else note,
                          options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}})
-        return validate_result(problem, result)
-    return validate_result(problem, run.solve(problem, budget, opts, progress=progress, abstraction=abstraction))
+    return validate_result(problem, result)
+
+
+def _record(options: Any, recorded: dict[str, Any]) -> dict[str, Any]:
+    """The options a result records: every field of the options value, with what the
+    planner recorded of its run on top (``max_horizon`` resolved, the budget, ...)."""
+    return {**(asdict(options) if is_dataclass(options) else {}), **(recorded or {})}

@@ -1,5 +1,5 @@
 """Reachable sets per axis over the region graph: a sound horizon lower bound and a tube
-for :func:`~plansynth.reach.lazy.loop.prove_minimal` (beyond Shoukry et al., CDC 2016;
+for :func:`~plansynth.reach.lazy.minimal.prove_minimal` (beyond Shoukry et al., CDC 2016;
 issue 13, item 3).
 
 **What it computes.** When the dynamics separate by workspace axis into blocks of at

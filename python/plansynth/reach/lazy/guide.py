@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -41,7 +42,7 @@ from plansynth.reach.abstraction import Abstraction, Region
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["reference_plan", "route", "departure", "DEPART_SLACK"]
+__all__ = ["reference_plan", "reference_plans", "route", "departure", "DEPART_SLACK"]
 
 DEPART_SLACK = 0.05  # the first leg takes this much longer than its fewest steps
 
@@ -160,3 +161,27 @@ def _entry_fraction(region: Region, a: np.ndarray, b: np.ndarray, length: float,
     inside = np.all(pts @ np.asarray(region.H, float).T <= np.asarray(region.h, float) + 1e-9, axis=1)
     j = np.flatnonzero(inside)
     return length * float(s[j[0]]) if j.size else length
+
+
+def reference_plans(
+    problem: ReachProblem, abstraction: Abstraction, path: Sequence[int] | None = None,
+    first_leg: Callable[[int], int] | None = None,
+) -> Callable[[int], Sequence[int] | None] | None:
+    """DIS-PLAN's reference plan per horizon, for the lazy loop's ``guide``: the
+    :func:`route` (or ``path``) at constant speed, its first leg held back to
+    :func:`departure` of ``first_leg(path[1])``, the fewest steps the transit layer proves
+    from the start into the route's second region (LPs, so computed on the first call,
+    inside the loop and its budget). None when the goal is not reachable."""
+    path = route(problem, abstraction) if path is None else list(path)
+    if path is None:
+        return None
+    held = first_leg is not None and len(path) > 1
+    depart: int | None = None
+
+    def plan(L: int) -> Sequence[int] | None:
+        nonlocal depart
+        if held and depart is None:
+            depart = departure(first_leg(path[1]))  # type: ignore[misc]
+        return reference_plan(problem, abstraction, L, depart=depart, path=path)
+
+    return plan

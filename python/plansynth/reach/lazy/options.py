@@ -2,7 +2,7 @@
 Algorithm 1, and the refinements beyond the paper).
 
 :class:`LazyOptions` is built once (by the CLI, by bench, or by a caller) and passed
-to :func:`plansynth.reach.lazy.loop.plan_lazy`, which records it in the result.
+to :func:`plansynth.reach.lazy.planner.plan_lazy`, which records it in the result.
 :meth:`LazyOptions.paper` is the loop as published; :data:`CONFIGURATIONS` holds the
 named configurations that :func:`plansynth.reach.solve` knows as planners
 (``lazy-smt-paper`` and the others), as values. Nothing heavy is imported here, so the
@@ -13,7 +13,7 @@ CLI can check options before any solver loads.
 >>> LazyOptions(counterexample="nosuch")
 Traceback (most recent call last):
 ...
-plansynth.errors.InvalidOption: lazy-smt: option 'counterexample': unknown counterexample strategy 'nosuch' (known: farkas, zeroprefix, trivial, iis)
+plansynth.errors.InvalidOption: lazy-smt: option 'counterexample': unknown value 'nosuch' (known: farkas, zeroprefix, trivial, iis)
 """
 
 from __future__ import annotations
@@ -22,10 +22,10 @@ import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from plansynth.errors import InvalidOption
+from plansynth.options import check_fields, option
 
-__all__ = ["LazyOptions", "CONFIGURATIONS", "COUNTEREXAMPLES", "HORIZON_SEARCHES", "SLACK_WEIGHTS", "WINDOW_GROWTH",
-           "LARGE_WINDOW_GROWTH", "LARGE_REGIONS", "window_growth_for"]
+__all__ = ["LazyOptions", "CONFIGURATIONS", "COUNTEREXAMPLES", "HORIZON_SEARCHES", "SLACK_WEIGHTS", "CARDINALITIES",
+           "WINDOW_GROWTH", "LARGE_WINDOW_GROWTH", "LARGE_REGIONS", "window_growth_for"]
 
 #: CON-PLAN's counterexample strategies (``farkas`` is ``trivial`` shrunk by its Farkas
 #: certificate; see :mod:`plansynth.reach.lazy.conplan`).
@@ -50,53 +50,64 @@ def window_growth_for(growth: float | None, regions: int) -> float:
     if growth is not None:
         return float(growth)
     return LARGE_WINDOW_GROWTH if regions > LARGE_REGIONS else WINDOW_GROWTH
+
+
+#: The help lines of the options several planners take (the lazy planner's for a mission,
+#: the MILPs' and the baselines' say the same).
+MAX_HORIZON_DOC = "largest horizon tried (none: the problem's max_horizon)"
+SEGMENT_SAFE_DOC = "keep each segment between samples in one convex region (false: the samples only, the paper's guarantee)"
+TRANSIT_DOC = "refute plans with impossible transit times between regions before CON-PLAN"
+WAIT_SHIFTS_DOC = "robot at rest at its start: counterexamples anchored at the start also hold shifted earlier"
+
+#: ZEROPREFIX's slack objectives (see :mod:`plansynth.reach.lazy.conplan`).
 SLACK_WEIGHTS = ("geometric", "uniform")
+#: DIS-PLAN's exactly-one encodings (:class:`~plansynth.reach.lazy.displan.DisPlan`).
+CARDINALITIES = ("auto", "pairwise", "seqcounter", "ladder", "totalizer", "paths")
 
 
 @dataclass(frozen=True)
 class LazyOptions:
     """How the lazy loop runs; the defaults are plansynth's loop, :meth:`paper` the
-    paper's. See :func:`plansynth.reach.lazy.loop.plan_lazy` for each option.
+    paper's. Each field's help line is what ``plansynth reach solve --help`` lists for
+    ``-O KEY=VALUE``; :func:`plansynth.reach.lazy.planner.plan_lazy` reads them.
 
     ``max_horizon`` (None: the problem's) and ``segment_safe`` are the options every
     planner shares; the others tune the loop.
     """
 
-    max_horizon: int | None = None
-    counterexample: str = "farkas"
-    segment_safe: bool = True
-    generalize: bool = True
-    minimize: bool = True
-    slack_weights: str = "geometric"
-    cardinality: str = "auto"
-    lower_bound: bool = True
-    horizon_search: str = "window"
-    window_growth: float | None = None  # None: WINDOW_GROWTH, or LARGE_WINDOW_GROWTH on large abstractions
-    transit: bool = True
-    guided: bool = True
-    widen: bool = False
-    wait_shifts: bool = True
-    prove: bool = False  # segment-safe: prove claims by the relaxation MILP (lazy/relaxation.py)
-    reach_sets: bool = True  # horizon_search="minimal": the per-axis reachable sets first (lazy/axisreach.py)
+    max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
+    counterexample: str = option("farkas", "how CON-PLAN explains an infeasible plan (Section V): farkas (one LP "
+                                           "over the whole plan, shrunk by its Farkas certificate), zeroprefix (the "
+                                           "paper's ZEROPREFIX), trivial (the whole plan) or iis (HiGHS's IIS)",
+                                 choices=COUNTEREXAMPLES)
+    segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
+    generalize: bool = option(True, "shrink counterexamples to their Farkas certificate's literals and reuse them "
+                                    "at every time shift")
+    minimize: bool = option(True, "with generalize: also drop every region literal a counterexample does not need "
+                                  "(deletion filter)")
+    slack_weights: str = option("geometric", "zeroprefix's slack LP objective: geometric (violations pushed later) or "
+                                             "uniform (the paper's plain sum)", choices=SLACK_WEIGHTS)
+    cardinality: str = option("auto", "DIS-PLAN's exactly-one encoding: auto (pairwise up to 8 regions, paths beyond "
+                                      "200), pairwise, seqcounter, ladder, totalizer or paths", choices=CARDINALITIES)
+    lower_bound: bool = option(True, "start at the horizon lower bound, with time windows per region (false: from "
+                                     "horizon 0)")
+    horizon_search: str = option("window", "window (goal at some step of a growing window), linear (one horizon at a "
+                                           "time, the paper: the horizon found is minimal) or minimal (windows, then "
+                                           "every shorter horizon refuted)", choices=HORIZON_SEARCHES)
+    window_growth: float | None = option(None, "window search: each window this fraction longer than its start "
+                                               "(none: 0.25, and 1.0 on abstractions of more than 200 regions)",
+                                         positive=True)
+    transit: bool = option(True, TRANSIT_DOC)
+    guided: bool = option(True, "make DIS-PLAN's decisions follow an evenly timed route")
+    widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")
+    wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
+    prove: bool = option(False, "segment-safe: prove the minimal horizon (or infeasibility) for the problem by a MILP "
+                                "relaxation of segment safety (small instances; within the budget)")
+    reach_sets: bool = option(True, "horizon_search=minimal: refute shorter horizons by per-axis reachable sets "
+                                    "first, where the dynamics separate by axis")
 
     def __post_init__(self) -> None:
-        def bad(option: str, reason: str) -> InvalidOption:
-            return InvalidOption("lazy-smt", option, reason)
-
-        if self.counterexample not in COUNTEREXAMPLES:
-            raise bad("counterexample", f"unknown counterexample strategy {self.counterexample!r} "
-                                        f"(known: {', '.join(COUNTEREXAMPLES)})")
-        if self.horizon_search not in HORIZON_SEARCHES:
-            raise bad("horizon_search", f"unknown horizon search {self.horizon_search!r} "
-                                        f"(known: {', '.join(HORIZON_SEARCHES)})")
-        if self.slack_weights not in SLACK_WEIGHTS:
-            raise bad("slack_weights", f"unknown slack weights {self.slack_weights!r} (known: {', '.join(SLACK_WEIGHTS)})")
-        if self.window_growth is not None and not (
-                isinstance(self.window_growth, (int, float)) and math.isfinite(self.window_growth)
-                and self.window_growth > 0):
-            raise bad("window_growth", f"window_growth must be positive, got {self.window_growth}")
-        if self.max_horizon is not None and not (isinstance(self.max_horizon, int) and self.max_horizon >= 0):
-            raise bad("max_horizon", f"expected a horizon >= 0, got {self.max_horizon!r}")
+        check_fields(self, "lazy-smt")
 
     @classmethod
     def paper(cls, **values: Any) -> "LazyOptions":
@@ -144,6 +155,6 @@ CONFIGURATIONS: dict[str, LazyOptions] = {
     "lazy-smt-paper": LazyOptions.paper(),
     "lazy-smt-paper-trivial": replace(LazyOptions.paper(), counterexample="trivial"),
     "lazy-smt-zeroprefix": LazyOptions(counterexample="zeroprefix"),
-    # our loop, its horizon proved minimal (windows, re-timing, probes; issue 13, item 3)
+    # our loop, its horizon proved minimal (windows, re-timing, probes)
     "lazy-smt-minimal": LazyOptions(horizon_search="minimal"),
 }

@@ -54,7 +54,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from pysat.card import CardEnc, EncType
 from pysat.formula import IDPool
@@ -67,27 +66,10 @@ from plansynth.reach.lazy.displan import (CONFLICTS_PER_SLICE, PAIRWISE_MAX_REGI
 from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, _children, nnf, subformulas,
 )
+from plansynth.reach.mission.options import SEMANTICS
+from plansynth.reach.mission.plans import LoopConflict, MissionPlan, StayConflict
 
 __all__ = ["MissionDisPlan", "MissionPlan", "SEMANTICS"]
-
-SEMANTICS = ("any", "finite", "lasso")
-
-
-@dataclass(frozen=True)
-class MissionPlan:
-    """A region sequence r_0..r_L and its loop: ``loop_start`` k with x_L = x_k (a lasso)
-    or None (a finite plan: the last position repeats)."""
-
-    regions: tuple[int, ...]
-    loop_start: int | None
-
-    @property
-    def horizon(self) -> int:
-        return len(self.regions) - 1
-
-    @property
-    def semantics(self) -> str:
-        return "finite" if self.loop_start is None else "lasso"
 
 
 class MissionDisPlan(LearnedClauses):
@@ -321,9 +303,16 @@ class MissionDisPlan(LearnedClauses):
             clause.append(-self.act(horizon))
         self._learn_clause(clause)
 
-    def learn(self, c: Conflict) -> None:
-        """A counterexample from CON-PLAN (Algorithm 1, line 11), for the plan of
-        horizon ``c.horizon`` just proposed."""
+    def learn(self, c: Conflict | LoopConflict | StayConflict) -> None:
+        """A counterexample from the mission's theory (Algorithm 1, line 11), for the plan
+        of horizon ``c.horizon`` just proposed: CON-PLAN's conflict, a refuted loop
+        (:meth:`learn_loop`) or a finite plan that cannot end at rest (:meth:`learn_stay`)."""
+        if isinstance(c, LoopConflict):
+            self.learn_loop(c.literals, c.loop_start, c.horizon, shifted=c.shifted)
+            return
+        if isinstance(c, StayConflict):
+            self.learn_stay(c.literals, c.horizon)
+            return
         self.conflicts.append(c)
         if c.anchored_start and not c.anchored_goal:
             self._shift(c, 0, None)
@@ -386,9 +375,13 @@ class MissionDisPlan(LearnedClauses):
         self._add([-self.act(horizon)])
 
     # -- solving -----------------------------------------------------------------
-    def solve(self, horizon: int, clock: Clock | None = None) -> tuple[SatOutcome, MissionPlan | None]:
+    def solve(self, horizon: int, clock: Clock | None = None, *,
+              lowest: int | None = None) -> tuple[SatOutcome, MissionPlan | None]:
         """A plan of exactly this horizon satisfying the mission and every learned
-        clause, UNSAT, or INTERRUPTED when ``clock`` runs out."""
+        clause, UNSAT, or INTERRUPTED when ``clock`` runs out. (One horizon at a time:
+        ``lowest``, the lazy loop's window, must be the horizon itself.)"""
+        if lowest is not None and lowest != horizon:
+            raise ValueError(f"the mission's DIS-PLAN asks one horizon at a time, not {lowest}..{horizon}")
         if horizon < self.built:
             raise ValueError(f"horizons must not decrease: {horizon} after {self.built}")
         t0 = time.perf_counter()

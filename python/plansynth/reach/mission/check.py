@@ -1,4 +1,4 @@
-"""The independent mission checker (issue 14, point 5).
+"""The independent mission checker.
 
 It knows the problem (labels, mission) and the trajectory, and nothing of the planner:
 no regions, no encoding. It recomputes the labels from the geometry (shapely) and

@@ -1,4 +1,4 @@
-"""The abstraction that respects labels (issue 14, point 2).
+"""The abstraction that respects labels.
 
 The convex decomposition of the free space (:func:`plansynth.reach.abstraction.abstract`,
 Shoukry et al., CDC 2016, Section III) is refined by the label boundaries so that every

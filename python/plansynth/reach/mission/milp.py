@@ -35,7 +35,7 @@ without it), as in the lazy planner; the first with a solution is the shortest. 
 :func:`~plansynth.reach.mission.proof.label_proof`; no solution at any horizon (one
 region per step) is ``unknown``, not a proof. The trajectory is not taken from the MILP (big-M rows slip by the MIP
 tolerances): its regions and loop are re-solved as an exact LP
-(:class:`~plansynth.reach.mission.planner.LoopLP`).
+(:class:`~plansynth.reach.mission.looplp.LoopLP`).
 """
 
 from __future__ import annotations
@@ -43,22 +43,27 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import highspy
 import numpy as np
 
-from plansynth.budget import Budget
-from plansynth.reach.lazy.bounds import time_windows
+from plansynth.budget import Budget, BudgetExhausted
+from plansynth.errors import InvalidOption
 from plansynth.reach.highs import Rows, csc_lp, new_highs
-from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
+from plansynth.reach.lazy.bounds import time_windows
+from plansynth.reach.lazy.displan import RegionGraph
+from plansynth.reach.mission.horizon import timed_horizon_bound
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
-from plansynth.reach.planners import OptionsPlanner, keyword_runner
+from plansynth.reach.mission.looplp import LoopLP
+from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
+from plansynth.reach.mission.options import MilpLtlOptions
+from plansynth.reach.mission.proof import NOT_A_PROOF, timed_label_proof
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 
-__all__ = ["MissionMilp", "mission_milp", "plan_milp_ltl", "solve_mission_horizon"]
+__all__ = ["MissionMilp", "mission_milp", "plan_milp_ltl", "solve_mission_horizon", "MilpLtlOptions"]
 
 
 #: HiGHS drops matrix entries at most this small (its ``small_matrix_value``) and
@@ -341,32 +346,26 @@ def solve_mission_horizon(
 def plan_milp_ltl(
     problem: ReachProblem,
     budget: Budget = Budget(),
+    options: MilpLtlOptions | None = None,
+    progress: Callable[[int, int], None] | None = None,
     *,
     labelled: LabelledAbstraction | None = None,
-    max_horizon: int | None = None,
-    semantics: str = "any",
-    segment_safe: bool = True,
-    lower_bound: bool = True,
-    horizon_bound: bool = True,
-    one_shot: bool = False,
-    progress: Callable[[int, int], None] | None = None,
 ) -> ReachResult:
-    """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated);
-    ``horizon_bound``: from the proved lower bound of
-    :func:`~plansynth.reach.mission.horizon.horizon_lower_bound` on, as the lazy planner;
-    ``one_shot``: one MILP at ``max_horizon`` only (Wolff et al.'s fixed horizon; see the
-    module doc), planner ``milp-ltl-oneshot``."""
-    from plansynth.reach.lazy.displan import RegionGraph
-    from plansynth.reach.mission.planner import LoopLP, mission_horizon_bound
-
+    """MILPs at horizons 0..max_horizon within ``budget`` (not yet validated:
+    :func:`plansynth.reach.solve` does that, with the mission checker); ``options``
+    (:class:`~plansynth.reach.mission.options.MilpLtlOptions`): ``horizon_bound``: from
+    the proved lower bound of :func:`~plansynth.reach.mission.horizon.horizon_lower_bound`
+    on, as the lazy planner; ``one_shot``: one MILP at ``max_horizon`` only (Wolff et
+    al.'s fixed horizon; see the module doc), planner ``milp-ltl-oneshot``."""
+    opts = MilpLtlOptions() if options is None else options
+    one_shot, segment_safe = opts.one_shot, opts.segment_safe
+    name = "milp-ltl-oneshot" if one_shot else "milp-ltl"
     if problem.mission is None:
-        from plansynth.errors import InvalidOption
-
-        raise InvalidOption("milp-ltl", "planner", "plans LTL missions, and this problem has none (reach-avoid "
-                            "planners: lazy-smt, milp, milp-bigm, rrt, est, kpiece, gcs)")
+        raise InvalidOption(name, "planner", "plans LTL missions, and this problem has none (plan it with a "
+                                             "reach-avoid planner)")
     t_start = time.perf_counter()
     clock = budget.clock()
-    L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
+    L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
     timings = {"abstraction": 0.0, "bounds": 0.0, "milp": 0.0, "lp": 0.0}
     if labelled is None:
         t0 = time.perf_counter()
@@ -374,12 +373,11 @@ def plan_milp_ltl(
         timings["abstraction"] = time.perf_counter() - t0
     pp = planning_problem(problem)
     t0 = time.perf_counter()
-    earliest = time_windows(pp, labelled.abstraction, L_max).earliest if lower_bound else None
+    earliest = time_windows(pp, labelled.abstraction, L_max).earliest if opts.lower_bound else None
     timings["bounds"] = time.perf_counter() - t0
     formula = parse(problem.mission)
     polish = LoopLP(pp, labelled.abstraction, segment_safe=segment_safe)
-    options = {"semantics": semantics, "segment_safe": segment_safe, "max_horizon": L_max, "lower_bound": lower_bound,
-               "horizon_bound": horizon_bound, "one_shot": one_shot, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+    record = {**asdict(opts), "max_horizon": L_max, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
     counters: dict[str, Any] = {"regions": labelled.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0}
 
     def finish(status, horizon, message, traj=None, regions=None, loop_start=None) -> ReachResult:
@@ -387,12 +385,9 @@ def plan_milp_ltl(
         counters["iterations"] = clock.iterations
         mission = {"formula": problem.mission, "semantics": None if regions is None else ("finite" if loop_start is None else "lasso"),
                    "loop_start": loop_start}
-        return ReachResult(status=status, planner="milp-ltl-oneshot" if one_shot else "milp-ltl", seconds=timings["total"], trajectory=traj, regions=regions,
-                           horizon=horizon, counters=counters, timings=timings, options=options, message=message,
+        return ReachResult(status=status, solver=name, seconds=timings["total"], trajectory=traj, regions=regions,
+                           horizon=horizon, counters=counters, timings=timings, options=record, message=message,
                            guarantee="segments" if segment_safe else "samples", mission=mission)
-
-    from plansynth.reach.mission.planner import NOT_A_PROOF
-    from plansynth.reach.mission.proof import timed_label_proof
 
     proved, why = timed_label_proof(problem, labelled, timings, counters)
     if proved:
@@ -400,59 +395,39 @@ def plan_milp_ltl(
     L0 = 0
     if one_shot:
         L0 = L_max
-    elif horizon_bound:
+    elif opts.horizon_bound:
         graph = RegionGraph.from_abstraction(labelled.abstraction)
-        L0 = mission_horizon_bound(problem, labelled, graph, earliest, L_max, timings, counters, clock)
-    for L in range(L0, L_max + 1):
-        if progress is not None:
-            progress(L, clock.iterations)
-        if clock.exhausted():
-            return finish(ReachStatus.UNKNOWN, L, f"budget ran out at horizon {L}")
-        clock.tick()
-        t0 = time.perf_counter()
-        status, regions, loop_start, stats = solve_mission_horizon(
-            pp, labelled, formula, L, segment_safe=segment_safe, semantics=semantics, earliest=earliest,
-            seconds=clock.remaining())
-        timings["milp"] += time.perf_counter() - t0
-        timings["milp_solve"] = timings.get("milp_solve", 0.0) + stats.get("solve_seconds", 0.0)
-        counters["milp_calls"] += 1
-        counters["mip_nodes"] += stats.get("mip_nodes", 0)
-        counters["binaries"] = stats.get("binaries", 0)
-        if status == "unknown":
-            return finish(ReachStatus.UNKNOWN, L, f"HiGHS stopped without an answer at horizon {L} (time limit)")
-        if status == "found":
+        L0 = timed_horizon_bound(graph, labelled.labels_of, formula, earliest, L_max, timings, counters, clock)
+    L = L0
+    try:
+        for L in clock.steps(range(L0, L_max + 1), progress=progress, what="the MILP at horizon"):
             t0 = time.perf_counter()
-            traj = polish.solve(regions, loop_start) if loop_start is not None else polish.solve_finite(regions)
-            timings["lp"] += time.perf_counter() - t0
-            if traj is None:
-                return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under exact "
-                              "LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
-            if one_shot:
-                return finish(ReachStatus.FOUND, L, f"found at horizon {L} (one MILP at the max horizon: a plan of "
-                              "exactly that many steps, not the shortest)", traj, regions, loop_start)
-            return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
+            status, regions, loop_start, stats = solve_mission_horizon(
+                pp, labelled, formula, L, segment_safe=segment_safe, semantics=opts.semantics, earliest=earliest,
+                seconds=clock.remaining())
+            timings["milp"] += time.perf_counter() - t0
+            timings["milp_solve"] = timings.get("milp_solve", 0.0) + stats.get("solve_seconds", 0.0)
+            counters["milp_calls"] += 1
+            counters["mip_nodes"] += stats.get("mip_nodes", 0)
+            counters["binaries"] = stats.get("binaries", 0)
+            if status == "unknown":
+                return finish(ReachStatus.UNKNOWN, L, f"HiGHS stopped without an answer at horizon {L} (time limit)")
+            if status == "found":
+                t0 = time.perf_counter()
+                traj = polish.solve(regions, loop_start) if loop_start is not None else polish.solve_finite(regions)
+                timings["lp"] += time.perf_counter() - t0
+                if traj is None:
+                    return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under "
+                                  "exact LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
+                if one_shot:
+                    return finish(ReachStatus.FOUND, L, f"found at horizon {L} (one MILP at the max horizon: a plan of "
+                                  "exactly that many steps, not the shortest)", traj, regions, loop_start)
+                return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
+    except BudgetExhausted as exc:  # (the polishing LP's time limit too)
+        return finish(ReachStatus.UNKNOWN, L, str(exc) if exc.phase.startswith("before") else f"{exc} at horizon {L}")
     if one_shot:
         return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution at horizon {L_max} (one MILP at the max "
                       f"horizon: shorter horizons not tried, no proof); {NOT_A_PROOF} ({why})")
-    counters["abstraction_refuted"] = L_max  # one region per step: no proof (see plan_mission)
+    counters["abstraction_refuted"] = L_max  # one region per step: no proof (see plansynth.reach.mission.planner)
     return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the label-refined abstraction at any "
                   f"horizon up to {L_max}; {NOT_A_PROOF} ({why})")
-
-
-@dataclass(frozen=True)
-class MilpLtlOptions:
-    """The options of the mission MILP (see :func:`plan_milp_ltl`)."""
-
-    max_horizon: int | None = None
-    semantics: str = "any"
-    segment_safe: bool = True
-    lower_bound: bool = True
-    horizon_bound: bool = True
-    one_shot: bool = False
-
-
-#: ``milp-ltl`` as a planner of :func:`plansynth.reach.solve` (missions only)
-MILP_LTL = OptionsPlanner("milp-ltl", MilpLtlOptions(), keyword_runner(plan_milp_ltl, progress=True), "highspy")
-#: ``milp-ltl-oneshot``: one MILP at the max horizon (Wolff et al.'s fixed horizon K)
-MILP_LTL_ONESHOT = OptionsPlanner("milp-ltl-oneshot", MilpLtlOptions(one_shot=True),
-                                  keyword_runner(plan_milp_ltl, progress=True), "highspy")

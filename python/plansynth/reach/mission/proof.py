@@ -50,7 +50,12 @@ from plansynth.reach.mission.ltl import (
     And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf,
 )
 
-__all__ = ["satisfiable", "witness", "geometry_letters", "TooLarge", "MAX_NODES"]
+__all__ = ["satisfiable", "witness", "geometry_letters", "TooLarge", "MAX_NODES", "label_proof", "timed_label_proof",
+           "NOT_A_PROOF"]
+
+#: What a refutation through the label-refined decomposition is not (DIS-PLAN moves one
+#: region per step, a real step may cross several): only :func:`label_proof` is a proof.
+NOT_A_PROOF = "not a proof of infeasibility (a step may cross several regions)"
 
 Letter = tuple[frozenset[str], frozenset[str]]  # (labels that may hold, labels whose negation may hold)
 

@@ -65,7 +65,6 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -73,7 +72,8 @@ import numpy as np
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
-from plansynth.reach.planners import OptionsPlanner, keyword_runner
+from plansynth.reach.planners.options import GCS_VARIANTS as VARIANTS
+from plansynth.reach.planners.options import GcsOptions
 from plansynth.reach.geometry import Box, halfspaces
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -81,7 +81,6 @@ from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["plan_gcs", "VARIANTS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
 
-VARIANTS = ("like-for-like", "surrogate", "convex")
 DEFAULT_TIME_UNIT = 10.0
 IPOPT_MAX_ITER = 100_000  # with a time budget: its share of the time ends IPOPT first
 SOLVER_SHARE = 0.4  # of the time left: the relaxation's, and all restrictions' together
@@ -225,7 +224,7 @@ def plan_gcs(
 
     def unknown(message: str) -> ReachResult:
         timings["total"] = time.perf_counter() - t0
-        return ReachResult(status=ReachStatus.UNKNOWN, planner="gcs", seconds=timings["total"], counters=counters,
+        return ReachResult(status=ReachStatus.UNKNOWN, solver="gcs", seconds=timings["total"], counters=counters,
                            timings=timings, options=options, message=message, guarantee="curve")
 
     ta = time.perf_counter()
@@ -373,29 +372,16 @@ def plan_gcs(
     counters.update({"pieces": len(pieces), "curve_seconds": float(N * dt), "gcs_duration": float(duration),
                      "stretch": float(stretch), "curve_samples": int(len(dense))})
     return ReachResult(
-        status=ReachStatus.FOUND, planner="gcs", seconds=timings["total"], trajectory=traj_dt,
+        status=ReachStatus.FOUND, solver="gcs", seconds=timings["total"], trajectory=traj_dt,
         regions=tuple(int(r) for r in regions), horizon=N, counters=counters, timings=timings, options=options,
         guarantee="curve", message=GUARANTEE, curve=curve, curve_times=tuple(float(t) for t in dense),
     )
 
 
-@dataclass(frozen=True)
-class GcsOptions:
-    """The options of the GCS planner (see :func:`plan_gcs`)."""
-
-    variant: str = "like-for-like"
-    order: int = 5
-    time_unit: float = DEFAULT_TIME_UNIT
-    max_rounded_paths: int | None = None  # 5, or 1 beyond PREPROCESS_MAX_REGIONS regions
-    segment_safe: bool = True
-    max_horizon: int | None = None
-
-    def __post_init__(self) -> None:
-        if self.variant not in VARIANTS:  # at the door: exit 2 at the CLI, before any work
-            from plansynth.errors import InvalidOption
-
-            raise InvalidOption("gcs", "variant", f"unknown variant {self.variant!r} (known: {', '.join(VARIANTS)})")
-
-
-#: ``gcs`` as a planner of :func:`plansynth.reach.solve`
-GCS = OptionsPlanner("gcs", GcsOptions(), keyword_runner(plan_gcs, progress=True), "drake", takes_abstraction=True)
+def run(problem: ReachProblem, budget: Budget, options: GcsOptions, progress: Any = None,
+        abstraction: Abstraction | None = None) -> ReachResult:
+    """``gcs`` as a planner of :func:`plansynth.reach.solve`: :func:`plan_gcs` with the
+    fields of its options value."""
+    return plan_gcs(problem, budget, variant=options.variant, order=options.order, time_unit=options.time_unit,
+                    max_rounded_paths=options.max_rounded_paths, abstraction=abstraction,
+                    segment_safe=options.segment_safe, max_horizon=options.max_horizon, progress=progress)

@@ -22,7 +22,7 @@ which makes the two comparable horizon by horizon. No solution at every horizon 
 re-solved as an LP (the CON-PLAN feasibility LP) and only that trajectory is reported.
 
 >>> from plansynth.reach.families import maze
->>> r = plan_milp(maze(1), max_horizon=57, start_horizon=57)
+>>> r = plan_milp(maze(1), options=MilpOptions(max_horizon=57, start_horizon=57))
 >>> r.status.value, r.horizon
 ('found', 57)
 """
@@ -32,24 +32,23 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import highspy
 import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, Clock, checkpoint
-from plansynth.reach.lazy.bounds import proved_horizon_bound, step_adjacency
-from plansynth.reach.lazy.loop import DECOMPOSITION_ONLY, EXACT_SAMPLES
-from plansynth.reach.lazy.conplan import ConPlan, LpBudgetExhausted
 from plansynth.reach.abstraction import Abstraction, abstract
-from plansynth.reach.lazy.displan import RegionGraph
-from plansynth.reach.highs import Rows, csc_lp, new_highs
-from plansynth.reach.planners import OptionsPlanner, keyword_runner
 from plansynth.reach.geometry import halfspaces
+from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.lazy.bounds import proved_horizon_bound, step_adjacency
+from plansynth.reach.lazy.claims import DECOMPOSITION_ONLY, EXACT_SAMPLES
+from plansynth.reach.lazy.conplan import ConPlan
+from plansynth.reach.lazy.displan import RegionGraph
+from plansynth.reach.planners.options import MilpOptions
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 
-__all__ = ["plan_milp", "solve_horizon"]
+__all__ = ["plan_milp", "solve_horizon", "MilpOptions"]
 
 ProgressFn = Callable[[int, int], None]
 
@@ -171,17 +170,16 @@ def solve_horizon(
 def plan_milp(
     problem: ReachProblem,
     budget: Budget = Budget(),
+    options: MilpOptions | None = None,
+    progress: ProgressFn | None = None,
     *,
     abstraction: Abstraction | None = None,
-    max_horizon: int | None = None,
-    start_horizon: int | None = None,
-    segment_safe: bool = True,
-    progress: ProgressFn | None = None,
 ) -> ReachResult:
-    """MILPs at horizons ``start_horizon`` (default: the region-graph distance) up to
-    ``max_horizon`` within ``budget``; the trajectory is not yet validated here.
+    """MILPs at horizons ``options.start_horizon`` (default: the region-graph distance)
+    up to ``options.max_horizon`` within ``budget``; the trajectory is not yet validated
+    here. ``progress(N, iterations)`` is called before each horizon.
 
-    Claims as the lazy planner's (issue 13, item 7; :mod:`plansynth.reach.lazy.loop`):
+    Claims as the lazy planner's (:mod:`plansynth.reach.lazy.claims`):
     samples only, the transitions are every pair of regions one step can connect
     (:func:`~plansynth.reach.lazy.bounds.step_adjacency`), so with regions covering the
     free space no solution up to ``max_horizon`` is ``infeasible`` and the first horizon
@@ -192,9 +190,11 @@ def plan_milp(
     :func:`~plansynth.reach.lazy.bounds.proved_horizon_bound` exceeds ``max_horizon``),
     and the horizon found is minimal through the decomposition
     (``counters["minimal_relative_to"]``) unless it is at most that bound."""
+    opts = MilpOptions() if options is None else options
+    segment_safe, start_horizon = opts.segment_safe, opts.start_horizon
     t_start = time.perf_counter()
     clock: Clock = budget.clock()
-    L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
+    L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
     timings = {"abstraction": 0.0, "milp": 0.0, "lp": 0.0}
     if abstraction is None:
         t0 = time.perf_counter()
@@ -204,12 +204,12 @@ def plan_milp(
         except BudgetExhausted as exc:
             timings["abstraction"] = time.perf_counter() - t0
             timings["total"] = time.perf_counter() - t_start
-            return ReachResult(status=ReachStatus.UNKNOWN, planner="milp", seconds=timings["total"], timings=timings,
+            return ReachResult(status=ReachStatus.UNKNOWN, solver="milp", seconds=timings["total"], timings=timings,
                                options={"segment_safe": segment_safe}, message=str(exc),
                                guarantee="segments" if segment_safe else "samples")
         timings["abstraction"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
-    step = None if segment_safe else step_adjacency(problem, abstraction)  # samples only: exact (see lazy/loop.py)
+    step = None if segment_safe else step_adjacency(problem, abstraction)  # samples only: exact (see lazy/claims.py)
     if step is not None:
         graph = RegionGraph(graph.n_regions, step, graph.start_regions, graph.goal_regions)
     exact = step is not None and abstraction.exact
@@ -226,7 +226,7 @@ def plan_milp(
     def finish(status: ReachStatus, horizon: int | None, message: str, trajectory=None, regions=None) -> ReachResult:
         timings["total"] = time.perf_counter() - t_start
         counters["iterations"] = clock.iterations
-        return ReachResult(status=status, planner="milp", seconds=timings["total"], trajectory=trajectory,
+        return ReachResult(status=status, solver="milp", seconds=timings["total"], trajectory=trajectory,
                            regions=regions, horizon=horizon, counters=counters, timings=timings, options=options,
                            message=message, guarantee=guarantee)
 
@@ -255,12 +255,7 @@ def plan_milp(
     N = first
     try:
         with clock.phase("building the MILP"):
-            for N in range(first, L_max + 1):
-                if progress is not None:
-                    progress(N, clock.iterations)
-                if clock.exhausted():
-                    return finish(ReachStatus.UNKNOWN, N, f"budget ran out before the MILP at horizon {N}")
-                clock.tick()
+            for N in clock.steps(range(first, L_max + 1), progress=progress, what="the MILP at horizon"):
                 t0 = time.perf_counter()
                 outcome, regions, stats = solve_horizon(problem, abstraction, N, segment_safe=segment_safe,
                                                         seconds=clock.remaining(), adjacency=step)
@@ -294,20 +289,5 @@ def plan_milp(
             counters["abstraction_refuted"] = L_max
             return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the abstraction at any horizon up to "
                           f"{L_max}; {not_proof}")
-    except BudgetExhausted as exc:
-        return finish(ReachStatus.UNKNOWN, N, f"{exc} at horizon {N}")
-    except LpBudgetExhausted:
-        return finish(ReachStatus.UNKNOWN, N, f"budget ran out in the LP solver (the trajectory of the MILP's regions) at horizon {N}")
-
-
-@dataclass(frozen=True)
-class MilpOptions:
-    """The options of the region MILP (see :func:`plan_milp`)."""
-
-    max_horizon: int | None = None
-    start_horizon: int | None = None
-    segment_safe: bool = True
-
-
-#: ``milp`` as a planner of :func:`plansynth.reach.solve`
-MILP = OptionsPlanner("milp", MilpOptions(), keyword_runner(plan_milp, progress=True), "highspy", takes_abstraction=True)
+    except BudgetExhausted as exc:  # (the LP solver's too: the trajectory of the MILP's regions)
+        return finish(ReachStatus.UNKNOWN, N, str(exc) if exc.phase.startswith("before") else f"{exc} at horizon {N}")

@@ -37,12 +37,12 @@ import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, checkpoint
 from plansynth.reach.highs import new_highs
-from plansynth.reach.planners import OptionsPlanner, keyword_runner
+from plansynth.reach.planners.options import BigMOptions
 from plansynth.reach.geometry import Box, Polygon, halfspaces, is_convex, shape_to_shapely
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["plan_milp_bigm", "convex_pieces", "horizon_schedule", "highs_version"]
+__all__ = ["plan_milp_bigm", "convex_pieces", "horizon_schedule", "highs_version", "run", "BigMOptions"]
 
 
 def highs_version() -> str:
@@ -328,7 +328,7 @@ def plan_milp_bigm(
         if outcome == "found" and traj is not None:  # validated by plansynth.reach.solve, like every planner's
             timings["total"] = time.perf_counter() - t0
             return ReachResult(
-                status=ReachStatus.FOUND, planner="milp-bigm", seconds=timings["total"], trajectory=traj, regions=None,
+                status=ReachStatus.FOUND, solver="milp-bigm", seconds=timings["total"], trajectory=traj, regions=None,
                 segment_safe=None, horizon=N, counters=counters, timings=timings, options=options,
                 guarantee="segments" if segment_safe else "samples", message=f"found at horizon {N}",
             )
@@ -342,21 +342,14 @@ def plan_milp_bigm(
             message = "no trajectory at any horizon tried (not a proof for the horizons in between)"
     timings["total"] = time.perf_counter() - t0
     return ReachResult(
-        status=ReachStatus.UNKNOWN, planner="milp-bigm", seconds=timings["total"], trajectory=None, regions=None,
+        status=ReachStatus.UNKNOWN, solver="milp-bigm", seconds=timings["total"], trajectory=None, regions=None,
         segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
         validated=None, validation=None, message=message,
     )
 
 
-@dataclass(frozen=True)
-class BigMOptions:
-    """The options of the big-M MILP (see :func:`plan_milp_bigm`)."""
-
-    horizon: int | None = None
-    objective: str = "feasibility"
-    growth: float = 1.5
-    segment_safe: bool = True
-
-
-#: ``milp-bigm`` as a planner of :func:`plansynth.reach.solve`
-MILP_BIGM = OptionsPlanner("milp-bigm", BigMOptions(), keyword_runner(plan_milp_bigm, progress=False), "highspy")
+def run(problem: ReachProblem, budget: Budget, options: BigMOptions, progress: Any = None) -> Any:
+    """``milp-bigm`` as a planner of :func:`plansynth.reach.solve` (no progress: one
+    MILP per horizon of :func:`horizon_schedule`)."""
+    return plan_milp_bigm(problem, budget, horizon=options.horizon, objective=options.objective,
+                          growth=options.growth, segment_safe=options.segment_safe)

@@ -28,7 +28,6 @@ solution is ``unknown``.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 from collections.abc import Callable
 from typing import Any
 
@@ -36,12 +35,12 @@ import numpy as np
 
 from plansynth.budget import Budget
 from plansynth.errors import SolverUnavailable
-from plansynth.reach.planners import OptionsPlanner
+from plansynth.reach.planners.options import OmplOptions
 from plansynth.reach.geometry import Box, Polygon, shape_to_shapely
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["PLANNERS", "plan_rrt", "ompl_version", "DEFAULT_STATE_SPAN"]
+__all__ = ["PLANNERS", "plan_rrt", "ompl_version", "DEFAULT_STATE_SPAN", "run_rrt", "run_est", "run_kpiece"]
 
 #: Bound used for non-position state components when the problem gives no state bounds.
 DEFAULT_STATE_SPAN = 10.0
@@ -294,7 +293,7 @@ def plan_rrt(
     if not exact:
         timings["total"] = time.perf_counter() - t0
         return ReachResult(
-            status=ReachStatus.UNKNOWN, planner=name, seconds=timings["total"], trajectory=None, regions=None,
+            status=ReachStatus.UNKNOWN, solver=name, seconds=timings["total"], trajectory=None, regions=None,
             segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
             validated=None, validation=None,
             message=(f"budget ran out in OMPL {PLANNERS[planner]} planning: no exact solution "
@@ -313,7 +312,7 @@ def plan_rrt(
     traj = Trajectory(states=np.array(states), inputs=np.array(inputs).reshape(len(inputs), m))
     timings["total"] = time.perf_counter() - t0
     return ReachResult(  # validated by plansynth.reach.solve, like every planner's
-        status=ReachStatus.FOUND, planner=name, seconds=timings["total"], trajectory=traj, regions=None,
+        status=ReachStatus.FOUND, solver=name, seconds=timings["total"], trajectory=traj, regions=None,
         segment_safe=None, horizon=traj.horizon, counters=counters, timings=timings,
         options=options, guarantee="segments" if segment_safe else "samples", message="",
     )
@@ -326,26 +325,19 @@ def _status_text(status: Any) -> str:
         return str(status)
 
 
-@dataclass(frozen=True)
-class OmplOptions:
-    """The options of the OMPL planners (see :func:`plan_rrt`)."""
-
-    seed: int = 0
-    goal_bias: float | None = None
-    segment_safe: bool = True
-
-
-def _planner(name: str) -> OptionsPlanner:
-    def run(problem: ReachProblem, budget: Budget, options: OmplOptions, progress: Any) -> Any:
+def _run(name: str) -> Callable[..., Any]:
+    def run(problem: ReachProblem, budget: Budget, options: OmplOptions, progress: Any = None) -> Any:
         return plan_rrt(problem, budget, options.seed, name, goal_bias=options.goal_bias,
                         segment_safe=options.segment_safe)
 
+    run.__name__ = f"run_{name}"
     run.__doc__ = f"OMPL {PLANNERS[name]} as a :func:`plansynth.reach.solve` planner (see :func:`plan_rrt`)."
-    return OptionsPlanner(name, OmplOptions(), run, "ompl")
+    return run
 
 
-#: ``rrt``, ``est`` and ``kpiece`` as planners of :func:`plansynth.reach.solve`; the
-#: registry (:mod:`plansynth.reach.planners`) names them and loads this module on first use.
-RRT = _planner("rrt")
-EST = _planner("est")
-KPIECE = _planner("kpiece")
+#: ``rrt``, ``est`` and ``kpiece`` as planners of :func:`plansynth.reach.solve` read their
+#: options value (:class:`~plansynth.reach.planners.options.OmplOptions`); the registry's
+#: entries (:mod:`plansynth.reach.planners.baselines`) name these functions.
+run_rrt = _run("rrt")
+run_est = _run("est")
+run_kpiece = _run("kpiece")

@@ -96,7 +96,7 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         # horizon 100): a conflict keeps its Farkas support, without the deletion filter
         # (one LP per literal) and the unanchoring LP, which were two thirds of the LP
         # time there (maze-3: 84 of 133 LPs, 95 of 141 s) while the window search defers
-        # such windows after a few plans anyway (issue 13, item 4)
+        # such windows after a few plans anyway
         # long integrator chains too (an order-25 chain: 0.4-1.5 s per plan LP; maze-2:
         # 55 LPs in 5.0 s -> 37 in 2.9 s, order 10 on maze-4: 108 LPs in 1.5 s -> 79 in 0.7 s)
         self.dear = int(np.count_nonzero(self.A)) > DEAR_NONZEROS or dyn.n_states > LONG_CHAIN_STATES

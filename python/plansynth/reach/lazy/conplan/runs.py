@@ -16,6 +16,7 @@ from typing import Any
 import highspy
 import numpy as np
 
+from plansynth.budget import BudgetExhausted
 from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES, _Layout, _Part, _Slot
 
@@ -29,8 +30,16 @@ INTERIOR_STATES = 30
 PART_THREADS = min(2, os.cpu_count() or 1)
 
 
-class LpBudgetExhausted(Exception):
-    """HiGHS stopped at the time limit; the lazy loop turns this into ``unknown``."""
+class LpBudgetExhausted(BudgetExhausted):
+    """HiGHS stopped at the time limit: the budget ran out in the LP solver (a
+    :class:`~plansynth.budget.BudgetExhausted`; the planners answer ``unknown``).
+
+    >>> str(LpBudgetExhausted())
+    'budget ran out in the LP solver'
+    """
+
+    def __init__(self, phase: str = "the LP solver", resource: str = "time", detail: str = "") -> None:
+        super().__init__(phase, resource, detail)
 
 
 class LpFailure(Exception):
@@ -223,7 +232,7 @@ class _HighsRuns:
             # (no Farkas ray: a fallback copy decided it, or the interior-point method)
             self._no_ray = h is self.cold or attempt == "first"
             # a "no" of the interior-point method or of presolve has no certificate, and
-            # the loop's claims say so (loop._uncertified); the simplex method's has one
+            # the loop's claims say so (claims.uncertified); the simplex method's has one
             self.stats.uncertified += attempt in ("first", "ipm", "presolved")
             return None
         if status in (S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt):

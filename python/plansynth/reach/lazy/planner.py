@@ -1,0 +1,386 @@
+"""The lazy SMT planner for reach-avoid problems (Shoukry et al., CDC 2016, Algorithm 1):
+the abstraction, the horizon bounds, DIS-PLAN and CON-PLAN set up around the one lazy
+loop (:func:`~plansynth.reach.lazy.loop.lazy_loop`), and the claims of its answer.
+
+::
+
+    abstraction <- convex decomposition of the free space             (Section III)
+    first horizon <- the horizon lower bounds (time windows per region)
+    for L = first horizon .. max_horizon (in windows):
+        loop:
+            r_0..r_L <- DIS-PLAN(L)        (SAT; UNSAT -> next L)         (Section IV)
+            CON-PLAN(r_0..r_L) -> trajectory: done                     (Section V)
+                               -> counterexample: add its clause, loop
+
+**Horizon search.** ``horizon_search="linear"`` is the paper's loop above: one horizon
+at a time, so the trajectory found has the smallest horizon any region sequence
+allows, and every shorter horizon is refuted on the way. That refutation is most of
+the work (maze-4: horizons 122..140 cost ~1,700 LPs before 141 succeeds). The default,
+``"window"`` (beyond the paper), asks DIS-PLAN for a plan that reaches the goal at
+*some* horizon in a window lo..hi (windows grow geometrically by ``window_growth``
+from the lower bound), which is monotone in hi: a window that admits a trajectory
+usually yields one after a few counterexamples, and only windows without any are
+refuted whole (``window_growth=None``, the default: 0.25, and 1.0 on an abstraction of
+more than 200 regions, see :func:`~plansynth.reach.lazy.options.window_growth_for`).
+The result's ``counters["minimal"]`` says whether the horizon found is proved minimal
+(it is when it equals the window's lower end, and always under ``"linear"``); a plan
+above a deferred window is :func:`~plansynth.reach.lazy.minimal.shortened`.
+``"minimal"`` runs the windows and then
+:func:`~plansynth.reach.lazy.minimal.prove_minimal`.
+
+**Cheaper iterations** (beyond the paper, both on by default): the theory is CON-PLAN
+behind :class:`~plansynth.reach.lazy.transit.TransitCheck`, which refutes plans with
+impossible transit times between regions without a horizon-long LP; and DIS-PLAN's
+decision phases follow :func:`~plansynth.reach.lazy.guide.reference_plan`, an evenly
+timed route ending at the window's top (its first leg no faster than the transit layer
+allows), so that the first plans proposed are plausible ones. When the robot starts at
+rest, a start-anchored conflict also holds shifted earlier (``wait_shifts``): a
+trajectory for the earlier claims, after waiting at the start, would realise the
+conflict itself. On maze-4 with an order-25 chain these three make the loop find its
+trajectory in the first feasible window with 4 iterations, not 46.
+
+**Lower bound on the horizon** where the search starts (segment-safe: a bound for plans
+through the abstraction, not for the problem; samples only, over the step relation: a
+bound for the problem): the largest of the region-graph distance from a start region to
+a goal region (BFS), the distance to the goal along each axis divided by the largest
+displacement per step (one small LP per axis and direction), the first step at which
+the displacement-box relaxation reaches the goal along the region graph
+(:func:`~plansynth.reach.lazy.bounds.time_windows`, beyond the paper; it also gives
+DIS-PLAN a time window per region), and the separator chains of
+:func:`~plansynth.reach.lazy.bounds.separator_bounds` where they apply.
+
+What the answer claims (``infeasible``, "minimal") and relative to what is
+:mod:`plansynth.reach.lazy.claims`'s. The answer is ``unknown`` when the budget (time
+or iterations, one iteration = one SAT call and its theory check) runs out.
+
+>>> from plansynth.reach.families import maze
+>>> r = plan_lazy(maze(1))
+>>> r.status.value, r.horizon == len(r.regions) - 1, r.guarantee
+('found', True, 'segments')
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, replace
+
+from plansynth.budget import Budget, BudgetExhausted, Clock
+from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.lazy.axisreach import AxisReach
+from plansynth.reach.lazy.bounds import (SEPARATOR_MAX_REGIONS, ChainBounds, chain_gaps, physical_lower_bound,
+                                         proved_horizon_bound, separator_bounds, step_adjacency, time_windows)
+from plansynth.reach.lazy.claims import (DECOMPOSITION_ONLY, EXACT_SAMPLES, minimal_claim, not_a_proof, prove_claims,
+                                         uncertified)
+from plansynth.reach.lazy.conplan import ConPlan
+from plansynth.reach.lazy.displan import DisPlan, RegionGraph
+from plansynth.reach.lazy.guide import reference_plans, route
+from plansynth.reach.lazy.loop import (DEAR_DEFER_AFTER, DEFER_AFTER, LoopOutcome, ProgressFn, TheoryChecker,
+                                       horizon_windows, lazy_loop)
+from plansynth.reach.lazy.minimal import prove_minimal, shortened
+from plansynth.reach.lazy.options import LazyOptions, window_growth_for
+from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
+from plansynth.reach.problem import ReachProblem
+from plansynth.reach.result import ReachResult, ReachStatus
+
+__all__ = ["plan_lazy", "LazyOptions"]
+
+#: rounds of LP refinement of the critical separator chain (see _chain_bounds)
+CHAIN_ROUNDS = 4
+
+
+@contextmanager
+def _timed(clock: Clock, timings: dict[str, float], key: str, phase: str) -> Iterator[None]:
+    """Run a block as the budget phase ``phase``, adding its seconds to ``timings[key]``
+    (also when the budget runs out in it)."""
+    t0 = time.perf_counter()
+    try:
+        with clock.phase(phase):
+            yield
+    finally:
+        timings[key] = timings.get(key, 0.0) + time.perf_counter() - t0
+
+
+@dataclass(frozen=True)
+class _Bounds:
+    """The horizon bounds (see the module docstring): each as the counters record it,
+    the first horizon tried and DIS-PLAN's time windows (None: no windows)."""
+
+    bfs: float
+    physical: int
+    box: float
+    proved: float
+    first: int
+    earliest: Sequence[float] | None
+    to_go: Sequence[float] | None
+
+
+def plan_lazy(
+    problem: ReachProblem,
+    budget: Budget = Budget(),
+    options: LazyOptions | None = None,
+    progress: ProgressFn | None = None,
+    *,
+    abstraction: Abstraction | None = None,
+) -> ReachResult:
+    """Algorithm 1 on ``problem`` within ``budget``; the trajectory is *not* yet
+    validated here (:func:`plansynth.reach.solve` does that).
+
+    ``options`` (:class:`~plansynth.reach.lazy.options.LazyOptions`, whose fields say
+    what each option does; default: ours; ``LazyOptions.paper()``: the paper's loop).
+    ``max_horizon`` overrides the problem's. ``counterexample`` ``"farkas"`` (the
+    default, beyond the paper) is one feasibility LP over the whole plan whose Farkas
+    certificate shrinks the trivial counterexample to the literals the proof needs
+    (``trivial`` with ``generalize``; see :mod:`plansynth.reach.lazy.conplan`).
+    ``progress(L, iterations)`` is called when a horizon (window: its top) starts.
+    ``abstraction``: a decomposition computed before (else it is computed here, within
+    the budget). ``prove`` (segment-safe; it turns the window search into ``minimal``):
+    after the loop, try to prove its claims for the problem with the MILP relaxation of
+    :mod:`plansynth.reach.lazy.relaxation` (:func:`~plansynth.reach.lazy.claims.prove_claims`).
+    """
+    opts = LazyOptions() if options is None else options
+    # the relaxation can only prove a horizon that is minimal through the decomposition
+    # (it refutes h - 1): the window search's plan sits at its window's top
+    search = "minimal" if opts.prove and opts.horizon_search == "window" else opts.horizon_search
+    t_start = time.perf_counter()
+    clock = budget.clock()
+    L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
+    record = opts.record(L_max, budget)
+    timings = {"abstraction": 0.0, "bounds": 0.0, "guide": 0.0, "sat": 0.0, "lp": 0.0}
+    counters: dict = {}
+    guarantee = "segments" if opts.segment_safe else "samples"
+
+    def result(out: LoopOutcome) -> ReachResult:
+        timings["total"] = time.perf_counter() - t_start
+        return ReachResult(status=out.status, solver="lazy-smt", seconds=timings["total"], trajectory=out.trajectory,
+                           regions=out.regions, horizon=out.horizon, counters=counters, timings=timings,
+                           options=record, message=out.message, guarantee=guarantee)
+
+    try:
+        if abstraction is None:
+            with _timed(clock, timings, "abstraction", "the convex decomposition (abstraction)"):
+                abstraction = abstract(problem)
+        graph = RegionGraph.from_abstraction(abstraction)
+        if not opts.segment_safe:  # samples only: every pair of regions one step can connect (exact search)
+            with _timed(clock, timings, "bounds", "the one-step region pairs"):
+                graph = replace(graph, adjacency=step_adjacency(problem, abstraction))
+        counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
+        with _timed(clock, timings, "bounds", "the horizon bounds (time windows)"):
+            bounds = _horizon_bounds(problem, abstraction, graph, opts, L_max)
+        counters.update(proved_bound=_count(bounds.proved), exact_abstraction=abstraction.exact,
+                        bfs_bound=_count(bounds.bfs), physical_bound=bounds.physical, box_bound=_count(bounds.box),
+                        first_horizon=bounds.first)
+        conplan = _conplan(problem, abstraction, opts, search, clock)
+        theory: TheoryChecker = (TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else conplan)
+        path = route(problem, abstraction) if opts.guided else None
+        if bounds.earliest is not None and bounds.first <= L_max:
+            with _timed(clock, timings, "bounds", "the separator chains (time windows)"):
+                bounds = _with_chains(bounds, _chain_bounds(problem, abstraction, graph, theory, path), L_max,
+                                      counters)
+    except BudgetExhausted as exc:  # before the loop: in the abstraction or the bounds
+        return result(LoopOutcome(ReachStatus.UNKNOWN, None, str(exc)))
+
+    # are the loop's refutations proofs for the problem? (samples only, exact regions)
+    exact = not opts.segment_safe and abstraction.exact
+    proved = bounds.proved
+    displan = DisPlan(graph, cardinality=opts.cardinality, earliest=bounds.earliest, to_go=bounds.to_go,
+                      waits_at_start=opts.wait_shifts and problem.starts_at_rest)
+    if proved > L_max or bounds.first > L_max:
+        out = _refuted_by_bounds(problem, bounds, L_max, exact, opts, counters)
+        if out.status is ReachStatus.UNKNOWN and opts.prove and opts.segment_safe:
+            out = prove_claims(problem, out, proved, clock, counters)
+    else:
+        growth = window_growth_for(opts.window_growth, graph.n_regions)
+        record["window_growth"] = growth  # (None: resolved)
+        windows = horizon_windows(bounds.first, L_max, growth if search != "linear" else 0.0)
+        first_leg = ((lambda region: theory.first_gap(START, region)) if isinstance(theory, TransitCheck) else None)
+        guide = reference_plans(problem, abstraction, path, first_leg) if opts.guided else None
+        with clock.phase("the lazy SMT loop"):
+            defer = (DEAR_DEFER_AFTER if conplan.dear else DEFER_AFTER) if search == "window" else None
+            out = lazy_loop(displan, theory, windows, clock, timings, progress, guide, defer)
+            if search == "window" and out.status is ReachStatus.FOUND and not out.minimal and not conplan.dear:
+                out = shortened(displan, theory, out, windows, clock, timings, counters)
+            if search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
+                out = _prove_minimal(problem, abstraction, graph, displan, theory, out, windows, clock, timings,
+                                     counters, opts)
+        if out.status is ReachStatus.INFEASIBLE and exact:
+            out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted "
+                                       f"({EXACT_SAMPLES})")
+        elif out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
+            counters["abstraction_refuted"] = out.horizon
+            out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for "
+                              f"plans through the abstraction; {not_a_proof(proved)}")
+        if opts.prove and opts.segment_safe and not exact:
+            out = prove_claims(problem, out, proved, clock, counters)
+    out = _claims(out, conplan, proved, exact, counters)
+    _count_run(counters, clock, displan, conplan, theory, out)
+    timings["highs"] = conplan.stats.seconds
+    displan.delete()
+    return result(out)
+
+
+def _count(bound: float) -> int | None:
+    return None if math.isinf(bound) else int(bound)
+
+
+def _horizon_bounds(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, opts: LazyOptions,
+                    L_max: int) -> _Bounds:
+    """The lower bounds on the horizon and DIS-PLAN's time windows (module docstring)."""
+    bfs = graph.horizon_lower_bound()
+    phys = physical_lower_bound(problem) if opts.lower_bound else 0
+    windows = (time_windows(problem, abstraction, L_max, adjacency=graph.adjacency)
+               if (opts.lower_bound and math.isfinite(bfs)) else None)
+    proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=opts.segment_safe)
+    box = windows.horizon if windows is not None else 0
+    if not math.isfinite(bfs) or not math.isfinite(box):
+        first = L_max + 1
+    else:
+        first = int(max(bfs, phys, box)) if opts.lower_bound else 0
+    return _Bounds(bfs, phys, box, proved, first, None if windows is None else windows.earliest,
+                   None if windows is None else windows.to_go)
+
+
+def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions, search: str, clock: Clock) -> ConPlan:
+    """CON-PLAN as the options ask: ``farkas`` is ``trivial`` generalised."""
+    counterexample, generalize = opts.counterexample, opts.generalize
+    if counterexample == "farkas":
+        counterexample, generalize = "trivial", True
+    # a proof of the minimal horizon (minimal, linear) is hundreds of LPs over the longest
+    # horizons: split them into independent blocks where they separate (box regions, one
+    # block per axis; maze-4: HiGHS's time 2-3x less); the window search needs a handful,
+    # and the paper's loop (no generalisation) keeps the LPs it was measured with
+    proof = search == "minimal" or (search == "linear" and opts.generalize)
+    return ConPlan(problem, abstraction, segment_safe=opts.segment_safe, counterexample=counterexample,
+                   generalize=generalize, minimize=opts.minimize, slack_weights=opts.slack_weights, clock=clock,
+                   split=True if proof else None)
+
+
+def _with_chains(bounds: _Bounds, chain: ChainBounds | None, L_max: int, counters: dict) -> _Bounds:
+    """``bounds`` raised by the separator chains (when they apply)."""
+    if chain is None:
+        return bounds
+    counters["chain_bound"] = _count(chain.horizon)
+    first = L_max + 1 if math.isinf(chain.horizon) else max(bounds.first, int(chain.horizon))
+    counters["first_horizon"] = first
+    return replace(bounds, first=first, earliest=tuple(max(a, b) for a, b in zip(bounds.earliest, chain.earliest)),
+                   to_go=tuple(max(a, b) for a, b in zip(bounds.to_go, chain.to_go)))
+
+
+def _refuted_by_bounds(problem: ReachProblem, bounds: _Bounds, L_max: int, exact: bool, opts: LazyOptions,
+                       counters: dict) -> LoopOutcome:
+    """The answer when the bounds alone exceed ``max_horizon``: ``infeasible`` when the
+    proved bound does (or the search is exact), else ``unknown`` (no plan through the
+    abstraction: not a proof)."""
+    proved, bfs, box = bounds.proved, bounds.bfs, bounds.box
+    if proved > L_max:
+        if (bounds.physical if opts.lower_bound else physical_lower_bound(problem)) >= 1 << 30:
+            why = "the dynamics and bounds allow no displacement toward the goal"
+        elif math.isinf(proved):
+            why = ("the goal is not connected to the start in the free space" if math.isinf(bfs)
+                   else "no position reaches the goal by bounded displacements through the free space")
+        else:
+            why = f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)"
+        return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
+    if math.isinf(bfs):
+        why = "the goal regions are not connected to the start regions"
+    elif math.isinf(box):
+        why = f"no position in the regions reaches the goal within {L_max} steps of bounded displacement"
+    else:
+        why = f"the region-hop lower bound on the horizon ({bounds.first}) exceeds max_horizon"
+    if exact:
+        return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} ({EXACT_SAMPLES})")
+    counters["abstraction_refuted"] = L_max
+    return LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: {why}; "
+                                                   f"{not_a_proof(proved)}")
+
+
+def _prove_minimal(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, displan: DisPlan,
+                   theory: TheoryChecker, out: LoopOutcome, windows: list[tuple[int, int]], clock: Clock,
+                   timings: dict[str, float], counters: dict, opts: LazyOptions) -> LoopOutcome:
+    """``horizon_search="minimal"``: :func:`~plansynth.reach.lazy.minimal.prove_minimal`
+    from the window of the plan found (every horizon below it is refuted), with the
+    per-axis reachable sets when ``reach_sets``."""
+    t0 = time.perf_counter()
+    bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)
+    reach = (AxisReach.build(problem, abstraction, graph.adjacency, graph.start_regions, graph.goal_regions,
+                             segment_safe=opts.segment_safe) if opts.reach_sets else None)
+    out, counters["minimal_probes"] = prove_minimal(displan, theory, out, bottom, clock, timings,
+                                                    monotone=problem.starts_at_rest, reach=reach, counters=counters)
+    timings["minimal"] = time.perf_counter() - t0
+    return out
+
+
+def _claims(out: LoopOutcome, conplan: ConPlan, proved: float, exact: bool, counters: dict) -> LoopOutcome:
+    """The answer's claims as :mod:`~plansynth.reach.lazy.claims` words them."""
+    st = conplan.stats
+    if st.uncertified:
+        out = uncertified(out, st.uncertified, counters.get("relaxation"))
+    counters.update(horizon=out.horizon, minimal=out.minimal)
+    if out.status is ReachStatus.FOUND:
+        counters.update(minimal_claim(out, proved, exact or counters.get("relaxation") == "minimal"))
+        if counters["minimal_relative_to"] == "decomposition":
+            out = replace(out, message=f"{out.message}; minimal only among plans through the decomposition "
+                                       f"({DECOMPOSITION_ONLY}), not proved for the problem (proved lower bound: "
+                                       f"{int(proved)})")
+    return out
+
+
+def _count_run(counters: dict, clock: Clock, displan: DisPlan, conplan: ConPlan, theory: TheoryChecker,
+               out: LoopOutcome) -> None:
+    """What the run did, in ``counters``."""
+    st = conplan.stats
+    counters.update(
+        iterations=clock.iterations, sat_calls=displan.sat_calls, sat_slices=displan.sat_slices,
+        clauses=displan.clauses, window_clauses=displan.window_clauses, conflicts=len(displan.conflicts),
+        lp_calls=st.lp_calls, lp_calls_by_kind=dict(st.by_kind), iis_calls=st.iis_calls, ray_calls=st.ray_calls,
+        certified=st.certified, rejected=st.rejected, lp_retries=st.retries, ipm_fallbacks=st.ipm_fallbacks,
+        polished=st.polished, slack_failures=st.slack_failures,
+    )
+    if isinstance(theory, TransitCheck):
+        counters.update(transit_conflicts=theory.conflicts, transit_lp_calls=theory.lp_calls,
+                        transit_plans=theory.plans_caught, widened_conflicts=theory.widened)
+
+
+def _chain_bounds(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, theory: TheoryChecker,
+                  path: Sequence[int] | None) -> ChainBounds | None:
+    """The separator chains of :func:`~plansynth.reach.lazy.bounds.separator_bounds` over
+    DIS-PLAN's region graph (beyond the paper), or None when they do
+    not apply: no multi-step displacement table (integrator chains, whose one-step
+    bounds the sweep of :func:`~plansynth.reach.lazy.bounds.time_windows` already
+    uses), or more than :data:`~plansynth.reach.lazy.bounds.SEPARATOR_MAX_REGIONS`
+    regions. The gaps are those of :func:`~plansynth.reach.lazy.bounds.chain_gaps`,
+    raised by the transit layer's LP bound
+    (:meth:`~plansynth.reach.lazy.transit.TransitCheck.first_gap`: every smaller gap
+    refuted by an LP; exact for a leg out of the start at rest) from the start into the
+    guide's first region (``path[1]``; the guide asks for it anyway) and on the legs of
+    the chain that gives the horizon bound, for up to :data:`CHAIN_ROUNDS` rounds
+    (the chain may move to other legs once these are raised). Each is a lower bound on
+    the steps between two samples of a plan through the region graph, as the chains
+    need; the transit layer reuses the LPs. Maze-3 with n = 4 random dynamics: horizon
+    bound 86 where the sweep gives 17 (no plan below 108); with n = 50, 93 (sweep: 22)."""
+    if graph.n_regions > SEPARATOR_MAX_REGIONS:
+        return None
+    base = chain_gaps(problem, abstraction)
+    if base is None:
+        return None
+    transit = theory if isinstance(theory, TransitCheck) else None
+    refined: dict[tuple[int, int], int] = {}
+
+    def gap(a: int, b: int) -> int:
+        return max(base(a, b), refined.get((a, b), 0))
+
+    if transit is not None and path is not None and len(path) > 1:
+        refined[(START, path[1])] = transit.first_gap(START, path[1])
+    out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
+    for _ in range(CHAIN_ROUNDS if transit is not None else 0):
+        # (start straight to goal, one region holding both: no leg LP, the box gap stands)
+        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:])
+                if (a, b) not in refined and (a, b) != (START, GOAL)]
+        if not legs:
+            break
+        for a, b in legs:
+            refined[(a, b)] = transit.first_gap(a, b)
+        out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
+    return out

@@ -1,0 +1,39 @@
+"""The region MILP and the baselines as :class:`~plansynth.reach.planners.Planner`
+values: each its name, its options value (:mod:`plansynth.reach.planners.options`,
+:mod:`plansynth.reach.mission.options`), the solver packages whose versions it reports
+and the ``"module:function"`` that plans (loaded on its first solve, so this module and
+``plansynth reach solve --help`` load no solver).
+
+>>> MILP.configure(max_horizon=60)
+MilpOptions(max_horizon=60, start_horizon=None, segment_safe=True)
+>>> MILP_LTL_ONESHOT.configure().one_shot, MILP_LTL.defaults is None
+(True, True)
+"""
+
+from __future__ import annotations
+
+from plansynth.reach.mission.options import MilpLtlOptions
+from plansynth.reach.planners import OptionsPlanner
+from plansynth.reach.planners.options import BigMOptions, GcsOptions, MilpOptions, OmplOptions
+
+__all__ = ["MILP", "MILP_BIGM", "RRT", "EST", "KPIECE", "GCS", "MILP_LTL", "MILP_LTL_ONESHOT"]
+
+_HIGHS = ("highspy",)
+
+#: ``milp``: the region MILP, one per horizon (:func:`plansynth.reach.planners.milp.plan_milp`)
+MILP = OptionsPlanner("milp", MilpOptions(), "plansynth.reach.planners.milp:plan_milp", _HIGHS, takes_abstraction=True)
+#: ``milp-bigm``: the big-M MILP over the obstacles (:mod:`plansynth.reach.planners.milp_bigm`)
+MILP_BIGM = OptionsPlanner("milp-bigm", BigMOptions(), "plansynth.reach.planners.milp_bigm:run", _HIGHS)
+#: OMPL's kinodynamic planners (:mod:`plansynth.reach.planners.ompl`)
+RRT = OptionsPlanner("rrt", OmplOptions(), "plansynth.reach.planners.ompl:run_rrt", ("ompl",))
+EST = OptionsPlanner("est", OmplOptions(), "plansynth.reach.planners.ompl:run_est", ("ompl",))
+KPIECE = OptionsPlanner("kpiece", OmplOptions(), "plansynth.reach.planners.ompl:run_kpiece", ("ompl",))
+#: ``gcs``: Drake's Graphs of Convex Sets (:mod:`plansynth.reach.planners.gcs`)
+GCS = OptionsPlanner("gcs", GcsOptions(), "plansynth.reach.planners.gcs:run", ("drake",), takes_abstraction=True)
+#: ``milp-ltl``: the bounded mission as one big-M MILP per horizon (missions only;
+#: :func:`plansynth.reach.mission.milp.plan_milp_ltl`)
+MILP_LTL = OptionsPlanner("milp-ltl", None, "plansynth.reach.mission.milp:plan_milp_ltl", _HIGHS,
+                          mission_defaults=MilpLtlOptions())
+#: ``milp-ltl-oneshot``: one MILP at the max horizon (Wolff et al.'s fixed horizon K)
+MILP_LTL_ONESHOT = OptionsPlanner("milp-ltl-oneshot", None, "plansynth.reach.mission.milp:plan_milp_ltl", _HIGHS,
+                                  mission_defaults=MilpLtlOptions(one_shot=True))
