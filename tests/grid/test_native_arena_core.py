@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted
 from plansynth.grid.native import stationary
-from plansynth.grid.native.arena import Arena, BudgetExhausted
+from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.cone import influence_cone
 from plansynth.grid.native.engine import _with_relevant
 

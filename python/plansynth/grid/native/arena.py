@@ -27,9 +27,10 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass, field
 
-from plansynth.budget import Clock
+from plansynth.budget import BudgetExhausted, Clock
 from plansynth.grid.native.bitgrid import AgentGeometry, bits, cell_mask
 from plansynth.grid.native.cone import Cone, robot_live
+from plansynth.grid.native.limits import check_clock
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.semantics import CompiledSemantics, obstacle_move, robot_move
 
@@ -38,10 +39,6 @@ Config = tuple[int, ...]  # cell indices of the read obstacles
 
 #: Seconds kept back, beyond the per-object estimate, for leaving a compiled game.
 COMPILED_FREE_SECONDS = 0.1
-
-
-class BudgetExhausted(Exception):
-    """Raised inside the engine when the clock runs out; the backend answers unknown."""
 
 
 @dataclass
@@ -135,14 +132,14 @@ class Arena:
         return core.Arena(n, self.steps, robot, obstacles, [b(d) for d in self.abstract_danger], [b(x) for x in self.live],
                           self.sem.index(p.robot.start), self.sem.index(p.robot.goal), oc0)
 
-    def _stopped(self, why, doing: str) -> BudgetExhausted:
+    def _stopped(self, why, phase: str) -> BudgetExhausted:
         kind, step, configs, nbytes = why
         if kind == "memory":
-            return BudgetExhausted(f"{doing} at step {step}: the game outgrows the memory budget of "
+            return BudgetExhausted(phase, "memory", f"{phase} at step {step}: the game outgrows the memory budget of "
                                    f"{(self.memory_bytes or 0) >> 20} MB ({nbytes >> 20} MB held, {configs} obstacle configurations)")
         if kind == "configs":
-            return BudgetExhausted(f"more than {configs - 1} obstacle configurations")
-        return BudgetExhausted(f"{doing} at step {step} of the game" + (f" ({configs} obstacle configurations)" if configs else "")
+            return BudgetExhausted(phase, "configurations", f"more than {configs - 1} obstacle configurations")
+        return BudgetExhausted(phase, "time", f"{phase} at step {step}" + (f" ({configs} obstacle configurations)" if configs else "")
                                + ": out of time")
 
     def _seconds(self, clock: Clock | None) -> float | None:
@@ -164,7 +161,7 @@ class Arena:
     def _explore_compiled(self, clock: Clock | None, max_states: int | None) -> None:
         why = self._core.explore(self._seconds(clock), self.memory_bytes, max_states)
         if why is not None:
-            raise self._stopped(why, "exploring")
+            raise self._stopped(why, "exploring the game")
         self.layers = _CompiledLayers(self._core, False)
 
     def config_count(self) -> int:
@@ -217,16 +214,23 @@ class Arena:
                 for oc2 in self.successors(oc):
                     nxt[oc2] = nxt.get(oc2, 0) | img
                 why = self._over_budget(clock, self.memory_bytes) if len(nxt) % 64 == 0 else None
-                if why == "time" or (clock is not None and clock.exhausted()):
-                    raise BudgetExhausted(f"exploring step {t} of the game ({count + len(nxt)} obstacle configurations)")
-                if why == "memory":
-                    raise BudgetExhausted(
-                        f"exploring step {t}: the game outgrows the memory budget of {self.memory_bytes >> 20} MB "
-                        f"({count + len(nxt)} obstacle configurations, {self._succ_tuples} joint obstacle moves)")
+                if why is not None or (clock is not None and clock.exhausted()):
+                    self._explore_stopped(why, clock, t, count + len(nxt))
             self.layers.append(nxt)
             count += len(nxt)
             if max_states is not None and count > max_states:
-                raise BudgetExhausted(f"more than {max_states} obstacle configurations")
+                raise BudgetExhausted("exploring the game", "configurations", f"more than {max_states} obstacle configurations")
+
+    def _explore_stopped(self, why: str | None, clock: Clock | None, t: int, configs: int) -> None:
+        """Raise why the reference exploration stops at step ``t``."""
+        where = f" at step {t} ({configs} obstacle configurations)"
+        if why == "time":  # what is left would not free the game
+            raise BudgetExhausted("exploring the game", "time", f"exploring the game{where}: out of time")
+        check_clock(clock, "exploring the game", where)
+        raise BudgetExhausted("exploring the game", "memory",
+                              f"exploring the game at step {t}: the game outgrows the memory budget of "
+                              f"{(self.memory_bytes or 0) >> 20} MB ({configs} obstacle configurations, "
+                              f"{self._succ_tuples} joint obstacle moves)")
 
     # -- local facts ---------------------------------------------------------------
     def successors(self, oc: Config) -> tuple[Config, ...]:
@@ -323,8 +327,7 @@ class Arena:
                     w |= m
                 if w:
                     layer[oc] = w
-                if clock is not None and clock.exhausted():
-                    raise BudgetExhausted(f"solving the game at step {t}")
+                check_clock(clock, "solving the game", f" at step {t}")
             self.win[t] = layer
         oc0 = next(iter(self.layers[0]), None)
         return oc0 is not None and bool(self.win[0].get(oc0, 0) & cell_mask(self.problem, self.problem.robot.start))

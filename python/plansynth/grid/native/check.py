@@ -34,8 +34,9 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from plansynth.budget import Clock
-from plansynth.grid.native.arena import Arena, BudgetExhausted
+from plansynth.budget import BudgetExhausted, Clock
+from plansynth.grid.native.arena import Arena
+from plansynth.grid.native.limits import check_clock
 from plansynth.grid.programs import App, Const, Term, Var, compile_program
 
 _OPS = {"+": 2, "-": 3, "<=": 4, "=": 5, "not": 6, "and": 7, "or": 8, "ite": 9}
@@ -137,8 +138,7 @@ class GameGraph:
                 if c not in expanded and t + 1 < arena.steps:
                     expanded.add(c)
                     successors[c] = [cid(oc2) for oc2 in arena.successors(oc)]
-            if clock is not None and clock.exhausted():
-                raise BudgetExhausted("building the game graph for program checks")
+            check_clock(clock, "building the game graph for program checks", f" at step {t}")
         robot_end = [0] * (n_cells * n_moves)
         for r in range(n_cells):
             for k in range(n_moves):
@@ -211,8 +211,8 @@ class GameGraph:
                         succ.extend(ids)
                 off.append(len(succ))
             win.append(w)
-            if clock is not None and head % 4096 == 0 and clock.exhausted():
-                raise BudgetExhausted("building the game graph for program checks")
+            if head % 4096 == 0:
+                check_clock(clock, "building the game graph for program checks")
         return cls(n_moves, arena.variables(), state_of, win, off, succ, inputs, use_rust)
 
     @property
@@ -305,11 +305,12 @@ class ArenaCheck:
         self.checks += 1
         left = None if self.clock is None else self.clock.remaining()
         if left is not None and left <= 0:
-            raise BudgetExhausted("checking programs on the game: out of time")
+            raise BudgetExhausted("checking programs on the game", "time", "checking programs on the game: out of time")
         try:
             got = self.core.check(ops, self.arena.problem.width, None if left is None or left == float("inf") else left)
         except TimeoutError:
-            raise BudgetExhausted("checking programs on the game: out of time") from None
+            raise BudgetExhausted("checking programs on the game", "time",
+                                  "checking programs on the game: out of time") from None
         return None if got is None else (got[0], got[1], tuple(got[2]))
 
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from plansynth.grid.native.bitgrid import AgentGeometry, cell_mask
+from plansynth.grid.native.limits import check_clock
 from plansynth.grid.problem import GridProblem
 
 
@@ -107,13 +108,10 @@ SMALL_GRID_CELLS = 10_000
 
 
 def _tick(clock, what: str, t: int) -> None:
-    """Stop with the engine's BudgetExhausted when ``clock`` has run out (on a
-    1000 x 1000 grid one step of these loops is a few big-integer operations of a
+    """Stop with :class:`~plansynth.budget.BudgetExhausted` when ``clock`` has run out (on
+    a 1000 x 1000 grid one step of these loops is a few big-integer operations of a
     million bits, and there are up to 1000 steps: the clock is read every step)."""
-    if clock is not None and clock.exhausted():
-        from plansynth.grid.native.arena import BudgetExhausted
-
-        raise BudgetExhausted(f"{what} at step {t}: out of time")
+    check_clock(clock, what, f" at step {t}")
 
 
 def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: tuple[int, ...] | None = None,
@@ -121,8 +119,8 @@ def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: 
     """Robot cells at each time t on a path start -> goal of exactly ``steps`` steps.
 
     With ``danger`` (a mask per step), a move that sweeps ``danger[t]`` in step t is
-    forbidden; this is the obstacle-blind robot's reachable graph. Raises the engine's
-    ``BudgetExhausted`` when ``clock`` runs out.
+    forbidden; this is the obstacle-blind robot's reachable graph. Raises
+    :class:`~plansynth.budget.BudgetExhausted` when ``clock`` runs out.
     """
     n = len(robot.moves)
 

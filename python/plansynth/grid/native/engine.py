@@ -27,18 +27,18 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from plansynth.budget import Budget, Clock
-from plansynth.grid.native.arena import Arena, BudgetExhausted
+from plansynth.budget import DEFAULT_MEMORY_MB, Budget, BudgetExhausted, Clock
+from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.bitgrid import bits, cell_mask
 from plansynth.grid.native.check import GameGraph, program_checker, simplify
 from plansynth.grid.native.conditions import Enumeration, conditions_upto
 from plansynth.grid.native.cone import Cone, influence_cone
 from plansynth.grid.native.options import CONDITION_DEPTH, MAX_TREE_DEPTH, InvalidOption, NativeOptions
+from plansynth.grid.native.limits import check_clock
+from plansynth.grid.native.sat import ConflictLimit, solve_clauses
 from plansynth.grid.native.stationary import (
-    ConflictLimit,
     Strategy,
     encode_stationary,
-    solve_clauses,
     stationary_strategy,
     winning_forward,
 )
@@ -55,10 +55,6 @@ from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term, compile_program, depth
 from plansynth.grid.result import GridStatus, LengthOutcome
 
-#: Memory the joint game may use when the budget names none (MB). The game is explored
-#: until it would outgrow this (or the budget's ``memory_mb``) or the time runs out;
-#: ``max_configs`` adds an explicit cap on obstacle configurations.
-DEFAULT_MEMORY_MB = 4096
 #: Behaviour cells (condition x program state) the compiled condition enumeration
 #: computes per second, conservatively (2.6e8 measured on a loaded 2-core machine): the
 #: enumeration is refused when its estimate does not fit the time left.
@@ -124,6 +120,8 @@ class _Run:
         self.counters = {"phase_seconds": {}}
         self._t_phase = t0
         self._budget_seconds = budget.seconds
+        # the joint game is explored until it would outgrow this or the time runs out;
+        # ``max_configs`` adds an explicit cap on obstacle configurations
         self._memory_mb = budget.memory_mb or DEFAULT_MEMORY_MB
         try:
             status, program, message, witness = self._solve(problem, steps, clock, depth_bound)
@@ -288,10 +286,12 @@ class _Run:
         need = work / CONDITION_CELLS_PER_SECOND
         nbytes = min(limit, 2 * terms * terms) * (n_states // 8 + 64) + terms * n_states * 8
         if need > clock.remaining():
-            raise BudgetExhausted(f"enumerating conditions over {n_states} program states would take about "
+            raise BudgetExhausted("enumerating conditions", "time",
+                                  f"enumerating conditions over {n_states} program states would take about "
                                   f"{need:.0f} s ({max(0.0, clock.remaining()):.1f} s left)")
         if nbytes > (self._memory_mb << 20):
-            raise BudgetExhausted(f"enumerating conditions over {n_states} program states needs about "
+            raise BudgetExhausted("enumerating conditions", "memory",
+                                  f"enumerating conditions over {n_states} program states needs about "
                                   f"{nbytes >> 20} MB (memory budget {self._memory_mb} MB)")
 
     def _program(self, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
@@ -312,8 +312,7 @@ class _Run:
         # Conditions of depth <= 3 (comparisons of coordinates and constants) give the
         # shallowest greedy trees on the reactive suite, and are cheap to enumerate.
         enum = self._conditions(inputs, arena.variables(), arena.problem, min(3, self.o.condition_depth), clock)
-        if clock.exhausted():
-            raise BudgetExhausted("enumerating conditions")
+        check_clock(clock, "enumerating conditions")
         program = greedy_program(allowed, enum.conditions, n_moves, use_rust=self.o.use_rust)
         graph = program_checker(arena, clock, use_rust=self.o.use_rust)
         self.counters["game_graph_pairs"] = graph.n_pairs
@@ -412,7 +411,8 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     states = sorted({(r, oc) for layer in fwd[:-1] for oc, m in layer.items() for r in bits(m)})
     top_ = depth_bound if depth_bound is not None else engine.o.max_tree_depth
     if max_clauses is not None and (len(states) > engine.o.improve_states or len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50):
-        raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
+        raise BudgetExhausted("the exact depth search", "states",
+                              f"{len(states)} states are too many for the exact depth search")
     clauses, ids, fwd = encode_stationary(arena, clock, fwd=fwd)
     index = {s: i for i, s in enumerate(states)}
     inputs = [arena.inputs(r, oc) for r, oc in states]
@@ -420,7 +420,8 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     top = depth_bound if depth_bound is not None else engine.o.max_tree_depth
     cap = min(5, engine.o.condition_depth + 1) if cond_depth is None else cond_depth
     if max_clauses is not None and len(states) * 2 ** tree_levels(min(top, 5)) > max_clauses // 50:
-        raise BudgetExhausted(f"{len(states)} states are too many for the exact depth search")
+        raise BudgetExhausted("the exact depth search", "states",
+                              f"{len(states)} states are too many for the exact depth search")
     n_moves = len(arena.robot.moves)
     proved = True
     last = 0
@@ -428,7 +429,7 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
     started = time.perf_counter()
     for d in program_depths(top):
         if total_seconds is not None and time.perf_counter() - started > total_seconds:
-            raise BudgetExhausted(f"exact depth search beyond {total_seconds} s")
+            raise BudgetExhausted("the exact depth search", "time", f"exact depth search beyond {total_seconds} s")
         last = d
         need = max(2, min(d - 1, cap))  # the root's conditions have depth <= d - 1
         if need not in enums:
@@ -438,7 +439,7 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, engine:
         est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
         engine.counters["exact_search_clauses"] = est
         if max_clauses is not None and est > max_clauses:
-            raise BudgetExhausted(f"depth-{d} search of about {est} clauses")
+            raise BudgetExhausted("the exact depth search", "clauses", f"depth-{d} search of about {est} clauses")
         enc = TreeEncoding(tree_levels(d), by_level, len(states), n_moves, len(ids), list(clauses))
 
         def out_lit(s: int, k: int, states=states):
@@ -528,8 +529,7 @@ def program_wins(problem: GridProblem, steps: int, program: Term, clock: Clock |
             for oc2 in full.successors(oc):
                 nxt.add((e, oc2))
         frontier = nxt
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("checking the program")
+        check_clock(clock, "checking the program", f" at step {t}")
     return all(r == goal for r, _ in frontier)
 
 

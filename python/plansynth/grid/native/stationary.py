@@ -24,14 +24,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
 
-from plansynth.budget import Clock
-from plansynth.grid.native.arena import Arena, BudgetExhausted, Config
+from plansynth.budget import BudgetExhausted, Clock
+from plansynth.grid.native.arena import Arena, Config
 from plansynth.grid.native.bitgrid import bits, cell_mask
+from plansynth.grid.native.limits import check_clock
+from plansynth.grid.native.sat import solve_clauses
 
 State = tuple[int, Config]  # (robot cell index, read obstacle cells)
-SAT_SOLVER = "cadical195"
 
 
 @dataclass(frozen=True)
@@ -68,7 +68,7 @@ def core_forward(arena: Arena, clock: Clock | None = None) -> None:
         return
     layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
     if why is not None:
-        raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
+        raise arena._stopped(why, "following winning moves")
     arena._fwd_rows = layers
 
 
@@ -87,8 +87,7 @@ def winning_forward_reference(arena: Arena, clock: Clock | None = None) -> list[
                 for oc2 in arena.successors(oc):
                     nxt[oc2] = nxt.get(oc2, 0) | img
         out.append(nxt)
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted(f"following winning moves at step {t}")
+        check_clock(clock, "following winning moves", f" at step {t}")
     return out
 
 
@@ -145,8 +144,7 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
                             for oc2 in succ:
                                 clauses.append([-g, var(("r", t + 1, e, oc2))])
                         clauses.append([-rv, -mv[k], g])
-            if clock is not None and clock.exhausted():
-                raise BudgetExhausted(f"encoding the stationary strategy at step {t}")
+            check_clock(clock, "encoding the stationary strategy", f" at step {t}")
     return clauses, ids, fwd
 
 
@@ -209,7 +207,8 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock
         try:
             got = arena._core.consistent(arena.problem.width, _left(clock, arena))
         except TimeoutError:
-            raise BudgetExhausted("reading a strategy off the game: out of time") from None
+            raise BudgetExhausted("reading a strategy off the game", "time",
+                                  "reading a strategy off the game: out of time") from None
         if got is None:
             return None
         reach_rows, rows = got
@@ -228,8 +227,7 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock
             b = bad.setdefault(oc, [0] * n_moves)
             for k in range(n_moves):
                 b[k] |= rmask & ~wm[k]
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("reading a strategy off the game")
+        check_clock(clock, "reading a strategy off the game", f" at step {t}")
     gx, gy = arena.problem.robot.goal
     choice: dict[State, int] = {}
 
@@ -318,7 +316,8 @@ def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None =
         try:
             rows = arena._core.allowed(_layers_out(arena, reach), _left(clock, arena))
         except TimeoutError:
-            raise BudgetExhausted("the allowed moves of the strategy: out of time") from None
+            raise BudgetExhausted("the allowed moves of the strategy", "time",
+                                  "the allowed moves of the strategy: out of time") from None
         return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in rows}
     steps = arena.steps
     n_moves = len(arena.robot.moves)
@@ -349,7 +348,8 @@ def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None =
         try:
             return _layers_in(arena._core.closure(rows, _left(clock, arena)))
         except TimeoutError:
-            raise BudgetExhausted("the states the strategy reaches: out of time") from None
+            raise BudgetExhausted("the states the strategy reaches", "time",
+                                  "the states the strategy reaches: out of time") from None
     oc0 = next(iter(arena.layers[0]))
     out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
     for t in range(arena.steps):
@@ -363,44 +363,3 @@ def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None =
                 nxt[oc2] = nxt.get(oc2, 0) | ends
         out.append(nxt)
     return out
-
-
-class ConflictLimit(BudgetExhausted):
-    """The SAT call used up its conflict allowance (the caller may try something else)."""
-
-
-def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[int] | None = None,
-                  max_conflicts: int | None = None, max_seconds: float | None = None) -> list[int] | None:
-    """Solve with CaDiCaL; BudgetExhausted when the clock runs out, ConflictLimit after
-    ``max_conflicts`` conflicts or ``max_seconds`` seconds of this call."""
-    from pysat.solvers import Solver  # here: a game decided without SAT never loads it
-
-    with Solver(name=SAT_SOLVER, bootstrap_with=clauses) as s:
-        if phases:
-            s.set_phases(phases)
-        return solve_sliced(s, clock, max_conflicts, max_seconds)
-
-
-def solve_sliced(solver: Any, clock: Clock | None, max_conflicts: int | None = None,
-                 max_seconds: float | None = None) -> list[int] | None:
-    """One (possibly incremental) CaDiCaL call: a model, or None when unsatisfiable.
-
-    CaDiCaL cannot be interrupted from another thread through PySAT, but it honours
-    conflict budgets: solve in slices and look at the clock in between.
-    """
-    import time
-
-    t0 = time.perf_counter()
-    used = 0
-    while True:
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("SAT solving")
-        if max_conflicts is not None and used >= max_conflicts:
-            raise ConflictLimit(f"more than {max_conflicts} conflicts")
-        if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
-            raise ConflictLimit(f"more than {max_seconds:.2f} s")
-        solver.conf_budget(2_000)
-        used += 2_000
-        answer = solver.solve_limited()
-        if answer is not None:
-            return solver.get_model() if answer else None

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import time
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term
 from plansynth.grid.verify.controller import check_controller
 from plansynth.grid.verify.counterexample import counterexample
-from plansynth.grid.verify.meter import Meter, OutOfBudget
+from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.search import PROBE_NODES, Search
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
@@ -71,10 +71,10 @@ def verify(
         loss = search.run()
         meter.phase = "building the counterexample"
         cex = None if loss is None else counterexample(search, loss)
-    except OutOfBudget as out:
+    except BudgetExhausted as out:
         explored = 0 if search is None else search.explored
         return Verdict(VerifyStatus.UNKNOWN, steps, None, explored, time.perf_counter() - t0, out.phase,
-                       f"the verifier's budget ran out in {out.phase}: {out.reason}")
+                       f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}")
     except MemoryError:
         explored = 0 if search is None else search.explored
         return Verdict(VerifyStatus.UNKNOWN, steps, None, explored, time.perf_counter() - t0, meter.phase,

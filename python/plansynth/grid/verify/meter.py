@@ -1,46 +1,29 @@
-"""The budget of one verification, read cheaply from the search's inner loops."""
+"""The budget of one verification (STYLE.md, point 4), read cheaply from the search's
+inner loops: a work counter in front of the shared :class:`~plansynth.budget.Clock`."""
 
 from __future__ import annotations
 
-from plansynth.budget import Budget
+from dataclasses import replace
 
-__all__ = ["Meter", "OutOfBudget", "DEFAULT_MEMORY_MB"]
+from plansynth.budget import DEFAULT_MEMORY_MB, Budget, BudgetExhausted
 
-#: Memory (MB) a budgeted verification may add to the process when its budget gives none
-#: (the native engine's default too).
-DEFAULT_MEMORY_MB = 4096
-
-
-class OutOfBudget(Exception):
-    def __init__(self, phase: str, reason: str) -> None:
-        self.phase = phase
-        self.reason = reason
-        super().__init__(f"{phase}: {reason}")
-
-
-def _rss_bytes() -> int:
-    """The process's resident set now (Linux ``/proc/self/statm``; else its peak)."""
-    try:
-        with open("/proc/self/statm", "rb") as f:
-            return int(f.read().split()[1]) * _PAGE
-    except (OSError, ValueError, IndexError):  # pragma: no cover - not Linux
-        import resource
-
-        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-
-
-try:
-    import os as _os
-
-    _PAGE = _os.sysconf("SC_PAGE_SIZE")
-except (ValueError, OSError, AttributeError):  # pragma: no cover
-    _PAGE = 4096
+__all__ = ["Meter"]
 
 
 class Meter:
-    """The budget of one verification: time and memory, checked every :data:`CHECK_WORK`
-    units of work (cells handled), so that neither overshoots by more than a few
-    milliseconds or megabytes."""
+    """The budget of one verification: time and memory (``memory_mb``, default
+    :data:`~plansynth.budget.DEFAULT_MEMORY_MB`), checked every :data:`CHECK_WORK` units
+    of work (cells handled), so that neither overshoots by more than a few milliseconds
+    or megabytes. ``phase`` names what the search is doing, for the verdict.
+
+    >>> meter = Meter(Budget(seconds=1e-9))
+    >>> meter.phase = "the layered search"
+    >>> try:
+    ...     meter.check()
+    ... except BudgetExhausted as exc:
+    ...     print(exc.phase, "|", meter.reason(exc))
+    the layered search | time (1e-09 s)
+    """
 
     #: Work between two checks, in units of about a microsecond: a cell handled in Python
     #: is 1, a call of the semantics :data:`SEMANTICS_CALL`.
@@ -48,14 +31,13 @@ class Meter:
     SEMANTICS_CALL = 8
 
     def __init__(self, budget: Budget | None) -> None:
-        self.clock = None if budget is None else budget.clock()
-        mb = None if budget is None else (budget.memory_mb or DEFAULT_MEMORY_MB)
-        self.limit = None if mb is None else mb << 20
-        self.base = _rss_bytes() if self.limit is not None else 0
+        limited = None if budget is None else replace(budget, memory_mb=budget.memory_mb or DEFAULT_MEMORY_MB)
+        self.clock = None if limited is None else limited.clock()
         self.work = 0
         self.phase = "setting up"
 
     def tick(self, work: int = 1) -> None:
+        """Count ``work`` units; every :data:`CHECK_WORK` of them, :meth:`check`."""
         if self.clock is None:
             return
         self.work += work
@@ -64,12 +46,16 @@ class Meter:
             self.check()
 
     def check(self) -> None:
-        if self.clock is None:
-            return
-        if self.clock.out_of_time():
-            raise OutOfBudget(self.phase, f"time ({self.clock.budget.seconds:g} s)")
-        if self.limit is not None:
-            used = _rss_bytes() - self.base
-            if used > self.limit:
-                raise OutOfBudget(self.phase, f"memory (it grew by {used >> 20} MB, over the budget of "
-                                  f"{self.limit >> 20} MB)")
+        """Raise :class:`~plansynth.budget.BudgetExhausted` naming :attr:`phase` once the
+        time or the memory is used up."""
+        if self.clock is not None:
+            self.clock.check(self.phase)
+
+    def reason(self, exc: BudgetExhausted) -> str:
+        """What ran out, with its figures: ``time (1 s)`` or ``memory (it grew by ...)``."""
+        assert self.clock is not None, "only a budgeted meter runs out"
+        budget = self.clock.budget
+        if exc.resource == "memory":
+            return (f"memory (it grew by {self.clock.memory_used() >> 20} MB, over the budget of "
+                    f"{budget.memory_mb} MB)")
+        return f"{exc.resource} ({budget.seconds:g} s)" if exc.resource == "time" else exc.resource
