@@ -132,19 +132,10 @@ class Arena:
         return core.Arena(n, self.steps, robot, obstacles, [b(d) for d in self.abstract_danger], [b(x) for x in self.live],
                           self.sem.index(p.robot.start), self.sem.index(p.robot.goal), oc0)
 
-    def _stopped(self, why, phase: str) -> BudgetExhausted:
-        kind, step, configs, nbytes = why
-        if kind == "memory":
-            return BudgetExhausted(phase, "memory", f"{phase} at step {step}: the game outgrows the memory budget of "
-                                   f"{(self.memory_bytes or 0) >> 20} MB ({nbytes >> 20} MB held, {configs} obstacle configurations)")
-        if kind == "configs":
-            return BudgetExhausted(phase, "configurations", f"more than {configs - 1} obstacle configurations")
-        return BudgetExhausted(phase, "time", f"{phase} at step {step}" + (f" ({configs} obstacle configurations)" if configs else "")
-                               + ": out of time")
-
-    def _seconds(self, clock: Clock | None) -> float | None:
-        """Seconds the compiled core may use: what is left, less the time that freeing
-        the game (and the layers read from it) will take once the answer is unknown."""
+    def core_seconds(self, clock: Clock | None) -> float | None:
+        """Seconds a call of the compiled core may use (None: no limit): what is left,
+        less the time that freeing the game (and the layers read from it) will take
+        once the answer is unknown."""
         if clock is None:
             return None
         left = clock.remaining()
@@ -159,9 +150,7 @@ class Arena:
         return COMPILED_FREE_SECONDS + 2 * self.FREE_SECONDS_PER_OBJECT * held
 
     def _explore_compiled(self, clock: Clock | None, max_states: int | None) -> None:
-        why = self._core.explore(self._seconds(clock), self.memory_bytes, max_states)
-        if why is not None:
-            raise self._stopped(why, "exploring the game")
+        self._core.explore(self.core_seconds(clock), self.memory_bytes, max_states)  # BudgetExhausted past them
         self.layers = _CompiledLayers(self._core, False)
 
     def config_count(self) -> int:
@@ -310,9 +299,7 @@ class Arena:
         """Backward induction; True iff the robot wins when it may also see the time."""
         if self._core is not None:
             self._wm, self._fwd, self._fwd_rows = {}, None, None
-            won, why = self._core.solve_game(self._seconds(clock), self.memory_bytes)
-            if why is not None:
-                raise self._stopped(why, "solving the game")
+            won = self._core.solve_game(self.core_seconds(clock), self.memory_bytes)
             self.win = _CompiledLayers(self._core, True)
             return won
         goal = cell_mask(self.problem, self.problem.robot.goal)

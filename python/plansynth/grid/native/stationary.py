@@ -25,7 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 
-from plansynth.budget import BudgetExhausted, Clock
+from plansynth.budget import Clock
 from plansynth.grid.native.arena import Arena, Config
 from plansynth.grid.native.bitgrid import bits, cell_mask
 from plansynth.grid.native.limits import check_clock
@@ -66,10 +66,7 @@ def core_forward(arena: Arena, clock: Clock | None = None) -> None:
     dicts alone took 2 s, and only the SAT encoding and the references read them."""
     if arena._fwd is not None or arena._fwd_rows is not None:
         return
-    layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
-    if why is not None:
-        raise arena._stopped(why, "following winning moves")
-    arena._fwd_rows = layers
+    arena._fwd_rows = arena._core.winning_forward(arena.core_seconds(clock), arena.memory_bytes)
 
 
 def winning_forward_reference(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
@@ -204,11 +201,7 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock
     """
     if arena._core is not None:
         core_forward(arena, clock)
-        try:
-            got = arena._core.consistent(arena.problem.width, _left(clock, arena))
-        except TimeoutError:
-            raise BudgetExhausted("reading a strategy off the game", "time",
-                                  "reading a strategy off the game: out of time") from None
+        got = arena._core.consistent(arena.problem.width, arena.core_seconds(clock))
         if got is None:
             return None
         reach_rows, rows = got
@@ -301,23 +294,11 @@ def _moves_of(mask: int) -> tuple[int, ...]:
     return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
 
 
-def _left(clock: Clock | None, arena: Arena) -> float | None:
-    """Seconds left on ``clock`` for the compiled core, less the time to free the game
-    (None: no limit)."""
-    if clock is None or clock.remaining() == float("inf"):
-        return None
-    return max(0.0, clock.remaining() - arena.free_reserve())
-
-
 def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None = None) -> dict[State, set[int]]:
     """Moves of each reached state that win and stay inside ``reach`` at every time
     (compiled when the arena is; the loops below are the reference)."""
     if arena._core is not None:
-        try:
-            rows = arena._core.allowed(_layers_out(arena, reach), _left(clock, arena))
-        except TimeoutError:
-            raise BudgetExhausted("the allowed moves of the strategy", "time",
-                                  "the allowed moves of the strategy: out of time") from None
+        rows = arena._core.allowed(_layers_out(arena, reach), arena.core_seconds(clock))
         return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in rows}
     steps = arena.steps
     n_moves = len(arena.robot.moves)
@@ -345,11 +326,7 @@ def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None =
     """States reached from the start when every state may play any of its allowed moves."""
     if arena._core is not None:
         rows = [(r, list(oc), sum(1 << k for k in ks)) for (r, oc), ks in allowed.items()]
-        try:
-            return _layers_in(arena._core.closure(rows, _left(clock, arena)))
-        except TimeoutError:
-            raise BudgetExhausted("the states the strategy reaches", "time",
-                                  "the states the strategy reaches: out of time") from None
+        return _layers_in(arena._core.closure(rows, arena.core_seconds(clock)))
     oc0 = next(iter(arena.layers[0]))
     out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
     for t in range(arena.steps):
