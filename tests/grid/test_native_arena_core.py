@@ -15,8 +15,7 @@ from hypothesis import strategies as st
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.grid.native import stationary
 from plansynth.grid.native.arena import Arena
-from plansynth.grid.native.cone import influence_cone
-from plansynth.grid.native.engine import _with_relevant
+from plansynth.grid.native.cone import influence_cone, with_relevant
 
 from .strategies import grid_problems, problems_and_programs
 
@@ -29,7 +28,7 @@ def _pair(problem, read_all: bool):
     steps = problem.steps
     cone = influence_cone(problem, steps)
     read = tuple(range(len(problem.obstacles))) if read_all else cone.relevant
-    cone = _with_relevant(cone, read)
+    cone = with_relevant(cone, read)
     fast = Arena.build(problem, steps, cone, read, use_rust=True)
     ref = Arena.build(problem, steps, cone, read, use_rust=False)
     assert fast._core is not None and ref._core is None

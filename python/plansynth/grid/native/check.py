@@ -36,8 +36,10 @@ from dataclasses import dataclass, field
 
 from plansynth.budget import BudgetExhausted, Clock
 from plansynth.grid.native.arena import Arena
+from plansynth.grid.native.cone import influence_cone, with_relevant
 from plansynth.grid.native.limits import check_clock
-from plansynth.grid.programs import App, Const, Term, Var, compile_program
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.programs import App, Const, Term, Var, compile_program, variables_of
 
 _OPS = {"+": 2, "-": 3, "<=": 4, "=": 5, "not": 6, "and": 7, "or": 8, "ite": 9}
 
@@ -106,7 +108,6 @@ class GameGraph:
 
     @classmethod
     def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> "GameGraph":
-        from plansynth.grid.native.bitgrid import bits
         from plansynth.grid.native.stationary import winning_forward
 
         n_moves = len(arena.robot.moves)
@@ -387,3 +388,47 @@ def _compact(ops: list[tuple[int, int, int, int]]) -> list[tuple[int, int, int, 
 
 
 __all__ = ["ArenaCheck", "GameGraph", "program_checker", "program_ops", "ops_program", "simplify"]
+
+
+def program_wins(problem: GridProblem, steps: int, program: Term, clock: Clock | None = None) -> bool:
+    """Exact check of a program on the game (the engine's own; the solve loop also runs
+    the independent verifier). Obstacles the program reads are tracked jointly, the other
+    relevant ones are folded into per-step danger, irrelevant ones never collide."""
+    cone = influence_cone(problem, steps)
+    names = variables_of(program)
+    read = tuple(i for i in cone.relevant if f"o{i}x" in names or f"o{i}y" in names)
+    for i in range(len(problem.obstacles)):
+        if i not in cone.relevant and (f"o{i}x" in names or f"o{i}y" in names):
+            read += (i,)  # read but harmless: still tracked, its cells are inputs
+    read = tuple(sorted(read))
+    full = Arena.build(problem, steps, with_relevant(cone, read), read, clock, explore=False)
+    variables = problem.variables
+    f = compile_program(program, variables)
+    n_moves = len(problem.robot.moves)
+    goal = full.sem.index(problem.robot.goal)
+    start = full.sem.index(problem.robot.start)
+    oc0 = tuple(full.sem.index(problem.obstacles[i].start) for i in read)
+    frontier = {(start, oc0)}
+    base = [0] * len(variables)
+    pos = {i: 2 + 2 * i for i in range(len(problem.obstacles))}
+    for t in range(steps):
+        nxt = set()
+        for r, oc in frontier:
+            env = list(base)
+            env[0], env[1] = full.sem.cell(r)
+            for j, i in enumerate(read):
+                env[pos[i]], env[pos[i] + 1] = full.sem.cell(oc[j])
+            for i in range(len(problem.obstacles)):
+                if i not in read:
+                    env[pos[i]], env[pos[i] + 1] = problem.obstacles[i].start  # unread: value irrelevant
+            k = f(*env)
+            if not isinstance(k, int) or not 0 <= k < n_moves:
+                return False
+            if not full.safe_sources(t, oc)[k] >> r & 1:
+                return False
+            e = full.robot_end(r, k)
+            for oc2 in full.successors(oc):
+                nxt.add((e, oc2))
+        frontier = nxt
+        check_clock(clock, "checking the program", f" at step {t}")
+    return all(r == goal for r, _ in frontier)

@@ -21,9 +21,10 @@ because obstacles are independent of everything else.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 
-from plansynth.grid.native.bitgrid import AgentGeometry, cell_mask
+from plansynth.grid.native.bitgrid import AgentGeometry, bits, cell_mask
 from plansynth.grid.native.limits import check_clock
 from plansynth.grid.problem import GridProblem
 
@@ -175,3 +176,31 @@ def influence_cone(problem: GridProblem, steps: int, clock=None) -> Cone:
         s = pos[0]
         parkable.append(any(g.image(s, k) == s for k in range(len(g.moves))))
     return Cone(steps, live, tuple(zone), tuple(relevant), tuple(parkable), tuple(blind), problem, facts)
+
+
+def with_relevant(cone: Cone, read: tuple[int, ...]) -> Cone:
+    """The cone with the obstacles ``read`` counted relevant too (a program reads them)."""
+    return replace(cone, relevant=tuple(sorted(set(cone.relevant) | set(read))))
+
+
+def clock_label(problem: GridProblem, cone: Cone) -> Callable[[int], int] | None:
+    """The time label that accounts for dropped obstacles that cannot stay put.
+
+    Returns None when every dropped obstacle can be kept on its start cell; otherwise
+    ``t -> min(t, K)`` where by time K the adversary can have parked all of them.
+    """
+    k_all = 0
+    for i in range(len(problem.obstacles)):
+        if i in cone.relevant or cone.parkable[i]:
+            continue
+        g = AgentGeometry.obstacle(problem, i)
+        park_cells = 0
+        for c in bits(g.full):
+            m = 1 << c
+            if any(g.image(m, k) == m for k in range(len(g.moves))):
+                park_cells |= m
+        k_i = next((t for t, pos in enumerate(cone.positions[i]) if pos & park_cells), cone.steps)
+        k_all = max(k_all, k_i)
+    if k_all == 0:
+        return None
+    return lambda t, K=k_all: min(t, K)
