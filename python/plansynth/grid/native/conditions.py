@@ -95,9 +95,10 @@ def enumerate_conditions(
 ) -> list[Condition]:
     """Every condition behaviour of depth <= ``max_depth`` on ``states`` (pure Python).
 
-    The reference implementation: :func:`enumerate_conditions_fast` must return the
-    same behaviours with terms of the same depth. ``limit`` caps the number kept (the
-    result is then incomplete at the last depth reached; see :func:`conditions_upto`).
+    The reference implementation: :func:`plansynth.grid.native.fast.enumerate_conditions`
+    must return the same behaviours with terms of the same depth. ``limit`` caps the
+    number kept (the result is then incomplete at the last depth reached; see
+    :func:`plansynth.grid.native.run.conditions_upto`).
     """
     return list(_enumerate(states, variables, max_constant, max_depth, limit).conditions)
 
@@ -197,16 +198,6 @@ def check_enumeration_fits(n_states: int, n_vars: int, max_constant: int, clock:
         raise BudgetExhausted("enumerating conditions", "memory",
                               f"enumerating conditions over {n_states} program states needs about "
                               f"{nbytes >> 20} MB (memory budget {memory_mb} MB)")
-
-
-def conditions_upto(states, variables, max_constant, max_depth, *, limit=None, use_rust: bool | None = None) -> Enumeration:
-    """Conditions with a completeness flag; the compiled core when available."""
-    if use_rust is not False:
-        from plansynth.grid.native import fast
-
-        if fast.available():
-            return fast.enumerate_conditions(states, variables, max_constant, max_depth, limit)
-    return _enumerate(states, variables, max_constant, max_depth, limit)
 
 
 def smallest(term: Term) -> tuple[int, int]:

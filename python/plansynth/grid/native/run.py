@@ -10,11 +10,21 @@ from collections.abc import Sequence
 from typing import Any
 
 from plansynth.budget import DEFAULT_MEMORY_MB, Budget, Clock
-from plansynth.grid.native.conditions import Enumeration, check_enumeration_fits, condition_limit, conditions_upto
+from plansynth.grid.native import fast
+from plansynth.grid.native.conditions import Enumeration, _enumerate, check_enumeration_fits, condition_limit
 from plansynth.grid.native.options import NativeOptions
 from plansynth.grid.problem import GridProblem
 
-__all__ = ["RunState"]
+__all__ = ["RunState", "conditions_upto"]
+
+
+def conditions_upto(states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int, max_depth: int, *,
+                    limit: int | None = None, use_rust: bool | None = None) -> Enumeration:
+    """Conditions with a completeness flag: the compiled core when available (and
+    ``use_rust`` is not False), else the pure-Python reference; both give the same."""
+    if use_rust is not False and fast.available():
+        return fast.enumerate_conditions(states, variables, max_constant, max_depth, limit)
+    return _enumerate(states, variables, max_constant, max_depth, limit)
 
 
 class RunState:
