@@ -12,7 +12,7 @@ import numpy as np
 
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.verify.meter import Meter
-from plansynth.grid.verify.tables import Cells, Distinct, Row
+from plansynth.grid.verify.tables import Cells, Distinct, PeriodicReach, Row, StepDanger
 
 __all__ = ["Table", "UnreadReach", "goal_distances", "bitmap"]
 
@@ -88,16 +88,14 @@ def bitmap(cells: np.ndarray, n: int) -> np.ndarray:
     return b
 
 
-class Reach:
-    """One unread obstacle's reachable cells, advanced step by step (see :class:`UnreadReach`)."""
+class Reach(PeriodicReach):
+    """One unread obstacle's reachable cells as a sorted index array (see :class:`UnreadReach`);
+    its sweeps are packed bitmaps of the ``n`` cells."""
 
-    def __init__(self, table: Table, start: np.ndarray) -> None:
+    def __init__(self, table: Table, start: np.ndarray, n: int) -> None:
+        super().__init__(start)
         self.table = table
-        self.cur = start
-        self.prev: np.ndarray | None = None
-        self.packed: list[np.ndarray] = []  # the sweeps of the last steps (at most 2)
-        self.period: int | None = None
-        self.t = 0
+        self.n = n
 
     def successors(self, cells: np.ndarray, meter: Meter) -> np.ndarray:
         meter.tick(int(cells.size) * self.table.n_moves)
@@ -107,33 +105,19 @@ class Reach:
             return np.unique(ends)
         return np.flatnonzero(bitmap(ends, self.table.end.shape[1])).astype(np.int32)  # 4 bytes a cell
 
-    def sweeps(self, t: int, n: int, meter: Meter) -> np.ndarray:
-        """The packed bitmap of the cells this obstacle can sweep at step ``t`` (called
-        for t = 0, 1, 2, ... in order)."""
-        assert t == self.t, "sweeps are advanced one step at a time"
-        self.t += 1
-        if self.period is not None:
-            out = self.packed[-self.period]
-            self.packed = (self.packed + [out])[-2:]
-            return out
-        cells = self.cur
+    def sweep(self, cells: np.ndarray, meter: Meter) -> np.ndarray:
         meter.tick(int(cells.size) * self.table.n_moves)
         self.table.fill(cells)
-        mask = np.zeros(n, dtype=bool)
+        mask = np.zeros(self.n, dtype=bool)
         for col in self.table.swept:
             mask[col[cells].ravel()] = True
-        out = np.packbits(mask, bitorder="little")
-        self.packed = (self.packed + [out])[-2:]
-        nxt = self.successors(cells, meter)
-        if np.array_equal(nxt, cells):
-            self.period = 1
-        elif self.prev is not None and np.array_equal(nxt, self.prev):
-            self.period = 2
-        self.prev, self.cur = cells, nxt
-        return out
+        return np.packbits(mask, bitorder="little")
+
+    def same(self, a: np.ndarray, b: np.ndarray) -> bool:
+        return np.array_equal(a, b)
 
 
-class UnreadReach:
+class UnreadReach(StepDanger):
     """Reduction 2 of :mod:`plansynth.grid.verify`, a step at a time: the cells each
     unread obstacle can occupy at time t (a sorted index array; only the current one is
     kept) and, per step, the packed bitmap of every cell some unread obstacle can sweep
@@ -146,50 +130,30 @@ class UnreadReach:
     """
 
     def __init__(self, problem: GridProblem, tables: Sequence[Table], unread: tuple[int, ...], meter: Meter) -> None:
-        self.problem = problem
+        super().__init__(problem, meter, len(unread))
         self.tables = tables
-        self.meter = meter
-        self.n = problem.width * problem.height
-        self.zero = bytes((self.n + 7) // 8)
-        self.obstacles = [Reach(tables[i], self._start(i)) for i in unread]
-        self._danger: list[bytes] = []
-        self._distinct: dict[bytes, bytes] = {self.zero: self.zero}
+        self.obstacles = [Reach(tables[i], self._start(i), self.n_cells) for i in unread]
 
     def _start(self, i: int) -> np.ndarray:
-        x, y = self.problem.obstacles[i].start
-        return np.array([y * self.problem.width + x], dtype=np.int32)
+        return np.array([self.start(i)], dtype=np.int32)
 
-    def danger(self, t: int) -> bytes:
-        while len(self._danger) <= t:
-            self._advance()
-        return self._danger[t]
-
-    def _advance(self) -> None:
-        t = len(self._danger)
-        if not self.obstacles:
-            self._danger.append(self.zero)
-            return
-        meter = self.meter
-        phase = meter.phase
-        meter.phase = f"the unread obstacles' reachable cells (step {t})"
+    def swept(self, t: int) -> bytes:
         total = None
         for ob in self.obstacles:
-            packed = ob.sweeps(t, self.n, meter)
+            packed = ob.sweeps(t, self.meter)
             total = packed if total is None else total | packed
-        b = total.tobytes()
-        self._danger.append(self._distinct.setdefault(b, b))
-        meter.phase = phase
+        return total.tobytes()
 
     def hit(self, i: int, t: int, r_swept: Cells) -> list[int] | None:
         """Moves of unread obstacle ``i`` for steps 0..t whose last one sweeps a cell of
         ``r_swept`` (None if it cannot). Replays its sets from the start, keeping them
         packed (cells / 8 bytes a step), and walks back through them."""
         table = self.tables[i]
-        ob = Reach(table, self._start(i))
+        ob = Reach(table, self._start(i), self.n_cells)
         history: list[bytes] = []
         for step_t in range(t + 1):
             self.meter.tick(int(ob.cur.size))
-            history.append(np.packbits(bitmap(ob.cur, self.n), bitorder="little").tobytes())
+            history.append(np.packbits(bitmap(ob.cur, self.n_cells), bitorder="little").tobytes())
             if step_t < t:
                 ob.cur = ob.successors(ob.cur, self.meter)
         want = np.array(sorted(r_swept), dtype=np.int64)
@@ -202,7 +166,7 @@ class UnreadReach:
                 moves = [k]
                 for step_t in range(t - 1, -1, -1):
                     cells = np.flatnonzero(np.unpackbits(np.frombuffer(history[step_t], dtype=np.uint8),
-                                                         count=self.n, bitorder="little"))
+                                                         count=self.n_cells, bitorder="little"))
                     for m in range(table.n_moves):
                         prev = cells[table.end[m, cells] - 1 == c]
                         if prev.size:

@@ -10,7 +10,7 @@ from collections.abc import Callable, Sequence
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.semantics import robot_end
 from plansynth.grid.verify.meter import Meter
-from plansynth.grid.verify.tables import Cells, Distinct, MoveTable, Row
+from plansynth.grid.verify.tables import Cells, Distinct, MoveTable, PeriodicReach, Row, StepDanger
 
 __all__ = ["Table", "UnreadReach", "goal_distances", "cells_of"]
 
@@ -70,17 +70,12 @@ def cells_of(mask: int) -> list[int]:
     return out
 
 
-class Reach:
-    """One unread obstacle's reachable cells as an integer bitset, advanced step by step
-    (see :class:`UnreadReach`)."""
+class Reach(PeriodicReach):
+    """One unread obstacle's reachable cells as an integer bitset (see :class:`UnreadReach`)."""
 
     def __init__(self, table: Table, start: int) -> None:
+        super().__init__(1 << start)
         self.table = table
-        self.cur = 1 << start
-        self.prev: int | None = None
-        self.packed: list[int] = []
-        self.period: int | None = None
-        self.t = 0
 
     def successors(self, cells: int, meter: Meter) -> int:
         out = 0
@@ -91,75 +86,40 @@ class Reach:
             out |= masks(c)[0]
         return out
 
-    def sweeps(self, t: int, meter: Meter) -> int:
-        """The bitset of the cells this obstacle can sweep at step ``t`` (t = 0, 1, ...)."""
-        assert t == self.t, "sweeps are advanced one step at a time"
-        self.t += 1
-        if self.period is not None:
-            out = self.packed[-self.period]
-            self.packed = (self.packed + [out])[-2:]
-            return out
-        cells = self.cur
+    def sweep(self, cells: int, meter: Meter) -> int:
         listed = cells_of(cells)
         meter.tick(len(listed) * self.table.n_moves)
         masks = self.table.masks
         out = 0
         for c in listed:
             out |= masks(c)[1]
-        self.packed = (self.packed + [out])[-2:]
-        nxt = self.successors(cells, meter)
-        if nxt == cells:
-            self.period = 1
-        elif self.prev is not None and nxt == self.prev:
-            self.period = 2
-        self.prev, self.cur = cells, nxt
         return out
 
+    def same(self, a: int, b: int) -> bool:
+        return a == b
 
-class UnreadReach:
+
+class UnreadReach(StepDanger):
     """Reduction 2 of :mod:`plansynth.grid.verify`, a step at a time (see
     :class:`.numpy_tables.UnreadReach`); ``danger(t)`` is the same packed bitmap (bit
     ``c`` of byte ``c >> 3``)."""
 
     def __init__(self, problem: GridProblem, tables: Sequence[Table], unread: tuple[int, ...], meter: Meter) -> None:
-        self.problem = problem
+        super().__init__(problem, meter, len(unread))
         self.tables = tables
-        self.meter = meter
-        self.n_bytes = (problem.width * problem.height + 7) // 8
-        self.zero = bytes(self.n_bytes)
-        self.obstacles = [Reach(tables[i], self._start(i)) for i in unread]
-        self._danger: list[bytes] = []
-        self._distinct: dict[bytes, bytes] = {self.zero: self.zero}
+        self.obstacles = [Reach(tables[i], self.start(i)) for i in unread]
 
-    def _start(self, i: int) -> int:
-        x, y = self.problem.obstacles[i].start
-        return y * self.problem.width + x
-
-    def danger(self, t: int) -> bytes:
-        while len(self._danger) <= t:
-            self._advance()
-        return self._danger[t]
-
-    def _advance(self) -> None:
-        t = len(self._danger)
-        if not self.obstacles:
-            self._danger.append(self.zero)
-            return
-        meter = self.meter
-        phase = meter.phase
-        meter.phase = f"the unread obstacles' reachable cells (step {t})"
+    def swept(self, t: int) -> bytes:
         total = 0
         for ob in self.obstacles:
-            total |= ob.sweeps(t, meter)
-        b = total.to_bytes(self.n_bytes, "little")
-        self._danger.append(self._distinct.setdefault(b, b))
-        meter.phase = phase
+            total |= ob.sweeps(t, self.meter)
+        return total.to_bytes(len(self.zero), "little")
 
     def hit(self, i: int, t: int, r_swept: Cells) -> list[int] | None:
         """As :meth:`.numpy_tables.UnreadReach.hit`, choosing the same moves (lowest
         move, then lowest cell, at each step)."""
         table = self.tables[i]
-        ob = Reach(table, self._start(i))
+        ob = Reach(table, self.start(i))
         history: list[int] = []
         for step_t in range(t + 1):
             history.append(ob.cur)
