@@ -1,4 +1,4 @@
-"""The compiled game (``crates/plansynth-core/src/arena.rs``) against its pure-Python
+"""The compiled game (``crates/plansynth-core/src/arena/``) against its pure-Python
 reference (:class:`plansynth.grid.native.arena.Arena` with ``use_rust=False``): the same
 layers in the same order, the same backward induction, winning-forward layers, strategy
 read off the game, allowed moves and closure, on random small problems (walls, ``via``

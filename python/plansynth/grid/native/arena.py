@@ -16,7 +16,7 @@ the controller may also see the time: a necessary condition for a controller pro
 exist (the paper's controllers see positions only, Section 3.1).
 
 The exploration, backward induction and the winning-forward layers run in the compiled
-core when it is built (``crates/plansynth-core/src/arena.rs``, same numbering, same
+core when it is built (``crates/plansynth-core/src/arena/``, same numbering, same
 order); the pure-Python methods here are its reference (``use_rust=False``), and a
 property test compares the two on random problems. The compiled game's memory limit is
 checked against the bytes its data structures hold (their capacities).
@@ -110,7 +110,7 @@ class Arena:
         return a
 
     def _compiled_game(self, core):
-        """The game's fixed data handed to ``arena.rs``: masks as bytes, moves as
+        """The game's fixed data handed to the core's ``arena``: masks as bytes, moves as
         cell-index deltas (``y * width + x``)."""
         p, w = self.problem, self.problem.width
         n = w * p.height

@@ -278,7 +278,7 @@ class GameGraph:
 
 class ArenaCheck:
     """The program check of :class:`GameGraph`, run on the compiled game itself
-    (``arena.rs``, ``Arena::check_program``) without building the graph: the program is
+    (``arena/program.rs``, ``Arena::check_program``) without building the graph: the program is
     followed from the start breadth-first, and each pair it reaches must play a winning
     move there. On large games the graph has millions of pairs times moves times
     obstacle replies, while a program reaches only the pairs of its own moves.

@@ -195,7 +195,7 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock
     (preferring moves towards the goal, then staying) from the start either reaches
     only states that have one -- a stationary winning strategy, found in linear time --
     or meets a state without one, and then the SAT encoding decides. In the compiled
-    core when the arena is compiled (``arena.rs``, ``Arena::consistent``); the loops
+    core when the arena is compiled (``arena/strategy.rs``, ``Arena::consistent``); the loops
     below are its reference. ``fwd`` (the winning-forward layers) is read by the
     reference only: the compiled core keeps its own (:func:`core_forward`).
     """
