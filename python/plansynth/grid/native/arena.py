@@ -78,7 +78,7 @@ class Arena:
     def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True, memory_mb: int | None = None, use_rust: bool | None = None) -> "Arena":
         """Explore the states reachable from the start that can still reach the goal.
 
-        Stops with :class:`BudgetExhausted` when the clock runs out (keeping the time that
+        Stops with :class:`~plansynth.budget.BudgetExhausted` when the clock runs out (keeping the time that
         freeing the explored game will take), when more than ``max_states``
         configurations are met, or when the game's memory passes ``memory_mb`` (measured
         in the compiled core, estimated in the reference). ``use_rust``: None uses the

@@ -66,7 +66,8 @@ class Engine:
     By default the engine answers first: the greedy decision tree over the enumerated
     conditions, checked on the game graph and simplified against it
     (:func:`~plansynth.grid.native.check.simplify`), is a correct program at once; then
-    at most ``effort`` seconds (default :data:`~plansynth.grid.native.answer.DEFAULT_EFFORT` or 10% of the budget,
+    at most ``effort`` seconds (default
+    :data:`~plansynth.grid.native.answer.DEFAULT_EFFORT` or 10% of the budget,
     whichever is smaller) go to making it smaller with tree SAT at smaller depths,
     keeping the best verified program. ``minimize`` instead proves the smallest depth.
     The counters say which (``depth_minimal``: ``proved`` or ``not proved``) and time

@@ -154,7 +154,7 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     obstacles outside the cone of influence that work as a clock). With ``quick``, a
     strategy that can be read off the game (:func:`consistent_strategy`) is returned
     without SAT.
-    Raises :class:`BudgetExhausted` when the clock runs out.
+    Raises :class:`~plansynth.budget.BudgetExhausted` when the clock runs out.
     """
     if label is None and quick:
         if arena._core is not None:

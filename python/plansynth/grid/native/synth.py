@@ -71,7 +71,7 @@ class TreeEncoding:
     def build(self, out_lit, clock: Clock | None = None) -> None:
         """Emit the tree's clauses; ``out_lit(s, k)`` gives the literal 'state s plays k'.
         With ``clock``, the build (pure Python, seconds on thousands of states and
-        conditions) raises :class:`BudgetExhausted` when the budget runs out."""
+        conditions) raises :class:`~plansynth.budget.BudgetExhausted` when the budget runs out."""
         self.structure()
         for s in range(self.n_states):
             self.add_state(s, out_lit)
@@ -220,7 +220,7 @@ def tree_program(
 
     ``allowed[s]`` are the moves permitted in state s; ``conds`` the condition
     behaviours over the same states. Exact relative to ``conds``. Raises
-    :class:`BudgetExhausted` if the instance grows beyond ``max_clauses`` literals or
+    :class:`~plansynth.budget.BudgetExhausted` if the instance grows beyond ``max_clauses`` literals or
     the clock runs out.
     """
     n = len(allowed)
