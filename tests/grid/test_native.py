@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -10,7 +12,7 @@ from hypothesis import strategies as st
 
 from plansynth.bench.families import paper_depth
 from plansynth.bench.families import paper_problems as families
-from plansynth.budget import Budget
+from plansynth.budget import Budget, Clock
 from plansynth.grid.native import reference
 from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.bitgrid import AgentGeometry, cell_mask, cells
@@ -150,12 +152,83 @@ def test_figure1_through_the_solve_loop():
     assert [a.status for a in result.attempts[:5]] == [GridStatus.UNREALIZABLE] * 5
 
 
-def test_a_tiny_budget_gives_unknown_not_a_wrong_answer():
+@pytest.mark.parametrize("use_rust", [True, False])
+def test_a_spent_budget_gives_unknown(use_rust):
+    """A budget that has run out before the engine starts gives ``unknown`` at once,
+    saying so, with no program: not a controller found by ignoring the budget (the
+    engine solves steps-25 in milliseconds), not ``unrealizable``."""
     problem = grid_problem_from_dict(families()["steps-25"])
-    out = get_backend("native", improve=False).solve_length(problem, 25, Budget(seconds=0.001))
-    assert out.status in (GridStatus.UNKNOWN, GridStatus.REALIZABLE)
-    if out.status is GridStatus.REALIZABLE:  # a fast machine: then it must be right
-        assert verify(problem, out.program, 25).wins
+    t0 = time.perf_counter()
+    out = get_backend("native", improve=False, use_rust=use_rust).solve_length(problem, 25, Budget(seconds=1e-9))
+    assert out.status is GridStatus.UNKNOWN, (out.status, out.message)
+    assert out.program is None and out.message.startswith("budget exhausted: "), out.message
+    assert time.perf_counter() - t0 < 1.0
+
+
+class _Countdown(Clock):
+    """A clock whose time runs out at its ``reads``-th reading, whatever the machine's
+    speed: the compiled core then gets no seconds either."""
+
+    def __init__(self, budget: "_CountdownBudget") -> None:
+        super().__init__(budget)
+        self.reads_left = budget.reads
+
+    def out_of_time(self) -> bool:
+        self.reads_left -= 1
+        return self.reads_left < 0
+
+    def remaining(self) -> float:
+        return 0.0 if self.out_of_time() else 3600.0
+
+
+@dataclass(frozen=True)
+class _CountdownBudget(Budget):
+    reads: int = 0
+
+    def clock(self) -> Clock:
+        return _Countdown(self)
+
+
+#: Problems whose solves pass through every stage (the blind controller, the joint game
+#: and its strategy, the clock obstacles, the game and stationary refutations), with
+#: whether a controller exists at the length.
+COUNTDOWN_CASES = {
+    "steps-25 (blind)": (lambda: grid_problem_from_dict(families()["steps-25"]), 25, True),
+    "crossing (reads the car)": (lambda: load_grid_problem(ROOT / "examples" / "grid" / "crossing.yaml"), 9, True),
+    "stationary refutation": (lambda: grid_problem_from_dict(STATIONARY_REFUTED[0]), 3, False),
+    "clock obstacle": (lambda: grid_problem_from_dict({**STATIONARY_REFUTED[0], "grid": [3, 8], "obstacles": [
+        *STATIONARY_REFUTED[0]["obstacles"], {"start": [0, 4], "moves": ["up"]}]}), 3, True),
+    "game refutation": (lambda: grid_problem_from_dict({
+        "grid": [3, 1], "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]},
+        "obstacles": [{"start": [2, 0], "moves": ["stay"]}], "steps": 2}), 2, False),
+}
+
+
+@pytest.mark.parametrize("use_rust", [True, False])
+@pytest.mark.parametrize("case", sorted(COUNTDOWN_CASES))
+def test_running_out_at_any_budget_check_gives_unknown_never_a_wrong_answer(case, use_rust):
+    """The budget runs out at the engine's first clock reading, then its second, and so
+    on until one is enough: every phase meets a spent budget in turn. Each run answers
+    ``unknown`` because the budget ran out (never an internal error, never a guess), or,
+    once the budget suffices, the true answer: a controller only if the independent
+    verifier accepts it."""
+    make, steps, exists = COUNTDOWN_CASES[case]
+    problem = make()
+    backend = get_backend("native", improve=False, use_rust=use_rust)
+    phases = set()
+    for reads in range(5000):
+        out = backend.solve_length(problem, steps, _CountdownBudget(seconds=3600, reads=reads))
+        if out.status is not GridStatus.UNKNOWN:
+            break
+        assert out.program is None and out.message.startswith("budget exhausted: "), (reads, out.message)
+        phases.add(out.message.split(":")[1].split(" at ")[0])
+    else:
+        raise AssertionError(f"no answer after {reads} clock readings: {out.message}")
+    assert reads > 0 and len(phases) >= 5, (reads, phases)  # it did run out, in several phases
+    if exists:
+        assert out.status is GridStatus.REALIZABLE and verify(problem, out.program, steps).wins, out
+    else:
+        assert out.status is GridStatus.UNREALIZABLE and out.program is None, out
 
 
 def test_unknown_options_are_rejected():

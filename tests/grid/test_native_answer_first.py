@@ -13,8 +13,8 @@ from plansynth.budget import Budget
 from plansynth.grid.native import reference
 from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.check import GameGraph, simplify
-from plansynth.grid.native.cone import influence_cone
-from plansynth.grid.native.engine import Engine, _with_relevant
+from plansynth.grid.native.cone import influence_cone, with_relevant
+from plansynth.grid.native.engine import Engine
 from plansynth.grid.problem import load_grid_problem
 from plansynth.grid.result import GridStatus
 from plansynth.grid.verify import verify
@@ -27,7 +27,7 @@ small = grid_problems(max_side=4, max_obstacles=2, max_obstacle_moves=3, max_rob
 
 def _graph(problem, steps, use_rust):
     read = tuple(range(len(problem.obstacles)))
-    cone = _with_relevant(influence_cone(problem, steps), read)
+    cone = with_relevant(influence_cone(problem, steps), read)
     arena = Arena.build(problem, steps, cone, read)
     if not arena.layers[0] or not arena.solve_game():
         return None
@@ -113,7 +113,7 @@ def test_the_corridor_example_is_solved_and_verified():
 @given(small)
 def test_the_compiled_game_graph_is_the_reference_graph(problem):
     read = tuple(range(len(problem.obstacles)))
-    cone = _with_relevant(influence_cone(problem, problem.steps), read)
+    cone = with_relevant(influence_cone(problem, problem.steps), read)
     arena = Arena.build(problem, problem.steps, cone, read)
     if not arena.layers[0] or not arena.solve_game():
         return

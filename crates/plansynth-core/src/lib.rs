@@ -4,7 +4,9 @@
 //! data out. The PyO3 binding lives in `plansynth-py`.
 
 pub mod arena;
+pub mod bits;
 pub mod conditions;
+pub mod fx;
 pub mod game;
 pub mod tree;
 

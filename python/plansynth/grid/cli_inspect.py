@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from plansynth.cli_support import EXIT_BAD_INPUT, EXIT_NO, EXIT_UNKNOWN, EXIT_YES, fail, finite_positive, positive_seconds
+from plansynth.cli_support import EXIT_NO, EXIT_UNKNOWN, EXIT_YES, fail, finite_positive, positive_seconds
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
 from plansynth.grid.programs import (ProgramSyntaxError, Term, depth, function_name_problem, parse_program, to_c,

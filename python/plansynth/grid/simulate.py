@@ -84,7 +84,7 @@ def simulate(
     verdict = verify(problem, program, steps)
     if obstacles == "adversarial" and verdict.counterexample is not None:
         cex = verdict.counterexample
-        return _finish(problem, steps, obstacles, cex.states, cex.robot_moves, cex.obstacle_moves, verdict.wins)
+        return run_from_moves(problem, steps, obstacles, cex.states, cex.robot_moves, cex.obstacle_moves, verdict.wins)
 
     controller = compile_program(program, problem.variables)
     rng = random.Random(seed)
@@ -102,7 +102,7 @@ def simulate(
         joint_moves.append(joint)
         if collided:
             break
-    return _finish(problem, steps, obstacles, tuple(states), tuple(robot_moves), tuple(joint_moves), verdict.wins)
+    return run_from_moves(problem, steps, obstacles, tuple(states), tuple(robot_moves), tuple(joint_moves), verdict.wins)
 
 
 def _greedy(problem: GridProblem, state: State, k: int) -> tuple[int, ...]:
@@ -118,7 +118,7 @@ def _greedy(problem: GridProblem, state: State, k: int) -> tuple[int, ...]:
     return tuple(joint)
 
 
-def _finish(
+def run_from_moves(
     problem: GridProblem,
     steps: int,
     mode: str,
@@ -127,7 +127,8 @@ def _finish(
     obstacle_moves: tuple[tuple[int, ...], ...],
     wins: bool,
 ) -> Run:
-    """Locate the collision (if any) by replaying with step(), and describe the outcome."""
+    """The :class:`Run` of these moves (``mode`` says who chose the obstacles' moves):
+    the collision located by replaying them with step(), and the outcome described."""
     collision = None
     outcome = ""
     for t, (k, joint) in enumerate(zip(robot_moves, obstacle_moves)):

@@ -34,7 +34,6 @@ with the reason; if it cannot decide in time, the length is ``unknown``
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import replace

@@ -1,12 +1,17 @@
 """The native grid engine: exact, fast answers for the reactive grid problems of
 Chasins & Newcomb (SYNT 2016) without a SyGuS solver.
 
-Modules: :mod:`bitgrid` (cell sets as integers), :mod:`cone` (cone of influence),
-:mod:`arena` (the bounded game), :mod:`stationary` (position-only strategies by SAT),
-:mod:`conditions` (bottom-up condition enumeration), :mod:`synth` (smallest decision
-tree programs), :mod:`engine` (the stages together), :mod:`explain` (why no controller
-exists), :mod:`animation` (GIFs of plays), :mod:`reference` (brute-force oracles for
-tests), :mod:`fast` (the compiled core behind the same signatures as the references).
+Modules, bottom up: :mod:`bitgrid` (cell sets as integers), :mod:`limits` (stopping
+with :class:`plansynth.budget.BudgetExhausted`), :mod:`cone` (cone of influence),
+:mod:`arena` (the bounded game), :mod:`sat` (budgeted SAT calls), :mod:`stationary`
+(position-only strategies by SAT), :mod:`conditions` (bottom-up condition enumeration),
+:mod:`synth` (decision trees: greedy and by SAT), :mod:`check` (program checks on the
+game, simplification), :mod:`run` (the state of one run: options, budget, counters),
+:mod:`exact_depth` (the smallest depth over every strategy), :mod:`answer` (a program
+from a strategy, answer first), :mod:`engine` (the stages together), :mod:`explain`
+(why no controller exists), :mod:`animation` (GIFs of plays), :mod:`reference`
+(brute-force oracles for tests), :mod:`fast` (the compiled core behind the same
+signatures as the references) and :mod:`options`.
 
 Typical use goes through the backend registry::
 

@@ -11,12 +11,12 @@ from plansynth.grid.problem import GridProblem
 def witness_run(problem: GridProblem, explanation):
     """The play of an :class:`~plansynth.grid.native.explain.Explanation` as a
     :class:`~plansynth.grid.simulate.Run` (mode ``witness``; the robot loses)."""
-    from plansynth.grid.simulate import _finish
+    from plansynth.grid.simulate import run_from_moves
 
     states = tuple(turn.state for turn in explanation.play) + (explanation.final,)
     robot_moves = tuple(turn.robot_move for turn in explanation.play)
     obstacle_moves = tuple(tuple(turn.obstacle_moves) for turn in explanation.play)
-    return _finish(problem, explanation.steps, "witness", states, robot_moves, obstacle_moves, False)
+    return run_from_moves(problem, explanation.steps, "witness", states, robot_moves, obstacle_moves, False)
 
 
 def animate_play(problem: GridProblem, explanation, path_gif: str | Path, fps: float = 2) -> Path:

@@ -16,7 +16,7 @@ the controller may also see the time: a necessary condition for a controller pro
 exist (the paper's controllers see positions only, Section 3.1).
 
 The exploration, backward induction and the winning-forward layers run in the compiled
-core when it is built (``crates/plansynth-core/src/arena.rs``, same numbering, same
+core when it is built (``crates/plansynth-core/src/arena/``, same numbering, same
 order); the pure-Python methods here are its reference (``use_rust=False``), and a
 property test compares the two on random problems. The compiled game's memory limit is
 checked against the bytes its data structures hold (their capacities).
@@ -27,9 +27,10 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass, field
 
-from plansynth.budget import Clock
+from plansynth.budget import BudgetExhausted, Clock
 from plansynth.grid.native.bitgrid import AgentGeometry, bits, cell_mask
 from plansynth.grid.native.cone import Cone, robot_live
+from plansynth.grid.native.limits import check_clock
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.semantics import CompiledSemantics, obstacle_move, robot_move
 
@@ -38,10 +39,6 @@ Config = tuple[int, ...]  # cell indices of the read obstacles
 
 #: Seconds kept back, beyond the per-object estimate, for leaving a compiled game.
 COMPILED_FREE_SECONDS = 0.1
-
-
-class BudgetExhausted(Exception):
-    """Raised inside the engine when the clock runs out; the backend answers unknown."""
 
 
 @dataclass
@@ -81,7 +78,7 @@ class Arena:
     def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True, memory_mb: int | None = None, use_rust: bool | None = None) -> "Arena":
         """Explore the states reachable from the start that can still reach the goal.
 
-        Stops with :class:`BudgetExhausted` when the clock runs out (keeping the time that
+        Stops with :class:`~plansynth.budget.BudgetExhausted` when the clock runs out (keeping the time that
         freeing the explored game will take), when more than ``max_states``
         configurations are met, or when the game's memory passes ``memory_mb`` (measured
         in the compiled core, estimated in the reference). ``use_rust``: None uses the
@@ -113,7 +110,7 @@ class Arena:
         return a
 
     def _compiled_game(self, core):
-        """The game's fixed data handed to ``arena.rs``: masks as bytes, moves as
+        """The game's fixed data handed to the core's ``arena``: masks as bytes, moves as
         cell-index deltas (``y * width + x``)."""
         p, w = self.problem, self.problem.width
         n = w * p.height
@@ -135,19 +132,10 @@ class Arena:
         return core.Arena(n, self.steps, robot, obstacles, [b(d) for d in self.abstract_danger], [b(x) for x in self.live],
                           self.sem.index(p.robot.start), self.sem.index(p.robot.goal), oc0)
 
-    def _stopped(self, why, doing: str) -> BudgetExhausted:
-        kind, step, configs, nbytes = why
-        if kind == "memory":
-            return BudgetExhausted(f"{doing} at step {step}: the game outgrows the memory budget of "
-                                   f"{(self.memory_bytes or 0) >> 20} MB ({nbytes >> 20} MB held, {configs} obstacle configurations)")
-        if kind == "configs":
-            return BudgetExhausted(f"more than {configs - 1} obstacle configurations")
-        return BudgetExhausted(f"{doing} at step {step} of the game" + (f" ({configs} obstacle configurations)" if configs else "")
-                               + ": out of time")
-
-    def _seconds(self, clock: Clock | None) -> float | None:
-        """Seconds the compiled core may use: what is left, less the time that freeing
-        the game (and the layers read from it) will take once the answer is unknown."""
+    def core_seconds(self, clock: Clock | None) -> float | None:
+        """Seconds a call of the compiled core may use (None: no limit): what is left,
+        less the time that freeing the game (and the layers read from it) will take
+        once the answer is unknown."""
         if clock is None:
             return None
         left = clock.remaining()
@@ -162,9 +150,7 @@ class Arena:
         return COMPILED_FREE_SECONDS + 2 * self.FREE_SECONDS_PER_OBJECT * held
 
     def _explore_compiled(self, clock: Clock | None, max_states: int | None) -> None:
-        why = self._core.explore(self._seconds(clock), self.memory_bytes, max_states)
-        if why is not None:
-            raise self._stopped(why, "exploring")
+        self._core.explore(self.core_seconds(clock), self.memory_bytes, max_states)  # BudgetExhausted past them
         self.layers = _CompiledLayers(self._core, False)
 
     def config_count(self) -> int:
@@ -217,16 +203,23 @@ class Arena:
                 for oc2 in self.successors(oc):
                     nxt[oc2] = nxt.get(oc2, 0) | img
                 why = self._over_budget(clock, self.memory_bytes) if len(nxt) % 64 == 0 else None
-                if why == "time" or (clock is not None and clock.exhausted()):
-                    raise BudgetExhausted(f"exploring step {t} of the game ({count + len(nxt)} obstacle configurations)")
-                if why == "memory":
-                    raise BudgetExhausted(
-                        f"exploring step {t}: the game outgrows the memory budget of {self.memory_bytes >> 20} MB "
-                        f"({count + len(nxt)} obstacle configurations, {self._succ_tuples} joint obstacle moves)")
+                if why is not None or (clock is not None and clock.exhausted()):
+                    self._explore_stopped(why, clock, t, count + len(nxt))
             self.layers.append(nxt)
             count += len(nxt)
             if max_states is not None and count > max_states:
-                raise BudgetExhausted(f"more than {max_states} obstacle configurations")
+                raise BudgetExhausted("exploring the game", "configurations", f"more than {max_states} obstacle configurations")
+
+    def _explore_stopped(self, why: str | None, clock: Clock | None, t: int, configs: int) -> None:
+        """Raise why the reference exploration stops at step ``t``."""
+        where = f" at step {t} ({configs} obstacle configurations)"
+        if why == "time":  # what is left would not free the game
+            raise BudgetExhausted("exploring the game", "time", f"exploring the game{where}: out of time")
+        check_clock(clock, "exploring the game", where)
+        raise BudgetExhausted("exploring the game", "memory",
+                              f"exploring the game at step {t}: the game outgrows the memory budget of "
+                              f"{(self.memory_bytes or 0) >> 20} MB ({configs} obstacle configurations, "
+                              f"{self._succ_tuples} joint obstacle moves)")
 
     # -- local facts ---------------------------------------------------------------
     def successors(self, oc: Config) -> tuple[Config, ...]:
@@ -306,9 +299,7 @@ class Arena:
         """Backward induction; True iff the robot wins when it may also see the time."""
         if self._core is not None:
             self._wm, self._fwd, self._fwd_rows = {}, None, None
-            won, why = self._core.solve_game(self._seconds(clock), self.memory_bytes)
-            if why is not None:
-                raise self._stopped(why, "solving the game")
+            won = self._core.solve_game(self.core_seconds(clock), self.memory_bytes)
             self.win = _CompiledLayers(self._core, True)
             return won
         goal = cell_mask(self.problem, self.problem.robot.goal)
@@ -323,8 +314,7 @@ class Arena:
                     w |= m
                 if w:
                     layer[oc] = w
-                if clock is not None and clock.exhausted():
-                    raise BudgetExhausted(f"solving the game at step {t}")
+                check_clock(clock, "solving the game", f" at step {t}")
             self.win[t] = layer
         oc0 = next(iter(self.layers[0]), None)
         return oc0 is not None and bool(self.win[0].get(oc0, 0) & cell_mask(self.problem, self.problem.robot.start))

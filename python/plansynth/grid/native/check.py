@@ -34,9 +34,12 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from plansynth.budget import Clock
-from plansynth.grid.native.arena import Arena, BudgetExhausted
-from plansynth.grid.programs import App, Const, Term, Var, compile_program
+from plansynth.budget import BudgetExhausted, Clock
+from plansynth.grid.native.arena import Arena
+from plansynth.grid.native.cone import influence_cone, with_relevant
+from plansynth.grid.native.limits import check_clock
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.programs import App, Const, Term, Var, compile_program, variables_of
 
 _OPS = {"+": 2, "-": 3, "<=": 4, "=": 5, "not": 6, "and": 7, "or": 8, "ite": 9}
 
@@ -105,7 +108,6 @@ class GameGraph:
 
     @classmethod
     def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> "GameGraph":
-        from plansynth.grid.native.bitgrid import bits
         from plansynth.grid.native.stationary import winning_forward
 
         n_moves = len(arena.robot.moves)
@@ -137,8 +139,7 @@ class GameGraph:
                 if c not in expanded and t + 1 < arena.steps:
                     expanded.add(c)
                     successors[c] = [cid(oc2) for oc2 in arena.successors(oc)]
-            if clock is not None and clock.exhausted():
-                raise BudgetExhausted("building the game graph for program checks")
+            check_clock(clock, "building the game graph for program checks", f" at step {t}")
         robot_end = [0] * (n_cells * n_moves)
         for r in range(n_cells):
             for k in range(n_moves):
@@ -211,8 +212,8 @@ class GameGraph:
                         succ.extend(ids)
                 off.append(len(succ))
             win.append(w)
-            if clock is not None and head % 4096 == 0 and clock.exhausted():
-                raise BudgetExhausted("building the game graph for program checks")
+            if head % 4096 == 0:
+                check_clock(clock, "building the game graph for program checks")
         return cls(n_moves, arena.variables(), state_of, win, off, succ, inputs, use_rust)
 
     @property
@@ -277,7 +278,7 @@ class GameGraph:
 
 class ArenaCheck:
     """The program check of :class:`GameGraph`, run on the compiled game itself
-    (``arena.rs``, ``Arena::check_program``) without building the graph: the program is
+    (``arena/program.rs``, ``Arena::check_program``) without building the graph: the program is
     followed from the start breadth-first, and each pair it reaches must play a winning
     move there. On large games the graph has millions of pairs times moves times
     obstacle replies, while a program reaches only the pairs of its own moves.
@@ -305,11 +306,9 @@ class ArenaCheck:
         self.checks += 1
         left = None if self.clock is None else self.clock.remaining()
         if left is not None and left <= 0:
-            raise BudgetExhausted("checking programs on the game: out of time")
-        try:
-            got = self.core.check(ops, self.arena.problem.width, None if left is None or left == float("inf") else left)
-        except TimeoutError:
-            raise BudgetExhausted("checking programs on the game: out of time") from None
+            raise BudgetExhausted("checking programs on the game", "time", "checking programs on the game: out of time")
+        # the compiled check raises BudgetExhausted past its seconds
+        got = self.core.check(ops, self.arena.problem.width, None if left is None or left == float("inf") else left)
         return None if got is None else (got[0], got[1], tuple(got[2]))
 
 
@@ -389,3 +388,47 @@ def _compact(ops: list[tuple[int, int, int, int]]) -> list[tuple[int, int, int, 
 
 
 __all__ = ["ArenaCheck", "GameGraph", "program_checker", "program_ops", "ops_program", "simplify"]
+
+
+def program_wins(problem: GridProblem, steps: int, program: Term, clock: Clock | None = None) -> bool:
+    """Exact check of a program on the game (the engine's own; the solve loop also runs
+    the independent verifier). Obstacles the program reads are tracked jointly, the other
+    relevant ones are folded into per-step danger, irrelevant ones never collide."""
+    cone = influence_cone(problem, steps)
+    names = variables_of(program)
+    read = tuple(i for i in cone.relevant if f"o{i}x" in names or f"o{i}y" in names)
+    for i in range(len(problem.obstacles)):
+        if i not in cone.relevant and (f"o{i}x" in names or f"o{i}y" in names):
+            read += (i,)  # read but harmless: still tracked, its cells are inputs
+    read = tuple(sorted(read))
+    full = Arena.build(problem, steps, with_relevant(cone, read), read, clock, explore=False)
+    variables = problem.variables
+    f = compile_program(program, variables)
+    n_moves = len(problem.robot.moves)
+    goal = full.sem.index(problem.robot.goal)
+    start = full.sem.index(problem.robot.start)
+    oc0 = tuple(full.sem.index(problem.obstacles[i].start) for i in read)
+    frontier = {(start, oc0)}
+    base = [0] * len(variables)
+    pos = {i: 2 + 2 * i for i in range(len(problem.obstacles))}
+    for t in range(steps):
+        nxt = set()
+        for r, oc in frontier:
+            env = list(base)
+            env[0], env[1] = full.sem.cell(r)
+            for j, i in enumerate(read):
+                env[pos[i]], env[pos[i] + 1] = full.sem.cell(oc[j])
+            for i in range(len(problem.obstacles)):
+                if i not in read:
+                    env[pos[i]], env[pos[i] + 1] = problem.obstacles[i].start  # unread: value irrelevant
+            k = f(*env)
+            if not isinstance(k, int) or not 0 <= k < n_moves:
+                return False
+            if not full.safe_sources(t, oc)[k] >> r & 1:
+                return False
+            e = full.robot_end(r, k)
+            for oc2 in full.successors(oc):
+                nxt.add((e, oc2))
+        frontier = nxt
+        check_clock(clock, "checking the program", f" at step {t}")
+    return all(r == goal for r, _ in frontier)

@@ -23,6 +23,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from plansynth.budget import BudgetExhausted, Clock
 from plansynth.grid.programs import App, Const, Term, Var, depth, size
 
 
@@ -94,9 +95,10 @@ def enumerate_conditions(
 ) -> list[Condition]:
     """Every condition behaviour of depth <= ``max_depth`` on ``states`` (pure Python).
 
-    The reference implementation: :func:`enumerate_conditions_fast` must return the
-    same behaviours with terms of the same depth. ``limit`` caps the number kept (the
-    result is then incomplete at the last depth reached; see :func:`conditions_upto`).
+    The reference implementation: :func:`plansynth.grid.native.fast.enumerate_conditions`
+    must return the same behaviours with terms of the same depth. ``limit`` caps the
+    number kept (the result is then incomplete at the last depth reached; see
+    :func:`plansynth.grid.native.run.conditions_upto`).
     """
     return list(_enumerate(states, variables, max_constant, max_depth, limit).conditions)
 
@@ -166,14 +168,36 @@ def _enumerate(states, variables, max_constant, max_depth, limit) -> Enumeration
     return Enumeration(tuple(order), complete_to)
 
 
-def conditions_upto(states, variables, max_constant, max_depth, *, limit=None, use_rust: bool | None = None) -> Enumeration:
-    """Conditions with a completeness flag; the compiled core when available."""
-    if use_rust is not False:
-        from plansynth.grid.native import fast
+#: Behaviour cells (condition x program state) the compiled condition enumeration
+#: computes per second, conservatively (2.6e8 measured on a loaded 2-core machine): the
+#: enumeration is refused when its estimate does not fit the time left.
+CONDITION_CELLS_PER_SECOND = 1e8
 
-        if fast.available():
-            return fast.enumerate_conditions(states, variables, max_constant, max_depth, limit)
-    return _enumerate(states, variables, max_constant, max_depth, limit)
+
+def condition_limit(n_states: int) -> int:
+    """Conditions kept when enumerating over ``n_states`` states: their behaviours cost
+    ``n_states`` bits each, which bounds their memory and time."""
+    return min(200_000, max(5_000, 40_000_000 // max(1, n_states)))
+
+
+def check_enumeration_fits(n_states: int, n_vars: int, max_constant: int, clock: Clock, memory_mb: int) -> None:
+    """The condition enumeration cannot be interrupted: refuse it
+    (:class:`~plansynth.budget.BudgetExhausted`) when its estimated work (comparisons of
+    the depth-2 terms over every state) does not fit the time left on ``clock``, or its
+    behaviours ``memory_mb``."""
+    limit = condition_limit(n_states)
+    terms = max_constant + 2 + n_vars
+    work = min(limit, 2 * terms * terms) * n_states
+    need = work / CONDITION_CELLS_PER_SECOND
+    nbytes = min(limit, 2 * terms * terms) * (n_states // 8 + 64) + terms * n_states * 8
+    if need > clock.remaining():
+        raise BudgetExhausted("enumerating conditions", "time",
+                              f"enumerating conditions over {n_states} program states would take about "
+                              f"{need:.0f} s ({max(0.0, clock.remaining()):.1f} s left)")
+    if nbytes > (memory_mb << 20):
+        raise BudgetExhausted("enumerating conditions", "memory",
+                              f"enumerating conditions over {n_states} program states needs about "
+                              f"{nbytes >> 20} MB (memory budget {memory_mb} MB)")
 
 
 def smallest(term: Term) -> tuple[int, int]:

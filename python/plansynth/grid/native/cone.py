@@ -21,9 +21,11 @@ because obstacles are independent of everything else.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 
-from plansynth.grid.native.bitgrid import AgentGeometry, cell_mask
+from plansynth.grid.native.bitgrid import AgentGeometry, bits, cell_mask
+from plansynth.grid.native.limits import check_clock
 from plansynth.grid.problem import GridProblem
 
 
@@ -107,13 +109,10 @@ SMALL_GRID_CELLS = 10_000
 
 
 def _tick(clock, what: str, t: int) -> None:
-    """Stop with the engine's BudgetExhausted when ``clock`` has run out (on a
-    1000 x 1000 grid one step of these loops is a few big-integer operations of a
+    """Stop with :class:`~plansynth.budget.BudgetExhausted` when ``clock`` has run out (on
+    a 1000 x 1000 grid one step of these loops is a few big-integer operations of a
     million bits, and there are up to 1000 steps: the clock is read every step)."""
-    if clock is not None and clock.exhausted():
-        from plansynth.grid.native.arena import BudgetExhausted
-
-        raise BudgetExhausted(f"{what} at step {t}: out of time")
+    check_clock(clock, what, f" at step {t}")
 
 
 def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: tuple[int, ...] | None = None,
@@ -121,8 +120,8 @@ def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: 
     """Robot cells at each time t on a path start -> goal of exactly ``steps`` steps.
 
     With ``danger`` (a mask per step), a move that sweeps ``danger[t]`` in step t is
-    forbidden; this is the obstacle-blind robot's reachable graph. Raises the engine's
-    ``BudgetExhausted`` when ``clock`` runs out.
+    forbidden; this is the obstacle-blind robot's reachable graph. Raises
+    :class:`~plansynth.budget.BudgetExhausted` when ``clock`` runs out.
     """
     n = len(robot.moves)
 
@@ -177,3 +176,31 @@ def influence_cone(problem: GridProblem, steps: int, clock=None) -> Cone:
         s = pos[0]
         parkable.append(any(g.image(s, k) == s for k in range(len(g.moves))))
     return Cone(steps, live, tuple(zone), tuple(relevant), tuple(parkable), tuple(blind), problem, facts)
+
+
+def with_relevant(cone: Cone, read: tuple[int, ...]) -> Cone:
+    """The cone with the obstacles ``read`` counted relevant too (a program reads them)."""
+    return replace(cone, relevant=tuple(sorted(set(cone.relevant) | set(read))))
+
+
+def clock_label(problem: GridProblem, cone: Cone) -> Callable[[int], int] | None:
+    """The time label that accounts for dropped obstacles that cannot stay put.
+
+    Returns None when every dropped obstacle can be kept on its start cell; otherwise
+    ``t -> min(t, K)`` where by time K the adversary can have parked all of them.
+    """
+    k_all = 0
+    for i in range(len(problem.obstacles)):
+        if i in cone.relevant or cone.parkable[i]:
+            continue
+        g = AgentGeometry.obstacle(problem, i)
+        park_cells = 0
+        for c in bits(g.full):
+            m = 1 << c
+            if any(g.image(m, k) == m for k in range(len(g.moves))):
+                park_cells |= m
+        k_i = next((t for t, pos in enumerate(cone.positions[i]) if pos & park_cells), cone.steps)
+        k_all = max(k_all, k_i)
+    if k_all == 0:
+        return None
+    return lambda t, K=k_all: min(t, K)

@@ -28,7 +28,6 @@ from dataclasses import dataclass, field
 
 from plansynth.budget import Budget
 from plansynth.grid.native.arena import Arena
-from plansynth.grid.native.bitgrid import cell_mask
 from plansynth.grid.native.cone import influence_cone
 from plansynth.grid.native.engine import Engine
 from plansynth.grid.problem import GridProblem

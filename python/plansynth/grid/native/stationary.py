@@ -24,14 +24,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
 
 from plansynth.budget import Clock
-from plansynth.grid.native.arena import Arena, BudgetExhausted, Config
+from plansynth.grid.native.arena import Arena, Config
 from plansynth.grid.native.bitgrid import bits, cell_mask
+from plansynth.grid.native.limits import check_clock
+from plansynth.grid.native.sat import solve_clauses
 
 State = tuple[int, Config]  # (robot cell index, read obstacle cells)
-SAT_SOLVER = "cadical195"
 
 
 @dataclass(frozen=True)
@@ -66,10 +66,7 @@ def core_forward(arena: Arena, clock: Clock | None = None) -> None:
     dicts alone took 2 s, and only the SAT encoding and the references read them."""
     if arena._fwd is not None or arena._fwd_rows is not None:
         return
-    layers, why = arena._core.winning_forward(_left(clock, arena), arena.memory_bytes)
-    if why is not None:
-        raise BudgetExhausted(f"following winning moves at step {why[1]}" + (": out of memory" if why[0] == "memory" else ""))
-    arena._fwd_rows = layers
+    arena._fwd_rows = arena._core.winning_forward(arena.core_seconds(clock), arena.memory_bytes)
 
 
 def winning_forward_reference(arena: Arena, clock: Clock | None = None) -> list[dict[Config, int]]:
@@ -87,8 +84,7 @@ def winning_forward_reference(arena: Arena, clock: Clock | None = None) -> list[
                 for oc2 in arena.successors(oc):
                     nxt[oc2] = nxt.get(oc2, 0) | img
         out.append(nxt)
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted(f"following winning moves at step {t}")
+        check_clock(clock, "following winning moves", f" at step {t}")
     return out
 
 
@@ -145,8 +141,7 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
                             for oc2 in succ:
                                 clauses.append([-g, var(("r", t + 1, e, oc2))])
                         clauses.append([-rv, -mv[k], g])
-            if clock is not None and clock.exhausted():
-                raise BudgetExhausted(f"encoding the stationary strategy at step {t}")
+            check_clock(clock, "encoding the stationary strategy", f" at step {t}")
     return clauses, ids, fwd
 
 
@@ -159,7 +154,7 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     obstacles outside the cone of influence that work as a clock). With ``quick``, a
     strategy that can be read off the game (:func:`consistent_strategy`) is returned
     without SAT.
-    Raises :class:`BudgetExhausted` when the clock runs out.
+    Raises :class:`~plansynth.budget.BudgetExhausted` when the clock runs out.
     """
     if label is None and quick:
         if arena._core is not None:
@@ -200,16 +195,13 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock
     (preferring moves towards the goal, then staying) from the start either reaches
     only states that have one -- a stationary winning strategy, found in linear time --
     or meets a state without one, and then the SAT encoding decides. In the compiled
-    core when the arena is compiled (``arena.rs``, ``Arena::consistent``); the loops
+    core when the arena is compiled (``arena/strategy.rs``, ``Arena::consistent``); the loops
     below are its reference. ``fwd`` (the winning-forward layers) is read by the
     reference only: the compiled core keeps its own (:func:`core_forward`).
     """
     if arena._core is not None:
         core_forward(arena, clock)
-        try:
-            got = arena._core.consistent(arena.problem.width, _left(clock, arena))
-        except TimeoutError:
-            raise BudgetExhausted("reading a strategy off the game: out of time") from None
+        got = arena._core.consistent(arena.problem.width, arena.core_seconds(clock))
         if got is None:
             return None
         reach_rows, rows = got
@@ -228,8 +220,7 @@ def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock
             b = bad.setdefault(oc, [0] * n_moves)
             for k in range(n_moves):
                 b[k] |= rmask & ~wm[k]
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("reading a strategy off the game")
+        check_clock(clock, "reading a strategy off the game", f" at step {t}")
     gx, gy = arena.problem.robot.goal
     choice: dict[State, int] = {}
 
@@ -303,22 +294,11 @@ def _moves_of(mask: int) -> tuple[int, ...]:
     return tuple(k for k in range(mask.bit_length()) if mask >> k & 1)
 
 
-def _left(clock: Clock | None, arena: Arena) -> float | None:
-    """Seconds left on ``clock`` for the compiled core, less the time to free the game
-    (None: no limit)."""
-    if clock is None or clock.remaining() == float("inf"):
-        return None
-    return max(0.0, clock.remaining() - arena.free_reserve())
-
-
 def _allowed(arena: Arena, reach: list[dict[Config, int]], clock: Clock | None = None) -> dict[State, set[int]]:
     """Moves of each reached state that win and stay inside ``reach`` at every time
     (compiled when the arena is; the loops below are the reference)."""
     if arena._core is not None:
-        try:
-            rows = arena._core.allowed(_layers_out(arena, reach), _left(clock, arena))
-        except TimeoutError:
-            raise BudgetExhausted("the allowed moves of the strategy: out of time") from None
+        rows = arena._core.allowed(_layers_out(arena, reach), arena.core_seconds(clock))
         return {(r, tuple(oc)): set(_moves_of(m)) for r, oc, m in rows}
     steps = arena.steps
     n_moves = len(arena.robot.moves)
@@ -346,10 +326,7 @@ def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None =
     """States reached from the start when every state may play any of its allowed moves."""
     if arena._core is not None:
         rows = [(r, list(oc), sum(1 << k for k in ks)) for (r, oc), ks in allowed.items()]
-        try:
-            return _layers_in(arena._core.closure(rows, _left(clock, arena)))
-        except TimeoutError:
-            raise BudgetExhausted("the states the strategy reaches: out of time") from None
+        return _layers_in(arena._core.closure(rows, arena.core_seconds(clock)))
     oc0 = next(iter(arena.layers[0]))
     out: list[dict[Config, int]] = [{oc0: cell_mask(arena.problem, arena.problem.robot.start)}]
     for t in range(arena.steps):
@@ -363,44 +340,3 @@ def _closure(arena: Arena, allowed: dict[State, set[int]], clock: Clock | None =
                 nxt[oc2] = nxt.get(oc2, 0) | ends
         out.append(nxt)
     return out
-
-
-class ConflictLimit(BudgetExhausted):
-    """The SAT call used up its conflict allowance (the caller may try something else)."""
-
-
-def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[int] | None = None,
-                  max_conflicts: int | None = None, max_seconds: float | None = None) -> list[int] | None:
-    """Solve with CaDiCaL; BudgetExhausted when the clock runs out, ConflictLimit after
-    ``max_conflicts`` conflicts or ``max_seconds`` seconds of this call."""
-    from pysat.solvers import Solver  # here: a game decided without SAT never loads it
-
-    with Solver(name=SAT_SOLVER, bootstrap_with=clauses) as s:
-        if phases:
-            s.set_phases(phases)
-        return solve_sliced(s, clock, max_conflicts, max_seconds)
-
-
-def solve_sliced(solver: Any, clock: Clock | None, max_conflicts: int | None = None,
-                 max_seconds: float | None = None) -> list[int] | None:
-    """One (possibly incremental) CaDiCaL call: a model, or None when unsatisfiable.
-
-    CaDiCaL cannot be interrupted from another thread through PySAT, but it honours
-    conflict budgets: solve in slices and look at the clock in between.
-    """
-    import time
-
-    t0 = time.perf_counter()
-    used = 0
-    while True:
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("SAT solving")
-        if max_conflicts is not None and used >= max_conflicts:
-            raise ConflictLimit(f"more than {max_conflicts} conflicts")
-        if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
-            raise ConflictLimit(f"more than {max_seconds:.2f} s")
-        solver.conf_budget(2_000)
-        used += 2_000
-        answer = solver.solve_limited()
-        if answer is not None:
-            return solver.get_model() if answer else None

@@ -19,15 +19,14 @@ large: a top-down tree that always exists (any two distinct states are told apar
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from plansynth.budget import Clock
-from plansynth.grid.native.arena import BudgetExhausted
+from plansynth.budget import BudgetExhausted, Clock
 from plansynth.grid.native.conditions import Condition
-import time
-
-from plansynth.grid.native.stationary import SAT_SOLVER, ConflictLimit, solve_clauses, solve_sliced
+from plansynth.grid.native.limits import check_clock
+from plansynth.grid.native.sat import SAT_SOLVER, ConflictLimit, solve_sliced
 from plansynth.grid.programs import App, Const, Term, depth, size
 
 #: Valid program depths in increasing order (2 and 3 cannot beat 1).
@@ -72,12 +71,11 @@ class TreeEncoding:
     def build(self, out_lit, clock: Clock | None = None) -> None:
         """Emit the tree's clauses; ``out_lit(s, k)`` gives the literal 'state s plays k'.
         With ``clock``, the build (pure Python, seconds on thousands of states and
-        conditions) raises :class:`BudgetExhausted` when the budget runs out."""
+        conditions) raises :class:`~plansynth.budget.BudgetExhausted` when the budget runs out."""
         self.structure()
         for s in range(self.n_states):
             self.add_state(s, out_lit)
-            if clock is not None and clock.exhausted():
-                raise BudgetExhausted("building the tree SAT instance")
+            check_clock(clock, "building the tree SAT instance")
 
     def structure(self) -> None:
         """Every node picks exactly one condition, every leaf a move."""
@@ -222,7 +220,7 @@ def tree_program(
 
     ``allowed[s]`` are the moves permitted in state s; ``conds`` the condition
     behaviours over the same states. Exact relative to ``conds``. Raises
-    :class:`BudgetExhausted` if the instance grows beyond ``max_clauses`` literals or
+    :class:`~plansynth.budget.BudgetExhausted` if the instance grows beyond ``max_clauses`` literals or
     the clock runs out.
     """
     n = len(allowed)
@@ -244,14 +242,15 @@ def tree_program(
         seen.setdefault(frozenset(a), i)
     # size first, then build: a deep tree over many conditions is refused before any work
     if per_state * len(seen) > max_clauses:
-        raise BudgetExhausted(f"tree SAT instance of about {per_state * len(seen)} literals")
+        raise BudgetExhausted("building the tree SAT instance", "clauses",
+                              f"tree SAT instance of about {per_state * len(seen)} literals")
     t0 = time.perf_counter()
     for i in seen.values():
         enc.add_state(i, out_lit)
-        if clock is not None and clock.exhausted():
-            raise BudgetExhausted("building the tree SAT instance")
+        check_clock(clock, "building the tree SAT instance")
         if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
-            raise ConflictLimit(f"tree SAT instance not built within {max_seconds:.2f} s")
+            raise ConflictLimit("building the tree SAT instance", "time",
+                                f"tree SAT instance not built within {max_seconds:.2f} s")
     added = set(seen.values())
     from pysat.solvers import Solver  # here: a program found without tree SAT never loads it
 
@@ -272,7 +271,8 @@ def tree_program(
                     added.add(s)
                     enc.add_state(s, out_lit)
             if per_state * len(added) > max_clauses:
-                raise BudgetExhausted(f"tree SAT instance beyond {max_clauses} literals")
+                raise BudgetExhausted("building the tree SAT instance", "clauses",
+                                      f"tree SAT instance beyond {max_clauses} literals")
 
 
 def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, keep: int) -> list[Condition]:
@@ -309,7 +309,7 @@ def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Cond
         if fast.available() and hasattr(fast._core, "greedy_tree"):
             nodes = fast.greedy_tree(conds, states_allowed, n_moves, max_nodes)
             if nodes is None:
-                raise BudgetExhausted("greedy tree too large")
+                raise BudgetExhausted("the greedy tree", "nodes", "greedy tree too large")
             return _tree_from_nodes(nodes, conds, len(states_allowed))
     return greedy_program_reference(states_allowed, conds, n_moves, max_nodes)
 
@@ -353,7 +353,7 @@ def greedy_program_reference(states_allowed: Sequence[Sequence[int]], conds: Seq
             return Const(-negk)
         budget[0] -= 1
         if budget[0] < 0:
-            raise BudgetExhausted("greedy tree too large")
+            raise BudgetExhausted("the greedy tree", "nodes", "greedy tree too large")
         # label the members by greedy set cover over their allowed moves
         rest, labels = members, []
         while rest:
