@@ -31,7 +31,7 @@ if [ "${PLANSYNTH_LINT:-0}" = 1 ]; then
 fi
 echo "== mkdocs build --strict"
 site=$(mktemp -d -t plansynth-site.XXXXXX)
-mkdocs build --strict --quiet --site-dir "$site" || { rm -rf "$site"; echo "the documentation site does not build" >&2; exit 1; }
+NO_MKDOCS_2_WARNING=1 mkdocs build --strict --quiet --site-dir "$site" || { rm -rf "$site"; echo "the documentation site does not build" >&2; exit 1; }
 rm -rf "$site"
 read -r -a seeds <<< "${PLANSYNTH_TEST_SEEDS:-$(python -c 'import random; print(*(random.randrange(1, 2**31) for _ in range(3)))')}"
 work=$(mktemp -d -t plansynth-test.XXXXXX)
