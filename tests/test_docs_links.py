@@ -15,8 +15,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCUMENTS = ["README.md", "CONTRIBUTING.md",
-             *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md"))]
+DOCUMENTS = [
+    "README.md",
+    "CONTRIBUTING.md",
+    *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md")),
+]
 LINK = re.compile(r"!?\[[^\]\n]*\]\(([^)\s]+)\)")
 
 
@@ -28,8 +31,11 @@ def _links(text: str) -> list[str]:
 @pytest.mark.parametrize("document", DOCUMENTS)
 def test_every_relative_link_names_a_file(document: str) -> None:
     page = ROOT / document
-    broken = [target for target in _links(page.read_text(encoding="utf-8"))
-              if not (page.parent / target.split("#", 1)[0]).resolve().exists()]
+    broken = [
+        target
+        for target in _links(page.read_text(encoding="utf-8"))
+        if not (page.parent / target.split("#", 1)[0]).resolve().exists()
+    ]
     assert not broken, f"{document}: links to nothing: {broken}"
 
 

@@ -27,8 +27,11 @@ SPEC = ROOT.parent / "shared" / "spec"
 #: The shared specification's pages and the repository's page each one became.
 #: An elided array's tail in an example, ``[[1, 1, 0, 0], ...]``.
 ELISION = r",\s*\.\.\.(?=\s*[\]}])"
-PAGES = {"grid-problem.md": "grid-format.md", "reach-problem.md": "reach-format.md",
-         "benchmarks.md": "benchmarks-format.md"}
+PAGES = {
+    "grid-problem.md": "grid-format.md",
+    "reach-problem.md": "reach-format.md",
+    "benchmarks.md": "benchmarks-format.md",
+}
 
 
 def _generator() -> Any:
@@ -46,12 +49,14 @@ def generator() -> Any:
 
 def test_the_cli_reference_is_current(generator: Any) -> None:
     assert generator.CLI_PAGE.read_text(encoding="utf-8") == generator.render_cli(), (
-        "docs/reference/cli.md is out of date: run python docs/_tools/reference.py")
+        "docs/reference/cli.md is out of date: run python docs/_tools/reference.py"
+    )
 
 
 def test_the_options_reference_is_current(generator: Any) -> None:
     assert generator.OPTIONS_PAGE.read_text(encoding="utf-8") == generator.render_options(), (
-        "docs/reference/options.md is out of date: run python docs/_tools/reference.py")
+        "docs/reference/options.md is out of date: run python docs/_tools/reference.py"
+    )
 
 
 def _sections(text: str) -> dict[str, str]:
@@ -68,10 +73,8 @@ def test_every_option_of_every_command_is_in_the_cli_reference(generator: Any) -
     for line, command, _ in commands:
         table = [row for row in sections[line].splitlines() if row.startswith("| `")]
         for param in command.params:
-            if param.param_type_name == "argument":
-                names = [param.name.upper()]
-            else:
-                names = generator.option_names(param)
+            is_argument = param.param_type_name == "argument"
+            names = [param.name.upper()] if is_argument else generator.option_names(param)
             for name in names:
                 if not any(f"`{name}`" in row.split(" | ")[0] for row in table):
                     missing.append(f"{line}: {name}")
@@ -98,8 +101,11 @@ def _field_names(text: str) -> set[str]:
 
 
 def _blocks(text: str, *languages: str) -> list[tuple[str, str]]:
-    return [(m.group(1), m.group(2)) for m in re.finditer(r"^```(\w+)\n(.*?)^```", text, re.S | re.M)
-            if m.group(1) in languages]
+    return [
+        (m.group(1), m.group(2))
+        for m in re.finditer(r"^```(\w+)\n(.*?)^```", text, re.S | re.M)
+        if m.group(1) in languages
+    ]
 
 
 def _load_example(page: str, language: str, code: str, folder: Path) -> None:
@@ -117,8 +123,11 @@ def _load_example(page: str, language: str, code: str, folder: Path) -> None:
         assert set(doc) <= documented, f"{page}: keys {set(doc) - documented} not documented"
         return
     path.write_text(code, encoding="utf-8")
-    loader = {("grid", "yaml"): load_grid_problem, ("grid", "json"): load_result,
-              ("reach", "yaml"): load_reach_problem}[(page.split("-")[0], language)]
+    loader = {
+        ("grid", "yaml"): load_grid_problem,
+        ("grid", "json"): load_result,
+        ("reach", "yaml"): load_reach_problem,
+    }[(page.split("-")[0], language)]
     loader(path)
 
 
@@ -154,9 +163,14 @@ def test_the_pages_name_every_family_planner_and_backend() -> None:
     families = _code_spans((REFERENCE / "benchmarks-format.md").read_text(encoding="utf-8"))
     families |= {w for s in families for w in re.split(r"[,\s]+", s)}
     text = (REFERENCE / "benchmarks-format.md").read_text(encoding="utf-8")
-    named = {name for name in [*GRID_FAMILIES, *REACH_FAMILIES]
-             if f"`{name}`" in text or re.search(rf"\b{re.escape(name)}\b", text)}
-    assert named == {*GRID_FAMILIES, *REACH_FAMILIES}, f"families not documented: {set(GRID_FAMILIES) | set(REACH_FAMILIES) - named}"
+    named = {
+        name
+        for name in [*GRID_FAMILIES, *REACH_FAMILIES]
+        if f"`{name}`" in text or re.search(rf"\b{re.escape(name)}\b", text)
+    }
+    assert named == {*GRID_FAMILIES, *REACH_FAMILIES}, (
+        f"families not documented: {set(GRID_FAMILIES) | set(REACH_FAMILIES) - named}"
+    )
     trajectories = _code_spans((ROOT / "docs" / "how-to" / "plan-trajectories.md").read_text(encoding="utf-8"))
     trajectories |= {w.strip() for s in trajectories for w in s.split(",")}
     assert set(planners()) <= trajectories, f"planners not in plan-trajectories.md: {set(planners()) - trajectories}"
@@ -164,7 +178,9 @@ def test_the_pages_name_every_family_planner_and_backend() -> None:
     assert set(backend_names()) <= solvers, f"backends not documented: {set(backend_names()) - solvers}"
 
 
-needs_spec = pytest.mark.skipif(not SPEC.is_dir(), reason="the shared specification (../shared/spec) is not beside the checkout")
+needs_spec = pytest.mark.skipif(
+    not SPEC.is_dir(), reason="the shared specification (../shared/spec) is not beside the checkout"
+)
 
 
 @needs_spec

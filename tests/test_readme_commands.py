@@ -124,7 +124,7 @@ FOUND = ("found",)
 CASES: dict[str, Case] = {
     # README.md: the two commands, then the tour; each documented command once, wherever it is shown
     "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out figure1-result.json": FIGURE1_CVC5,
-    # README: reactive grid controllers
+    # grid commands (README, how-to guides)
     "plansynth grid solve examples/grid/figure1.yaml": Case(out=("realizable", "l =   6")),
     "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json": Case(
         out=("realizable",), json=(("result.json", "status", "realizable"), ("result.json", "verified", True)),
@@ -150,7 +150,7 @@ CASES: dict[str, Case] = {
     "plansynth grid minimize examples/grid/crossing.yaml": Case(out=("minimal",)),
     "plansynth grid explain examples/grid/crossing.yaml --steps 8 --gif why.gif": Case(
         exit=(1,), out=("unrealizable",), files=("why.gif",)),
-    # README: reach-avoid planning
+    # reach commands (README, how-to guides, explanations)
     "plansynth reach solve examples/reach/maze-3.yaml --out traj.json --plot traj.png": Case(
         out=FOUND, files=("traj.png",), json=(("traj.json", "status", "found"), ("traj.json", "validated", True))),
     "plansynth reach validate examples/reach/maze-3.yaml traj.json": Case(out=("valid",), before=(SOLVED_MAZE3,)),
@@ -171,7 +171,7 @@ CASES: dict[str, Case] = {
     "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json --plot plan.png --animate plan.gif": Case(
         out=FOUND, files=("plan.png", "plan.gif"), json=(("plan.json", "status", "found"), ("plan.json", "validated", True))),
     "plansynth reach validate examples/reach/mission-patrol.yaml plan.json": Case(before=(SOLVED_PATROL,)),
-    # README: benchmarks (the sweeps as written are the published benchmark: fast variants only)
+    # bench commands (docs/how-to/benchmarks.md; the sweeps as written are the published benchmark: fast variants only)
     "plansynth bench grid --family steps --solvers native,cvc5 --timeout 300 --repeat 3": Case(
         files=("b.db",), slow=False,
         fast="plansynth bench grid --family steps --values 1 --solvers native,cvc5 --timeout 60 --db b.db"),

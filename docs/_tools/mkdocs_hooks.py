@@ -48,7 +48,7 @@ def _outside(page_uri: str, target: str) -> str | None:
     joined = posixpath.normpath(posixpath.join(posixpath.dirname(page_uri), path))
     if not joined.startswith("../"):
         return None
-    return joined[len("../"):]
+    return joined[len("../") :]
 
 
 def on_page_markdown(markdown: str, page: Any, config: Any, files: Files) -> str:

@@ -29,15 +29,15 @@ OPTIONS_PAGE = ROOT / "docs" / "reference" / "options.md"
 EXIT_STATUS = {
     "plansynth grid compile": "0 written, 2 bad input.",
     "plansynth grid explain": "0 realizable (a controller exists at l; nothing to explain), 1 unrealizable (the "
-                              "obstacles' winning play printed), 2 bad input, 3 unknown (the budget ran out).",
+    "obstacles' winning play printed), 2 bad input, 3 unknown (the budget ran out).",
     "plansynth grid minimize": "0 realizable (a program of smallest depth, proved minimal), 1 unrealizable, "
-                               "2 bad input, 3 unknown.",
+    "2 bad input, 3 unknown.",
     "plansynth reach plot": "0 written, 2 bad input.",
     "plansynth reach table": "0 the table printed (each row says its own answer), 2 bad input.",
     "plansynth bench grid": "0 the sweep finished (each run's answer is in the database), 2 bad arguments "
-                            "(nothing written), 130 interrupted (every finished run kept: rerun to resume).",
+    "(nothing written), 130 interrupted (every finished run kept: rerun to resume).",
     "plansynth bench reach": "0 the sweep finished (each run's answer is in the database), 2 bad arguments "
-                             "(nothing written), 130 interrupted (every finished run kept: rerun to resume).",
+    "(nothing written), 130 interrupted (every finished run kept: rerun to resume).",
     "plansynth bench report": "0 written, 2 no such database or an output that cannot be written.",
     "plansynth bench families": "0 written, 2 an output that cannot be written.",
     "plansynth bench publish": "0 written, 2 an output that cannot be written.",
@@ -101,8 +101,16 @@ def _type(param: Any) -> str:
         bounds.append(f"&ge; {kind.min}" if not getattr(kind, "min_open", False) else f"&gt; {kind.min}")
     if getattr(kind, "max", None) is not None:
         bounds.append(f"&le; {kind.max}" if not getattr(kind, "max_open", False) else f"&lt; {kind.max}")
-    name = {"integer range": "integer", "int range": "integer", "integer": "integer", "int": "integer",
-            "float range": "number", "float": "number", "text": "text", "str": "text"}.get(name, name)
+    name = {
+        "integer range": "integer",
+        "int range": "integer",
+        "integer": "integer",
+        "int": "integer",
+        "float range": "number",
+        "float": "number",
+        "text": "text",
+        "str": "text",
+    }.get(name, name)
     return name + (f" ({', '.join(bounds)})" if bounds else "")
 
 
@@ -165,7 +173,7 @@ def _render_command(line: str, command: Any, ctx: Any) -> list[str]:
     found = re.search(r"Exit status:\s*(.*?)\s*(?:\n\s*\n|$)", epilog, re.S)
     if found:
         exit_status = " ".join(found.group(1).split())
-        epilog = epilog[: found.start()] + epilog[found.end():]
+        epilog = epilog[: found.start()] + epilog[found.end() :]
     notes = []
     for paragraph in re.split(r"\n\s*\n", epilog):
         lines = [x.strip() for x in paragraph.strip().splitlines() if x.strip()]
@@ -192,13 +200,17 @@ def render_cli() -> str:
     """The text of docs/reference/cli.md."""
     root, ctx = _root()
     out = [
-        GENERATED, "",
-        "# Command line", "",
+        GENERATED,
+        "",
+        "# Command line",
+        "",
         "Every command of `plansynth`, with every argument and option, read off the command "
         "itself (as `plansynth COMMAND --help` prints it). Tutorials and how-to guides show "
         "them at work; [Limits and errors](limits.md) gives the bounds every input is checked "
-        "against.", "",
-        "Common to every command:", "",
+        "against.",
+        "",
+        "Common to every command:",
+        "",
         "- a usage error (an unknown option, a value out of range, a missing argument) is one line "
         "on standard error and exit status 2: `error: plansynth grid solve: No such option: --bogus "
         "(see plansynth grid solve --help)`;",
@@ -206,9 +218,11 @@ def render_cli() -> str:
         "one line naming the file, the field and the reason, and exit status 2, before any work;",
         "- exit statuses 0 and 1 are the two answers of a question (found / infeasible, wins / loses, "
         "realizable / unrealizable), 3 is `unknown` (a budget ran out: never read as a no);",
-        "- `--timeout` is a finite number of seconds > 0, counted from the command's start.", "",
+        "- `--timeout` is a finite number of seconds > 0, counted from the command's start.",
+        "",
         "`plansynth --version` prints the versions of plansynth and its compiled core; "
-        "`plansynth --help` lists the command groups.", "",
+        "`plansynth --help` lists the command groups.",
+        "",
     ]
     for line, command, cctx in _walk(root, ["plansynth"], ctx):
         out += _render_command(line, command, cctx)
@@ -237,30 +251,42 @@ def render_options() -> str:
     from plansynth.reach.planners import PLANNERS, get_planner
 
     out = [
-        GENERATED, "",
-        "# Solver options", "",
+        GENERATED,
+        "",
+        "# Solver options",
+        "",
         "Every backend and planner keeps its options in one frozen value, each field declared "
         "with `plansynth.options.option` (a default and what it does). An option a solver does "
         "not take, or a value of the wrong type or out of range, is an `InvalidOption` error "
         "(exit status 2 at the command line), never dropped. What a run did is in its result "
-        "(`options`: the options that differ from the defaults).", "",
-        "## Grid backends", "",
-        "### `native`", "",
+        "(`options`: the options that differ from the defaults).",
+        "",
+        "## Grid backends",
+        "",
+        "### `native`",
+        "",
         "`plansynth grid solve --solver native -O KEY=VALUE` (and `--minimize`, `--effort`), "
         "`plansynth bench grid -O native:KEY=VALUE`, or from Python "
-        "`plansynth.grid.native.options.NativeOptions(...)` / `get_backend(\"native\", KEY=VALUE)`.", "",
+        '`plansynth.grid.native.options.NativeOptions(...)` / `get_backend("native", KEY=VALUE)`.',
+        "",
         *_option_rows(NativeOptions),
-        "### `cvc5`", "",
+        "### `cvc5`",
+        "",
         "`-O KEY=VALUE` passes cvc5's own options (its option names, e.g. `sygus-enum=fast`) to "
-        "cvc5; an option cvc5 does not know is refused at the door.", "",
-        "### `external`", "",
-        "`--command \"SOLVER ARGS {file}\"` (bench: `-O \"external:command=...\"`): any SyGuS-IF v2 "
-        "solver; `{file}` is the path of the compiled `.sl` file.", "",
-        "## Reach planners", "",
+        "cvc5; an option cvc5 does not know is refused at the door.",
+        "",
+        "### `external`",
+        "",
+        '`--command "SOLVER ARGS {file}"` (bench: `-O "external:command=..."`): any SyGuS-IF v2 '
+        "solver; `{file}` is the path of the compiled `.sl` file.",
+        "",
+        "## Reach planners",
+        "",
         "From Python `plansynth.reach.configure(NAME, **values)` builds the value, and "
         "`plansynth.reach.solve(problem, NAME, budget, options)` takes it; `plansynth bench reach "
         "-O NAME:KEY=VALUE` sets one for a sweep; `plansynth reach solve` takes them as its options "
-        "([Command line](cli.md)).", "",
+        "([Command line](cli.md)).",
+        "",
     ]
     groups: dict[str, list[str]] = {}
     values: dict[str, Any] = {}
@@ -283,13 +309,23 @@ def render_options() -> str:
         values.setdefault(key, defaults)
     for key, names in groups.items():
         value = values[key]
-        out += [f"### {', '.join(_code(n) for n in names)}", "",
-                f"`{type(value).__module__}.{type(value).__qualname__}`", "", *_option_rows(value)]
+        out += [
+            f"### {', '.join(_code(n) for n in names)}",
+            "",
+            f"`{type(value).__module__}.{type(value).__qualname__}`",
+            "",
+            *_option_rows(value),
+        ]
     if named:
-        out += ["### Named configurations", "",
-                "Values of the lazy planner's options under a name of their own; they take only the "
-                "options listed as settable, the others are what names them.", "",
-                "| name | settable | fixed values (differing from `lazy-smt`'s defaults) |", "|---|---|---|"]
+        out += [
+            "### Named configurations",
+            "",
+            "Values of the lazy planner's options under a name of their own; they take only the "
+            "options listed as settable, the others are what names them.",
+            "",
+            "| name | settable | fixed values (differing from `lazy-smt`'s defaults) |",
+            "|---|---|---|",
+        ]
         base = get_planner("lazy-smt").defaults
         for name, defaults, settable in named:
             fixed = ", ".join(f"{_code(k)} = {_code(_shown(v))}" for k, v in changed(defaults, base).items()) or "none"
