@@ -3,7 +3,7 @@
 # three random orders (pytest-randomly), each seed printed, so that a test that only
 # passes after another one fails here:
 #   order 1: the whole suite, with its 20 slowest tests listed (CI keeps under 15 min);
-#   orders 2 and 3: the whole suite but the README-command tests (marker `commands`:
+#   orders 2 and 3: the whole suite but the documentation-command tests (marker `commands`:
 #   each already runs in a fresh process, so their order cannot matter).
 # The three orders are independent pytest sessions, so they run at the same time (each
 # in its own --basetemp), so that two cores share the work of three orders: order 1
