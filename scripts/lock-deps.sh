@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Resolve every dependency of plansynth (pyproject.toml's dependencies, the test extra
-# and the build backend maturin), transitive ones included, to exact versions with
-# hashes, for CPython 3.11 on Linux x86_64, and write the lock (requirements.lock).
+# Resolve every dependency of plansynth (pyproject.toml's dependencies, every extra:
+# baselines, test, docs, dev; and the build backend maturin), transitive ones included,
+# to exact versions with hashes, for CPython 3.11 on Linux x86_64, and write the lock
+# (requirements.lock).
 #
 #   bash scripts/lock-deps.sh                 # re-resolve, keeping today's pins where pyproject allows
 #                                             # (after adding or changing a dependency in pyproject.toml)
@@ -43,13 +44,13 @@ if [ "$out" != requirements.lock ] && [ -f requirements.lock ] && [ ${#upgrade[@
 fi
 tmp_out=$(mktemp)
 [ -f "$out" ] && cp "$out" "$tmp_out"
-.tools/bin/uv pip compile pyproject.toml "$build_in" --extra test "${upgrade[@]}" \
+.tools/bin/uv pip compile pyproject.toml "$build_in" --all-extras "${upgrade[@]}" \
   --python-version 3.11 --python-platform x86_64-manylinux_2_34 \
   --generate-hashes --no-header --quiet -o "$tmp_out"
 {
   echo "# plansynth's locked dependencies: CPython 3.11 on Linux x86_64 (manylinux_2_34), from PyPI."
   echo "# Every package, transitive ones included, at an exact version with its hashes:"
-  echo "# pyproject.toml's dependencies, the [test] extra and the build backend (maturin)."
+  echo "# pyproject.toml's dependencies, every extra (baselines, test, docs, dev) and the build backend (maturin)."
   echo "# scripts/setup.sh installs exactly this. Do not edit by hand: regenerate with"
   echo "#   bash scripts/lock-deps.sh            (after changing pyproject.toml; keeps other pins)"
   echo "#   bash scripts/upgrade-deps.sh         (newest releases, adopted only if the suite passes)"

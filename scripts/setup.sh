@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Create .venv and install plansynth (building its Rust core) with every dependency,
-# including the test and benchmark extras, at exactly the versions of requirements.lock
-# (CPython 3.11 on Linux x86_64; hashes checked), so that every machine gets the same
-# packages. Safe to rerun. The installer is pinned too (PIP_VERSION); the build backend
+# including every extra (baselines, test, docs, dev), at exactly the versions of
+# requirements.lock (CPython 3.11 on Linux x86_64; hashes checked), so that every
+# machine gets the same packages. Safe to rerun. The installer is pinned too (PIP_VERSION); the build backend
 # (maturin) comes from the lock, so nothing unpinned is fetched.
 # Maintainers: scripts/lock-deps.sh and scripts/upgrade-deps.sh regenerate the lock.
 set -euo pipefail

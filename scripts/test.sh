@@ -3,12 +3,17 @@
 # three random orders (pytest-randomly), each seed printed, so that a test that only
 # passes after another one fails here:
 #   order 1: the whole suite, with its 20 slowest tests listed (CI keeps under 15 min);
-#   orders 2 and 3: the whole suite but the README-command tests (marker `commands`:
+#   orders 2 and 3: the whole suite but the documentation-command tests (marker `commands`:
 #   each already runs in a fresh process, so their order cannot matter).
 # The three orders are independent pytest sessions, so they run at the same time (each
 # in its own --basetemp), so that two cores share the work of three orders: order 1
 # prints as it goes, orders 2 and 3 are printed when they end.
 # PLANSYNTH_TEST_SERIAL=1 runs them one after another instead.
+# Before pytest: the documentation site builds without a warning (`mkdocs build --strict`,
+# into a temporary folder) and, with PLANSYNTH_LINT=1, the code checks: the import
+# contracts (`lint-imports`, [tool.importlinter] in pyproject.toml), `ruff check` and
+# `ruff format --check`. (PLANSYNTH_LINT is off until the code is formatted and split
+# into its layers; then it is on by default.)
 # Rerun one order with the command printed above it. Arguments go to every pytest run;
 # PLANSYNTH_TEST_SEEDS="s1 s2 s3" fixes the seeds.
 set -euo pipefail
@@ -16,6 +21,18 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 . .venv/bin/activate
 cargo test -q -p plansynth-core
+if [ "${PLANSYNTH_LINT:-0}" = 1 ]; then
+  echo "== lint-imports, ruff check, ruff format --check"
+  lint_status=0
+  lint-imports || lint_status=1
+  ruff check || lint_status=1
+  ruff format --check || lint_status=1
+  [ "$lint_status" = 0 ] || { echo "the code checks FAILED (see above)" >&2; exit 1; }
+fi
+echo "== mkdocs build --strict"
+site=$(mktemp -d -t plansynth-site.XXXXXX)
+NO_MKDOCS_2_WARNING=1 mkdocs build --strict --quiet --site-dir "$site" || { rm -rf "$site"; echo "the documentation site does not build" >&2; exit 1; }
+rm -rf "$site"
 read -r -a seeds <<< "${PLANSYNTH_TEST_SEEDS:-$(python -c 'import random; print(*(random.randrange(1, 2**31) for _ in range(3)))')}"
 work=$(mktemp -d -t plansynth-test.XXXXXX)
 pids=()

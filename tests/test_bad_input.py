@@ -2,7 +2,7 @@
 door with an error naming file, field and reason (exit 2, one line, no traceback), or,
 where the input is legal, handled without a traceback, a hang or a memory blow-up.
 
-The limits are documented in README, "Formats and extensions".
+The limits are documented in docs/reference/limits.md.
 """
 
 from __future__ import annotations
