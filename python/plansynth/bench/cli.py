@@ -263,12 +263,22 @@ def _require_runs(db: Path, out: Path) -> None:
         raise typer.Exit(2) from None
 
 
+HTML_OPTION_HELP = ("Also write the report as one self-contained HTML page beside the Markdown: a table of "
+                    "contents, sortable tables, the plots embedded; it loads nothing from the network.")
+
+
+def _written(markdown: Path, html: bool) -> str:
+    return f"{markdown} and {markdown.with_suffix('.html')}" if html else str(markdown)
+
+
 @app.command("report")
 def report_cmd(
     db: Path = DB_OPTION,
-    out: Path = typer.Option(Path("bench-report"), "--out", "-o", help="Directory for REPORT.md and the PNG plots."),
+    out: Path = typer.Option(Path("bench-report"), "--out", "-o", help="Directory for REPORT.md, REPORT.html and the PNG plots."),
+    html: bool = typer.Option(True, "--html/--no-html", help=HTML_OPTION_HELP),
 ) -> None:
-    """Markdown tables (paper numbers beside ours and the peers') and log-scale PNG plots.
+    """Markdown tables (paper numbers beside ours and the peers') and log-scale PNG plots,
+    and the same report as one HTML page (REPORT.html) with the plots embedded.
 
     Example: plansynth bench report --db bench-results.db --out bench-report/
     """
@@ -276,8 +286,8 @@ def report_cmd(
 
     _require_runs(db, out)
     with _outputs_checked(out):
-        path = write_report(db, out)
-    console.print(f"wrote {path} and {len(list(out.glob('*.png')))} plots")
+        path = write_report(db, out, html=html)
+    console.print(f"wrote {_written(path, html)} and {len(list(out.glob('*.png')))} plots")
 
 
 @app.command("families")
@@ -297,14 +307,16 @@ def families_cmd(
 @app.command("publish")
 def publish_cmd(
     db: Path = typer.Option(Path("benchmarks/results.db"), "--db"),
-    out: Path = typer.Option(Path("benchmarks"), "--out", "-o", help="Directory of RESULTS.md and its figures."),
-    report_only: bool = typer.Option(False, "--report-only", help="Only regenerate RESULTS.md from the database."),
+    out: Path = typer.Option(Path("benchmarks"), "--out", "-o", help="Directory of RESULTS.md, RESULTS.html and the figures."),
+    report_only: bool = typer.Option(False, "--report-only", help="Only regenerate RESULTS.md (and RESULTS.html) from the database."),
+    html: bool = typer.Option(True, "--html/--no-html", help=HTML_OPTION_HELP),
     grid_timeout: float = typer.Option(120.0, "--grid-timeout"),
     reach_timeout: float = typer.Option(60.0, "--reach-timeout"),
     jobs: int = typer.Option(1, "--jobs", "-j"),
     cluster: Optional[str] = typer.Option(None, "--cluster"),
 ) -> None:
-    """Run (or resume) the published sweep and write benchmarks/RESULTS.md from it.
+    """Run (or resume) the published sweep and write benchmarks/RESULTS.md from it, and
+    benchmarks/RESULTS.html, the same report as one page with the figures embedded.
 
     Example: plansynth bench publish            # resumable; rerun to continue
     """
@@ -316,7 +328,7 @@ def publish_cmd(
     with _outputs_checked(out):
         try:
             path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
-                           jobs=jobs, cluster=cluster)
+                           jobs=jobs, cluster=cluster, html=html)
         except ClusterUnreachable as exc:
             _refuse("--cluster", str(exc))
-    console.print(f"wrote {path}")
+    console.print(f"wrote {_written(path, html)}")

@@ -6,6 +6,9 @@ the Markdown report with its figures:
     plansynth bench publish                  # run/resume the sweep, then write RESULTS.md
     plansynth bench publish --report-only    # only rewrite RESULTS.md from the database
 
+Beside RESULTS.md it writes RESULTS.html, the same report as one self-contained page
+with the figures embedded (unless ``html`` is False: ``--no-html``).
+
 The sweep: every grid family with ``native`` and ``cvc5`` (the reactive suite and the
 doors and patrols families once, through the CLI, at :data:`CLI_TIMED_TIMEOUT`); the mazes with ``lazy-smt``,
 ``rrt``, ``milp-bigm``, ``milp`` and ``gcs`` (Drake's Graphs of Convex Sets: a continuous-time
@@ -98,9 +101,11 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
 
 
 def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: float = 60.0,
-            reach_timeout: float = 60.0, jobs: int = 1, cluster: str | None = None, part: str = "all") -> Path:
-    """Run (resume) the published sweep unless ``run`` is False; write ``out/RESULTS.md``."""
-    from plansynth.bench.report import write_report
+            reach_timeout: float = 60.0, jobs: int = 1, cluster: str | None = None, part: str = "all",
+            html: bool = True) -> Path:
+    """Run (resume) the published sweep unless ``run`` is False; write ``out/RESULTS.md``
+    (and ``out/RESULTS.html`` when ``html``)."""
+    from plansynth.bench.report import write_html, write_report
 
     tasks = published_tasks(grid_timeout, reach_timeout, part)
     if run:
@@ -109,7 +114,7 @@ def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: 
     fig_dir = out / "results"
     planned = [(t["experiment"], t["solver"], int(t["repeat"])) for t in published_tasks(grid_timeout, reach_timeout)]
     report = write_report(db, fig_dir, title="plansynth: both papers' evaluations, reproduced side by side with peers",
-                          planned=planned, image_prefix="results/")
+                          planned=planned, image_prefix="results/", html=False)
     text = report.read_text(encoding="utf-8")
     report.unlink()
     header = (
@@ -120,6 +125,8 @@ def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: 
     # keep the title first, then our notes
     path = out / "RESULTS.md"
     write_output(path, header + lines[0] + "\n" + limits + "\n".join(lines[1:]) + "\n")
+    if html:
+        write_html(path)
     return path
 
 

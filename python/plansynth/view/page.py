@@ -40,6 +40,17 @@ def _inline_script(text: str) -> str:
     return text
 
 
+def content_security_policy(*, connect: str = "'none'") -> str:
+    """The policy of a self-contained page: inline scripts and styles, images only as
+    ``data:`` URIs, requests only to ``connect`` (``'none'``: no network at all).
+
+    >>> "img-src data:;" in content_security_policy()
+    True
+    """
+    return (f"default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:; "
+            f"connect-src {connect}; base-uri 'none'; form-action 'none'")
+
+
 def render_page(data: dict[str, Any], *, title: str, serve: bool = False) -> str:
     """The page for ``data`` (a dict of :mod:`~plansynth.view.grid_data` or
     :mod:`~plansynth.view.reach_data`, its ``kind`` choosing the scripts).
@@ -47,9 +58,7 @@ def render_page(data: dict[str, Any], *, title: str, serve: bool = False) -> str
     ``serve``: the page plans through the server that sent it (``POST /plan``)."""
     from html import escape
 
-    connect = "'self'" if serve else "'none'"
-    csp = (f"default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:; "
-           f"connect-src {connect}; base-uri 'none'; form-action 'none'")
+    csp = content_security_policy(connect="'self'" if serve else "'none'")
     scripts = "\n".join(f"<script>\n{_inline_script(asset(name))}\n</script>" for name in SCRIPTS[data["kind"]])
     return f"""<!DOCTYPE html>
 <html lang="en">

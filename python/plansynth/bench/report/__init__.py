@@ -1,4 +1,5 @@
-"""``bench report``: Markdown tables and log-scale PNG plots from a results database.
+"""``bench report``: Markdown tables and log-scale PNG plots from a results database,
+and the same report as one self-contained HTML page with the plots embedded.
 
 For every figure and table of the two papers the report puts the paper's number beside
 ours and beside the peers' from the same run:
@@ -27,14 +28,16 @@ The report's parts, one module each:
   :mod:`~plansynth.bench.report.horizons` (proved-minimal horizons),
   :mod:`~plansynth.bench.report.counterexamples`, :mod:`~plansynth.bench.report.chains`
   (Figure 4) and :mod:`~plansynth.bench.report.missions`;
-- :mod:`~plansynth.bench.report.write` -- the file: header, then both halves.
+- :mod:`~plansynth.bench.report.write` -- the file: header, then both halves;
+  :mod:`~plansynth.bench.report.html` -- the same report as one self-contained HTML page.
 """
 
 from __future__ import annotations
 
 from plansynth.bench.report.cells import Cell, summarise
 from plansynth.bench.report.counterexamples import CX_VARIANTS
+from plansynth.bench.report.html import render_html, write_html
 from plansynth.bench.report.ratios import headline
 from plansynth.bench.report.write import write_report
 
-__all__ = ["Cell", "summarise", "write_report", "headline", "CX_VARIANTS"]
+__all__ = ["Cell", "summarise", "write_report", "write_html", "render_html", "headline", "CX_VARIANTS"]

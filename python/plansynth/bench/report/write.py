@@ -1,6 +1,6 @@
 """The report as one Markdown file: its header (database, machine, how to read it, the
 runs planned and missing), then the grid half and the reach half, each beside its
-paper.
+paper; beside it, the same report as one HTML page.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from plansynth.bench.db import ResultsDB
 from plansynth.bench.errors import NoRuns
 from plansynth.bench.report.cells import summarise
 from plansynth.bench.report.grid import grid_section
+from plansynth.bench.report.html import write_html
 from plansynth.bench.report.reach import reach_section
 from plansynth.io import write_output
 
@@ -21,8 +22,14 @@ __all__ = ["write_report"]
 
 
 def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plansynth benchmark report",
-                 planned: Sequence[tuple[str, str, int]] | None = None, image_prefix: str = "") -> Path:
+                 planned: Sequence[tuple[str, str, int]] | None = None, image_prefix: str = "",
+                 html: bool = True) -> Path:
     """Write ``out_dir/REPORT.md`` and its PNG figures from the database; returns the path.
+
+    ``html``: also write ``out_dir/REPORT.html``, the same report as one self-contained
+    page with the figures embedded (:mod:`~plansynth.bench.report.html`); the page reads
+    the figures where the Markdown names them, so with an ``image_prefix`` write it
+    from the Markdown's final place instead (:func:`~plansynth.bench.report.write_html`).
 
     ``planned`` (resume keys) lets the report list the runs that are missing. Images
     are referred to as ``image_prefix + name`` (for a report that lives elsewhere). A
@@ -69,4 +76,6 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
     L += reach_section(cells, out, image_prefix)
     report = out / "REPORT.md"
     write_output(report, "\n".join(L) + "\n")
+    if html:
+        write_html(report)
     return report
