@@ -338,34 +338,44 @@ class Simulator:
                 state[:, k] = bool(latch.init)
         return state
 
-    def evaluate(self, latches: np.ndarray, inputs: np.ndarray) -> np.ndarray:
-        """Every variable's value: an array of shape ``(M + 1, batch)``."""
+    def _packed(self, latches: np.ndarray, inputs: np.ndarray) -> tuple[np.ndarray, int]:
+        """Every variable's value, 8 rows of the batch to a byte: ``(M + 1, ceil(batch / 8))``."""
         latches = np.asarray(latches, dtype=bool)
         inputs = np.asarray(inputs, dtype=bool)
         batch = latches.shape[0]
-        if inputs.shape != (batch, len(self.circuit.inputs)) or latches.shape[1] != len(self.circuit.latches):
+        if (latches.ndim != 2 or inputs.shape != (batch, len(self.circuit.inputs))
+                or latches.shape[1] != len(self.circuit.latches)):
             raise ValueError(f"expected latches (batch, {len(self.circuit.latches)}) and inputs "
                              f"(batch, {len(self.circuit.inputs)}), got {latches.shape} and {inputs.shape}")
-        values = np.zeros((self.circuit.max_var + 1, batch), dtype=bool)
-        values[self._in_vars] = inputs.T
-        values[self._latch_vars] = latches.T
+        values = np.zeros((self.circuit.max_var + 1, (batch + 7) // 8), dtype=np.uint8)
+        if len(self._in_vars):
+            values[self._in_vars] = np.packbits(inputs.T, axis=1)
+        if len(self._latch_vars):
+            values[self._latch_vars] = np.packbits(latches.T, axis=1)
         for lhs, r0, r1 in self._ands:
-            a = values[r0 >> 1] ^ bool(r0 & 1)
-            b = values[r1 >> 1] ^ bool(r1 & 1)
-            values[lhs >> 1] = a & b
-        return values
+            a = values[r0 >> 1] ^ np.uint8(255 * (r0 & 1))
+            b = values[r1 >> 1] ^ np.uint8(255 * (r1 & 1))
+            np.bitwise_and(a, b, out=values[lhs >> 1])
+        return values, batch
+
+    def _literals(self, packed: np.ndarray, batch: int, lits: np.ndarray) -> np.ndarray:
+        """The values of ``lits``, shape ``(batch, len(lits))``."""
+        if lits.size == 0:
+            return np.zeros((batch, 0), dtype=bool)
+        words = packed[lits >> 1] ^ (255 * (lits & 1)).astype(np.uint8)[:, None]
+        return np.unpackbits(words, axis=1, count=batch).astype(bool).T
+
+    def evaluate(self, latches: np.ndarray, inputs: np.ndarray) -> np.ndarray:
+        """Every variable's value: an array of shape ``(M + 1, batch)``."""
+        packed, batch = self._packed(latches, inputs)
+        return np.unpackbits(packed, axis=1, count=batch).astype(bool)
 
     def step(self, latches: np.ndarray, inputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One step: ``(outputs, next_latches)``, shapes ``(batch, O)`` and ``(batch, L)``."""
-        values = self.evaluate(latches, inputs)
-        return _lits(values, self._outs).T, _lits(values, self._latch_next).T
+        packed, batch = self._packed(latches, inputs)
+        return self._literals(packed, batch, self._outs), self._literals(packed, batch, self._latch_next)
 
     def bad(self, latches: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         """SYNTCOMP's bad signal for each pair: shape ``(batch,)``."""
-        return _lits(self.evaluate(latches, inputs), np.array([self.circuit.bad]))[0]
-
-
-def _lits(values: np.ndarray, lits: np.ndarray) -> np.ndarray:
-    if lits.size == 0:
-        return np.zeros((0, values.shape[1]), dtype=bool)
-    return values[lits >> 1] ^ (lits & 1).astype(bool)[:, None]
+        packed, batch = self._packed(latches, inputs)
+        return self._literals(packed, batch, np.array([self.circuit.bad]))[:, 0]

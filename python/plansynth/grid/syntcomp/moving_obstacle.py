@@ -33,8 +33,10 @@ The rules (the grid is ``m x m``: Ehlers' ``mx = my = m`` in every published ins
   before (assumption 8 with guarantee 2: the controller's output ``obsmove`` must be
   false exactly after a change of the obstacle's position, and the obstacle may change
   only while ``obsmove`` was true). It may also wait: "at most every second step", with
-  no fixed phase. At the start ``obsmove`` must be true (the circuits flag a false
-  ``obsmove`` in the first step), so the obstacle may already move in the first step.
+  no fixed phase. At the start ``obsmove`` must be false (the circuits flag a true
+  ``obsmove`` in the first step, as SLUGS's map generator initialises its speed monitor
+  false), so the obstacle must wait in the first step unless it spends a glitch: the
+  robot moves first.
 * **Glitches** (Sect. II): a counter ``g`` set by the environment, ``0 <= g <= c``, that
   never decreases; a move of the obstacle right after a move (``obsmove`` false) is a
   glitch and must strictly increase the counter. The environment may also raise the
@@ -57,11 +59,12 @@ The rules (the grid is ``m x m``: Ehlers' ``mx = my = m`` in every published ins
 The game here
 =============
 
-A :class:`State` is the robot's decision point: ``(robot, obstacle, obstacle_moved,
-glitches)``, where ``obstacle_moved`` says whether the obstacle changed position in the
-step that led here (false at the start) and ``glitches`` is the counter (``c -
-glitches`` glitches are left). The controller's ``obsmove`` output is forced (``not
-obstacle_moved``), so it is not a choice of the robot here. The robot's moves are
+A :class:`State` is the robot's decision point: ``(robot, obstacle, obstacle_waits,
+glitches)``, where ``obstacle_waits`` says that the obstacle may not move in the coming
+step without a glitch (it changed position in the step that led here, or this is the
+start) and ``glitches`` is the counter (``c - glitches`` glitches are left). The
+controller's ``obsmove`` output is forced (``obsmove = not obstacle_waits``), so it is
+not a choice of the robot here. The robot's moves are
 :data:`MOVES`; :meth:`MovingObstacle.successors` gives every legal reply of the
 environment. The robot wins from a state iff it can keep away from collisions forever:
 :mod:`plansynth.grid.syntcomp.safety` solves it.
@@ -72,10 +75,12 @@ unrealizable with one more: :data:`PUBLISHED`.
 
 >>> game = MovingObstacle(8, 0)
 >>> game.initial
-State(robot=(0, 0), obstacle=(6, 6), obstacle_moved=False, glitches=0)
+State(robot=(0, 0), obstacle=(6, 6), obstacle_waits=True, glitches=0)
 >>> game.is_collision(State((3, 4), (2, 3), False, 0)), game.is_collision(State((4, 4), (2, 3), False, 0))
 (True, False)
->>> sorted({s.obstacle for s in game.successors(game.initial, (1, 1))})
+>>> [s.obstacle for s in game.successors(game.initial, (1, 1))]     # it waits in the first step
+[(6, 6)]
+>>> sorted({s.obstacle for s in game.successors(State((0, 0), (6, 6), False, 0), (1, 1))})
 [(5, 5), (5, 6), (6, 5), (6, 6)]
 """
 
@@ -119,11 +124,13 @@ def circuit_name(m: int, c: int) -> str:
 
 
 class State(NamedTuple):
-    """The robot's decision point (see the module's docstring)."""
+    """The robot's decision point (see the module's docstring): the robot's cell, the
+    obstacle's upper-left cell, whether the obstacle must wait (or glitch) before its
+    next move, and the glitch counter."""
 
     robot: Cell
     obstacle: Cell
-    obstacle_moved: bool
+    obstacle_waits: bool
     glitches: int
 
 
@@ -142,8 +149,8 @@ class MovingObstacle:
 
     @property
     def initial(self) -> State:
-        """Robot at (0, 0), obstacle in the far corner, no move yet, no glitch."""
-        return State((0, 0), (self.size - 2, self.size - 2), False, 0)
+        """Robot at (0, 0), obstacle in the far corner and waiting, no glitch."""
+        return State((0, 0), (self.size - 2, self.size - 2), True, 0)
 
     def states(self) -> Iterator[State]:
         """Every state: ``m^2 (m-1)^2 2 (c+1)`` of them."""
@@ -152,9 +159,9 @@ class MovingObstacle:
             for ry in range(m):
                 for ox in range(m - 1):
                     for oy in range(m - 1):
-                        for moved in (False, True):
+                        for waits in (False, True):
                             for g in range(self.glitches + 1):
-                                yield State((rx, ry), (ox, oy), moved, g)
+                                yield State((rx, ry), (ox, oy), waits, g)
 
     def is_collision(self, state: State) -> bool:
         """The robot's cell lies in the obstacle's 2 x 2 block."""
@@ -174,7 +181,7 @@ class MovingObstacle:
             nx, ny = ox + dx, oy + dy
             if not (0 <= nx <= m - 2 and 0 <= ny <= m - 2):
                 continue
-            glitch = (dx, dy) != (0, 0) and state.obstacle_moved
+            glitch = (dx, dy) != (0, 0) and state.obstacle_waits
             for g in range(state.glitches + (1 if glitch else 0), c + 1):
                 yield (nx, ny), g
 

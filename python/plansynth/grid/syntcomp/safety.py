@@ -8,7 +8,7 @@ fixpoint; the environment's attractor of the collisions is the complement; e.g. 
 Thomas, Wilke, *Automata, Logics, and Infinite Games*, LNCS 2500, Ch. 2). The game is
 realizable iff the initial state is in ``W``.
 
-* :func:`solve` computes ``W`` on dense numpy arrays indexed ``[rx, ry, ox, oy, moved,
+* :func:`solve` computes ``W`` on dense numpy arrays indexed ``[rx, ry, ox, oy, waits,
   g]``, shifting whole arrays for each of the 9 moves: fine up to 32 x 32 or so. It also
   records each losing state's *rank*, the iteration at which it left ``W``: the number
   of steps within which the environment forces a collision.
@@ -51,7 +51,7 @@ class SolutionRejected(AssertionError):
 class SafetySolution:
     """An answer of :func:`solve`: the status, the winning region and the ranks.
 
-    ``winning`` and ``rank`` are indexed ``[rx, ry, ox, oy, moved, g]``; ``rank`` is -1
+    ``winning`` and ``rank`` are indexed ``[rx, ry, ox, oy, waits, g]``; ``rank`` is -1
     on ``winning`` and otherwise the number of steps within which the environment forces
     a collision (0 on collisions). Both are ``None`` when the budget ran out.
     """
@@ -66,7 +66,7 @@ class SafetySolution:
     counters: dict = field(default_factory=dict)
 
     def index(self, state: State) -> tuple[int, ...]:
-        return (*state.robot, *state.obstacle, int(state.obstacle_moved), state.glitches)
+        return (*state.robot, *state.obstacle, int(state.obstacle_waits), state.glitches)
 
     def is_winning(self, state: State) -> bool:
         if self.winning is None:
@@ -107,7 +107,7 @@ def solve(game: MovingObstacle, budget: Budget | None = None) -> SafetySolution:
                 win = new
     except BudgetExhausted as e:
         return SafetySolution(game, GridStatus.UNKNOWN, None, None, iterations, clock.elapsed(), str(e))
-    status = GridStatus.REALIZABLE if win[(0, 0, m - 2, m - 2, 0, 0)] else GridStatus.UNREALIZABLE
+    status = GridStatus.REALIZABLE if win[(0, 0, m - 2, m - 2, 1, 0)] else GridStatus.UNREALIZABLE
     return SafetySolution(game, status, win, rank, iterations, clock.elapsed(),
                           counters={"states": int(win.size), "winning_states": int(win.sum())})
 
@@ -136,12 +136,12 @@ def _clamped_shift(a: np.ndarray, axis: int, d: int) -> np.ndarray:
 
 
 def _environment_cannot_escape(win: np.ndarray, c: int) -> np.ndarray:
-    """``E[r, o, moved, g]``: the robot, now at ``r``, stays in ``win`` whatever legal
-    ``(o', g')`` the environment picks from ``(o, moved, g)``."""
+    """``E[r, o, waits, g]``: the robot, now at ``r``, stays in ``win`` whatever legal
+    ``(o', g')`` the environment picks from ``(o, waits, g)``."""
     out = np.ones_like(win)
     for dx, dy in MOVES:
         moving = (dx, dy) != (0, 0)
-        # target[r, o, g'] = win[r, o + d, moved' = moving, g'], True outside the grid
+        # target[r, o, g'] = win[r, o + d, waits' = moving, g'], True outside the grid
         target = _shift(_shift(win[:, :, :, :, int(moving), :], 2, dx, True), 3, dy, True)
         # the environment may set any counter g' in [g, c] ...
         incl = np.flip(np.logical_and.accumulate(np.flip(target, -1), axis=-1), -1)
