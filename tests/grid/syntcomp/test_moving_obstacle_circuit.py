@@ -44,8 +44,11 @@ def state_move_grid(game: MovingObstacle, moves=MOVES) -> dict[str, np.ndarray]:
     return dict(rx=rx, ry=ry, ox=ox, oy=oy, waits=waits, g=g, dx=d[:, 0], dy=d[:, 1])
 
 
-def repeat(cols: dict[str, np.ndarray], times: int) -> dict[str, np.ndarray]:
-    return {k: np.repeat(v, times) for k, v in cols.items()}
+def each_state_and_move(game: MovingObstacle, times: int, moves=MOVES) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """Every (state, robot move) pair ``times`` times over, and the copy number 0..times-1
+    of each row (to vary the next step's inputs over)."""
+    cols = {k: np.repeat(v, times) for k, v in state_move_grid(game, moves).items()}
+    return cols, np.tile(np.arange(times), len(cols["rx"]) // times)
 
 
 def assert_same(game, circ, q: StepBatch) -> dict:
@@ -74,12 +77,8 @@ def test_the_circuits_name_the_fields_the_game_reads():
 @pytest.mark.parametrize("c", [0, 1])
 def test_8x8_every_environment_reply(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
-    base = state_move_grid(game)
     # every obstacle displacement (9), counter value (c + 1) and obsmove value (2)
-    reps = 9 * (c + 1) * 2
-    cols = repeat(base, reps)
-    n = len(cols["rx"])
-    j = np.tile(np.arange(reps), n // reps)
+    cols, j = each_state_and_move(game, 9 * (c + 1) * 2)
     delta = np.array(MOVES)[j % 9]
     g_next = (j // 9) % (c + 1)
     obsmove = j // (9 * (c + 1))
@@ -99,10 +98,8 @@ def test_8x8_every_environment_reply(c):
 @pytest.mark.parametrize("c", [0, 1])
 def test_8x8_every_controller_move_code(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
-    cols = repeat(state_move_grid(game), 16)
-    n = len(cols["rx"])
-    code = np.tile(np.arange(16), n // 16)
-    q = StepBatch.of(n, **cols, robx=np.clip(cols["rx"] + cols["dx"], 0, 7), roby=np.clip(cols["ry"] + cols["dy"], 0, 7),
+    cols, code = each_state_and_move(game, 16)
+    q = StepBatch.of(len(code), **cols, robx=np.clip(cols["rx"] + cols["dx"], 0, 7), roby=np.clip(cols["ry"] + cols["dy"], 0, 7),
                      obsx=cols["ox"], obsy=cols["oy"], glitches=cols["g"], obsmove=1, movx=code % 4, movy=code // 4)
     assert_same(game, circ, q)
 
@@ -110,9 +107,8 @@ def test_8x8_every_controller_move_code(c):
 @pytest.mark.parametrize("c", [0, 1])
 def test_8x8_every_robot_position_the_bits_encode(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
-    cols = repeat(state_move_grid(game), 64)
-    n = len(cols["rx"])
-    cell = np.tile(np.arange(64), n // 64)
+    cols, cell = each_state_and_move(game, 64)
+    n = len(cell)
     q = StepBatch.of(n, **cols, robx=cell % 8, roby=cell // 8, obsx=cols["ox"], obsy=cols["oy"], glitches=cols["g"],
                      obsmove=1, movx=1, movy=1)
     _, violated = expected_step(game, q)
@@ -124,11 +120,8 @@ def test_8x8_every_robot_position_the_bits_encode(c):
 def test_8x8_every_obstacle_position_and_counter_the_bits_encode(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
     gbits = 1 if c else 0
-    reps = 64 << gbits
-    cols = repeat(state_move_grid(game, moves=((0, 0),)), reps)
-    n = len(cols["rx"])
-    j = np.tile(np.arange(reps), n // reps)
-    q = StepBatch.of(n, **cols, robx=cols["rx"], roby=cols["ry"], obsx=j % 8, obsy=(j // 8) % 8, glitches=j // 64,
+    cols, j = each_state_and_move(game, 64 << gbits, moves=((0, 0),))
+    q = StepBatch.of(len(j), **cols, robx=cols["rx"], roby=cols["ry"], obsx=j % 8, obsy=(j // 8) % 8, glitches=j // 64,
                      obsmove=1, movx=1, movy=1)
     assert_same(game, circ, q)
 
