@@ -141,7 +141,7 @@ class StepBatch:
         unknown = set(columns) - set(names)
         if unknown:
             raise TypeError(f"unknown columns {sorted(unknown)}")
-        full = {k: np.broadcast_to(np.asarray(columns.get(k, 0), dtype=np.int64), (n,)).copy() for k in names}
+        full = {k: np.broadcast_to(np.asarray(columns.get(k, 0), dtype=np.int32), (n,)).copy() for k in names}
         return StepBatch(**full)
 
     def __len__(self) -> int:
