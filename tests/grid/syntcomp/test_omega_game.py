@@ -32,6 +32,14 @@ def test_omega_agrees_with_the_explicit_solver(m, c):
         assert (syn.status is GridStatus.REALIZABLE) == PUBLISHED[(m, c)][0]
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("m,c", [(16, 3), (16, 4), (24, 7), (24, 8)])
+def test_omega_agrees_on_the_published_instances(m, c):
+    a = solve(MovingObstacle(m, c), Budget(seconds=1200), strategy=False)
+    assert a.status is solve_explicit(MovingObstacle(m, c)).status
+    assert (a.status is GridStatus.REALIZABLE) == PUBLISHED[(m, c)][0]
+
+
 @pytest.mark.parametrize("plus_one", [False, True])
 def test_strict_and_plain_implication_decide_alike(plus_one):
     for c in (0, 1):

@@ -34,9 +34,8 @@ The rules (the grid is ``m x m``: Ehlers' ``mx = my = m`` in every published ins
   false exactly after a change of the obstacle's position, and the obstacle may change
   only while ``obsmove`` was true). It may also wait: "at most every second step", with
   no fixed phase. At the start ``obsmove`` must be false (the circuits flag a true
-  ``obsmove`` in the first step, as SLUGS's map generator initialises its speed monitor
-  false), so the obstacle must wait in the first step unless it spends a glitch: the
-  robot moves first.
+  ``obsmove`` in the first step; the description does not say), so the obstacle must
+  wait in the first step unless it spends a glitch: the robot moves first.
 * **Glitches** (Sect. II): a counter ``g`` set by the environment, ``0 <= g <= c``, that
   never decreases; a move of the obstacle right after a move (``obsmove`` false) is a
   glitch and must strictly increase the counter. The environment may also raise the
