@@ -328,7 +328,7 @@ def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
 
 def _check_mission(p: ReachProblem, d: int) -> None:
     """Labels and mission at the door: names, shapes, the formula's syntax and names."""
-    from plansynth.reach.mission.ltl import KEYWORDS, LtlSyntaxError, parse, props
+    from plansynth.reach.ltl.syntax import KEYWORDS, LtlSyntaxError, parse, props
 
     src = p.source
     seen: set[str] = set()
