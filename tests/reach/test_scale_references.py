@@ -11,7 +11,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from plansynth.reach.abstraction.predicates import drop_collinear, drop_collinear_reference
-from plansynth.reach.lazy.bounds import _sweep, _sweep_reference
+from plansynth.reach.lazy.bounds.windows import _sweep, _sweep_reference
 
 
 @st.composite
