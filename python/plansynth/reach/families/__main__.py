@@ -1,0 +1,5 @@
+"""``python -m plansynth.reach.families DIR``: (re)write the example problem files."""
+
+from plansynth.reach.families.example_files import main
+
+main()
