@@ -181,8 +181,8 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
 #: Examples of the soundness property with a clause that excluded some walk (examples
 #: without one check nothing and are drawn again), and the fewest excluded walks the
 #: oracle must refute over all of them (random rooms give about 50 per example).
-SOUNDNESS_EXAMPLES = 15
-SOUNDNESS_FLOOR = 100
+SOUNDNESS_EXAMPLES = 30
+SOUNDNESS_FLOOR = 200
 
 
 def test_every_learned_clause_excludes_only_infeasible_sequences() -> None:
