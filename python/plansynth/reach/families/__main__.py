@@ -2,4 +2,5 @@
 
 from plansynth.reach.families.example_files import main
 
-main()
+if __name__ == "__main__":
+    main()
