@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from plansynth.reach.mission.check import NEG, _literal_form, check_mission, consistent_reading
 from plansynth.reach.mission.ltl import Lasso, holds, nnf, parse
-from plansynth.reach.problem import reach_problem_from_dict
+from plansynth.reach.fileformat import reach_problem_from_dict
 from plansynth.reach.trajectory import Trajectory
 
 from test_ltl import NAMES, formulas

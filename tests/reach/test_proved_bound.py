@@ -134,12 +134,12 @@ def test_outer_polygon_contains_the_polygon(n: int, r: float, stretch: float, tu
 
 
 def test_sweep_stopped_early_still_gives_a_bound(monkeypatch: pytest.MonkeyPatch) -> None:
-    from plansynth.reach.lazy import bounds
     from plansynth.reach.families import maze
+    from plansynth.reach.lazy.bounds import proved
 
     p = maze(1)
     full = proved_horizon_bound(p, abstract(p), 200)
-    monkeypatch.setattr(bounds, "SWEEP_MAX_WORK", 50)
+    monkeypatch.setattr(proved, "SWEEP_MAX_WORK", 50)
     early = proved_horizon_bound(p, abstract(p), 200)
     assert 26 <= early < full == 38  # at least the distance bound, never more than the full sweep
 

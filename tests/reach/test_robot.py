@@ -14,7 +14,7 @@ from plansynth.errors import InvalidProblem
 from plansynth.reach.families import maze
 from plansynth.reach.fileformat import reach_problem_from_dict, reach_problem_to_dict
 from plansynth.reach.geometry import Box
-from plansynth.reach.problem import RobotShape
+from plansynth.reach.robot import RobotShape
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.robot import configuration_space, disc_polygon, with_robot
 from plansynth.reach.solve import solve

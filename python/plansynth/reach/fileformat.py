@@ -29,7 +29,8 @@ from plansynth.io import Fields, as_float, as_float_vector, as_int, as_int_vecto
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics, named_model
 from plansynth.reach.geometry import Box, Polygon, Shape, polygon_problem
 from plansynth.reach.problem import (DEFAULT_MAX_HORIZON, MAX_COORDINATE, MAX_DT, MAX_HORIZON,
-                                     MAX_OBSTACLES, MAX_ORDER, MAX_STATES, MAX_VERTICES, ReachProblem, RobotShape)
+                                     MAX_OBSTACLES, MAX_ORDER, MAX_STATES, MAX_VERTICES, ReachProblem)
+from plansynth.reach.robot import RobotShape
 
 __all__ = ["load_reach_problem", "reach_problem_from_dict", "reach_problem_to_dict"]
 

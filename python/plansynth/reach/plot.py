@@ -34,7 +34,7 @@ from plansynth.io import atomic_output
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import Box, Shape
 from plansynth.reach.problem import ReachProblem
-from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.trajectory import Trajectory, check_dimensions
 
 __all__ = ["plot_problem", "animate"]
 
@@ -89,8 +89,12 @@ def plot_problem(
 
     Writes a PNG to ``path`` when given; draws into ``ax`` when given (else a new
     figure). ``labels`` forces region numbers on/off (default: on when at most 60
-    regions). Returns the figure.
+    regions). Returns the figure. A trajectory whose states or inputs do not have the
+    problem's dimensions raises :class:`~plansynth.errors.InvalidProblem` before
+    anything is drawn.
     """
+    if trajectory is not None:
+        check_dimensions(trajectory, problem.dynamics.n_states, problem.dynamics.n_inputs)
     if ax is None:
         fig, ax = _new_figure(problem)
     else:
@@ -207,6 +211,7 @@ def animate(
     One frame per sample (subsampled to at most ``max_frames``); the region the robot
     is in is not re-computed, the planner's sequence is shown as in :func:`plot_problem`.
     """
+    check_dimensions(trajectory, problem.dynamics.n_states, problem.dynamics.n_inputs)
     fig = plot_problem(problem, abstraction, result_regions, None)
     ax = fig.axes[0]
     P = trajectory.positions(problem.dynamics.position)

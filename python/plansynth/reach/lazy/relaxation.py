@@ -40,7 +40,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import checkpoint
-from plansynth.reach.geometry import halfspaces
+from plansynth.reach.geometry import convex_pieces, halfspaces
 from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.problem import ReachProblem
 
@@ -51,8 +51,6 @@ SUBDIVISIONS = 4
 
 
 def _pieces(problem: ReachProblem) -> list[tuple[np.ndarray, np.ndarray]]:
-    from plansynth.reach.planners.milp_bigm import convex_pieces
-
     out = []
     for o in problem.obstacles:
         out += convex_pieces(o)

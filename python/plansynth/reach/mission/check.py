@@ -36,7 +36,7 @@ step where f fails, ``a U b`` into the first step where a fails before b, a labe
 literal to its step) and names the step where the descent ends; ``F f`` that never
 holds fails at the first position of the loop, after which no future remains unseen.
 
->>> from plansynth.reach.problem import reach_problem_from_dict
+>>> from plansynth.reach.fileformat import reach_problem_from_dict
 >>> from plansynth.reach.trajectory import Trajectory
 >>> p = reach_problem_from_dict({"workspace": {"min": [0, 0], "max": [4, 4]},
 ...     "labels": {"s": {"min": [1, 0], "max": [2, 4]}}, "mission": "G !s",
