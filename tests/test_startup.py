@@ -53,14 +53,21 @@ NOT_ON_A_LAZY_SOLVE = {
 #: Prepended to the code a process runs: at exit it lists every module it imported
 #: (``sys.modules``, which also holds what ``importlib.import_module`` loaded, as the
 #: CLI loads its sub-command groups; ``-X importtime`` does not trace those).
-_LIST_MODULES_AT_EXIT = ("import atexit, sys\n"
-                         "atexit.register(lambda: sys.stderr.write('\\nMODULES ' + ' '.join(sorted(sys.modules)) + '\\n'))\n")
+_LIST_MODULES_AT_EXIT = (
+    "import atexit, sys\n"
+    "atexit.register(lambda: sys.stderr.write('\\nMODULES ' + ' '.join(sorted(sys.modules)) + '\\n'))\n"
+)
 
 
 def _imported(code: str, *args: str) -> tuple[subprocess.CompletedProcess, set[str]]:
     """The finished process and every module it imported (full dotted names)."""
-    run = subprocess.run([sys.executable, "-c", _LIST_MODULES_AT_EXIT + code, *args],
-                         capture_output=True, text=True, timeout=300, cwd=ROOT)
+    run = subprocess.run(
+        [sys.executable, "-c", _LIST_MODULES_AT_EXIT + code, *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
     listed = re.findall(r"^MODULES (.*)$", run.stderr, re.M)
     assert listed, "no module list: " + run.stderr[-2000:]
     return run, set(listed[-1].split())
@@ -86,8 +93,14 @@ def test_importing_plansynth_reach_loads_no_numeric_library() -> None:
 def test_plansynth_version_loads_neither_half() -> None:
     run, names = _cli("--version")
     assert run.returncode == 0 and run.stdout.startswith("plansynth "), run.stdout + run.stderr[-2000:]
-    heavy = {**NUMERIC, "plansynth.reach": "the reach half", "plansynth.grid": "the grid half",
-             "plansynth.bench": "benchmarks", "yaml": "no file is read", "rich": "nothing is laid out"}
+    heavy = {
+        **NUMERIC,
+        "plansynth.reach": "the reach half",
+        "plansynth.grid": "the grid half",
+        "plansynth.bench": "benchmarks",
+        "yaml": "no file is read",
+        "rich": "nothing is laid out",
+    }
     assert not _loaded(names, heavy), _loaded(names, heavy)
 
 
@@ -108,8 +121,10 @@ def test_a_lazy_solve_loads_only_what_it_runs() -> None:
 def test_a_mission_still_loads_the_mission_language() -> None:
     """The guard above is not vacuous: a problem with a mission does load the parser
     (the problem checks the formula at the door) and the mission planner."""
-    run, names = _imported("from plansynth.reach.fileformat import load_reach_problem; import sys; "
-                           "load_reach_problem(sys.argv[1])", str(ROOT / "examples/reach/mission-patrol.yaml"))
+    run, names = _imported(
+        "from plansynth.reach.fileformat import load_reach_problem; import sys; load_reach_problem(sys.argv[1])",
+        str(ROOT / "examples/reach/mission-patrol.yaml"),
+    )
     assert run.returncode == 0, run.stderr[-2000:]
     assert "plansynth.reach.ltl.syntax" in names
 
@@ -117,14 +132,16 @@ def test_a_mission_still_loads_the_mission_language() -> None:
 def test_every_public_name_of_plansynth_reach_resolves() -> None:
     """The lazy names are the ones ``__all__`` promises, and ``solve``, ``validate`` and
     ``planners`` stay the functions after their modules (of the same names) are imported."""
-    code = ("import importlib, plansynth.reach as r\n"
-            "for m in ('solve', 'validate', 'planners'): importlib.import_module('plansynth.reach.' + m)\n"
-            "missing = [n for n in r.__all__ if getattr(r, n, None) is None]\n"
-            "assert not missing, missing\n"
-            "assert callable(r.solve) and callable(r.validate) and callable(r.planners)\n"
-            "assert r.solve.__module__ == 'plansynth.reach.solve' and r.load is r.load_reach_problem\n"
-            "from plansynth.reach import ReachStatus, load, solve\n"
-            "print(solve(load('examples/reach/maze-1.yaml')).status is ReachStatus.FOUND)\n")
+    code = (
+        "import importlib, plansynth.reach as r\n"
+        "for m in ('solve', 'validate', 'planners'): importlib.import_module('plansynth.reach.' + m)\n"
+        "missing = [n for n in r.__all__ if getattr(r, n, None) is None]\n"
+        "assert not missing, missing\n"
+        "assert callable(r.solve) and callable(r.validate) and callable(r.planners)\n"
+        "assert r.solve.__module__ == 'plansynth.reach.solve' and r.load is r.load_reach_problem\n"
+        "from plansynth.reach import ReachStatus, load, solve\n"
+        "print(solve(load('examples/reach/maze-1.yaml')).status is ReachStatus.FOUND)\n"
+    )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert run.returncode == 0 and run.stdout.strip() == "True", run.stdout + run.stderr[-2000:]
 

@@ -155,9 +155,7 @@ def b_terms(draw: st.DrawFn, variables: tuple[str, ...], max_constant: int, budg
 
 
 @st.composite
-def start_terms(
-    draw: st.DrawFn, variables: tuple[str, ...], n_moves: int, max_constant: int, budget: int
-) -> Term:
+def start_terms(draw: st.DrawFn, variables: tuple[str, ...], n_moves: int, max_constant: int, budget: int) -> Term:
     """A controller (Start) of depth <= budget (budget >= 1)."""
     # A leaf half the time keeps the expected size moderate (an ite has two Start children).
     if budget < 3 or draw(st.booleans()):

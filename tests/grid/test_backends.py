@@ -14,11 +14,11 @@ from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable
 from plansynth.grid.backends.cvc5 import Cvc5Backend, parse_options
 from plansynth.grid.backends.external import ExternalBackend
-from plansynth.isolate import Crash, Finished, Timeout, run_isolated
 from plansynth.grid.problem import grid_problem_from_dict
 from plansynth.grid.programs import Const, parse_program
 from plansynth.grid.result import GridStatus, get_backend
 from plansynth.grid.sygus import compile_sygus
+from plansynth.isolate import Crash, Finished, Timeout, run_isolated
 
 #: Robot in a 3x1 corridor, goal two cells right: realizable at l = 2 (and not at l = 1).
 CORRIDOR = grid_problem_from_dict(
@@ -193,7 +193,11 @@ ECHO_IF_SL = """
 @pytest.mark.parametrize(
     ("answer", "status", "program"),
     [
-        ("(\n(define-fun move ((rx Int) (ry Int)) Int (ite (<= rx 1) 1 0))\n)", GridStatus.REALIZABLE, "(ite (<= rx 1) 1 0)"),
+        (
+            "(\n(define-fun move ((rx Int) (ry Int)) Int (ite (<= rx 1) 1 0))\n)",
+            GridStatus.REALIZABLE,
+            "(ite (<= rx 1) 1 0)",
+        ),
         ("infeasible", GridStatus.UNREALIZABLE, None),
         ("fail", GridStatus.UNKNOWN, None),
         ("(define-fun move ((rx Int) (ry Int)) Int 9)", GridStatus.UNKNOWN, None),  # not a move number
@@ -224,8 +228,12 @@ def test_external_timeout_kills_the_solver(tmp_path: Path) -> None:
 
 def test_external_keeps_the_sl_file_and_appends_it_without_placeholder(tmp_path: Path) -> None:
     script = tmp_path / "s.py"
-    script.write_text("import sys\nprint(open(sys.argv[-1]).read().count('declare-var'), file=sys.stderr)\nprint('infeasible')\n")
-    out = ExternalBackend(f"{sys.executable} {script}", keep_sl=tmp_path / "kept").solve_length(CORRIDOR, 1, Budget(seconds=30))
+    script.write_text(
+        "import sys\nprint(open(sys.argv[-1]).read().count('declare-var'), file=sys.stderr)\nprint('infeasible')\n"
+    )
+    out = ExternalBackend(f"{sys.executable} {script}", keep_sl=tmp_path / "kept").solve_length(
+        CORRIDOR, 1, Budget(seconds=30)
+    )
     assert out.status is GridStatus.UNREALIZABLE
     assert Path(out.artefact) == tmp_path / "kept" / "problem-l1.sl"
     assert Path(out.artefact).read_text() == compile_sygus(CORRIDOR, 1)

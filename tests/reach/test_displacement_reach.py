@@ -1,5 +1,5 @@
-"""The multi-step displacement bound of random dynamics (issue 13, item 4;
-plansynth.reach.dynamics.displacement_reach) against an independent computation: the
+"""The multi-step displacement bound of random dynamics
+(plansynth.reach.dynamics.displacement_reach) against an independent computation: the
 largest move of k steps from time t is the l1 norm of the inputs' coefficients in
 p_{t+k} - p_t, read off by simulating unit impulses with A and B themselves."""
 
@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from plansynth.reach.dynamics import displacement_reach, integrator_chain, reach_steps
 from plansynth.reach.families import random_dynamics
@@ -52,9 +53,11 @@ def test_bound_at_fifty_states_beats_one_step_bounds() -> None:
     assert W[300, 0] < 300 * up[0] / 10  # 300 steps: far below 300 one-step bounds
     # and it raises the horizon lower bound from rest (the maze's goal is 26 m up)
     assert physical_lower_bound(p) == box_steps(
-        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up, W)
+        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up, W
+    )
     assert physical_lower_bound(p) > box_steps(
-        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up)
+        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up
+    )
 
 
 def test_no_table_for_chains_and_steps_read_off_it() -> None:

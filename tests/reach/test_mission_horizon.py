@@ -10,12 +10,11 @@ import itertools
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from test_ltl import NAMES, formulas
 
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.mission.horizon import horizon_lower_bound
 from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
-
-from test_ltl import NAMES, formulas
 
 MAX_L = 4
 
@@ -40,6 +39,7 @@ def brute_force_min_horizon(graph, labels, earliest, f, max_l):
     """The smallest L <= max_l with a walk r_0..r_L (start region, stay or adjacent,
     r_t not before earliest) whose finite word, or lasso word (r_L = r_k), satisfies f."""
     for L in range(max_l + 1):
+
         def walks(prefix):
             t = len(prefix)
             if t == L + 1:
@@ -49,6 +49,7 @@ def brute_force_min_horizon(graph, labels, earliest, f, max_l):
             for r in cands:
                 if earliest[r] <= t:
                     yield from walks(prefix + (r,))
+
         for w in walks(()):
             ls = [labels[r] for r in w]
             if holds(f, finite_word(ls)):

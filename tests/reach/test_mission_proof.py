@@ -8,11 +8,10 @@ import itertools
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_ltl import NAMES, formulas
 
 from plansynth.reach.mission.ltl import Lasso, holds, parse
 from plansynth.reach.mission.proof import geometry_letters, satisfiable, witness
-
-from test_ltl import NAMES, formulas
 
 ALL = frozenset(NAMES)
 alphabets = st.lists(st.frozensets(st.sampled_from(NAMES)), min_size=1, max_size=3, unique=True)
@@ -52,8 +51,8 @@ def test_may_hold_letters_are_monotone():
 def test_the_unsat_example_is_proved_by_its_geometry_and_a_touching_variant_is_not():
     from dataclasses import replace
 
-    from plansynth.reach.geometry import Box
     from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.geometry import Box
     from plansynth.reach.mission.labels import label_abstraction
 
     p = load_reach_problem("examples/reach/mission-unsat.yaml")
@@ -67,9 +66,15 @@ def test_the_unsat_example_is_proved_by_its_geometry_and_a_touching_variant_is_n
 
 
 @settings(max_examples=40, deadline=None)
-@given(formulas(depth=3), st.integers(0, 10**6),
-       st.lists(st.tuples(st.integers(0, 7), st.integers(0, 7), st.integers(1, 3), st.integers(1, 3)),
-                min_size=len(NAMES), max_size=len(NAMES)))
+@given(
+    formulas(depth=3),
+    st.integers(0, 10**6),
+    st.lists(
+        st.tuples(st.integers(0, 7), st.integers(0, 7), st.integers(1, 3), st.integers(1, 3)),
+        min_size=len(NAMES),
+        max_size=len(NAMES),
+    ),
+)
 def test_label_proof_gives_the_verdict_of_the_whole_letter_set(f, seed, rects):
     """label_proof decides on the regions' interior letters first (a subset of
     geometry_letters: satisfiable there is satisfiable over all of them) and only then

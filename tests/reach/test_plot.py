@@ -63,7 +63,9 @@ def walk(problem: ReachProblem, a: Abstraction, seq: list[int], step: float) -> 
 
 def single_integrator_version(p: ReachProblem) -> ReachProblem:
     fields = {k: getattr(p, k) for k in p.__dataclass_fields__}
-    return ReachProblem(**{**fields, "dynamics": single_integrator(p.dim, 0.5), "start": p.start_position, "state_bounds": None})
+    return ReachProblem(
+        **{**fields, "dynamics": single_integrator(p.dim, 0.5), "start": p.start_position, "state_bounds": None}
+    )
 
 
 def assert_real_png(path: Path, min_colors: int = 8) -> None:
@@ -77,8 +79,11 @@ def assert_real_png(path: Path, min_colors: int = 8) -> None:
     assert np.mean(np.any(rgb < 240, axis=2)) > 0.05
 
 
-@pytest.mark.parametrize("problem", [single_integrator_version(maze(n)) for n in (1, 4)] + [single_integrator_version(cluttered())],
-                         ids=["maze-1", "maze-4", "cluttered"])
+@pytest.mark.parametrize(
+    "problem",
+    [single_integrator_version(maze(n)) for n in (1, 4)] + [single_integrator_version(cluttered())],
+    ids=["maze-1", "maze-4", "cluttered"],
+)
 def test_full_picture(problem: ReachProblem, tmp_path: Path) -> None:
     a = abstract(problem)
     seq = region_path(a)
@@ -150,16 +155,33 @@ def _result_file(tmp_path: Path, states: list[list[float]], inputs: list[list[fl
     return path
 
 
-@pytest.mark.parametrize("states, inputs, field, reason", [
-    ([[1, 1, 0], [1.5, 1, 0], [2, 1, 0]], [[0, 0], [0, 0]], "states",
-     "each state has 3 components, but the problem's robot has 4 states"),
-    ([[1, 1, 0, 0, 0], [1.5, 1, 0, 0, 0]], [[0, 0]], "states",
-     "each state has 5 components, but the problem's robot has 4 states"),
-    ([[1, 1, 0, 0], [1.5, 1, 0, 0]], [[0, 0, 0]], "inputs",
-     "each input has 3 components, but the problem's robot has 2 inputs"),
-], ids=["3-of-4-states", "5-of-4-states", "3-of-2-inputs"])
-def test_plot_refuses_a_trajectory_of_another_robot(tmp_path: Path, states: list, inputs: list, field: str,
-                                                     reason: str) -> None:
+@pytest.mark.parametrize(
+    "states, inputs, field, reason",
+    [
+        (
+            [[1, 1, 0], [1.5, 1, 0], [2, 1, 0]],
+            [[0, 0], [0, 0]],
+            "states",
+            "each state has 3 components, but the problem's robot has 4 states",
+        ),
+        (
+            [[1, 1, 0, 0, 0], [1.5, 1, 0, 0, 0]],
+            [[0, 0]],
+            "states",
+            "each state has 5 components, but the problem's robot has 4 states",
+        ),
+        (
+            [[1, 1, 0, 0], [1.5, 1, 0, 0]],
+            [[0, 0, 0]],
+            "inputs",
+            "each input has 3 components, but the problem's robot has 2 inputs",
+        ),
+    ],
+    ids=["3-of-4-states", "5-of-4-states", "3-of-2-inputs"],
+)
+def test_plot_refuses_a_trajectory_of_another_robot(
+    tmp_path: Path, states: list, inputs: list, field: str, reason: str
+) -> None:
     """``plansynth reach plot`` of maze-1 (4 states, 2 inputs) with a result whose states
     or inputs have other dimensions: one line naming the file, the field and the reason,
     exit 2, and no picture (it used to draw the first two components as positions)."""
@@ -172,8 +194,22 @@ def test_plot_refuses_a_trajectory_of_another_robot(tmp_path: Path, states: list
 
     result = _result_file(tmp_path, states, inputs)
     out = tmp_path / "picture.png"
-    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "plot", str(ROOT / "examples/reach/maze-1.yaml"),
-                          str(result), "-o", str(out)], capture_output=True, text=True, timeout=120)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "plansynth.cli",
+            "reach",
+            "plot",
+            str(ROOT / "examples/reach/maze-1.yaml"),
+            str(result),
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert run.returncode == 2, run.stdout + run.stderr
     assert run.stderr.strip() == f"error: {result}: {field}: {reason}", run.stderr
     assert "Traceback" not in run.stderr and not out.exists()

@@ -146,7 +146,7 @@ class GridProblem:
     def in_grid(self, c: Cell) -> bool:
         return 0 <= c[0] < self.width and 0 <= c[1] < self.height
 
-    def with_steps(self, steps: int | None) -> "GridProblem":
+    def with_steps(self, steps: int | None) -> GridProblem:
         """The same problem with a fixed path length."""
         from dataclasses import replace
 
@@ -161,9 +161,7 @@ class GridProblem:
                 "goal": list(self.robot.goal),
                 "moves": [m.to_spec() for m in self.robot.moves],
             },
-            "obstacles": [
-                {"start": list(o.start), "moves": [m.to_spec() for m in o.moves]} for o in self.obstacles
-            ],
+            "obstacles": [{"start": list(o.start), "moves": [m.to_spec() for m in o.moves]} for o in self.obstacles],
             "walls": [list(w) for w in sorted(self.walls)],
         }
         if self.steps is not None:
@@ -298,9 +296,7 @@ def _moves(value: Any, file: str | None, field_: str) -> tuple[Move, ...]:
 def _move(value: Any, file: str | None, field_: str) -> Move:
     if isinstance(value, str):
         if value not in BUILTIN_MOVES:
-            raise InvalidProblem(
-                file, field_, f"unknown move {show(value)} (built-in: {', '.join(BUILTIN_MOVES)})"
-            )
+            raise InvalidProblem(file, field_, f"unknown move {show(value)} (built-in: {', '.join(BUILTIN_MOVES)})")
         return BUILTIN_MOVES[value]
     if isinstance(value, Mapping):
         m = Fields(value, file, field_)

@@ -305,11 +305,17 @@ def _constraint(problem: GridProblem, steps: int) -> tuple[list[str], str, str]:
     if steps < 1:
         raise InvalidProblem(p.source, "steps", f"must be >= 1, got {steps}")
     choices = [choice_variable(i, t) for t in range(steps) for i in range(n)]
-    allowable = [
-        f"(obstaclePositionsAllowable {' '.join(choice_variable(i, t) for i in range(n))})" for t in range(steps)
-    ] if n else []
-    ante = "true" if not allowable else allowable[0] if len(allowable) == 1 else (
-        "(and " + "\n                    ".join(allowable) + ")"
+    allowable = (
+        [f"(obstaclePositionsAllowable {' '.join(choice_variable(i, t) for i in range(n))})" for t in range(steps)]
+        if n
+        else []
+    )
+    ante = (
+        "true"
+        if not allowable
+        else allowable[0]
+        if len(allowable) == 1
+        else ("(and " + "\n                    ".join(allowable) + ")")
     )
 
     def pos(t: int) -> list[str]:

@@ -18,11 +18,39 @@ writing output files atomically).
 """
 
 from plansynth.io.documents import MAX_FILE_BYTES, decode_utf8, load_document, parse_document, read_text
-from plansynth.io.fields import (MAX_NAME_LENGTH, Fields, as_float, as_float_vector, as_int, as_int_vector, as_name, show,
-                                 type_name)
+from plansynth.io.fields import (
+    MAX_NAME_LENGTH,
+    Fields,
+    as_float,
+    as_float_vector,
+    as_int,
+    as_int_vector,
+    as_name,
+    show,
+    type_name,
+)
 from plansynth.io.output import atomic_output, check_output_folder, check_output_path, write_output
 from plansynth.io.strict_yaml import MAX_NESTING, MAX_NODES
 
-__all__ = ["MAX_FILE_BYTES", "MAX_NESTING", "MAX_NODES", "MAX_NAME_LENGTH", "read_text", "decode_utf8", "load_document",
-           "parse_document", "Fields", "show", "type_name", "as_int", "as_int_vector", "as_float", "as_float_vector",
-           "as_name", "check_output_path", "check_output_folder", "atomic_output", "write_output"]
+__all__ = [
+    "MAX_FILE_BYTES",
+    "MAX_NESTING",
+    "MAX_NODES",
+    "MAX_NAME_LENGTH",
+    "read_text",
+    "decode_utf8",
+    "load_document",
+    "parse_document",
+    "Fields",
+    "show",
+    "type_name",
+    "as_int",
+    "as_int_vector",
+    "as_float",
+    "as_float_vector",
+    "as_name",
+    "check_output_path",
+    "check_output_folder",
+    "atomic_output",
+    "write_output",
+]

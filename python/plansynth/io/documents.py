@@ -76,7 +76,9 @@ def decode_utf8(data: bytes, name: str, field: str = "<file>") -> str:
         line = data.count(b"\n", 0, exc.start) + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
         raise InvalidProblem(
-            name, field, f"not UTF-8 text: byte 0x{data[exc.start]:02x} at line {line}, column {column} (save the file as UTF-8)"
+            name,
+            field,
+            f"not UTF-8 text: byte 0x{data[exc.start]:02x} at line {line}, column {column} (save the file as UTF-8)",
         ) from None
     return text[1:] if text.startswith("\ufeff") else text
 

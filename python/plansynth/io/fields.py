@@ -12,8 +12,18 @@ from typing import Any
 
 from plansynth.errors import InvalidProblem
 
-__all__ = ["Fields", "show", "type_name", "key_text", "as_int", "as_int_vector", "as_float", "as_float_vector",
-           "as_name", "MAX_NAME_LENGTH"]
+__all__ = [
+    "Fields",
+    "show",
+    "type_name",
+    "key_text",
+    "as_int",
+    "as_int_vector",
+    "as_float",
+    "as_float_vector",
+    "as_name",
+    "MAX_NAME_LENGTH",
+]
 
 
 _REPR = reprlib.Repr()

@@ -105,8 +105,9 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     name = str(path)
     with _file_size_signal_ignored():
         try:
-            fd, tmp = tempfile.mkstemp(dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.", suffix=".tmp"
-                                       + "".join(p.suffixes[-1:]))
+            fd, tmp = tempfile.mkstemp(
+                dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.", suffix=".tmp" + "".join(p.suffixes[-1:])
+            )
         except OSError as exc:
             raise OutputUnwritable(name, _reason(exc)) from None
         os.close(fd)
@@ -141,8 +142,7 @@ def write_output(path: str | Path, data: str | bytes) -> Path:
     'hello'
     """
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    with atomic_output(path) as tmp:
-        with open(tmp, "wb") as f:
-            f.write(raw)
-            f.flush()
+    with atomic_output(path) as tmp, open(tmp, "wb") as f:
+        f.write(raw)
+        f.flush()
     return Path(path)

@@ -135,12 +135,14 @@ class StrictLoader(_NoDuplicateKeys, yaml.SafeLoader):
 
 LIBYAML = bool(getattr(yaml, "__with_libyaml__", False))
 if LIBYAML:
+
     class _StrictCLoader(_NoDuplicateKeys, yaml.CSafeLoader):
         """:class:`StrictLoader` on libyaml's parser and composer (the limits are
         checked around it by :func:`load_yaml`)."""
 
+
 _EXPONENT_FLOAT = re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$")
-for _loader in ((StrictLoader, _StrictCLoader) if LIBYAML else (StrictLoader,)):
+for _loader in (StrictLoader, _StrictCLoader) if LIBYAML else (StrictLoader,):
     _loader.add_implicit_resolver("tag:yaml.org,2002:float", _EXPONENT_FLOAT, list("-+0123456789."))
 
 
@@ -168,8 +170,10 @@ def check_expanded_size(root: Any) -> None:
             else:
                 total = 1
             if total > MAX_NODES:
-                raise Refused(f"expands to more than {MAX_NODES} values, each alias *name counting as a copy "
-                               f"of what it names ({_where(node)})")
+                raise Refused(
+                    f"expands to more than {MAX_NODES} values, each alias *name counting as a copy "
+                    f"of what it names ({_where(node)})"
+                )
             size[key] = total
             continue
         if key in size:

@@ -87,8 +87,7 @@ class _Package(types.ModuleType):
     here (the import system does), which must not hide the function of that name."""
 
     def __setattr__(self, name: str, value: Any) -> None:
-        if (name in _DEFINED_IN and isinstance(value, types.ModuleType)
-                and value.__name__ == f"{__name__}.{name}"):
+        if name in _DEFINED_IN and isinstance(value, types.ModuleType) and value.__name__ == f"{__name__}.{name}":
             return  # the function keeps the name; __getattr__ loads it on first use
         super().__setattr__(name, value)
 

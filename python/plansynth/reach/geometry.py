@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Union
+from typing import Any
 
 import numpy as np
 import shapely
@@ -26,8 +26,20 @@ from shapely.geometry import box as _sh_box
 
 from plansynth.budget import checkpoint
 
-__all__ = ["Box", "Polygon", "Shape", "halfspaces", "polygon_halfspaces", "is_convex", "polygon_problem",
-           "convex_pieces", "shape_to_shapely", "point_in_interior", "box_difference", "free_measure"]
+__all__ = [
+    "Box",
+    "Polygon",
+    "Shape",
+    "halfspaces",
+    "polygon_halfspaces",
+    "is_convex",
+    "polygon_problem",
+    "convex_pieces",
+    "shape_to_shapely",
+    "point_in_interior",
+    "box_difference",
+    "free_measure",
+]
 
 
 def _frozen_array(a: Any, dtype: Any = float) -> np.ndarray:
@@ -104,7 +116,7 @@ class Polygon:
         return _signed_area(self.vertices)
 
 
-Shape = Union[Box, Polygon]
+Shape = Box | Polygon
 
 
 def _signed_area(vs: Sequence[tuple[float, float]]) -> float:

@@ -189,8 +189,14 @@ def configuration_space(problem: Problem) -> Problem:
             lo[i] = max(lo[i], ws.lo[axis])
             hi[i] = min(hi[i], ws.hi[axis])
         sb = Box(tuple(lo), tuple(hi))
-    return replace(problem, workspace=ws, obstacles=obstacles, state_bounds=sb, robot_shape=None,
-                   name=f"{problem.name} (configuration space)")
+    return replace(
+        problem,
+        workspace=ws,
+        obstacles=obstacles,
+        state_bounds=sb,
+        robot_shape=None,
+        name=f"{problem.name} (configuration space)",
+    )
 
 
 def with_robot(problem: Problem, robot: RobotShape | None) -> Problem:
@@ -203,9 +209,13 @@ def robot_note(robot: RobotShape | None) -> str:
     if robot is None or robot.is_point:
         return ""
     if robot.radius is not None:
-        return (f"robot: a disc of radius {robot.radius:g}, planned among obstacles grown by the circumscribed "
-                f"{DISC_SIDES}-gon (an outer approximation: conservative, clearance >= {robot.radius:g} "
-                f"guaranteed, plans needing clearance below {robot.radius / math.cos(math.pi / DISC_SIDES):.4g} "
-                "may be missed)")
-    return (f"robot: a box of half-extents {list(robot.half_extent)}, planned among obstacles grown by the box "  # type: ignore[arg-type]
-            "(exact Minkowski sums)")
+        return (
+            f"robot: a disc of radius {robot.radius:g}, planned among obstacles grown by the circumscribed "
+            f"{DISC_SIDES}-gon (an outer approximation: conservative, clearance >= {robot.radius:g} "
+            f"guaranteed, plans needing clearance below {robot.radius / math.cos(math.pi / DISC_SIDES):.4g} "
+            "may be missed)"
+        )
+    return (
+        f"robot: a box of half-extents {list(robot.half_extent)}, planned among obstacles grown by the box "  # type: ignore[arg-type]
+        "(exact Minkowski sums)"
+    )

@@ -42,7 +42,10 @@ def effort(run: RunState, clock: Clock) -> float:
         want = DEFAULT_EFFORT if b is None else min(DEFAULT_EFFORT, 0.1 * b)
     return max(0.0, min(want, clock.remaining() - 0.05))
 
-def answer_program(run: RunState, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
+
+def answer_program(
+    run: RunState, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None
+) -> Term | None:
     """A small program choosing an allowed move in every state the strategy reaches.
 
     Answer first: the greedy tree over the enumerated conditions is correct by
@@ -87,8 +90,17 @@ def answer_program(run: RunState, arena: Arena, strategy: Strategy, clock: Clock
     run.counters["program_depth"] = depth(program)
     return program
 
-def _smaller(run: RunState, arena: Arena, allowed, enum: Enumeration, graph: GameGraph | ArenaCheck, program: Term,
-             clock: Clock, deadline: float) -> Term:
+
+def _smaller(
+    run: RunState,
+    arena: Arena,
+    allowed,
+    enum: Enumeration,
+    graph: GameGraph | ArenaCheck,
+    program: Term,
+    clock: Clock,
+    deadline: float,
+) -> Term:
     """Tree SAT at depths below the current program's, largest first, until one
     fails or the effort is spent; every program kept passes the game-graph check."""
     n_moves = len(arena.robot.moves)
@@ -103,8 +115,16 @@ def _smaller(run: RunState, arena: Arena, allowed, enum: Enumeration, graph: Gam
         if d > run.o.max_tree_depth:
             break  # a tree SAT this deep does not fit a small effort
         try:
-            better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=run.o.max_clauses,
-                                  max_conflicts=run.o.conflicts, max_seconds=left)
+            better = tree_program(
+                allowed,
+                useful,
+                d,
+                n_moves,
+                clock,
+                max_clauses=run.o.max_clauses,
+                max_conflicts=run.o.conflicts,
+                max_seconds=left,
+            )
         except BudgetExhausted:
             if clock.exhausted():
                 raise
@@ -119,9 +139,19 @@ def _smaller(run: RunState, arena: Arena, allowed, enum: Enumeration, graph: Gam
         # any winning strategy will do, not only this one: the exact depth search over
         # the whole game when it is small (its encoding is built before any clock check)
         try:
-            found, _, _ = minimal_program(arena, clock, depth(program) - 1, run, arena.problem, cond_depth=3,
-                                          max_clauses=run.o.max_clauses, max_conflicts=run.o.conflicts,
-                                          max_seconds=left, total_seconds=left, skip_hard=True)
+            found, _, _ = minimal_program(
+                arena,
+                clock,
+                depth(program) - 1,
+                run,
+                arena.problem,
+                cond_depth=3,
+                max_clauses=run.o.max_clauses,
+                max_conflicts=run.o.conflicts,
+                max_seconds=left,
+                total_seconds=left,
+                skip_hard=True,
+            )
         except BudgetExhausted:
             if clock.exhausted():
                 raise

@@ -94,7 +94,7 @@ class GameGraph:
     checks: int = 0
 
     @classmethod
-    def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+    def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> GameGraph:
         """Explore the pairs reachable from the start with winning moves (needs
         :meth:`Arena.solve_game` first): in the compiled core when available
         (``game.rs``, ``build_game_graph``), else :meth:`from_arena_reference`; both
@@ -107,7 +107,7 @@ class GameGraph:
         return cls.from_arena_reference(arena, clock, use_rust)
 
     @classmethod
-    def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> "GameGraph":
+    def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> GameGraph:
         from plansynth.grid.native.stationary import winning_forward
 
         n_moves = len(arena.robot.moves)
@@ -145,14 +145,15 @@ class GameGraph:
             for k in range(n_moves):
                 robot_end[r * n_moves + k] = arena.robot_end(r, k) if cells >> r & 1 else r
         start = arena.sem.index(arena.problem.robot.start)
-        compiled = core.build_game_graph(n_moves, arena.steps, arena.problem.width, start, configs, successors,
-                                         robot_end, layers)
+        compiled = core.build_game_graph(
+            n_moves, arena.steps, arena.problem.width, start, configs, successors, robot_end, layers
+        )
         g = cls(n_moves, arena.variables(), [], [], [], [], [], None)
         g._compiled = compiled  # the arrays stay in the core until asked for (materialize)
         g._sizes = compiled.sizes()
         return g
 
-    def materialize(self) -> "GameGraph":
+    def materialize(self) -> GameGraph:
         """Fetch the arrays of a graph built in the compiled core (for the reference
         check and for comparing the two builds)."""
         if self._sizes is not None and self._compiled is not None:
@@ -163,7 +164,7 @@ class GameGraph:
         return self
 
     @classmethod
-    def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+    def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> GameGraph:
         """:meth:`from_arena` in pure Python (the reference of ``build_game_graph``)."""
         n_moves = len(arena.robot.moves)
         steps = arena.steps
@@ -256,7 +257,7 @@ class GameGraph:
             if not isinstance(k, int) or isinstance(k, bool) or not 0 <= k < n or not self.win[p] >> k & 1:
                 return p
             i = p * n + k
-            for q in self.succ[self.off[i]:self.off[i + 1]]:
+            for q in self.succ[self.off[i] : self.off[i + 1]]:
                 if q not in seen:
                     seen.add(q)
                     queue.append(q)
@@ -271,8 +272,9 @@ class GameGraph:
             if not fast.available() or not hasattr(fast._core, "GameGraph"):
                 self.use_rust = False
                 return None
-            self._compiled = fast._core.GameGraph(self.n_moves, self.state_of, self.win, self.off, self.succ,
-                                                  [list(x) for x in self.inputs])
+            self._compiled = fast._core.GameGraph(
+                self.n_moves, self.state_of, self.win, self.off, self.succ, [list(x) for x in self.inputs]
+            )
         return self._compiled
 
 
@@ -335,7 +337,7 @@ def ops_program(ops: list[tuple[int, int, int, int]], variables: tuple[str, ...]
     return built[-1]
 
 
-def simplify(program: Term, graph: "GameGraph | ArenaCheck", deadline: float | None = None) -> Term:
+def simplify(program: Term, graph: GameGraph | ArenaCheck, deadline: float | None = None) -> Term:
     """Shrink ``program`` top-down while the checker accepts it: each ``ite`` node is
     replaced by one of its branches or by a move when the whole program still wins.
     Stops at ``deadline`` (a ``time.perf_counter()`` value), keeping the best so far.
@@ -378,7 +380,11 @@ def _compact(ops: list[tuple[int, int, int, int]]) -> list[tuple[int, int, int, 
             return keep[i]
         op, a, b, c = ops[i]
         kids = [go(x) for x in (a, b, c)[: arity[op]]] + [0, 0, 0]
-        row = (op, a, 0, 0) if arity[op] == 0 else (op, kids[0], kids[1] if arity[op] > 1 else 0, kids[2] if arity[op] > 2 else 0)
+        row = (
+            (op, a, 0, 0)
+            if arity[op] == 0
+            else (op, kids[0], kids[1] if arity[op] > 1 else 0, kids[2] if arity[op] > 2 else 0)
+        )
         out.append(row)
         keep[i] = len(out) - 1
         return keep[i]

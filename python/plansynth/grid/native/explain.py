@@ -66,7 +66,9 @@ def explain(problem: GridProblem, steps: int, budget: Budget = Budget(seconds=60
     """Decide ``steps`` with the native engine and explain an unrealizable answer."""
     out = Engine().solve_length(problem, steps, budget)
     if out.status is GridStatus.REALIZABLE:
-        return Explanation("realizable", steps, f"a controller exists at l = {steps}: {out.program}", counters=out.counters)
+        return Explanation(
+            "realizable", steps, f"a controller exists at l = {steps}: {out.program}", counters=out.counters
+        )
     if out.status is GridStatus.UNKNOWN:
         return Explanation("unknown", steps, out.message, counters=out.counters)
     ref = out.witness
@@ -168,8 +170,9 @@ class ObstacleStrategy:
         return joint, val
 
 
-def witness_play(problem: GridProblem, arena: Arena,
-                 strategy: ObstacleStrategy | None = None) -> tuple[list[Turn], State]:
+def witness_play(
+    problem: GridProblem, arena: Arena, strategy: ObstacleStrategy | None = None
+) -> tuple[list[Turn], State]:
     """Play the obstacles' strategy (:class:`ObstacleStrategy`) against a robot that
     postpones its loss for as long as it can."""
     strategy = strategy or ObstacleStrategy(problem, arena)
@@ -192,8 +195,13 @@ def witness_play(problem: GridProblem, arena: Arena,
         play.append(Turn(t, state, k, joint))
         state = out.state
     last = play[-1]
-    play[-1] = Turn(last.t, last.state, last.robot_move, last.obstacle_moves,
-                    f"not on the goal after step {steps - 1}: the robot is at {state.robot}")
+    play[-1] = Turn(
+        last.t,
+        last.state,
+        last.robot_move,
+        last.obstacle_moves,
+        f"not on the goal after step {steps - 1}: the robot is at {state.robot}",
+    )
     return play, state
 
 

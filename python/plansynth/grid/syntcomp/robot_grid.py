@@ -268,7 +268,7 @@ def parse(text: str, *, name: str = "", file: str | None = None) -> RobotGridMap
             doors.append(Door(pending_door, frozenset(robot.all_in(joined))))
             pending_door = None
         elif sec == "INPUTS" and re.fullmatch(r"deliveryrequest\d+;", joined):
-            deliveries.append(_delivery(joined[:-1], blocks[k + 1:], robot, fail))
+            deliveries.append(_delivery(joined[:-1], blocks[k + 1 :], robot, fail))
         elif sec == "INPUTS" and joined.startswith("mox"):
             ob_name = re.match(r"mox(\d+)_0;", joined).group(1)
             mo = _Cells(f"mox{ob_name}", f"moy{ob_name}")
@@ -290,8 +290,18 @@ def parse(text: str, *, name: str = "", file: str | None = None) -> RobotGridMap
         obstacle = MovingObstacle(f"mo{ob_name}", ob_start, ob_monitor, ob_moves)
     if None in walls:
         raise fail("forbidden zones", "a clause that is not one cell")
-    return RobotGridMap(name, width, height, (0, 0), frozenset(walls), tuple(doors), tuple(deliveries), obstacle,
-                        robot_fav, obstacle_fav)
+    return RobotGridMap(
+        name,
+        width,
+        height,
+        (0, 0),
+        frozenset(walls),
+        tuple(doors),
+        tuple(deliveries),
+        obstacle,
+        robot_fav,
+        obstacle_fav,
+    )
 
 
 def _axis(conj: str, axis: str) -> int | None:

@@ -28,14 +28,13 @@ def counterexample(search: Search, loss: Loss) -> Counterexample:
             j = loss.obstacle
             table = search.obstacle[search.read[j]]
             cells[j], joint[loss.t][search.read[j]] = next(
-                (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c])
-                if not m.isdisjoint(r_swept)
+                (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c]) if not m.isdisjoint(r_swept)
             )
     # Walk back through the parents: a parent part whose image holds the cells, and
     # for each obstacle a cell there with a move into its current cell.
     node, t = loss.node, loss.t
     while t > 0:
-        for parent, part, k in node.parents:
+        for parent, part, k in node.parents:  # noqa: B007 - the parent found and its move are read after the loop
             back = _preimage(search, part, cells)
             if back is not None:
                 break

@@ -28,8 +28,7 @@ def replay(
         state = nxt
     if len(robot_moves) == steps and state.robot != problem.robot.goal:
         return tuple(states), (
-            f"not on the goal {_fmt(problem.robot.goal)} after step {steps - 1}: "
-            f"the robot is at {_fmt(state.robot)}"
+            f"not on the goal {_fmt(problem.robot.goal)} after step {steps - 1}: the robot is at {_fmt(state.robot)}"
         )
     return tuple(states), None
 

@@ -84,7 +84,9 @@ def abstract(problem: ReachProblem, *, method: str = "auto", coarsen: bool = Tru
     # number regions bottom-up (last axis first), for readable pictures and logs
     order = sorted(range(len(regions)), key=lambda i: tuple(regions[i].center[::-1].round(9)))
     new_index = {old: new for new, old in enumerate(order)}
-    regions = [Region(index=k, H=regions[o].H, h=regions[o].h, vertices=regions[o].vertices) for k, o in enumerate(order)]
+    regions = [
+        Region(index=k, H=regions[o].H, h=regions[o].h, vertices=regions[o].vertices) for k, o in enumerate(order)
+    ]
     adj = {(min(new_index[i], new_index[j]), max(new_index[i], new_index[j])) for i, j in adj}
     nbrs: list[list[int]] = [[] for _ in regions]
     for i, j in adj:

@@ -63,9 +63,7 @@ class Pieces:
         for pid, cyc in self.cycles.items():
             for i in range(len(cyc)):
                 owner[(cyc[i], cyc[(i + 1) % len(cyc)])] = pid
-        diagonals = [
-            (u, v) for (u, v), pid in owner.items() if (v, u) in owner and owner[(v, u)] != pid and u < v
-        ]
+        diagonals = [(u, v) for (u, v), pid in owner.items() if (v, u) in owner and owner[(v, u)] != pid and u < v]
         diagonals.sort(key=self.order)
         merged_any = False
         for u, v in diagonals:

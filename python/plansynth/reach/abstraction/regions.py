@@ -116,7 +116,9 @@ def region_from_box(index: int, lo: np.ndarray, hi: np.ndarray) -> Region:
     if d == 2:
         v = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
     else:
-        v = np.array([[(lo, hi)[bx][0], (lo, hi)[by][1], (lo, hi)[bz][2]] for bz in (0, 1) for by in (0, 1) for bx in (0, 1)])
+        v = np.array(
+            [[(lo, hi)[bx][0], (lo, hi)[by][1], (lo, hi)[bz][2]] for bz in (0, 1) for by in (0, 1) for bx in (0, 1)]
+        )
     return Region(index=index, H=_ro(H), h=_ro(h), vertices=_ro(v.astype(float)))
 
 

@@ -26,8 +26,12 @@ def slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple[
     Its slivers then stand between the pieces below and above, which share a facet of
     positive length but would only be linked through a region no path can cross.
     """
-    s_of = (lambda p: p[axis])
-    r_of = (lambda p: p[1 - axis])
+
+    def s_of(p):
+        return p[axis]
+
+    def r_of(p):
+        return p[1 - axis]
 
     def point(s: float, r: float) -> Pt:
         return (r, s) if axis == 1 else (s, r)

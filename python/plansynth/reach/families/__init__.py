@@ -27,6 +27,22 @@ from plansynth.reach.families.random_robots import RANDOM_DYNAMICS_MAX_HORIZON, 
 from plansynth.reach.families.random_rooms import random_workspace
 from plansynth.reach.families.rooms import cluttered, dubins_example
 
-__all__ = ["maze", "gcs_maze", "cluttered", "dubins_example", "random_workspace", "random_dynamics", "examples",
-           "write_examples", "main", "MAZE_SIZE", "WALL_THICKNESS", "RIGHT_GAP", "LEFT_GAP", "DERIVATIVE_BOUND",
-           "GCS_MAZE_WALL", "GCS_MAZE_KNOCK_DOWNS", "RANDOM_DYNAMICS_MAX_HORIZON"]
+__all__ = [
+    "maze",
+    "gcs_maze",
+    "cluttered",
+    "dubins_example",
+    "random_workspace",
+    "random_dynamics",
+    "examples",
+    "write_examples",
+    "main",
+    "MAZE_SIZE",
+    "WALL_THICKNESS",
+    "RIGHT_GAP",
+    "LEFT_GAP",
+    "DERIVATIVE_BOUND",
+    "GCS_MAZE_WALL",
+    "GCS_MAZE_KNOCK_DOWNS",
+    "RANDOM_DYNAMICS_MAX_HORIZON",
+]

@@ -94,8 +94,10 @@ def gcs_maze(n: int, *, seed: int = 4, knock_downs: int | None = None) -> ReachP
                 segs.append(((x - h, y - h), (x + h, y + 1 + h)))
     segs.append(((-h, n - h), (n - 1 + h, n + h)))
     segs.append(((n - h, -h), (n + h, n + h)))
-    obstacles = tuple(Box(tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi)) for lo, hi in sorted(
-        (tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi)) for lo, hi in segs))
+    obstacles = tuple(
+        Box(tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi))
+        for lo, hi in sorted((tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi)) for lo, hi in segs)
+    )
     dyn = integrator_chain(2, 2, 0.5)
     c = n - 0.5
     return ReachProblem(

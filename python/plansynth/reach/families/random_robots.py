@@ -69,7 +69,7 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
             a = rng.uniform(-1.0, -0.2)
             if i + 1 < k:
                 b = rng.uniform(0.0, 1.0)
-                D[i:i + 2, i:i + 2] = [[a, -b], [b, a]]
+                D[i : i + 2, i : i + 2] = [[a, -b], [b, a]]
                 i += 2
             else:
                 D[i, i] = a
@@ -100,9 +100,15 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
     start[:2] = (1.0, 1.0)
     S_ = MAZE_SIZE
     return ReachProblem(
-        workspace=base.workspace, obstacles=base.obstacles, goal=base.goal, dynamics=dyn, start=start,
-        input_bound=1.0, state_bounds=Box(tuple([0.0, 0.0] + list(-zb)), tuple([S_, S_] + list(zb))),
-        name=f"random-dynamics-{n_passages}-n{n_states}-s{seed}", max_horizon=RANDOM_DYNAMICS_MAX_HORIZON,
+        workspace=base.workspace,
+        obstacles=base.obstacles,
+        goal=base.goal,
+        dynamics=dyn,
+        start=start,
+        input_bound=1.0,
+        state_bounds=Box(tuple([0.0, 0.0] + list(-zb)), tuple([S_, S_] + list(zb))),
+        name=f"random-dynamics-{n_passages}-n{n_states}-s{seed}",
+        max_horizon=RANDOM_DYNAMICS_MAX_HORIZON,
     )
 
 

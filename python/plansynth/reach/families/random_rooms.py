@@ -77,7 +77,10 @@ def _random_star(rng: np.random.Generator, size: float) -> Polygon:
     while np.max(np.diff(np.concatenate([angles, [angles[0] + 2 * math.pi]]))) >= math.pi * 0.9:
         angles = np.sort(rng.uniform(0, 2 * math.pi, k))
     radii = rng.uniform(size * 0.04, size * 0.2, k)
-    vs = tuple((round(float(c[0] + r * math.cos(a)), 3), round(float(c[1] + r * math.sin(a)), 3)) for a, r in zip(angles, radii))
+    vs = tuple(
+        (round(float(c[0] + r * math.cos(a)), 3), round(float(c[1] + r * math.sin(a)), 3))
+        for a, r in zip(angles, radii)
+    )
     return Polygon(vs)
 
 
@@ -89,8 +92,10 @@ def _free_point_sampler(rng: np.random.Generator, ws: Box, obstacles: list[Shape
 
     def inside(p: np.ndarray) -> bool:
         if d == 2:
-            return geom is not None and geom.distance(shapely.Point(p)) < ws.hi[0] * 0.005 or (
-                geom is not None and geom.contains(shapely.Point(p))
+            return (
+                geom is not None
+                and geom.distance(shapely.Point(p)) < ws.hi[0] * 0.005
+                or (geom is not None and geom.contains(shapely.Point(p)))
             )
         return any(all(o.lo[k] - 0.05 <= p[k] <= o.hi[k] + 0.05 for k in range(d)) for o in obstacles)  # type: ignore[union-attr]
 

@@ -26,11 +26,15 @@ def cluttered() -> ReachProblem:
     """
     L = Polygon(((3, 3), (8, 3), (8, 5), (5, 5), (5, 9), (3, 9)))
     U = Polygon(((11, 2), (17, 2), (17, 8), (15, 8), (15, 4), (13, 4), (13, 8), (11, 8)))
-    star = Polygon(tuple(
-        (round(6 + (2.6 if k % 2 == 0 else 1.1) * math.cos(math.pi / 2 + k * math.pi / 5), 3),
-         round(14 + (2.6 if k % 2 == 0 else 1.1) * math.sin(math.pi / 2 + k * math.pi / 5), 3))
-        for k in range(10)
-    ))
+    star = Polygon(
+        tuple(
+            (
+                round(6 + (2.6 if k % 2 == 0 else 1.1) * math.cos(math.pi / 2 + k * math.pi / 5), 3),
+                round(14 + (2.6 if k % 2 == 0 else 1.1) * math.sin(math.pi / 2 + k * math.pi / 5), 3),
+            )
+            for k in range(10)
+        )
+    )
     zigzag = Polygon(((9, 10), (12, 13), (14, 11), (17, 14), (17, 15.5), (14, 12.5), (12, 14.5), (9, 11.5)))
     tri = Polygon(((12, 17), (15, 19), (10, 19.5)))
     dyn = integrator_chain(2, 2, 0.5)

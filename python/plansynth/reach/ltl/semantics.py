@@ -29,10 +29,23 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
-from plansynth.reach.ltl.syntax import (And, Const, Finally, Formula, Globally, Iff, Implies, Next, Not, Or, Prop,
-                                        Release, Until)
+from plansynth.reach.ltl.syntax import (
+    And,
+    Const,
+    Finally,
+    Formula,
+    Globally,
+    Iff,
+    Implies,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+)
 
 __all__ = ["Lasso", "finite_word", "holds", "holds_at", "holds_unrolled"]
 
@@ -145,7 +158,7 @@ def holds_unrolled(f: Formula, word: Lasso) -> bool:
     def fold(j: int) -> int:
         return j if j < p else p + (j - p) % (n - p)
 
-    @lru_cache(maxsize=None)
+    @cache
     def at(g: Formula, i: int) -> bool:
         if isinstance(g, Const):
             return g.value

@@ -27,11 +27,28 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import Union
 
 __all__ = [
-    "Formula", "Const", "Prop", "Not", "And", "Or", "Implies", "Iff", "Next", "Finally", "Globally",
-    "Until", "Release", "LtlSyntaxError", "parse", "nnf", "props", "subformulas", "children", "KEYWORDS",
+    "Formula",
+    "Const",
+    "Prop",
+    "Not",
+    "And",
+    "Or",
+    "Implies",
+    "Iff",
+    "Next",
+    "Finally",
+    "Globally",
+    "Until",
+    "Release",
+    "LtlSyntaxError",
+    "parse",
+    "nnf",
+    "props",
+    "subformulas",
+    "children",
+    "KEYWORDS",
 ]
 
 KEYWORDS = frozenset({"X", "F", "G", "U", "R", "true", "false"})
@@ -58,7 +75,7 @@ class Prop:
 
 @dataclass(frozen=True)
 class Not:
-    arg: "Formula"
+    arg: Formula
 
     def __str__(self) -> str:
         return f"!{self.arg}"
@@ -66,8 +83,8 @@ class Not:
 
 @dataclass(frozen=True)
 class _Binary:
-    left: "Formula"
-    right: "Formula"
+    left: Formula
+    right: Formula
     symbol = "?"
 
     def __str__(self) -> str:
@@ -106,7 +123,7 @@ class Release(_Binary):
 
 @dataclass(frozen=True)
 class Next:
-    arg: "Formula"
+    arg: Formula
 
     def __str__(self) -> str:
         return f"X {self.arg}"
@@ -114,7 +131,7 @@ class Next:
 
 @dataclass(frozen=True)
 class Finally:
-    arg: "Formula"
+    arg: Formula
 
     def __str__(self) -> str:
         return f"F {self.arg}"
@@ -122,13 +139,13 @@ class Finally:
 
 @dataclass(frozen=True)
 class Globally:
-    arg: "Formula"
+    arg: Formula
 
     def __str__(self) -> str:
         return f"G {self.arg}"
 
 
-Formula = Union[Const, Prop, Not, And, Or, Implies, Iff, Next, Finally, Globally, Until, Release]
+Formula = Const | Prop | Not | And | Or | Implies | Iff | Next | Finally | Globally | Until | Release
 _UNARY = {"!": Not, "X": Next, "F": Finally, "G": Globally}
 
 

@@ -25,13 +25,35 @@ and the mission planners use them. One module per bound:
 """
 
 from plansynth.reach.lazy.bounds.adjacency import step_adjacency, touching
-from plansynth.reach.lazy.bounds.chains import (GOAL_NODE, SEPARATOR_MAX_REGIONS, START_NODE, ChainBounds, chain_gaps,
-                                                separator_bounds)
+from plansynth.reach.lazy.bounds.chains import (
+    GOAL_NODE,
+    SEPARATOR_MAX_REGIONS,
+    START_NODE,
+    ChainBounds,
+    chain_gaps,
+    separator_bounds,
+)
 from plansynth.reach.lazy.bounds.proved import SWEEP_MAX_REGIONS, SWEEP_MAX_WORK, proved_horizon_bound
 from plansynth.reach.lazy.bounds.step import MULTISTEP_TABLE, box_steps, physical_lower_bound, shape_box, step_reach
 from plansynth.reach.lazy.bounds.windows import TimeWindows, time_windows
 
-__all__ = ["step_reach", "physical_lower_bound", "shape_box", "box_steps", "TimeWindows", "time_windows",
-           "touching", "step_adjacency", "proved_horizon_bound", "SWEEP_MAX_REGIONS", "SWEEP_MAX_WORK",
-           "MULTISTEP_TABLE", "SEPARATOR_MAX_REGIONS", "START_NODE", "GOAL_NODE", "ChainBounds", "separator_bounds",
-           "chain_gaps"]
+__all__ = [
+    "step_reach",
+    "physical_lower_bound",
+    "shape_box",
+    "box_steps",
+    "TimeWindows",
+    "time_windows",
+    "touching",
+    "step_adjacency",
+    "proved_horizon_bound",
+    "SWEEP_MAX_REGIONS",
+    "SWEEP_MAX_WORK",
+    "MULTISTEP_TABLE",
+    "SEPARATOR_MAX_REGIONS",
+    "START_NODE",
+    "GOAL_NODE",
+    "ChainBounds",
+    "separator_bounds",
+    "chain_gaps",
+]

@@ -56,8 +56,9 @@ def touching(abstraction: Abstraction, tol: float = 1e-9) -> tuple[tuple[int, ..
     return tuple(tuple(sorted(n)) for n in out)
 
 
-def step_adjacency(problem: ReachProblem, abstraction: Abstraction,
-                   reach: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[tuple[int, ...], ...]:
+def step_adjacency(
+    problem: ReachProblem, abstraction: Abstraction, reach: tuple[np.ndarray, np.ndarray] | None = None
+) -> tuple[tuple[int, ...], ...]:
     """The regions one step can connect, for samples-only trajectories (beyond Shoukry
     et al., CDC 2016, whose DIS-PLAN, Section IV, moves to adjacent regions only): j is listed for i when some p in region i and q in region j have
     ``q - p`` in the box ``[-r, r]`` with ``r = max(step_down, step_up)`` per axis
@@ -96,14 +97,21 @@ def step_adjacency(problem: ReachProblem, abstraction: Abstraction,
 
         polys = [ShPolygon(g.vertices) for g in regions]
         corners = np.array([[-r[0], -r[1]], [r[0], -r[1]], [r[0], r[1]], [-r[0], r[1]]])
-        grown = [shapely.convex_hull(shapely.multipoints((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2)))
-                 for g in regions]
+        grown = [
+            shapely.convex_hull(
+                shapely.multipoints((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2))
+            )
+            for g in regions
+        ]
         tree = shapely.STRtree(polys)
         left, right = tree.query(grown, predicate="dwithin", distance=eps)
         pairs = zip(left.tolist(), right.tolist())
     else:
-        pairs = ((i, int(j)) for i in range(k)
-                 for j in np.nonzero(np.all(lo <= hi[i] + r, axis=1) & np.all(hi >= lo[i] - r, axis=1))[0])
+        pairs = (
+            (i, int(j))
+            for i in range(k)
+            for j in np.nonzero(np.all(lo <= hi[i] + r, axis=1) & np.all(hi >= lo[i] - r, axis=1))[0]
+        )
     for i, j in pairs:
         checkpoint()
         if i != j:

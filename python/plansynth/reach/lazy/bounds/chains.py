@@ -62,8 +62,9 @@ def _unreached(adjacency: Sequence[Sequence[int]], sources: Sequence[int], remov
     return {j for j in range(k) if not seen[j] and j != removed}
 
 
-def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence[int],
-                     goal_regions: Sequence[int], gap: Any) -> ChainBounds:
+def separator_bounds(
+    adjacency: Sequence[Sequence[int]], start_regions: Sequence[int], goal_regions: Sequence[int], gap: Any
+) -> ChainBounds:
     """Time windows and a horizon bound from chains of *separators* (beyond the paper).
 
     Plans are walks in the region graph ``adjacency`` (one region per step, each step
@@ -99,6 +100,7 @@ def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence
     k = len(adjacency)
     starts, goals = tuple(start_regions), tuple(goal_regions)
     inf = math.inf
+
     # BFS distances: a separator is strictly nearer (to the start, resp. the goal)
     def bfs(sources: Sequence[int]) -> list[float]:
         dist = [inf] * k
@@ -161,8 +163,12 @@ def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence
         chain.append(last)
         last = via[last] if last not in starts else START_NODE
     chain.append(START_NODE)
-    return ChainBounds(tuple(int(e) if e < inf else inf for e in earliest),
-                       tuple(int(r) if r < inf else inf for r in to_go), int(horizon), tuple(chain[::-1]))
+    return ChainBounds(
+        tuple(int(e) if e < inf else inf for e in earliest),
+        tuple(int(r) if r < inf else inf for r in to_go),
+        int(horizon),
+        tuple(chain[::-1]),
+    )
 
 
 def chain_gaps(problem: ReachProblem, abstraction: Abstraction) -> Any | None:

@@ -26,8 +26,9 @@ SWEEP_MAX_REGIONS = 1000  # beyond this the proved sweep is skipped (the distanc
 SWEEP_MAX_WORK = 2_000_000  # region visits; the sweep stops early (its bound so far holds)
 
 
-def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
-                  down: np.ndarray, up: np.ndarray) -> float:
+def _proved_sweep(
+    problem: ReachProblem, abstraction: Abstraction, limit: int, down: np.ndarray, up: np.ndarray
+) -> float:
     """The displacement-box sweep with any number of regions per step (segment-safe
     trajectories): the first step at which the goal may be reached, ``limit + 1`` if
     not within ``limit`` steps, ``inf`` if the sweep closes without reaching it.
@@ -63,7 +64,9 @@ def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
 
     def hit() -> bool:
         for j in goal_regions:
-            if np.all(reach_lo[j] <= reach_hi[j]) and np.all(np.maximum(reach_lo[j], g_lo) <= np.minimum(reach_hi[j], g_hi) + pad):
+            if np.all(reach_lo[j] <= reach_hi[j]) and np.all(
+                np.maximum(reach_lo[j], g_lo) <= np.minimum(reach_hi[j], g_hi) + pad
+            ):
                 return True
         return False
 
@@ -100,8 +103,9 @@ def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
     return limit + 1
 
 
-def proved_horizon_bound(problem: ReachProblem, abstraction: Abstraction, limit: int, *,
-                         segment_safe: bool = True) -> float:
+def proved_horizon_bound(
+    problem: ReachProblem, abstraction: Abstraction, limit: int, *, segment_safe: bool = True
+) -> float:
     """A lower bound on the horizon of *every* trajectory of ``problem`` (the spec's
     semantics), whatever the decomposition: ``inf`` when no trajectory reaches the goal
     at all, ``limit + 1`` when none does within ``limit`` steps.

@@ -38,7 +38,6 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
     n, m = dyn.n_states, dyn.n_inputs
     pos = list(dyn.position)
     A, B = np.asarray(dyn.A), np.asarray(dyn.B)
-    inf = highspy.kHighsInf
     lo, hi = problem.state_box
     # variables [x (n), u (m)]; rows: A x + B u within [lo, hi]
     M = np.hstack([A, B])
@@ -74,7 +73,7 @@ def _once_per_problem(f):  # (problems are immutable values with identity hashes
     import functools
     import weakref
 
-    memo: "weakref.WeakKeyDictionary[ReachProblem, tuple[np.ndarray, np.ndarray]]" = weakref.WeakKeyDictionary()
+    memo: weakref.WeakKeyDictionary[ReachProblem, tuple[np.ndarray, np.ndarray]] = weakref.WeakKeyDictionary()
 
     @functools.wraps(f)
     def cached(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
@@ -106,8 +105,9 @@ def physical_lower_bound(problem: ReachProblem) -> int:
     """
     down, up = step_reach(problem)
     s = np.asarray(problem.start_position, dtype=float)
-    table = (displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE)
-             if problem.starts_at_rest else None)
+    table = (
+        displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE) if problem.starts_at_rest else None
+    )
     return box_steps((s, s), shape_box(problem.goal), down, up, table)
 
 
@@ -118,8 +118,13 @@ def shape_box(shape: Any) -> tuple[np.ndarray, np.ndarray]:
     return box_of(np.asarray(shape.vertices))
 
 
-def box_steps(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray],
-              down: Sequence[float], up: Sequence[float], table: np.ndarray | None = None) -> int:
+def box_steps(
+    a: tuple[np.ndarray, np.ndarray],
+    b: tuple[np.ndarray, np.ndarray],
+    down: Sequence[float],
+    up: Sequence[float],
+    table: np.ndarray | None = None,
+) -> int:
     """The fewest steps from a position in box ``a`` to one in box ``b`` when a step moves
     at most ``down[i]``/``up[i]`` along axis i (1 << 30: some axis cannot move that way),
     and (``table``, :func:`plansynth.reach.dynamics.displacement_reach`) k steps move at

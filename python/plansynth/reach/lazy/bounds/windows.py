@@ -168,8 +168,9 @@ def _sweep_reference(
     return first, hit
 
 
-def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int, *,
-                 adjacency: Sequence[Sequence[int]] | None = None) -> TimeWindows:
+def time_windows(
+    problem: ReachProblem, abstraction: Abstraction, limit: int, *, adjacency: Sequence[Sequence[int]] | None = None
+) -> TimeWindows:
     """Reach times of the displacement-box relaxation (beyond the paper).
 
     Forget the dynamics except that a position moves by at most
