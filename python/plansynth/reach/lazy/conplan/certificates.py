@@ -222,6 +222,11 @@ class _Certificates:
         )
         if conflict == fallback:
             return conflict
+        if certified and self.tube is not None and not uses_start and conflict.first_time != b.origin:
+            # a tube's margins grow with time: the certificate holds where its LP placed
+            # E_0, and a conflict without the start is added at every time shift, so it
+            # must be refuted at its earliest placement (the loosest) first
+            certified = False
         if certified:
             self.stats.certified += 1
             return conflict
