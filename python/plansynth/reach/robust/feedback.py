@@ -84,6 +84,8 @@ def dare(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray) -> np.ndarr
     I = np.eye(n)
     Ak, G, H = A.copy(), B @ np.linalg.solve(R, B.T), Q.copy()
     for _ in range(DARE_MAX_ITERATIONS):
+        if not (np.all(np.isfinite(H)) and np.abs(H).max() < 1e150):
+            raise ValueError("the Riccati iteration diverged: (A, B) is not stabilisable")
         W = I + G @ H
         Wi_A = np.linalg.solve(W, Ak)
         Wi_G = np.linalg.solve(W, G)
@@ -99,10 +101,18 @@ def dare(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray) -> np.ndarr
     else:
         raise ValueError(f"the Riccati iteration did not converge in {DARE_MAX_ITERATIONS} doublings")
     X = (H + H.T) / 2
-    S = R + B.T @ X @ B
-    residual = A.T @ X @ A - A.T @ X @ B @ np.linalg.solve(S, B.T @ X @ A) + Q - X
-    if np.linalg.norm(residual) > 1e-8 * max(1.0, np.linalg.norm(X)):
-        raise ValueError(f"the Riccati solution misses the equation by {np.linalg.norm(residual):.2e}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        S = R + B.T @ X @ B
+        residual = A.T @ X @ A - A.T @ X @ B @ np.linalg.solve(S, B.T @ X @ A) + Q - X
+        size = float(np.linalg.norm(X))
+        miss = float(np.linalg.norm(residual))
+    if not (np.isfinite(size) and np.isfinite(miss)) or size > 1e150:
+        raise ValueError("the Riccati iteration diverged: (A, B) is not stabilisable")
+    if miss > 1e-8 * max(1.0, size):
+        raise ValueError(f"the Riccati solution misses the equation by {miss:.2e}")
+    K = -np.linalg.solve(S, B.T @ X @ A)
+    if float(np.max(np.abs(np.linalg.eigvals(A + B @ K)))) >= 1.0:
+        raise ValueError("the Riccati solution does not stabilise: (A, B) is not stabilisable")
     return X
 
 
