@@ -128,10 +128,11 @@ def run_checker(
     pos = list(problem.dynamics.position)
 
     def step_of(j: int) -> int:
-        if j <= N:
-            return min(j, N)
+        """The plan's letter that holds at step j of a run (a lasso's step N is its k)."""
         if rest:
-            return N
+            return min(j, N)
+        if j < N:
+            return j
         return loop_start + (j - loop_start) % (N - loop_start)  # type: ignore[operator]
 
     steps = None
