@@ -30,7 +30,7 @@ from typing import Generic, TypeVar
 
 from plansynth.errors import SolverUnavailable, UnknownSolver
 
-__all__ = ["Registry", "package_version"]
+__all__ = ["Registry", "extra_remedy", "package_version"]
 
 T = TypeVar("T")
 
@@ -95,6 +95,18 @@ class Registry(Generic[T]):
     def extra(self, name: str) -> str | None:
         """The optional dependency group ``name`` needs, if any."""
         return self._extras.get(name)
+
+
+def extra_remedy(module: str | None, extra: str) -> str:
+    """What to install when ``module`` of the optional dependency group ``extra`` is missing.
+
+    >>> extra_remedy("pydrake", "baselines")
+    "it needs the Python module 'pydrake', which comes with plansynth's 'baselines' extra: pip install 'plansynth[baselines]'"
+    """
+    return (
+        f"it needs the Python module {module!r}, which comes with plansynth's {extra!r} extra: "
+        f"pip install 'plansynth[{extra}]'"
+    )
 
 
 def package_version(package: str) -> str:
