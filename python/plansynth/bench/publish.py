@@ -131,19 +131,19 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
 def robust_tasks(timeout: float = ROBUST_TIMEOUT) -> list[dict[str, Any]]:
     """The robust family's runs: lazy-smt everywhere; on the mazes at scale 1 also the
     robust MILP (milp-bigm on the tightened problem) and the nominal plan followed by the
-    check; on the mission also milp-ltl.
+    check; on the mission also milp-ltl; an instance's runs one after the other.
 
     >>> sorted({t["solver"] for t in robust_tasks()})
     ['lazy-smt', 'milp-bigm', 'milp-ltl', 'nominal-check']
     """
-    insts = family("reach", "robust")
-    mazes = [
-        i for i in insts if i.params.get("scale") == 1.0 and "mission" not in i.params and "narrow" not in i.params
-    ]
-    missions = [i for i in insts if "mission" in i.params]
-    tasks = make_tasks(insts, ["lazy-smt"], timeout=timeout)
-    tasks += make_tasks(mazes, ["milp-bigm", "nominal-check"], timeout=timeout)
-    tasks += make_tasks(missions, ["milp-ltl"], timeout=timeout)
+    tasks: list[dict[str, Any]] = []
+    for inst in family("reach", "robust"):  # each instance's planners one after the other (interleaved)
+        solvers = ["lazy-smt"]
+        if "mission" in inst.params:
+            solvers.append("milp-ltl")
+        elif inst.params.get("scale") == 1.0 and "narrow" not in inst.params:
+            solvers += ["milp-bigm", "nominal-check"]
+        tasks += make_tasks([inst], solvers, timeout=timeout)
     return tasks
 
 
