@@ -297,6 +297,21 @@ def soundness_checked(
 #: oracle must refute over all of them (random rooms give about 50 per example).
 SOUNDNESS_EXAMPLES = 30
 SOUNDNESS_FLOOR = 200
+#: the loop's configurations the soundness properties draw: counterexample strategy,
+#: generalisation, segment safety, horizon search
+LOOP_CONFIGURATIONS = (
+    st.sampled_from(["zeroprefix", "trivial", "iis"]),
+    st.booleans(),
+    st.booleans(),
+    st.sampled_from(["linear", "window"]),
+)
+
+
+def soundness_examples(n: int):
+    """The settings of a soundness property: ``n`` examples, slow and filtered ones allowed."""
+    return settings(
+        max_examples=n, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
+    )
 
 
 def test_every_learned_clause_excludes_only_infeasible_sequences() -> None:
@@ -306,18 +321,8 @@ def test_every_learned_clause_excludes_only_infeasible_sequences() -> None:
     whole must refute at least :data:`SOUNDNESS_FLOOR` excluded walks."""
     checked: list[int] = []
 
-    @settings(
-        max_examples=SOUNDNESS_EXAMPLES,
-        deadline=None,
-        suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
-    )
-    @given(
-        problems(max_obstacles=4),
-        st.sampled_from(["zeroprefix", "trivial", "iis"]),
-        st.booleans(),
-        st.booleans(),
-        st.sampled_from(["linear", "window"]),
-    )
+    @soundness_examples(SOUNDNESS_EXAMPLES)
+    @given(problems(max_obstacles=4), *LOOP_CONFIGURATIONS)
     def every_clause_is_sound(
         p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, search: str
     ) -> None:
@@ -343,18 +348,9 @@ def test_every_learned_clause_is_sound_under_a_tube() -> None:
 
     checked: list[int] = []
 
-    @settings(
-        max_examples=TUBE_SOUNDNESS_EXAMPLES,
-        deadline=None,
-        suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
-    )
-    @given(
-        disturbed(scales=(0.05, 0.3)),  # tubes that grow by tenths of a metre in the first steps
-        st.sampled_from(["zeroprefix", "trivial", "iis"]),
-        st.booleans(),
-        st.booleans(),
-        st.sampled_from(["linear", "window"]),
-    )
+    # tubes that grow by tenths of a metre in the first steps
+    @soundness_examples(TUBE_SOUNDNESS_EXAMPLES)
+    @given(disturbed(scales=(0.05, 0.3)), *LOOP_CONFIGURATIONS)
     def every_clause_is_sound(
         p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, search: str
     ) -> None:

@@ -273,9 +273,14 @@ def test_planners_that_do_not_plan_under_disturbances_refuse() -> None:
     def plain(problem, budget, **_):  # a plugin that knows nothing of tubes
         raise AssertionError("must not be called")
 
+    from plansynth.reach.planners import PLANNERS
+
     register_planner("plain-plugin", plain, replace_existing=True)
-    with pytest.raises(InvalidOption, match="does not plan under disturbances"):
-        solve(windy_maze(1), "plain-plugin")
+    try:
+        with pytest.raises(InvalidOption, match="does not plan under disturbances"):
+            solve(windy_maze(1), "plain-plugin")
+    finally:
+        PLANNERS.unregister("plain-plugin")  # (the planners' list is the other tests' business)
 
 
 def test_early_steps_use_the_smaller_tube() -> None:

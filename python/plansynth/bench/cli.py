@@ -45,7 +45,7 @@ Examples:
 
   plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,50 --planners lazy-smt
 
-  plansynth bench reach --family robust --planners lazy-smt,milp-bigm,nominal-check --timeout 300
+  plansynth bench reach --family robust --values 3,4 --planners lazy-smt,milp-bigm,nominal-check --timeout 300
 
 Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
 (Figure 4 with random controllable A, B of n states), random, missions (LTL missions on

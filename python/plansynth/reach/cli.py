@@ -167,7 +167,22 @@ def _result_table(result: Any) -> Table:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
         table.add_row("LP calls by kind", ", ".join(f"{k} {v}" for k, v in c["lp_calls_by_kind"].items()))
-    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate", "mission_check") if k in t]
+    phases = [
+        k
+        for k in (
+            "tighten",
+            "abstraction",
+            "bounds",
+            "guide",
+            "sat",
+            "lp",
+            "milp",
+            "validate",
+            "mission_check",
+            "robust_check",
+        )
+        if k in t
+    ]
     table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
     table.add_row("total time", f"{result.seconds:.3f} s")
     if result.solver_version:
@@ -262,7 +277,7 @@ def solve_command(
         "lazy-smt",
         "--planner",
         "-p",
-        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot.",
+        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot; under a disturbance (robot.disturbance) the lazy-smt planners, milp, milp-bigm, the mission MILPs, and nominal-check (the nominal plan, then the robust check).",
     ),
     option: list[str] = typer.Option(
         [], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."

@@ -225,11 +225,13 @@ def solve(
     if problem.disturbance is not None:
         # under a disturbance: plan the problem tightened by the tube of the feedback
         # design (plansynth.reach.robust), or the nominal one (the nominal-check baseline)
+        t0 = time.perf_counter()
         tight, planned = _robust_problem(problem, planner, run)
+        tightening = time.perf_counter() - t0
         if planned is None:
             from plansynth.reach.robust.planning import no_plan
 
-            return replace(no_plan(tight, planner), solver_version=run.version(), options=_record(opts, {}))
+            return replace(no_plan(tight, planner, tightening), solver_version=run.version(), options=_record(opts, {}))
     elif problem.mission is None and robot is not None and not robot.is_point:
         # a sized robot: every planner plans for its reference point in the configuration
         # space (obstacles grown, workspace shrunk: plansynth.reach.robot); the validator
@@ -242,7 +244,7 @@ def solve(
     if tight is not None:
         from plansynth.reach.robust.planning import annotated
 
-        result = annotated(result, tight)
+        result = annotated(result, tight, tightening)
     elif planned is not problem:
         from plansynth.reach.robot import robot_note
 

@@ -40,7 +40,7 @@ from plansynth.reach.geometry import Box, Polygon, Shape, halfspaces
 from plansynth.reach.ltl.syntax import Const, Formula, Not, Prop, children, nnf, parse
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.robot import clipped, configuration_space, grown_by_box
-from plansynth.reach.robust.tighten import RELATIVE, RobustDesign, Tightened
+from plansynth.reach.robust.tighten import RELATIVE, RobustDesign, Tightened, unplannable
 
 __all__ = ["tightened_mission", "robust_formula", "IN", "OUT"]
 
@@ -156,13 +156,7 @@ def tightened_mission(problem: ReachProblem, design: RobustDesign) -> Tightened:
             name=f"{problem.name} (tightened)",
         )
     except InvalidProblem as exc:
-        return Tightened(
-            design,
-            None,
-            "unknown",
-            f"no plan through the tightened mission ({exc.field}: {exc.reason}; every set tightened by the "
-            f"tube's largest cross-section); {RELATIVE}",
-        )
+        return unplannable(design, exc, "every set tightened by the tube's largest cross-section")
     note = "a mission is tightened by the tube's largest cross-section at every step (its plan runs forever)"
     return Tightened(design, planned, note=note)
 

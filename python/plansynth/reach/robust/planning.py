@@ -39,27 +39,32 @@ def planned(problem: ReachProblem) -> Tightened:
     return tightened(problem, design)
 
 
-def no_plan(tight: Tightened, planner: str) -> ReachResult:
-    """The answer when the tightening leaves nothing to plan."""
+def no_plan(tight: Tightened, planner: str, seconds: float = 0.0) -> ReachResult:
+    """The answer when the tightening leaves nothing to plan (``seconds``: the time the
+    design and the tightening took)."""
     status = ReachStatus.INFEASIBLE if tight.status == "infeasible" else ReachStatus.UNKNOWN
     return ReachResult(
         status=status,
         solver=planner,
-        seconds=0.0,
+        seconds=seconds,
+        timings={"tighten": seconds, "total": seconds},
         message=tight.reason,
         robust=tight.design.record(),
     )
 
 
-def annotated(result: ReachResult, tight: Tightened) -> ReachResult:
-    """``result`` with the design recorded and its claims worded relative to it."""
+def annotated(result: ReachResult, tight: Tightened, seconds: float = 0.0) -> ReachResult:
+    """``result`` with the design recorded and its claims worded relative to it;
+    ``seconds`` (the time the design and the tightening took) counted in its time."""
     record = tight.design.record()
     message = result.message
     if tight.note:
         message = f"{message}; {tight.note}" if message else tight.note
     if result.status is not ReachStatus.FOUND:
         message = f"{message}; {RELATIVE}" if message else RELATIVE
-    return replace(result, robust=record, message=message)
+    total = result.seconds + seconds
+    timings = {**result.timings, "tighten": seconds, "total": total}
+    return replace(result, robust=record, message=message, seconds=total, timings=timings)
 
 
 def nominal_problem(problem: ReachProblem) -> ReachProblem:

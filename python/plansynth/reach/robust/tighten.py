@@ -58,7 +58,7 @@ from plansynth.reach.robot import clipped, configuration_space, grown_by_box
 from plansynth.reach.robust.feedback import Feedback, design_feedback
 from plansynth.reach.tube import Tube, UnstableFeedback
 
-__all__ = ["RobustDesign", "Tightened", "tightened", "robust_design", "GUARANTEE", "RELATIVE", "LAW"]
+__all__ = ["RobustDesign", "Tightened", "tightened", "robust_design", "unplannable", "GUARANTEE", "RELATIVE", "LAW"]
 
 GUARANTEE = (
     "every disturbance sequence within W keeps the closed loop safe and reaching (for the tightened sets as computed)"
@@ -254,11 +254,13 @@ def tightened(problem: ReachProblem, design: RobustDesign | None = None) -> Tigh
             name=f"{problem.name} (tightened)",
         )
     except InvalidProblem as exc:
-        return Tightened(
-            design,
-            None,
-            "unknown",
-            f"no plan through the tightened problem ({exc.field}: {exc.reason}; the obstacles grown by the "
-            f"tube's largest cross-section); {RELATIVE}",
-        )
+        return unplannable(design, exc, "the obstacles grown by the tube's largest cross-section")
     return Tightened(design, planned, note=note)
+
+
+def unplannable(design: RobustDesign, exc: InvalidProblem, how: str) -> Tightened:
+    """No tightened problem: the tightening refused it (a start inside a grown obstacle,
+    a goal with no room left, ...): ``unknown``, relative to the design."""
+    return Tightened(
+        design, None, "unknown", f"no plan through the tightened problem ({exc.field}: {exc.reason}; {how}); {RELATIVE}"
+    )
