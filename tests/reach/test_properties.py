@@ -372,6 +372,38 @@ def test_every_learned_clause_is_sound_under_a_tube() -> None:
     assert shifted[0] > 0  # clauses without the start, found after step 0: the case the tube makes delicate
 
 
+@pytest.mark.parametrize(
+    ("seed", "order", "scale", "strategy"),
+    [
+        (10, 1, 0.3, "trivial"),
+        (10, 1, 0.3, "zeroprefix"),
+        (10, 1, 0.3, "iis"),
+        (3, 2, 0.15, "iis"),
+        (12, 2, 0.15, "iis"),
+    ],
+)
+def test_clauses_under_a_tube_are_refuted_where_they_are_reused(
+    seed: int, order: int, scale: float, strategy: str
+) -> None:
+    """Rooms where a conflict, shrunk by its certificate to a later first step, is not
+    refuted at its earliest placement (each failed here when such a certificate was
+    trusted): every clause learned must be refuted by the oracle where DIS-PLAN may use
+    it, and every walk it excludes must be infeasible."""
+    from dataclasses import replace
+
+    from plansynth.reach.disturbance import Disturbance
+    from plansynth.reach.families import random_workspace
+    from plansynth.reach.robust.tighten import tightened
+
+    p = random_workspace(seed, 3, order=order, dt=1.0 if order == 1 else 0.5)
+    q = tightened(replace(p, disturbance=Disturbance(box=(scale,) * p.dynamics.n_states))).problem
+    claims: list[Conflict] = []
+    assert soundness_checked(q, strategy, True, True, claims=claims) > 0
+    ab = abstract(q)
+    for c in claims:
+        assert oracle_refutes(q, ab, c, True), f"clause {c} is not refuted at its earliest placement"
+
+
 def detour() -> ReachProblem:
     """A room with two offset walls: the shortest plans need several region changes, so
     short horizons produce many counterexamples."""
