@@ -156,7 +156,8 @@ def plot_comparison(
             inset.set_ylim(zoom[2], zoom[3])
             inset.set_xlabel("")
             inset.set_ylabel("")
-            inset.tick_params(labelsize=6)
+            inset.set_xticks([])
+            inset.set_yticks([])
             legend = inset.get_legend()
             if legend is not None:
                 legend.remove()
