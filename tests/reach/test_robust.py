@@ -245,6 +245,19 @@ def test_the_tube_polygons_are_the_support_functions(robust3) -> None:
         assert np.max(polys[t] @ dirs[:, :2].T, axis=0) == pytest.approx(S[t], abs=1e-12)
 
 
+@pytest.mark.parametrize("shape", [{"radius": 0.3}, {"half_extent": (0.3, 0.2)}])
+def test_a_robot_with_a_size_keeps_its_clearance_under_disturbance(shape: dict) -> None:
+    from plansynth.reach.robot import RobotShape
+
+    p = replace(windy_maze(2), robot_shape=RobotShape(**shape))
+    r = solve(p)
+    assert r.status is ReachStatus.FOUND and r.robust["check"]["ok"]
+    K = np.array(r.robust["feedback"]["gain"])
+    assert simulate(p, r.trajectory, K, sequences=50).violated == 0
+    shifted = replace(r.trajectory, states=np.array(r.trajectory.states) - np.array([0.0, 0.02, 0, 0]))
+    assert not check_robust(p, shifted, K).ok  # it rides the grown obstacles' edges: no slack to spare
+
+
 def test_milps_plan_the_same_tightened_problem_and_pass_the_check() -> None:
     p = windy_maze(1)
     lazy = solve(p, "lazy-smt", horizon_search="linear")
