@@ -15,14 +15,13 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.robust.check import check_robust
-from plansynth.reach.robust.tighten import GUARANTEE, RELATIVE, Tightened, robust_design, tightened
+from plansynth.reach.robust.tighten import RELATIVE, Tightened, robust_design, tightened
 
 __all__ = ["planned", "annotated", "checked", "no_plan", "nominal_problem"]
 
@@ -62,6 +61,8 @@ def annotated(result: ReachResult, tight: Tightened, seconds: float = 0.0) -> Re
         message = f"{message}; {tight.note}" if message else tight.note
     if result.status is not ReachStatus.FOUND:
         message = f"{message}; {RELATIVE}" if message else RELATIVE
+    elif result.counters.get("minimal"):
+        message += "; the horizon is minimal for the problem tightened by this feedback design's tube"
     total = result.seconds + seconds
     timings = {**result.timings, "tighten": seconds, "total": total}
     return replace(result, robust=record, message=message, seconds=total, timings=timings)
@@ -112,10 +113,3 @@ def checked(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) ->
         seconds=timings["total"],
         message=f"the {result.solver} plan fails the robust check and is not reported as found: {report.summary()}",
     )
-
-
-def guarantee_line(record: dict[str, Any] | None, found: bool) -> str:
-    """What the CLI prints on the guarantee's line."""
-    if record is None:
-        return ""
-    return GUARANTEE if found else RELATIVE

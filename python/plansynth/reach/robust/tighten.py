@@ -111,16 +111,6 @@ class RobustDesign:
             },
         }
 
-    def summary(self) -> str:
-        """One line: the gain and the largest margins."""
-        g = "; ".join(", ".join(f"{v + 0.0:.4g}" for v in row) for row in np.asarray(self.K))
-        pos = ", ".join(f"{max(a, b):.4g}" for a, b in zip(self.position_lo, self.position_hi))
-        u = max(float(np.max(self.input_lo, initial=0.0)), float(np.max(self.input_hi, initial=0.0)))
-        return (
-            f"K = [{g}] ({self.feedback.how}); obstacles grown by up to [{pos}], "
-            f"input bound tightened by up to {u:.4g} (E_t exact for {self.tube.exact_steps} steps)"
-        )
-
 
 def robust_design(problem: ReachProblem) -> RobustDesign:
     """The feedback of ``problem.disturbance`` and its tube's margins (InvalidProblem,
