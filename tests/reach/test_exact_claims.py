@@ -103,11 +103,15 @@ def floors(draw) -> ReachProblem:
     below, goal above (samples may jump a thin floor, a segment must pass its hole)."""
     obstacles: list = []
     levels = sorted(draw(st.lists(st.floats(0.8, 3.0), min_size=1, max_size=2)))
+    top = None  # the floor below's top
     for z in levels:
         t = draw(st.floats(0.1, 1.2))
         hx, hy = draw(st.floats(0.2, 3.0)), draw(st.floats(0.2, 3.0))
         w = draw(st.floats(0.1, 0.8))
         z0, z1 = round(z, 3), round(min(z + t, 3.4), 3)
+        if top is not None and z0 <= top:  # floors that meet overlap by 0.01 (no seam between them)
+            z0 = round(min(z0, top - 0.01), 3)
+        top = z1
         a, b, c, d = round(hx, 3), round(min(hx + w, 3.9), 3), round(hy, 3), round(min(hy + w, 3.9), 3)
         # the pieces overlap by 0.01: on a face two obstacles share, a point is outside
         # each one's interior but inside their union's, and the spec (outside every
