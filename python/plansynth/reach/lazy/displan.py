@@ -377,9 +377,10 @@ class DisPlan(LearnedClauses):
     def _clause(self, c: Conflict, shift: int, guard: int | None) -> None:
         """Add ``c`` shifted by ``shift``: under ``act[guard]`` when goal-anchored, else
         for plans that reach its last time step."""
-        if not all(self.exists(t + shift, i) for t, i in c.literals):
+        lits = self._literals(c, shift)
+        if lits is None:
             return  # a literal that is false in every plan: the clause holds already
-        clause = [-self.at(t + shift, i) for t, i in c.literals]
+        clause = [-v for v in lits]
         if guard is not None:
             clause.append(-guard)
         else:
@@ -388,15 +389,25 @@ class DisPlan(LearnedClauses):
                 clause.append(short)
         self._learn_clause(clause)
 
+    def _literals(self, c: Conflict, shift: int) -> list[int] | None:
+        """The variables of ``c``'s literals shifted by ``shift``, or None when one of
+        them is false in every plan. (Points along segments, ``c.vias``, exist only in
+        :class:`~plansynth.reach.lazy.segments.SegmentDisPlan`.)"""
+        if c.vias:
+            raise ValueError("a conflict about points along segments needs a SegmentDisPlan")
+        if not all(self.exists(t + shift, i) for t, i in c.literals):
+            return None
+        return [self.at(t + shift, i) for t, i in c.literals]
+
     def _rest_shifts(self, c: Conflict) -> range:
         """The shifts at which a start-anchored conflict holds: 0, and with
         ``waits_at_start`` every earlier shift that keeps its literals at times >= 0
         (a trajectory for the shifted claims, preceded by that many steps of waiting at
         the start, would realise the conflict itself; with the goal anchored, the
         horizon moves along, down to the first horizon tried)."""
-        if not self.waits_at_start or not c.literals:
+        if not self.waits_at_start or not (c.literals or c.vias):
             return range(0, -1, -1)
-        lowest = min(t for t, _ in c.literals)
+        lowest = min([t for t, _ in c.literals] + [t for t, _, _ in c.vias])
         if c.anchored_goal and self.floor is not None:
             lowest = min(lowest, c.horizon - self.floor)
         return range(0, -lowest - 1, -1)
