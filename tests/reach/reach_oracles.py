@@ -149,7 +149,14 @@ EXACT_ROUNDS = 40
 
 
 def oracle_exact(
-    problem: ReachProblem, horizon: int, *, seconds: float = 60.0, witness: list | None = None
+    problem: ReachProblem,
+    horizon: int,
+    *,
+    seconds: float = 60.0,
+    witness: list | None = None,
+    start: bool = True,
+    goal: bool = True,
+    claims: tuple = (),
 ) -> bool | None:
     """Is there a *segment-safe* trajectory of exactly ``horizon`` steps (the spec: every
     segment between consecutive positions avoids every obstacle's interior)? Exact up
@@ -171,16 +178,23 @@ def oracle_exact(
     The face MILP (``oracle_feasible(segments=True)``, sufficient) is asked first: its
     solutions are segment-safe. Faces flush with the workspace's boundary give no room
     here either (see :func:`oracle_feasible`): the depth of a point counts only the
-    other faces."""
+    other faces.
+
+    ``start``/``goal`` False: x_0 free / no goal at x_N; ``claims``: more rows, (t, s,
+    H, h) meaning ``H (p_t + s (p_{t+1} - p_t)) <= h`` (a clause's literals, to check
+    that no segment-safe trajectory realises them)."""
     import time
 
     deadline = time.perf_counter() + seconds
     N = int(horizon)
-    face = oracle_feasible(problem, N, segments=True, seconds=seconds, witness=witness)
-    if face is True:
+    kw = dict(start=start, goal=goal, claims=claims)
+    col = _milp(problem, N, [((t, 0.0), (t + 1, 0.0)) for t in range(N)] or [((0, 0.0),)], seconds, **kw)
+    if col is not None and not isinstance(col, str):  # the face MILP: a segment-safe solution
+        if witness is not None:
+            witness.append(_states(problem, N, col))
         return True
     if N == 0:
-        return face
+        return None if isinstance(col, str) else False
     fractions = [[j / (EXACT_START_POINTS + 1) for j in range(1, EXACT_START_POINTS + 1)] for _ in range(N)]
     shapes = [_interior_faces(problem, o) for o in problem.obstacles]
     for _ in range(EXACT_ROUNDS):
@@ -189,7 +203,7 @@ def oracle_exact(
         left = deadline - time.perf_counter()
         if left <= 0:
             return None
-        col = _milp(problem, N, points, left)
+        col = _milp(problem, N, points, left, **kw)
         if col is None:
             return False
         if isinstance(col, str):
@@ -218,7 +232,7 @@ def oracle_exact(
         for t in range(N):
             cuts = [0.0, *sorted(fractions[t]), 1.0]
             pieces += [((t, a), (t, b)) for a, b in zip(cuts, cuts[1:])]
-        col = _milp(problem, N, pieces, left)
+        col = _milp(problem, N, pieces, left, **kw)
         if col is not None and not isinstance(col, str):
             if witness is not None:
                 witness.append(_states(problem, N, col))
@@ -272,11 +286,20 @@ def _states(problem: ReachProblem, N: int, col: np.ndarray) -> np.ndarray:
     return np.asarray(col[: (N + 1) * n]).reshape(N + 1, n)
 
 
-def _milp(problem: ReachProblem, N: int, groups: list[tuple[tuple[int, float], ...]], seconds: float):
+def _milp(
+    problem: ReachProblem,
+    N: int,
+    groups: list[tuple[tuple[int, float], ...]],
+    seconds: float,
+    *,
+    start: bool = True,
+    goal: bool = True,
+    claims: tuple = (),
+):
     """The oracle MILP of horizon N: the trajectory's rows and, for every group of points
     (t, s), meaning p_t + s (p_{t+1} - p_t), and every convex obstacle, one face whose
     closed outer half-space holds every point of the group. The solution's columns, None
-    (infeasible) or "timeout"."""
+    (infeasible) or "timeout". ``start``/``goal``/``claims``: see :func:`oracle_exact`."""
     from plansynth.reach.geometry import Box
 
     rs = getattr(problem, "robot_shape", None)
@@ -295,7 +318,8 @@ def _milp(problem: ReachProblem, N: int, groups: list[tuple[tuple[int, float], .
     n_cont = (N + 1) * n + N * m
     col_lo = np.concatenate([np.tile(lo, N + 1), np.full(N * m, -problem.input_bound)])
     col_hi = np.concatenate([np.tile(hi, N + 1), np.full(N * m, problem.input_bound)])
-    col_lo[:n] = col_hi[:n] = np.asarray(problem.start, float)
+    if start:
+        col_lo[:n] = col_hi[:n] = np.asarray(problem.start, float)
     rows: list[Row] = []
     for t in range(N):
         for i in range(n):
@@ -307,12 +331,14 @@ def _milp(problem: ReachProblem, N: int, groups: list[tuple[tuple[int, float], .
                 if B[i, j] != 0.0:
                     coef[u(t, j)] = -B[i, j]
             rows.append((coef, 0.0, 0.0))
-    goal = problem.goal
-    if isinstance(goal, Box):
+    target = problem.goal
+    if not goal:
+        pass
+    elif isinstance(target, Box):
         for a, i in enumerate(pos):
-            rows.append(({x(N, i): 1.0}, float(goal.lo[a]), float(goal.hi[a])))
+            rows.append(({x(N, i): 1.0}, float(target.lo[a]), float(target.hi[a])))
     else:
-        for nrm, c in _faces(goal):  # inside a convex goal: n.p <= c for every face
+        for nrm, c in _faces(target):  # inside a convex goal: n.p <= c for every face
             rows.append(({x(N, pos[a]): float(nrm[a]) for a in range(len(pos)) if nrm[a] != 0.0}, -np.inf, c))
 
     def point(t: int, s: float, nrm: np.ndarray) -> dict[int, float]:
@@ -327,6 +353,9 @@ def _milp(problem: ReachProblem, N: int, groups: list[tuple[tuple[int, float], .
                 coef[x(t + 1, pos[a])] = coef.get(x(t + 1, pos[a]), 0.0) + s * float(nrm[a])
         return coef
 
+    for t, s, H, h in claims:  # H p(t, s) <= h
+        for row, b in zip(np.atleast_2d(H), np.atleast_1d(h)):
+            rows.append((point(t, s, np.asarray(row, float)), -np.inf, float(b)))
     n_bin = 0
     for shape in problem.obstacles:
         faces = _faces(shape)

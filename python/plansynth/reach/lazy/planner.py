@@ -169,9 +169,13 @@ def plan_lazy(
     :mod:`plansynth.reach.lazy.relaxation` (:func:`~plansynth.reach.lazy.claims.prove_claims`).
     """
     opts = LazyOptions() if options is None else options
+    # segment-safe with exact transitions: a step may cross several regions (lazy/segments.py)
+    crossing = opts.segment_safe and opts.exact_segments
     # the relaxation can only prove a horizon that is minimal through the decomposition
-    # (it refutes h - 1): the window search's plan sits at its window's top
-    search = "minimal" if opts.prove and opts.horizon_search == "window" else opts.horizon_search
+    # (it refutes h - 1): the window search's plan sits at its window's top; with exact
+    # transitions, a window whose plans need points along their segments is deferred
+    # and the plan found lies far above the minimum (the GCS paper's 10 x 10 maze: 200)
+    search = "minimal" if (opts.prove or crossing) and opts.horizon_search == "window" else opts.horizon_search
     t_start = time.perf_counter()
     clock = budget.clock()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
@@ -179,8 +183,6 @@ def plan_lazy(
     timings = {"abstraction": 0.0, "bounds": 0.0, "guide": 0.0, "sat": 0.0, "lp": 0.0}
     counters: dict = {}
     guarantee = "segments" if opts.segment_safe else "samples"
-    # segment-safe with exact transitions: a step may cross several regions (lazy/segments.py)
-    crossing = opts.segment_safe and opts.exact_segments
 
     def result(out: LoopOutcome) -> ReachResult:
         timings["total"] = time.perf_counter() - t_start
