@@ -371,26 +371,39 @@ def test_exact_segment_clauses_hold_for_every_segment_safe_trajectory(p: ReachPr
     counterexamples over samples and points along segments, and the transit layer's)
     is a true statement about the problem: an LP written here refutes it, and it does
     not exclude the exact oracle's segment-safe witness at the oracle's least horizon
-    (up to L), at any time shift DIS-PLAN adds it at."""
+    (up to L), at any time shift DIS-PLAN adds it at. A plan the theory could not
+    decide (points exhausted) is blocked, not refuted: the result then claims nothing
+    (``segment_undecided``, checked by :func:`_exact`), so its block is left out."""
     from plansynth.reach.lazy.segments import Refinement, SegmentDisPlan
+    from plansynth.reach.lazy.segtheory import SegmentTheory
 
     learned: list = []
-    original = SegmentDisPlan.learn
+    blocked: list = []  # plans the theory could not decide: blocked, not refuted
+    original, check = SegmentDisPlan.learn, SegmentTheory.check
 
     def recording(self, conflict) -> None:
-        if not isinstance(conflict, Refinement):
+        if not isinstance(conflict, Refinement) and not any(conflict is b for b in blocked):
             learned.append(conflict)
         original(self, conflict)
 
+    def checking(self, plan):
+        before = self.undecided
+        out = check(self, plan)
+        if self.undecided > before:
+            blocked.append(out)
+        return out
+
     SegmentDisPlan.learn = recording  # type: ignore[method-assign]
+    SegmentTheory.check = checking  # type: ignore[method-assign]
     try:
         _exact(p, L, search)
     finally:
         SegmentDisPlan.learn = original  # type: ignore[method-assign]
+        SegmentTheory.check = check  # type: ignore[method-assign]
     ab = abstract(p)
     witness: list = []
     h = next((h for h in range(L + 1) if oracle_exact(p, h, witness=witness) is True), None)
-    event(f"clauses: {min(len(learned), 50) // 10 * 10}+; witness {h is not None}")
+    event(f"clauses: {min(len(learned), 50) // 10 * 10}+; witness {h is not None}; blocked {bool(blocked)}")
     for c in learned[:25]:
         assert _conflict_refuted(p, ab, c), c
     if h is not None:
