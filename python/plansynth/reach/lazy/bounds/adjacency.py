@@ -13,7 +13,7 @@ import numpy as np
 
 from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction
-from plansynth.reach.lazy.bounds.step import step_reach
+from plansynth.reach.lazy.bounds.step import step_boxes
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["touching", "step_adjacency", "segment_adjacency"]
@@ -85,13 +85,9 @@ def step_adjacency(
     k = len(regions)
     if k == 0:
         return ()
-    down, up = step_reach(problem) if reach is None else reach
-    lo = np.array([r.vertices.min(axis=0) for r in regions])
-    hi = np.array([r.vertices.max(axis=0) for r in regions])
-    size = float(np.max(hi) - np.min(lo))
+    lo, hi, size, r = step_boxes(problem, regions, reach)
     eps = 1e-9 * (1.0 + size)
-    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
-    r = np.where(np.isfinite(r), r, 2.0 * size + 1.0) + eps
+    r = r + eps
     out: list[set[int]] = [set(a) for a in abstraction.adjacency]
     if regions[0].dim == 2:
         import shapely
@@ -160,13 +156,9 @@ def segment_adjacency(
     k = len(regions)
     if k == 0:
         return ()
-    down, up = step_reach(problem) if reach is None else reach
-    lo = np.array([r.vertices.min(axis=0) for r in regions])
-    hi = np.array([r.vertices.max(axis=0) for r in regions])
-    size = float(np.max(hi) - np.min(lo))
+    lo, hi, size, r = step_boxes(problem, regions, reach)
     eps = 1e-9 * (1.0 + size)
-    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
-    r = scale * np.where(np.isfinite(r), r, 2.0 * size + 1.0) + eps
+    r = scale * r + eps
     graph = touching(abstraction) if near is None else near
     out: list[set[int]] = [set(a) for a in abstraction.adjacency]
     for i in range(k):

@@ -35,7 +35,7 @@ from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import convex_pieces
 from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.lazy.bounds.depth import segment_depth
-from plansynth.reach.lazy.bounds.step import step_reach
+from plansynth.reach.lazy.bounds.step import step_boxes
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["connected_pairs", "pair_boxes", "ROUNDS", "START_FRACTIONS"]
@@ -63,12 +63,7 @@ def connected_pairs(
     k = len(regions)
     if k == 0:
         return ()
-    down, up = step_reach(problem) if reach is None else reach
-    lo = np.array([r.vertices.min(axis=0) for r in regions])
-    hi = np.array([r.vertices.max(axis=0) for r in regions])
-    size = float(np.max(hi) - np.min(lo))
-    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
-    r = np.where(np.isfinite(r), r, 2.0 * size + 1.0)
+    lo, hi, _, r = step_boxes(problem, regions, reach)
     ws_lo, ws_hi = np.asarray(problem.workspace.lo, float), np.asarray(problem.workspace.hi, float)
     pieces = []
     for o in problem.obstacles:
@@ -214,12 +209,7 @@ def pair_boxes(
     out: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
     if k == 0:
         return out
-    down, up = step_reach(problem) if reach is None else reach
-    lo = np.array([r.vertices.min(axis=0) for r in regions])
-    hi = np.array([r.vertices.max(axis=0) for r in regions])
-    size = float(np.max(hi) - np.min(lo))
-    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
-    r = np.where(np.isfinite(r), r, 2.0 * size + 1.0)
+    lo, hi, _, r = step_boxes(problem, regions, reach)
     d = len(r)
     near_pairs = [set(a) for a in touching(abstraction)]
     hs = new_highs()
