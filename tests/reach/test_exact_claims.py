@@ -495,6 +495,19 @@ def test_public_cases_minimal_horizons(name: str, seg_min: int, samples_min: int
     assert r.status is not ReachStatus.INFEASIBLE
 
 
+@pytest.mark.parametrize("name, seg_min", [(n, s) for n, s, _ in PUBLIC if n != "floors-3d.yaml"])
+def test_public_cases_exact_segments(name: str, seg_min: int) -> None:
+    """With exact segment transitions a step may cross several regions: on the public
+    cases the planner finds the face oracle's segment-safe minimum and proves it minimal
+    for the problem (not only through the decomposition), validated segment-safe."""
+    p = load_reach_problem(CLAIMS / name)
+    for search in ("linear", "window"):
+        r = solve(p, "lazy-smt", exact_segments=True, horizon_search=search)
+        assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True, r.message
+        assert (r.horizon, r.counters["minimal"], r.counters["minimal_relative_to"]) == (seg_min, True, "problem")
+        assert not r.counters["segment_undecided"]
+
+
 def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
     """The GCS paper's maze (10 x 10, seed 4, walls 0.1 thick): samples only, a step
     (up to 0.5 per axis) jumps a wall, and the exact search proves 19 minimal, the
