@@ -17,10 +17,20 @@ with the planner (no decomposition, no regions).
   A minimum claimed only through the decomposition (``"decomposition"``) may be larger
   than the oracle's: the public cases below show it, and that the claim says so.
 
+* segment-safe with exact transitions (``exact_segments=True``): the oracle is
+  :func:`reach_oracles.oracle_exact`, exact for the spec's segment semantics up to a
+  depth of 1e-7 (a MILP keeping points along every segment free, refined where a
+  solution's segment still cuts an obstacle, and the face MILP for solutions): the
+  planner's ``infeasible`` means no oracle solution at any horizon up to L, a horizon
+  claimed minimal for the problem is the oracle's minimum, and every clause the
+  planner learns (conflicts naming points along segments too) holds for every
+  segment-safe trajectory: each is refuted by an LP written here, and none excludes an
+  oracle's witness.
+
 Workspaces: random boxes (:func:`reach_oracles.problems`' generator without the
 non-convex polygons), walls thinner than one step (samples jump them: region-skipping
-steps) with gaps narrower than one step (thin gaps), a convex triangle among them, and
-3-D floors with holes.
+steps) with gaps narrower than one step (thin gaps), a convex triangle among them,
+staggered walls whose ends a segment may cut past, and 3-D floors with holes.
 """
 
 from __future__ import annotations
@@ -31,7 +41,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
-from reach_oracles import oracle_feasible, oracle_minimum
+from reach_oracles import oracle_exact, oracle_feasible, oracle_minimum
 
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import abstract
@@ -144,7 +154,31 @@ def box_worlds(draw) -> ReachProblem:
         return random_workspace(seed % 97, 2, dim=dim, polygons=False, order=order)
 
 
+@st.composite
+def staggered_walls(draw) -> ReachProblem:
+    """Two or three walls (0.05..0.8 thick) from alternate sides of [0, 8]^2, each
+    leaving a gap of 0.3..2 at its end: the shortest segment-safe route turns around the
+    walls' ends, where a segment may cut past a corner (its ends beyond two different
+    faces of the wall), which the face formulation forbids."""
+    walls = draw(st.integers(2, 3))
+    obstacles: list = []
+    for k in range(walls):
+        y = 1.5 + k * 6.0 / walls + draw(st.floats(0.0, 0.5))
+        thick = draw(st.floats(0.05, 0.8))
+        gap = draw(st.floats(0.3, 2.0))
+        if k % 2 == 0:
+            obstacles.append(Box((-0.1, round(y, 3)), (round(8.0 - gap, 3), round(y + thick, 3))))
+        else:
+            obstacles.append(Box((round(gap, 3), round(y, 3)), (8.1, round(y + thick, 3))))
+    goal = Box((0.5, 7.4), (1.5, 7.9))
+    return _problem(
+        Box((0.0, 0.0), (8.0, 8.0)), obstacles, goal, [draw(st.floats(0.5, 7.5)), 0.5], draw(st.sampled_from([1, 2]))
+    )
+
+
 worlds = st.one_of(thin_walls(), floors(), box_worlds())
+#: Worlds for exact segment transitions (2-D ones: the oracle's corner case is 2-D).
+segment_worlds = st.one_of(thin_walls(), staggered_walls(), box_worlds(), floors())
 
 
 def _solve(p: ReachProblem, L: int, segment_safe: bool, search: str):
@@ -246,6 +280,162 @@ def test_relaxation_admits_every_face_oracle_solution(p: ReachProblem, h: int, k
     event(f"relaxation k={k}: {relaxed}")
 
 
+# -- exact segment transitions -------------------------------------------------------
+
+EXACT_PROPS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def _exact(p: ReachProblem, L: int, search: str):
+    try:
+        return solve(p, "lazy-smt", max_horizon=L, exact_segments=True, horizon_search=search)
+    except Exception as exc:  # pragma: no cover - a planner crash is a failure with its problem
+        raise AssertionError(f"the planner failed on {p!r}") from exc
+
+
+@EXACT_PROPS
+@given(segment_worlds, st.integers(6, 16), st.sampled_from(["linear", "minimal", "window"]))
+def test_exact_segment_claims_hold_for_the_problem(p: ReachProblem, L: int, search: str) -> None:
+    """Exact segment transitions: ``infeasible`` means the exact oracle has no
+    segment-safe trajectory at any horizon up to L; a horizon claimed minimal for the
+    problem has none below it; the plan found is one (the validator says so, and the
+    oracle does not refute its horizon). The linear search claims its horizon minimal
+    for the problem unless it gave a plan up without a proof (``segment_undecided``)."""
+    r = _exact(p, L, search)
+    undecided = r.counters.get("segment_undecided")
+    event(f"exact {search}: {r.status.value}, minimal for {r.counters.get('minimal_relative_to')}")
+    if r.status is ReachStatus.FOUND:
+        assert r.validated is True and r.segment_safe is True
+        assert oracle_exact(p, r.horizon) is not False, (r.horizon, r.message)
+        if r.counters.get("minimal_relative_to") == "problem":
+            for h in range(r.horizon):
+                verdict = oracle_exact(p, h)
+                event(f"oracle below a minimal horizon: {verdict}")
+                assert verdict is not True, (h, r.horizon, r.message)
+        elif search == "linear" and not undecided:
+            raise AssertionError(f"linear search without a minimal claim: {r.message}")
+    elif r.status is ReachStatus.INFEASIBLE:
+        for h in range(L + 1):
+            verdict = oracle_exact(p, h)
+            event(f"oracle below an infeasible bound: {verdict}")
+            assert verdict is not True, (h, r.message)
+    else:  # small instances: decided, or given up without a proof (and said so)
+        assert undecided or "budget" in r.message or "not a proof" in r.message, r.message
+
+
+def _conflict_refuted(p: ReachProblem, ab, c) -> bool:
+    """The exact oracle, asked for a segment-safe trajectory over the states the
+    conflict claims (with the start when anchored there, the goal at its horizon when
+    anchored there) that realises its literals (samples and points along segments in
+    their closed regions): it must not find one."""
+    from plansynth.reach.lazy.segments import DENOM
+
+    lo = 0 if c.anchored_start else c.first_time
+    hi = c.horizon if c.anchored_goal else c.last_time
+    claims = tuple((t - lo, 0.0, ab.regions[r].H, ab.regions[r].h) for t, r in c.literals)
+    claims += tuple((t - lo, f / DENOM, ab.regions[r].H, ab.regions[r].h) for t, f, r in c.vias)
+    verdict = oracle_exact(p, hi - lo, start=c.anchored_start, goal=c.anchored_goal, claims=claims)
+    event(f"clause oracle: {verdict}")
+    return verdict is not True
+
+
+def _excludes_trajectory(c, ab, P: np.ndarray, waits: bool) -> bool:
+    """Does DIS-PLAN's clause of ``c`` (at the shifts it is added at) exclude the
+    trajectory with positions ``P`` (horizon len(P) - 1), every literal read as "the
+    point lies in the closed region"?"""
+    from plansynth.reach.lazy.segments import DENOM
+
+    H = len(P) - 1
+
+    def inside(q, r) -> bool:
+        reg = ab.regions[r]
+        return bool(np.all(reg.H @ q <= reg.h + 1e-7))
+
+    def matches(shift: int) -> bool:
+        if c.first_time + shift < 0 or c.last_time + shift > H:
+            return False
+        return all(inside(P[t + shift], r) for t, r in c.literals) and all(
+            inside(P[t + shift] + f / DENOM * (P[t + shift + 1] - P[t + shift]), r) for t, f, r in c.vias
+        )
+
+    times = [t for t, _ in c.literals] + [t for t, _, _ in c.vias]
+    earlier = range(-min(times, default=0), 1) if waits else (0,)
+    if c.anchored_start and c.anchored_goal:
+        return any(H == c.horizon + s and matches(s) for s in earlier)
+    if c.anchored_start:
+        return any(matches(s) for s in earlier)
+    if c.anchored_goal:
+        return matches(H - c.horizon)
+    return any(matches(s) for s in range(-c.first_time, H - c.last_time + 1))
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(segment_worlds, st.integers(4, 10), st.sampled_from(["linear", "minimal"]))
+def test_exact_segment_clauses_hold_for_every_segment_safe_trajectory(p: ReachProblem, L: int, search: str) -> None:
+    """Every conflict DIS-PLAN learns with exact segment transitions (CON-PLAN's
+    counterexamples over samples and points along segments, and the transit layer's)
+    is a true statement about the problem: an LP written here refutes it, and it does
+    not exclude the exact oracle's segment-safe witness at the oracle's least horizon
+    (up to L), at any time shift DIS-PLAN adds it at. A plan the theory could not
+    decide (points exhausted) is blocked, not refuted: the result then claims nothing
+    (``segment_undecided``, checked by :func:`_exact`), so its block is left out."""
+    from plansynth.reach.lazy.segments import Refinement, SegmentDisPlan
+    from plansynth.reach.lazy.segtheory import SegmentTheory
+
+    learned: list = []
+    blocked: list = []  # plans the theory could not decide: blocked, not refuted
+    original, check = SegmentDisPlan.learn, SegmentTheory.check
+
+    def recording(self, conflict) -> None:
+        if not isinstance(conflict, Refinement) and not any(conflict is b for b in blocked):
+            learned.append(conflict)
+        original(self, conflict)
+
+    def checking(self, plan):
+        before = self.undecided
+        out = check(self, plan)
+        if self.undecided > before:
+            blocked.append(out)
+        return out
+
+    SegmentDisPlan.learn = recording  # type: ignore[method-assign]
+    SegmentTheory.check = checking  # type: ignore[method-assign]
+    try:
+        _exact(p, L, search)
+    finally:
+        SegmentDisPlan.learn = original  # type: ignore[method-assign]
+        SegmentTheory.check = check  # type: ignore[method-assign]
+    ab = abstract(p)
+    witness: list = []
+    h = next((h for h in range(L + 1) if oracle_exact(p, h, witness=witness) is True), None)
+    event(f"clauses: {min(len(learned), 50) // 10 * 10}+; witness {h is not None}; blocked {bool(blocked)}")
+    for c in learned[:25]:
+        assert _conflict_refuted(p, ab, c), c
+    if h is not None:
+        P = np.asarray(witness[-1])[:, list(p.dynamics.position)]
+        for c in learned:
+            assert not _excludes_trajectory(c, ab, P, p.starts_at_rest), (c, P.tolist())
+
+
+def test_oracle_exact_passes_a_corner() -> None:
+    """The corner of :func:`test_oracle_face_formulation_is_only_sufficient`: one step
+    cuts past the corner of the unit box; the exact oracle finds it, the face one does
+    not; a goal behind the box (its straight step would go through) needs two."""
+    p = _problem(
+        Box((-2.0, -2.0), (3.0, 3.0)), [Box((0.0, 0.0), (1.0, 1.0))], Box((0.35, 1.55), (0.45, 1.65)), [-0.5, 0.7], 1
+    )
+    assert oracle_exact(p, 1) is True and oracle_feasible(p, 1, segments=True) is False
+    q = _problem(
+        Box((-2.0, -2.0), (3.0, 3.0)), [Box((0.0, 0.0), (1.0, 1.0))], Box((1.4, 0.4), (1.6, 0.6)), [-0.5, 0.5], 1
+    )
+    assert oracle_feasible(q, 1, segments=False) is False  # 2 m in one unit step: too far anyway
+    r = _problem(
+        Box((-2.0, -2.0), (3.0, 3.0)), [Box((0.0, 0.0), (0.4, 1.0))], Box((0.7, 0.4), (0.9, 0.6)), [-0.3, 0.5], 1
+    )
+    assert oracle_feasible(r, 1, segments=False) is True  # the samples are free...
+    assert oracle_exact(r, 1) is False  # ... the segment goes through the box
+    assert oracle_exact(r, 3) is True
+
+
 # -- the oracle itself ---------------------------------------------------------------
 
 
@@ -307,6 +497,19 @@ def test_public_cases_minimal_horizons(name: str, seg_min: int, samples_min: int
             assert r.counters["minimal_relative_to"] == "decomposition" and "not proved for the problem" in r.message
     r = solve(p, "lazy-smt", max_horizon=seg_min, horizon_search="linear")  # was "infeasible"
     assert r.status is not ReachStatus.INFEASIBLE
+
+
+@pytest.mark.parametrize("name, seg_min", [(n, s) for n, s, _ in PUBLIC if n != "floors-3d.yaml"])
+def test_public_cases_exact_segments(name: str, seg_min: int) -> None:
+    """With exact segment transitions a step may cross several regions: on the public
+    cases the planner finds the face oracle's segment-safe minimum and proves it minimal
+    for the problem (not only through the decomposition), validated segment-safe."""
+    p = load_reach_problem(CLAIMS / name)
+    for search in ("linear", "window"):
+        r = solve(p, "lazy-smt", exact_segments=True, horizon_search=search)
+        assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True, r.message
+        assert (r.horizon, r.counters["minimal"], r.counters["minimal_relative_to"]) == (seg_min, True, "problem")
+        assert not r.counters["segment_undecided"]
 
 
 def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:

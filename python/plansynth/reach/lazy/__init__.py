@@ -6,7 +6,12 @@
 ``planner``    the reach-avoid planner around it: abstraction, bounds, DIS-PLAN and
                CON-PLAN set up, the answer (:func:`~plansynth.reach.lazy.planner.plan_lazy`);
 ``options``    its options as one frozen value, and the named configurations;
-``displan``    DIS-PLAN (Section IV): region sequences as SAT over CaDiCaL;
+``displan``    DIS-PLAN (Section IV): region sequences as SAT over CaDiCaL, with
+               ``regiongraph`` (the graph it encodes), ``satsolver`` (the solver, its
+               outcomes, the clause store, the slices a call runs in), ``horizons``
+               (one instance for every horizon: activation literals, windows, guards)
+               and ``hints`` (decision phases of a reference plan);
+``segments``, ``segtheory``  exact segment transitions (points along segments, their LP);
 ``conplan``    CON-PLAN (Section V): the LP of a region sequence in HiGHS and its
                counterexamples;
 ``conflict``   what the theory answers the loop (a trajectory, or counterexamples);

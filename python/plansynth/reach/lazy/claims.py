@@ -53,18 +53,32 @@ from plansynth.reach.lazy.loop import LoopOutcome
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachStatus
 
-__all__ = ["uncertified", "minimal_claim", "prove_claims", "not_a_proof", "EXACT_SAMPLES", "DECOMPOSITION_ONLY"]
+__all__ = [
+    "uncertified",
+    "minimal_claim",
+    "prove_claims",
+    "not_a_proof",
+    "EXACT_SAMPLES",
+    "EXACT_SEGMENTS",
+    "UNDECIDED",
+    "DECOMPOSITION_ONLY",
+]
 
 
-def uncertified(out: LoopOutcome, n: int, relaxation: str | None) -> LoopOutcome:
+def uncertified(out: LoopOutcome, n: int, relaxation: str | None, *, why: str | None = None) -> LoopOutcome:
     """The claims of a loop that kept ``n`` LP refutations without a Farkas certificate
     (the interior-point method's, on expendable plans (see :class:`~plansynth.reach.lazy.loop.TheoryChecker`) or
     as a fallback when the simplex method stalls, and presolve's): an ``infeasible``
     from the loop alone becomes ``unknown`` and a minimal horizon is no longer claimed,
     unless the independent relaxation MILP proved it (``prove=True``). The refutations
     stay sound as far as HiGHS's verdict goes, but a "no" is certified before it is
-    reported, and these are not."""
-    why = f"{n} LP refutation{'s' * (n != 1)} without a Farkas certificate (interior-point method or presolve)"
+    reported, and these are not. ``why`` (default: the LPs' reason) names ``n``'s kind,
+    as in :data:`UNDECIDED`."""
+    why = (
+        f"{n} LP refutation{'s' * (n != 1)} without a Farkas certificate (interior-point method or presolve)"
+        if why is None
+        else f"{n} {why}"
+    )
     if out.status is ReachStatus.INFEASIBLE and relaxation != "infeasible":  # (bounds refute before any LP)
         return LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"{out.message}; not a proof: {why}")
     if out.status is ReachStatus.FOUND and out.minimal and relaxation != "minimal":
@@ -77,6 +91,15 @@ EXACT_SAMPLES = (
     "samples only, steps between any two regions one step can connect, regions covering the free "
     "space: a proof for the problem"
 )
+
+#: What makes a segment-safe refutation with exact transitions a proof (see the module docstring).
+EXACT_SEGMENTS = (
+    "segment-safe, steps between any two regions one segment through the free space can connect, "
+    "points along every segment in the free space, regions covering the free space: a proof for the problem"
+)
+
+#: What the exact segment theory gave up on (see :mod:`plansynth.reach.lazy.segtheory`).
+UNDECIDED = "plan(s) given up without a proof (no segment-safe trajectory found, no points left to add)"
 
 #: What a segment-safe search's refutations are relative to (see the module docstring).
 DECOMPOSITION_ONLY = "consecutive samples in one convex region"

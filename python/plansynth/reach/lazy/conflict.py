@@ -33,6 +33,11 @@ class Conflict:
     ``first_time``/``last_time``: the first and last time steps whose states the proof
     uses (they enclose the literal times); a shifted copy is only added where all of
     them exist. An empty literal set means that no plan of the given kind exists.
+
+    ``vias`` (exact segment transitions, :mod:`plansynth.reach.lazy.segments`): literals
+    (t, f, i) "the point at fraction f / :data:`~plansynth.reach.lazy.segments.DENOM`
+    of the segment from p_t to p_{t+1} lies in region i"; they use the states t and
+    t + 1. Only a DIS-PLAN that has such points learns a conflict with vias.
     """
 
     literals: tuple[tuple[int, int], ...]
@@ -41,11 +46,14 @@ class Conflict:
     horizon: int
     first_time: int | None = None
     last_time: int | None = None
+    vias: tuple[tuple[int, int, int], ...] = ()
 
     def __post_init__(self) -> None:
         lits = tuple(sorted({(int(t), int(i)) for t, i in self.literals}))
         object.__setattr__(self, "literals", lits)
-        times = [t for t, _ in lits]
+        vias = tuple(sorted({(int(t), int(f), int(i)) for t, f, i in self.vias}))
+        object.__setattr__(self, "vias", vias)
+        times = [t for t, _ in lits] + [t for t, _, _ in vias] + [t + 1 for t, _, _ in vias]
         first = min(times + ([self.first_time] if self.first_time is not None else []), default=0)
         last = max(times + ([self.last_time] if self.last_time is not None else []), default=0)
         if self.anchored_start:

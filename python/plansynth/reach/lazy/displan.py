@@ -12,26 +12,11 @@ either realises it or returns a :class:`Conflict`, which becomes a clause here
 (Algorithm 1, line 11). Variables come from an :class:`~pysat.formula.IDPool` keyed by
 ``("at", t, i)``, so no index arithmetic leaks into the encoding (STYLE.md, point 8).
 
-**Incremental horizons.** One solver instance serves every horizon. The clauses that
-hold for every horizon (one region per step, transitions, start, conflicts that talk
-about a prefix from time 0) are added unconditionally; the goal at horizon L is guarded
-by an activation literal ``act[L]`` that is assumed while L is tried and fixed false
-once L is refuted. A conflict that involves the goal is guarded by the same literal, so
-every learned clause (and everything CaDiCaL learned from it) survives to the next
-horizon. Conflicts that use neither the start state nor the goal hold at every time
-shift (the dynamics are time-invariant) and are instantiated at every shift.
-
-**Horizon windows (beyond the paper).** ``solve(hi, lowest=lo)`` asks for a plan that
-reaches the goal at *some* horizon h in lo..hi: the activation literals of the window
-are assumed as one disjunction, and the plan is cut at the smallest h whose ``act[h]``
-is true. The bits after h are padding (staying in the goal region satisfies them), so
-a clause whose proof needs the states up to time T, which holds only for plans of
-horizon >= T, is guarded by ``before[T]`` ("the plan ends before T"), a literal that a
-chain of clauses allows only when some ``act[h]`` with h < T is true. With one horizon
-at a time (the paper's loop) every horizon below the one tried is closed and the guards
-are never needed. Within a window the solver tries short plans first, unless a plan was
-passed to :meth:`DisPlan.prefer`: then its horizon comes first, so that the phases
-describe one whole plan (the lazy loop times its reference plan to the window's top).
+The modules around this one: :mod:`~plansynth.reach.lazy.regiongraph` (the graph),
+:mod:`~plansynth.reach.lazy.satsolver` (the solver, its outcomes, the clause store and
+the slices a call runs in), :mod:`~plansynth.reach.lazy.horizons` (one solver instance
+for every horizon: activation literals, windows of horizons, the ``before[T]`` guards)
+and :mod:`~plansynth.reach.lazy.hints` (decision phases of a reference plan).
 
 >>> g = RegionGraph(3, ((1,), (0, 2), (1,)), start_regions=(0,), goal_regions=(2,))
 >>> d = DisPlan(g)
@@ -46,22 +31,43 @@ True
 
 from __future__ import annotations
 
-import enum
-import math
-import time
-from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from pysat.card import CardEnc, EncType
 from pysat.formula import IDPool
 from pysat.solvers import Solver
 
 from plansynth.budget import Clock, checkpoint
-from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.lazy.conflict import Conflict
+from plansynth.reach.lazy.hints import PlanHints
+from plansynth.reach.lazy.horizons import HorizonGuards
+from plansynth.reach.lazy.regiongraph import RegionGraph
+from plansynth.reach.lazy.satsolver import (
+    CONFLICTS_PER_SLICE,
+    MAX_CONFLICTS_PER_SLICE,
+    MIN_CONFLICTS_PER_SLICE,
+    SAT_SOLVER,
+    SLICE_SECONDS,
+    LearnedClauses,
+    SatOutcome,
+    Slices,
+)
 
-__all__ = ["RegionGraph", "Conflict", "DisPlan", "SatOutcome", "CARDINALITY_ENCODINGS"]
+__all__ = [
+    "RegionGraph",
+    "Conflict",
+    "DisPlan",
+    "SatOutcome",
+    "LearnedClauses",
+    "CARDINALITY_ENCODINGS",
+    "PAIRWISE_MAX_REGIONS",
+    "PATHS_MIN_REGIONS",
+    "SAT_SOLVER",
+    "CONFLICTS_PER_SLICE",
+    "MIN_CONFLICTS_PER_SLICE",
+    "MAX_CONFLICTS_PER_SLICE",
+    "SLICE_SECONDS",
+]
 
 CARDINALITY_ENCODINGS = {
     "pairwise": EncType.pairwise,
@@ -70,7 +76,6 @@ CARDINALITY_ENCODINGS = {
     "totalizer": EncType.totalizer,
 }
 
-SAT_SOLVER = "cadical195"
 #: Up to this many regions "exactly one region per step" is pairwise (k(k-1)/2 binary
 #: clauses, no auxiliary variables); beyond, the sequential counter (linear in k).
 PAIRWISE_MAX_REGIONS = 8
@@ -78,96 +83,9 @@ PAIRWISE_MAX_REGIONS = 8
 #: :class:`DisPlan`): no cardinality constraint, variables only where the time windows
 #: allow them (the GCS paper's 50 x 50 maze: 1,571 regions over ~600 steps).
 PATHS_MIN_REGIONS = 200
-# python-sat's CaDiCaL 1.9.5 refuses interrupt() and prop_budget() but honours
-# conf_budget() with solve_limited(): it runs in slices of conflicts, the clock checked
-# between slices. The slice adapts so that one takes about SLICE_SECONDS (conflicts get
-# dearer as the formula grows); the learned clauses survive from slice to slice, so the
-# answer is exactly the one an unlimited solve() would give.
-CONFLICTS_PER_SLICE = 2_000  # the first slice
-MIN_CONFLICTS_PER_SLICE = 100
-MAX_CONFLICTS_PER_SLICE = 1_000_000
-SLICE_SECONDS = 0.1
 
 
-@dataclass(frozen=True)
-class RegionGraph:
-    """The discrete abstraction as DIS-PLAN sees it: regions 0..n-1, adjacency lists,
-    start and goal regions (paper, Section III)."""
-
-    n_regions: int
-    adjacency: tuple[tuple[int, ...], ...]
-    start_regions: tuple[int, ...]
-    goal_regions: tuple[int, ...]
-
-    def __post_init__(self) -> None:
-        if len(self.adjacency) != self.n_regions:
-            raise ValueError(f"adjacency has {len(self.adjacency)} lists for {self.n_regions} regions")
-        for i, nbrs in enumerate(self.adjacency):
-            for j in nbrs:
-                if not 0 <= j < self.n_regions or j == i or i not in self.adjacency[j]:
-                    raise ValueError(f"adjacency must be symmetric without self-loops: {i} -> {j}")
-
-    @classmethod
-    def from_abstraction(cls, abstraction: Abstraction) -> RegionGraph:
-        return cls(len(abstraction.regions), abstraction.adjacency, abstraction.start_regions, abstraction.goal_regions)
-
-    def distances(self, sources: Sequence[int]) -> list[float]:
-        """Breadth-first number of region transitions from ``sources`` (inf: unreachable)."""
-        dist = [math.inf] * self.n_regions
-        queue = deque()
-        for s in sources:
-            dist[s] = 0
-            queue.append(s)
-        while queue:
-            i = queue.popleft()
-            for j in self.adjacency[i]:
-                if dist[j] == math.inf:
-                    dist[j] = dist[i] + 1
-                    queue.append(j)
-        return dist
-
-    def horizon_lower_bound(self) -> float:
-        """The region-graph distance from a start region to a goal region: no region
-        sequence of a shorter horizon exists (inf when the goal is disconnected).
-
-        >>> RegionGraph(3, ((1,), (0, 2), (1,)), (0,), (2,)).horizon_lower_bound()
-        2
-        """
-        dist = self.distances(self.start_regions)
-        return min((dist[g] for g in self.goal_regions), default=math.inf)
-
-
-class SatOutcome(str, enum.Enum):
-    SAT = "sat"
-    UNSAT = "unsat"
-    INTERRUPTED = "interrupted"
-
-    def __bool__(self) -> bool:
-        raise TypeError("a SatOutcome has no truth value")
-
-
-class LearnedClauses:
-    """Counterexample clauses added once each (a conflict and its shifted copies often
-    coincide): the store DIS-PLAN and the mission DIS-PLAN
-    (:class:`plansynth.reach.mission.bmc.MissionDisPlan`) share. Needs ``_add(clause)``."""
-
-    _learned: set[tuple[int, ...]]
-    clauses: int
-
-    def _add(self, clause: list[int]) -> None:
-        raise NotImplementedError
-
-    def _learn_clause(self, clause: list[int]) -> None:
-        """Add ``clause`` unless it was added before; count it in ``clauses``."""
-        key = tuple(sorted(clause))
-        if key in self._learned:
-            return
-        self._learned.add(key)
-        self._add(clause)
-        self.clauses += 1
-
-
-class DisPlan(LearnedClauses):
+class DisPlan(HorizonGuards, PlanHints, LearnedClauses):
     """One incremental SAT instance over a growing horizon (paper, Section IV).
 
     ``cardinality`` names the exactly-one encoding (``pairwise`` or a PySAT encoding
@@ -230,8 +148,7 @@ class DisPlan(LearnedClauses):
         self.waits_at_start = bool(waits_at_start)
         self._learned: set[tuple] = set()  # clauses added, against shifted duplicates
         self.sat_calls = 0
-        self.sat_slices = 0
-        self._slice = CONFLICTS_PER_SLICE
+        self._slices = Slices()
         self.clauses = 0
         self.sat_clauses_encoding = 0
         # time windows (sound facts from a relaxation): region i is impossible before
@@ -245,37 +162,10 @@ class DisPlan(LearnedClauses):
         """The variable b[t, i]: the position at time t lies in region i."""
         return self.pool.id(("at", t, i))
 
-    def act(self, horizon: int) -> int:
-        """The activation literal of horizon L (assumed while L is tried)."""
-        return self.pool.id(("horizon", horizon))
-
-    def before(self, time: int) -> int | None:
-        """The guard ``before[T]`` for a clause that holds for plans of horizon >= T:
-        :meth:`ends_before` (see the module docstring), or None when no open horizon lies
-        below T, i.e. no guard is needed."""
-        if self.open_from is None or time <= self.open_from:
-            return None
-        return self.ends_before(time)
-
-    def ends_before(self, time: int) -> int | None:
-        """The literal e[T], equivalent to ``OR act[h]`` over floor <= h < T: the plan
-        ends before T (None when T <= floor: false)."""
-        if self.floor is None or time <= self.floor:
-            return None
-        top = time
-        while top > self.floor + 1 and ("ends-before", top - 1) not in self.pool.obj2id:
-            top -= 1
-        for T in range(top, time + 1):  # build the ladder upwards from the last rung made
-            key = ("ends-before", T)
-            if key in self.pool.obj2id:
-                continue
-            e, a = self.pool.id(key), self.act(T - 1)
-            lower = self.pool.id(("ends-before", T - 1)) if T - 1 > self.floor else None
-            self._add([-e, a] + ([lower] if lower is not None else []))
-            self._add([-a, e])
-            if lower is not None:
-                self._add([-lower, e])
-        return self.pool.id(("ends-before", time))
+    @property
+    def sat_slices(self) -> int:
+        """The slices of conflicts the SAT calls ran in (:class:`~plansynth.reach.lazy.satsolver.Slices`)."""
+        return self._slices.slices
 
     # -- encoding ----------------------------------------------------------------
     def _add(self, clause: list[int]) -> None:
@@ -344,26 +234,6 @@ class DisPlan(LearnedClauses):
             if not c.anchored_start and not c.anchored_goal:
                 self._instantiate_free(c, old, t)
 
-    def _to_go_windows(self) -> None:
-        """Region i at time t only if the plan ends at t + to_go[i] or later:
-        ``not b[t, i] or not e[t + to_go[i]]``, one clause per (t, i) for every horizon."""
-        if self.floor is None:
-            return
-        for t in range(self.to_go_built + 1, self.built + 1):
-            checkpoint()
-            for i in range(self.graph.n_regions):
-                if not self.exists(t, i) or self.to_go[i] <= 0:
-                    continue  # excluded for good already, or a goal region
-                if self.to_go[i] == math.inf:
-                    self._add([-self.at(t, i)])
-                else:
-                    e = self.ends_before(t + int(self.to_go[i]))
-                    if e is None:
-                        continue
-                    self._add([-self.at(t, i), -e])
-                self.window_clauses += 1
-        self.to_go_built = self.built
-
     def _ensure_goal(self, horizon: int) -> None:
         if horizon in self.goal_added:
             return
@@ -377,9 +247,10 @@ class DisPlan(LearnedClauses):
     def _clause(self, c: Conflict, shift: int, guard: int | None) -> None:
         """Add ``c`` shifted by ``shift``: under ``act[guard]`` when goal-anchored, else
         for plans that reach its last time step."""
-        if not all(self.exists(t + shift, i) for t, i in c.literals):
+        lits = self._literals(c, shift)
+        if lits is None:
             return  # a literal that is false in every plan: the clause holds already
-        clause = [-self.at(t + shift, i) for t, i in c.literals]
+        clause = [-v for v in lits]
         if guard is not None:
             clause.append(-guard)
         else:
@@ -388,15 +259,25 @@ class DisPlan(LearnedClauses):
                 clause.append(short)
         self._learn_clause(clause)
 
+    def _literals(self, c: Conflict, shift: int) -> list[int] | None:
+        """The variables of ``c``'s literals shifted by ``shift``, or None when one of
+        them is false in every plan. (Points along segments, ``c.vias``, exist only in
+        :class:`~plansynth.reach.lazy.segments.SegmentDisPlan`.)"""
+        if c.vias:
+            raise ValueError("a conflict about points along segments needs a SegmentDisPlan")
+        if not all(self.exists(t + shift, i) for t, i in c.literals):
+            return None
+        return [self.at(t + shift, i) for t, i in c.literals]
+
     def _rest_shifts(self, c: Conflict) -> range:
         """The shifts at which a start-anchored conflict holds: 0, and with
         ``waits_at_start`` every earlier shift that keeps its literals at times >= 0
         (a trajectory for the shifted claims, preceded by that many steps of waiting at
         the start, would realise the conflict itself; with the goal anchored, the
         horizon moves along, down to the first horizon tried)."""
-        if not self.waits_at_start or not c.literals:
+        if not self.waits_at_start or not (c.literals or c.vias):
             return range(0, -1, -1)
-        lowest = min(t for t, _ in c.literals)
+        lowest = min([t for t, _ in c.literals] + [t for t, _, _ in c.vias])
         if c.anchored_goal and self.floor is not None:
             lowest = min(lowest, c.horizon - self.floor)
         return range(0, -lowest - 1, -1)
@@ -433,37 +314,6 @@ class DisPlan(LearnedClauses):
         else:
             self._instantiate_free(c, -1, self.built)
 
-    def forbid(self, horizon: int, allowed: set[tuple[int, int]]) -> int:
-        """Facts for the plans of exactly ``horizon`` steps (the tube of
-        :meth:`plansynth.reach.lazy.axisreach.AxisReach.tube`): such a plan is at time
-        t <= horizon only in regions i with (t, i) in ``allowed``. Each other b[t, i]
-        gets ``not act[L] or e[L] or not b[t, i]`` ("the plan ends exactly at L" implies
-        not region i at t; e[L]: it ends before L), so no plan of another horizon is
-        affected. Returns the number of clauses added (also counted in
-        ``window_clauses``)."""
-        self._extend(horizon)
-        self._ensure_goal(horizon)
-        guard = [-self.act(horizon)]
-        e = self.ends_before(horizon)
-        if e is not None:
-            guard.append(e)
-        added = 0
-        for t in range(horizon + 1):
-            for i in range(self.graph.n_regions):
-                if (t, i) not in allowed and self.exists(t, i):
-                    self._add(guard + [-self.at(t, i)])
-                    added += 1
-        self.window_clauses += added
-        return added
-
-    def close(self, horizon: int) -> None:
-        """Horizon L is refuted: fix its activation literal false for good."""
-        self.closed.add(horizon)
-        self._add([-self.act(horizon)])
-        if self.open_from is not None:
-            while self.open_from in self.closed:
-                self.open_from += 1
-
     # -- solving -----------------------------------------------------------------
     def solve(
         self, horizon: int, clock: Clock | None = None, *, lowest: int | None = None
@@ -475,55 +325,20 @@ class DisPlan(LearnedClauses):
         lo = horizon if lowest is None else int(lowest)
         if not 0 <= lo <= horizon:
             raise ValueError(f"empty horizon window {lo}..{horizon}")
-        if self.floor is None:
-            self.floor = self.open_from = lo
-            self._to_go_windows()
-            if self.preferred is not None:  # prefer() came first: the plan ends at its horizon, not before
-                self.solver.set_phases(
-                    [-e for e in (self.ends_before(T) for T in range(lo + 1, self.preferred + 1)) if e is not None]
-                )
-        elif lo < self.floor:
-            raise ValueError(f"horizon {lo} is below the first horizon tried ({self.floor})")
+        self._open(lo)
         self._extend(horizon)
         for h in range(self.floor, horizon + 1):
             self._ensure_goal(h)
         self.sat_calls += 1
-        window = [h for h in range(lo, horizon + 1) if h not in self.closed]
-        if not window:
+        assumptions = self._window(lo, horizon)
+        if assumptions is None:
             return SatOutcome.UNSAT, None
-        if len(window) == 1:
-            assumptions = [self.act(window[0])]
-        else:
-            select = self.pool.id(("window", lo, horizon))
-            self._add([-select] + [self.act(h) for h in window])
-            assumptions = [select]
-            # the preferred plan's horizon first (its phases describe a plan ending
-            # there); without one, short plans: every activation literal false first
-            self.solver.set_phases([self.act(h) if h == self.preferred else -self.act(h) for h in window])
-        # open horizons below the window are not part of this question
-        assumptions += [-self.act(h) for h in range(self.floor, lo) if h not in self.closed]
-        while True:
-            if clock is not None and clock.exhausted():
-                return SatOutcome.INTERRUPTED, None
-            self.solver.conf_budget(self._slice)
-            t0 = time.perf_counter()
-            answer = self.solver.solve_limited(assumptions=assumptions)
-            took = time.perf_counter() - t0
-            self.sat_slices += 1
-            if answer is None:
-                if took < SLICE_SECONDS / 2:
-                    self._slice = min(MAX_CONFLICTS_PER_SLICE, self._slice * 2)
-                elif took > SLICE_SECONDS:
-                    self._slice = max(MIN_CONFLICTS_PER_SLICE, int(self._slice * SLICE_SECONDS / took))
-                continue
-            if answer is False:
-                return SatOutcome.UNSAT, None
-            break
+        outcome = self._slices.solve(self.solver, assumptions, clock)
+        if outcome is not SatOutcome.SAT:
+            return outcome, None
         model = self.solver.get_model()
         true = {v for v in model if v > 0}
-        # the plan ends at the smallest horizon whose activation literal is true: every
-        # guarded clause then holds for it (see before())
-        horizon = next(h for h in range(self.floor, horizon + 1) if self.act(h) in true)
+        horizon = self._ended(true, horizon)
         if self.paths:
             return SatOutcome.SAT, self._walk_back(true, horizon)
         plan: list[int | None] = [None] * (horizon + 1)
@@ -561,40 +376,6 @@ class DisPlan(LearnedClauses):
         if plan[-1] not in self._starts:  # pragma: no cover - only start regions exist at t = 0
             raise AssertionError("SAT model's walk does not start in a start region")
         return tuple(plan[::-1])
-
-    def prefer(self, plan: Sequence[int]) -> None:
-        """Set the SAT solver's decision phases to ``plan`` (r_0..r_h): b[t, plan[t]]
-        true, the other regions false, and the plan ending at h (a window that contains h
-        tries h first). Only a hint; no answer depends on it."""
-        H = len(plan) - 1
-        self.preferred = H
-        self._extend(H)
-        if self.paths:
-            obj = self.pool.obj2id
-            phases = [
-                v if i == r else -v
-                for t, r in enumerate(plan)
-                for i in range(self.graph.n_regions)
-                if (v := obj.get(("at", t, i))) is not None
-            ]
-        else:
-            phases = [
-                self.at(t, i) if i == r else -self.at(t, i)
-                for t, r in enumerate(plan)
-                for i in range(self.graph.n_regions)
-            ]
-        if self.floor is not None:  # ... and ending at H, not before
-            phases += [-e for e in (self.ends_before(T) for T in range(self.floor + 1, H + 1)) if e is not None]
-        if self.paths:  # no auxiliary variables to phase
-            self.solver.set_phases(phases)
-            return
-        # the auxiliary variables of the exactly-one encoding (seqcounter, beyond 8
-        # regions) as the plan implies them: unphased, their default phase would steer
-        # the search off the plan at once
-        ok, implied = self.solver.propagate(assumptions=[self.at(t, r) for t, r in enumerate(plan)])
-        if ok:
-            phases += [v for v in implied if abs(v) > 0]
-        self.solver.set_phases(phases)
 
     def plan(self, horizon: int) -> tuple[int, ...] | None:
         """Convenience: the region sequence for ``horizon`` or None when UNSAT."""

@@ -142,6 +142,12 @@ class LazyOptions:
         "horizon_search=minimal: refute shorter horizons by per-axis reachable sets "
         "first, where the dynamics separate by axis",
     )
+    exact_segments: bool = option(
+        False,
+        "segment-safe: let a step cross several regions (DIS-PLAN also places points along "
+        "each segment, more where a segment of a solution cuts an obstacle), so that "
+        "infeasible and a minimal horizon hold for the problem",
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "lazy-smt")
@@ -187,6 +193,7 @@ class LazyOptions:
             "window_growth": self.window_growth,
             "prove": self.prove,
             "reach_sets": self.reach_sets,
+            "exact_segments": self.exact_segments,
             "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
         }
 

@@ -76,13 +76,18 @@ from plansynth.reach.lazy.bounds import (
     chain_gaps,
     physical_lower_bound,
     proved_horizon_bound,
+    segment_adjacency,
     separator_bounds,
     step_adjacency,
     time_windows,
+    touching,
 )
+from plansynth.reach.lazy.bounds.segpairs import pair_boxes
 from plansynth.reach.lazy.claims import (
     DECOMPOSITION_ONLY,
     EXACT_SAMPLES,
+    EXACT_SEGMENTS,
+    UNDECIDED,
     minimal_claim,
     not_a_proof,
     prove_claims,
@@ -102,6 +107,8 @@ from plansynth.reach.lazy.loop import (
 )
 from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LazyOptions, window_growth_for
+from plansynth.reach.lazy.segments import SegmentDisPlan
+from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -162,9 +169,13 @@ def plan_lazy(
     :mod:`plansynth.reach.lazy.relaxation` (:func:`~plansynth.reach.lazy.claims.prove_claims`).
     """
     opts = LazyOptions() if options is None else options
+    # segment-safe with exact transitions: a step may cross several regions (lazy/segments.py)
+    crossing = opts.segment_safe and opts.exact_segments
     # the relaxation can only prove a horizon that is minimal through the decomposition
-    # (it refutes h - 1): the window search's plan sits at its window's top
-    search = "minimal" if opts.prove and opts.horizon_search == "window" else opts.horizon_search
+    # (it refutes h - 1): the window search's plan sits at its window's top; with exact
+    # transitions, a window whose plans need points along their segments is deferred
+    # and the plan found lies far above the minimum (the GCS paper's 10 x 10 maze: 200)
+    search = "minimal" if (opts.prove or crossing) and opts.horizon_search == "window" else opts.horizon_search
     t_start = time.perf_counter()
     clock = budget.clock()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
@@ -197,6 +208,9 @@ def plan_lazy(
         if not opts.segment_safe:  # samples only: every pair of regions one step can connect (exact search)
             with _timed(clock, timings, "bounds", "the one-step region pairs"):
                 graph = replace(graph, adjacency=step_adjacency(problem, abstraction))
+        elif crossing:  # every pair of regions one segment through the free space can connect
+            with _timed(clock, timings, "bounds", "the one-segment region pairs"):
+                graph = replace(graph, adjacency=segment_adjacency(problem, abstraction))
         counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
         with _timed(clock, timings, "bounds", "the horizon bounds (time windows)"):
             bounds = _horizon_bounds(problem, abstraction, graph, opts, L_max)
@@ -209,24 +223,38 @@ def plan_lazy(
             first_horizon=bounds.first,
         )
         conplan = _conplan(problem, abstraction, opts, search, clock)
-        theory: TheoryChecker = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else conplan
+        transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
+        theory: TheoryChecker = conplan if transit is None else transit
+        if crossing:  # CON-PLAN above has no segment rows: its transit legs hold for every segment-safe step
+            with _timed(clock, timings, "bounds", "the ends of steps between regions that do not touch"):
+                boxes = pair_boxes(problem, abstraction, graph.adjacency)
+            theory = SegmentTheory(problem, abstraction, transit=transit, clock=clock, boxes=boxes)
         path = route(problem, abstraction) if opts.guided else None
         if bounds.earliest is not None and bounds.first <= L_max:
             with _timed(clock, timings, "bounds", "the separator chains (time windows)"):
-                bounds = _with_chains(bounds, _chain_bounds(problem, abstraction, graph, theory, path), L_max, counters)
+                bounds = _with_chains(
+                    bounds, _chain_bounds(problem, abstraction, graph, transit, path), L_max, counters
+                )
     except BudgetExhausted as exc:  # before the loop: in the abstraction or the bounds
         return result(LoopOutcome(ReachStatus.UNKNOWN, None, str(exc)))
 
-    # are the loop's refutations proofs for the problem? (samples only, exact regions)
-    exact = not opts.segment_safe and abstraction.exact
+    # are the loop's refutations proofs for the problem? (samples only, or segments with
+    # exact transitions; regions that cover the free space)
+    exact = (not opts.segment_safe or crossing) and abstraction.exact
     proved = bounds.proved
-    displan = DisPlan(
-        graph,
+    windows_kw = dict(
         cardinality=opts.cardinality,
         earliest=bounds.earliest,
         to_go=bounds.to_go,
         waits_at_start=opts.wait_shifts and problem.starts_at_rest,
     )
+    if crossing:
+        near = touching(abstraction)
+        displan: DisPlan = SegmentDisPlan(
+            graph, lambda scale: segment_adjacency(problem, abstraction, scale, near=near), **windows_kw
+        )
+    else:
+        displan = DisPlan(graph, **windows_kw)
     if proved > L_max or bounds.first > L_max:
         out = _refuted_by_bounds(problem, bounds, L_max, exact, opts, counters)
         if out.status is ReachStatus.UNKNOWN and opts.prove and opts.segment_safe:
@@ -235,7 +263,7 @@ def plan_lazy(
         growth = window_growth_for(opts.window_growth, graph.n_regions)
         record["window_growth"] = growth  # (None: resolved)
         windows = horizon_windows(bounds.first, L_max, growth if search != "linear" else 0.0)
-        first_leg = (lambda region: theory.first_gap(START, region)) if isinstance(theory, TransitCheck) else None
+        first_leg = (lambda region: transit.first_gap(START, region)) if transit is not None else None
         guide = reference_plans(problem, abstraction, path, first_leg) if opts.guided else None
         with clock.phase("the lazy SMT loop"):
             defer = (DEAR_DEFER_AFTER if conplan.dear else DEFER_AFTER) if search == "window" else None
@@ -247,9 +275,8 @@ def plan_lazy(
                     problem, abstraction, graph, displan, theory, out, windows, clock, timings, counters, opts
                 )
         if out.status is ReachStatus.INFEASIBLE and exact:
-            out = replace(
-                out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({EXACT_SAMPLES})"
-            )
+            why = EXACT_SEGMENTS if crossing else EXACT_SAMPLES
+            out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({why})")
         elif out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
             counters["abstraction_refuted"] = out.horizon
             out = LoopOutcome(
@@ -259,9 +286,9 @@ def plan_lazy(
             )
         if opts.prove and opts.segment_safe and not exact:
             out = prove_claims(problem, out, proved, clock, counters)
-    out = _claims(out, conplan, proved, exact, counters)
+    out = _claims(out, conplan, proved, exact, counters, theory)
     _count_run(counters, clock, displan, conplan, theory, out)
-    timings["highs"] = conplan.stats.seconds
+    timings["highs"] = conplan.stats.seconds + (theory.lp.seconds if isinstance(theory, SegmentTheory) else 0.0)
     displan.delete()
     return result(out)
 
@@ -311,7 +338,7 @@ def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions,
     return ConPlan(
         problem,
         abstraction,
-        segment_safe=opts.segment_safe,
+        segment_safe=opts.segment_safe and not opts.exact_segments,  # (exact: rows of samples only)
         counterexample=counterexample,
         generalize=generalize,
         minimize=opts.minimize,
@@ -362,7 +389,8 @@ def _refuted_by_bounds(
     else:
         why = f"the region-hop lower bound on the horizon ({bounds.first}) exceeds max_horizon"
     if exact:
-        return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} ({EXACT_SAMPLES})")
+        how = EXACT_SEGMENTS if opts.segment_safe else EXACT_SAMPLES
+        return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} ({how})")
     counters["abstraction_refuted"] = L_max
     return LoopOutcome(
         ReachStatus.UNKNOWN,
@@ -396,7 +424,7 @@ def _prove_minimal(
             graph.adjacency,
             graph.start_regions,
             graph.goal_regions,
-            segment_safe=opts.segment_safe,
+            segment_safe=opts.segment_safe and not opts.exact_segments,
         )
         if opts.reach_sets
         else None
@@ -408,11 +436,15 @@ def _prove_minimal(
     return out
 
 
-def _claims(out: LoopOutcome, conplan: ConPlan, proved: float, exact: bool, counters: dict) -> LoopOutcome:
+def _claims(
+    out: LoopOutcome, conplan: ConPlan, proved: float, exact: bool, counters: dict, theory: TheoryChecker
+) -> LoopOutcome:
     """The answer's claims as :mod:`~plansynth.reach.lazy.claims` words them."""
     st = conplan.stats
     if st.uncertified:
         out = uncertified(out, st.uncertified, counters.get("relaxation"))
+    if isinstance(theory, SegmentTheory) and theory.undecided:
+        out = uncertified(out, theory.undecided, counters.get("relaxation"), why=UNDECIDED)
     counters.update(horizon=out.horizon, minimal=out.minimal)
     if out.status is ReachStatus.FOUND:
         counters.update(minimal_claim(out, proved, exact or counters.get("relaxation") == "minimal"))
@@ -449,20 +481,31 @@ def _count_run(
         polished=st.polished,
         slack_failures=st.slack_failures,
     )
-    if isinstance(theory, TransitCheck):
+    transit = theory.transit if isinstance(theory, SegmentTheory) else theory
+    if isinstance(transit, TransitCheck):
         counters.update(
-            transit_conflicts=theory.conflicts,
-            transit_lp_calls=theory.lp_calls,
-            transit_plans=theory.plans_caught,
-            widened_conflicts=theory.widened,
+            transit_conflicts=transit.conflicts,
+            transit_lp_calls=transit.lp_calls,
+            transit_plans=transit.plans_caught,
+            widened_conflicts=transit.widened,
         )
+    if isinstance(theory, SegmentTheory):
+        assert isinstance(displan, SegmentDisPlan)
+        counters.update(
+            segment_lp_calls=theory.lp_calls,
+            segment_points=displan.most_points,
+            segment_refinements=displan.refinements,
+            segment_separated=theory.separated,
+            segment_undecided=theory.undecided,
+        )
+        counters["lp_calls"] += theory.lp_calls
 
 
 def _chain_bounds(
     problem: ReachProblem,
     abstraction: Abstraction,
     graph: RegionGraph,
-    theory: TheoryChecker,
+    transit: TransitCheck | None,
     path: Sequence[int] | None,
 ) -> ChainBounds | None:
     """The separator chains of :func:`~plansynth.reach.lazy.bounds.separator_bounds` over
@@ -485,7 +528,6 @@ def _chain_bounds(
     base = chain_gaps(problem, abstraction)
     if base is None:
         return None
-    transit = theory if isinstance(theory, TransitCheck) else None
     refined: dict[tuple[int, int], int] = {}
 
     def gap(a: int, b: int) -> int:

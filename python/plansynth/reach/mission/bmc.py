@@ -61,14 +61,9 @@ from pysat.solvers import Solver
 
 from plansynth.budget import Clock
 from plansynth.reach.lazy.conflict import Conflict
-from plansynth.reach.lazy.displan import (
-    CONFLICTS_PER_SLICE,
-    PAIRWISE_MAX_REGIONS,
-    SAT_SOLVER,
-    LearnedClauses,
-    RegionGraph,
-    SatOutcome,
-)
+from plansynth.reach.lazy.displan import PAIRWISE_MAX_REGIONS
+from plansynth.reach.lazy.regiongraph import RegionGraph
+from plansynth.reach.lazy.satsolver import CONFLICTS_PER_SLICE, SAT_SOLVER, LearnedClauses, SatOutcome
 from plansynth.reach.mission.ltl import (
     And,
     Const,

@@ -10,7 +10,8 @@ and time windows for DIS-PLAN (beyond Shoukry et al., CDC 2016; every bound is s
 * :func:`proved_horizon_bound`: a lower bound on the horizon of *every* trajectory of
   the problem, whatever the decomposition, which is what may prove ``infeasible``.
 
-* :func:`step_adjacency` and :func:`touching`: which regions one step can connect;
+* :func:`step_adjacency`, :func:`segment_adjacency` and :func:`touching`: which regions
+  one step (its samples, or its segment) can connect;
 * :func:`separator_bounds` and :func:`chain_gaps`: windows and a horizon bound from
   the regions every plan must pass through.
 
@@ -19,12 +20,17 @@ and the mission planners use them. One module per bound:
 
 ``step``       :func:`step_reach`, :func:`physical_lower_bound`, :func:`box_steps`;
 ``windows``    :func:`time_windows` (the sweep and its reference beside it);
-``adjacency``  :func:`touching`, :func:`step_adjacency`;
+``adjacency``  :func:`touching`, :func:`step_adjacency`, :func:`segment_adjacency`;
 ``proved``     :func:`proved_horizon_bound`;
-``chains``     :func:`separator_bounds`, :func:`chain_gaps`.
+``chains``     :func:`separator_bounds`, :func:`chain_gaps`;
+``segpairs``   :func:`~plansynth.reach.lazy.bounds.segpairs.pair_boxes`,
+               :func:`~plansynth.reach.lazy.bounds.segpairs.connected_pairs` (a segment
+               through the free space between two regions, per pair, by small MILPs);
+``depth``      :func:`~plansynth.reach.lazy.bounds.depth.segment_depth` (how deep a
+               segment enters a convex obstacle).
 """
 
-from plansynth.reach.lazy.bounds.adjacency import step_adjacency, touching
+from plansynth.reach.lazy.bounds.adjacency import segment_adjacency, step_adjacency, touching
 from plansynth.reach.lazy.bounds.chains import (
     GOAL_NODE,
     SEPARATOR_MAX_REGIONS,
@@ -46,6 +52,7 @@ __all__ = [
     "time_windows",
     "touching",
     "step_adjacency",
+    "segment_adjacency",
     "proved_horizon_bound",
     "SWEEP_MAX_REGIONS",
     "SWEEP_MAX_WORK",

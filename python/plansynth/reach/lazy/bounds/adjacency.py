@@ -1,8 +1,10 @@
 """Which regions a trajectory can pass between (beyond Shoukry et al., CDC 2016, whose
 DIS-PLAN, Section IV, moves between adjacent regions only): :func:`touching`, regions
-whose closures meet (a segment-safe trajectory may cross a single contact point), and
+whose closures meet (a segment-safe trajectory may cross a single contact point),
 :func:`step_adjacency`, the regions one step can connect (a samples-only trajectory may
-jump over thin obstacles).
+jump over thin obstacles), and :func:`segment_adjacency`, the regions one straight
+segment through the free space can connect (a segment-safe step may cross several
+regions, never an obstacle).
 """
 
 from __future__ import annotations
@@ -12,10 +14,10 @@ import numpy as np
 from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import convex_hull
-from plansynth.reach.lazy.bounds.step import step_reach
+from plansynth.reach.lazy.bounds.step import step_boxes
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["touching", "step_adjacency"]
+__all__ = ["touching", "step_adjacency", "segment_adjacency"]
 
 
 def touching(abstraction: Abstraction, tol: float = 1e-9) -> tuple[tuple[int, ...], ...]:
@@ -84,13 +86,9 @@ def step_adjacency(
     k = len(regions)
     if k == 0:
         return ()
-    down, up = step_reach(problem) if reach is None else reach
-    lo = np.array([r.vertices.min(axis=0) for r in regions])
-    hi = np.array([r.vertices.max(axis=0) for r in regions])
-    size = float(np.max(hi) - np.min(lo))
+    lo, hi, size, r = step_boxes(problem, regions, reach)
     eps = 1e-9 * (1.0 + size)
-    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
-    r = np.where(np.isfinite(r), r, 2.0 * size + 1.0) + eps
+    r = r + eps
     out: list[set[int]] = [set(a) for a in abstraction.adjacency]
     if regions[0].dim == 2:
         import shapely
@@ -114,3 +112,78 @@ def step_adjacency(
             out[i].add(j)
             out[j].add(i)
     return tuple(tuple(sorted(n)) for n in out)
+
+
+def segment_adjacency(
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    scale: float = 1.0,
+    *,
+    reach: tuple[np.ndarray, np.ndarray] | None = None,
+    near: tuple[tuple[int, ...], ...] | None = None,
+) -> tuple[tuple[int, ...], ...]:
+    """The regions one segment-safe step can connect (beyond Shoukry et al., CDC 2016):
+    j is listed for i when a straight segment from a point of region i to a point of
+    region j, its displacement within ``scale`` times the per-step box
+    (:func:`step_reach`, made symmetric: ``r = max(step_down, step_up)`` per axis), may
+    stay in the free space. An over-approximation, sound for every segment-safe
+    trajectory when the regions cover the free space (an ``exact`` abstraction):
+
+    the segment [a, b] (a in region i, b in region j, b - a in the box ``B = [-r, r]``)
+    lies in ``W = (box(i) + B) & (box(j) + B)`` (every point a + s (b - a) is within B
+    of a and of b), and, lying in the free space, it passes through a chain of regions
+    whose closures meet one after the other (:func:`touching`, or ``near``), each of
+    which meets W. So j is listed when a breadth-first search from i over touching
+    regions whose bounding boxes meet the box W reaches j. A thin wall that one step
+    could jump (:func:`step_adjacency`) is not crossed unless a way around it lies
+    within the step's reach. ``scale`` < 1: the pieces of a segment between the points
+    at fractions s < s' of it (scale s' - s), for
+    :class:`~plansynth.reach.lazy.segments.SegmentDisPlan`. Symmetric; the
+    decomposition's own adjacency is included.
+
+    >>> from plansynth.reach import load
+    >>> from plansynth.reach.abstraction import abstract
+    >>> p = load("examples/reach/claims/gcs-maze-10.yaml")    # walls 0.1 m thick, steps 0.5 m
+    >>> a = abstract(p)
+    >>> [sum(map(len, adj)) // 2 for adj in (a.adjacency, step_adjacency(p, a), segment_adjacency(p, a))]
+    [54, 156, 84]
+    """
+    regions = abstraction.regions
+    k = len(regions)
+    if k == 0:
+        return ()
+    lo, hi, size, r = step_boxes(problem, regions, reach)
+    eps = 1e-9 * (1.0 + size)
+    r = scale * r + eps
+    graph = touching(abstraction) if near is None else near
+    out: list[set[int]] = [set(a) for a in abstraction.adjacency]
+    for i in range(k):
+        checkpoint()
+        cand = np.nonzero(np.all(lo <= hi[i] + r, axis=1) & np.all(hi >= lo[i] - r, axis=1))[0]
+        for j in cand.tolist():
+            if j == i or j in out[i]:
+                continue
+            w_lo = np.maximum(lo[i], lo[j]) - r  # the box W (see above)
+            w_hi = np.minimum(hi[i], hi[j]) + r
+            if np.any(w_lo > w_hi):
+                continue
+            inside = np.all(lo <= w_hi + eps, axis=1) & np.all(hi >= w_lo - eps, axis=1)
+            if _connected(graph, inside, i, j):
+                out[i].add(j)
+                out[j].add(i)
+    return tuple(tuple(sorted(n)) for n in out)
+
+
+def _connected(graph: tuple[tuple[int, ...], ...], inside: np.ndarray, i: int, j: int) -> bool:
+    """Is j reachable from i over ``graph`` through nodes with ``inside`` true?"""
+    seen = {i}
+    todo = [i]
+    while todo:
+        a = todo.pop()
+        for b in graph[a]:
+            if b == j:
+                return True
+            if b not in seen and inside[b]:
+                seen.add(b)
+                todo.append(b)
+    return False

@@ -24,7 +24,7 @@ from plansynth.reach.geometry import Box
 from plansynth.reach.highs import new_highs
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["step_reach", "physical_lower_bound", "shape_box", "box_of", "box_steps", "MULTISTEP_TABLE"]
+__all__ = ["step_reach", "step_boxes", "physical_lower_bound", "shape_box", "box_of", "box_steps", "MULTISTEP_TABLE"]
 
 
 def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
@@ -67,6 +67,21 @@ def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
             else:
                 out[a] = math.inf
     return down, up
+
+
+def step_boxes(
+    problem: ReachProblem, regions: Sequence[Any], reach: tuple[np.ndarray, np.ndarray] | None = None
+) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+    """The regions' bounding boxes (``lo``, ``hi``, one row per region), the size of
+    their hull (its largest side) and how far one step moves per axis
+    (:func:`step_reach`, or ``reach``; an unbounded axis reaches across the hull), as the
+    relations between regions one step can connect read them."""
+    down, up = step_reach(problem) if reach is None else reach
+    lo = np.array([r.vertices.min(axis=0) for r in regions])
+    hi = np.array([r.vertices.max(axis=0) for r in regions])
+    size = float(np.max(hi) - np.min(lo))
+    r = np.maximum(np.asarray(down, float), np.asarray(up, float))
+    return lo, hi, size, np.where(np.isfinite(r), r, 2.0 * size + 1.0)
 
 
 def _once_per_problem(f):  # (problems are immutable values with identity hashes)

@@ -1,0 +1,577 @@
+"""The theory of exact segment transitions (beyond Shoukry et al., CDC 2016, Section V,
+whose CON-PLAN realises one region per time step): a plan of
+:class:`~plansynth.reach.lazy.segments.SegmentDisPlan` (regions for the samples and for
+points along the segments) is realised by a trajectory whose segments avoid every
+obstacle exactly, refuted by a sound conflict, or answered with a
+:class:`~plansynth.reach.lazy.segments.Refinement`.
+
+The spec's segment safety ("the straight segment between two consecutive positions
+avoids every obstacle's interior") is not a finite union of polyhedra in (p_t,
+p_{t+1}): past a corner of a convex obstacle, with p_t beyond one face and p_{t+1}
+beyond the next, it is the sign of a cross product, bilinear in the two positions. So no
+single LP decides it. Three linear programs bracket it, each over the states x_0..x_N
+(start, dynamics, input and state bounds, workspace, goal), in HiGHS:
+
+* the *point LP* (necessary): every sample in its region and every point
+  ``p_t + (f / DENOM)(p_{t+1} - p_t)`` of the plan in its region (linear in the two
+  states). Infeasible: the plan is refuted for every segment-safe trajectory; the
+  conflict is the support of HiGHS's Farkas certificate (dual ray), checked by an LP
+  over exactly those literals, shrunk by a deletion filter, with the start and the goal
+  dropped where an LP proves it unneeded (then it holds at every time shift, as
+  CON-PLAN's). Feasible: its trajectory's segments are checked exactly
+  (:func:`~plansynth.reach.lazy.bounds.depth.segment_depth`: how deep a segment enters a convex obstacle piece, from the
+  breakpoints of a concave piecewise-linear function); within
+  :data:`ACCEPT_DEPTH` of touching, the plan is realised.
+* the *separating LP* (sufficient): the point LP plus, for each piece of a segment
+  (between consecutive points of the plan) that the last solution drove into an
+  obstacle, both ends of the piece beyond one supporting line of that obstacle: the
+  face, or in 2-D the line through a vertex along the piece, that the solution violates
+  least (a half-space is convex, so the piece misses the obstacle). Repeated while new
+  pieces cut in, up to :data:`TIGHTEN_ROUNDS` times (sequential linear programming); a
+  feasible one realises the plan.
+* otherwise the deepest point of each cutting segment becomes a new point along every
+  segment (:class:`~plansynth.reach.lazy.segments.Refinement`), which cuts the solution
+  off; when no new point is left (:data:`~plansynth.reach.lazy.segments.MAX_POINTS`, or
+  the grid of fractions is used up there) the plan is blocked *without a proof*
+  (``undecided``; the planner then claims neither ``infeasible`` nor a minimal horizon).
+
+A plan without points (a plain region tuple: the re-timed and compressed plans of
+:mod:`~plansynth.reach.lazy.minimal`) is checked the same way over its samples; it is
+never blocked without a proof.
+
+Obstacle faces flush with the workspace's boundary are left out of the depth (a
+zero-width slit is no free space for the decomposition: see
+:mod:`plansynth.reach.lazy.claims`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+
+import highspy
+import numpy as np
+
+from plansynth.budget import Clock
+from plansynth.reach.abstraction import Abstraction
+from plansynth.reach.geometry import convex_pieces
+from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.lazy.bounds.depth import segment_depth
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted
+from plansynth.reach.lazy.segments import DENOM, MAX_POINTS, Refinement, SegmentPlan
+from plansynth.reach.lazy.transit import TransitCheck
+from plansynth.reach.problem import ReachProblem
+from plansynth.reach.trajectory import Trajectory
+
+__all__ = ["SegmentTheory", "PointLP", "ACCEPT_DEPTH", "TIGHTEN_ROUNDS", "FILTER_MAX"]
+
+#: How deep a segment may enter an obstacle and still count as touching it (below the
+#: validator's default tolerance, 1e-6; HiGHS's feasibility tolerance is 1e-7).
+ACCEPT_DEPTH = 2e-7
+#: Rounds of the separating LP (see the module docstring).
+TIGHTEN_ROUNDS = 4
+#: The deletion filter runs on conflicts of at most this many literals.
+FILTER_MAX = 40
+
+Vias = Mapping[tuple[int, int], int]
+
+
+class _Piece:
+    """A convex obstacle piece: (H, h) without faces flush with the workspace's boundary,
+    its bounding box and (2-D) its vertices."""
+
+    def __init__(self, H: np.ndarray, h: np.ndarray, ws_lo: np.ndarray, ws_hi: np.ndarray) -> None:
+        top = np.sum(np.maximum(H * ws_lo, H * ws_hi), axis=1)
+        keep = h < top - 1e-12  # beyond a flush face lies at most the boundary: a slit
+        self.H_all, self.h_all = H, h
+        self.H, self.h = H[keep], h[keep]
+        d = H.shape[1]
+        if d == 2:
+            pts = []
+            for i in range(len(h)):
+                for j in range(i + 1, len(h)):
+                    M = H[[i, j]]
+                    if abs(np.linalg.det(M)) < 1e-12:
+                        continue
+                    v = np.linalg.solve(M, h[[i, j]])
+                    if np.all(H @ v <= h + 1e-9 * (1 + np.abs(h))):
+                        pts.append(v)
+            self.vertices = np.array(pts) if pts else np.zeros((0, 2))
+            lo = self.vertices.min(axis=0) if pts else np.full(2, -np.inf)
+            hi = self.vertices.max(axis=0) if pts else np.full(2, np.inf)
+        else:
+            self.vertices = np.zeros((0, d))
+            lo, hi = np.full(d, -np.inf), np.full(d, np.inf)
+            for a in range(d):  # boxes (3-D obstacles are boxes): their face rows
+                up = np.nonzero((H[:, a] == 1.0) & (np.abs(H).sum(axis=1) == 1.0))[0]
+                dn = np.nonzero((H[:, a] == -1.0) & (np.abs(H).sum(axis=1) == 1.0))[0]
+                if up.size:
+                    hi[a] = h[up].min()
+                if dn.size:
+                    lo[a] = -h[dn].max()
+        self.lo, self.hi = lo, hi
+
+    def separators(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, float]:
+        """A half-space ``n.x >= c`` beyond which the piece lies (a face, or in 2-D the
+        line through a vertex along b - a) that the points a and b violate least."""
+        best: tuple[float, np.ndarray, float] | None = None
+        for n, c in zip(self.H_all, self.h_all):  # beyond face f: H_f x >= h_f
+            v = max(0.0, float(c - n @ a), float(c - n @ b))
+            if best is None or v < best[0]:
+                best = (v, n, float(c))
+        d = b - a
+        if len(a) == 2 and len(self.vertices) and float(np.hypot(*d)) > 0:
+            for sign in (1.0, -1.0):
+                n = sign * np.array([-d[1], d[0]]) / float(np.hypot(*d))
+                c = float(np.max(self.vertices @ n))  # the supporting line with the piece below it
+                v = max(0.0, c - float(n @ a), c - float(n @ b))
+                if v < best[0]:
+                    best = (v, n, c)
+        assert best is not None
+        return best[1], best[2]
+
+
+class PointLP:
+    """The feasibility LP of the samples and the points along the segments (see the
+    module docstring), over the states lo..hi, in HiGHS (presolve off: the dual ray of an
+    infeasible LP is the Farkas certificate). :meth:`load` builds it, :meth:`run` solves
+    it with some literals switched off (their rows free: warm-started from the last
+    basis, as the deletion filter needs). Counters: ``lp_calls``, ``seconds``."""
+
+    def __init__(
+        self,
+        problem: ReachProblem,
+        abstraction: Abstraction,
+        clock: Clock | None = None,
+        boxes: Mapping[tuple[int, int], tuple[np.ndarray, ...]] | None = None,
+    ) -> None:
+        from plansynth.reach.geometry import halfspaces
+
+        self.problem = problem
+        self.clock = clock
+        self.boxes = {} if boxes is None else dict(boxes)
+        dyn = problem.dynamics
+        self.n, self.m = dyn.n_states, dyn.n_inputs
+        self.pos = np.array(dyn.position, dtype=np.int64)
+        self.A, self.B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+        self.Hs = [np.asarray(r.H, float) for r in abstraction.regions]
+        self.hs = [np.asarray(r.h, float) for r in abstraction.regions]
+        self.Hg, self.hg = (np.asarray(a, float) for a in halfspaces(problem.goal))
+        self.state_lo, self.state_hi = problem.state_box
+        self.start = np.asarray(problem.start, float)
+        self.highs = new_highs(presolve="off")
+        self.tags: list[tuple] = []
+        self.span = (0, 0)
+        self._rows: dict[tuple, np.ndarray] = {}  # a literal's tag -> its rows
+        self._hi: np.ndarray = np.zeros(0)  # the rows' upper bounds as loaded
+        self._lo: np.ndarray = np.zeros(0)
+        self._off: set[tuple] = set()
+        self.lp_calls = 0
+        self.seconds = 0.0
+
+    def solve(
+        self,
+        samples: Mapping[int, int],
+        vias: Vias,
+        lo: int,
+        hi: int,
+        *,
+        start: bool,
+        goal: bool,
+        extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """:meth:`load`, then :meth:`run`."""
+        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra)
+        return self.run()
+
+    def load(
+        self,
+        samples: Mapping[int, int],
+        vias: Vias,
+        lo: int,
+        hi: int,
+        *,
+        start: bool,
+        goal: bool,
+        extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
+    ) -> None:
+        """Put the LP into HiGHS: the states lo..hi (x_lo = start when ``start``, p_hi in
+        the goal when ``goal``), the samples (t -> region) and points ((t, f) -> region)
+        within them, and ``extra`` rows ``n . p(t, f) >= c`` as (t, f, n, c) (f over
+        DENOM, 0..DENOM)."""
+        n, m, pos, d = self.n, self.m, self.pos, len(self.pos)
+        T = hi - lo + 1
+        n_x, n_u = T * n, (T - 1) * m
+        rows = Rows()
+        tags: list[tuple] = []
+        ai, aj = np.nonzero(self.A)
+        bi, bj = np.nonzero(self.B)
+        if T > 1:  # x_{t+1} - A x_t - B u_t = 0, every step at once
+            k = np.arange(T - 1)[:, None]
+            r1 = np.concatenate([np.arange(n), ai, bi])
+            rows.add(
+                (k * n + r1[None, :]).ravel(),
+                np.concatenate(
+                    [(k + 1) * n + np.arange(n)[None, :], k * n + aj[None, :], n_x + k * m + bj[None, :]], axis=1
+                ).ravel(),
+                np.tile(np.concatenate([np.ones(n), -self.A[ai, aj], -self.B[bi, bj]]), T - 1),
+                np.zeros((T - 1) * n),
+                np.zeros((T - 1) * n),
+            )
+            tags += [("dyn",)] * ((T - 1) * n)
+        points: list[tuple[int, int, np.ndarray, np.ndarray, np.ndarray, tuple]] = []
+        for t, r in samples.items():
+            if lo <= t <= hi:
+                points.append((t, 0, self.Hs[r], np.full(len(self.hs[r]), -np.inf), self.hs[r], ("s", t, r)))
+        for (t, f), r in vias.items():
+            if lo <= t and t + 1 <= hi:
+                points.append((t, f, self.Hs[r], np.full(len(self.hs[r]), -np.inf), self.hs[r], ("v", t, f, r)))
+        for j, (t, f, nrm, c) in enumerate(extra):
+            points.append((t, f, nrm[None, :], np.array([c]), np.array([np.inf]), ("x", j)))
+        eye = np.eye(d)
+        for t, r in samples.items():  # a step between regions that do not touch: its ends' boxes
+            box = self.boxes.get((r, samples.get(t + 1, -1)))
+            if box is not None and lo <= t and t + 1 <= hi:
+                a_lo, a_hi, b_lo, b_hi = box
+                pair = ("pair", t, r, samples[t + 1])
+                points.append((t, 0, eye, a_lo, a_hi, pair))
+                points.append((t + 1, 0, eye, b_lo, b_hi, pair))
+        if points:
+            R, C, V, L, U = [], [], [], [], []
+            row = 0
+            for t, f, H, lo_b, hi_b, tag in points:
+                kk = H.shape[0]
+                lam = f / DENOM
+                for w, tt in ((1.0 - lam, t), (lam, t + 1)):
+                    if w != 0.0:
+                        R.append(row + np.repeat(np.arange(kk), d))
+                        C.append(np.tile((tt - lo) * n + pos, kk))
+                        V.append(w * H.ravel())
+                L.append(lo_b)
+                U.append(hi_b)
+                tags.extend([tag] * kk)
+                row += kk
+            rows.add(np.concatenate(R), np.concatenate(C), np.concatenate(V), np.concatenate(L), np.concatenate(U))
+        if goal:
+            kg = len(self.hg)
+            rows.add(
+                np.repeat(np.arange(kg), d),
+                np.tile((hi - lo) * n + pos, kg),
+                self.Hg.ravel(),
+                np.full(kg, -np.inf),
+                self.hg,
+            )
+            tags += [("goal",)] * kg
+        col_lo = np.concatenate([np.tile(self.state_lo, T), np.full(n_u, -self.problem.input_bound)])
+        col_hi = np.concatenate([np.tile(self.state_hi, T), np.full(n_u, self.problem.input_bound)])
+        if start:
+            assert lo == 0
+            col_lo[:n] = col_hi[:n] = self.start
+        n_col = n_x + n_u
+        row_lo, row_hi = rows.bounds()
+        lp = csc_lp(n_col, rows.n_row, *rows.coo(), np.zeros(n_col), col_lo, col_hi, row_lo, row_hi)
+        self.highs.passModel(lp)
+        self.tags = tags
+        self.span = (lo, hi)
+        self._T = T
+        self._lo, self._hi = row_lo.copy(), row_hi.copy()
+        by: dict[tuple, list[int]] = {}
+        for i, tag in enumerate(tags):
+            for lit in _literals_of(tag):
+                by.setdefault(lit, []).append(i)
+        self._rows = {tag: np.array(ix, dtype=np.int32) for tag, ix in by.items()}
+        self._off = set()
+
+    def run(self, off: set[tuple] | None = None) -> tuple[np.ndarray, np.ndarray] | None:
+        """Solve the loaded LP with the literals whose tags are in ``off`` switched off
+        (the others as loaded): states and inputs of a solution, or None when
+        infeasible. Raises LpBudgetExhausted when the budget runs out, or when HiGHS
+        decides nothing."""
+        off = set() if off is None else set(off)
+        h = self.highs
+        changed = off ^ self._off
+        if changed:
+            # a row is free when any literal it belongs to is off (a pair row has two)
+            ix = np.unique(np.concatenate([self._rows[g] for g in changed]))
+            free = np.array([any(g in off for g in _literals_of(self.tags[i])) for i in ix.tolist()])
+            lo_b = np.where(free, -np.inf, self._lo[ix])
+            hi_b = np.where(free, np.inf, self._hi[ix])
+            h.changeRowsBounds(len(ix), ix.astype(np.int32), lo_b, hi_b)
+        self._off = off
+        if self.clock is not None:
+            left = self.clock.remaining()
+            if left <= 0:
+                raise LpBudgetExhausted("budget ran out in the segment theory's LP")
+            h.setOptionValue("time_limit", float(min(left, 1e9)))
+        t0 = time.perf_counter()
+        h.run()
+        self.seconds += time.perf_counter() - t0
+        self.lp_calls += 1
+        status = h.getModelStatus()
+        S = highspy.HighsModelStatus
+        n, m, T = self.n, self.m, self._T
+        if status == S.kOptimal:
+            col = np.asarray(h.getSolution().col_value)
+            return col[: T * n].reshape(T, n), col[T * n :].reshape(T - 1, m)
+        if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
+            return None
+        raise LpBudgetExhausted(f"the segment theory's LP ended with HiGHS status {h.modelStatusToString(status)}")
+
+    def support(self) -> set[tuple] | None:
+        """The tags of the rows of the Farkas certificate (dual ray) of the infeasible LP
+        just solved, or None when HiGHS has none."""
+        status, has_ray, ray = self.highs.getDualRay()
+        y = np.asarray(ray, dtype=float)
+        if status != highspy.HighsStatus.kOk or not has_ray or not y.size or not np.max(np.abs(y)) > 0:
+            return None
+        y = y / np.max(np.abs(y))
+        y[[i for i, tag in enumerate(self.tags) if any(g in self._off for g in _literals_of(tag))]] = 0.0
+        return {g for i in np.nonzero(np.abs(y) > 1e-9)[0] for g in (*_literals_of(self.tags[i]), self.tags[i])}
+
+
+class SegmentTheory:
+    """The :class:`~plansynth.reach.lazy.loop.TheoryChecker` of exact segment transitions
+    (see the module docstring). ``transit`` (optional): the transit layer over CON-PLAN
+    *without* segment rows (its leg conflicts are about samples only, which every
+    segment-safe trajectory keeps in its regions: sound here). Counters: ``lp_calls``,
+    ``plans_checked``, ``realised`` (plans whose point LP's trajectory was segment-safe),
+    ``separated`` (realised by the separating LP), ``refinements``, ``undecided``."""
+
+    def __init__(
+        self,
+        problem: ReachProblem,
+        abstraction: Abstraction,
+        *,
+        transit: TransitCheck | None = None,
+        clock: Clock | None = None,
+        boxes: Mapping[tuple[int, int], tuple[np.ndarray, ...]] | None = None,
+    ) -> None:
+        self.problem = problem
+        self.lp = PointLP(problem, abstraction, clock, boxes)
+        self.transit = transit
+        self.expendable = False
+        ws_lo, ws_hi = np.asarray(problem.workspace.lo, float), np.asarray(problem.workspace.hi, float)
+        self.pieces = [_Piece(H, h, ws_lo, ws_hi) for o in problem.obstacles for H, h in convex_pieces(o)]
+        self.plans_checked = 0
+        self.realised = 0
+        self.separated = 0
+        self.refinements = 0
+        self.undecided = 0
+        self.conflicts = 0
+
+    @property
+    def lp_calls(self) -> int:
+        return self.lp.lp_calls
+
+    def first_gap(self, a: int, b: int) -> int:
+        """The transit layer's (the guide's first leg)."""
+        assert self.transit is not None
+        return self.transit.first_gap(a, b)
+
+    # ---------------------------------------------------------------- the check
+    def check(self, plan: Sequence[int]) -> Feasible | Conflict | Refinement | tuple:
+        regions = tuple(int(r) for r in plan)
+        vias: Vias = plan.vias if isinstance(plan, SegmentPlan) else {}
+        N = len(regions) - 1
+        if self.transit is not None:
+            known = self.transit.violations(regions, known_only=True)
+            if known:
+                return tuple(known)
+        samples = dict(enumerate(regions))
+        self.plans_checked += 1
+        sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True)
+        if sol is None:
+            c = self._conflict(samples, vias, N)
+            self.conflicts += 1
+            if self.transit is not None:
+                span = (0 if c.anchored_start else c.first_time, N if c.anchored_goal else c.last_time)
+                return (c, *self.transit.violations(regions, span))
+            return c
+        X, U = sol
+        cuts = self._cuts(X, vias)
+        if not cuts:
+            self.realised += 1
+            return Feasible(Trajectory(states=X, inputs=U))
+        found = self._separated(samples, vias, N, cuts, X)
+        if found is not None:
+            self.separated += 1
+            return found
+        new = self._new_fractions(cuts, vias)
+        if new:
+            self.refinements += 1
+            return Refinement(tuple(new))
+        if not isinstance(plan, SegmentPlan):
+            return Refinement(())  # a hint, not DIS-PLAN's plan: nothing to block
+        self.undecided += 1
+        return Conflict(
+            tuple(samples.items()),
+            anchored_start=True,
+            anchored_goal=True,
+            horizon=N,
+            vias=tuple((t, f, r) for (t, f), r in vias.items()),
+        )
+
+    # ---------------------------------------------------------------- exact check
+    def _cuts(self, X: np.ndarray, vias: Vias) -> list[tuple[int, float, int, float]]:
+        """The segments of ``X`` that enter an obstacle deeper than :data:`ACCEPT_DEPTH`:
+        (t, deepest fraction, piece, depth), the deepest piece per segment."""
+        P = X[:, self.pos]
+        if len(P) < 2 or not self.pieces:
+            return []
+        a, b = P[:-1], P[1:]
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        best: dict[int, tuple[int, float, int, float]] = {}
+        for k, pc in enumerate(self.pieces):
+            if not len(pc.h):
+                continue
+            near = np.nonzero(np.all(lo < pc.hi, axis=1) & np.all(hi > pc.lo, axis=1))[0]
+            if not near.size:
+                continue
+            depth, s = segment_depth(a[near], b[near], pc.H, pc.h)
+            for t, dep, at in zip(near.tolist(), depth.tolist(), s.tolist()):
+                if dep > ACCEPT_DEPTH and (t not in best or dep > best[t][3]):
+                    best[t] = (t, at, k, dep)
+        return sorted(best.values())
+
+    @property
+    def pos(self) -> np.ndarray:
+        return self.lp.pos
+
+    # ---------------------------------------------------------------- the separating LP
+    def _separated(self, samples: dict[int, int], vias: Vias, N: int, cuts: list, X: np.ndarray) -> Feasible | None:
+        """The separating LP (module docstring), repeated while new pieces cut in."""
+        extra: list[tuple[int, int, np.ndarray, float]] = []
+        done: set[tuple[int, int, int]] = set()
+        fr = _per_segment(vias)
+        for _ in range(TIGHTEN_ROUNDS):
+            P = X[:, self.pos]
+            for t, s, k, _ in cuts:
+                a_f, b_f = _around(fr.get(t, ()), s)
+                if (t, a_f, k) in done:
+                    continue
+                done.add((t, a_f, k))
+                pa = P[t] + a_f / DENOM * (P[t + 1] - P[t])
+                pb = P[t] + b_f / DENOM * (P[t + 1] - P[t])
+                n, c = self.pieces[k].separators(pa, pb)
+                extra += [(t, a_f, n, c), (t, b_f, n, c)]
+            sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True, extra=extra)
+            if sol is None:
+                return None
+            X, U = sol
+            cuts = self._cuts(X, vias)
+            if not cuts:
+                return Feasible(Trajectory(states=X, inputs=U))
+        return None
+
+    # ---------------------------------------------------------------- refinement
+    def _new_fractions(self, cuts: list, vias: Vias) -> list[tuple[int, int]]:
+        """A new point (t, f), f over DENOM, at the deepest point of each cutting segment
+        t, on the grid and strictly between the plan's points around it; none for a
+        segment whose grid there or :data:`MAX_POINTS` is used up."""
+        fr = _per_segment(vias)
+        out: list[tuple[int, int]] = []
+        for t, s, _, _ in cuts:
+            mine = fr.get(t, ())
+            a, b = _around(mine, s)
+            if b - a < 2 or len(mine) >= MAX_POINTS:
+                continue
+            out.append((t, _simplest(a, b, s)))
+        return out
+
+    # ---------------------------------------------------------------- conflicts
+    def _conflict(self, samples: dict[int, int], vias: Vias, N: int) -> Conflict:
+        """The conflict of the infeasible point LP just solved: its Farkas support, checked
+        and shrunk (module docstring). Every conflict returned is the literals of an LP
+        that HiGHS found infeasible, over the states it claims."""
+        sup = self.lp.support()
+        every = {("s", t, r) for t, r in samples.items()} | {("v", t, f, r) for (t, f), r in vias.items()}
+        lits, goal = every, True
+        if sup is not None:
+            lits, goal = every & sup, ("goal",) in sup
+            if not self._infeasible(lits, N, start=True, goal=goal):
+                lits, goal = every, True
+                self._infeasible(lits, N, start=True, goal=True)  # (known infeasible: load it for the filter)
+        if len(lits) <= FILTER_MAX:  # deletion filter, warm-started in the loaded LP
+            off: set[tuple] = set()
+            for tag in sorted(lits, key=lambda g: (-g[1], g)):  # the latest first: shorter spans
+                if self.lp.run(off | {tag}) is None:
+                    off.add(tag)
+            lits = lits - off
+        span = self.lp.span  # (the states the last infeasible LP used)
+        start = True
+        if lits and self._infeasible(lits, N, start=False, goal=goal):
+            start, span = False, self.lp.span
+        if goal and lits and self._infeasible(lits, N, start=start, goal=False):
+            goal, span = False, self.lp.span
+        return Conflict(
+            tuple((t, r) for k, t, r in (g for g in lits if g[0] == "s")),
+            anchored_start=start,
+            anchored_goal=goal,
+            horizon=N,
+            first_time=span[0],
+            last_time=span[1],
+            vias=tuple(g[1:] for g in lits if g[0] == "v"),
+        )
+
+    def _infeasible(self, lits: set[tuple], N: int, *, start: bool, goal: bool) -> bool:
+        """Is the point LP of exactly these literals (tags) infeasible, over the states a
+        conflict would claim (0 with the start, N with the goal, else the literals' span)?
+        The LP stays loaded."""
+        times = [g[1] for g in lits] + [g[1] + 1 for g in lits if g[0] == "v"]
+        lo = 0 if start or not times else min(times)
+        hi = N if goal or not times else max(times)
+        s = {g[1]: g[2] for g in lits if g[0] == "s"}
+        v = {(g[1], g[2]): g[3] for g in lits if g[0] == "v"}
+        self.lp.load(s, v, lo, hi, start=start, goal=goal)
+        return self.lp.run() is None
+
+
+def _around(fractions: Sequence[int], s: float) -> tuple[int, int]:
+    """The plan's points (fractions over DENOM, with 0 and DENOM) just below and above s."""
+    at = s * DENOM
+    below = max([0] + [f for f in fractions if f <= at])
+    above = min([DENOM] + [f for f in fractions if f > at])
+    if below == above:  # pragma: no cover - (below <= at < above)
+        above = below + 1
+    return below, above
+
+
+def _simplest(a: int, b: int, s: float) -> int:
+    """A fraction (over DENOM) strictly between a and b, near s: the one with the fewest
+    binary digits within a quarter of b - a of s (so that segments share their points
+    and a conflict about a point holds at more time shifts), else the nearest to s.
+
+    >>> _simplest(0, DENOM, 0.55) == DENOM // 2, _simplest(DENOM // 2, DENOM, 0.9) == 7 * DENOM // 8
+    (True, True)
+    """
+    at = s * DENOM
+    w = (b - a) / 4
+    lo, hi = max(a + 1, math.ceil(at - w)), min(b - 1, math.floor(at + w))
+    step = DENOM
+    while step >= 1:
+        f = -(-lo // step) * step  # the first multiple of step at or above lo
+        if f <= hi:
+            return int(f)
+        step //= 2
+    return min(max(int(round(at)), a + 1), b - 1)
+
+
+def _literals_of(tag: tuple) -> tuple[tuple, ...]:
+    """The literals (sample and point tags) a row of the point LP belongs to: a pair row
+    belongs to both samples of its step."""
+    if tag[0] in ("s", "v"):
+        return (tag,)
+    if tag[0] == "pair":
+        _, t, i, j = tag
+        return (("s", t, i), ("s", t + 1, j))
+    return ()
+
+
+def _per_segment(vias: Vias) -> dict[int, list[int]]:
+    """The plan's fractions per segment, sorted."""
+    out: dict[int, list[int]] = {}
+    for t, f in vias:
+        out.setdefault(t, []).append(f)
+    return {t: sorted(fs) for t, fs in out.items()}
