@@ -26,7 +26,9 @@ only when it plans. The planners and their modules:
 ``rrt``, ``est``, ``kpiece``  OMPL's kinodynamic planners;
 ``gcs``               Drake's Graphs of Convex Sets;
 ``milp-ltl``, ``milp-ltl-oneshot``  the mission MILP baseline
-                      (:mod:`plansynth.reach.mission.milp`).
+                      (:mod:`plansynth.reach.mission.milp`);
+``lazy-smt-team``, ``milp-team``, ``prioritized``  teams of robots
+                      (:mod:`~plansynth.reach.planners.team`, :mod:`plansynth.reach.team`).
 
 The baselines' entries are in :mod:`~plansynth.reach.planners.baselines`. Plugins
 register with :func:`register_planner` (a :class:`Planner`, or a plain function
@@ -238,6 +240,9 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
         "gcs": "plansynth.reach.planners.baselines:GCS",  # Drake's Graphs of Convex Sets
         "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
         "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
+        "lazy-smt-team": "plansynth.reach.planners.team:LAZY_SMT_TEAM",  # teams: the joint lazy SMT planner
+        "milp-team": "plansynth.reach.planners.team:MILP_TEAM",  # teams: the joint big-M MILP
+        "prioritized": "plansynth.reach.planners.team:PRIORITIZED",  # teams: one robot after the other
     },
     extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs")},
 )
@@ -252,7 +257,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot')
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot', 'lazy-smt-team', 'milp-team', 'prioritized')
     """
     return PLANNERS.names()
 
@@ -279,6 +284,6 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot, lazy-smt-team, milp-team, prioritized
     """
     return PLANNERS.get(name)
