@@ -53,6 +53,12 @@ def _missions(n: int, mission: str) -> Any:
     return mission_problem(f"maze-{n}", mission)
 
 
+def _team(case: str) -> Any:
+    from plansynth.reach.team.families import team_case
+
+    return team_case(case)
+
+
 REACH_PROBLEMS: dict[str, Any] = {
     "maze": _maze,
     "chain": _chain,
@@ -60,4 +66,5 @@ REACH_PROBLEMS: dict[str, Any] = {
     "random-dynamics": _random_dynamics,
     "missions": _missions,
     "gcs-maze": _gcs_maze,
+    "team": _team,
 }

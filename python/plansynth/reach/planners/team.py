@@ -21,7 +21,7 @@ __all__ = ["LAZY_SMT_TEAM", "MILP_TEAM", "PRIORITIZED"]
 
 #: ``lazy-smt-team``: the joint lazy SMT planner (CaDiCaL and HiGHS)
 LAZY_SMT_TEAM = OptionsPlanner(
-    "lazy-smt-team", TeamLazyOptions(), "plansynth.reach.team.lazy:run", ("python-sat", "highspy")
+    "lazy-smt-team", TeamLazyOptions(), "plansynth.reach.team.seeding:run", ("python-sat", "highspy")
 )
 #: ``milp-team``: the joint big-M MILP, one per horizon (HiGHS)
 MILP_TEAM = OptionsPlanner("milp-team", TeamMilpOptions(), "plansynth.reach.team.milp:run", ("highspy",))

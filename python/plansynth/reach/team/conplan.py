@@ -44,6 +44,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import highspy
 import numpy as np
@@ -107,6 +108,7 @@ class TeamLpStats:
     uncertified: int = 0
     cached: int = 0
     engagements: int = 0
+    transit: int = 0
     seconds: float = 0.0
     largest_component: int = 0
     conflict_sizes: list[int] = field(default_factory=list)
@@ -130,8 +132,10 @@ class TeamConPlan:
         clock: Clock,
         hints: dict[tuple, int] | None = None,
         objective: str = "none",
+        transit: Sequence[Any] | None = None,
     ) -> None:
         self.problem = problem
+        self.transit = list(transit) if transit is not None else []
         self.objective = objective
         self.elastic = True
         self.models = list(models)
@@ -148,6 +152,11 @@ class TeamConPlan:
     # -- the TheoryChecker interface ---------------------------------------------------
     def check(self, plan: TeamPlan) -> Feasible | tuple:
         L = plan.horizon
+        legs = self._transit(plan)
+        if legs:
+            self.plans_checked += 1
+            self.stats.transit += len(legs)
+            return legs
         comps = _components(len(self.models), plan)
         self.stats.largest_component = max(self.stats.largest_component, max(len(c) for c in comps))
         states: dict[int, tuple[np.ndarray, np.ndarray]] = {}
@@ -172,6 +181,29 @@ class TeamConPlan:
             else np.zeros((0, sum(m.m for m in self.models)))
         )
         return Feasible(Trajectory(states=X, inputs=U))
+
+    def _transit(self, plan: TeamPlan) -> tuple[TeamConflict, ...]:
+        """Each robot's transit violations (the single-robot layer,
+        :class:`~plansynth.reach.lazy.transit.TransitCheck`: legs between regions, or from
+        the start or to the goal, in fewer steps than the robot can make them), as
+        conflicts of the team."""
+        out = []
+        for r, tc in enumerate(self.transit):
+            if tc is None:
+                continue
+            for c in tc.violations(plan.regions[r]):
+                out.append(
+                    TeamConflict(
+                        tuple(("at", r, t, i) for t, i in c.literals),
+                        start=c.anchored_start,
+                        goal=c.anchored_goal,
+                        timed=False,
+                        horizon=c.horizon,
+                        first_time=c.first_time,
+                        last_time=c.last_time,
+                    )
+                )
+        return tuple(out)
 
     # -- one component --------------------------------------------------------------
     def _component(
@@ -686,7 +718,8 @@ class _ComponentLp:
         rlo[free], rhi[free] = -INF, INF
         clo, chi = self.cb[0].copy(), self.cb[1].copy()
         order = sorted(keep, key=lambda k: (k[0] != "at", k))
-        candidates: list = (["goal"] if use_goal else []) + order + ["start"]
+        # a conflict of one or two literals is small already: only its anchors are tried
+        candidates: list = (["goal"] if use_goal else []) + (order if len(keep) > 2 else []) + ["start"]
         if len(keep) <= MINIMIZE_MAX_LITERALS:
             self._set_bounds(rlo, rhi, clo, chi)
             for c in candidates:

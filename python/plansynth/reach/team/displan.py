@@ -116,6 +116,8 @@ class TeamDisPlan:
         self._engaged: set[tuple] = set()
         #: the side each engaged step keeps best in the latest trajectories (phases)
         self.side_hints: dict[tuple, int] = {}
+        #: per horizon, sides that take precedence over :attr:`side_hints` (an incumbent's)
+        self.horizon_hints: dict[int, dict[tuple, int]] = {}
         self.sat_calls = 0
         self.clauses = 0  # learned clauses, counting shifted copies
         self.sat_seconds = 0.0
@@ -341,7 +343,8 @@ class TeamDisPlan:
                     for j in range(g.n_regions):
                         v = self.at(frame, r, t, j)
                         out.append(v if j == i else -v)
-        for key, k in self.side_hints.items():
+        hints = {**self.side_hints, **self.horizon_hints.get(L, {})}
+        for key, k in hints.items():
             kind, a, b, t = key
             if t >= L:
                 continue
@@ -352,6 +355,10 @@ class TeamDisPlan:
                 v = frame.pool.id((kind, a, b, t, kk))
                 out.append(v if kk == k else -v)
         return out
+
+    def _hint(self, L: int, key: tuple) -> int | None:
+        own = self.horizon_hints.get(L, {})
+        return own[key] if key in own else self.side_hints.get(key)
 
     def _read(self, frame: _Frame) -> TeamPlan:
         model = frame.solver.get_model()
@@ -368,14 +375,14 @@ class TeamDisPlan:
             if t < L:
                 n_sides = self.pair_sides[(i, j)][0]
                 sides[(i, j, t)] = _first_true(
-                    true, frame, ("side", i, j, t), n_sides, self.side_hints.get(("side", i, j, t))
+                    true, frame, ("side", i, j, t), n_sides, self._hint(L, ("side", i, j, t))
                 )
         msides = {}
         for r, o, t in self.engaged_obstacles:
             if t < L:
                 n_sides = self.obstacle_sides[(r, o)][0]
                 msides[(r, o, t)] = _first_true(
-                    true, frame, ("mside", r, o, t), n_sides, self.side_hints.get(("mside", r, o, t))
+                    true, frame, ("mside", r, o, t), n_sides, self._hint(L, ("mside", r, o, t))
                 )
         return TeamPlan(tuple(regions), sides, msides)
 

@@ -44,6 +44,7 @@ __all__ = [
     "patrol_gap",
     "narrow_corridor",
     "TEAM_CASES",
+    "INFEASIBLE_CASES",
     "team_case",
 ]
 
@@ -209,17 +210,18 @@ def antipodal(n: int, radius: float = 4.0) -> TeamProblem:
 
 
 def patrol_gap() -> TeamProblem:
-    """Maze-1 (:func:`plansynth.reach.families.maze`) with its robot, and a 2 x 2
-    vehicle that patrols through the wall's gap (x = 28, from y = 10 to y = 20 and back,
-    every 20 s, for 200 s), keeping 0.5 from the robot."""
+    """Maze-1 (:func:`plansynth.reach.families.maze`) with its robot, and a 1.5 x 1.5
+    vehicle that patrols through the wall's gap (x = 28, from y = 12.5 to y = 17.5 and
+    back, 5 s each way, for 200 s), keeping 0.5 from the robot: the robot cannot share
+    the gap with it, and must time its passage."""
     from plansynth.reach.families import maze
 
     base = maze(1)
     times, positions = [], []
-    for k in range(11):
-        times.append(20.0 * k)
-        positions.append((28.0, 10.0 if k % 2 == 0 else 20.0))
-    vehicle = MovingObstacle(Box((-1, -1), (1, 1)), tuple(times), tuple(positions), "vehicle")
+    for k in range(41):
+        times.append(5.0 * k)
+        positions.append((28.0, 12.5 if k % 2 == 0 else 17.5))
+    vehicle = MovingObstacle(Box((-0.75, -0.75), (0.75, 0.75)), tuple(times), tuple(positions), "vehicle")
     robot = TeamRobot(
         "robot", base.dynamics, base.start, base.input_bound, goal=base.goal, state_bounds=base.state_bounds
     )
@@ -245,6 +247,10 @@ TEAM_CASES = {
     "patrol-gap": patrol_gap,
     "narrow-corridor": narrow_corridor,
 }
+
+
+#: the cases that have no plan (of the encoding; the narrow corridor has none at all)
+INFEASIBLE_CASES = ("narrow-corridor",)
 
 
 def team_case(name: str) -> TeamProblem:

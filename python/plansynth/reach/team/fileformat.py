@@ -239,7 +239,11 @@ def _parse_separation(value: Any, src: str | None, d: int) -> Separation:
 def _parse_moving(value: Any, src: str | None, where: str, d: int, k: int) -> MovingObstacle:
     f = Fields(value, src, where)
     f.reject_unknown({"name", "shape", "path", "separation"})
-    shape = _parse_shape(f.require("shape"), src, f"{where}.shape", d)
+    raw_shape = f.require("shape")
+    if isinstance(raw_shape, Mapping) and "vertices" not in raw_shape:  # a box, possibly a point
+        shape: Shape = _parse_box(raw_shape, src, f"{where}.shape", dim=d, allow_flat=True)
+    else:
+        shape = _parse_shape(raw_shape, src, f"{where}.shape", d)
     path = f.require("path")
     if not isinstance(path, Sequence) or isinstance(path, (str, bytes)) or not path:
         raise InvalidProblem(

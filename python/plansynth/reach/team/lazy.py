@@ -42,29 +42,30 @@ import time
 from dataclasses import asdict
 from typing import Any
 
+import numpy as np
+
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.reach.lazy.loop import LoopOutcome, lazy_loop
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.team.conplan import TeamConPlan
 from plansynth.reach.team.displan import RobotMission, TeamDisPlan
 from plansynth.reach.team.options import TeamLazyOptions
+from plansynth.reach.team.plans import Engage
 from plansynth.reach.team.problem import TeamProblem
 from plansynth.reach.team.result import TeamResult
 from plansynth.reach.team.setup import TeamSetup, prepare
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["plan_team_lazy", "run", "split_trajectory", "ENCODING"]
+__all__ = ["plan_team_lazy", "split_trajectory", "ENCODING", "SEEDED_DEFER_AFTER"]
+
+#: with an incumbent, a horizon below it is set aside after this many refuted plans
+SEEDED_DEFER_AFTER = 8
 
 #: what an ``infeasible`` of the team planners is relative to
 ENCODING = (
     "segment-safe plans through each robot's decomposition, each pair and robot-obstacle couple keeping one "
     "side of its forbidden polygon during each step"
 )
-
-
-def run(problem: Any, budget: Budget, options: TeamLazyOptions, progress: Any = None) -> TeamResult:
-    """The registry's entry (:data:`plansynth.reach.planners.PLANNERS`)."""
-    return plan_team_lazy(problem, budget, options, progress)
 
 
 def split_trajectory(problem: TeamProblem, joint: Trajectory) -> tuple[Trajectory, ...]:
@@ -88,6 +89,46 @@ def _missions(setup: TeamSetup) -> list[RobotMission | None]:
     return out
 
 
+def _transit_layers(setup: TeamSetup, clock: Any) -> list[Any]:
+    """Each robot's single-robot transit layer over its own CON-PLAN
+    (:class:`~plansynth.reach.lazy.transit.TransitCheck`, segment-safe)."""
+    from plansynth.reach.lazy.conplan import ConPlan
+    from plansynth.reach.lazy.transit import TransitCheck
+
+    return [TransitCheck(ConPlan(s.planning, s.abstraction, clock=clock), s.abstraction) for s in setup.robots]
+
+
+def _engage_seed(setup: TeamSetup, displan: TeamDisPlan, seed: TeamResult) -> None:
+    """At the seed's horizon, DIS-PLAN's phases are the seed's sides (every pair step) and
+    region sequences, and the pair steps where the seed's robots come within the size
+    of their forbidden polygon are engaged: the seed is a plan of the encoding, so
+    DIS-PLAN proposes it first there."""
+    problem = setup.problem
+    H = seed.horizon
+    pos = [problem.robot_problems[r].position_of(t.states) for r, t in enumerate(seed.trajectories)]
+    pairs = []
+    hints = displan.horizon_hints.setdefault(H, {})
+    for (i, j), f in setup.pair_facets.items():
+        M = f.margins(pos[i] - pos[j])
+        S = np.minimum(M[:-1], M[1:])
+        reach = float(np.max(f.b))
+        for t in range(H):
+            k = int(S[t].argmax())
+            hints[("side", i, j, t)] = k
+            if S[t, k] < reach:
+                pairs.append((i, j, t))
+    displan.learn(Engage(pairs=tuple(pairs)))
+    guide = displan.guide
+    regions = seed.regions
+
+    def seeded_guide(r: int, L: int) -> Any:
+        if L == H:
+            return regions[r]
+        return None if guide is None else guide(r, L)
+
+    displan.guide = seeded_guide
+
+
 def plan_team_lazy(
     problem: TeamProblem,
     budget: Budget = Budget(),
@@ -95,10 +136,14 @@ def plan_team_lazy(
     progress: Any = None,
     *,
     horizons: range | None = None,
+    seed: TeamResult | None = None,
 ) -> TeamResult:
     """Plan the team (see the module docstring); the answer is not validated here
-    (:func:`~plansynth.reach.team.solve.solve_team` validates). ``horizons``: try only
-    these (tests; an ``infeasible`` then covers only them)."""
+    (:func:`plansynth.reach.solve` validates). ``horizons``: try only these (tests; an
+    ``infeasible`` then covers only them). ``seed``: an incumbent plan of the encoding
+    (:mod:`plansynth.reach.team.seeding`): the horizons below it are tried first, each
+    set aside after :data:`SEEDED_DEFER_AFTER` refuted plans, then its own, where
+    DIS-PLAN proposes it first."""
     options = TeamLazyOptions() if options is None else options
     clock = budget.clock()
     t_start = time.perf_counter()
@@ -160,9 +205,16 @@ def plan_team_lazy(
         clock,
         hints=displan.side_hints,
         objective=options.objective,
+        transit=_transit_layers(setup, clock) if options.transit else None,
     )
+    if seed is not None and seed.horizon is not None and first <= seed.horizon <= L_max:
+        # an incumbent: the horizons below it first, then its own
+        horizons = [L for L in horizons if L < seed.horizon] + [seed.horizon]
+        _engage_seed(setup, displan, seed)
     windows = [(L, L) for L in horizons]
     defer = options.defer_after if options.horizon_search == "defer" else None
+    if seed is not None and seed.horizon in horizons and defer is not None:  # the horizons below it get less
+        defer = min(defer, SEEDED_DEFER_AFTER)
     with clock.phase("the joint lazy SMT loop"):
         out = lazy_loop(displan, conplan, windows, clock, timings, progress, None, defer)
     st = conplan.stats
@@ -179,6 +231,7 @@ def plan_team_lazy(
         certified=st.certified,
         uncertified=st.uncertified,
         engagements=st.engagements,
+        transit_conflicts=st.transit,
         largest_component=st.largest_component,
         conflict_literals_max=max(st.conflict_sizes, default=0),
         conflict_literals_mean=(sum(st.conflict_sizes) / len(st.conflict_sizes)) if st.conflict_sizes else 0.0,

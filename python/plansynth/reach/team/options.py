@@ -17,10 +17,12 @@ from dataclasses import dataclass
 
 from plansynth.options import check_fields, option
 
-__all__ = ["TeamLazyOptions", "TeamMilpOptions", "PrioritizedOptions", "TEAM_SEARCHES", "TEAM_OBJECTIVES"]
+__all__ = ["TeamLazyOptions", "TeamMilpOptions", "PrioritizedOptions", "TEAM_SEARCHES", "TEAM_OBJECTIVES", "TEAM_SEEDS"]
 
 #: How the joint lazy planner walks the horizons.
 TEAM_SEARCHES = ("linear", "defer")
+#: Where the joint lazy planner's first incumbent comes from.
+TEAM_SEEDS = ("auto", "prioritized", "none")
 #: What the joint LPs minimise.
 TEAM_OBJECTIVES = ("none", "effort")
 
@@ -38,11 +40,20 @@ class TeamLazyOptions:
         "or defer (a horizon set aside after defer_after refuted plans, tried again when no later one succeeds)",
         choices=TEAM_SEARCHES,
     )
-    defer_after: int = option(6, "refuted plans after which horizon_search=defer moves to the next horizon", minimum=1)
+    defer_after: int = option(30, "refuted plans after which horizon_search=defer moves to the next horizon", minimum=1)
     objective: str = option(
         "none", "none (any trajectory) or effort (the sum of |u| over every robot and step)", choices=TEAM_OBJECTIVES
     )
     guided: bool = option(True, "DIS-PLAN's decisions follow each robot's route at constant speed")
+    seed: str = option(
+        "auto",
+        "prioritized (a plan of prioritized planning first: an incumbent the search tries the horizons below, "
+        "then its own, first), none, or auto (prioritized for teams of 12 robots or more)",
+        choices=TEAM_SEEDS,
+    )
+    transit: bool = option(
+        True, "each robot's region sequence first checked by the single-robot transit layer (legs too fast to make)"
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "lazy-smt-team")

@@ -149,7 +149,8 @@ class Separation:
 
 @dataclass(frozen=True, eq=False)
 class MovingObstacle:
-    """A convex ``shape`` (given around its reference point) whose reference point is at
+    """A convex ``shape`` (given around its reference point; a box may be flat or a
+    point: a parked point robot) whose reference point is at
     ``positions[k]`` at time ``times[k]`` (seconds), moving linearly between waypoints,
     at the first one before its time and at the last one after. ``separation``: the
     distance every robot keeps from it (None: the team's)."""
@@ -424,8 +425,8 @@ def _check_moving(p: TeamProblem, k: int, o: MovingObstacle) -> None:
         raise InvalidProblem(src, f"{where}.shape", "expected a box or a polygon")
     if o.shape.dim != p.dim:
         raise InvalidProblem(src, f"{where}.shape", f"is {o.shape.dim}-D but the workspace is {p.dim}-D")
-    if isinstance(o.shape, Box) and o.shape.is_degenerate():
-        raise InvalidProblem(src, f"{where}.shape", "degenerate box")
+    if isinstance(o.shape, Box) and any(not l <= h for l, h in zip(o.shape.lo, o.shape.hi)):
+        raise InvalidProblem(src, f"{where}.shape", f"min {list(o.shape.lo)} exceeds max {list(o.shape.hi)}")
     if isinstance(o.shape, Polygon):
         why = polygon_problem(o.shape)
         if why is not None:

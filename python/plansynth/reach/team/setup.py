@@ -92,7 +92,8 @@ def prepare(problem: TeamProblem, max_horizon: int, clock: Clock | None = None) 
                 obstacles[(r, o)] = f
     first = max(s.bound for s in robots)
     counters = {
-        "regions": [s.graph.n_regions for s in robots],
+        "regions": sum(s.graph.n_regions for s in robots),
+        "robot_regions": [s.graph.n_regions for s in robots],
         "robot_bounds": [None if math.isinf(s.bound) else int(s.bound) for s in robots],
         "pairs": len(pairs),
     }
