@@ -138,7 +138,7 @@ def plot_team(
     ax.set_title(title, fontsize=10)
     handles, _ = ax.get_legend_handles_labels()
     if handles:
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=min(len(handles), 8), fontsize=7, frameon=False)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()
     if path is not None:
         with atomic_output(path) as tmp:
