@@ -204,7 +204,9 @@ INFEASIBLE_EXAMPLES = {"mission-unsat"}
     ],
 )
 def test_every_example_is_solved_and_validated(name: str) -> None:
-    p = load_reach_problem(EXAMPLES / f"{name}.yaml")
+    from plansynth.reach.team.fileformat import load_problem  # one robot, or a team (team-*.yaml)
+
+    p = load_problem(EXAMPLES / f"{name}.yaml")
     r = solve(p, budget=Budget(seconds=300))
     if name in INFEASIBLE_EXAMPLES:
         assert r.status is ReachStatus.INFEASIBLE, r.message

@@ -68,6 +68,27 @@ def held(robot: TeamRobot, traj: Trajectory, horizon: int) -> Trajectory:
     return Trajectory(states=X, inputs=U)
 
 
+def _parked_hit(problem: TeamProblem, r: int, traj: Trajectory, since: int) -> str | None:
+    """The moving obstacle (of the problem) that robot r, held at its last state from step
+    ``since``, fails to keep a side from during some step, or None."""
+    from plansynth.reach.team.conplan import _bend_fractions
+    from plansynth.reach.team.geometry import obstacle_facets
+
+    P = problem.robot_problems[r].position_of(traj.states)
+    for o, ob in enumerate(problem.moving_obstacles):
+        f = obstacle_facets(problem, r, o)
+        if f is None:
+            continue
+        for t in range(since, traj.horizon):
+            worst = np.full(f.n_sides, np.inf)
+            for lam in (0.0, *_bend_fractions(problem, o, t), 1.0):
+                c = ob.position(problem.time_of(t + lam))
+                worst = np.minimum(worst, f.margins((1 - lam) * P[t] + lam * P[t + 1] - c))
+            if worst.max() < -1e-9:
+                return ob.name
+    return None
+
+
 def plan_prioritized(
     problem: TeamProblem,
     budget: Budget = Budget(),
@@ -143,6 +164,16 @@ def plan_prioritized(
         trajs.append(out.trajectories[0])
         regions.append(out.regions[0])
     final = tuple(held(problem.robots[r], t, horizon) for r, t in enumerate(trajs))
+    for r, t in enumerate(trajs):
+        hit = _parked_hit(problem, r, final[r], t.horizon)
+        if hit is not None:
+            counters["failed_robot"] = problem.robots[r].name
+            return result(
+                ReachStatus.UNKNOWN,
+                horizon,
+                f"robot {problem.robots[r].name}, waiting at its goal from step {t.horizon}, is in the way of "
+                f"moving obstacle {hit} before the last robot arrives; prioritized planning is incomplete: not a proof",
+            )
     regs = tuple(tuple(reg) + (reg[-1],) * (horizon - len(reg) + 1) for reg in regions)
     counters["minimal"] = False
     return result(ReachStatus.FOUND, horizon, f"found at horizon {horizon} (robots in the order given)", final, regs)
