@@ -14,7 +14,6 @@ from plansynth.reach import ReachStatus, plan_lazy, solve
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph

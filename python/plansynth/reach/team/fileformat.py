@@ -40,12 +40,13 @@ from plansynth.reach.fileformat import (
     _parse_labels,
     _parse_polygon,
     _parse_shape,
+    _parse_world,
     _shape_to_dict,
     reach_problem_from_dict,
     reach_problem_to_dict,
 )
 from plansynth.reach.geometry import Box, Shape
-from plansynth.reach.problem import DEFAULT_MAX_HORIZON, MAX_COORDINATE, MAX_HORIZON, MAX_OBSTACLES, ReachProblem
+from plansynth.reach.problem import DEFAULT_MAX_HORIZON, MAX_COORDINATE, MAX_HORIZON, ReachProblem
 from plansynth.reach.robot import RobotShape
 from plansynth.reach.team.problem import (
     MAX_ROBOTS,
@@ -99,16 +100,8 @@ def team_problem_from_dict(doc: Any, source: str | None = None, *, default_name:
     """Build a team problem from a parsed document; every bad input raises InvalidProblem."""
     top = Fields(doc, source, "")
     top.reject_unknown(_TOP_KEYS)
-    workspace = _parse_box(top.require("workspace"), source, "workspace")
+    workspace, obstacles = _parse_world(top, source)
     d = workspace.dim
-    if d not in (2, 3):
-        raise InvalidProblem(source, "workspace", f"must be 2-D or 3-D, got {d}-D")
-    raw_obs = top.optional("obstacles", [])
-    if not isinstance(raw_obs, Sequence) or isinstance(raw_obs, (str, bytes)):
-        raise InvalidProblem(source, "obstacles", f"expected a list of boxes or polygons, got {type_name(raw_obs)}")
-    if len(raw_obs) > MAX_OBSTACLES:
-        raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obs)}")
-    obstacles = tuple(_parse_shape(o, source, f"obstacles[{i}]", d) for i, o in enumerate(raw_obs))
     labels = _parse_labels(top.optional("labels", {}), source, d)
     defaults = top.optional("robot", {})
     if "robots" in doc:
