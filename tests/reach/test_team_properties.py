@@ -103,7 +103,7 @@ def swap_corridor(seed: int) -> TeamProblem:
 
 
 def _agree(p: TeamProblem) -> None:
-    lazy = solve(p, "lazy-smt-team", Budget(seconds=120), horizon_search="linear", seed="none")
+    lazy = solve(p, "lazy-smt-team", Budget(seconds=120), horizon_search="linear", incumbent="none")
     milp = solve(p, "milp-team", Budget(seconds=120))
     for r in (lazy, milp):
         assert r.status is not ReachStatus.UNKNOWN, (p.name, r.solver, r.message)
@@ -247,7 +247,7 @@ def _checked(p: TeamProblem) -> tuple[int, int]:
 
     TeamDisPlan.learn = recording  # type: ignore[method-assign]
     try:
-        solve(p, "lazy-smt-team", Budget(seconds=120), horizon_search="linear", seed="none")
+        solve(p, "lazy-smt-team", Budget(seconds=120), horizon_search="linear", incumbent="none")
     finally:
         TeamDisPlan.learn = original  # type: ignore[method-assign]
     setup = prepare(p, p.max_horizon)

@@ -17,12 +17,20 @@ from dataclasses import dataclass
 
 from plansynth.options import check_fields, option
 
-__all__ = ["TeamLazyOptions", "TeamMilpOptions", "PrioritizedOptions", "TEAM_SEARCHES", "TEAM_OBJECTIVES", "TEAM_SEEDS"]
+__all__ = [
+    "TeamLazyOptions",
+    "TeamMilpOptions",
+    "PrioritizedOptions",
+    "TEAM_SEARCHES",
+    "TEAM_OBJECTIVES",
+    "TEAM_INCUMBENTS",
+]
 
 #: How the joint lazy planner walks the horizons.
 TEAM_SEARCHES = ("linear", "defer")
-#: Where the joint lazy planner's first incumbent comes from.
-TEAM_SEEDS = ("auto", "prioritized", "none")
+#: Where the joint lazy planner's first incumbent comes from (the option is not called seed:
+#: the benchmarks pass a random seed to planners with an option of that name).
+TEAM_INCUMBENTS = ("auto", "prioritized", "none")
 #: What the joint LPs minimise.
 TEAM_OBJECTIVES = ("none", "effort")
 
@@ -45,11 +53,11 @@ class TeamLazyOptions:
         "none", "none (any trajectory) or effort (the sum of |u| over every robot and step)", choices=TEAM_OBJECTIVES
     )
     guided: bool = option(True, "DIS-PLAN's decisions follow each robot's route at constant speed")
-    seed: str = option(
+    incumbent: str = option(
         "auto",
         "prioritized (a plan of prioritized planning first: an incumbent the search tries the horizons below, "
         "then its own, first), none, or auto (prioritized for teams of 12 robots or more)",
-        choices=TEAM_SEEDS,
+        choices=TEAM_INCUMBENTS,
     )
     transit: bool = option(
         True, "each robot's region sequence first checked by the single-robot transit layer (legs too fast to make)"

@@ -9,7 +9,7 @@ side), so it is a plan the lazy loop may return. With it, the loop tries the hor
 below the incumbent's first, each set aside after a few refuted plans, and then the
 incumbent's own, where DIS-PLAN proposes the incumbent first. The search stays
 complete (a horizon set aside is revisited when the incumbent's fails); only its
-order changes. ``seed="auto"`` seeds teams of :data:`SEED_MIN_ROBOTS` robots or more,
+order changes. ``incumbent="auto"`` seeds teams of :data:`SEED_MIN_ROBOTS` robots or more,
 with at most :data:`SEED_SHARE` of the budget.
 """
 
@@ -30,7 +30,7 @@ from plansynth.reach.team.result import TeamResult
 
 __all__ = ["run", "SEED_MIN_ROBOTS", "SEED_SHARE"]
 
-#: ``seed="auto"`` seeds teams of at least this many robots
+#: ``incumbent="auto"`` seeds teams of at least this many robots
 SEED_MIN_ROBOTS = 12
 #: the share of the budget that the seed may take
 SEED_SHARE = 0.4
@@ -38,7 +38,7 @@ SEED_SHARE = 0.4
 
 def run(problem: TeamProblem, budget: Budget, options: TeamLazyOptions, progress: Any = None) -> TeamResult:
     """The registry's entry for ``lazy-smt-team`` (see the module docstring)."""
-    seeded = options.seed == "prioritized" or (options.seed == "auto" and problem.n_robots >= SEED_MIN_ROBOTS)
+    seeded = options.incumbent == "prioritized" or (options.incumbent == "auto" and problem.n_robots >= SEED_MIN_ROBOTS)
     if not seeded:
         return plan_team_lazy(problem, budget, options, progress)
     t0 = time.perf_counter()
