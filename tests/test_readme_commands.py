@@ -282,6 +282,11 @@ CASES: dict[str, Case] = {
         slow=False,
         fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt --timeout 60 --db b.db",
     ),
+    "plansynth bench reach --family team --planners lazy-smt-team,milp-team,prioritized": Case(
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family team --values smc-crossing --planners lazy-smt-team,milp-team,prioritized --timeout 60 --db b.db",
+    ),
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
         files=("bench-report/",), before=(TINY_BENCH,)
     ),
