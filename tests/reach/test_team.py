@@ -398,3 +398,12 @@ def test_cli_solves_plots_and_validates_a_team_and_rejects_a_collision(tmp_path:
     assert bad.exit_code == 1
     assert "robots A and B" in bad.output and "separation at step" in bad.output
     assert validate_team(p, trajs).ok
+
+
+def test_a_team_planner_refuses_a_problem_with_a_disturbance() -> None:
+    """The team planners plan no disturbance: a reach problem with one is refused, not
+    planned without it."""
+    p = load_reach_problem(EXAMPLES / "maze-3-windy.yaml")
+    assert p.disturbance is not None
+    with pytest.raises(InvalidOption, match="disturbances"):
+        solve(p, "lazy-smt-team", Budget(seconds=30))
