@@ -116,7 +116,7 @@ def _load_example(page: str, language: str, code: str, folder: Path) -> None:
     from plansynth.grid.problem import load_grid_problem
     from plansynth.grid.result import load_result
     from plansynth.io import parse_document
-    from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.team.fileformat import load_problem as load_reach_problem  # one robot or a team
 
     path = folder / f"example.{'yaml' if language == 'yaml' else 'json'}"
     if language == "json" and re.search(ELISION, code):
@@ -155,6 +155,10 @@ def test_the_format_pages_name_every_field_the_loaders_accept() -> None:
     assert grid_keys <= grid, f"grid fields not documented: {grid_keys - grid}"
     reach_keys = set(fileformat._TOP_KEYS) | set(fileformat._ROBOT_KEYS)
     assert reach_keys <= reach, f"reach fields not documented: {reach_keys - reach}"
+    from plansynth.reach.team import fileformat as team
+
+    team_keys = set(team._TOP_KEYS) | set(team._ROBOT_KEYS) | {"distance", "norm", "shape", "path", "point"}
+    assert team_keys <= reach, f"team fields not documented: {team_keys - reach}"
 
 
 def _builtin_names() -> dict[str, list[str]]:

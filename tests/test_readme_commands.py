@@ -123,6 +123,7 @@ SOLVED_CROSSING = "plansynth grid solve examples/grid/crossing.yaml -o crossing.
 SOLVED_MAZE3 = "plansynth reach solve examples/reach/maze-3.yaml --out traj.json"
 SOLVED_PATROL = "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json"
 SOLVED_CLUTTERED = "plansynth reach solve examples/reach/cluttered.yaml --out traj.json"
+SOLVED_TEAM = "plansynth reach solve examples/reach/team-swap.yaml --out plan.json --plot plan.png --animate plan.gif"
 TINY_BENCH = "plansynth bench grid --family figure1 --solvers native --timeout 60 --db bench-results.db"
 FOUND = ("found",)
 
@@ -228,6 +229,14 @@ CASES: dict[str, Case] = {
         json=(("plan.json", "status", "found"), ("plan.json", "validated", True)),
     ),
     "plansynth reach validate examples/reach/mission-patrol.yaml plan.json": Case(before=(SOLVED_PATROL,)),
+    SOLVED_TEAM: Case(
+        out=FOUND,
+        files=("plan.json", "plan.png", "plan.gif"),
+        json=(("plan.json", "status", "found"), ("plan.json", "validated", True)),
+    ),
+    "plansynth reach validate examples/reach/team-swap.yaml plan.json": Case(out=("valid",), before=(SOLVED_TEAM,)),
+    "plansynth reach solve examples/reach/team-swap.yaml --planner milp-team": Case(out=FOUND),
+    "plansynth reach solve examples/reach/team-swap.yaml --planner prioritized": Case(exit=(3,), out=("unknown",)),
     # bench commands (docs/how-to/benchmarks.md; the sweeps as written are the published benchmark: fast variants only)
     "plansynth bench grid --family steps --solvers native,cvc5 --timeout 300 --repeat 3": Case(
         files=("b.db",),
@@ -273,6 +282,11 @@ CASES: dict[str, Case] = {
         files=("b.db",),
         slow=False,
         fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt --timeout 60 --db b.db",
+    ),
+    "plansynth bench reach --family team --planners lazy-smt-team,milp-team,prioritized": Case(
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family team --values smc-crossing --planners lazy-smt-team,milp-team,prioritized --timeout 60 --db b.db",
     ),
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
         files=("bench-report/",), before=(TINY_BENCH,)

@@ -183,3 +183,16 @@ def test_patrols_walk_differs_from_patrols_only_by_the_robots_run():
     a, b = run.build(), walk.build()
     assert (a.width, a.height, a.obstacles, a.walls, a.steps) == (b.width, b.height, b.obstacles, b.walls, b.steps)
     assert {m.name for m in a.robot.moves} - {m.name for m in b.robot.moves} == {"fast-left", "fast-right"}
+
+
+@pytest.mark.parametrize("planner", ["lazy-smt-team", "milp-team", "prioritized"])
+def test_the_team_family_runs_through_the_benchmark_executor(planner):
+    """A benchmark task carries a random ``seed`` (for the sampling planners): the team
+    planners take it without failing, and the run of SMC-LTL's crossing is solved and valid."""
+    from plansynth.bench.execute.reach import run_reach
+    from plansynth.bench.tasks import make_tasks
+
+    (inst,) = reach_family("team", ["smc-crossing"])
+    (task,) = make_tasks([inst], [planner], timeout=60.0, seed=7)
+    attrs = run_reach(inst, task)
+    assert (attrs["status"], attrs["valid"], attrs["horizon"]) == ("solved", 1, 30), attrs.get("message")

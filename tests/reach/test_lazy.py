@@ -14,7 +14,6 @@ from plansynth.reach import ReachStatus, plan_lazy, solve
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
@@ -204,7 +203,9 @@ INFEASIBLE_EXAMPLES = {"mission-unsat"}
     ],
 )
 def test_every_example_is_solved_and_validated(name: str) -> None:
-    p = load_reach_problem(EXAMPLES / f"{name}.yaml")
+    from plansynth.reach.team.fileformat import load_problem  # one robot, or a team (team-*.yaml)
+
+    p = load_problem(EXAMPLES / f"{name}.yaml")
     r = solve(p, budget=Budget(seconds=300))
     if name in INFEASIBLE_EXAMPLES:
         assert r.status is ReachStatus.INFEASIBLE, r.message

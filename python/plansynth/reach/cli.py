@@ -147,8 +147,8 @@ def _result_table(result: Any) -> Table:
         horizon = f"none up to {result.horizon}"
     if result.status.value == "found" and c.get("minimal") is not None:
         relative = c.get("minimal_relative_to", "problem")  # (planners that do not say: as before)
-        if c["minimal"] and relative == "decomposition":
-            horizon += " (minimal through the decomposition only)"
+        if c["minimal"] and relative != "problem":
+            horizon += f" (minimal through the {relative} only)"
         else:
             horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     table.add_row("horizon", horizon)
@@ -309,8 +309,8 @@ def solve_command(
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
-    from plansynth.reach.fileformat import load_reach_problem
     from plansynth.reach.solve import planners, solve
+    from plansynth.reach.team.fileformat import load_problem
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
@@ -322,7 +322,13 @@ def solve_command(
         for path in (out, plot, animate):
             if path is not None:
                 check_output_path(path)  # before solving: a result is never computed and then lost
-        problem = load_reach_problem(file)
+        problem = load_problem(file)  # a team when the file has robots, separation or moving obstacles
+        if getattr(problem, "robots", None) is not None:
+            from plansynth.reach.team.solve import team_planner
+
+            if paper:
+                raise typer.BadParameter("applies to one robot, not a team", param_hint="--paper")
+            planner = team_planner(planner)  # lazy-smt means lazy-smt-team on a team
         # an option the planner does not take, a planner this problem cannot use
         options = _planner_options(ctx, planner, option, paper, problem.mission is not None)
     except PlansynthError as exc:
@@ -355,6 +361,12 @@ def _write_outputs(
     console: Console, problem: Any, result: Any, out: Path | None, plot: Path | None, animate: Path | None
 ) -> None:
     """The result JSON, picture and animation of ``reach solve`` (each written atomically)."""
+    if getattr(problem, "robots", None) is not None:  # a team (plansynth.reach.team.commands)
+        from plansynth.reach.team.commands import write_outputs
+
+        for line in write_outputs(problem, result, out, plot, animate):
+            console.print(escape(line), highlight=False)
+        return
     if out is not None:
         result.write(out)
         console.print(f"result written to {escape(str(out))}", highlight=False)
@@ -424,15 +436,25 @@ def validate_command(
     ),
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
-    from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.team.fileformat import load_problem
     from plansynth.reach.trajectory import trajectory_from_dict
     from plansynth.reach.validate import tolerance_problem, validate
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
     try:
-        problem = load_reach_problem(file)
+        problem = load_problem(file)
         doc = _read_result(result_file)
+        if getattr(problem, "robots", None) is not None:  # a team: the team validator
+            from plansynth.reach.team.commands import validate_file
+
+            why = tolerance_problem(problem.robot_problems[0], tol)
+            if why is not None:
+                raise typer.BadParameter(why, param_hint="--tol")
+            ok, lines = validate_file(problem, doc, str(result_file), tol=tol)
+            for line in lines:
+                console.print(escape(line), highlight=False)
+            raise typer.Exit(0 if ok else 1)
         trajectory = trajectory_from_dict(doc, str(result_file))
         claim = doc.get("segment_safe")
         if claim is not None and not isinstance(claim, bool):
@@ -603,15 +625,22 @@ def plot_command(
 ) -> None:
     """Draw the workspace, the convex regions and (with a result) the trajectory."""
     from plansynth.reach.abstraction import abstract
-    from plansynth.reach.fileformat import load_reach_problem
     from plansynth.reach.plot import plot_problem
+    from plansynth.reach.team.fileformat import load_problem
     from plansynth.reach.trajectory import trajectory_from_dict
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
     try:
         check_output_path(output)
-        problem = load_reach_problem(file)
+        problem = load_problem(file)
+        if getattr(problem, "robots", None) is not None:  # a team: one colour per robot
+            from plansynth.reach.team.commands import plot_file
+
+            doc = None if result_file is None else _read_result(result_file)
+            plot_file(problem, doc, None if result_file is None else str(result_file), output)
+            console.print(f"picture written to {escape(str(output))}", highlight=False)
+            return
         trajectory, regions = None, None
         if result_file is not None:
             doc = _read_result(result_file)

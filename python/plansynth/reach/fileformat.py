@@ -73,16 +73,8 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     """Build a problem from a parsed document; every bad input raises InvalidProblem."""
     top = Fields(doc, source, "")
     top.reject_unknown(_TOP_KEYS)
-    workspace = _parse_box(top.require("workspace"), source, "workspace")
+    workspace, obstacles = _parse_world(top, source)
     d = workspace.dim
-    if d not in (2, 3):
-        raise InvalidProblem(source, "workspace", f"must be 2-D or 3-D, got {d}-D")
-    raw_obs = top.optional("obstacles", [])
-    if not isinstance(raw_obs, Sequence) or isinstance(raw_obs, (str, bytes)):
-        raise InvalidProblem(source, "obstacles", f"expected a list of boxes or polygons, got {type_name(raw_obs)}")
-    if len(raw_obs) > MAX_OBSTACLES:
-        raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obs)}")
-    obstacles = tuple(_parse_shape(o, source, f"obstacles[{i}]", d) for i, o in enumerate(raw_obs))
     mission = top.optional("mission")
     goal_raw = top.optional("goal") if mission is not None else top.require("goal")
     goal = None if goal_raw is None else _parse_shape(goal_raw, source, "goal", d)
@@ -214,6 +206,20 @@ def _parse_labels(value: Any, src: str | None, d: int) -> tuple[tuple[str, Shape
         else:
             out.append((str(name), _parse_shape(shape, src, where, d)))
     return tuple(out)
+
+
+def _parse_world(top: Fields, source: str | None) -> tuple[Box, tuple[Shape, ...]]:
+    """The ``workspace`` (2-D or 3-D) and the static ``obstacles`` of a document."""
+    workspace = _parse_box(top.require("workspace"), source, "workspace")
+    d = workspace.dim
+    if d not in (2, 3):
+        raise InvalidProblem(source, "workspace", f"must be 2-D or 3-D, got {d}-D")
+    raw_obs = top.optional("obstacles", [])
+    if not isinstance(raw_obs, Sequence) or isinstance(raw_obs, (str, bytes)):
+        raise InvalidProblem(source, "obstacles", f"expected a list of boxes or polygons, got {type_name(raw_obs)}")
+    if len(raw_obs) > MAX_OBSTACLES:
+        raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obs)}")
+    return workspace, tuple(_parse_shape(o, source, f"obstacles[{i}]", d) for i, o in enumerate(raw_obs))
 
 
 def _parse_box(value: Any, src: str | None, where: str, *, dim: int | None = None, allow_flat: bool = False) -> Box:

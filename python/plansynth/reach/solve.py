@@ -13,6 +13,10 @@ another: an unknown name is an error (:class:`~plansynth.errors.UnknownSolver`, 
 the names) and the result records the planner that ran (``solver``, ``solver_version``,
 ``options``).
 
+A team of robots (:class:`~plansynth.reach.team.problem.TeamProblem`) goes to
+:func:`plansynth.reach.team.solve.solve_team` (``lazy-smt`` means ``lazy-smt-team``
+there; the team validator checks its answers).
+
 Every trajectory a planner returns is checked here, and only here, by the independent
 validator (:func:`plansynth.reach.validate.validate`, which knows neither the
 decomposition nor the planners) before it is reported; segment safety is required when
@@ -45,6 +49,10 @@ from plansynth.reach.validate import validate
 __all__ = ["Planner", "solve", "register_planner", "planners", "get_planner", "validate_result", "configure"]
 
 log = logging.getLogger("plansynth.reach")
+
+#: the planners of teams (:mod:`plansynth.reach.team.solve`): a reach-avoid problem given
+#: to one is planned as a team of one
+_TEAM_ONLY = ("lazy-smt-team", "milp-team", "prioritized")
 
 
 def configure(planner: str, base: Any = None, *, mission: bool | None = None, **values: Any) -> Any:
@@ -212,6 +220,10 @@ def solve(
     planners that report progress. ``abstraction``: a decomposition computed before, for
     the planners that plan over one (lazy-smt, milp, gcs; not for a mission).
     """
+    if getattr(problem, "robots", None) is not None or planner in _TEAM_ONLY:  # a team of robots
+        if getattr(problem, "disturbance", None) is not None:  # (raises: the team planners plan no disturbance)
+            _robust_problem(problem, planner, get_planner(planner))
+        return _solve_team(problem, planner, budget, options, progress, values)
     run = get_planner(planner)
     if problem.disturbance is not None and not getattr(run, "disturbances", ""):
         _robust_problem(problem, planner, run)  # (raises: this planner does not plan under disturbances)
@@ -255,6 +267,20 @@ def solve(
             options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}},
         )
     return validate_result(problem, result)
+
+
+def _solve_team(problem: Any, planner: str, budget: Budget, options: Any, progress: Any, values: dict) -> Any:
+    """A team (:mod:`plansynth.reach.team.solve`): the team planner the name means, its
+    answer checked by the team validator; a reach-avoid problem as a team of one."""
+    from plansynth.reach.team.solve import is_team, team_of_one, team_planner, validate_team_result
+
+    team = problem if is_team(problem) else team_of_one(problem)
+    name = team_planner(planner)
+    run = get_planner(name)
+    opts = run.configure(options, **values)
+    result = run.solve(team, budget, opts, progress=progress)
+    result = replace(result, solver=name, solver_version=run.version(), options=_record(opts, result.options))
+    return validate_team_result(team, result)
 
 
 def _robust_problem(problem: ReachProblem, planner: str, run: Any) -> tuple[Any, ReachProblem | None]:

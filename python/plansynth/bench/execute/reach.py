@@ -90,6 +90,7 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         and res.regions is not None
         and res.horizon is not None
         and problem.mission is None
+        and getattr(problem, "robots", None) is None  # (a team's regions are one sequence per robot)
         and len(res.regions) == res.horizon + 1
         and getattr(res, "guarantee", None) in ("segments", "samples")
     ):

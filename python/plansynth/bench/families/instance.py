@@ -60,6 +60,10 @@ class Instance:
         """The problem as a spec document (grid-problem.md / reach-problem.md)."""
         if self.kind == "grid":
             return GRID_PROBLEMS[self.family](**self.params)
+        if self.family == "team":
+            from plansynth.reach.team.fileformat import team_problem_to_dict
+
+            return team_problem_to_dict(self.build())
         from plansynth.reach.fileformat import reach_problem_to_dict
 
         return reach_problem_to_dict(self.build())

@@ -9,6 +9,11 @@ boxes and non-convex polygons, from :func:`plansynth.reach.families.random_works
 ``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
 sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
 ``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`).
+``team`` holds the teams of robots and moving obstacles of
+:data:`plansynth.reach.team.families.TEAM_CASES` (SMC-LTL's crossing, the corridor swap,
+the room's corners, the mazes with 2 and 4 robots, antipodal crossings, the patrolled
+gap, the narrow corridor).
+
 ``robust`` holds the mazes under bounded disturbances (:func:`plansynth.reach.families.windy_maze`):
 each maze at growing disturbance boxes, a mission under the same disturbance, and a
 disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`).
@@ -36,7 +41,7 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze", "robust")
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze", "robust", "team")
 #: the robust family's disturbance scales (times WINDY_BOX: 2 cm and 5 cm/s per step at 1)
 ROBUST_SCALES = (1.0, 2.0, 4.0)
 #: its mission under disturbance
@@ -65,7 +70,8 @@ def reach_family(
     (:func:`plansynth.reach.families.gcs_maze`: seed 4, walls 0.1 thick, 100 extra
     knock-downs at n = 50 as in its notebook; the double integrator with dt 0.5 s,
     |u| <= 1, |v| <= 1 per axis, from the centre of cell (0, 0) at rest to a 0.4 box at
-    the centre of cell (n-1, n-1)). ``robust``: values are passage counts (default
+    the centre of cell (n-1, n-1)). ``team``: values are case names
+    (:data:`plansynth.reach.team.families.TEAM_CASES`, default all). ``robust``: values are passage counts (default
     1..4), each maze at the disturbance scales of :data:`ROBUST_SCALES`, with the mission
     of :data:`ROBUST_MISSION` and maze-1 with a gap narrower than the disturbance's tube
     (:func:`plansynth.reach.families.narrow_maze`: no robust plan, expected infeasible).
@@ -134,6 +140,14 @@ def reach_family(
     elif name == "gcs-maze":
         for n in values or [10, 20, 50]:
             out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))
+    elif name == "team":  # teams of robots and moving obstacles: values are case names
+        from plansynth.reach.team.families import INFEASIBLE_CASES, TEAM_CASES
+
+        for case in values or list(TEAM_CASES):
+            if case not in TEAM_CASES:
+                raise KeyError(f"unknown team case {case!r}; choose from {', '.join(TEAM_CASES)}")
+            expected = "infeasible" if case in INFEASIBLE_CASES else "found"
+            out.append(Instance("reach", "team", case, {"case": case}, expected))
     else:
         raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
     return out

@@ -54,6 +54,12 @@ def _missions(n: int, mission: str) -> Any:
     return mission_problem(f"maze-{n}", mission)
 
 
+def _team(case: str) -> Any:
+    from plansynth.reach.team.families import team_case
+
+    return team_case(case)
+
+
 def _robust(n: int, scale: float, mission: str | None = None, narrow: bool = False) -> Any:
     from dataclasses import replace
 
@@ -76,5 +82,6 @@ REACH_PROBLEMS: dict[str, Any] = {
     "random-dynamics": _random_dynamics,
     "missions": _missions,
     "gcs-maze": _gcs_maze,
+    "team": _team,
     "robust": _robust,
 }

@@ -1,7 +1,8 @@
 """The reach-avoid half of the report (Shoukry et al., CDC 2016): Table I on the mazes
 and the tables beside it (Graphs of Convex Sets, proved-minimal horizons,
 counterexamples), Figure 4 (integrator chains, random dynamics), the LTL missions, robust
-plans under bounded disturbances, the GCS paper's mazes and the random workspaces.
+plans under bounded disturbances, the GCS paper's mazes, the random workspaces and the
+teams of robots.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from plansynth.bench.report.horizons import minimal_table
 from plansynth.bench.report.mazes import table_one
 from plansynth.bench.report.missions import missions_table
 from plansynth.bench.report.robust import robust_section
+from plansynth.bench.report.team import TEAM_COLUMNS, team_table
 from plansynth.bench.solvers import REACH_ORDER
 
 __all__ = ["reach_section"]
@@ -28,9 +30,9 @@ def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix
     reach_planners = [
         p
         for p in planners_of(cells, "reach/", REACH_ORDER)
-        if p not in CX_VARIANTS and p not in ("milp-ltl", "lazy-smt-minimal", "nominal-check")
+        if p not in CX_VARIANTS and p not in ("milp-ltl", "lazy-smt-minimal", "nominal-check") and p not in TEAM_COLUMNS
     ]  # (their own tables)
-    if not reach_planners:
+    if not reach_planners and not instances_of(cells, "team"):
         return []
     L: list[str] = []
     L.append("## Reach-avoid: lazy SMT planning (Shoukry et al., CDC 2016)")
@@ -47,6 +49,7 @@ def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix
     L += robust_section(cells)
     L += gcs_maze_table(cells)
     L += _random_workspaces(cells, reach_planners)
+    L += team_table(cells)
     return L
 
 

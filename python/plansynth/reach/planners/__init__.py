@@ -27,6 +27,8 @@ only when it plans. The planners and their modules:
 ``gcs``               Drake's Graphs of Convex Sets;
 ``milp-ltl``, ``milp-ltl-oneshot``  the mission MILP baseline
                       (:mod:`plansynth.reach.mission.milp`);
+``lazy-smt-team``, ``milp-team``, ``prioritized``  teams of robots
+                      (:mod:`~plansynth.reach.planners.team`, :mod:`plansynth.reach.team`).
 ``nominal-check``     under a disturbance, the nominal plan followed by the robust
                       check (:mod:`plansynth.reach.robust.baseline`).
 
@@ -251,6 +253,9 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
         "gcs": "plansynth.reach.planners.baselines:GCS",  # Drake's Graphs of Convex Sets
         "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
         "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
+        "lazy-smt-team": "plansynth.reach.planners.team:LAZY_SMT_TEAM",  # teams: the joint lazy SMT planner
+        "milp-team": "plansynth.reach.planners.team:MILP_TEAM",  # teams: the joint big-M MILP
+        "prioritized": "plansynth.reach.planners.team:PRIORITIZED",  # teams: one robot after the other
         # under disturbances: the nominal plan, then the robust check (plansynth.reach.robust.baseline)
         "nominal-check": "plansynth.reach.planners.baselines:NOMINAL_CHECK",
     },
@@ -267,7 +272,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot', 'nominal-check')
+    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot', 'lazy-smt-team', 'milp-team', 'prioritized', 'nominal-check')
     """
     return PLANNERS.names()
 
@@ -304,6 +309,6 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot, nominal-check
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot, lazy-smt-team, milp-team, prioritized, nominal-check
     """
     return PLANNERS.get(name)

@@ -1,0 +1,179 @@
+"""What every team planner computes first, per robot and per pair, from the single-robot
+pieces: each robot's planning problem (its configuration space, and for a mission the
+whole workspace as goal), its decomposition (:func:`~plansynth.reach.abstraction.abstract`,
+refined by the labels for a mission, :func:`~plansynth.reach.mission.labels.label_abstraction`),
+its region graph, its time windows and horizon bound
+(:func:`~plansynth.reach.lazy.bounds.time_windows`), the LP data of the joint CON-PLAN
+(:class:`~plansynth.reach.team.conplan.RobotModel`), and the sides of every pair and
+robot-obstacle couple (:mod:`plansynth.reach.team.geometry`).
+
+A joint plan is a plan of every robot's own problem, so each robot's bounds hold for
+the team: the joint horizon is at least the largest of them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from plansynth.budget import Budget, Clock
+from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.geometry import Box, halfspaces
+from plansynth.reach.lazy.bounds import time_windows
+from plansynth.reach.lazy.displan import RegionGraph
+from plansynth.reach.lazy.guide import reference_plan
+from plansynth.reach.problem import ReachProblem
+from plansynth.reach.robot import configuration_space
+from plansynth.reach.team.conplan import RobotModel
+from plansynth.reach.team.geometry import Facets, obstacle_facets, pair_facets
+from plansynth.reach.team.plans import TeamConflict
+from plansynth.reach.team.problem import GoalPoint, TeamProblem
+
+__all__ = ["RobotSetup", "TeamSetup", "prepare"]
+
+
+@dataclass(eq=False)
+class RobotSetup:
+    """One robot's planning data (see the module docstring)."""
+
+    planning: ReachProblem
+    abstraction: Abstraction
+    graph: RegionGraph
+    model: RobotModel
+    earliest: tuple[float, ...]
+    to_go: tuple[float, ...]
+    bound: float
+    labels_of: tuple[frozenset[str], ...] | None = None
+
+
+@dataclass(eq=False)
+class TeamSetup:
+    """Every robot's :class:`RobotSetup`, the sides of the pairs and robot-obstacle
+    couples, and the horizon lower bound ``first`` (the robots' largest)."""
+
+    problem: TeamProblem
+    robots: list[RobotSetup]
+    pair_facets: dict[tuple[int, int], Facets]
+    obstacle_facets: dict[tuple[int, int], Facets]
+    first: float
+    counters: dict[str, Any] = field(default_factory=dict)
+
+    def guide(self, r: int, L: int) -> tuple[int, ...] | None:
+        """Robot r's reference region sequence for horizon L (None for a mission)."""
+        return _reference(self, r, L)
+
+
+def _reference(setup: TeamSetup, r: int, L: int) -> tuple[int, ...] | None:
+    cache = setup.__dict__.setdefault("_refs", {})
+    if (r, L) not in cache:
+        s = setup.robots[r]
+        cache[(r, L)] = None if s.labels_of is not None else reference_plan(s.planning, s.abstraction, L)
+    return cache[(r, L)]
+
+
+def prepare(problem: TeamProblem, max_horizon: int, clock: Clock | None = None) -> TeamSetup:
+    """The :class:`TeamSetup` of ``problem`` for horizons up to ``max_horizon``."""
+    clock = clock if clock is not None else Budget().clock()
+    robots = [_robot(problem, r, max_horizon, clock) for r in range(problem.n_robots)]
+    pairs = {}
+    for i in range(problem.n_robots):
+        for j in range(i + 1, problem.n_robots):
+            f = pair_facets(problem, i, j)
+            if f is not None:
+                pairs[(i, j)] = f
+    obstacles = {}
+    for r in range(problem.n_robots):
+        for o in range(len(problem.moving_obstacles)):
+            f = obstacle_facets(problem, r, o)
+            if f is not None:
+                obstacles[(r, o)] = f
+    first = max(s.bound for s in robots)
+    counters = {
+        "regions": sum(s.graph.n_regions for s in robots),
+        "robot_regions": [s.graph.n_regions for s in robots],
+        "robot_bounds": [None if math.isinf(s.bound) else int(s.bound) for s in robots],
+        "pairs": len(pairs),
+    }
+    return TeamSetup(problem, robots, pairs, obstacles, first, counters)
+
+
+def alone_bound(problem: TeamProblem, r: int, model: RobotModel, lo: int, hi: int, clock: Clock) -> float:
+    """The fewest steps in which robot r reaches its goal (and, with ``stop``, can stay
+    there) obstacles ignored: the least L in lo..hi whose LP (dynamics, bounds, the
+    robot's workspace, its goal and end state) is feasible (inf: none). Found by
+    bisection, sound when the robot starts at rest (a plan of L steps, after a wait at
+    the start, is one of L + 1); otherwise ``lo``."""
+    from plansynth.reach.team.conplan import TeamConPlan
+    from plansynth.reach.team.plans import TeamPlan
+
+    if not problem.robot_problems[r].starts_at_rest or lo > hi:
+        return lo
+    ws = problem.robot_problems[r].workspace
+    lo_s, hi_s = model.x_lo[list(model.pos)], model.x_hi[list(model.pos)]
+    H, h = halfspaces(Box(tuple(np.maximum(lo_s, ws.lo)), tuple(np.minimum(hi_s, ws.hi))))
+    relaxed = replace(model, regions=((H, h),))
+    owner = TeamConPlan(problem, [relaxed] * (r + 1), {}, {}, clock)
+
+    def feasible(L: int) -> bool:
+        plan = TeamPlan(((0,) * (L + 1),) * (r + 1))
+        return not isinstance(owner._component(plan, (r,)), TeamConflict)
+
+    top, step = lo, 0
+    while not feasible(top):  # widen geometrically from the lower bound, then bisect
+        if top >= hi:
+            return math.inf
+        lo = top + 1
+        step = max(1, step * 2, top // 4)
+        top = min(hi, top + step)
+    hi = top
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if feasible(mid):
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+def _robot(problem: TeamProblem, r: int, max_horizon: int, clock: Clock) -> RobotSetup:
+    own = problem.robot_problems[r]
+    robot = problem.robots[r]
+    cs = configuration_space(own)
+    labels_of = None
+    if robot.mission is not None:
+        from plansynth.reach.mission.labels import label_abstraction, planning_problem
+
+        la = label_abstraction(cs)
+        abstraction, labels_of = la.abstraction, la.labels_of
+        planning = planning_problem(cs)
+    else:
+        planning = cs
+        abstraction = abstract(cs)
+    graph = RegionGraph.from_abstraction(abstraction)
+    w = time_windows(planning, abstraction, max_horizon)
+    if robot.mission is not None:
+        goal = None
+    elif isinstance(robot.goal, GoalPoint):
+        goal = ("point", np.asarray(robot.goal.point, float))
+    else:
+        goal = ("shape", *halfspaces(robot.goal))
+    lo, hi = planning.state_box
+    model = RobotModel(
+        A=np.asarray(robot.dynamics.A, float),
+        B=np.asarray(robot.dynamics.B, float),
+        pos=tuple(robot.dynamics.position),
+        start=np.asarray(robot.start, float),
+        x_lo=np.asarray(lo, float),
+        x_hi=np.asarray(hi, float),
+        u_bound=robot.input_bound,
+        regions=tuple((np.asarray(g.H, float), np.asarray(g.h, float)) for g in abstraction.regions),
+        goal=goal,
+        rest=robot.stop or robot.mission is not None,
+    )
+    bound = w.horizon
+    if math.isfinite(bound) and robot.mission is None:
+        bound = max(bound, alone_bound(problem, r, model, int(bound), max_horizon, clock))
+    return RobotSetup(planning, abstraction, graph, model, tuple(w.earliest), tuple(w.to_go), bound, labels_of)
