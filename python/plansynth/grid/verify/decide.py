@@ -8,6 +8,7 @@ import time
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term
+from plansynth.grid.verify.closed_loop import verify_closed_loop
 from plansynth.grid.verify.controller import check_controller
 from plansynth.grid.verify.counterexample import counterexample
 from plansynth.grid.verify.meter import Meter
@@ -28,7 +29,7 @@ PYTHON_OBSTACLES = 8
 def verify(
     problem: GridProblem,
     program: Term,
-    steps: int,
+    steps: int | None,
     *,
     probe_nodes: int | None = None,
     budget: Budget | None = None,
@@ -53,10 +54,18 @@ def verify(
 
     Raises :class:`~plansynth.grid.programs.ProgramSyntaxError` when the program is not
     a controller of the problem's grammar (for example a move number with no move).
+
+    A problem outside the paper's model (another objective, obstacles with a block, a
+    period or glitches, position collisions: :attr:`GridProblem.paper_model`) is decided
+    by the closed-loop search of :mod:`.closed_loop` instead, for its objective;
+    ``steps`` is then the path length of ``exact`` and ``reach`` and None for
+    ``safety`` and ``recurrence``.
     """
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
     check_controller(problem, program)
+    if not problem.paper_model:
+        return verify_closed_loop(problem, program, steps, budget=budget)
+    if steps is None or steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
     if tables is None:
         small = problem.width * problem.height <= PYTHON_CELLS and len(problem.obstacles) <= PYTHON_OBSTACLES
         tables = "python" if small else "numpy"
