@@ -60,16 +60,27 @@ class Explanation:
     final: State | None = None
     counters: dict = field(default_factory=dict)
     strategy: ObstacleStrategy | None = field(default=None, compare=False, repr=False)
+    #: the infinite objectives: the play's last state is that of step ``loop``, and the
+    #: steps from there repeat forever
+    loop: int | None = None
 
 
-def explain(problem: GridProblem, steps: int, budget: Budget = Budget(seconds=60)) -> Explanation:
-    """Decide ``steps`` with the native engine and explain an unrealizable answer."""
+def explain(problem: GridProblem, steps: int | None, budget: Budget = Budget(seconds=60)) -> Explanation:
+    """Decide ``steps`` (None for safety and recurrence) with the native engine and
+    explain an unrealizable answer."""
     out = Engine().solve_length(problem, steps, budget)
+    where = f"at l = {steps}" if steps is not None else f"for the {problem.objective.value} objective"
     if out.status is GridStatus.REALIZABLE:
-        return Explanation("realizable", steps, f"a controller exists at l = {steps}: {out.program}", counters=out.counters)
+        return Explanation("realizable", steps, f"a controller exists {where}: {out.program}", counters=out.counters)
     if out.status is GridStatus.UNKNOWN:
         return Explanation("unknown", steps, out.message, counters=out.counters)
     ref = out.witness
+    if not problem.paper_model:
+        from plansynth.grid.native.product.witness import product_play
+
+        play, final, loop = product_play(problem, ref.strategy, steps)
+        summary = f"{ref.detail} (the obstacles' strategy is certified: {ref.certificate.reason})"
+        return Explanation("game", steps, summary, tuple(play), final, out.counters, loop=loop)
     if ref.kind == "goal":
         return Explanation("goal", steps, ref.detail, counters=out.counters)
     if ref.kind == "stationary":

@@ -46,6 +46,7 @@ from collections.abc import Iterator
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.problem import GridProblem
+from plansynth.grid.cycles import strongly_connected
 from plansynth.grid.programs import Term, compile_program
 from plansynth.grid.semantics import State, controller_inputs, initial_state, joint_choices, step
 from plansynth.grid.verify.meter import Meter
@@ -213,7 +214,7 @@ class _Search:
     def _bad_cycle(self, parent, edges) -> Counterexample | None:
         problem = self.problem
         everyone = (1 << len(problem.obstacles)) - 1 if problem.fair else 0
-        for component in _components(edges, self.meter):
+        for component in strongly_connected(edges, self.meter.tick, target=lambda e: e[0]):
             members = set(component)
             inner = [(u, e) for u in component for e in edges[u] if e[0] in members]
             if not inner:
@@ -292,51 +293,3 @@ def _path(edges, members: set[State], src: State, dst: State) -> list[tuple[Stat
                     return out[::-1]
                 queue.append(v)
     raise AssertionError("no path inside a strongly connected component")
-
-
-def _components(edges, meter: Meter) -> list[list[State]]:
-    """Tarjan's strongly connected components of ``edges``, iteratively."""
-    index: dict[State, int] = {}
-    low: dict[State, int] = {}
-    on: set[State] = set()
-    stack: list[State] = []
-    out: list[list[State]] = []
-    counter = 0
-    for root in edges:
-        if root in index:
-            continue
-        work = [(root, iter(edges[root]))]
-        index[root] = low[root] = counter
-        counter += 1
-        stack.append(root)
-        on.add(root)
-        while work:
-            meter.tick()
-            v, it = work[-1]
-            advanced = False
-            for w, *_ in it:
-                if w not in index:
-                    index[w] = low[w] = counter
-                    counter += 1
-                    stack.append(w)
-                    on.add(w)
-                    work.append((w, iter(edges[w])))
-                    advanced = True
-                    break
-                if w in on:
-                    low[v] = min(low[v], index[w])
-            if advanced:
-                continue
-            work.pop()
-            if work:
-                low[work[-1][0]] = min(low[work[-1][0]], low[v])
-            if low[v] == index[v]:
-                comp = []
-                while True:
-                    w = stack.pop()
-                    on.discard(w)
-                    comp.append(w)
-                    if w == v:
-                        break
-                out.append(comp)
-    return out
