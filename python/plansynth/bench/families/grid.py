@@ -133,6 +133,9 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "roads30": ("L", [32, 36], None),  # 30x30, 3 lanes of fast cars (answers per value: _KNOWN)
     "roads30-stall": ("lanes", [2, 3], None),  # 30x30, cars that may stop
     "guards30": ("guards", [3, 4], None),  # 30x30, guards that walk every step
+    # SYNTCOMP's robot benchmarks (plansynth.bench.families.grid_syntcomp): values are grid
+    # sizes m, each with both published glitch counts
+    "moving-obstacle": ("m", [8, 16, 24, 32, 48, 64, 96, 128], None),
 }
 
 #: Answers of the 30x30 families, found by the native engine (the realizable ones'
@@ -152,6 +155,10 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
     if name == "reactive-suite":
         suite = reactive_suite()
         return suite if values is None else [i for i in suite if i.name in {str(v) for v in values}]
+    if name == "moving-obstacle":
+        from plansynth.bench.families.grid_syntcomp import moving_obstacle_family
+
+        return moving_obstacle_family(values)
     out = []
     for v in (values if values is not None else defaults):
         if name == "figure1":

@@ -273,3 +273,16 @@ GRID_PROBLEMS: dict[str, Any] = {
     "door-stall": lambda l: _door(l, stall=True),
     "scale": lambda size: _scale(size),
 }
+
+
+def _syntcomp(name: str):
+    def build(**params: Any) -> dict[str, Any]:
+        from plansynth.bench.families.grid_syntcomp import SYNTCOMP_PROBLEMS
+
+        return SYNTCOMP_PROBLEMS[name](**params)
+
+    return build
+
+
+# the SYNTCOMP families (plansynth.bench.families.grid_syntcomp), built on first use
+GRID_PROBLEMS.update({name: _syntcomp(name) for name in ("moving-obstacle",)})
