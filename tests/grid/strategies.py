@@ -261,6 +261,8 @@ def objective_documents(draw: st.DrawFn, objective: str | None = None, *, max_si
         period = draw(st.integers(1, 3))
         if period > 1:
             o["period"] = period
+            if "stay" not in o["moves"]:
+                o["moves"] = ["stay"] + [m for m in o["moves"] if not (isinstance(m, dict) and m["name"] == "stay")]
             if draw(st.booleans()):
                 o["schedule"] = "fixed"
             if draw(st.booleans()):

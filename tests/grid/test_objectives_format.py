@@ -76,6 +76,8 @@ def test_inputs_of_each_extension():
     ({"obstacles": [{"start": [5, 5], "size": [2, 2], "moves": ["stay"]}]}, "obstacles[0].start",
      "the 2x2 block at [5, 5] is outside"),
     ({"obstacles": [{"start": [1, 1], "moves": ["stay"], "period": 0}]}, "obstacles[0].period", "must be >= 1"),
+    ({"obstacles": [{"start": [1, 1], "moves": ["left", "right"], "period": 2}]}, "obstacles[0].moves",
+     "must be able to wait"),
     ({"obstacles": [{"start": [1, 1], "moves": ["stay"], "period": 2, "phase": 2}]}, "obstacles[0].phase",
      "must be in 0..1"),
     ({"obstacles": [{"start": [1, 1], "moves": ["stay"], "glitches": 2}]}, "obstacles[0].glitches",

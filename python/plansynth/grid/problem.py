@@ -371,6 +371,9 @@ def _validate_obstacle(p: GridProblem, i: int, o: Obstacle, size: str) -> None:
         raise InvalidProblem(f, f"{where}.moves", "the obstacle has no moves")
     if not 1 <= o.period <= MAX_PERIOD:
         raise InvalidProblem(f, f"{where}.period", f"must be in 1..{MAX_PERIOD}, got {o.period}")
+    if o.period > 1 and not any(m.to == (0, 0) for m in o.moves):
+        raise InvalidProblem(f, f"{where}.moves", "an obstacle with a period must be able to wait: give it a move "
+                             "that ends where it starts (stay)")
     if o.phase is not None and not 0 <= o.phase < o.period:
         raise InvalidProblem(f, f"{where}.phase", f"must be in 0..{o.period - 1} (the period less one), got {o.phase}")
     if not 0 <= o.glitches <= MAX_GLITCHES:

@@ -114,7 +114,9 @@ def solve(
         if outcome.status is GridStatus.REALIZABLE:
             assert outcome.program is not None, f"backend {backend.name} said realizable without a program"
             started = time.perf_counter()
-            verdict = verify(problem, outcome.program, l, budget=clock.left())
+            # an engine may hand over the states its program keeps (a safety invariant)
+            invariant = outcome.witness if isinstance(outcome.witness, dict) else None
+            verdict = verify(problem, outcome.program, l, budget=clock.left(), invariant=invariant)
             counters = {**outcome.counters, "verify_seconds": round(time.perf_counter() - started, 6),
                         "verify_states": verdict.states_explored}
             if verdict.status is VerifyStatus.UNKNOWN:

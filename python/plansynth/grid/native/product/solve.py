@@ -45,7 +45,16 @@ class ProductRefutation:
 def solve_product(run: RunState, problem: GridProblem, steps: int | None, clock: Clock,
                   depth_bound: int | None) -> tuple[GridStatus, Term | None, str, ProductRefutation | None]:
     """(status, program, message, refutation) for ``problem`` (``steps``: the path
-    length of ``exact`` and ``reach``)."""
+    length of ``exact`` and ``reach``). A safety game runs in the compiled core when it
+    is built (:mod:`.compiled`); the realizable answer then hands the verifier the states
+    the program keeps (an inductive invariant) as its witness."""
+    if problem.objective is ObjectiveKind.SAFETY and run.o.use_rust is not False:
+        from plansynth.grid.native.product.compiled import available
+
+        if available():
+            from plansynth.grid.native.product.fast_safety import solve_safety_compiled
+
+            return solve_safety_compiled(run, problem, clock, depth_bound)
     space = ProductSpace.explore(problem, clock, run.o.max_configs)
     run.counters["configurations"] = space.n_configs
     run.counters["nodes"] = space.n_nodes
