@@ -285,4 +285,4 @@ def _syntcomp(name: str):
 
 
 # the SYNTCOMP families (plansynth.bench.families.grid_syntcomp), built on first use
-GRID_PROBLEMS.update({name: _syntcomp(name) for name in ("moving-obstacle",)})
+GRID_PROBLEMS.update({name: _syntcomp(name) for name in ("moving-obstacle", "robot-grid", "robot-grid-fast")})

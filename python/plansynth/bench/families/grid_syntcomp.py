@@ -9,11 +9,22 @@
   published time are Ehlers' Table I (SLUGS, realizability only, on an AMD E-450 at
   1.6 GHz with 4 GB), :data:`~plansynth.grid.syntcomp.moving_obstacle.PUBLISHED`; 128 x 128
   was not decided there within 4 h.
+- ``robot-grid`` (realizable) and ``robot-grid-fast`` (unrealizable): after the 8 x 16
+  maps of ``tlsf/robot_grid/non_parametric/gr_{1..8}``: the robot serves every pickup and
+  drop station pair of the map in turn, forever (a recurrence objective), while one
+  obstacle roams the fenced middle corridor, at odd ticks only (``robot-grid``, as the
+  ``gr_*`` maps' obstacle) or every step (``robot-grid-fast``). The documents are
+  :func:`plansynth.grid.syntcomp.robot_grid_maps.map_document` (what the TLSF files
+  have that they leave out is said there); the answers were found by the native engine
+  (programs verified; the "no" certified by the obstacles' strategy) and by omega, which
+  agree on all sixteen.
 
 >>> [i.name for i in moving_obstacle_family([8])]
 ['moving-obstacle-8x8-0', 'moving-obstacle-8x8-1']
 >>> [i.expected for i in moving_obstacle_family([8, 128])]
 ['realizable', 'unrealizable', None, None]
+>>> [(i.name, i.expected) for i in robot_grid_family([2], fast=True)]
+[('robot-grid-fast-2', 'unrealizable')]
 """
 
 from __future__ import annotations
@@ -23,7 +34,11 @@ from typing import Any
 
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["SYNTCOMP_PROBLEMS", "MOVING_OBSTACLE_SIZES", "moving_obstacle_family", "SLUGS_MACHINE"]
+__all__ = ["SYNTCOMP_PROBLEMS", "MOVING_OBSTACLE_SIZES", "moving_obstacle_family", "robot_grid_family", "SLUGS_MACHINE",
+           "SYNTCOMP_FAMILIES"]
+
+#: The families of this module (bench solvers: native and the omega peer).
+SYNTCOMP_FAMILIES = ("moving-obstacle", "robot-grid", "robot-grid-fast")
 
 #: The grid sizes of Ehlers' Table I.
 MOVING_OBSTACLE_SIZES = (8, 16, 24, 32, 48, 64, 96, 128)
@@ -49,6 +64,24 @@ def moving_obstacle_family(values: Sequence[int] | None = None) -> list[Instance
     return out
 
 
+def robot_grid_family(values: Sequence[int] | None = None, *, fast: bool = False) -> list[Instance]:
+    """The maps ``gr_<v>`` for v in ``values`` (default 1..8)."""
+    family = "robot-grid-fast" if fast else "robot-grid"
+    expected = "unrealizable" if fast else "realizable"
+    out = []
+    for v in values if values is not None else range(1, 9):
+        if not 1 <= int(v) <= 8:
+            raise ValueError(f"robot_grid has the maps gr_1..gr_8, not gr_{v}")
+        out.append(Instance("grid", family, f"{family}-{v}", {"map": int(v)}, expected))
+    return out
+
+
+def _robot_grid(map: int, period: int) -> dict[str, Any]:  # noqa: A002 - the family's parameter name
+    from plansynth.grid.syntcomp.robot_grid_maps import map_document
+
+    return map_document(f"gr_{map}", period=period)
+
+
 def _moving_obstacle(m: int, c: int) -> dict[str, Any]:
     from plansynth.grid.syntcomp.moving_obstacle import grid_document
 
@@ -57,4 +90,6 @@ def _moving_obstacle(m: int, c: int) -> dict[str, Any]:
 
 SYNTCOMP_PROBLEMS: dict[str, Any] = {
     "moving-obstacle": _moving_obstacle,
+    "robot-grid": lambda map: _robot_grid(map, 2),  # noqa: A006
+    "robot-grid-fast": lambda map: _robot_grid(map, 1),  # noqa: A006
 }

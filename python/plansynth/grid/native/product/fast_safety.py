@@ -38,12 +38,15 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
     won = game.solve()
     run.counters["fixpoint_rounds"] = game.rounds()
     run.phase("game")
+    if won:
+        run.counters["decided_seconds"] = _elapsed(run)
     if not won:
         valid, states, why = game.certify()
         run.phase("certify")
         if not valid:
             return GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: the obstacles' rank strategy fails: {why}", None
         run.counters["certificate_states"] = states
+        run.counters["decided_seconds"] = _elapsed(run)
         run.counters["certified_by"] = "the obstacles' rank strategy"
         from plansynth.grid.native.product.compiled_witness import CompiledRefutation
 
@@ -77,6 +80,11 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
         return GridStatus.UNKNOWN, None, (f"a winning program of depth {depth(program)} was found; smaller ones are "
                                           "not searched for this objective"), None
     return GridStatus.REALIZABLE, program, "safety objective won on the product game", game.reached_sets()
+
+
+def _elapsed(run: RunState) -> float:
+    """Seconds of the run's phases so far."""
+    return round(sum(run.counters.get("phase_seconds", {}).values()), 6)
 
 
 def _learn(run: RunState, game: CompiledSafety, problem: GridProblem, clock: Clock) -> Term:

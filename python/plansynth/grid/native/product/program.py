@@ -31,7 +31,12 @@ from plansynth.grid.native.run import RunState
 from plansynth.grid.native.synth import greedy_program, program_depths, tree_program, useful_conditions
 from plansynth.grid.programs import Const, Term, compile_program, depth
 
-__all__ = ["ProductCheck", "learn_program"]
+__all__ = ["ProductCheck", "learn_program", "SIMPLIFY_SECONDS"]
+
+#: Seconds (beyond the effort) the simplifier may spend on a learnt program: each of its
+#: checks explores the program's closed loop (milliseconds on the robot_grid maps, so a
+#: second covers a few hundred candidates).
+SIMPLIFY_SECONDS = 1.0
 
 StateKey = tuple[int, int]  # (robot cell index, node)
 
@@ -146,7 +151,10 @@ def learn_program(moves: RobotMoves, run: RunState, clock: Clock, *, max_rounds:
     assert program is not None
     run.counters["greedy_depth"] = depth(program)
     if run.o.simplify:
-        program = simplify(program, check, time.perf_counter() + max(0.0, clock.remaining() - 0.05))
+        # every check explores the closed loop: the simplifier gets a second beyond the effort
+        from plansynth.grid.native.answer import effort
+
+        program = simplify(program, check, time.perf_counter() + SIMPLIFY_SECONDS + effort(run, clock))
     run.counters["first_depth"] = depth(program)
     run.phase("answer")
     program = _improve(run, check, sample, program, clock)

@@ -83,6 +83,7 @@ def solve_product(run: RunState, problem: GridProblem, steps: int | None, clock:
             sol = fixpoints.recurrence(space, clock)
         run.counters["fixpoint_rounds"] = sol.rounds
         run.phase("game")
+        run.counters["decided_seconds"] = round(sum(run.counters["phase_seconds"].values()), 6)
         if not sol.wins(r0, n0):
             dual = fixpoints.recurrence_dual(space, clock) if kind is ObjectiveKind.RECURRENCE else None
             if dual is not None and not dual[0][n0] >> r0 & 1:
@@ -114,6 +115,7 @@ def _refuted(run: RunState, problem: GridProblem, steps: int | None, replies, cl
     cert = check_refutation(problem, strategy, steps, clock)
     run.counters["certificate_states"] = cert.states
     run.phase("certify")
+    run.counters["decided_seconds"] = round(sum(run.counters["phase_seconds"].values()), 6)
     if not cert.valid:
         return GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: the obstacles' strategy fails: {cert.reason}", None
     run.counters["certified_by"] = "the obstacles' strategy"
