@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 
 from plansynth.errors import InvalidProblem
-from plansynth.grid.objective import CollisionRule, ObjectiveKind, Schedule
+from plansynth.grid.objective import CollisionRule, ObjectiveKind
 from plansynth.grid.problem import grid_problem_from_dict
 from plansynth.grid.semantics import (
     State,

@@ -2,12 +2,12 @@
 //! obstacles' configurations (safety solved in the core; the learner's rounds; the
 //! obstacles' rank strategy checked). A call that runs out of its seconds or memory
 //! raises `plansynth.budget.BudgetExhausted` naming what it was doing.
-use plansynth_core::conditions::{Arith, Cond};
 use plansynth_core::product::{self as core, Limits, ObstacleMove, ObstacleSpec, ProductSpec, RobotMove, Stop};
 use plansynth_core::tree::Node;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
+use crate::conditions::{cond_op, term_rows, TermRow};
 use crate::convert::{bits_of, bytes_of};
 use crate::errors::{bad_value, budget_exhausted};
 use crate::game::checked_ops;
@@ -23,7 +23,6 @@ fn stopped(phase: &str, stop: Stop) -> PyErr {
 
 type RobotRow<'py> = (Bound<'py, PyBytes>, Bound<'py, PyBytes>, i64, Vec<i64>);
 type ObstacleRow<'py> = (usize, usize, Vec<((i64, i64), Vec<(i64, i64)>)>, u32, bool, u32, u32, Bound<'py, PyBytes>, usize);
-type TermRow = (u8, i64, i64, u32);
 type CondRow = (u8, usize, usize, u32);
 type RoundOut = (bool, usize, usize, Vec<TermRow>, Vec<CondRow>, Vec<(u8, usize)>);
 
@@ -160,25 +159,13 @@ impl PyProductGame {
         let r = py
             .detach(|| g.learn_round(cond_depth, max_constant, max_nodes, enum_states, lim))
             .map_err(|s| stopped("learning a program", s))?;
-        let terms = r
-            .terms
-            .iter()
-            .map(|(t, d)| match *t {
-                Arith::Const(c) => (0u8, c, 0i64, *d),
-                Arith::Var(j) => (1, j as i64, 0, *d),
-                Arith::Plus(a, b) => (2, a as i64, b as i64, *d),
-                Arith::Minus(a, b) => (3, a as i64, b as i64, *d),
-            })
-            .collect();
+        let terms = term_rows(&r.terms);
         let conds = r
             .conds
             .iter()
-            .map(|(c, d)| match *c {
-                Cond::Le(a, b) => (0u8, a, b, *d),
-                Cond::Eq(a, b) => (1, a, b, *d),
-                Cond::Not(a) => (2, a, 0, *d),
-                Cond::And(a, b) => (3, a, b, *d),
-                Cond::Or(a, b) => (4, a, b, *d),
+            .map(|(c, d)| {
+                let (op, a, b) = cond_op(c);
+                (op, a, b, *d)
             })
             .collect();
         let nodes = r.nodes.iter().map(|n| match *n {

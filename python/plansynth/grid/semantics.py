@@ -227,10 +227,7 @@ def step(problem: GridProblem, state: State, k: int, obstacle_moves: Sequence[in
             glitches.append(gl)
         if collided:
             continue
-        if position:
-            collided = r_end in problem.obstacles[i].block(o_end)
-        else:
-            collided = not set(o_swept).isdisjoint(r_swept)
+        collided = r_end in problem.obstacles[i].block(o_end) if position else not set(o_swept).isdisjoint(r_swept)
     mode, fair = state.mode, state.fair
     if problem.objective is ObjectiveKind.RECURRENCE and r_end == problem.robot.goals[mode]:
         mode = (mode + 1) % problem.mode_count

@@ -25,10 +25,10 @@ import cvc5
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
-from plansynth.isolate import Crash, Finished, preload, run_isolated
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus, LengthOutcome
 from plansynth.grid.sygus import compile_sygus, sygus_limitation
+from plansynth.isolate import Crash, Finished, preload, run_isolated
 
 __all__ = ["Cvc5Backend", "run_sygus_text", "run_smt_text", "cvc5_version", "parse_options", "check_options"]
 

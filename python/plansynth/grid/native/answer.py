@@ -12,9 +12,9 @@ from __future__ import annotations
 import time
 
 from plansynth.budget import BudgetExhausted, Clock
+from plansynth.grid.native import fast
 from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.check import ArenaCheck, GameGraph, program_checker, simplify
-from plansynth.grid.native import fast
 from plansynth.grid.native.conditions import Enumeration, condition_limit
 from plansynth.grid.native.exact_depth import minimal_program
 from plansynth.grid.native.limits import check_clock

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+from plansynth.grid.oracle import outcome_of
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.semantics import State, initial_state, obstacle_choices, step
 
@@ -51,25 +52,9 @@ def stationary_exists(problem: GridProblem, steps: int, limit: int = 200_000, ma
     wins at exactly ``steps``? Backtracking over the states the partial map reaches."""
     import time
 
-    joints = list(obstacle_choices(problem))
     n = len(problem.robot.moves)
     nodes = [0]
     deadline = None if max_seconds is None else time.perf_counter() + max_seconds
-
-    def simulate(f: dict[State, int]):
-        frontier = {initial_state(problem)}
-        for _ in range(steps):
-            nxt = set()
-            for s in frontier:
-                if s not in f:
-                    return s
-                for j in joints:
-                    out = step(problem, s, f[s], j)
-                    if out.collided:
-                        return False
-                    nxt.add(out.state)
-            frontier = nxt
-        return all(s.robot == problem.robot.goal for s in frontier)
 
     def search(f: dict[State, int]) -> bool:
         nodes[0] += 1
@@ -77,7 +62,7 @@ def stationary_exists(problem: GridProblem, steps: int, limit: int = 200_000, ma
             raise TooLarge(f"more than {limit} partial strategies")
         if deadline is not None and nodes[0] % 64 == 0 and time.perf_counter() > deadline:
             raise TooLarge(f"more than {max_seconds} s")
-        r = simulate(f)
+        r = outcome_of(problem, steps, f)
         if r is True or r is False:
             return r
         for k in range(n):

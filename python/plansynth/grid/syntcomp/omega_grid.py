@@ -38,7 +38,7 @@ from plansynth.budget import Budget
 from plansynth.grid.objective import CollisionRule, ObjectiveKind, Schedule
 from plansynth.grid.problem import BUILTIN_MOVES, GridProblem
 from plansynth.grid.result import GridStatus
-from plansynth.grid.syntcomp.omega_game import OmegaAnswer, _all, _omega, _quiet
+from plansynth.grid.syntcomp.omega_game import OmegaAnswer, _all, _omega, _quiet, isolated
 
 __all__ = ["supports", "automaton", "solve"]
 
@@ -172,14 +172,4 @@ def _solve_here(problem: GridProblem, strategy: bool) -> OmegaAnswer:
 
 def solve(problem: GridProblem, budget: Budget | None = None, *, strategy: bool = True) -> OmegaAnswer:
     """omega's answer in a child process within ``budget``; ``unknown`` past it."""
-    from plansynth.isolate import Finished, Timeout, run_isolated
-
-    budget = budget or Budget()
-    start = time.perf_counter()
-    outcome = run_isolated(_solve_here, problem, strategy, timeout=budget.seconds, memory_mb=budget.memory_mb)
-    if isinstance(outcome, Finished):
-        return outcome.value
-    elapsed = time.perf_counter() - start
-    if isinstance(outcome, Timeout):
-        return OmegaAnswer(GridStatus.UNKNOWN, elapsed, message=f"budget ran out in omega ({budget.seconds} s)")
-    return OmegaAnswer(GridStatus.UNKNOWN, elapsed, message=f"omega failed: {outcome}")
+    return isolated(_solve_here, (problem, strategy), budget or Budget())

@@ -44,9 +44,9 @@ from collections import deque
 from collections.abc import Iterator
 
 from plansynth.budget import Budget, BudgetExhausted
+from plansynth.grid.cycles import strongly_connected
 from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.cycles import strongly_connected
 from plansynth.grid.programs import Term, compile_program
 from plansynth.grid.semantics import State, controller_inputs, initial_state, joint_choices, step
 from plansynth.grid.verify.meter import Meter

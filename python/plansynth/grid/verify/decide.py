@@ -6,13 +6,13 @@ from __future__ import annotations
 import time
 
 from plansynth.budget import Budget, BudgetExhausted
+from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term
-from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.verify.closed_loop import verify_closed_loop
-from plansynth.grid.verify.invariant import Invariant, check_invariant
 from plansynth.grid.verify.controller import check_controller
 from plansynth.grid.verify.counterexample import counterexample
+from plansynth.grid.verify.invariant import Invariant, check_invariant
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.search import PROBE_NODES, Search
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus

@@ -38,7 +38,15 @@ from plansynth.budget import Budget, BudgetExhausted
 from plansynth.grid.objective import CollisionRule, ObjectiveKind
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import App, Const, Term, Var
-from plansynth.grid.semantics import State, initial_state, joint_choices, obstacle_move, robot_move, step
+from plansynth.grid.semantics import (
+    State,
+    controller_inputs,
+    initial_state,
+    joint_choices,
+    obstacle_move,
+    robot_move,
+    step,
+)
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
@@ -97,7 +105,7 @@ def check_invariant(problem: GridProblem, program: Term, invariant: Invariant, *
         kid, cells = np.nonzero(table)
         checked = int(kid.size)
         probes = [_state_of(problem, k, (0, 0)) for k in keys]
-        fixed = np.array([_fixed_inputs(problem, s) for s in probes], np.int64).reshape(len(keys), -1)
+        fixed = np.array([controller_inputs(problem, s)[2:] for s in probes], np.int64).reshape(len(keys), -1)
         values = {v: fixed[kid, j] for j, v in enumerate(problem.variables[2:])}
         values["rx"], values["ry"] = cells % w, cells // w
         meter.phase = "evaluating the program on the invariant"
@@ -227,22 +235,6 @@ def _xy(c: int, w: int) -> tuple[int, int]:
 
 def _unknown(t0: float, checked: int, why: str) -> Verdict:
     return Verdict(VerifyStatus.UNKNOWN, None, None, checked, time.perf_counter() - t0, "the inductive invariant", why)
-
-
-def _fixed_inputs(problem: GridProblem, s: State) -> list[int]:
-    """The inputs after ``rx ry`` (the same for every robot cell of a configuration)."""
-    out: list[int] = []
-    for i, o in enumerate(problem.obstacles):
-        out.extend(s.obstacles[i])
-        if o.periodic:
-            out.append(s.phases[i])
-        if o.glitching:
-            out.append(s.glitches[i])
-    if problem.mode_count > 1:
-        out.append(s.mode)
-    if problem.fair_count > 1:
-        out.append(s.fair)
-    return out
 
 
 def _evaluate(t: Term, values: dict):

@@ -37,8 +37,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from plansynth.budget import Clock
-from plansynth.grid.native.limits import check_clock
 from plansynth.grid.cycles import strongly_connected
+from plansynth.grid.native.limits import check_clock
 from plansynth.grid.native.product.exact import ExactGame
 from plansynth.grid.native.product.strategy import COLLIDE, ObstacleReplies
 from plansynth.grid.objective import ObjectiveKind
@@ -60,7 +60,7 @@ class Certificate:
 class ObstacleStrategy:
     """The obstacles' replies as joint obstacle moves on concrete states."""
 
-    def __init__(self, replies: "ObstacleReplies | ExactGame") -> None:
+    def __init__(self, replies: ObstacleReplies | ExactGame) -> None:
         self.replies = replies
         self.space = replies.space
         self.index = {c: i for i, c in enumerate(self.space.configs)}

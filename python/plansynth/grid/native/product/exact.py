@@ -18,11 +18,11 @@ question over positional strategies (the SAT encoding of
 from __future__ import annotations
 
 from plansynth.budget import Clock
+from plansynth.grid.native.bitgrid import bits
 from plansynth.grid.native.limits import check_clock
 from plansynth.grid.native.product.fixpoints import _standing, controllable
 from plansynth.grid.native.product.space import ProductSpace
 from plansynth.grid.native.product.strategy import COLLIDE
-from plansynth.grid.native.bitgrid import bits
 
 __all__ = ["ExactGame"]
 
@@ -43,7 +43,7 @@ class ExactGame:
         for t in range(steps - 1, -1, -1):
             nxt = self.win[t + 1]
             for oc in at[t]:
-                mv = controllable(space, space.node(oc), lambda j, oc2: nxt.get(oc2, 0))
+                mv = controllable(space, space.node(oc), lambda j, oc2, nxt=nxt: nxt.get(oc2, 0))
                 self.moves[t][oc] = mv
                 w = 0
                 for m in mv:

@@ -149,7 +149,7 @@ def safety(space: ProductSpace, clock: Clock | None = None) -> Solution:
         lost = False
         for node in range(space.n_nodes):
             oc, m, f = space.split(node)
-            moves = controllable(space, node, lambda j, oc2, m=m, f=f, oc=oc:
+            moves = controllable(space, node, lambda j, oc2, m=m, f=f, oc=oc, win=win:
                                  win[space.node(oc2, m, _next_f(space, f, space.changed[oc][j]))])
             keep = win[node] & _or(moves)
             gone[node] = win[node] & ~keep
@@ -193,7 +193,7 @@ def reach(space: ProductSpace, bound: int, clock: Clock | None = None) -> Soluti
         new = []
         for node in range(space.n_nodes):
             oc, _, _ = space.split(node)
-            moves = controllable(space, node, lambda j, oc2: cur[space.node(oc2)] | goal)
+            moves = controllable(space, node, lambda j, oc2, cur=cur: cur[space.node(oc2)] | goal)
             new.append(cur[node] | (_or(moves) & standing))
         check_clock(clock, "the reachability fixpoint", f" (round {sol.rounds})")
         if new == cur:

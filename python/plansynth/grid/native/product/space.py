@@ -84,7 +84,7 @@ class ProductSpace:
         return rest // self.K, rest % self.K, f
 
     @classmethod
-    def explore(cls, problem: GridProblem, clock: Clock | None = None, max_configs: int | None = None) -> "ProductSpace":
+    def explore(cls, problem: GridProblem, clock: Clock | None = None, max_configs: int | None = None) -> ProductSpace:
         """Every configuration reachable from the start (breadth first)."""
         space = cls(problem, AgentGeometry.robot(problem), K=problem.mode_count, F=problem.fair_count)
         start = initial_state(problem)

@@ -39,7 +39,6 @@ from plansynth.grid.native.product.fixpoints import (
     _standing,
     controllable,
 )
-from plansynth.grid.native.product.space import ProductSpace
 from plansynth.grid.objective import ObjectiveKind
 
 __all__ = ["RobotMoves", "ObstacleReplies", "COLLIDE"]
