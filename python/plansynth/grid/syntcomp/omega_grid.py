@@ -11,7 +11,8 @@ The game of :mod:`plansynth.grid.semantics`, written in omega's TLA+ fragment:
   says: the move's offset when the end cell is on the grid, else no move), each
   obstacle's cell ``o<i>x, o<i>y`` (it stays, or, when its wait counter ``o<i>p`` is 0,
   takes one of its moves to a cell on the grid that is neither a wall nor kept out),
-  the wait counters (by the obstacle's schedule) and, under ``fair``, a flag
+  the wait counters (by the obstacle's schedule; a move whose start or end cell is a wall
+  or kept out is void, as a move sweeping one is) and, under ``fair``, a flag
   ``o<i>moved`` per obstacle (it changed cell in the last step);
 * ``sys`` owns ``k``, the robot's next move;
 * ``SysNext``: the robot is on no wall and collides with no obstacle (``position``:
@@ -95,7 +96,9 @@ def automaton(problem: GridProblem) -> Any:
         stay = f"({x}' = {x} /\\ {y}' = {y})"
         steps = [f"({x}' = {_offset(x, m.to[0])} /\\ {y}' = {_offset(y, m.to[1])})" for m in o.moves if m.to != (0, 0)]
         blocked = set(problem.walls) | set(o.keep_out)
-        free = f"~ ({_cells(x + chr(39), y + chr(39), blocked)})" if blocked else "TRUE"
+        # a move sweeps its start and end cells: one on a wall or a kept-out cell is void
+        free = (f"~ ({_cells(x, y, blocked)}) /\\ ~ ({_cells(x + chr(39), y + chr(39), blocked)})" if blocked
+                else "TRUE")
         may = "TRUE"
         if o.period > 1:
             decl[p] = (0, o.period - 1)
