@@ -79,4 +79,6 @@ def check_contract(result: Any, args: list[str]) -> None:
     assert "Traceback" not in result.output, f"{where}: traceback\n{result.output[-3000:]}"
     if result.exit_code == 2:
         lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
-        assert len(lines) == 1 and lines[0].startswith("error: "), f"{where}: not one error line:\n{result.stderr[-2000:]}"
+        assert len(lines) == 1 and lines[0].startswith("error: "), (
+            f"{where}: not one error line:\n{result.stderr[-2000:]}"
+        )

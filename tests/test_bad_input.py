@@ -48,8 +48,13 @@ def _reach_text(old: str, new: str) -> str:
 
 def test_hostile_problem_files_are_refused_by_every_reader(tmp_path: Path) -> None:
     for name, (path, expect) in hostile_grid_files(tmp_path).items():
-        for args in (["grid", "solve", path], ["reach", "solve", path], ["grid", "verify", path, WINNER, "--steps", "6"],
-                     ["grid", "compile", path, "--steps", "2"], ["reach", "plot", path, "-o", tmp_path / "x.png"]):
+        for args in (
+            ["grid", "solve", path],
+            ["reach", "solve", path],
+            ["grid", "verify", path, WINNER, "--steps", "6"],
+            ["grid", "compile", path, "--steps", "2"],
+            ["reach", "plot", path, "-o", tmp_path / "x.png"],
+        ):
             _refused(args, f"error: {path}: <file>: ", expect)
         # As RESULT_OR_PROGRAM: a regular file is read (same limits), anything else is a term.
         args = ["grid", "verify", FIGURE1, path, "--steps", "6"]
@@ -113,7 +118,9 @@ def test_hostile_files_stay_within_memory_and_time_in_a_real_process(tmp_path: P
     2) or answered (exit 3) in seconds, with no traceback."""
     files = {name: str(p) for name, (p, _) in hostile_grid_files(tmp_path).items()}
     huge = tmp_path / "huge.yaml"
-    huge.write_text(grid_text("steps: 1000000000\n", drop=("max_steps", "grid")) + "grid: [10000, 10000]\n", encoding="utf-8")
+    huge.write_text(
+        grid_text("steps: 1000000000\n", drop=("max_steps", "grid")) + "grid: [10000, 10000]\n", encoding="utf-8"
+    )
     solver = f"{shlex.quote(sys.executable)} -c \"import sys; sys.stdout.buffer.write(b'caf\\xe9 (error)')\""
     cases = [["grid", "solve", f] for f in files.values()] + [
         ["reach", "solve", files["laughs.yaml"]],
@@ -135,7 +142,9 @@ def test_hostile_files_stay_within_memory_and_time_in_a_real_process(tmp_path: P
         print(json.dumps(out))
         """
     )
-    proc = subprocess.run([sys.executable, "-c", script, json.dumps(cases)], capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(
+        [sys.executable, "-c", script, json.dumps(cases)], capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     results = json.loads(proc.stdout.splitlines()[-1])
     assert len(results) == len(cases)
@@ -159,7 +168,11 @@ def test_non_utf8_bytes_are_named_errors_everywhere(tmp_path: Path) -> None:
     reach.write_bytes(("# café\n" + MAZE1.read_text(encoding="utf-8")).encode("latin-1"))
     _refused(["reach", "solve", reach], "r.yaml: <file>: not UTF-8 text")
     result = tmp_path / "res.json"
-    result.write_bytes(json.dumps({"status": "realizable", "steps": 6, "program": WINNER, "note": "café"}, ensure_ascii=False).encode("latin-1"))
+    result.write_bytes(
+        json.dumps({"status": "realizable", "steps": 6, "program": WINNER, "note": "café"}, ensure_ascii=False).encode(
+            "latin-1"
+        )
+    )
     _refused(["grid", "verify", FIGURE1, result], "res.json: <file>: not UTF-8 text")
     _refused(["reach", "validate", MAZE1, result], "res.json: <file>: not UTF-8 text")
     sl = tmp_path / "c.sl"
@@ -169,7 +182,9 @@ def test_non_utf8_bytes_are_named_errors_everywhere(tmp_path: Path) -> None:
 
 def test_external_solver_output_that_is_not_utf8_is_an_answer_not_a_crash(tmp_path: Path) -> None:
     answer = tmp_path / "answer.txt"
-    answer.write_bytes(b"; caf\xe9\n(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int (ite (<= rx 3) 2 1))\n")
+    answer.write_bytes(
+        b"; caf\xe9\n(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int (ite (<= rx 3) 2 1))\n"
+    )
     command = f"{shlex.quote(sys.executable)} -c \"import sys; sys.stdout.buffer.write(open(sys.argv[1], 'rb').read())\" {shlex.quote(str(answer))}"
     args = ["grid", "solve", FIGURE1, "--steps", "6", "--solver", "external", "--command", command + " {file}"]
     r = invoke(args)
@@ -232,9 +247,17 @@ def test_the_documented_limits_hold_at_the_boundary(tmp_path: Path) -> None:
     "old, new, fragment",
     [
         ("dt: 0.5", "dt: 1.0e+308", "robot.dynamics.dt: must lie within"),
-        ("{model: double-integrator, dt: 0.5}", "{model: integrator-chain, order: 3000, dt: 0.5}", "robot.dynamics.order: must be <= 50"),
+        (
+            "{model: double-integrator, dt: 0.5}",
+            "{model: integrator-chain, order: 3000, dt: 0.5}",
+            "robot.dynamics.order: must be <= 50",
+        ),
         ("max_horizon: 200", "max_horizon: 1000000000000000000000000000000", f"max_horizon: must be <= {MAX_HORIZON}"),
-        ("max: [30, 30]\nobstacles", "max: [1.0e+200, 1.0e+200]\nobstacles", "workspace.max[0]: must lie within -1e+06..1e+06, got 1e+200"),
+        (
+            "max: [30, 30]\nobstacles",
+            "max: [1.0e+200, 1.0e+200]\nobstacles",
+            "workspace.max[0]: must lie within -1e+06..1e+06, got 1e+200",
+        ),
         ("start: [1, 1, 0, 0]", "start: [1, 1, 0, 1.0e+300]", "robot.start[3]: must lie within"),
         ("input_bound: 1", "input_bound: 1.0e+300", "robot.input_bound: must lie within"),
     ],
@@ -271,7 +294,9 @@ def test_a_long_program_on_the_command_line_is_a_term_not_a_path() -> None:
     assert r.exit_code == 0 and "WINS" in r.output
     long_junk = "x" * 5000
     _refused(["grid", "verify", FIGURE1, long_junk, "--steps", "6"], "is neither a file nor a controller term")
-    _refused(["grid", "export", long_junk, "--lang", "c", "--problem", FIGURE1], "is neither a file nor a controller term")
+    _refused(
+        ["grid", "export", long_junk, "--lang", "c", "--problem", FIGURE1], "is neither a file nor a controller term"
+    )
 
 
 def test_deep_programs_are_refused_in_files_results_and_solver_answers(tmp_path: Path) -> None:
@@ -287,8 +312,12 @@ def test_deep_programs_are_refused_in_files_results_and_solver_answers(tmp_path:
     with pytest.raises(InvalidProblem, match="program: nested deeper than"):
         load_result(res)
     answer = tmp_path / "answer.txt"
-    answer.write_text(f"(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int {deep})\n", encoding="utf-8")
-    command = f"{shlex.quote(sys.executable)} -c \"import sys; print(open(sys.argv[1]).read())\" {shlex.quote(str(answer))}"
+    answer.write_text(
+        f"(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int {deep})\n", encoding="utf-8"
+    )
+    command = (
+        f'{shlex.quote(sys.executable)} -c "import sys; print(open(sys.argv[1]).read())" {shlex.quote(str(answer))}'
+    )
     args = ["grid", "solve", FIGURE1, "--steps", "6", "--solver", "external", "--command", command + " {file}"]
     r = invoke(args)
     check_contract(r, args)
@@ -309,7 +338,9 @@ def test_a_20000_term_and_is_accepted_and_stays_shallow(tmp_path: Path) -> None:
     assert r.exit_code == 0 and "WINS" in r.output
 
 
-@pytest.mark.parametrize("text", ["(ite (<= rx ３) 2 1)", "(ite (<= rx ٣) 2 1)", "(ite (<= rx (- ²)) 2 1)", "(ite (<= rx 1234567890) 2 1)"])
+@pytest.mark.parametrize(
+    "text", ["(ite (<= rx ３) 2 1)", "(ite (<= rx ٣) 2 1)", "(ite (<= rx (- ²)) 2 1)", "(ite (<= rx 1234567890) 2 1)"]
+)
 def test_only_short_ascii_integer_literals(text: str) -> None:
     with pytest.raises(ProgramSyntaxError):
         parse_program(text)
@@ -319,13 +350,21 @@ def test_only_short_ascii_integer_literals(text: str) -> None:
 # -- numbers ------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("written, value", [("5e-1", 0.5), ("1e-1", 0.1), ("5E-1", 0.5), ("0.5e0", 0.5), ("1.0e-1", 0.1), ("+5e-1", 0.5)])
+@pytest.mark.parametrize(
+    "written, value", [("5e-1", 0.5), ("1e-1", 0.1), ("5E-1", 0.5), ("0.5e0", 0.5), ("1.0e-1", 0.1), ("+5e-1", 0.5)]
+)
 def test_numbers_as_users_write_them(tmp_path: Path, written: str, value: float) -> None:
     p = tmp_path / "r.yaml"
     p.write_text(_reach_text("dt: 0.5", f"dt: {written}"), encoding="utf-8")
     assert load_reach_problem(p).dynamics.dt == value
     assert parse_document(f"a: {written}", "x.yaml") == {"a": value}
-    assert parse_document("a: 1e3\nb: 2.5E+2\nc: '5e-1'\nd: 1_000\ne: 0x10", "x.yaml") == {"a": 1000.0, "b": 250.0, "c": "5e-1", "d": 1000, "e": 16}
+    assert parse_document("a: 1e3\nb: 2.5E+2\nc: '5e-1'\nd: 1_000\ne: 0x10", "x.yaml") == {
+        "a": 1000.0,
+        "b": 250.0,
+        "c": "5e-1",
+        "d": 1000,
+        "e": 16,
+    }
 
 
 @pytest.mark.parametrize("value", ["nan", "inf", "-inf", "-1", "0"])
@@ -343,11 +382,17 @@ def test_budget_options_must_be_finite_and_positive(command: list[str], value: s
     _refused([*command, "--timeout", value], "Invalid value for '--timeout'")
 
 
-@pytest.mark.parametrize("args, fragment", [
-    (["grid", "animate", FIGURE1, WINNER, "--steps", "6", "-o", "x.gif", "--fps", "nan"], "Invalid value for"),
-    (["reach", "solve", MAZE1, "-O", "window_growth=inf"], "lazy-smt: option 'window_growth': must be positive and finite"),
-    (["reach", "solve", MAZE1, "-O", "window_growth=nan"], "lazy-smt: option 'window_growth': expected float"),
-])
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["grid", "animate", FIGURE1, WINNER, "--steps", "6", "-o", "x.gif", "--fps", "nan"], "Invalid value for"),
+        (
+            ["reach", "solve", MAZE1, "-O", "window_growth=inf"],
+            "lazy-smt: option 'window_growth': must be positive and finite",
+        ),
+        (["reach", "solve", MAZE1, "-O", "window_growth=nan"], "lazy-smt: option 'window_growth': expected float"),
+    ],
+)
 def test_other_real_options_must_be_finite(args: list[str], fragment: str) -> None:
     _refused(args, fragment)
 
@@ -367,20 +412,31 @@ def test_other_malformed_documents_are_named_errors(tmp_path: Path) -> None:
         ("grid: !!python/object:os.system [ls]\n", "<file>: not valid YAML/JSON"),
         ("grid: [5, 7]\ngrid: [5, 7]\n", "grid: duplicated key (line 2)"),
         ("- 1\n- 2\n", "<document>: expected a mapping, got list"),
-        (grid_text("robot: {start: [1, 1], goal: [4, 4], moves: [up, {name: x, to: [0, 1], via: " + str([[0, 0]] * 101) + "}]}\n",
-                   drop=("robot", "  ")), "robot.moves[1].via: at most 100 offsets"),
+        (
+            grid_text(
+                "robot: {start: [1, 1], goal: [4, 4], moves: [up, {name: x, to: [0, 1], via: "
+                + str([[0, 0]] * 101)
+                + "}]}\n",
+                drop=("robot", "  "),
+            ),
+            "robot.moves[1].via: at most 100 offsets",
+        ),
     ]:
         p = tmp_path / "m.yaml"
         p.write_text(text, encoding="utf-8")
         _refused(["grid", "solve", p], "m.yaml: ", fragment)
     j = tmp_path / "m.json"
-    j.write_text('{"status": "realizable", "steps": 6, "program": "' + WINNER + '", "x": 1' + "0" * 5000 + "}", encoding="utf-8")
+    j.write_text(
+        '{"status": "realizable", "steps": 6, "program": "' + WINNER + '", "x": 1' + "0" * 5000 + "}", encoding="utf-8"
+    )
     _refused(["grid", "verify", FIGURE1, j], "m.json: <file>: not valid JSON")
     j.write_text(json.dumps({"status": ["realizable"], "program": WINNER}), encoding="utf-8")
     _refused(["grid", "verify", FIGURE1, j], "m.json: status: expected one of")
     j.write_text(json.dumps({"status": "realizable", "program": {"ite": 1}}), encoding="utf-8")
     _refused(["grid", "verify", FIGURE1, j], "m.json: program: expected the program as a string")
-    j.write_text(json.dumps({"status": "realizable", "steps": 6, "program": WINNER, "problem": ["x"] * 3}), encoding="utf-8")
+    j.write_text(
+        json.dumps({"status": "realizable", "steps": 6, "program": WINNER, "problem": ["x"] * 3}), encoding="utf-8"
+    )
     _refused(["grid", "export", j, "--lang", "c"], "not a file from here")
 
 
@@ -408,8 +464,10 @@ def test_a_long_unicode_name_still_gives_a_valid_sl_file_name(tmp_path: Path) ->
         (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "milp-ltl"], "this problem has none"),
         (["reach", "solve", "examples/reach/mission-visit.yaml", "-p", "gcs"], "does not plan LTL missions"),
         (["reach", "solve", "examples/reach/dubins.yaml", "-p", "gcs"], "starts at rest"),
-        (["reach", "solve", "examples/reach/maze-1.yaml", "-p", "gcs", "-O", "variant=bogus"],
-         "gcs: option 'variant': unknown value 'bogus'"),
+        (
+            ["reach", "solve", "examples/reach/maze-1.yaml", "-p", "gcs", "-O", "variant=bogus"],
+            "gcs: option 'variant': unknown value 'bogus'",
+        ),
     ],
 )
 def test_a_planner_the_problem_cannot_use_is_a_one_line_error(args: list[str], fragment: str) -> None:

@@ -42,17 +42,28 @@ def many_vertex_circle():
     is a star (radii 1.5 and 1.35 alternating, not convex): its convex decomposition, and
     the big-M MILP's 5,000 and more convex pieces, take far longer than 2 s."""
     n = 10_000
-    circle = [[6 + (1.5 if k % 2 else 1.35) * math.cos(2 * math.pi * k / n),
-               4 + (1.5 if k % 2 else 1.35) * math.sin(2 * math.pi * k / n)] for k in range(n)]
-    return reach_problem_from_dict({
-        "name": "star-10k",
-        "workspace": {"min": [0, 0], "max": [10, 10]},
-        "obstacles": [{"min": [4, 0], "max": [5, 8]}, circle],
-        "goal": {"min": [8, 8], "max": [9, 9]},
-        "robot": {"dynamics": {"model": "double-integrator", "dt": 0.5}, "start": [1, 1, 0, 0], "input_bound": 1,
-                  "state_bounds": {"min": [0, 0, -2, -2], "max": [10, 10, 2, 2]}},
-        "max_horizon": 100,
-    })
+    circle = [
+        [
+            6 + (1.5 if k % 2 else 1.35) * math.cos(2 * math.pi * k / n),
+            4 + (1.5 if k % 2 else 1.35) * math.sin(2 * math.pi * k / n),
+        ]
+        for k in range(n)
+    ]
+    return reach_problem_from_dict(
+        {
+            "name": "star-10k",
+            "workspace": {"min": [0, 0], "max": [10, 10]},
+            "obstacles": [{"min": [4, 0], "max": [5, 8]}, circle],
+            "goal": {"min": [8, 8], "max": [9, 9]},
+            "robot": {
+                "dynamics": {"model": "double-integrator", "dt": 0.5},
+                "start": [1, 1, 0, 0],
+                "input_bound": 1,
+                "state_bounds": {"min": [0, 0, -2, -2], "max": [10, 10, 2, 2]},
+            },
+            "max_horizon": 100,
+        }
+    )
 
 
 def timed(fn, *args, **kwargs):
@@ -108,9 +119,15 @@ def test_lazy_smt_stops_in_the_lp_solver():
     r, seconds = timed(plan_lazy, slow_chain(), Budget(seconds=BUDGET), LazyOptions(horizon_search="linear"))
     assert r.status is ReachStatus.UNKNOWN
     # in the LP solver, the SAT solver or between their calls: each named
-    assert any(f"budget ran out {phase}" in r.message for phase in ("in the LP solver", "in the SAT solver",
-                                                                     "in the lazy SMT loop",
-                                                                     "before the lazy SMT loop's iteration")), r.message
+    assert any(
+        f"budget ran out {phase}" in r.message
+        for phase in (
+            "in the LP solver",
+            "in the SAT solver",
+            "in the lazy SMT loop",
+            "before the lazy SMT loop's iteration",
+        )
+    ), r.message
     assert "at horizon" in r.message, r.message
     assert seconds < LIMIT
 
@@ -132,8 +149,10 @@ def test_milp_stops_within_its_budget():
 
     r, seconds = timed(plan_milp, slow_maze(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
-    assert any(f"budget ran out {phase}" in r.message
-               for phase in ("in the MILP solver", "in building the MILP", "before the MILP")), r.message
+    assert any(
+        f"budget ran out {phase}" in r.message
+        for phase in ("in the MILP solver", "in building the MILP", "before the MILP")
+    ), r.message
     assert seconds < LIMIT
 
 
@@ -143,8 +162,10 @@ def test_milp_bigm_stops_in_the_solver_and_while_building():
     r, seconds = timed(plan_milp_bigm, slow_maze(), Budget(seconds=BUDGET))
     assert r.status is ReachStatus.UNKNOWN
     # infeasible short horizons, then one it cannot finish: solving or building it
-    assert any(f"budget ran out {phase}" in r.message
-               for phase in ("in the MILP solver", "in building the MILP", "before the MILP")), r.message
+    assert any(
+        f"budget ran out {phase}" in r.message
+        for phase in ("in the MILP solver", "in building the MILP", "before the MILP")
+    ), r.message
     assert seconds < LIMIT
     # 10,000 convex pieces: building the model is what takes the time (one horizon, so
     # that on a loaded machine the shorter horizons' MILPs cannot use the budget up first)
@@ -179,9 +200,15 @@ def test_cvc5_stops_and_leaves_no_child():
     r, seconds = timed(solve, problem, "cvc5", Budget(seconds=BUDGET))
     assert r.status is GridStatus.UNKNOWN
     # in cvc5 (or, on a machine so loaded that starting cvc5 took the budget, before it)
-    assert "l = 5: cvc5 ran out of the time budget" in r.message or "the budget ran out before l = 5" in r.message, r.message
+    assert "l = 5: cvc5 ran out of the time budget" in r.message or "the budget ran out before l = 5" in r.message, (
+        r.message
+    )
     assert seconds < LIMIT
-    workers = [p for p in psutil.Process().children(recursive=True) if not any(w in " ".join(p.cmdline()) for w in ("forkserver", "resource_tracker"))]
+    workers = [
+        p
+        for p in psutil.Process().children(recursive=True)
+        if not any(w in " ".join(p.cmdline()) for w in ("forkserver", "resource_tracker"))
+    ]
     assert not [p for p in workers if p.status() != psutil.STATUS_ZOMBIE]
 
 
@@ -245,8 +272,11 @@ def test_a_child_that_cannot_start_by_the_deadline_is_given_up_at_once_and_kille
         line = proc.stdout.readline().split()
         assert line[0] == "Timeout" and float(line[1]) < 1.0, line
         time.sleep(6)  # the fork server has started by now and the child was killed on arrival
-        sleepers = [p for p in psutil.Process(proc.pid).children(recursive=True)
-                    if not any(w in " ".join(p.cmdline()) for w in ("forkserver", "resource_tracker"))]
+        sleepers = [
+            p
+            for p in psutil.Process(proc.pid).children(recursive=True)
+            if not any(w in " ".join(p.cmdline()) for w in ("forkserver", "resource_tracker"))
+        ]
         assert not [p for p in sleepers if p.status() != psutil.STATUS_ZOMBIE], sleepers
     finally:
         proc.kill()

@@ -18,7 +18,9 @@ STUB = Path(__file__).resolve().parents[1] / "python" / "plansynth" / "_core.pyi
 
 def _stub() -> dict[str, ast.FunctionDef | ast.ClassDef]:
     tree = ast.parse(STUB.read_text(encoding="utf-8"))
-    return {n.name: n for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef)) and not n.name.startswith("_")}
+    return {
+        n.name: n for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef)) and not n.name.startswith("_")
+    }
 
 
 def _methods(cls: ast.ClassDef) -> dict[str, ast.FunctionDef]:
@@ -29,10 +31,13 @@ def _stub_params(fn: ast.FunctionDef) -> list[tuple[str, object]]:
     """(name, default or inspect.Parameter.empty) of each parameter, ``self``/``cls`` left out."""
     args = fn.args.posonlyargs + fn.args.args
     defaults = [inspect.Parameter.empty] * (len(args) - len(fn.args.defaults)) + [
-        ast.literal_eval(d) for d in fn.args.defaults]
+        ast.literal_eval(d) for d in fn.args.defaults
+    ]
     out = [(a.arg, d) for a, d in zip(args, defaults)]
-    out += [(a.arg, inspect.Parameter.empty if d is None else ast.literal_eval(d))
-            for a, d in zip(fn.args.kwonlyargs, fn.args.kw_defaults)]
+    out += [
+        (a.arg, inspect.Parameter.empty if d is None else ast.literal_eval(d))
+        for a, d in zip(fn.args.kwonlyargs, fn.args.kw_defaults)
+    ]
     return [(name, d) for name, d in out if name not in ("self", "cls")]
 
 

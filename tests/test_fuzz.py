@@ -42,7 +42,9 @@ from plansynth.grid.programs import (
 )
 
 GRID_EXAMPLES = [FIGURE1] + [ROOT / "examples" / "grid" / f for f in ("traffic.yaml", "door.yaml")]
-REACH_EXAMPLES = [MAZE1] + [ROOT / "examples" / "reach" / f for f in ("cluttered.yaml", "dubins.yaml", "chain-maze-2.yaml")]
+REACH_EXAMPLES = [MAZE1] + [
+    ROOT / "examples" / "reach" / f for f in ("cluttered.yaml", "dubins.yaml", "chain-maze-2.yaml")
+]
 GRID_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in GRID_EXAMPLES]
 REACH_DOCS = [yaml.safe_load(p.read_text(encoding="utf-8")) for p in REACH_EXAMPLES]
 
@@ -55,10 +57,46 @@ SCALE = max(1, int(os.environ.get("PLANSYNTH_FUZZ_SCALE", "1")))
 FUZZ = settings(max_examples=40 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
 
 WEIRD: list[Any] = [
-    None, True, False, 0, -1, 1, 2, 3, 7, 1001, 10**9, 10**30, -(10**30), 0.5, -0.0, 1e-320, 1e308,
-    math.nan, math.inf, -math.inf, "", "x", "5e-1", "up", "café", "\u202e", "１", "a" * 300,
-    [], {}, [[]], [1, 2], [1, 2, 3], [0.5, 0.5], [-1, -1], [10**30, 0], {"min": [0, 0], "max": [1, 1]},
-    {"name": "n", "to": [0, 1]}, list(range(40)), [[1, 1]] * 30,
+    None,
+    True,
+    False,
+    0,
+    -1,
+    1,
+    2,
+    3,
+    7,
+    1001,
+    10**9,
+    10**30,
+    -(10**30),
+    0.5,
+    -0.0,
+    1e-320,
+    1e308,
+    math.nan,
+    math.inf,
+    -math.inf,
+    "",
+    "x",
+    "5e-1",
+    "up",
+    "café",
+    "\u202e",
+    "１",
+    "a" * 300,
+    [],
+    {},
+    [[]],
+    [1, 2],
+    [1, 2, 3],
+    [0.5, 0.5],
+    [-1, -1],
+    [10**30, 0],
+    {"min": [0, 0], "max": [1, 1]},
+    {"name": "n", "to": [0, 1]},
+    list(range(40)),
+    [[1, 1]] * 30,
 ]
 
 
@@ -100,7 +138,9 @@ def _set(doc: Any, path: tuple, value: Any, op: str) -> Any:
     elif op == "scale" and isinstance(parent[key], (int, float)) and not isinstance(parent[key], bool):
         parent[key] = -parent[key] * 10**30
     elif op == "nudge" and isinstance(parent[key], (int, float)) and not isinstance(parent[key], bool):
-        parent[key] = parent[key] + (value if isinstance(value, int) and not isinstance(value, bool) and abs(value) <= 3 else 1)
+        parent[key] = parent[key] + (
+            value if isinstance(value, int) and not isinstance(value, bool) and abs(value) <= 3 else 1
+        )
     return doc
 
 
@@ -111,8 +151,12 @@ def mutated_documents(draw: st.DrawFn, docs: list[Any]) -> Any:
         paths = _paths(doc)
         path = draw(st.sampled_from(paths))
         op = draw(st.sampled_from(["replace", "replace", "delete", "wrap", "extra", "scale", "nudge", "nudge"]))
-        value = draw(st.sampled_from(WEIRD) | st.integers(65, 90).map(_deep) | st.floats(allow_nan=True, allow_infinity=True)
-                     | st.integers(-3, 3))
+        value = draw(
+            st.sampled_from(WEIRD)
+            | st.integers(65, 90).map(_deep)
+            | st.floats(allow_nan=True, allow_infinity=True)
+            | st.integers(-3, 3)
+        )
         doc = _set(doc, path, copy.deepcopy(value), op)
     return doc
 
@@ -124,9 +168,11 @@ def problem_bytes(draw: st.DrawFn, docs: list[Any]) -> tuple[bytes, str]:
     suffix = draw(st.sampled_from([".yaml", ".json"]))
     text = json.dumps(doc) if suffix == ".json" else yaml.safe_dump(doc, allow_unicode=True)
     data = text.encode("utf-8")
-    damage = draw(st.sampled_from(["none", "none", "none", "latin1", "nul", "bom", "truncate", "laughs", "complex-key", "tab"]))
+    damage = draw(
+        st.sampled_from(["none", "none", "none", "latin1", "nul", "bom", "truncate", "laughs", "complex-key", "tab"])
+    )
     if damage == "latin1":
-        data = b"# caf\xe9\n" + data if suffix == ".yaml" else data.replace(b"{", b"{\"caf\xe9\": 1, ", 1)
+        data = b"# caf\xe9\n" + data if suffix == ".yaml" else data.replace(b"{", b'{"caf\xe9": 1, ', 1)
     elif damage == "nul":
         data = data[: len(data) // 2] + b"\0" + data[len(data) // 2 :]
     elif damage == "bom":
@@ -146,8 +192,12 @@ def problem_bytes(draw: st.DrawFn, docs: list[Any]) -> tuple[bytes, str]:
 def work(tmp_path_factory: pytest.TempPathFactory) -> Path:
     d = tmp_path_factory.mktemp("fuzz")
     os.mkfifo(d / "fifo.yaml")
-    (d / "result.json").write_text(json.dumps({"status": "realizable", "steps": 6, "program": WINNER}), encoding="utf-8")
-    (d / "traj.json").write_text(json.dumps({"states": [[1, 1, 0, 0], [1.1, 1.1, 0.2, 0.2]], "inputs": [[0.4, 0.4]]}), encoding="utf-8")
+    (d / "result.json").write_text(
+        json.dumps({"status": "realizable", "steps": 6, "program": WINNER}), encoding="utf-8"
+    )
+    (d / "traj.json").write_text(
+        json.dumps({"states": [[1, 1, 0, 0], [1.1, 1.1, 0.2, 0.2]], "inputs": [[0.4, 0.4]]}), encoding="utf-8"
+    )
     (d / "out").mkdir()
     return d
 
@@ -210,8 +260,14 @@ def test_mutated_reach_problems_keep_the_contract(work: Path, case: tuple[bytes,
 
 
 @FUZZ
-@given(doc=mutated_documents([{"status": "realizable", "steps": 6, "program": WINNER, "problem": str(FIGURE1)},
-                              {"states": [[1, 1, 0, 0], [1.1, 1.1, 0.2, 0.2]], "inputs": [[0.4, 0.4]], "regions": [0, 0]}]))
+@given(
+    doc=mutated_documents(
+        [
+            {"status": "realizable", "steps": 6, "program": WINNER, "problem": str(FIGURE1)},
+            {"states": [[1, 1, 0, 0], [1.1, 1.1, 0.2, 0.2]], "inputs": [[0.4, 0.4]], "regions": [0, 0]},
+        ]
+    )
+)
 def test_mutated_result_files_keep_the_contract(work: Path, doc: Any) -> None:
     p = work / "mutated-result.json"
     p.write_text(json.dumps(doc), encoding="utf-8")
@@ -222,9 +278,46 @@ def test_mutated_result_files_keep_the_contract(work: Path, doc: Any) -> None:
 
 # -- programs -----------------------------------------------------------------------------
 
-_TOKENS = ["(", "(", ")", ")", "ite", "and", "or", "not", "<=", "=", "+", "-", "rx", "ry", "o0x", "o0y", "o1x", "o1y",
-           "0", "1", "2", "3", "-1", "4", "99", "1234567890", "１", "²", "٣", "define-fun", "move", "Int", "((rx Int))",
-           ";c\n", "\u3000", "x" * 70, "\0", "é"]
+_TOKENS = [
+    "(",
+    "(",
+    ")",
+    ")",
+    "ite",
+    "and",
+    "or",
+    "not",
+    "<=",
+    "=",
+    "+",
+    "-",
+    "rx",
+    "ry",
+    "o0x",
+    "o0y",
+    "o1x",
+    "o1y",
+    "0",
+    "1",
+    "2",
+    "3",
+    "-1",
+    "4",
+    "99",
+    "1234567890",
+    "１",
+    "²",
+    "٣",
+    "define-fun",
+    "move",
+    "Int",
+    "((rx Int))",
+    ";c\n",
+    "\u3000",
+    "x" * 70,
+    "\0",
+    "é",
+]
 
 
 def _valid_terms() -> st.SearchStrategy[str]:
@@ -296,22 +389,67 @@ _COMMANDS = {
     ("reach", "validate"): ["{reach}", "{traj}"],
     ("reach", "plot"): ["{reach}"],
 }
-_VALUES = ["nan", "inf", "-inf", "-1", "0", "1", "2", "3", "6", "1001", "1000000000000", "1e400", "abc", "", "0.5",
-           "{out}", "{grid}", "{reach}"]
+_VALUES = [
+    "nan",
+    "inf",
+    "-inf",
+    "-1",
+    "0",
+    "1",
+    "2",
+    "3",
+    "6",
+    "1001",
+    "1000000000000",
+    "1e400",
+    "abc",
+    "",
+    "0.5",
+    "{out}",
+    "{grid}",
+    "{reach}",
+]
 _OPTIONS = {
-    "--steps": _VALUES, "--max-steps": _VALUES, "--depth-bound": _VALUES, "--memory-mb": _VALUES,
+    "--steps": _VALUES,
+    "--max-steps": _VALUES,
+    "--depth-bound": _VALUES,
+    "--memory-mb": _VALUES,
     "--timeout": ["nan", "inf", "-1", "0", "abc", "", "1e400", "0.5", "2"],
-    "--solver": ["native", "cvc5", "external", "nosuch", ""], "--command": ["true", "echo infeasible", "nosuch-command", "", "'"],
-    "--option": ["sygus-enum=fast", "x", "=", "minimize=true", "nosuch=1"], "--out": ["{out}"], "-o": ["{out}"],
-    "--keep-sl": ["{outdir}"], "--minimize": None, "--lang": ["python", "c", "sygus", "rust", ""],
-    "--problem": ["{grid}", "{missing}", "{fifo}"], "--planner": ["lazy-smt", "milp", "lazy-smt-paper", "nosuch", ""],
+    "--solver": ["native", "cvc5", "external", "nosuch", ""],
+    "--command": ["true", "echo infeasible", "nosuch-command", "", "'"],
+    "--option": ["sygus-enum=fast", "x", "=", "minimize=true", "nosuch=1"],
+    "--out": ["{out}"],
+    "-o": ["{out}"],
+    "--keep-sl": ["{outdir}"],
+    "--minimize": None,
+    "--lang": ["python", "c", "sygus", "rust", ""],
+    "--problem": ["{grid}", "{missing}", "{fifo}"],
+    "--planner": ["lazy-smt", "milp", "lazy-smt-paper", "nosuch", ""],
     "--max-horizon": _VALUES,
-    "-O": ["counterexample=farkas", "counterexample=trivial", "counterexample=x", "horizon_search=linear",
-           "horizon_search=x", "window_growth=nan", "window_growth=inf", "window_growth=0", "window_growth=0.25",
-           "window_growth=1e9", "window_growth=x", "generalize=false", "semantics=lasso", "max_horizon=1e400", "x", "="],
-    "--fps": ["nan", "inf", "0", "3", "1e9"], "--seed": ["0", "-1", "1e3", "99999999999999999999"],
-    "--obstacles": ["adversarial", "random", "x"], "--paper": None,
-    "--bogus": None, "--segment-safe": None,
+    "-O": [
+        "counterexample=farkas",
+        "counterexample=trivial",
+        "counterexample=x",
+        "horizon_search=linear",
+        "horizon_search=x",
+        "window_growth=nan",
+        "window_growth=inf",
+        "window_growth=0",
+        "window_growth=0.25",
+        "window_growth=1e9",
+        "window_growth=x",
+        "generalize=false",
+        "semantics=lasso",
+        "max_horizon=1e400",
+        "x",
+        "=",
+    ],
+    "--fps": ["nan", "inf", "0", "3", "1e9"],
+    "--seed": ["0", "-1", "1e3", "99999999999999999999"],
+    "--obstacles": ["adversarial", "random", "x"],
+    "--paper": None,
+    "--bogus": None,
+    "--segment-safe": None,
 }
 
 
@@ -320,7 +458,9 @@ def command_lines(draw: st.DrawFn) -> list[str]:
     group, name = draw(st.sampled_from(sorted(_COMMANDS)))
     args = [group, name]
     for slot in _COMMANDS[(group, name)]:
-        args.append(draw(st.sampled_from([slot, slot, slot, "{missing}", "{fifo}", "{dir}", "/dev/null", "x" * 400, "", "-"])))
+        args.append(
+            draw(st.sampled_from([slot, slot, slot, "{missing}", "{fifo}", "{dir}", "/dev/null", "x" * 400, "", "-"]))
+        )
     for _ in range(draw(st.integers(0, 4))):
         opt = draw(st.sampled_from(sorted(_OPTIONS)))
         values = _OPTIONS[opt]
@@ -339,9 +479,15 @@ def command_lines(draw: st.DrawFn) -> list[str]:
 
 def _fill(args: list[str], work: Path, n: int) -> list[str]:
     names = {
-        "{grid}": str(FIGURE1), "{reach}": str(MAZE1), "{program}": WINNER, "{traj}": str(work / "traj.json"),
-        "{out}": str(work / "out" / f"o{n}.png"), "{outdir}": str(work / "out" / f"sl{n}"),
-        "{missing}": str(work / "missing.yaml"), "{fifo}": str(work / "fifo.yaml"), "{dir}": str(work),
+        "{grid}": str(FIGURE1),
+        "{reach}": str(MAZE1),
+        "{program}": WINNER,
+        "{traj}": str(work / "traj.json"),
+        "{out}": str(work / "out" / f"o{n}.png"),
+        "{outdir}": str(work / "out" / f"sl{n}"),
+        "{missing}": str(work / "missing.yaml"),
+        "{fifo}": str(work / "fifo.yaml"),
+        "{dir}": str(work),
     }
     return [names.get(a, a) for a in args]
 
@@ -388,7 +534,9 @@ def test_random_command_lines_in_a_real_process_under_a_memory_limit(work: Path)
         print(json.dumps(out))
         """
     )
-    proc = subprocess.run([sys.executable, "-c", script, json.dumps(cases)], capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, "-c", script, json.dumps(cases)], capture_output=True, text=True, timeout=600
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     for args, code, stderr, output, exc, seconds in json.loads(proc.stdout.splitlines()[-1]):
         where = " ".join(args)[:300]
@@ -398,8 +546,11 @@ def test_random_command_lines_in_a_real_process_under_a_memory_limit(work: Path)
         if code == 2:
             lines = [ln for ln in stderr.splitlines() if ln.strip()]
             assert len(lines) == 1 and lines[0].startswith("error: "), (where, stderr)
-    for args in (["grid", "solve", str(FIGURE1), "--timeout", "nan"], ["grid", "verify", str(FIGURE1), "x" * 400],
-                 ["reach", "solve", str(hostile)]):
+    for args in (
+        ["grid", "solve", str(FIGURE1), "--timeout", "nan"],
+        ["grid", "verify", str(FIGURE1), "x" * 400],
+        ["reach", "solve", str(hostile)],
+    ):
         p = subprocess.run([sys.executable, "-m", "plansynth.cli", *args], capture_output=True, text=True, timeout=120)
         lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
         assert p.returncode == 2 and len(lines) == 1 and lines[0].startswith("error: "), (args, p.stderr)

@@ -101,15 +101,25 @@ def test_file_size_limit_leaves_no_truncated_file(tmp_path: Path) -> None:
     def limit() -> None:
         resource.setrlimit(resource.RLIMIT_FSIZE, (200, 200))
 
-    p = subprocess.run([sys.executable, "-m", "plansynth.cli", "grid", "solve", str(FIGURE1), "--steps", "6",
-                        "--out", str(out)], capture_output=True, text=True, preexec_fn=limit, timeout=120)
+    p = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "grid", "solve", str(FIGURE1), "--steps", "6", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        preexec_fn=limit,
+        timeout=120,
+    )
     assert p.returncode == 2, p.stdout + p.stderr
     assert "Traceback" not in p.stderr and f"cannot write {out}: file too large" in p.stderr
     assert list(tmp_path.iterdir()) == []
     # an existing result keeps its whole old content
     out.write_text('{"old": true}\n')
-    p = subprocess.run([sys.executable, "-m", "plansynth.cli", "grid", "solve", str(FIGURE1), "--steps", "6",
-                        "--out", str(out)], capture_output=True, text=True, preexec_fn=limit, timeout=120)
+    p = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "grid", "solve", str(FIGURE1), "--steps", "6", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        preexec_fn=limit,
+        timeout=120,
+    )
     assert p.returncode == 2 and out.read_text() == '{"old": true}\n'
     assert sorted(x.name for x in tmp_path.iterdir()) == ["r.json"]
 
@@ -148,23 +158,54 @@ def _script(tmp_path: Path, text: str) -> str:
     return f"{path} {{file}}"
 
 
-@pytest.mark.parametrize("body", ["echo infeasible\n", 'echo "(error \\"boom\\")"\nkill -SEGV $$\n',
-                                  "echo infeasible\nkill -SEGV $$\n"])
+@pytest.mark.parametrize(
+    "body", ["echo infeasible\n", 'echo "(error \\"boom\\")"\nkill -SEGV $$\n', "echo infeasible\nkill -SEGV $$\n"]
+)
 def test_a_lying_external_solver_never_makes_unrealizable(tmp_path: Path, body: str) -> None:
-    r = runner.invoke(app, ["grid", "solve", str(FIGURE1), "--steps", "6", "--solver", "external",
-                            "--command", _script(tmp_path, body)])
+    r = runner.invoke(
+        app,
+        ["grid", "solve", str(FIGURE1), "--steps", "6", "--solver", "external", "--command", _script(tmp_path, body)],
+    )
     assert r.exit_code == 3 and "\nunknown (external command" in r.output, r.output
 
 
 def test_unrealizable_claims_are_certified_by_the_native_engine(tmp_path: Path) -> None:
     out = tmp_path / "r.json"
-    r = runner.invoke(app, ["grid", "solve", str(FIGURE1), "--steps", "6", "--solver", "external",
-                            "--command", _script(tmp_path, "echo infeasible\n"), "--out", str(out)])
+    r = runner.invoke(
+        app,
+        [
+            "grid",
+            "solve",
+            str(FIGURE1),
+            "--steps",
+            "6",
+            "--solver",
+            "external",
+            "--command",
+            _script(tmp_path, "echo infeasible\n"),
+            "--out",
+            str(out),
+        ],
+    )
     assert r.exit_code == 3 and "BACKEND ERROR: external claims unrealizable at l = 6" in r.output
     assert "(ite (<= 4 rx) 1 2)" in r.output and json.loads(out.read_text())["certified_by"] is None
     # at l = 5 there is no controller: the claim is certified, and the result says so
-    r = runner.invoke(app, ["grid", "solve", str(FIGURE1), "--steps", "5", "--solver", "external",
-                            "--command", _script(tmp_path, "echo infeasible\n"), "--out", str(out)])
+    r = runner.invoke(
+        app,
+        [
+            "grid",
+            "solve",
+            str(FIGURE1),
+            "--steps",
+            "5",
+            "--solver",
+            "external",
+            "--command",
+            _script(tmp_path, "echo infeasible\n"),
+            "--out",
+            str(out),
+        ],
+    )
     assert r.exit_code == 1 and "certified by the native engine" in r.output
     doc = json.loads(out.read_text())
     assert doc["status"] == "unrealizable" and doc["certified_by"] == "native"
@@ -187,9 +228,12 @@ def _result(tmp_path: Path, states: list, inputs: list, **extra: object) -> Path
 
 def _corner_problem(tmp_path: Path) -> Path:
     """A 4x4 workspace, obstacle [1,3]^2, single integrator: (0,0) -> (3.5,3.5) cuts it."""
-    doc = {"workspace": {"min": [0, 0], "max": [4, 4]}, "obstacles": [{"min": [1, 1], "max": [3, 3]}],
-           "goal": {"min": [3, 3], "max": [4, 4]},
-           "robot": {"dynamics": {"model": "single-integrator", "dt": 1.0}, "start": [0, 0], "input_bound": 4}}
+    doc = {
+        "workspace": {"min": [0, 0], "max": [4, 4]},
+        "obstacles": [{"min": [1, 1], "max": [3, 3]}],
+        "goal": {"min": [3, 3], "max": [4, 4]},
+        "robot": {"dynamics": {"model": "single-integrator", "dt": 1.0}, "start": [0, 0], "input_bound": 4},
+    }
     path = tmp_path / "corner.yaml"
     path.write_text(yaml.safe_dump(doc))
     return path
@@ -219,17 +263,30 @@ def test_validate_checks_a_claimed_segment_safety(tmp_path: Path) -> None:
 # ---------------------------------------------------------------- export --name
 
 
-@pytest.mark.parametrize(("lang", "name"), [("c", "f(); system(0); int g"), ("c", "for"), ("c", "int"),
-                                            ("python", "lambda"), ("python", "x y"), ("python", "1st"),
-                                            ("sygus", "ite"), ("sygus", "define-fun"), ("c", "rx"),
-                                            ("python", "mövé")])
+@pytest.mark.parametrize(
+    ("lang", "name"),
+    [
+        ("c", "f(); system(0); int g"),
+        ("c", "for"),
+        ("c", "int"),
+        ("python", "lambda"),
+        ("python", "x y"),
+        ("python", "1st"),
+        ("sygus", "ite"),
+        ("sygus", "define-fun"),
+        ("c", "rx"),
+        ("python", "mövé"),
+    ],
+)
 def test_export_name_must_be_an_identifier(lang: str, name: str) -> None:
     r = runner.invoke(app, ["grid", "export", PROGRAM, "--lang", lang, "--problem", str(FIGURE1), "--name", name])
     assert r.exit_code == 2 and "--name:" in r.output and "Traceback" not in r.output, r.output
 
 
 def test_export_with_a_good_name_runs() -> None:
-    r = runner.invoke(app, ["grid", "export", PROGRAM, "--lang", "python", "--problem", str(FIGURE1), "--name", "go_right"])
+    r = runner.invoke(
+        app, ["grid", "export", PROGRAM, "--lang", "python", "--problem", str(FIGURE1), "--name", "go_right"]
+    )
     assert r.exit_code == 0
     namespace: dict = {}
     exec(r.output, namespace)  # noqa: S102 - our own exporter's output

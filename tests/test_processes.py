@@ -19,10 +19,16 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 GRID = ROOT / "examples" / "grid"
 
+
 def start(*args: str) -> subprocess.Popen:
     """``plansynth ARGS`` in its own session (so that a "terminal" signal can go to its group)."""
-    return subprocess.Popen([sys.executable, "-m", "plansynth.cli", *args], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, start_new_session=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "plansynth.cli", *args],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,
+    )
 
 
 def wait_for(predicate, timeout: float = 90.0, what: str = "") -> None:
@@ -101,6 +107,7 @@ def test_ctrl_c_during_a_reach_solve_exits_130(tmp_path):
     # one horizon at a time: about 13 s of LPs (the default window search plans it in ~2 s)
     proc = start("reach", "solve", str(problem), "-O", "horizon_search=linear")
     try:
+
         def solving() -> bool:  # started up, then a CPU second into the solve (it needs far more)
             cpu = psutil.Process(proc.pid).cpu_times()
             return cpu.user + cpu.system > startup + 1.0
@@ -149,8 +156,17 @@ def test_an_escaped_helper_holding_stdout_does_not_make_the_budget_hang(tmp_path
         "time.sleep(300)\n"
     )
     t0 = time.monotonic()
-    proc = start("grid", "solve", str(GRID / "figure1.yaml"), "--solver", "external", "--timeout", "5",
-                 "--command", f"{sys.executable} {script} {{file}}")
+    proc = start(
+        "grid",
+        "solve",
+        str(GRID / "figure1.yaml"),
+        "--solver",
+        "external",
+        "--timeout",
+        "5",
+        "--command",
+        f"{sys.executable} {script} {{file}}",
+    )
     try:
         wait_for(lambda: sum("escape.py" in " ".join(p.cmdline()) for p in family(proc)) >= 2, what="solver and helper")
         kids = family(proc)
@@ -183,8 +199,22 @@ def _rows(db: Path) -> int:
 def test_ctrl_c_stops_a_bench_sweep_at_once_and_keeps_finished_runs(tmp_path):
     db = tmp_path / "b.db"
     # runs in order: native #0, native #1 (quick), then debug-sleep #0 (hangs), #1 (queued)
-    proc = start("bench", "grid", "--family", "depth", "--values", "1", "--solvers", "native,debug-sleep",
-                 "--repeat", "2", "--timeout", "60", "--db", str(db))
+    proc = start(
+        "bench",
+        "grid",
+        "--family",
+        "depth",
+        "--values",
+        "1",
+        "--solvers",
+        "native,debug-sleep",
+        "--repeat",
+        "2",
+        "--timeout",
+        "60",
+        "--db",
+        str(db),
+    )
     try:
         wait_for(lambda: _rows(db) == 2, what="the two quick runs")
         wait_for(lambda: len(family(proc)) >= 3, what="the hanging run's child")
@@ -199,7 +229,9 @@ def test_ctrl_c_stops_a_bench_sweep_at_once_and_keeps_finished_runs(tmp_path):
         assert b"interrupted" in out
         assert_all_gone(kids)
         with sqlite3.connect(db) as conn:
-            rows = conn.execute('SELECT p.name, r."repeat", r.status FROM runs r JOIN plannerConfigs p ON r.plannerid = p.id').fetchall()
+            rows = conn.execute(
+                'SELECT p.name, r."repeat", r.status FROM runs r JOIN plannerConfigs p ON r.plannerid = p.id'
+            ).fetchall()
             assert conn.execute("pragma integrity_check").fetchone()[0] == "ok"
         assert sorted(rows) == [("native", 0, "solved"), ("native", 1, "solved")]
     finally:

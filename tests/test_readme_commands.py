@@ -49,8 +49,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 #: Every document whose code blocks are tests: the README, the contributors' guide and
 #: every page of the documentation site.
-DOCS = ("README.md", "CONTRIBUTING.md",
-        *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md")))
+DOCS = ("README.md", "CONTRIBUTING.md", *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md")))
 #: The mark of a code block that is only an illustration, on the line before it.
 NOT_A_TEST = "<!-- not-a-test -->"
 #: At most this many blocks may be marked so (illustrations are the exception).
@@ -110,9 +109,12 @@ class Case:
     runs_in: str = ""
 
 
-FIGURE1_CVC5 = Case(out=("realizable",), files=("figure1-result.json",),
-                    json=(("figure1-result.json", "status", "realizable"), ("figure1-result.json", "verified", True)),
-                    fast="plansynth grid solve p.yaml --solver cvc5 --out figure1-result.json")
+FIGURE1_CVC5 = Case(
+    out=("realizable",),
+    files=("figure1-result.json",),
+    json=(("figure1-result.json", "status", "realizable"), ("figure1-result.json", "verified", True)),
+    fast="plansynth grid solve p.yaml --solver cvc5 --out figure1-result.json",
+)
 SOLVED_P = "plansynth grid solve p.yaml -o door.json"
 SOLVED_FIGURE1 = "plansynth grid solve examples/grid/figure1.yaml --out result.json"
 SOLVED_DOOR = "plansynth grid solve examples/grid/door.yaml -o door.json"
@@ -128,137 +130,205 @@ CASES: dict[str, Case] = {
     "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out figure1-result.json": FIGURE1_CVC5,
     # README: see it in the browser (plansynth view; tests/view/ drives the pages in Chromium)
     "plansynth grid solve examples/grid/traffic.yaml -o traffic.json": Case(
-        out=("realizable",), json=(("traffic.json", "status", "realizable"),)),
+        out=("realizable",), json=(("traffic.json", "status", "realizable"),)
+    ),
     "plansynth view examples/grid/traffic.yaml --result traffic.json -o traffic.html": Case(
-        out=("page written to traffic.html",), files=("traffic.html",),
-        before=("plansynth grid solve examples/grid/traffic.yaml -o traffic.json",)),
+        out=("page written to traffic.html",),
+        files=("traffic.html",),
+        before=("plansynth grid solve examples/grid/traffic.yaml -o traffic.json",),
+    ),
     "plansynth reach solve examples/reach/mission-patrol.yaml -o patrol.json": Case(
-        out=FOUND, json=(("patrol.json", "status", "found"),)),
+        out=FOUND, json=(("patrol.json", "status", "found"),)
+    ),
     "plansynth view examples/reach/mission-patrol.yaml --result patrol.json -o patrol.html": Case(
-        out=("page written to patrol.html",), files=("patrol.html",),
-        before=("plansynth reach solve examples/reach/mission-patrol.yaml -o patrol.json",)),
+        out=("page written to patrol.html",),
+        files=("patrol.html",),
+        before=("plansynth reach solve examples/reach/mission-patrol.yaml -o patrol.json",),
+    ),
     # docs/how-to/view.md (the page's behaviour is tested in a browser by tests/view/)
     "plansynth grid solve examples/grid/traffic.yaml --steps 8 -o traffic-8.json": Case(
-        exit=(1,), out=("unrealizable",), files=("traffic-8.json",)),
+        exit=(1,), out=("unrealizable",), files=("traffic-8.json",)
+    ),
     "plansynth view examples/grid/traffic.yaml --result traffic-8.json -o why.html": Case(
-        out=("page written to why.html",), files=("why.html",),
-        before=("plansynth grid solve examples/grid/traffic.yaml --steps 8 -o traffic-8.json",)),
+        out=("page written to why.html",),
+        files=("why.html",),
+        before=("plansynth grid solve examples/grid/traffic.yaml --steps 8 -o traffic-8.json",),
+    ),
     # serves until stopped: tests/view/test_commands.py starts it, asks for the page and stops it
     "plansynth view examples/reach/maze-3.yaml --serve": Case(runs_in="tests/view/test_commands.py"),
     # grid commands (README, how-to guides)
     "plansynth grid solve examples/grid/figure1.yaml": Case(out=("realizable", "l =   6")),
     "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out result.json": Case(
-        out=("realizable",), json=(("result.json", "status", "realizable"), ("result.json", "verified", True)),
-        fast="plansynth grid solve p.yaml --solver cvc5 --out result.json"),
+        out=("realizable",),
+        json=(("result.json", "status", "realizable"), ("result.json", "verified", True)),
+        fast="plansynth grid solve p.yaml --solver cvc5 --out result.json",
+    ),
     "plansynth grid solve examples/grid/depth-5.yaml --minimize": Case(out=("realizable", "minimal")),
     "plansynth grid solve p.yaml --solver external --command 'cvc5 --lang=sygus2 {file}'": Case(out=("realizable",)),
     "plansynth grid solve p.yaml --solver cvc5 --depth-bound 4 --max-steps 8 --timeout 600 -O sygus-enum=fast": Case(
-        out=("realizable",)),
+        out=("realizable",)
+    ),
     "plansynth grid compile examples/grid/figure1.yaml --steps 6 -o figure1-l6.sl": Case(files=("figure1-l6.sl",)),
-    "plansynth grid compile examples/grid/figure1.yaml --steps 6 --depth-bound 4": Case(out=("(synth-fun", "(check-synth)")),
+    "plansynth grid compile examples/grid/figure1.yaml --steps 6 --depth-bound 4": Case(
+        out=("(synth-fun", "(check-synth)")
+    ),
     "plansynth grid solve examples/grid/shuttle.yaml": Case(out=("realizable (recurrence objective)", "verified")),
     "plansynth grid solve examples/grid/moving-obstacle-8x8.yaml --out mo.json": Case(
-        out=("realizable (safety objective)",), json=(("mo.json", "status", "realizable"), ("mo.json", "verified", True),
-                                                    ("mo.json", "objective", "safety"))),
+        out=("realizable (safety objective)",),
+        json=(("mo.json", "status", "realizable"), ("mo.json", "verified", True), ("mo.json", "objective", "safety")),
+    ),
     "plansynth grid verify examples/grid/moving-obstacle-8x8.yaml mo.json": Case(
-        out=("WINS at the safety objective",), before=("plansynth grid solve examples/grid/moving-obstacle-8x8.yaml --out mo.json",)),
+        out=("WINS at the safety objective",),
+        before=("plansynth grid solve examples/grid/moving-obstacle-8x8.yaml --out mo.json",),
+    ),
     "plansynth grid explain examples/grid/robot-grid-2-fast.yaml": Case(
-        exit=(1,), out=("unrealizable", "the play repeats", "the robot loses")),
+        exit=(1,), out=("unrealizable", "the play repeats", "the robot loses")
+    ),
     "plansynth bench grid --family moving-obstacle --values 8,16 --solvers native,omega --timeout 120 --db syntcomp.db": Case(
-        out=("finished",), files=("syntcomp.db",),
-        fast="plansynth bench grid --family moving-obstacle --values 8 --solvers native,omega --timeout 60 --db syntcomp.db"),
+        out=("finished",),
+        files=("syntcomp.db",),
+        fast="plansynth bench grid --family moving-obstacle --values 8 --solvers native,omega --timeout 60 --db syntcomp.db",
+    ),
     "plansynth grid verify examples/grid/figure1.yaml result.json": Case(out=("WINS",), before=(SOLVED_FIGURE1,)),
     "plansynth grid verify examples/grid/figure1.yaml '(ite (<= rx 3) 2 1)' --steps 6": Case(out=("WINS",)),
     "plansynth grid animate examples/grid/door.yaml door.json -o door.gif --obstacles adversarial": Case(
-        files=("door.gif",), before=(SOLVED_DOOR,),
-        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o door.gif --obstacles adversarial")),
+        files=("door.gif",),
+        before=(SOLVED_DOOR,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o door.gif --obstacles adversarial"),
+    ),
     "plansynth grid animate examples/grid/door.yaml door.json -o run.gif --obstacles random --seed 3 --png step5.png --step 5": Case(
-        files=("run.gif", "step5.png"), before=(SOLVED_DOOR,),
-        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o run.gif --obstacles random --seed 3 --png step5.png --step 1")),
+        files=("run.gif", "step5.png"),
+        before=(SOLVED_DOOR,),
+        fast=(
+            SOLVED_P,
+            "plansynth grid animate p.yaml door.json -o run.gif --obstacles random --seed 3 --png step5.png --step 1",
+        ),
+    ),
     "plansynth grid export result.json --lang c --problem examples/grid/figure1.yaml": Case(
-        out=("return",), before=(SOLVED_FIGURE1,)),
+        out=("return",), before=(SOLVED_FIGURE1,)
+    ),
     "plansynth grid solve examples/grid/door.yaml -o door.json": Case(
-        out=("realizable", "o0y"), json=(("door.json", "status", "realizable"),)),
+        out=("realizable", "o0y"), json=(("door.json", "status", "realizable"),)
+    ),
     "plansynth grid minimize examples/grid/crossing.yaml": Case(out=("minimal",)),
     "plansynth grid explain examples/grid/crossing.yaml --steps 8 --gif why.gif": Case(
-        exit=(1,), out=("unrealizable",), files=("why.gif",)),
+        exit=(1,), out=("unrealizable",), files=("why.gif",)
+    ),
     # reach commands (README, how-to guides, explanations)
     "plansynth reach solve examples/reach/maze-3.yaml --out traj.json --plot traj.png": Case(
-        out=FOUND, files=("traj.png",), json=(("traj.json", "status", "found"), ("traj.json", "validated", True))),
+        out=FOUND, files=("traj.png",), json=(("traj.json", "status", "found"), ("traj.json", "validated", True))
+    ),
     "plansynth reach validate examples/reach/maze-3.yaml traj.json": Case(out=("valid",), before=(SOLVED_MAZE3,)),
     "plansynth reach solve examples/reach/maze-1.yaml --animate run.gif": Case(
-        out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"),
+        out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"
+    ),
     "plansynth reach solve examples/reach/maze-4.yaml --planner lazy-smt-minimal": Case(
-        out=("found", "141 (minimal through the decomposition only)")),
+        out=("found", "141 (minimal through the decomposition only)")
+    ),
     "plansynth reach solve examples/reach/claims/narrow-passage.yaml --planner lazy-smt-minimal --no-segment-safe": Case(
-        out=("found", "8 (proved minimal)")),
+        out=("found", "8 (proved minimal)")
+    ),
     "plansynth reach solve examples/reach/maze-1.yaml --planner lazy-smt-paper": Case(
-        out=("found", "57 (minimal through the decomposition only)")),
+        out=("found", "57 (minimal through the decomposition only)")
+    ),
     "plansynth reach solve examples/reach/cluttered.yaml --planner milp --max-horizon 60": Case(out=FOUND),
     "plansynth reach plot examples/reach/cluttered.yaml traj.json -o cluttered.png": Case(
-        files=("cluttered.png",), before=(SOLVED_CLUTTERED,)),
+        files=("cluttered.png",), before=(SOLVED_CLUTTERED,)
+    ),
     "plansynth grid solve examples/grid/corridor.yaml --timeout 30": Case(out=("realizable",)),
     "plansynth grid solve examples/grid/corridor.yaml --effort 0": Case(out=("realizable", "not proved")),
     "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --timeout 120": Case(out=FOUND),
     "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json --plot plan.png --animate plan.gif": Case(
-        out=FOUND, files=("plan.png", "plan.gif"), json=(("plan.json", "status", "found"), ("plan.json", "validated", True))),
+        out=FOUND,
+        files=("plan.png", "plan.gif"),
+        json=(("plan.json", "status", "found"), ("plan.json", "validated", True)),
+    ),
     "plansynth reach validate examples/reach/mission-patrol.yaml plan.json": Case(before=(SOLVED_PATROL,)),
     # bench commands (docs/how-to/benchmarks.md; the sweeps as written are the published benchmark: fast variants only)
     "plansynth bench grid --family steps --solvers native,cvc5 --timeout 300 --repeat 3": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench grid --family steps --values 1 --solvers native,cvc5 --timeout 60 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench grid --family steps --values 1 --solvers native,cvc5 --timeout 60 --db b.db",
+    ),
     "plansynth bench grid --family all --solvers native,external -O 'external:command=cvc5 --lang=sygus2 {file}'": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench grid --family steps --values 1 --solvers native,external -O 'external:command=cvc5 --lang=sygus2 {file}' --timeout 60 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench grid --family steps --values 1 --solvers native,external -O 'external:command=cvc5 --lang=sygus2 {file}' --timeout 60 --db b.db",
+    ),
     "plansynth bench reach --family maze --planners lazy-smt,rrt,milp-bigm,milp --repeat 5": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,milp-bigm,milp --timeout 20 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,milp-bigm,milp --timeout 20 --db b.db",
+    ),
     "plansynth bench reach --family chain --values 1,2 --orders 1,2,5,10 --planners lazy-smt": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench reach --family chain --values 1 --orders 1 --planners lazy-smt --timeout 20 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family chain --values 1 --orders 1 --planners lazy-smt --timeout 20 --db b.db",
+    ),
     "plansynth bench grid --family reactive-suite --solvers native,cvc5 --timeout 60": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench grid --family reactive-suite --values r03_traffic --solvers native --timeout 60 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench grid --family reactive-suite --values r03_traffic --solvers native --timeout 60 --db b.db",
+    ),
     "plansynth bench grid --family reactive-suite,doors,doors-rush,doors-jam,patrols,patrols-walk --solvers native,cvc5 --timeout 10": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench grid --family doors --values 1 --solvers native --timeout 10 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench grid --family doors --values 1 --solvers native --timeout 10 --db b.db",
+    ),
     "plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,gcs --timeout 120 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,gcs --timeout 120 --db b.db",
+    ),
     "plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,20,50 --planners lazy-smt": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench reach --family random-dynamics --values 1 --states 4 --planners lazy-smt --timeout 30 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family random-dynamics --values 1 --states 4 --planners lazy-smt --timeout 30 --db b.db",
+    ),
     "plansynth bench reach --family gcs-maze --planners lazy-smt,gcs --timeout 120": Case(
-        files=("b.db",), slow=False,
-        fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt --timeout 60 --db b.db"),
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt --timeout 60 --db b.db",
+    ),
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
-        files=("bench-report/",), before=(TINY_BENCH,)),
+        files=("bench-report/",), before=(TINY_BENCH,)
+    ),
     "plansynth bench publish '[--report-only]'": Case(
-        files=("published/RESULTS.md",), slow=False, fast="plansynth bench publish --report-only --out published"),
+        files=("published/RESULTS.md",), slow=False, fast="plansynth bench publish --report-only --out published"
+    ),
     "plansynth reach solve examples/reach/mission-visit.yaml -p milp-ltl": Case(out=("found", "milp-ltl")),
     "plansynth reach solve examples/reach/mission-unsat.yaml": Case(exit=(1,), out=("infeasible",)),
     "plansynth --version": Case(out=("plansynth 0.", "core")),
-    SOLVED_FIGURE1: Case(out=("realizable",), json=(("result.json", "status", "realizable"),
-                                                  ("result.json", "verified", True))),
+    SOLVED_FIGURE1: Case(
+        out=("realizable",), json=(("result.json", "status", "realizable"), ("result.json", "verified", True))
+    ),
     # docs/tutorial.md
     "plansynth grid solve examples/grid/crossing.yaml -o crossing.json": Case(
-        out=("realizable",), json=(("crossing.json", "status", "realizable"),)),
+        out=("realizable",), json=(("crossing.json", "status", "realizable"),)
+    ),
     "plansynth grid animate examples/grid/crossing.yaml crossing.json -o crossing.gif": Case(
-        files=("crossing.gif",), before=(SOLVED_CROSSING,),
-        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o crossing.gif")),
+        files=("crossing.gif",),
+        before=(SOLVED_CROSSING,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o crossing.gif"),
+    ),
     "plansynth grid animate examples/grid/crossing.yaml crossing.json -o random.gif --obstacles random --seed 1": Case(
-        files=("random.gif",), before=(SOLVED_CROSSING,),
-        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o random.gif --obstacles random --seed 1")),
+        files=("random.gif",),
+        before=(SOLVED_CROSSING,),
+        fast=(SOLVED_P, "plansynth grid animate p.yaml door.json -o random.gif --obstacles random --seed 1"),
+    ),
     "plansynth grid solve examples/grid/crossing.yaml --steps 8": Case(exit=(1,), out=("unrealizable",)),
     "plansynth grid compile examples/grid/crossing.yaml --steps 9 -o crossing.sl": Case(files=("crossing.sl",)),
     "plansynth grid solve examples/grid/crossing.yaml --solver cvc5 --timeout 120": Case(
-        exit=(0, 3), out=("cvc5",),
-        fast="plansynth grid solve examples/grid/crossing.yaml --solver cvc5 --timeout 5"),
+        exit=(0, 3), out=("cvc5",), fast="plansynth grid solve examples/grid/crossing.yaml --solver cvc5 --timeout 5"
+    ),
     "plansynth grid solve examples/grid/crossing.yaml --solver external --command 'python -m plansynth.grid.backends.cvc5_cli {file}'": Case(
-        exit=(0, 3), out=("external",),
-        fast="plansynth grid solve examples/grid/crossing.yaml --solver external --command 'python -m plansynth.grid.backends.cvc5_cli {file}' --timeout 5"),
+        exit=(0, 3),
+        out=("external",),
+        fast="plansynth grid solve examples/grid/crossing.yaml --solver external --command 'python -m plansynth.grid.backends.cvc5_cli {file}' --timeout 5",
+    ),
     "plansynth grid verify examples/grid/crossing.yaml '(ite (<= rx 3) 2 0)' --steps 9": Case(
-        exit=(1,), out=("LOSES", "counterexample")),
+        exit=(1,), out=("LOSES", "counterexample")
+    ),
 }
 
 
@@ -297,8 +367,10 @@ def documented_commands() -> dict[str, str]:
 def test_every_documented_command_has_a_case() -> None:
     documented = documented_commands()
     assert len(documented) >= 30, "the parser found too few commands"
-    missing = [f'    {c!r}: Case(...),  # {doc}' for c, doc in documented.items() if c not in CASES]
-    assert not missing, "documented commands without a test; add to CASES in tests/test_readme_commands.py:\n" + "\n".join(missing)
+    missing = [f"    {c!r}: Case(...),  # {doc}" for c, doc in documented.items() if c not in CASES]
+    assert not missing, (
+        "documented commands without a test; add to CASES in tests/test_readme_commands.py:\n" + "\n".join(missing)
+    )
     stale = [c for c in CASES if c not in documented]
     assert not stale, f"CASES for commands no document shows any more: {stale}"
 
@@ -306,8 +378,9 @@ def test_every_documented_command_has_a_case() -> None:
 def test_the_parser_reads_continuations_comments_and_prefixes() -> None:
     documented = documented_commands()
     assert "plansynth grid solve examples/grid/figure1.yaml" in documented  # its comment dropped
-    assert any(c.startswith("plansynth grid solve examples/grid/crossing.yaml --solver external --command")
-               for c in documented)  # joined from two lines
+    assert any(
+        c.startswith("plansynth grid solve examples/grid/crossing.yaml --solver external --command") for c in documented
+    )  # joined from two lines
     assert "plansynth grid solve examples/grid/figure1.yaml --solver cvc5 --out figure1-result.json" in documented
 
 
@@ -328,10 +401,23 @@ def folder(tmp_path: Path) -> Path:
 def _run(command: str, folder: Path, timeout: float) -> subprocess.CompletedProcess[str]:
     words = shlex.split(command)
     assert words[0] == "plansynth" and PLANSYNTH is not None
-    env = {**os.environ, "PATH": os.pathsep.join([str(folder / "bin"), str(BIN), os.environ.get("PATH", "")]),
-           "COLUMNS": "200", "NO_COLOR": "1", "TERM": "dumb", "MPLBACKEND": "Agg"}
-    return subprocess.run([PLANSYNTH, *words[1:]], cwd=folder, env=env, capture_output=True, text=True,
-                          timeout=timeout, stdin=subprocess.DEVNULL)
+    env = {
+        **os.environ,
+        "PATH": os.pathsep.join([str(folder / "bin"), str(BIN), os.environ.get("PATH", "")]),
+        "COLUMNS": "200",
+        "NO_COLOR": "1",
+        "TERM": "dumb",
+        "MPLBACKEND": "Agg",
+    }
+    return subprocess.run(
+        [PLANSYNTH, *words[1:]],
+        cwd=folder,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        stdin=subprocess.DEVNULL,
+    )
 
 
 def _params() -> list[Any]:
@@ -380,14 +466,21 @@ def test_documented_command(documented: str, commands: tuple[str, ...], folder: 
 def documented_python() -> list[tuple[str, int, str]]:
     """Every ``python`` code block of :data:`DOCS` but those marked :data:`NOT_A_TEST`:
     (document, line, code)."""
-    return [(doc, line, code) for doc in DOCS for lang, line, code, untested in code_blocks(doc)
-            if lang == "python" and not untested]
+    return [
+        (doc, line, code)
+        for doc in DOCS
+        for lang, line, code, untested in code_blocks(doc)
+        if lang == "python" and not untested
+    ]
 
 
 def _expected_prints(code: str) -> list[str]:
     """The output a block promises: ``print(...)  # OUTPUT`` comments, in order."""
-    return [line.split("#", 1)[1].strip() for line in code.splitlines()
-            if line.lstrip().startswith("print(") and "#" in line]
+    return [
+        line.split("#", 1)[1].strip()
+        for line in code.splitlines()
+        if line.lstrip().startswith("print(") and "#" in line
+    ]
 
 
 def test_the_documents_show_python() -> None:
@@ -416,8 +509,15 @@ def test_every_documented_python_block_runs(doc: str, line: int, code: str, fold
     and prints what its ``# ...`` comments say it prints (a block whose prints carry no
     comment has to run without error)."""
     env = {**os.environ, "MPLBACKEND": "Agg"}
-    run = subprocess.run([sys.executable, "-c", code], cwd=folder, env=env, capture_output=True, text=True,
-                         timeout=300, stdin=subprocess.DEVNULL)
+    run = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=folder,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        stdin=subprocess.DEVNULL,
+    )
     assert run.returncode == 0, f"{doc}:{line}\n{run.stdout}{run.stderr}"
     printed = run.stdout.splitlines()
     for expected in _expected_prints(code):

@@ -30,14 +30,20 @@ OPEN = {
     "max_horizon": 60,
 }
 
+
 def _python(code: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=ROOT)
 
 
 def _imported_by(*args: str) -> set[str]:
     """Top-level packages imported by ``plansynth ARGS`` in a fresh process."""
-    run = subprocess.run([sys.executable, "-X", "importtime", "-c", "from plansynth.cli import main; main()", *args],
-                         capture_output=True, text=True, timeout=300, cwd=ROOT)
+    run = subprocess.run(
+        [sys.executable, "-X", "importtime", "-c", "from plansynth.cli import main; main()", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     names = re.findall(r"^import time:\s+\d+ \|\s+\d+ \|\s+(\S+)$", run.stderr, re.M)
     assert "plansynth.cli" in names, "no import trace"
@@ -56,7 +62,9 @@ def test_grid_solve_does_not_import_the_reach_half_or_cvc5(tmp_path: Path) -> No
 
 
 def test_version_option_prints_the_versions() -> None:
-    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "--version"], capture_output=True, text=True, timeout=60)
+    run = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "--version"], capture_output=True, text=True, timeout=60
+    )
     assert run.returncode == 0 and re.fullmatch(r"plansynth \S+ \(core \S+\)\n", run.stdout), run.stdout + run.stderr
 
 
@@ -67,29 +75,76 @@ def test_every_reach_planner_loads_by_name_in_a_fresh_process() -> None:
     )
     assert run.returncode == 0, run.stderr
     names = run.stdout.split()
-    assert set(names) >= {"lazy-smt", "lazy-smt-paper", "lazy-smt-paper-trivial", "lazy-smt-zeroprefix", "milp",
-                          "milp-bigm", "rrt", "est", "kpiece"}
+    assert set(names) >= {
+        "lazy-smt",
+        "lazy-smt-paper",
+        "lazy-smt-paper-trivial",
+        "lazy-smt-zeroprefix",
+        "milp",
+        "milp-bigm",
+        "rrt",
+        "est",
+        "kpiece",
+    }
 
 
 def test_every_planner_the_help_lists_is_accepted() -> None:
     from plansynth.reach.solve import planners
 
-    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", "--help"],
-                         capture_output=True, text=True, timeout=60, env={**os.environ, "COLUMNS": "400"})
+    run = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "reach", "solve", "--help"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ, "COLUMNS": "400"},
+    )
     text = " ".join(run.stdout.split())
-    listed = set(re.findall(r"\b(lazy-smt(?:-[a-z]+)*|milp(?:-bigm)?|rrt|est|kpiece)\b",
-                            text.split("--planner", 1)[1].split("--out", 1)[0]))
+    listed = set(
+        re.findall(
+            r"\b(lazy-smt(?:-[a-z]+)*|milp(?:-bigm)?|rrt|est|kpiece)\b",
+            text.split("--planner", 1)[1].split("--out", 1)[0],
+        )
+    )
     assert len(listed) >= 9 and listed <= set(planners()), listed
 
 
-@pytest.mark.parametrize("planner", ["lazy-smt", "lazy-smt-paper", "lazy-smt-paper-trivial", "lazy-smt-zeroprefix",
-                                     "milp", "milp-bigm", "rrt", "est", "kpiece"])
+@pytest.mark.parametrize(
+    "planner",
+    [
+        "lazy-smt",
+        "lazy-smt-paper",
+        "lazy-smt-paper-trivial",
+        "lazy-smt-zeroprefix",
+        "milp",
+        "milp-bigm",
+        "rrt",
+        "est",
+        "kpiece",
+    ],
+)
 def test_reach_solve_runs_every_planner_from_the_cli(planner: str, tmp_path: Path) -> None:
     problem = tmp_path / "open.yaml"
     problem.write_text(yaml.safe_dump(OPEN), encoding="utf-8")
-    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(problem), "--planner", planner,
-                          "--timeout", "60", "--out", str(tmp_path / "r.json")],
-                         capture_output=True, text=True, timeout=300, env={**os.environ, "COLUMNS": "200"})
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "plansynth.cli",
+            "reach",
+            "solve",
+            str(problem),
+            "--planner",
+            planner,
+            "--timeout",
+            "60",
+            "--out",
+            str(tmp_path / "r.json"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "COLUMNS": "200"},
+    )
     assert run.returncode == 0 and "found" in run.stdout, run.stdout + run.stderr
     assert '"validated": true' in (tmp_path / "r.json").read_text()
 
@@ -103,8 +158,13 @@ def test_an_unknown_planner_is_a_named_error_listing_the_names(tmp_path: Path) -
     assert isinstance(info.value, (ValueError, SolverUnavailable)) and info.value.known == planners()
     problem = tmp_path / "open.yaml"
     problem.write_text(yaml.safe_dump(OPEN), encoding="utf-8")
-    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(problem), "--planner", "rrtx"],
-                         capture_output=True, text=True, timeout=60, env={**os.environ, "COLUMNS": "400"})
+    run = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "reach", "solve", str(problem), "--planner", "rrtx"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**os.environ, "COLUMNS": "400"},
+    )
     assert run.returncode == 2 and "unknown planner 'rrtx'" in run.stderr and "kpiece" in run.stderr, run.stderr
 
 

@@ -34,11 +34,18 @@ def _both(text: str) -> tuple[object, object]:
     return out[0], out[1]
 
 
-scalars = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**6),
-                    st.floats(allow_nan=False, allow_infinity=False, width=32), st.text(max_size=8))
-documents = st.recursive(scalars, lambda kids: st.one_of(st.lists(kids, max_size=4),
-                                                         st.dictionaries(st.text(max_size=5), kids, max_size=4)),
-                         max_leaves=30)
+scalars = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(-(10**6), 10**6),
+    st.floats(allow_nan=False, allow_infinity=False, width=32),
+    st.text(max_size=8),
+)
+documents = st.recursive(
+    scalars,
+    lambda kids: st.one_of(st.lists(kids, max_size=4), st.dictionaries(st.text(max_size=5), kids, max_size=4)),
+    max_leaves=30,
+)
 
 
 @settings(max_examples=150, deadline=None)
@@ -49,19 +56,22 @@ def test_same_values_for_every_document(doc: object, flow: bool) -> None:
     assert fast == reference and fast[0] == "value"
 
 
-@pytest.mark.parametrize("text", [
-    "a: 1\na: 2\n",                      # duplicated key
-    "? [1, 2]\n: 3\n",                   # a key that is not a plain value
-    "[" * 65 + "]" * 65,                 # too deep
-    "[" * 64 + "1" + "]" * 64,           # a scalar one level too deep
-    "[" * 63 + "1" + "]" * 63,           # deep, but within the limit
-    "a: &a [*a]\n",                      # an alias inside what it names
-    "a: &x [1]\nb: *y\n",                # an undefined alias (PyYAML's wording)
-    "a: [\n",                            # not YAML
-    "x: !!python/object:os.system [ls]\n",
-    "a: 5e-1\nb: 1e3\nc: 0x10\nd: yes\n",  # exponent floats, YAML 1.1 ints and booleans
-    "",
-])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "a: 1\na: 2\n",  # duplicated key
+        "? [1, 2]\n: 3\n",  # a key that is not a plain value
+        "[" * 65 + "]" * 65,  # too deep
+        "[" * 64 + "1" + "]" * 64,  # a scalar one level too deep
+        "[" * 63 + "1" + "]" * 63,  # deep, but within the limit
+        "a: &a [*a]\n",  # an alias inside what it names
+        "a: &x [1]\nb: *y\n",  # an undefined alias (PyYAML's wording)
+        "a: [\n",  # not YAML
+        "x: !!python/object:os.system [ls]\n",
+        "a: 5e-1\nb: 1e3\nc: 0x10\nd: yes\n",  # exponent floats, YAML 1.1 ints and booleans
+        "",
+    ],
+)
 def test_same_outcome_for_hostile_and_corner_documents(text: str) -> None:
     fast, reference = _both(text)
     assert fast == reference

@@ -176,8 +176,12 @@ class Clock:
         if self.out_of_time():
             raise BudgetExhausted(phase, "time")
         if self.out_of_memory():
-            raise BudgetExhausted(phase, "memory", f"budget ran out in {phase} (memory: the process grew by "
-                                                   f"{self.memory_used() >> 20} MB, over {self.budget.memory_mb} MB)")
+            raise BudgetExhausted(
+                phase,
+                "memory",
+                f"budget ran out in {phase} (memory: the process grew by "
+                f"{self.memory_used() >> 20} MB, over {self.budget.memory_mb} MB)",
+            )
 
     @contextmanager
     def phase(self, name: str) -> Iterator["Clock"]:
@@ -203,11 +207,11 @@ class Clock:
         """What is left of the budget, as a budget for a part of the solve: the
         seconds remaining (at least ``floor``) and the same memory limit."""
         remaining = self.remaining()
-        return Budget(seconds=None if math.isinf(remaining) else max(remaining, floor),
-                      memory_mb=self.budget.memory_mb)
+        return Budget(seconds=None if math.isinf(remaining) else max(remaining, floor), memory_mb=self.budget.memory_mb)
 
-    def steps(self, values: Iterable[T], *, progress: Callable[[T, int], None] | None = None,
-              what: str = "step") -> Iterator[T]:
+    def steps(
+        self, values: Iterable[T], *, progress: Callable[[T, int], None] | None = None, what: str = "step"
+    ) -> Iterator[T]:
         """The main loop over ``values`` (horizons, path lengths) under this budget:
         before each value, ``progress(value, iterations so far)`` is called, the budget
         is checked (:class:`BudgetExhausted` naming ``what`` and the value once time,
@@ -228,8 +232,10 @@ class Clock:
                 progress(value, self.iterations)
             if self.exhausted():
                 resource = "time" if self.out_of_time() else "memory" if self.out_of_memory() else "iterations"
-                raise BudgetExhausted(f"before {what} {value}", resource,
-                                      f"budget ran out before {what} {value}" + (
-                                          "" if resource == "time" else f" ({resource})"))
+                raise BudgetExhausted(
+                    f"before {what} {value}",
+                    resource,
+                    f"budget ran out before {what} {value}" + ("" if resource == "time" else f" ({resource})"),
+                )
             self.tick()
             yield value

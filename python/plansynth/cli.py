@@ -23,7 +23,10 @@ GROUPS: dict[str, tuple[str, str]] = {
     "grid": ("plansynth.grid.cli", "Reactive grid controllers (Chasins & Newcomb, SYNT 2016)."),
     "reach": ("plansynth.reach.cli", "Reach-avoid planning with linear dynamics (Shoukry et al., CDC 2016)."),
     "bench": ("plansynth.bench.cli", "Benchmarks: both papers' evaluations side by side with peers."),
-    "view": ("plansynth.view.cli", "Interactive pages in the browser: a controller against your obstacle moves, a trajectory."),
+    "view": (
+        "plansynth.view.cli",
+        "Interactive pages in the browser: a controller against your obstacle moves, a trajectory.",
+    ),
 }
 
 
@@ -83,8 +86,11 @@ def _print_version(value: bool) -> None:
 @app.callback()
 def _root(
     show_version: bool = typer.Option(
-        False, "--version", help="Print the versions of plansynth and its compiled core, and exit.",
-        callback=_print_version, is_eager=True,
+        False,
+        "--version",
+        help="Print the versions of plansynth and its compiled core, and exit.",
+        callback=_print_version,
+        is_eager=True,
     ),
 ) -> None:
     """Correct-by-construction robot motion planning with off-the-shelf solvers."""

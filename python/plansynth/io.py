@@ -91,7 +91,9 @@ def decode_utf8(data: bytes, name: str, field: str = "<file>") -> str:
         line = data.count(b"\n", 0, exc.start) + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
         raise InvalidProblem(
-            name, field, f"not UTF-8 text: byte 0x{data[exc.start]:02x} at line {line}, column {column} (save the file as UTF-8)"
+            name,
+            field,
+            f"not UTF-8 text: byte 0x{data[exc.start]:02x} at line {line}, column {column} (save the file as UTF-8)",
         ) from None
     return text[1:] if text.startswith("\ufeff") else text
 
@@ -264,12 +266,14 @@ class _StrictLoader(_NoDuplicateKeys, yaml.SafeLoader):
 
 _LIBYAML = bool(getattr(yaml, "__with_libyaml__", False))
 if _LIBYAML:
+
     class _StrictCLoader(_NoDuplicateKeys, yaml.CSafeLoader):
         """:class:`_StrictLoader` on libyaml's parser and composer (the limits are
         checked around it by :func:`_load_yaml`)."""
 
+
 _EXPONENT_FLOAT = re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$")
-for _loader in ((_StrictLoader, _StrictCLoader) if _LIBYAML else (_StrictLoader,)):
+for _loader in (_StrictLoader, _StrictCLoader) if _LIBYAML else (_StrictLoader,):
     _loader.add_implicit_resolver("tag:yaml.org,2002:float", _EXPONENT_FLOAT, list("-+0123456789."))
 
 
@@ -297,8 +301,10 @@ def _check_expanded_size(root: Any) -> None:
             else:
                 total = 1
             if total > MAX_NODES:
-                raise _Refused(f"expands to more than {MAX_NODES} values, each alias *name counting as a copy "
-                               f"of what it names ({_where(node)})")
+                raise _Refused(
+                    f"expands to more than {MAX_NODES} values, each alias *name counting as a copy "
+                    f"of what it names ({_where(node)})"
+                )
             size[key] = total
             continue
         if key in size:
@@ -543,8 +549,9 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     name = str(path)
     with _file_size_signal_ignored():
         try:
-            fd, tmp = tempfile.mkstemp(dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.", suffix=".tmp"
-                                       + "".join(p.suffixes[-1:]))
+            fd, tmp = tempfile.mkstemp(
+                dir=p.parent if str(p.parent) else ".", prefix=f".{p.name}.", suffix=".tmp" + "".join(p.suffixes[-1:])
+            )
         except OSError as exc:
             raise OutputUnwritable(name, _reason(exc)) from None
         os.close(fd)

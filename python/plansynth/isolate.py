@@ -216,7 +216,9 @@ def _ensure_forkserver() -> None:
         raise errors[0]
 
 
-def _start_by(proc: multiprocessing.process.BaseProcess, deadline: float | None, tag: str, send: Any, receive: Any) -> bool:
+def _start_by(
+    proc: multiprocessing.process.BaseProcess, deadline: float | None, tag: str, send: Any, receive: Any
+) -> bool:
     """Start ``proc`` by ``deadline``; False if it could not be. The first start of a
     fork server imports its preloaded modules (cvc5: a second or more on a loaded
     machine) and ``Process.start`` waits for that, so it runs in a helper thread: when

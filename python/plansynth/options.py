@@ -42,8 +42,16 @@ from typing import Any, TypeVar
 
 from plansynth.errors import InvalidOption
 
-__all__ = ["option", "parse_assignments", "parse_value", "configure", "check_fields", "describe", "help_lines",
-           "changed"]
+__all__ = [
+    "option",
+    "parse_assignments",
+    "parse_value",
+    "configure",
+    "check_fields",
+    "describe",
+    "help_lines",
+    "changed",
+]
 
 T = TypeVar("T")
 
@@ -51,15 +59,25 @@ T = TypeVar("T")
 TRUE, FALSE, NONE = ("true", "yes", "on"), ("false", "no", "off"), ("none", "null")
 
 
-def option(default: Any, doc: str, *, choices: Iterable[Any] | None = None, minimum: float | None = None,
-           positive: bool = False) -> Any:
+def option(
+    default: Any,
+    doc: str,
+    *,
+    choices: Iterable[Any] | None = None,
+    minimum: float | None = None,
+    positive: bool = False,
+) -> Any:
     """A dataclass field with its help line and the checks :func:`check_fields` makes.
 
     ``choices``: the values allowed; ``minimum``: the smallest value allowed;
     ``positive``: the value must be > 0 (and finite).
     """
-    meta = {"doc": doc, "choices": None if choices is None else tuple(choices), "minimum": minimum,
-            "positive": positive}
+    meta = {
+        "doc": doc,
+        "choices": None if choices is None else tuple(choices),
+        "minimum": minimum,
+        "positive": positive,
+    }
     if isinstance(default, (list, dict, set)):
         raise TypeError("an option's default must be immutable")
     return dataclasses.field(default=default, metadata=meta)
@@ -106,8 +124,9 @@ def _names(cls: Any) -> tuple[str, ...]:
     return tuple(f.name for f in dataclasses.fields(cls))
 
 
-def configure(solver: str, base: T, values: Mapping[str, Any], *, settable: Iterable[str] | None = None,
-              why_fixed: str = "") -> T:
+def configure(
+    solver: str, base: T, values: Mapping[str, Any], *, settable: Iterable[str] | None = None, why_fixed: str = ""
+) -> T:
     """``base`` with ``values`` set. A name that is not a field of ``base`` (or not in
     ``settable``, when given) is :class:`~plansynth.errors.InvalidOption`; each value is
     checked by the dataclass's own ``__post_init__``."""
@@ -115,8 +134,9 @@ def configure(solver: str, base: T, values: Mapping[str, Any], *, settable: Iter
     for key in values:
         if key not in allowed:
             fixed = f" ({why_fixed})" if why_fixed and key in _names(base) else ""
-            raise InvalidOption(solver, key, f"not an option of this solver{fixed}; "
-                                             f"its options: {', '.join(allowed) or 'none'}")
+            raise InvalidOption(
+                solver, key, f"not an option of this solver{fixed}; its options: {', '.join(allowed) or 'none'}"
+            )
     return dataclasses.replace(base, **values) if values else base  # type: ignore[type-var]
 
 

@@ -29,8 +29,18 @@ import signal
 import sys
 from collections.abc import Callable, Mapping
 
-__all__ = ["die_with_parent", "pdeathsig_preexec", "descendants", "snapshot", "kill_tree", "terminate_as_interrupt",
-           "new_tag", "tagged_env", "tagged", "TAG_VARIABLE"]
+__all__ = [
+    "die_with_parent",
+    "pdeathsig_preexec",
+    "descendants",
+    "snapshot",
+    "kill_tree",
+    "terminate_as_interrupt",
+    "new_tag",
+    "tagged_env",
+    "tagged",
+    "TAG_VARIABLE",
+]
 
 #: Environment variable that marks the processes of one solver run (":"-separated tags).
 TAG_VARIABLE = "PLANSYNTH_RUN_TAGS"
@@ -166,7 +176,7 @@ def tagged(tag: str) -> set[int]:
         except OSError:
             continue
         for var in env.split(b"\0"):
-            if var.startswith(needle) and tag.encode() in var[len(needle):].split(b":"):
+            if var.startswith(needle) and tag.encode() in var[len(needle) :].split(b":"):
                 out.add(int(name))
                 break
     return out

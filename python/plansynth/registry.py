@@ -44,8 +44,9 @@ class Registry(Generic[T]):
     :class:`~plansynth.errors.SolverUnavailable` says ``pip install plansynth[extra]``.
     """
 
-    def __init__(self, kind: str, builtins: Mapping[str, str | T] = (), *,
-                 extras: Mapping[str, str] | None = None) -> None:
+    def __init__(
+        self, kind: str, builtins: Mapping[str, str | T] = (), *, extras: Mapping[str, str] | None = None
+    ) -> None:
         self.kind = kind
         self._entries: dict[str, str | T] = dict(builtins)
         self._extras = dict(extras or {})
@@ -85,8 +86,10 @@ class Registry(Generic[T]):
     def _remedy(self, name: str, module: str | None) -> str:
         extra = self._extras.get(name)
         if extra is not None:
-            return (f"it needs the Python module {module!r}, which comes with plansynth's {extra!r} extra: "
-                    f"pip install 'plansynth[{extra}]'")
+            return (
+                f"it needs the Python module {module!r}, which comes with plansynth's {extra!r} extra: "
+                f"pip install 'plansynth[{extra}]'"
+            )
         return f"it needs the Python module {module!r}; install it"
 
     def extra(self, name: str) -> str | None:

@@ -19,9 +19,16 @@ from plansynth.reach.validate import validate
 def _open_problem(obstacles=()):
     dyn = double_integrator(2, 0.5)
     return ReachProblem(
-        workspace=Box((0.0, 0.0), (10.0, 10.0)), obstacles=tuple(obstacles), goal=Box((8.0, 8.0), (9.0, 9.0)),
-        dynamics=dyn, start=np.array([1.0, 1.0, 0.0, 0.0]), input_bound=1.0,
-        state_bounds=Box((0.0, 0.0, -2.0, -2.0), (10.0, 10.0, 2.0, 2.0)), max_horizon=60, name="open")
+        workspace=Box((0.0, 0.0), (10.0, 10.0)),
+        obstacles=tuple(obstacles),
+        goal=Box((8.0, 8.0), (9.0, 9.0)),
+        dynamics=dyn,
+        start=np.array([1.0, 1.0, 0.0, 0.0]),
+        input_bound=1.0,
+        state_bounds=Box((0.0, 0.0, -2.0, -2.0), (10.0, 10.0, 2.0, 2.0)),
+        max_horizon=60,
+        name="open",
+    )
 
 
 def test_rrt_finds_a_valid_trajectory_in_an_open_workspace():
@@ -46,15 +53,22 @@ def test_kpiece_and_est_are_offered():
     assert set(PLANNERS) == {"rrt", "est", "kpiece"}
     # OMPL takes its seed once per process, so a run that depends on it gets a process of
     # its own (in this one an earlier test may have seeded it otherwise)
-    code = ("from plansynth.budget import Budget\n"
-            "from plansynth.reach.result import ReachStatus\n"
-            "from plansynth.reach.solve import solve\n"
-            "from tests.bench.test_baselines import _open_problem\n"
-            "r = solve(_open_problem(), 'kpiece', Budget(seconds=20), seed=1)\n"
-            "assert r.status == ReachStatus.FOUND and r.validated is True, r.message\n"
-            "assert r.options['seed_applied'], r.options\n")
-    done = subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).resolve().parents[2],
-                          capture_output=True, text=True, timeout=120)
+    code = (
+        "from plansynth.budget import Budget\n"
+        "from plansynth.reach.result import ReachStatus\n"
+        "from plansynth.reach.solve import solve\n"
+        "from tests.bench.test_baselines import _open_problem\n"
+        "r = solve(_open_problem(), 'kpiece', Budget(seconds=20), seed=1)\n"
+        "assert r.status == ReachStatus.FOUND and r.validated is True, r.message\n"
+        "assert r.options['seed_applied'], r.options\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=Path(__file__).resolve().parents[2],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert done.returncode == 0, done.stderr[-2000:]
 
 
@@ -125,9 +139,15 @@ def test_single_integrator_is_supported_by_both():
     from plansynth.reach.planners.milp_bigm import plan_milp_bigm
     from plansynth.reach.planners.ompl import plan_rrt
 
-    p = ReachProblem(workspace=Box((0.0, 0.0), (5.0, 5.0)), obstacles=(Box((2.0, 0.0), (3.0, 4.0)),),
-                     goal=Box((4.0, 0.0), (5.0, 1.0)), dynamics=single_integrator(2, 1.0),
-                     start=np.array([0.5, 0.5]), input_bound=1.0, name="wall")
+    p = ReachProblem(
+        workspace=Box((0.0, 0.0), (5.0, 5.0)),
+        obstacles=(Box((2.0, 0.0), (3.0, 4.0)),),
+        goal=Box((4.0, 0.0), (5.0, 1.0)),
+        dynamics=single_integrator(2, 1.0),
+        start=np.array([0.5, 0.5]),
+        input_bound=1.0,
+        name="wall",
+    )
     for r in (plan_milp_bigm(p, Budget(seconds=20)), plan_rrt(p, Budget(seconds=20), seed=2)):
         assert r.status == ReachStatus.FOUND and validate(p, r.trajectory).ok
 
@@ -175,7 +195,9 @@ def test_bench_runs_every_planner_through_solve(planner: str, monkeypatch: pytes
 
     monkeypatch.setattr(reach_solve, "solve", spy)
     inst = family("reach", "maze", [1])[0]
-    attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 60, "seed": 5, "options": {}})
+    attrs = execute(
+        {"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 60, "seed": 5, "options": {}}
+    )
     assert [name for name, _ in calls] == [planner]
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
     # the version the run reports (the planner's own), not one guessed from its name
@@ -195,7 +217,9 @@ def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
     from plansynth.bench.families import family
 
     inst = next(i for i in family("reach", "missions", [1]) if i.name == "maze-1-avoid-until")
-    attrs = execute({"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 120, "seed": 0, "options": {}})
+    attrs = execute(
+        {"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 120, "seed": 0, "options": {}}
+    )
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
     assert attrs["horizon"] == 31 and attrs["attributes"]["oracle_lp"] is None  # (a finite plan ends at rest)
     # milp-ltl solves with HiGHS (its version was guessed as plansynth's from the name)

@@ -12,13 +12,43 @@ runner = CliRunner()
 
 def test_grid_sweep_then_report(tmp_path):
     db = tmp_path / "b.db"
-    r = runner.invoke(app, ["bench", "grid", "--family", "depth", "--values", "1,4", "--solvers", "native",
-                            "--timeout", "20", "--db", str(db)])
+    r = runner.invoke(
+        app,
+        [
+            "bench",
+            "grid",
+            "--family",
+            "depth",
+            "--values",
+            "1,4",
+            "--solvers",
+            "native",
+            "--timeout",
+            "20",
+            "--db",
+            str(db),
+        ],
+    )
     assert r.exit_code == 0, r.output
     assert "2 runs" in r.output and "solved 2" in r.output
     # rerunning resumes: nothing left to do
-    r = runner.invoke(app, ["bench", "grid", "--family", "depth", "--values", "1,4", "--solvers", "native",
-                            "--timeout", "20", "--db", str(db)])
+    r = runner.invoke(
+        app,
+        [
+            "bench",
+            "grid",
+            "--family",
+            "depth",
+            "--values",
+            "1,4",
+            "--solvers",
+            "native",
+            "--timeout",
+            "20",
+            "--db",
+            str(db),
+        ],
+    )
     assert "skipped 2" in r.output and "done 0" in r.output
     with ResultsDB(db) as d:
         assert {row["status"] for row in d.runs()} == {"solved"}
@@ -53,10 +83,25 @@ def test_a_bad_database_or_value_is_one_line_and_exit_2(tmp_path):
     cases = [
         (["bench", "grid", "--family", "figure1", "--solvers", "native", "--db", str(junk)], "not a results database"),
         (["bench", "report", "--db", str(junk), "--out", str(tmp_path / "rep")], "not a results database"),
-        (["bench", "grid", "--family", "figure1", "--solvers", "native", "--db", str(tmp_path / "no" / "x.db")],
-         "folder does not exist"),
-        (["bench", "reach", "--family", "maze", "--values", "0", "--planners", "lazy-smt", "--db", str(tmp_path / "v.db")],
-         "--values"),
+        (
+            ["bench", "grid", "--family", "figure1", "--solvers", "native", "--db", str(tmp_path / "no" / "x.db")],
+            "folder does not exist",
+        ),
+        (
+            [
+                "bench",
+                "reach",
+                "--family",
+                "maze",
+                "--values",
+                "0",
+                "--planners",
+                "lazy-smt",
+                "--db",
+                str(tmp_path / "v.db"),
+            ],
+            "--values",
+        ),
     ]
     for args, fragment in cases:
         r = CliRunner().invoke(app, args)
@@ -75,7 +120,10 @@ def test_a_report_of_a_database_without_runs_is_refused_and_writes_nothing(tmp_p
     db = tmp_path / "empty.db"
     with ResultsDB(db) as d:  # the schema and an experiment, as a sweep stopped before its first run leaves it
         d.experiment("grid/depth/depth-1", kind="grid", family="depth", instance="depth-1", setup={})
-    for args, out in ((["bench", "report"], tmp_path / "rep"), (["bench", "publish", "--report-only"], tmp_path / "pub")):
+    for args, out in (
+        (["bench", "report"], tmp_path / "rep"),
+        (["bench", "publish", "--report-only"], tmp_path / "pub"),
+    ):
         r = CliRunner().invoke(app, [*args, "--db", str(db), "--out", str(out)])
         assert r.exit_code == 2, r.output
         (line,) = r.output.strip().splitlines()

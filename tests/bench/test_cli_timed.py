@@ -22,8 +22,9 @@ def _suite(tmp_path, monkeypatch):
     suite = tmp_path / "suite"
     suite.mkdir()
     (suite / "r99_lanes.yaml").write_text(yaml.safe_dump(inst.document()), encoding="utf-8")
-    (suite / "r99_lanes.label.json").write_text(json.dumps({"expected": "realizable", "witness_depth": 6}),
-                                                encoding="utf-8")
+    (suite / "r99_lanes.label.json").write_text(
+        json.dumps({"expected": "realizable", "witness_depth": 6}), encoding="utf-8"
+    )
     monkeypatch.setenv("PLANSYNTH_REACTIVE_SUITE", str(suite))
     return grid_family("reactive-suite")
 
@@ -51,8 +52,11 @@ def test_a_cli_run_that_overruns_is_killed_and_counted_as_a_broken_budget(monkey
     """A command that ignores its budget (here: a sleep in place of the solver) is killed
     4 s past T and recorded as a timeout with the budget not kept; no result is read."""
     (inst,) = grid_family("doors", [1])
-    monkeypatch.setattr(grid_run, "_cli_command",
-                        lambda *a, **k: [sys.executable, "-c", "import time, sys; print('grid'); time.sleep(60)", "grid"])
+    monkeypatch.setattr(
+        grid_run,
+        "_cli_command",
+        lambda *a, **k: [sys.executable, "-c", "import time, sys; print('grid'); time.sleep(60)", "grid"],
+    )
     (task,) = make_tasks([inst], ["native"], timeout=0.5)
     attrs = execute_module.execute(task)
     assert attrs["status"] == "timeout" and attrs["solved"] == 0

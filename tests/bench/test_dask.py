@@ -39,8 +39,21 @@ def test_a_scheduler_that_does_not_answer_fails_fast_before_anything_is_written(
 
     db = tmp_path / "r.db"
     started = time.monotonic()
-    r = CliRunner().invoke(app, ["bench", "grid", "--family", "figure1", "--solvers", "native", "--db", str(db),
-                                 "--cluster", "tcp://127.0.0.1:1"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "bench",
+            "grid",
+            "--family",
+            "figure1",
+            "--solvers",
+            "native",
+            "--db",
+            str(db),
+            "--cluster",
+            "tcp://127.0.0.1:1",
+        ],
+    )
     seconds = time.monotonic() - started
     assert r.exit_code == 2, r.output
     (line,) = [x for x in r.output.splitlines() if "error" in x]

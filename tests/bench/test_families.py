@@ -21,7 +21,14 @@ def test_every_grid_instance_builds_and_round_trips_through_a_file(name, tmp_pat
         p = inst.build()
         q = load_grid_problem(path)
         assert (q.width, q.height, q.robot, q.obstacles, q.walls, q.steps, q.max_steps) == (
-            p.width, p.height, p.robot, p.obstacles, p.walls, p.steps, p.max_steps)
+            p.width,
+            p.height,
+            p.robot,
+            p.obstacles,
+            p.walls,
+            p.steps,
+            p.max_steps,
+        )
 
 
 def test_paper_parameters():
@@ -51,8 +58,10 @@ def test_reach_instances_build():
     assert r.dim == 2
 
 
-@pytest.mark.parametrize("name,value", [("crossing", 1), ("crossing-stall", 1), ("patrol-walk", 5), ("patrol", 5),
-                                        ("lanes", 2), ("lanes-rush", 2)])
+@pytest.mark.parametrize(
+    "name,value",
+    [("crossing", 1), ("crossing-stall", 1), ("patrol-walk", 5), ("patrol", 5), ("lanes", 2), ("lanes-rush", 2)],
+)
 def test_reactive_families_have_the_answer_they_are_built_for(name, value):
     from plansynth.grid.programs import reads_obstacles
     from plansynth.grid.solve import solve
@@ -69,7 +78,12 @@ def test_scale_64_is_the_example_beyond_the_papers_sizes():
     (inst,) = grid_family("scale", [64])
     p, example = inst.build(), load_grid_problem(Path(__file__).parents[2] / "examples" / "grid" / "scale64.yaml")
     assert (p.width, p.height, p.robot, p.obstacles, p.steps) == (
-        example.width, example.height, example.robot, example.obstacles, example.steps)
+        example.width,
+        example.height,
+        example.robot,
+        example.obstacles,
+        example.steps,
+    )
 
 
 def test_door_family_needs_the_panel_and_door_10_is_the_example():
@@ -79,7 +93,13 @@ def test_door_family_needs_the_panel_and_door_10_is_the_example():
     (d10,) = grid_family("door", [10])
     p, example = d10.build(), load_grid_problem(Path(__file__).parents[2] / "examples" / "grid" / "door.yaml")
     assert (p.width, p.height, p.robot, p.obstacles, p.walls, p.steps) == (
-        example.width, example.height, example.robot, example.obstacles, example.walls, example.steps)
+        example.width,
+        example.height,
+        example.robot,
+        example.obstacles,
+        example.walls,
+        example.steps,
+    )
     r = solve(p, "native", Budget(seconds=60))
     assert r.status is GridStatus.REALIZABLE and r.verified and reads_obstacles(r.program)
     (d8,) = grid_family("door", [8])
@@ -95,8 +115,9 @@ def test_the_reactive_suite_reads_problems_and_labels_from_its_folder(tmp_path, 
 
     (inst,) = grid_family("lanes", [1])
     (tmp_path / "r99_lanes.yaml").write_text(yaml.safe_dump(inst.document()), encoding="utf-8")
-    (tmp_path / "r99_lanes.label.json").write_text(json.dumps({"expected": "realizable", "witness_depth": 6}),
-                                                   encoding="utf-8")
+    (tmp_path / "r99_lanes.label.json").write_text(
+        json.dumps({"expected": "realizable", "witness_depth": 6}), encoding="utf-8"
+    )
     monkeypatch.setenv("PLANSYNTH_REACTIVE_SUITE", str(tmp_path))
     (got,) = grid_family("reactive-suite")
     assert (got.name, got.expected, got.params["witness_depth"]) == ("r99_lanes", "realizable", 6)
@@ -111,9 +132,23 @@ def test_a_missing_reactive_suite_is_a_clear_error(tmp_path, monkeypatch):
         grid_family("reactive-suite")
 
 
-@pytest.mark.parametrize("name,value", [("doors", 1), ("doors", 2), ("doors-rush", 1), ("doors-rush", 2),
-                                        ("doors-jam", 1), ("doors-jam", 2), ("patrols", 1), ("patrols", 2),
-                                        ("patrols-walk", 1), ("patrols-walk", 2), ("lanes", 1), ("lanes-rush", 1)])
+@pytest.mark.parametrize(
+    "name,value",
+    [
+        ("doors", 1),
+        ("doors", 2),
+        ("doors-rush", 1),
+        ("doors-rush", 2),
+        ("doors-jam", 1),
+        ("doors-jam", 2),
+        ("patrols", 1),
+        ("patrols", 2),
+        ("patrols-walk", 1),
+        ("patrols-walk", 2),
+        ("lanes", 1),
+        ("lanes-rush", 1),
+    ],
+)
 def test_reactive_family_labels_are_certified_by_brute_force(name, value):
     """The answer each instance is built for, by the brute-force oracles (no engine code):
     a realizable one by the reference interpreter replaying the engine's program against

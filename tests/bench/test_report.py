@@ -10,23 +10,55 @@ from plansynth.bench.report import headline, summarise, write_report
 def _fill(path):
     with ResultsDB(path) as db:
         for inst, t_native, t_cvc5 in zip(grid_family("steps", [5, 10, 15]), [0.1, 0.2, 0.4], [1.0, 4.0, None]):
-            e = db.experiment(inst.key, kind="grid", family="steps", instance=inst.name, setup=inst.to_dict(), timelimit=60)
+            e = db.experiment(
+                inst.key, kind="grid", family="steps", instance=inst.name, setup=inst.to_dict(), timelimit=60
+            )
             pn, pc = db.planner("native", {}), db.planner("cvc5", {})
-            db.add_run(e, pn, 0, {"time": t_native, "status": "solved", "solved": 1, "valid": 1, "depth": 4, "steps": 5})
+            db.add_run(
+                e, pn, 0, {"time": t_native, "status": "solved", "solved": 1, "valid": 1, "depth": 4, "steps": 5}
+            )
             if t_cvc5 is None:
                 db.add_run(e, pc, 0, {"time": 60.0, "status": "timeout", "solved": 0})
             else:
-                db.add_run(e, pc, 0, {"time": t_cvc5, "status": "solved", "solved": 1, "valid": 1, "depth": 4, "steps": 5})
+                db.add_run(
+                    e, pc, 0, {"time": t_cvc5, "status": "solved", "solved": 1, "valid": 1, "depth": 4, "steps": 5}
+                )
         (maze,) = reach_family("maze", [1])
         e = db.experiment(maze.key, kind="reach", family="maze", instance=maze.name, setup=maze.to_dict(), timelimit=60)
         for name, t in [("lazy-smt", 0.5), ("rrt", 5.0), ("milp-bigm", 50.0)]:
-            db.add_run(e, db.planner(name, {}), 0, {"time": t, "status": "solved", "solved": 1, "valid": 1,
-                                                     "horizon": 40, "lp_calls": 3, "sat_calls": 4,
-                                                     "attributes": {"timings": {"abstraction": 0.01, "sat": 0.2, "lp": 0.3}}})
-        for name, lp, status in [("lazy-smt-paper", 299, "solved"), ("lazy-smt-paper-trivial", 618, "solved"),
-                                  ("lazy-smt-zeroprefix", 54, "unknown")]:
-            db.add_run(e, db.planner(name, {}), 0, {"time": 0.3, "status": status, "solved": int(status == "solved"),
-                                                     "valid": 1, "horizon": 57, "lp_calls": lp})
+            db.add_run(
+                e,
+                db.planner(name, {}),
+                0,
+                {
+                    "time": t,
+                    "status": "solved",
+                    "solved": 1,
+                    "valid": 1,
+                    "horizon": 40,
+                    "lp_calls": 3,
+                    "sat_calls": 4,
+                    "attributes": {"timings": {"abstraction": 0.01, "sat": 0.2, "lp": 0.3}},
+                },
+            )
+        for name, lp, status in [
+            ("lazy-smt-paper", 299, "solved"),
+            ("lazy-smt-paper-trivial", 618, "solved"),
+            ("lazy-smt-zeroprefix", 54, "unknown"),
+        ]:
+            db.add_run(
+                e,
+                db.planner(name, {}),
+                0,
+                {
+                    "time": 0.3,
+                    "status": status,
+                    "solved": int(status == "solved"),
+                    "valid": 1,
+                    "horizon": 57,
+                    "lp_calls": lp,
+                },
+            )
         for k in (1, 2):
             (ch,) = [i for i in reach_family("chain", [1], orders=[k])]
             e = db.experiment(ch.key, kind="reach", family="chain", instance=ch.name, setup=ch.to_dict(), timelimit=60)
@@ -72,12 +104,20 @@ def test_the_proved_minimal_table_beside_the_window_search():
     claim = {"minimal": True, "minimal_relative_to": "decomposition", "minimal_probes": 1}
     cells = {
         ("reach/maze/maze-1", "lazy-smt"): Cell(1, 1, 0.1, 0.1, 60.0, {"solved": 1}, horizon=62, extra={}),
-        ("reach/maze/maze-1", "lazy-smt-minimal"): Cell(1, 1, 0.3, 0.3, 60.0, {"solved": 1}, horizon=57,
-                                                        extra={"minimal": claim, "lp_calls": 36,
-                                                               "timings": {"minimal": 0.2}}),
+        ("reach/maze/maze-1", "lazy-smt-minimal"): Cell(
+            1,
+            1,
+            0.3,
+            0.3,
+            60.0,
+            {"solved": 1},
+            horizon=57,
+            extra={"minimal": claim, "lp_calls": 36, "timings": {"minimal": 0.2}},
+        ),
         ("reach/maze/maze-2", "lazy-smt"): Cell(1, 1, 0.2, 0.2, 60.0, {"solved": 1}, horizon=92, extra={}),
-        ("reach/maze/maze-2", "lazy-smt-minimal"): Cell(1, 1, 60.0, 60.0, 60.0, {"solved": 1}, horizon=90,
-                                                        extra={"minimal": {"minimal": False}, "lp_calls": 900}),
+        ("reach/maze/maze-2", "lazy-smt-minimal"): Cell(
+            1, 1, 60.0, 60.0, 60.0, {"solved": 1}, horizon=90, extra={"minimal": {"minimal": False}, "lp_calls": 900}
+        ),
     }
     text = "\n".join(minimal_table(cells, mazes))
     assert "| 1 | 0.1 | 62 | 0.3 | 57 | decomposition | 1 | 36 | 0.2 | 3 |" in text
@@ -89,24 +129,44 @@ def test_the_reactive_suite_table_tells_wrong_answers_from_no_answer():
     from plansynth.bench.report import Cell
     from plansynth.bench.report.suite import suite_table
 
-    insts = [("grid/reactive-suite/a", {"name": "a", "expected": "realizable", "params": {"witness_depth": 7}}),
-             ("grid/reactive-suite/b", {"name": "b", "expected": "unrealizable", "params": {}}),
-             ("grid/reactive-suite/c", {"name": "c", "expected": "realizable", "params": {"witness_depth": 5}}),
-             ("grid/reactive-suite/d", {"name": "d", "expected": "realizable", "params": {"witness_depth": 4}})]
+    insts = [
+        ("grid/reactive-suite/a", {"name": "a", "expected": "realizable", "params": {"witness_depth": 7}}),
+        ("grid/reactive-suite/b", {"name": "b", "expected": "unrealizable", "params": {}}),
+        ("grid/reactive-suite/c", {"name": "c", "expected": "realizable", "params": {"witness_depth": 5}}),
+        ("grid/reactive-suite/d", {"name": "d", "expected": "realizable", "params": {"witness_depth": 4}}),
+    ]
     run = {"budget_kept": [True], "depth_minimal": "not proved"}
     cells = {
-        ("grid/reactive-suite/a", "native"): Cell(1, 1, 0.1, 0.1, 60.0, {"solved": 1}, depth=8,
-                                                  extra={"median_any": 0.1, "cli_wall": 0.9, **run}),
-        ("grid/reactive-suite/b", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1},
-                                                  extra={"median_any": 0.2, "cli_wall": 1.2, "budget_kept": [True]}),
-        ("grid/reactive-suite/c", "native"): Cell(1, 0, None, None, 60.0, {"unrealizable": 1},
-                                                  extra={"median_any": 0.3, "cli_wall": 1.5, "budget_kept": [True]}),
-        ("grid/reactive-suite/d", "native"): Cell(1, 0, None, None, 60.0, {"unknown": 1},
-                                                  extra={"median_any": 60.0, "cli_wall": 61.7, "budget_kept": [False]}),
+        ("grid/reactive-suite/a", "native"): Cell(
+            1, 1, 0.1, 0.1, 60.0, {"solved": 1}, depth=8, extra={"median_any": 0.1, "cli_wall": 0.9, **run}
+        ),
+        ("grid/reactive-suite/b", "native"): Cell(
+            1,
+            0,
+            None,
+            None,
+            60.0,
+            {"unrealizable": 1},
+            extra={"median_any": 0.2, "cli_wall": 1.2, "budget_kept": [True]},
+        ),
+        ("grid/reactive-suite/c", "native"): Cell(
+            1,
+            0,
+            None,
+            None,
+            60.0,
+            {"unrealizable": 1},
+            extra={"median_any": 0.3, "cli_wall": 1.5, "budget_kept": [True]},
+        ),
+        ("grid/reactive-suite/d", "native"): Cell(
+            1, 0, None, None, 60.0, {"unknown": 1}, extra={"median_any": 60.0, "cli_wall": 61.7, "budget_kept": [False]}
+        ),
     }
     text = "\n".join(suite_table(cells, insts, ["native"]))
-    assert ("- **native**: correct 2/4 (1 contradict the label); wall through the CLI median 1.35 s, max 61.7 s; "
-            "depth - witness depth median +1, max +1 (1 programs); budget kept 3/4; depth_minimal proved on 0/1.") in text
+    assert (
+        "- **native**: correct 2/4 (1 contradict the label); wall through the CLI median 1.35 s, max 61.7 s; "
+        "depth - witness depth median +1, max +1 (1 programs); budget kept 3/4; depth_minimal proved on 0/1."
+    ) in text
     assert "| a | realizable | 7 | 0.9 | 0.1 | realizable | yes | 8 | +1 | not proved | yes |" in text
     assert "| c | realizable | 5 | 1.5 | 0.3 | unrealizable | WRONG | - | - | - | yes |" in text
     assert "| d | realizable | 4 | 61.7 | 60 | unknown | no answer | - | - | - | NO |" in text
@@ -118,13 +178,25 @@ def test_the_paper_regression_line_fails_on_a_slow_or_deep_instance():
 
     def cell(name, t, d):
         fam = name.rsplit("-", 1)[0]
-        return Cell(1, 1, t, t, 120.0, {"solved": 1}, depth=d,
-                    extra={"family": fam, "instance": name, "setup": {"name": name, "params": {}}})
+        return Cell(
+            1,
+            1,
+            t,
+            t,
+            120.0,
+            {"solved": 1},
+            depth=d,
+            extra={"family": fam, "instance": name, "setup": {"name": name, "params": {}}},
+        )
 
-    good = {("grid/depth/depth-4", "native"): cell("depth-4", 0.01, 4),
-            ("grid/steps/steps-25", "native"): cell("steps-25", 0.3, 4)}
-    assert "solved 2/2, under 1 s 2/2 (slowest steps-25, 0.3 s), depth at most the paper's 2/2: holds" \
+    good = {
+        ("grid/depth/depth-4", "native"): cell("depth-4", 0.01, 4),
+        ("grid/steps/steps-25", "native"): cell("steps-25", 0.3, 4),
+    }
+    assert (
+        "solved 2/2, under 1 s 2/2 (slowest steps-25, 0.3 s), depth at most the paper's 2/2: holds"
         in paper_regression(good)
+    )
     slow = {**good, ("grid/steps/steps-20", "native"): cell("steps-20", 1.5, 4)}
     assert "under 1 s 2/3 (slowest steps-20, 1.5 s), depth at most the paper's 3/3: FAILS" in paper_regression(slow)
     deep = {**good, ("grid/depth/depth-1", "native"): cell("depth-1", 0.01, 2)}
@@ -135,13 +207,25 @@ def test_the_missions_table_shows_the_baselines_highs_time_beside_its_total(tmp_
     from plansynth.bench.report.missions import missions_table
 
     with ResultsDB(tmp_path / "m.db") as db:
-        for inst, (t_lazy, t_milp, t_highs) in zip(reach_family("missions", [1]), [(0.5, 5.0, 1.0), (2.0, 10.0, 9.0),
-                                                                                   (0.25, 5.0, 0.5)]):
-            e = db.experiment(inst.key, kind="reach", family="missions", instance=inst.name, setup=inst.to_dict(),
-                              timelimit=300)
+        for inst, (t_lazy, t_milp, t_highs) in zip(
+            reach_family("missions", [1]), [(0.5, 5.0, 1.0), (2.0, 10.0, 9.0), (0.25, 5.0, 0.5)]
+        ):
+            e = db.experiment(
+                inst.key, kind="reach", family="missions", instance=inst.name, setup=inst.to_dict(), timelimit=300
+            )
             db.add_run(e, db.planner("lazy-smt", {}), 0, {"time": t_lazy, "status": "solved", "solved": 1, "valid": 1})
-            db.add_run(e, db.planner("milp-ltl", {}), 0, {"time": t_milp, "status": "solved", "solved": 1, "valid": 1,
-                                                          "attributes": {"timings": {"milp_solve": t_highs}}})
+            db.add_run(
+                e,
+                db.planner("milp-ltl", {}),
+                0,
+                {
+                    "time": t_milp,
+                    "status": "solved",
+                    "solved": 1,
+                    "valid": 1,
+                    "attributes": {"timings": {"milp_solve": t_highs}},
+                },
+            )
         cells = summarise(db.runs())
     text = "\n".join(missions_table(cells))
     assert "| maze-1-visit | 0.5 | 5 | 10 | 1 | 2 |" in text
@@ -155,17 +239,24 @@ def test_the_missions_table_adds_the_one_shot_baseline_with_its_horizon(tmp_path
 
     with ResultsDB(tmp_path / "m.db") as db:
         for inst, (t_lazy, t_one) in zip(reach_family("missions", [1]), [(0.5, 6.0), (2.0, 4.0), (0.25, 5.0)]):
-            e = db.experiment(inst.key, kind="reach", family="missions", instance=inst.name, setup=inst.to_dict(),
-                              timelimit=300)
+            e = db.experiment(
+                inst.key, kind="reach", family="missions", instance=inst.name, setup=inst.to_dict(), timelimit=300
+            )
             db.add_run(e, db.planner("lazy-smt", {}), 0, {"time": t_lazy, "status": "solved", "solved": 1, "valid": 1})
             db.add_run(e, db.planner("milp-ltl", {}), 0, {"time": 1.0, "status": "solved", "solved": 1, "valid": 1})
-            db.add_run(e, db.planner("milp-ltl-oneshot", {}), 0, {"time": t_one, "status": "solved", "solved": 1,
-                                                                  "valid": 1, "horizon": 60})
+            db.add_run(
+                e,
+                db.planner("milp-ltl-oneshot", {}),
+                0,
+                {"time": t_one, "status": "solved", "solved": 1, "valid": 1, "horizon": 60},
+            )
         cells = summarise(db.runs())
     text = "\n".join(missions_table(cells))
     assert "| milp-ltl-oneshot (horizon) | milp-ltl-oneshot / lazy-smt |" in text
     assert "| maze-1-visit | 0.5 | 1 | 2 | - | - | 6 (at 60) | 12 |" in text
-    assert "Over milp-ltl-oneshot (one MILP at the max horizon): **12x** in median over 3 instances" in text  # 12, 2, 20
+    assert (
+        "Over milp-ltl-oneshot (one MILP at the max horizon): **12x** in median over 3 instances" in text
+    )  # 12, 2, 20
 
 
 def test_the_published_missions_run_gives_the_baseline_time_to_finish():
@@ -184,18 +275,42 @@ def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
 
     with ResultsDB(tmp_path / "g.db") as db:
         for inst, (t_lazy, t_gcs) in zip(reach_family("gcs-maze", [10, 50]), [(0.5, 4.0), (50.0, None)]):
-            e = db.experiment(inst.key, kind="reach", family="gcs-maze", instance=inst.name, setup=inst.to_dict(),
-                              timelimit=120)
+            e = db.experiment(
+                inst.key, kind="reach", family="gcs-maze", instance=inst.name, setup=inst.to_dict(), timelimit=120
+            )
             regions = 55 if inst.params["n"] == 10 else 1571
-            db.add_run(e, db.planner("lazy-smt", {}), 0, {
-                "time": t_lazy, "status": "solved", "solved": 1, "valid": 1, "horizon": 60, "regions": regions,
-                "attributes": {"duration": 30.0, "counters": {"lp_calls": 12, "clauses": 3400}}})
+            db.add_run(
+                e,
+                db.planner("lazy-smt", {}),
+                0,
+                {
+                    "time": t_lazy,
+                    "status": "solved",
+                    "solved": 1,
+                    "valid": 1,
+                    "horizon": 60,
+                    "regions": regions,
+                    "attributes": {"duration": 30.0, "counters": {"lp_calls": 12, "clauses": 3400}},
+                },
+            )
             if t_gcs is None:
-                db.add_run(e, db.planner("gcs", {}), 0, {"time": 130.0, "status": "unknown", "solved": 0,
-                                                       "regions": regions})
+                db.add_run(
+                    e, db.planner("gcs", {}), 0, {"time": 130.0, "status": "unknown", "solved": 0, "regions": regions}
+                )
             else:
-                db.add_run(e, db.planner("gcs", {}), 0, {"time": t_gcs, "status": "solved", "solved": 1, "valid": 1,
-                                                       "regions": regions, "attributes": {"duration": 20.0}})
+                db.add_run(
+                    e,
+                    db.planner("gcs", {}),
+                    0,
+                    {
+                        "time": t_gcs,
+                        "status": "solved",
+                        "solved": 1,
+                        "valid": 1,
+                        "regions": regions,
+                        "attributes": {"duration": 20.0},
+                    },
+                )
         cells = summarise(db.runs())
     text = "\n".join(gcs_maze_table(cells))
     assert "| 10 | 55 | 0.5 | 60 x dt = 30 | 12 / 3400 | 4 | 20 | 8 |" in text
@@ -210,11 +325,23 @@ def test_a_run_that_gave_up_early_bounds_no_ratio(tmp_path):
 
     with ResultsDB(tmp_path / "g.db") as db:
         inst = reach_family("gcs-maze", [20])[0]
-        e = db.experiment(inst.key, kind="reach", family="gcs-maze", instance=inst.name, setup=inst.to_dict(),
-                          timelimit=120)
-        db.add_run(e, db.planner("lazy-smt", {}), 0, {
-            "time": 3.5, "status": "solved", "solved": 1, "valid": 1, "horizon": 532, "regions": 249,
-            "attributes": {"duration": 266.0, "counters": {"lp_calls": 18, "clauses": 3807}}})
+        e = db.experiment(
+            inst.key, kind="reach", family="gcs-maze", instance=inst.name, setup=inst.to_dict(), timelimit=120
+        )
+        db.add_run(
+            e,
+            db.planner("lazy-smt", {}),
+            0,
+            {
+                "time": 3.5,
+                "status": "solved",
+                "solved": 1,
+                "valid": 1,
+                "horizon": 532,
+                "regions": 249,
+                "attributes": {"duration": 266.0, "counters": {"lp_calls": 18, "clauses": 3807}},
+            },
+        )
         db.add_run(e, db.planner("gcs", {}), 0, {"time": 13.1, "status": "unknown", "solved": 0, "regions": 249})
         cells = summarise(db.runs())
     row = next(line for line in gcs_maze_table(cells) if line.startswith("| 20 |"))

@@ -29,7 +29,7 @@ def assert_offline(page: Page, text: str) -> None:
         assert not {"srcset", "poster", "action", "background"} & set(attrs), (tag, attrs)
         if "href" in attrs:
             assert tag == "a" and (attrs["href"].startswith("#") or re.match(r"https?://", attrs["href"])), attrs
-    style = text[text.index("<style>"):text.index("</style>")]
+    style = text[text.index("<style>") : text.index("</style>")]
     assert "url(" not in style and "@import" not in style
     assert not any(re.search(r"https?:|fetch\(|XMLHttpRequest|import\(", s) for s in page.scripts)
     (csp,) = [a["content"] for t, a in page.tags if t == "meta" and a.get("http-equiv") == "Content-Security-Policy"]
@@ -76,8 +76,9 @@ def test_the_html_option_of_report_and_publish(tmp_path):
     r = CliRunner().invoke(app, ["report", "--db", str(tmp_path / "r.db"), "--out", str(tmp_path / "b"), "--no-html"])
     assert r.exit_code == 0, r.output
     assert (tmp_path / "b/REPORT.md").is_file() and not list((tmp_path / "b").glob("*.html"))
-    r = CliRunner().invoke(app, ["publish", "--report-only", "--db", str(tmp_path / "r.db"), "--out", str(tmp_path / "c"),
-                                 "--no-html"])
+    r = CliRunner().invoke(
+        app, ["publish", "--report-only", "--db", str(tmp_path / "r.db"), "--out", str(tmp_path / "c"), "--no-html"]
+    )
     assert r.exit_code == 0, r.output
     assert (tmp_path / "c/RESULTS.md").is_file() and not list((tmp_path / "c").rglob("*.html"))
     for command in ("report", "publish"):
@@ -85,9 +86,11 @@ def test_the_html_option_of_report_and_publish(tmp_path):
 
 
 def test_raw_html_other_than_the_reports_own_is_shown_as_text(tmp_path):
-    md = ("# T\n\n<!-- a note -->\n\n<details><summary>Missing runs</summary>\n\n- x\n\n</details>\n\n"
-          "<script>alert(1)</script>\n\nA cell <img src=x onerror=alert(2)> and <b>bold</b>, wall <= T + 1 s.\n\n"
-          "See [the paper](https://example.org/paper.pdf).\n")
+    md = (
+        "# T\n\n<!-- a note -->\n\n<details><summary>Missing runs</summary>\n\n- x\n\n</details>\n\n"
+        "<script>alert(1)</script>\n\nA cell <img src=x onerror=alert(2)> and <b>bold</b>, wall <= T + 1 s.\n\n"
+        "See [the paper](https://example.org/paper.pdf).\n"
+    )
     text = render_html(md, folder=tmp_path)
     page = read_page(text)
     assert "<details><summary>Missing runs</summary>" in text and "<!-- a note -->" in text
@@ -116,7 +119,7 @@ def test_a_figure_must_be_a_local_image_file(tmp_path):
 def test_the_contents_nest_sections_under_parts():
     md = "# R\n\n### Before any part\n\n## Part A\n\n### One\n\n### One\n\n## Part B\n\n#### Deep\n"
     text = render_html(md, folder=Path("."))
-    nav = text[text.index("<nav"):text.index("</nav>")]
+    nav = text[text.index("<nav") : text.index("</nav>")]
     assert nav.count("<ul>") == nav.count("</ul>") and nav.count("<li>") == nav.count("</li>")
     assert '<li><a href="#part-a">Part A</a><ul><li><a href="#one">One</a></li><li><a href="#one-1">One</a>' in nav
     assert "Deep" not in nav and "#r" not in nav  # the title and level-4 headings stay out
@@ -127,8 +130,9 @@ def test_publish_report_only_keeps_results_md_and_writes_results_html(tmp_path):
     RESULTS.md again (but its Generated line), and RESULTS.html beside it; the committed
     RESULTS.html is the page of the committed RESULTS.md and figures. When this fails
     after a change to the report, regenerate both: plansynth bench publish --report-only"""
-    r = CliRunner().invoke(app, ["publish", "--report-only", "--db", str(BENCHMARKS / "results.db"),
-                                 "--out", str(tmp_path)])
+    r = CliRunner().invoke(
+        app, ["publish", "--report-only", "--db", str(BENCHMARKS / "results.db"), "--out", str(tmp_path)]
+    )
     assert r.exit_code == 0, r.output
 
     def body(path: Path) -> list[str]:

@@ -27,7 +27,9 @@ BOUNDS = """# Sorting
 
 def _column(browser: Any, n: int) -> list[str]:
     return browser.execute_script(
-        "return Array.from(document.querySelector('main table').tBodies[0].rows).map(r => r.cells[arguments[0]].textContent)", n)
+        "return Array.from(document.querySelector('main table').tBodies[0].rows).map(r => r.cells[arguments[0]].textContent)",
+        n,
+    )
 
 
 def test_the_report_page_draws_every_table_and_figure(browser, tmp_path):
@@ -36,12 +38,14 @@ def test_the_report_page_draws_every_table_and_figure(browser, tmp_path):
     markdown = md.read_text()
     open_page(browser, (tmp_path / "rep/REPORT.html").as_uri(), "report")  # fails on a script or CSP error
     images = browser.execute_script(
-        "return Array.from(document.images).map(i => [i.alt, i.complete, i.naturalWidth, i.getBoundingClientRect().width])")
+        "return Array.from(document.images).map(i => [i.alt, i.complete, i.naturalWidth, i.getBoundingClientRect().width])"
+    )
     assert [alt for alt, *_ in images] == [alt for alt, _ in markdown_images(markdown)]
     assert all(complete and natural > 100 and shown > 100 for _, complete, natural, shown in images), images
     headers = browser.execute_script(
         "return Array.from(document.querySelectorAll('main table')).filter(t => t.getBoundingClientRect().height > 0)"
-        ".map(t => Array.from(t.tHead.rows[0].cells).map(c => c.textContent.trim()))")
+        ".map(t => Array.from(t.tHead.rows[0].cells).map(c => c.textContent.trim()))"
+    )
     assert headers == markdown_headers(markdown)
     # the contents' links lead to the sections
     links = browser.execute_script("return Array.from(document.querySelectorAll('#toc a')).map(a => a.hash.slice(1))")

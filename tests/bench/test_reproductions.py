@@ -33,8 +33,12 @@ def test_grid_paper_families_native(tmp_path):
 
 @pytest.mark.slow
 def test_reactive_families_native_answers_match_their_design(tmp_path):
-    insts = [i for f in ("crossing", "crossing-stall", "patrol", "patrol-walk") for i in family("grid", f)
-             if i.expected is not None]
+    insts = [
+        i
+        for f in ("crossing", "crossing-stall", "patrol", "patrol-walk")
+        for i in family("grid", f)
+        if i.expected is not None
+    ]
     run_sweep(tmp_path / "r.db", make_tasks(insts, ["native"], timeout=60), progress=False)
     with ResultsDB(tmp_path / "r.db") as db:
         for r in db.runs():

@@ -103,10 +103,13 @@ def test_a_program_the_verifier_refutes_is_recorded_invalid(tmp_path):
     from plansynth.bench.execute import execute
 
     fake = tmp_path / "fake.sh"  # a SyGuS "solver" that always answers "stay"
-    fake.write_text("#!/bin/sh\necho '(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int 0)'\n")
+    fake.write_text(
+        "#!/bin/sh\necho '(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int 0)'\n"
+    )
     fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
-    (task,) = make_tasks(grid_family("figure1"), ["external"], timeout=30,
-                         options={"external": {"command": f"{fake} {{file}}"}})
+    (task,) = make_tasks(
+        grid_family("figure1"), ["external"], timeout=30, options={"external": {"command": f"{fake} {{file}}"}}
+    )
     out = execute(task)
     assert out["status"] == "invalid", out
 

@@ -49,7 +49,7 @@ def test_an_older_database_without_the_memory_limit_is_still_resumed(tmp_path):
     db = tmp_path / "old.db"
     run_sweep(db, _tasks(), progress=False)
     with sqlite3.connect(db) as conn:  # as rows were written before the memory limit was kept
-        (rid, attrs), = conn.execute("SELECT id, attributes FROM runs").fetchall()
+        ((rid, attrs),) = conn.execute("SELECT id, attributes FROM runs").fetchall()
         attrs = json.loads(attrs)
         del attrs["memorylimit"]
         conn.execute("UPDATE runs SET attributes = ? WHERE id = ?", (json.dumps(attrs), rid))
@@ -77,8 +77,24 @@ runner = CliRunner()
 )
 def test_bad_grid_sweep_arguments_exit_2_with_one_line_and_write_nothing(tmp_path, args, option, reason):
     db = tmp_path / "b.db"
-    r = runner.invoke(app, ["bench", "grid", "--family", "depth", "--values", "1", "--solvers", "native",
-                            "--timeout", "5", "--db", str(db), *args])
+    r = runner.invoke(
+        app,
+        [
+            "bench",
+            "grid",
+            "--family",
+            "depth",
+            "--values",
+            "1",
+            "--solvers",
+            "native",
+            "--timeout",
+            "5",
+            "--db",
+            str(db),
+            *args,
+        ],
+    )
     assert r.exit_code == 2, r.output
     lines = r.output.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {option}: ") and reason in lines[0], r.output
@@ -87,13 +103,18 @@ def test_bad_grid_sweep_arguments_exit_2_with_one_line_and_write_nothing(tmp_pat
 
 @pytest.mark.parametrize(
     ("args", "option"),
-    [(["--planners", "nosuch"], "--planners"), (["--orders", "0"], "--orders"), (["--orders", "x"], "--orders"),
-     (["--memory", "-5"], "--memory")],
+    [
+        (["--planners", "nosuch"], "--planners"),
+        (["--orders", "0"], "--orders"),
+        (["--orders", "x"], "--orders"),
+        (["--memory", "-5"], "--memory"),
+    ],
 )
 def test_bad_reach_sweep_arguments_exit_2(tmp_path, args, option):
     db = tmp_path / "b.db"
-    r = runner.invoke(app, ["bench", "reach", "--family", "maze", "--values", "1", "--planners", "lazy-smt",
-                            "--db", str(db), *args])
+    r = runner.invoke(
+        app, ["bench", "reach", "--family", "maze", "--values", "1", "--planners", "lazy-smt", "--db", str(db), *args]
+    )
     assert r.exit_code == 2, r.output
     assert r.output.strip().startswith(f"error: {option}: ") and len(r.output.strip().splitlines()) == 1, r.output
     assert not db.exists()

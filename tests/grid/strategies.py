@@ -155,9 +155,7 @@ def b_terms(draw: st.DrawFn, variables: tuple[str, ...], max_constant: int, budg
 
 
 @st.composite
-def start_terms(
-    draw: st.DrawFn, variables: tuple[str, ...], n_moves: int, max_constant: int, budget: int
-) -> Term:
+def start_terms(draw: st.DrawFn, variables: tuple[str, ...], n_moves: int, max_constant: int, budget: int) -> Term:
     """A controller (Start) of depth <= budget (budget >= 1)."""
     # A leaf half the time keeps the expected size moderate (an ite has two Start children).
     if budget < 3 or draw(st.booleans()):
@@ -227,16 +225,25 @@ OBJECTIVES = ("exact", "reach", "safety", "recurrence")
 
 
 @st.composite
-def objective_documents(draw: st.DrawFn, objective: str | None = None, *, max_side: int = 4,
-                        max_obstacles: int = 1, max_steps: int = 4) -> dict[str, Any]:
+def objective_documents(
+    draw: st.DrawFn, objective: str | None = None, *, max_side: int = 4, max_obstacles: int = 1, max_steps: int = 4
+) -> dict[str, Any]:
     """A valid problem document with one of the :data:`OBJECTIVES` and plansynth's
     obstacle extensions drawn at random: a block (``size``), a ``period`` with either
     ``schedule`` and a ``phase``, ``glitches``, ``keep_out`` cells, and
     ``collision: position``. Tiny on purpose: the oracle of :mod:`plansynth.grid.oracle`
     enumerates every state."""
     kind = objective or draw(st.sampled_from(OBJECTIVES))
-    doc = draw(problem_documents(max_side=max_side, min_obstacles=0, max_obstacles=max_obstacles,
-                                 max_obstacle_moves=3, max_robot_moves=5, max_steps=max_steps))
+    doc = draw(
+        problem_documents(
+            max_side=max_side,
+            min_obstacles=0,
+            max_obstacles=max_obstacles,
+            max_obstacle_moves=3,
+            max_robot_moves=5,
+            max_steps=max_steps,
+        )
+    )
     w, h = doc["grid"]
     cell = _cells_of(w, h)
     if kind != "exact":

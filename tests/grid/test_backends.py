@@ -193,7 +193,11 @@ ECHO_IF_SL = """
 @pytest.mark.parametrize(
     ("answer", "status", "program"),
     [
-        ("(\n(define-fun move ((rx Int) (ry Int)) Int (ite (<= rx 1) 1 0))\n)", GridStatus.REALIZABLE, "(ite (<= rx 1) 1 0)"),
+        (
+            "(\n(define-fun move ((rx Int) (ry Int)) Int (ite (<= rx 1) 1 0))\n)",
+            GridStatus.REALIZABLE,
+            "(ite (<= rx 1) 1 0)",
+        ),
         ("infeasible", GridStatus.UNREALIZABLE, None),
         ("fail", GridStatus.UNKNOWN, None),
         ("(define-fun move ((rx Int) (ry Int)) Int 9)", GridStatus.UNKNOWN, None),  # not a move number
@@ -224,8 +228,12 @@ def test_external_timeout_kills_the_solver(tmp_path: Path) -> None:
 
 def test_external_keeps_the_sl_file_and_appends_it_without_placeholder(tmp_path: Path) -> None:
     script = tmp_path / "s.py"
-    script.write_text("import sys\nprint(open(sys.argv[-1]).read().count('declare-var'), file=sys.stderr)\nprint('infeasible')\n")
-    out = ExternalBackend(f"{sys.executable} {script}", keep_sl=tmp_path / "kept").solve_length(CORRIDOR, 1, Budget(seconds=30))
+    script.write_text(
+        "import sys\nprint(open(sys.argv[-1]).read().count('declare-var'), file=sys.stderr)\nprint('infeasible')\n"
+    )
+    out = ExternalBackend(f"{sys.executable} {script}", keep_sl=tmp_path / "kept").solve_length(
+        CORRIDOR, 1, Budget(seconds=30)
+    )
     assert out.status is GridStatus.UNREALIZABLE
     assert Path(out.artefact) == tmp_path / "kept" / "problem-l1.sl"
     assert Path(out.artefact).read_text() == compile_sygus(CORRIDOR, 1)

@@ -31,8 +31,16 @@ def result_json(tmp_path: Path) -> Path:
     path = tmp_path / "result.json"
     path.write_text(
         json.dumps(
-            {"status": "realizable", "steps": 6, "program": WINNER, "depth": 4, "solver": "native",
-             "seconds": 0.01, "verified": True, "problem": FIGURE1}
+            {
+                "status": "realizable",
+                "steps": 6,
+                "program": WINNER,
+                "depth": 4,
+                "solver": "native",
+                "seconds": 0.01,
+                "verified": True,
+                "problem": FIGURE1,
+            }
         ),
         encoding="utf-8",
     )
@@ -68,7 +76,9 @@ def test_verify_a_result_json_takes_its_steps(result_json: Path) -> None:
     assert r.exit_code == 1 and "not on the goal (4, 4) after step 6" in r.output
 
 
-@pytest.mark.parametrize("text", [f"(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int {WINNER})", WINNER])
+@pytest.mark.parametrize(
+    "text", [f"(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int {WINNER})", WINNER]
+)
 def test_verify_a_program_file(tmp_path: Path, text: str) -> None:
     path = tmp_path / "controller.sl"
     path.write_text(f"; from a solver\n{text}\n", encoding="utf-8")
@@ -166,7 +176,10 @@ def test_export_python_runs(tmp_path: Path, result_json: Path) -> None:
 def test_export_uses_the_results_problem_field(result_json: Path) -> None:
     r = invoke("export", str(result_json), "--lang", "sygus")
     assert r.exit_code == 0, r.output
-    assert "(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int (ite (<= rx 3) 2 1))" in r.output
+    assert (
+        "(define-fun move ((rx Int) (ry Int) (o0x Int) (o0y Int) (o1x Int) (o1y Int)) Int (ite (<= rx 3) 2 1))"
+        in r.output
+    )
 
 
 def test_export_c_to_a_file_compiles(tmp_path: Path) -> None:
@@ -208,7 +221,8 @@ def test_the_installed_command_runs() -> None:
     """The real entry point (not CliRunner): exit status 1 for a losing controller."""
     r = subprocess.run(
         [sys.executable, "-m", "plansynth.cli", "grid", "verify", FIGURE1, LOSER, "--steps", "6"],
-        capture_output=True, text=True,
+        capture_output=True,
+        text=True,
     )
     assert r.returncode == 1, r.stderr
     assert "LOSES" in r.stdout

@@ -28,8 +28,22 @@ def _corridor(tmp_path: Path, extra: str = "") -> Path:
 def test_solve_figure1_with_cvc5(tmp_path: Path) -> None:
     out = tmp_path / "result.json"
     res = runner.invoke(
-        app, ["grid", "solve", str(FIGURE1), "--solver", "cvc5", "--steps", "6", "-O", "sygus-enum=fast",
-              "--out", str(out), "--keep-sl", str(tmp_path / "sl")],
+        app,
+        [
+            "grid",
+            "solve",
+            str(FIGURE1),
+            "--solver",
+            "cvc5",
+            "--steps",
+            "6",
+            "-O",
+            "sygus-enum=fast",
+            "--out",
+            str(out),
+            "--keep-sl",
+            str(tmp_path / "sl"),
+        ],
     )
     assert res.exit_code == 0, res.output
     assert "realizable at l = 6" in res.output
@@ -37,7 +51,10 @@ def test_solve_figure1_with_cvc5(tmp_path: Path) -> None:
     assert "def move(rx: int, ry: int, o0x: int, o0y: int, o1x: int, o1y: int) -> int:" in res.output
     doc = json.loads(out.read_text())
     assert doc["status"] == "realizable" and doc["steps"] == 6 and doc["verified"] is True
-    assert doc["solver"] == "cvc5" and doc["options"] == {"options": ["sygus-enum=fast"], "keep_sl": str(tmp_path / "sl")}
+    assert doc["solver"] == "cvc5" and doc["options"] == {
+        "options": ["sygus-enum=fast"],
+        "keep_sl": str(tmp_path / "sl"),
+    }
     problem = load_grid_problem(FIGURE1)
     assert verify(problem, parse_program(doc["program"]), 6).wins
     assert (tmp_path / "sl" / "figure1-l6.sl").read_text() == compile_sygus(problem, 6)
@@ -73,7 +90,9 @@ def test_solve_rejects_mismatched_options(tmp_path: Path) -> None:
 
 
 def test_solve_depth_bound_and_max_steps(tmp_path: Path) -> None:
-    res = runner.invoke(app, ["grid", "solve", str(_corridor(tmp_path)), "-s", "cvc5", "--max-steps", "1", "--depth-bound", "1"])
+    res = runner.invoke(
+        app, ["grid", "solve", str(_corridor(tmp_path)), "-s", "cvc5", "--max-steps", "1", "--depth-bound", "1"]
+    )
     assert res.exit_code == 1
     assert "no controller (programs of depth <= 1) wins at l = 1" in res.output
 

@@ -35,8 +35,13 @@ NOT_ON_A_SMALL_SOLVE = {
 def _imports(*args: str) -> tuple[int, set[str], str]:
     """Exit status, every module imported (full dotted names), and the output of
     ``plansynth ARGS`` in a fresh process, standard error not a terminal (as in bench)."""
-    run = subprocess.run([sys.executable, "-X", "importtime", "-c", "from plansynth.cli import main; main()", *args],
-                         capture_output=True, text=True, timeout=300, cwd=ROOT)
+    run = subprocess.run(
+        [sys.executable, "-X", "importtime", "-c", "from plansynth.cli import main; main()", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
     names = set(re.findall(r"^import time:\s+\d+ \|\s+\d+ \|\s+(\S+)$", run.stderr, re.M))
     assert "plansynth.cli" in names, "no import trace: " + run.stderr[-2000:]
     return run.returncode, names, run.stdout
@@ -66,8 +71,12 @@ def test_a_reactive_suite_solve_imports_neither_numpy_nor_rich() -> None:
 def test_a_large_grid_still_verifies_with_numpy(tmp_path: Path) -> None:
     """The guard above is not vacuous: above PYTHON_CELLS cells the verifier's numpy
     tables are used (and imported)."""
-    doc = {"grid": [70, 70], "robot": {"start": [0, 0], "goal": [3, 0], "moves": ["stay", "right"]},
-           "obstacles": [{"start": [60, 60], "moves": ["stay", "left"]}], "steps": 3}
+    doc = {
+        "grid": [70, 70],
+        "robot": {"start": [0, 0], "goal": [3, 0], "moves": ["stay", "right"]},
+        "obstacles": [{"start": [60, 60], "moves": ["stay", "left"]}],
+        "steps": 3,
+    }
     path = tmp_path / "wide.yaml"
     path.write_text(yaml.safe_dump(doc), encoding="utf-8")
     code, names, out = _imports("grid", "solve", str(path), "--timeout", "30")

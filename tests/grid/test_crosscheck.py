@@ -50,34 +50,63 @@ BACK = {"name": "back", "to": [-2, 0], "via": [[-1, 0]]}
 #: expected answers are read off the spec; random problems rarely hit some of them.
 RULES = {
     "a wall clamps an obstacle's move": (
-        _case((4, 1), (3, 0), (3, 0), ["stay"], [((0, 0), [{"name": "far", "to": [3, 0], "via": [[1, 0], [2, 0]]}])], [(2, 0)], steps=2),
-        "0", True),
+        _case(
+            (4, 1),
+            (3, 0),
+            (3, 0),
+            ["stay"],
+            [((0, 0), [{"name": "far", "to": [3, 0], "via": [[1, 0], [2, 0]]}])],
+            [(2, 0)],
+            steps=2,
+        ),
+        "0",
+        True,
+    ),
     "an obstacle on a wall never moves (its move would sweep the wall)": (
-        _case((2, 2), (0, 0), (0, 0), ["stay"], [((1, 0), ["left"])], [(1, 0)]), "0", True),
+        _case((2, 2), (0, 0), (0, 0), ["stay"], [((1, 0), ["left"])], [(1, 0)]),
+        "0",
+        True,
+    ),
     "a clamped robot move sweeps only its start cell": (
-        _case((2, 1), (0, 0), (0, 0), [HOP], [((1, 0), ["stay"])]), "0", True),
+        _case((2, 1), (0, 0), (0, 0), [HOP], [((1, 0), ["stay"])]),
+        "0",
+        True,
+    ),
     "a clamped obstacle move sweeps only its start cell": (
-        _case((2, 1), (0, 0), (0, 0), ["stay"], [((1, 0), [BACK])]), "0", True),
+        _case((2, 1), (0, 0), (0, 0), ["stay"], [((1, 0), [BACK])]),
+        "0",
+        True,
+    ),
     "an obstacle clamped at the border still occupies its cell": (
-        _case((2, 1), (1, 0), (0, 0), ["stay", "left"], [((0, 0), ["left"])]), "1", False),
-    "via cells collide": (
-        _case((3, 1), (0, 0), (2, 0), [HOP], [((1, 0), ["stay"])]), "0", False),
+        _case((2, 1), (1, 0), (0, 0), ["stay", "left"], [((0, 0), ["left"])]),
+        "1",
+        False,
+    ),
+    "via cells collide": (_case((3, 1), (0, 0), (2, 0), [HOP], [((1, 0), ["stay"])]), "0", False),
     "a diagonal crossing is not a collision": (
-        _case((2, 2), (0, 0), (1, 1), ["up-right"], [((1, 0), ["up-left"])]), "0", True),
-    "swapping cells is a collision": (
-        _case((2, 1), (0, 0), (1, 0), ["right"], [((1, 0), ["left"])]), "0", False),
-    "a robot sweeping a wall collides": (
-        _case((3, 1), (0, 0), (2, 0), [HOP], walls=[(1, 0)]), "0", False),
+        _case((2, 2), (0, 0), (1, 1), ["up-right"], [((1, 0), ["up-left"])]),
+        "0",
+        True,
+    ),
+    "swapping cells is a collision": (_case((2, 1), (0, 0), (1, 0), ["right"], [((1, 0), ["left"])]), "0", False),
+    "a robot sweeping a wall collides": (_case((3, 1), (0, 0), (2, 0), [HOP], walls=[(1, 0)]), "0", False),
     "the adversary picks the colliding move": (
-        _case((3, 1), (0, 0), (1, 0), ["right"], [((2, 0), ["stay", "left"])]), "0", False),
+        _case((3, 1), (0, 0), (1, 0), ["right"], [((2, 0), ["stay", "left"])]),
+        "0",
+        False,
+    ),
     "an obstacle on the robot's start cell collides at step 0": (
-        _case((3, 1), (0, 0), (1, 0), ["right"], [((0, 0), ["right", "stay"])]), "0", False),
-    "success is at exactly l steps": (
-        _case((3, 1), (0, 0), (1, 0), ["stay", "right"], steps=2), "1", False),
+        _case((3, 1), (0, 0), (1, 0), ["right"], [((0, 0), ["right", "stay"])]),
+        "0",
+        False,
+    ),
+    "success is at exactly l steps": (_case((3, 1), (0, 0), (1, 0), ["stay", "right"], steps=2), "1", False),
     "waiting for an obstacle to leave wins": (
-        _case((3, 2), (0, 0), (2, 0), ["stay", "right"], [((1, 0), ["up"])], steps=3), "(ite (= o0y 0) 0 1)", True),
-    "not waiting collides": (
-        _case((3, 2), (0, 0), (2, 0), ["stay", "right"], [((1, 0), ["up"])], steps=3), "1", False),
+        _case((3, 2), (0, 0), (2, 0), ["stay", "right"], [((1, 0), ["up"])], steps=3),
+        "(ite (= o0y 0) 0 1)",
+        True,
+    ),
+    "not waiting collides": (_case((3, 2), (0, 0), (2, 0), ["stay", "right"], [((1, 0), ["up"])], steps=3), "1", False),
 }
 
 
@@ -94,6 +123,7 @@ def test_each_rule_of_the_semantics(rule: str) -> None:
 #: Hypothesis examples per property test below; PLANSYNTH_TEST_SCALE=N runs N times as
 #: many (a longer hunt than CI's, which runs each of them in three random orders).
 SCALE = max(1, int(os.environ.get("PLANSYNTH_TEST_SCALE", "1")))
+
 
 @settings(max_examples=75 * SCALE)
 @given(problems_and_programs(max_depth=5))

@@ -80,7 +80,9 @@ def test_cone_drops_only_obstacles_that_never_meet_the_robot(problem):
     robot_cells = [set(cells(m, problem.width)) for m in cone.live]
     for i in range(len(problem.obstacles)):
         reach = reachable_cells(problem, i, steps)
-        assert {cell_mask(problem, c) for c in reach[steps]} == {cell_mask(problem, c) for c in cells(cone.positions[i][steps], problem.width)}
+        assert {cell_mask(problem, c) for c in reach[steps]} == {
+            cell_mask(problem, c) for c in cells(cone.positions[i][steps], problem.width)
+        }
         if i in cone.relevant:
             continue
         for t in range(steps):
@@ -90,7 +92,9 @@ def test_cone_drops_only_obstacles_that_never_meet_the_robot(problem):
                     for r in robot_cells[t]:
                         for kr in range(len(problem.robot.moves)):
                             end, r_swept = robot_move(problem, r, kr)
-                            if (end[0] + end[1] * problem.width) in [c[0] + c[1] * problem.width for c in robot_cells[t + 1]]:
+                            if (end[0] + end[1] * problem.width) in [
+                                c[0] + c[1] * problem.width for c in robot_cells[t + 1]
+                            ]:
                                 assert not set(o_swept) & set(r_swept)
 
 
@@ -196,11 +200,29 @@ COUNTDOWN_CASES = {
     "steps-25 (blind)": (lambda: grid_problem_from_dict(families()["steps-25"]), 25, True),
     "crossing (reads the car)": (lambda: load_grid_problem(ROOT / "examples" / "grid" / "crossing.yaml"), 9, True),
     "stationary refutation": (lambda: grid_problem_from_dict(STATIONARY_REFUTED[0]), 3, False),
-    "clock obstacle": (lambda: grid_problem_from_dict({**STATIONARY_REFUTED[0], "grid": [3, 8], "obstacles": [
-        *STATIONARY_REFUTED[0]["obstacles"], {"start": [0, 4], "moves": ["up"]}]}), 3, True),
-    "game refutation": (lambda: grid_problem_from_dict({
-        "grid": [3, 1], "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]},
-        "obstacles": [{"start": [2, 0], "moves": ["stay"]}], "steps": 2}), 2, False),
+    "clock obstacle": (
+        lambda: grid_problem_from_dict(
+            {
+                **STATIONARY_REFUTED[0],
+                "grid": [3, 8],
+                "obstacles": [*STATIONARY_REFUTED[0]["obstacles"], {"start": [0, 4], "moves": ["up"]}],
+            }
+        ),
+        3,
+        True,
+    ),
+    "game refutation": (
+        lambda: grid_problem_from_dict(
+            {
+                "grid": [3, 1],
+                "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]},
+                "obstacles": [{"start": [2, 0], "moves": ["stay"]}],
+                "steps": 2,
+            }
+        ),
+        2,
+        False,
+    ),
 }
 
 
@@ -244,17 +266,23 @@ def test_program_wins_agrees_with_the_verifier_on_figure1():
     problem = load_grid_problem(ROOT / "examples" / "grid" / "figure1.yaml")
     for text, steps in [("(ite (<= 4 rx) 1 2)", 6), ("(ite (<= rx 3) 2 1)", 6), ("1", 3), ("(ite (<= ry 3) 1 2)", 6)]:
         prog = parse_program(text)
-        assert program_wins(problem, steps, prog) == verify(problem, prog, steps).wins == reference_wins(problem, prog, steps)
+        assert (
+            program_wins(problem, steps, prog)
+            == verify(problem, prog, steps).wins
+            == reference_wins(problem, prog, steps)
+        )
 
 
 def test_game_refutation_on_an_unavoidable_obstacle():
     # A 3x1 corridor: the obstacle can sit on the goal at the last step.
-    problem = grid_problem_from_dict({
-        "grid": [3, 1],
-        "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]},
-        "obstacles": [{"start": [2, 0], "moves": ["stay"]}],
-        "steps": 2,
-    })
+    problem = grid_problem_from_dict(
+        {
+            "grid": [3, 1],
+            "robot": {"start": [0, 0], "goal": [2, 0], "moves": ["stay", "right"]},
+            "obstacles": [{"start": [2, 0], "moves": ["stay"]}],
+            "steps": 2,
+        }
+    )
     out = Engine().solve_length(problem, 2, Budget(seconds=5))
     assert out.status is GridStatus.UNREALIZABLE
     assert out.witness.kind == "game"
@@ -273,10 +301,18 @@ STATIONARY_REFUTED = [
     # The robot must come back to its start in 3 steps without `stay`: with the time it
     # can (down, down clamped at the border, up); with positions only, the cell it
     # reaches after one step would need two different moves.
-    {"grid": [3, 4], "robot": {"start": [1, 1], "goal": [1, 1], "moves": ["up", "right", "down", "left"]},
-     "obstacles": [{"start": [2, 0], "moves": ["up", "down"]}], "steps": 3},
-    {"grid": [3, 2], "robot": {"start": [2, 1], "goal": [1, 1], "moves": ["right", "left"]},
-     "obstacles": [{"start": [1, 0], "moves": ["down"]}], "steps": 4},
+    {
+        "grid": [3, 4],
+        "robot": {"start": [1, 1], "goal": [1, 1], "moves": ["up", "right", "down", "left"]},
+        "obstacles": [{"start": [2, 0], "moves": ["up", "down"]}],
+        "steps": 3,
+    },
+    {
+        "grid": [3, 2],
+        "robot": {"start": [2, 1], "goal": [1, 1], "moves": ["right", "left"]},
+        "obstacles": [{"start": [1, 0], "moves": ["down"]}],
+        "steps": 4,
+    },
 ]
 
 

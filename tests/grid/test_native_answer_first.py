@@ -123,7 +123,12 @@ def test_the_compiled_game_graph_is_the_reference_graph(problem):
     assert (fast_g.n_pairs, fast_g.n_states) == (ref_g.n_pairs, ref_g.n_states)
     fast_g.materialize()
     assert (fast_g.state_of, fast_g.win, fast_g.off, fast_g.succ, fast_g.inputs) == (
-        ref_g.state_of, ref_g.win, ref_g.off, ref_g.succ, ref_g.inputs)
+        ref_g.state_of,
+        ref_g.win,
+        ref_g.off,
+        ref_g.succ,
+        ref_g.inputs,
+    )
 
 
 def test_minimize_proves_unrealizable_when_no_positional_strategy_exists():
@@ -132,9 +137,16 @@ def test_minimize_proves_unrealizable_when_no_positional_strategy_exists():
     that sees only positions cannot. Both paths must prove it, not give up on depth."""
     from plansynth.grid.problem import grid_problem_from_dict
 
-    problem = grid_problem_from_dict({"grid": [2, 3], "robot": {"start": [1, 0], "goal": [1, 1], "moves":
-                                      ["up", {"name": "m1", "to": [0, 1]}, "down"]},
-                                      "obstacles": [], "steps": 2, "walls": [[0, 0]]}, source="<regression>")
+    problem = grid_problem_from_dict(
+        {
+            "grid": [2, 3],
+            "robot": {"start": [1, 0], "goal": [1, 1], "moves": ["up", {"name": "m1", "to": [0, 1]}, "down"]},
+            "obstacles": [],
+            "steps": 2,
+            "walls": [[0, 0]],
+        },
+        source="<regression>",
+    )
     assert reference.game_won(problem, 2)  # a controller that sees the time wins
     for minimize in (False, True):
         out = Engine(minimize=minimize).solve_length(problem, 2, Budget(seconds=20))
@@ -162,8 +174,16 @@ def _plain_greedy_depth(problem, steps):
     states = sorted(strategy.allowed)
     allowed = [strategy.allowed[s] for s in states]
     inputs = [arena.inputs(r, oc) for r, oc in states]
-    plain = fast.greedy_from_enumeration(inputs, arena.variables(), problem.max_constant, 4,
-                                         condition_limit(len(inputs)), allowed, len(problem.robot.moves), 10_000)
+    plain = fast.greedy_from_enumeration(
+        inputs,
+        arena.variables(),
+        problem.max_constant,
+        4,
+        condition_limit(len(inputs)),
+        allowed,
+        len(problem.robot.moves),
+        10_000,
+    )
     assert program_checker(arena).check(plain) is None
     return depth(plain)
 

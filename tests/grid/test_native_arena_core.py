@@ -78,7 +78,9 @@ def test_the_compiled_game_keeps_its_memory_limit_and_names_it():
     problem = load_grid_problem(EXAMPLES / "field30.yaml")
     cone = influence_cone(problem, problem.steps)
     with pytest.raises(BudgetExhausted, match="memory budget of 64 MB") as info:
-        Arena.build(problem, problem.steps, cone, cone.relevant, Budget(seconds=60).clock(), memory_mb=64, use_rust=True)
+        Arena.build(
+            problem, problem.steps, cone, cone.relevant, Budget(seconds=60).clock(), memory_mb=64, use_rust=True
+        )
     assert (info.value.phase, info.value.resource) == ("exploring the game", "memory")
     with pytest.raises(BudgetExhausted, match="out of time") as info:
         Arena.build(problem, problem.steps, cone, cone.relevant, Budget(seconds=0.2).clock(), use_rust=True)
@@ -103,7 +105,11 @@ def test_every_budgeted_call_of_the_compiled_core_raises_the_shared_budget_exhau
     budget; given enough, the same calls answer."""
     core, problem = _crossing_core()
     width = problem.width
-    for limits, resource in (({"seconds": 0.0}, "time"), ({"memory": 1}, "memory"), ({"max_configs": 0}, "configurations")):
+    for limits, resource in (
+        ({"seconds": 0.0}, "time"),
+        ({"memory": 1}, "memory"),
+        ({"max_configs": 0}, "configurations"),
+    ):
         with pytest.raises(BudgetExhausted) as info:
             _crossing_core()[0].explore(**limits)
         assert type(info.value) is BudgetExhausted  # the Python class itself, imported by the binding

@@ -32,7 +32,9 @@ def test_condition_enumeration_matches_the_reference(vs, max_depth, limit, max_c
     names = [f"v{i}" for i in range(nv)]
     ref = _enumerate(states, names, max_constant, max_depth, limit)
     got = fast.enumerate_conditions(states, names, max_constant, max_depth, limit)
-    assert [(c.mask, str(c.term), c.depth) for c in got.conditions] == [(c.mask, str(c.term), c.depth) for c in ref.conditions]
+    assert [(c.mask, str(c.term), c.depth) for c in got.conditions] == [
+        (c.mask, str(c.term), c.depth) for c in ref.conditions
+    ]
     assert got.complete_to == ref.complete_to
     # every condition's term really has its behaviour
     for c in got.conditions[:200]:
@@ -49,7 +51,9 @@ def test_condition_enumeration_matches_the_reference(vs, max_depth, limit, max_c
 def test_greedy_tree_matches_the_reference(states, data, n_moves):
     from plansynth.grid.native.synth import greedy_program, greedy_program_reference
 
-    allowed = [data.draw(st.lists(st.integers(0, n_moves - 1), min_size=1, max_size=n_moves, unique=True)) for _ in states]
+    allowed = [
+        data.draw(st.lists(st.integers(0, n_moves - 1), min_size=1, max_size=n_moves, unique=True)) for _ in states
+    ]
     conds = _enumerate(states, ["a", "b"], 5, data.draw(st.integers(3, 4)), None).conditions
     got = greedy_program(allowed, conds, n_moves, use_rust=True)
     ref = greedy_program_reference(allowed, conds, n_moves)

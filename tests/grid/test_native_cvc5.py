@@ -10,6 +10,7 @@ from plansynth.grid.result import GridStatus, get_backend
 
 from .strategies import grid_problems
 
+
 @settings(max_examples=12)
 @given(grid_problems(max_side=3, max_obstacles=1, max_obstacle_moves=2, max_robot_moves=3, max_steps=3))
 def test_native_agrees_with_cvc5(problem):

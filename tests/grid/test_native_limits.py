@@ -23,29 +23,53 @@ K = ["stay", "up", "right", "down", "left"]
 
 
 def _doc(**kw):
-    d = {"grid": [1000, 1000], "robot": {"start": [0, 0], "goal": [500, 500], "moves": [*K, "up-right"]},
-         "obstacles": [], "steps": 1000}
+    d = {
+        "grid": [1000, 1000],
+        "robot": {"start": [0, 0], "goal": [500, 500], "moves": [*K, "up-right"]},
+        "obstacles": [],
+        "steps": 1000,
+    }
     d.update(kw)
     return d
 
 
-_MANY = [{"name": f"m{dx}_{dy}", "to": [dx, dy], **({"via": [[dx // 2, dy // 2]]} if abs(dx) + abs(dy) > 2 else {})}
-         for dx in range(-3, 4) for dy in range(-3, 4) if (dx, dy) != (0, 0)]
+_MANY = [
+    {"name": f"m{dx}_{dy}", "to": [dx, dy], **({"via": [[dx // 2, dy // 2]]} if abs(dx) + abs(dy) > 2 else {})}
+    for dx in range(-3, 4)
+    for dy in range(-3, 4)
+    if (dx, dy) != (0, 0)
+]
 
 SHAPES = {
     "one-obstacle": _doc(obstacles=[{"start": [250, 250], "moves": ["stay", "up", "down"]}]),
-    "five-obstacles": _doc(obstacles=[{"start": [100 * i + 50, 100 * i + 60], "moves": ["up", "down", "left", "right"]}
-                                      for i in range(5)]),
-    "many-moves-and-via": _doc(obstacles=[{"start": [300, 300], "moves": _MANY}],
-                               robot={"start": [0, 0], "goal": [500, 500], "moves": ["stay", *_MANY]}),
-    "hundred-obstacles": _doc(obstacles=[{"start": [(37 * i) % 1000, (91 * i) % 1000], "moves": K} for i in range(100)]),
-    "walls": _doc(walls=[[x, 400] for x in range(999)] + [[600, y] for y in range(1, 1000)],
-                  obstacles=[{"start": [500, 401], "moves": ["left", "right"]}, {"start": [601, 500], "moves": ["up", "down"]}]),
-    "max-steps-search": {**{k: v for k, v in _doc().items() if k != "steps"}, "max_steps": 1000,
-                         "obstacles": [{"start": [250, 250], "moves": ["stay", "up", "down"]},
-                                       {"start": [260, 250], "moves": ["up", "down", "left", "right"]}]},
-    "obstacles-near-the-start": _doc(obstacles=[{"start": [5, 5], "moves": ["up", "down", "left", "right"]},
-                                                {"start": [9, 3], "moves": ["up", "down", "left", "right"]}]),
+    "five-obstacles": _doc(
+        obstacles=[{"start": [100 * i + 50, 100 * i + 60], "moves": ["up", "down", "left", "right"]} for i in range(5)]
+    ),
+    "many-moves-and-via": _doc(
+        obstacles=[{"start": [300, 300], "moves": _MANY}],
+        robot={"start": [0, 0], "goal": [500, 500], "moves": ["stay", *_MANY]},
+    ),
+    "hundred-obstacles": _doc(
+        obstacles=[{"start": [(37 * i) % 1000, (91 * i) % 1000], "moves": K} for i in range(100)]
+    ),
+    "walls": _doc(
+        walls=[[x, 400] for x in range(999)] + [[600, y] for y in range(1, 1000)],
+        obstacles=[{"start": [500, 401], "moves": ["left", "right"]}, {"start": [601, 500], "moves": ["up", "down"]}],
+    ),
+    "max-steps-search": {
+        **{k: v for k, v in _doc().items() if k != "steps"},
+        "max_steps": 1000,
+        "obstacles": [
+            {"start": [250, 250], "moves": ["stay", "up", "down"]},
+            {"start": [260, 250], "moves": ["up", "down", "left", "right"]},
+        ],
+    },
+    "obstacles-near-the-start": _doc(
+        obstacles=[
+            {"start": [5, 5], "moves": ["up", "down", "left", "right"]},
+            {"start": [9, 3], "moves": ["up", "down", "left", "right"]},
+        ]
+    ),
 }
 
 
@@ -53,9 +77,25 @@ def _run(path: Path, *extra: str):
     """Exit code, output, wall seconds from spawning to exit, and the child's own peak
     RSS in KB (from ``wait4``)."""
     started = time.monotonic()
-    proc = subprocess.Popen([sys.executable, "-m", "plansynth.cli", "grid", "solve", str(path), "--timeout", str(BUDGET),
-                             "--memory-mb", str(MEMORY_MB), *extra],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "plansynth.cli",
+            "grid",
+            "solve",
+            str(path),
+            "--timeout",
+            str(BUDGET),
+            "--memory-mb",
+            str(MEMORY_MB),
+            *extra,
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,
+    )
     out = proc.stdout.read()
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.monotonic() - started
@@ -92,8 +132,12 @@ def test_the_joint_game_in_the_core_keeps_the_budget(tmp_path):
 def test_no_process_is_left_running(tmp_path):
     path = tmp_path / "one.yaml"
     path.write_text(yaml.safe_dump(SHAPES["one-obstacle"], default_flow_style=None))
-    proc = subprocess.Popen([sys.executable, "-m", "plansynth.cli", "grid", "solve", str(path), "--timeout", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "plansynth.cli", "grid", "solve", str(path), "--timeout", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     proc.wait(timeout=60)
     time.sleep(0.2)
     with pytest.raises(ProcessLookupError):
@@ -132,9 +176,23 @@ def test_cvc5_leaves_no_process_running():
     command has exited (dead: at most zombies left to init)."""
     from plansynth.bench.families import reactive_suite_dir
 
-    proc = subprocess.Popen([sys.executable, "-m", "plansynth.cli", "grid", "solve",
-                             str(reactive_suite_dir() / "r07_traffic.yaml"), "--solver", "cvc5", "--timeout", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "plansynth.cli",
+            "grid",
+            "solve",
+            str(reactive_suite_dir() / "r07_traffic.yaml"),
+            "--solver",
+            "cvc5",
+            "--timeout",
+            "2",
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     proc.wait(timeout=60)
     time.sleep(0.2)
     assert _live_members(proc.pid) == []

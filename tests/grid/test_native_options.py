@@ -31,15 +31,18 @@ def test_the_options_are_frozen_and_every_one_is_documented():
         assert f"`{name}`" in reference, f"native option {name} is not in docs/reference/options.md"
 
 
-@pytest.mark.parametrize("items, match", [
-    (["minimise=true"], "option 'minimise': not an option of this solver"),
-    (["minimize"], "not KEY=VALUE"),
-    (["minimize=3"], "expected bool"),
-    (["effort=-1"], "below its minimum 0"),
-    (["effort=fast"], "expected float"),
-    (["max_configs=0"], "below its minimum 1"),
-    (["attempt_seconds=2"], "not an option of this solver"),  # an option that never did anything
-])
+@pytest.mark.parametrize(
+    "items, match",
+    [
+        (["minimise=true"], "option 'minimise': not an option of this solver"),
+        (["minimize"], "not KEY=VALUE"),
+        (["minimize=3"], "expected bool"),
+        (["effort=-1"], "below its minimum 0"),
+        (["effort=fast"], "expected float"),
+        (["max_configs=0"], "below its minimum 1"),
+        (["attempt_seconds=2"], "not an option of this solver"),  # an option that never did anything
+    ],
+)
 def test_bad_options_are_named_errors(items, match):
     with pytest.raises(InvalidOption, match=match):
         NativeOptions.parse(items)
@@ -60,12 +63,15 @@ def test_the_counters_are_in_the_outcome_not_on_the_engine():
     assert not hasattr(engine, "counters") and engine.options == NativeOptions(effort=0)
 
 
-@pytest.mark.parametrize("args, hint", [
-    (["--solver", "cvc5", "--effort", "1"], "--effort"),
-    (["--solver", "cvc5", "--minimize"], "--minimize"),
-    (["-O", "minimise=true"], "not an option of this solver"),
-    (["-O", "effort=-2"], "below its minimum 0"),
-])
+@pytest.mark.parametrize(
+    "args, hint",
+    [
+        (["--solver", "cvc5", "--effort", "1"], "--effort"),
+        (["--solver", "cvc5", "--minimize"], "--minimize"),
+        (["-O", "minimise=true"], "not an option of this solver"),
+        (["-O", "effort=-2"], "below its minimum 0"),
+    ],
+)
 def test_an_option_that_does_not_apply_exits_2(args, hint):
     res = CliRunner().invoke(app, ["grid", "solve", FIGURE1, "--timeout", "30", *args])
     assert res.exit_code == 2, res.output
@@ -93,7 +99,9 @@ def test_a_program_deeper_than_the_depth_bound_is_no_answer_to_it(monkeypatch) -
 
     p = load_grid_problem(ROOT / "examples" / "grid" / "figure1.yaml")
     deep = parse_program("(ite (<= rx 3) (ite (<= ry 3) 2 1) (ite (<= ry 2) 2 1))")
-    monkeypatch.setattr(eng._Run, "_solve", lambda self, problem, steps, clock, bound: (GridStatus.REALIZABLE, deep, "", None))
+    monkeypatch.setattr(
+        eng._Run, "_solve", lambda self, problem, steps, clock, bound: (GridStatus.REALIZABLE, deep, "", None)
+    )
     out = eng.Engine().solve_length(p, 6, Budget(seconds=10), depth_bound=4)
     assert out.status is GridStatus.UNKNOWN and out.program is None and "none of depth <= 4" in out.message
     assert eng.Engine().solve_length(p, 6, Budget(seconds=10)).status is GridStatus.REALIZABLE

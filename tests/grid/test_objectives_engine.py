@@ -57,9 +57,14 @@ def test_two_obstacles_and_the_fairness_counter(data):
     check_answer(data.draw(objective_problems(max_obstacles=2, max_side=3)))
 
 
-CORRIDOR = {"grid": [3, 3], "objective": "recurrence", "collision": "position", "walls": [[1, 0]],
-            "robot": {"start": [0, 1], "goals": [[2, 1], [0, 1]], "moves": ["stay", "right", "left"]},
-            "obstacles": [{"start": [1, 1], "moves": ["stay", "up", "down"], "period": 2}]}
+CORRIDOR = {
+    "grid": [3, 3],
+    "objective": "recurrence",
+    "collision": "position",
+    "walls": [[1, 0]],
+    "robot": {"start": [0, 1], "goals": [[2, 1], [0, 1]], "moves": ["stay", "right", "left"]},
+    "obstacles": [{"start": [1, 1], "moves": ["stay", "up", "down"], "period": 2}],
+}
 
 
 def test_fairness_decides_the_corridor():
@@ -74,7 +79,9 @@ def test_fairness_decides_the_corridor():
 
 
 def test_a_wrong_strategy_is_rejected():
-    p = grid_problem_from_dict({**CORRIDOR, "objective": "safety", "robot": {"start": [0, 1], "moves": ["stay", "right"]}})
+    p = grid_problem_from_dict(
+        {**CORRIDOR, "objective": "safety", "robot": {"start": [0, 1], "moves": ["stay", "right"]}}
+    )
 
     def lazy(state, k, t):  # never moves: the robot is safe by staying
         return next(j for j in joint_choices(p, state) if j == (0,))

@@ -40,11 +40,12 @@ def replay_loses(problem, cex, steps):
     if cex.loop is not None:
         assert cex.states[-1] == cex.states[cex.loop]
         goal = problem.robot.goals[cex.states[cex.loop].mode]
-        assert all(s.robot != goal for s in cex.states[cex.loop + 1:])
+        assert all(s.robot != goal for s in cex.states[cex.loop + 1 :])
         if problem.fair:
             for i in range(len(problem.obstacles)):
-                assert any(a.obstacles[i] != b.obstacles[i]
-                           for a, b in zip(cex.states[cex.loop:], cex.states[cex.loop + 1:]))
+                assert any(
+                    a.obstacles[i] != b.obstacles[i] for a, b in zip(cex.states[cex.loop :], cex.states[cex.loop + 1 :])
+                )
         return
     assert problem.objective.bounded and "not on the goal" in cex.reason
 
@@ -66,9 +67,13 @@ def test_verifier_agrees_with_the_oracle(objective, data):
 def test_recurrence_needs_the_mode_and_fairness_changes_the_answer():
     """A corridor: the obstacle shuttles over the only crossing; without fairness it may
     sit there forever, under fairness it must leave and the robot gets through."""
-    d = {"grid": [3, 3], "objective": "recurrence", "walls": [[1, 0], [1, 2]],
-         "robot": {"start": [0, 1], "goals": [[2, 1], [0, 1]], "moves": ["stay", "right", "left"]},
-         "obstacles": [{"start": [1, 1], "moves": ["stay", "up", "down"], "keep_out": [[1, 2]]}]}
+    d = {
+        "grid": [3, 3],
+        "objective": "recurrence",
+        "walls": [[1, 0], [1, 2]],
+        "robot": {"start": [0, 1], "goals": [[2, 1], [0, 1]], "moves": ["stay", "right", "left"]},
+        "obstacles": [{"start": [1, 1], "moves": ["stay", "up", "down"], "keep_out": [[1, 2]]}],
+    }
     prog = parse_program("(ite (= o0y 1) 0 (ite (= m 0) 1 2))")
     unfair = grid_problem_from_dict(d)
     fair = grid_problem_from_dict({**d, "fair": True})
@@ -81,7 +86,11 @@ def test_recurrence_needs_the_mode_and_fairness_changes_the_answer():
 
 
 def test_budget_gives_unknown():
-    d = {"grid": [6, 6], "objective": "safety", "robot": {"start": [0, 0], "moves": ["stay", "up", "right"]},
-         "obstacles": [{"start": [5, 5], "moves": ["stay", "left", "down"], "period": 3}]}
+    d = {
+        "grid": [6, 6],
+        "objective": "safety",
+        "robot": {"start": [0, 0], "moves": ["stay", "up", "right"]},
+        "obstacles": [{"start": [5, 5], "moves": ["stay", "left", "down"], "period": 3}],
+    }
     v = verify(grid_problem_from_dict(d), parse_program("0"), None, budget=Budget(seconds=1e-9))
     assert v.status is VerifyStatus.UNKNOWN and "budget ran out" in v.message

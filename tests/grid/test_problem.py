@@ -80,7 +80,11 @@ def test_yaml_and_json_files_give_the_same_problem(tmp_path: Path) -> None:
 
 def test_custom_moves_with_via() -> None:
     doc = base()
-    doc["obstacles"][0]["moves"] = ["up", {"name": "jump", "to": [0, -2], "via": [[0, -1]]}, {"name": "hop", "to": [1, 0]}]
+    doc["obstacles"][0]["moves"] = [
+        "up",
+        {"name": "jump", "to": [0, -2], "via": [[0, -1]]},
+        {"name": "hop", "to": [1, 0]},
+    ]
     p = grid_problem_from_dict(doc)
     jump = p.obstacles[0].moves[1]
     assert jump == Move("jump", (0, -2), ((0, -1),))
@@ -235,9 +239,17 @@ def test_duplicated_move_names(tmp_path: Path, edit, field: str, name: str) -> N
         (lambda d: d["robot"]["moves"].append("jump"), "robot.moves[5]", "unknown move 'jump'"),
         (lambda d: d["robot"]["moves"].append(3), "robot.moves[5]", "expected a move name or mapping"),
         (lambda d: d["robot"]["moves"].append({"to": [1, 1]}), "robot.moves[5].name", "missing required field"),
-        (lambda d: d["robot"]["moves"].append({"name": "", "to": [1, 1]}), "robot.moves[5].name", "expected a non-empty string"),
+        (
+            lambda d: d["robot"]["moves"].append({"name": "", "to": [1, 1]}),
+            "robot.moves[5].name",
+            "expected a non-empty string",
+        ),
         (lambda d: d["robot"]["moves"].append({"name": "x"}), "robot.moves[5].to", "missing required field"),
-        (lambda d: d["robot"]["moves"].append({"name": "x", "to": [1, 1], "via": 3}), "robot.moves[5].via", "expected a list"),
+        (
+            lambda d: d["robot"]["moves"].append({"name": "x", "to": [1, 1], "via": 3}),
+            "robot.moves[5].via",
+            "expected a list",
+        ),
         (lambda d: d.update(grid=[5]), "grid", "expected 2 integers"),
         (lambda d: d.update(grid=[0, 7]), "grid", "width and height must be >= 1"),
         (lambda d: d.update(steps=0), "steps", "must be >= 1"),

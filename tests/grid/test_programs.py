@@ -84,7 +84,9 @@ def test_depth_and_size_match_the_spec_examples(text: str, d: int, n: int) -> No
 
 def test_nary_operators_fold_to_binary() -> None:
     t = parse_program("(ite (and (<= rx 1) (<= ry 1) (= rx ry)) 0 1)")
-    assert t.args[0] == App("and", (App("and", (parse_program("(<= rx 1)"), parse_program("(<= ry 1)"))), parse_program("(= rx ry)")))
+    assert t.args[0] == App(
+        "and", (App("and", (parse_program("(<= rx 1)"), parse_program("(<= ry 1)"))), parse_program("(= rx ry)"))
+    )
     assert parse_program("(+ rx ry 1)") == App("+", (App("+", (Var("rx"), Var("ry"))), Const(1)))
 
 

@@ -68,6 +68,7 @@ def test_adversarial_run_of_a_winning_controller_presses_the_robot(figure1: Grid
     for t, state in enumerate(run.states[:-1]):  # every obstacle took a move ending nearest the robot
         rx, ry = robot_move(figure1, state.robot, run.robot_moves[t])[0]
         for i, (c, j) in enumerate(zip(state.obstacles, run.obstacle_moves[t])):
+
             def d(k: int) -> int:
                 x, y = obstacle_move(figure1, i, c, k)[0]
                 return abs(x - rx) + abs(y - ry)

@@ -36,7 +36,9 @@ class ScriptedBackend:
     def version(self) -> str:
         return "test"
 
-    def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+    def solve_length(
+        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+    ) -> LengthOutcome:
         self.calls.append((steps, budget.seconds, depth_bound))
         time.sleep(self.delay)
         status, text = self.script.get(steps, (GridStatus.UNREALIZABLE, None))
@@ -126,7 +128,8 @@ def test_iterations_budget_counts_path_lengths() -> None:
 def test_progress_callback_sees_every_length() -> None:
     seen: list[tuple[int, GridStatus]] = []
     far6 = grid_problem_from_dict(
-        {"grid": [6, 1], "max_steps": 6, "robot": {"start": [0, 0], "goal": [5, 0], "moves": ["stay", "right"]}})
+        {"grid": [6, 1], "max_steps": 6, "robot": {"start": [0, 0], "goal": [5, 0], "moves": ["stay", "right"]}}
+    )
     solve(far6, "scripted", script={5: (R, "1")}, progress=lambda l, o: seen.append((l, o.status)))
     assert seen == [(1, U), (2, U), (3, U), (4, U), (5, R)]
 

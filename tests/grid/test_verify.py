@@ -44,7 +44,10 @@ def check_counterexample(p: GridProblem, program: Term, steps: int, cex: Counter
         assert out.state == cex.states[t + 1]
         if out.collided:
             assert t == n - 1, "the run must stop at its first collision"
-            assert re.fullmatch(rf"collision at step {t} (in cell \(\d+, \d+\) with obstacle \d+|with the wall at \(\d+, \d+\))", cex.reason)
+            assert re.fullmatch(
+                rf"collision at step {t} (in cell \(\d+, \d+\) with obstacle \d+|with the wall at \(\d+, \d+\))",
+                cex.reason,
+            )
             return
     assert n == steps and cex.states[-1].robot != p.robot.goal
     gx, gy = p.robot.goal
@@ -295,8 +298,11 @@ def test_reachable_cells_reference(p: GridProblem) -> None:
 def _same_verdicts(p: GridProblem, program: Term, steps: int, **kw: Any) -> Verdict:
     py = verify(p, program, steps, tables="python", **kw)
     arrays = verify(p, program, steps, tables="numpy", **kw)
-    assert (py.status, py.counterexample, py.states_explored) == (arrays.status, arrays.counterexample,
-                                                                  arrays.states_explored)
+    assert (py.status, py.counterexample, py.states_explored) == (
+        arrays.status,
+        arrays.counterexample,
+        arrays.states_explored,
+    )
     return py
 
 
@@ -322,8 +328,13 @@ def test_python_and_numpy_tables_agree_on_programs_reading_obstacles(pp: tuple[G
 def test_the_table_representation_follows_the_grid_size() -> None:
     """A far unread obstacle steers into the robot (the hit walked back through its
     reachable sets), over either representation; a bad name is an error."""
-    p = grid_problem_from_dict({"grid": [9, 3], "robot": {"start": [0, 1], "goal": [8, 1], "moves": ["stay", "right"]},
-                                "obstacles": [{"start": [8, 0], "moves": MOVES}]})
+    p = grid_problem_from_dict(
+        {
+            "grid": [9, 3],
+            "robot": {"start": [0, 1], "goal": [8, 1], "moves": ["stay", "right"]},
+            "obstacles": [{"start": [8, 0], "moves": MOVES}],
+        }
+    )
     v = _same_verdicts(p, parse_program("1"), 8)
     assert not v.wins and "with obstacle 0" in v.counterexample.reason
     check_counterexample(p, parse_program("1"), 8, v.counterexample)

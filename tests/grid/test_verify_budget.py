@@ -64,8 +64,12 @@ def test_a_verification_far_over_its_time_budget_is_unknown_within_budget_plus_o
 def test_without_a_budget_the_same_kind_of_problem_is_decided_exactly() -> None:
     # A smaller grid of the same kind: the unread obstacles' sets saturate (period 1),
     # and the loss found replays through the semantics to an unread obstacle's hit.
-    doc = {**BIG, "grid": [40, 40], "robot": {**BIG["robot"], "goal": [39, 39]},
-           "obstacles": [{"start": [20, 20], "moves": MOVES}, {"start": [5, 30], "moves": ["up", "down"]}]}
+    doc = {
+        **BIG,
+        "grid": [40, 40],
+        "robot": {**BIG["robot"], "goal": [39, 39]},
+        "obstacles": [{"start": [20, 20], "moves": MOVES}, {"start": [5, 30], "moves": ["up", "down"]}],
+    }
     p = grid_problem_from_dict(doc)
     v = verify(p, parse_program("(ite (<= rx 38) 2 1)"), 1000, budget=Budget(seconds=120))
     assert v.status is VerifyStatus.LOSES and v.wins is False
@@ -148,7 +152,9 @@ class _Instant:
     def version(self) -> str:
         return "test"
 
-    def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+    def solve_length(
+        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+    ) -> LengthOutcome:
         return LengthOutcome(GridStatus.REALIZABLE, steps, program=parse_program(self.program))
 
 

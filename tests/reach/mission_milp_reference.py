@@ -9,12 +9,27 @@ import highspy
 import numpy as np
 
 from plansynth.reach.highs import new_highs
-from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, subformulas
+from plansynth.reach.mission.ltl import (
+    And,
+    Const,
+    Finally,
+    Formula,
+    Globally,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+    nnf,
+    subformulas,
+)
 from plansynth.reach.mission.milp import SMALL_MATRIX_VALUE, _big_m
 
 
-def reference_model(problem, labelled, formula: Formula, L: int, *, segment_safe: bool = True,
-                    semantics: str = "any", earliest=None) -> highspy.Highs:
+def reference_model(
+    problem, labelled, formula: Formula, L: int, *, segment_safe: bool = True, semantics: str = "any", earliest=None
+) -> highspy.Highs:
     """The mission MILP at horizon L, built term by term (not run)."""
     ab = labelled.abstraction
     dyn = problem.dynamics
@@ -39,8 +54,12 @@ def reference_model(problem, labelled, formula: Formula, L: int, *, segment_safe
         h.addConstr(X[0][i] == float(problem.start[i]))
     for t in range(L):
         for i in range(n):
-            h.addConstr(X[t + 1][i] - sum(float(A[i, j]) * X[t][j] for j in range(n) if A[i, j] != 0)
-                        - sum(float(B[i, j]) * U[t][j] for j in range(m) if B[i, j] != 0) == 0.0)
+            h.addConstr(
+                X[t + 1][i]
+                - sum(float(A[i, j]) * X[t][j] for j in range(n) if A[i, j] != 0)
+                - sum(float(B[i, j]) * U[t][j] for j in range(m) if B[i, j] != 0)
+                == 0.0
+            )
     ear = earliest if earliest is not None else [0] * R
     for t in range(L + 1):
         h.addConstr(sum(Z[t]) == 1.0)
@@ -54,13 +73,15 @@ def reference_model(problem, labelled, formula: Formula, L: int, *, segment_safe
         H, hh = np.asarray(reg.H, float), np.asarray(reg.h, float)
         M = _big_m(H, hh, ws_lo, ws_hi)
         for t in range(L + 1):
-            for s in ((t, t + 1) if (segment_safe and t < L) else (t,)):
+            for s in (t, t + 1) if (segment_safe and t < L) else (t,):
                 for row, rhs, mm in zip(H, hh, M):
                     if mm <= SMALL_MATRIX_VALUE:
                         continue  # the row holds everywhere in the workspace (up to HiGHS's tolerance)
-                    h.addConstr(sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos))
-                                    if abs(row[k]) > SMALL_MATRIX_VALUE)
-                                + float(mm) * Z[t][i] <= float(rhs + mm))
+                    h.addConstr(
+                        sum(float(row[k]) * X[s][pos[k]] for k in range(len(pos)) if abs(row[k]) > SMALL_MATRIX_VALUE)
+                        + float(mm) * Z[t][i]
+                        <= float(rhs + mm)
+                    )
     # the successor of the last position: stay (finite) or loop_j (x_L = x_{j-1})
     sels: list[tuple[Any, int, bool]] = []
     if semantics in ("any", "finite"):
@@ -74,10 +95,13 @@ def reference_model(problem, labelled, formula: Formula, L: int, *, segment_safe
             # stay: at rest, |((A - I) x_L + B u)_i| <= Mr_i (1 - stay) for an admissible u
             u = [h.addVariable(lb=-problem.input_bound, ub=problem.input_bound) for _ in range(m)]
             for i in range(n):
-                Mr = float(sum(abs(AI[i, k]) * max(abs(slo[k]), abs(shi[k])) for k in range(n))
-                           + sum(abs(B[i, k]) for k in range(m)) * problem.input_bound)
-                expr = (sum(float(AI[i, k]) * X[L][k] for k in range(n) if AI[i, k] != 0)
-                        + sum(float(B[i, k]) * u[k] for k in range(m) if B[i, k] != 0))
+                Mr = float(
+                    sum(abs(AI[i, k]) * max(abs(slo[k]), abs(shi[k])) for k in range(n))
+                    + sum(abs(B[i, k]) for k in range(m)) * problem.input_bound
+                )
+                expr = sum(float(AI[i, k]) * X[L][k] for k in range(n) if AI[i, k] != 0) + sum(
+                    float(B[i, k]) * u[k] for k in range(m) if B[i, k] != 0
+                )
                 h.addConstr(expr + Mr * s <= Mr)
                 h.addConstr(-1.0 * expr + Mr * s <= Mr)
             continue

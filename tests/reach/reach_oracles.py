@@ -35,8 +35,15 @@ def add_rows(h: highspy.Highs, rows: list[Row]) -> None:
         starts.append(len(index))
         index.extend(coef)
         value.extend(coef.values())
-    h.addRows(len(rows), np.array([r[1] for r in rows]), np.array([r[2] for r in rows]), len(index),
-              np.array(starts, dtype=np.int32), np.array(index, dtype=np.int32), np.array(value, dtype=float))
+    h.addRows(
+        len(rows),
+        np.array([r[1] for r in rows]),
+        np.array([r[2] for r in rows]),
+        len(index),
+        np.array(starts, dtype=np.int32),
+        np.array(index, dtype=np.int32),
+        np.array(value, dtype=float),
+    )
 
 
 def feasible(h: highspy.Highs, rows: list[Row]) -> bool:
@@ -87,8 +94,9 @@ def _faces(shape) -> list[tuple[np.ndarray, float]]:
     return out
 
 
-def oracle_feasible(problem: ReachProblem, horizon: int, *, segments: bool, seconds: float = 60.0,
-                    witness: list | None = None) -> bool | None:
+def oracle_feasible(
+    problem: ReachProblem, horizon: int, *, segments: bool, seconds: float = 60.0, witness: list | None = None
+) -> bool | None:
     """Is there a trajectory of exactly ``horizon`` steps (the spec's Definition 2.3)?
     A big-M MILP solved by HiGHS: True, False, or None (HiGHS's time limit).
 
@@ -189,8 +197,9 @@ def oracle_feasible(problem: ReachProblem, horizon: int, *, segments: bool, seco
     total = n_cont + n_bin
     h.addVars(total, np.concatenate([col_lo, np.zeros(n_bin)]), np.concatenate([col_hi, np.ones(n_bin)]))
     if n_bin:
-        h.changeColsIntegrality(n_bin, np.arange(n_cont, total, dtype=np.int32),
-                                np.full(n_bin, highspy.HighsVarType.kInteger))
+        h.changeColsIntegrality(
+            n_bin, np.arange(n_cont, total, dtype=np.int32), np.full(n_bin, highspy.HighsVarType.kInteger)
+        )
     add_rows(h, rows)
     h.run()
     status = h.getModelStatus()

@@ -57,9 +57,15 @@ def test_coupled_dynamics_are_not_swept() -> None:
     base = maze(1)
     A = np.asarray(base.dynamics.A).copy()
     A[0, 1] = 0.1  # x's position moved by y's: the axes couple
-    coupled = ReachProblem(workspace=base.workspace, obstacles=base.obstacles, goal=base.goal,
-                           dynamics=LinearDynamics(A, base.dynamics.B, base.dynamics.position), start=base.start,
-                           input_bound=base.input_bound, state_bounds=base.state_bounds)
+    coupled = ReachProblem(
+        workspace=base.workspace,
+        obstacles=base.obstacles,
+        goal=base.goal,
+        dynamics=LinearDynamics(A, base.dynamics.B, base.dynamics.position),
+        start=base.start,
+        input_bound=base.input_bound,
+        state_bounds=base.state_bounds,
+    )
     assert _sets(coupled)[2] is None
 
 
@@ -99,9 +105,14 @@ def worlds(draw) -> ReachProblem:
     gx = draw(st.floats(1.0, 9.0))
     vmax = [2.0] * (2 * (order - 1))
     return ReachProblem(
-        workspace=Box((0, 0), (10, 10)), obstacles=tuple(boxes), goal=Box((gx - 0.6, 8.6), (gx + 0.6, 9.6)),
-        dynamics=dyn, start=start, input_bound=1.0 if order == 2 else 0.8,
-        state_bounds=Box(tuple([0.0, 0.0] + [-v for v in vmax]), tuple([10.0, 10.0] + vmax)), max_horizon=40,
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=tuple(boxes),
+        goal=Box((gx - 0.6, 8.6), (gx + 0.6, 9.6)),
+        dynamics=dyn,
+        start=start,
+        input_bound=1.0 if order == 2 else 0.8,
+        state_bounds=Box(tuple([0.0, 0.0] + [-v for v in vmax]), tuple([10.0, 10.0] + vmax)),
+        max_horizon=40,
     )
 
 

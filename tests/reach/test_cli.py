@@ -46,8 +46,9 @@ def test_solve_prints_the_record_and_writes_spec_json(solved: tuple[Path, Path, 
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_validate_accepts_the_result_and_rejects_a_tampered_one(maze1: Path, solved: tuple[Path, Path, object],
-                                                                tmp_path: Path) -> None:
+def test_validate_accepts_the_result_and_rejects_a_tampered_one(
+    maze1: Path, solved: tuple[Path, Path, object], tmp_path: Path
+) -> None:
     out, _, _ = solved
     ok = runner.invoke(app, ["reach", "validate", str(maze1), str(out), "--segment-safe"])
     assert ok.exit_code == 0 and "valid" in ok.output
@@ -93,37 +94,85 @@ def test_infeasible_and_unknown_exit_codes(maze1: Path) -> None:
 
 def test_options_reach_the_planner(tmp_path: Path) -> None:
     small = tmp_path / "corridor.yaml"
-    small.write_text(yaml.safe_dump({
-        "workspace": {"min": [0, 0], "max": [10, 4]},
-        "obstacles": [{"min": [4, 0], "max": [5, 3]}],
-        "goal": {"min": [8, 0.5], "max": [9, 1.5]},
-        "robot": {"dynamics": {"model": "double-integrator", "dt": 1.0}, "start": [1, 1, 0, 0], "input_bound": 1.0},
-    }))
+    small.write_text(
+        yaml.safe_dump(
+            {
+                "workspace": {"min": [0, 0], "max": [10, 4]},
+                "obstacles": [{"min": [4, 0], "max": [5, 3]}],
+                "goal": {"min": [8, 0.5], "max": [9, 1.5]},
+                "robot": {
+                    "dynamics": {"model": "double-integrator", "dt": 1.0},
+                    "start": [1, 1, 0, 0],
+                    "input_bound": 1.0,
+                },
+            }
+        )
+    )
     out = tmp_path / "r.json"
-    r = runner.invoke(app, ["reach", "solve", str(small), "-O", "counterexample=trivial", "--option", "generalize=false",
-                            "--no-segment-safe", "--out", str(out)])
+    r = runner.invoke(
+        app,
+        [
+            "reach",
+            "solve",
+            str(small),
+            "-O",
+            "counterexample=trivial",
+            "--option",
+            "generalize=false",
+            "--no-segment-safe",
+            "--out",
+            str(out),
+        ],
+    )
     assert r.exit_code == 0, r.output
     doc = json.loads(out.read_text())
     assert doc["options"]["counterexample"] == "trivial" and doc["options"]["generalize"] is False
     assert doc["guarantee"] == "samples"
     r = runner.invoke(app, ["reach", "solve", str(small), "--planner", "milp", "--out", str(out)])
     doc = json.loads(out.read_text())
-    assert r.exit_code == 0 and doc["planner"] == doc["solver"] == "milp" and doc["solver_version"].startswith("highspy")
+    assert (
+        r.exit_code == 0 and doc["planner"] == doc["solver"] == "milp" and doc["solver_version"].startswith("highspy")
+    )
 
 
 def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
     out = tmp_path / "r.json"
-    r = runner.invoke(app, ["reach", "solve", str(maze1), "-O", "horizon_search=linear", "-O", "transit=false",
-                            "-O", "guided=false", "-O", "widen=true", "-O", "window-growth=0.5", "-O", "wait_shifts=no",
-                            "--out", str(out)])
+    r = runner.invoke(
+        app,
+        [
+            "reach",
+            "solve",
+            str(maze1),
+            "-O",
+            "horizon_search=linear",
+            "-O",
+            "transit=false",
+            "-O",
+            "guided=false",
+            "-O",
+            "widen=true",
+            "-O",
+            "window-growth=0.5",
+            "-O",
+            "wait_shifts=no",
+            "--out",
+            str(out),
+        ],
+    )
     assert r.exit_code == 0, r.output
     # segment-safe: the horizon is minimal among plans whose consecutive samples share a
     # region, above the proved bound for the problem
     assert "(minimal through the decomposition only)" in r.output and "(proved minimal)" not in r.output
     assert json.loads(out.read_text())["counters"]["minimal_relative_to"] == "decomposition"
     opts = json.loads(out.read_text())["options"]
-    assert (opts["horizon_search"], opts["transit"], opts["guided"], opts["widen"], opts["window_growth"],
-            opts["wait_shifts"]) == ("linear", False, False, True, 0.5, False)
+    assert (
+        opts["horizon_search"],
+        opts["transit"],
+        opts["guided"],
+        opts["widen"],
+        opts["window_growth"],
+        opts["wait_shifts"],
+    ) == ("linear", False, False, True, 0.5, False)
     r = runner.invoke(app, ["reach", "solve", str(maze1), "--paper", "--out", str(out)])
     assert r.exit_code == 0, r.output
     opts = json.loads(out.read_text())["options"]
@@ -133,10 +182,15 @@ def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
 
 def test_bad_options_exit_2(maze1: Path) -> None:
     assert runner.invoke(app, ["reach", "solve", str(maze1), "--planner", "astar"]).exit_code == 2
-    for bad, why in [("counterexample=magic", "unknown value 'magic'"), ("horizon_search=binary", "unknown value"),
-                     ("window_growth=0", "must be positive"), ("window_growth=nan", "expected float"),
-                     ("max_horizon=-3", "below its minimum 0"), ("transit=maybe", "expected bool"),
-                     ("transit", "not KEY=VALUE")]:
+    for bad, why in [
+        ("counterexample=magic", "unknown value 'magic'"),
+        ("horizon_search=binary", "unknown value"),
+        ("window_growth=0", "must be positive"),
+        ("window_growth=nan", "expected float"),
+        ("max_horizon=-3", "below its minimum 0"),
+        ("transit=maybe", "expected bool"),
+        ("transit", "not KEY=VALUE"),
+    ]:
         r = runner.invoke(app, ["reach", "solve", str(maze1), "-O", bad])
         assert r.exit_code == 2 and why in r.output, (bad, r.output)
     assert runner.invoke(app, ["reach", "solve", str(maze1), "--timeout", "-1"]).exit_code == 2
@@ -168,14 +222,16 @@ def test_the_solve_help_loads_no_solver() -> None:
     import subprocess
     import sys
 
-    code = ("import os, sys, types\n"
-            "import plansynth\n"
-            "pkg = types.ModuleType('plansynth.reach')\n"
-            "pkg.__path__ = [os.path.join(os.path.dirname(plansynth.__file__), 'reach')]\n"
-            "sys.modules['plansynth.reach'] = pkg\n"
-            "from plansynth.reach.cli import planner_options_help\n"
-            "assert 'lazy-smt' in planner_options_help()\n"
-            "print(sorted(m for m in ('numpy', 'highspy', 'shapely', 'pysat', 'matplotlib') if m in sys.modules))\n")
+    code = (
+        "import os, sys, types\n"
+        "import plansynth\n"
+        "pkg = types.ModuleType('plansynth.reach')\n"
+        "pkg.__path__ = [os.path.join(os.path.dirname(plansynth.__file__), 'reach')]\n"
+        "sys.modules['plansynth.reach'] = pkg\n"
+        "from plansynth.reach.cli import planner_options_help\n"
+        "assert 'lazy-smt' in planner_options_help()\n"
+        "print(sorted(m for m in ('numpy', 'highspy', 'shapely', 'pysat', 'matplotlib') if m in sys.modules))\n"
+    )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0 and run.stdout == "[]\n", run.stdout + run.stderr
 
@@ -193,24 +249,36 @@ def test_table_runs_the_maze_family() -> None:
     assert runner.invoke(app, ["reach", "table", "--mazes", "one"]).exit_code == 2
 
 
-@pytest.mark.parametrize("args, flag", [
-    (["--paper", "-p", "milp"], "--paper"),
-    (["-p", "lazy-smt-zeroprefix", "-O", "counterexample=trivial"],
-     "lazy-smt-zeroprefix: option 'counterexample': not an option of this planner (a named configuration: its "
-     "other options are fixed); its options: max_horizon, segment_safe"),
-    (["-p", "lazy-smt-paper", "-O", "transit=false"], "lazy-smt-paper: option 'transit'"),
-    (["-p", "milp", "-O", "generalize=false"],
-     "milp: option 'generalize': not an option of this planner; its options: max_horizon, start_horizon, segment_safe"),
-    (["-p", "rrt", "--max-horizon", "40"], "rrt: option 'max_horizon'"),
-    (["-p", "lazy-smt", "-O", "variant=convex"], "lazy-smt: option 'variant'"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["--paper", "-p", "milp"], "--paper"),
+        (
+            ["-p", "lazy-smt-zeroprefix", "-O", "counterexample=trivial"],
+            "lazy-smt-zeroprefix: option 'counterexample': not an option of this planner (a named configuration: its "
+            "other options are fixed); its options: max_horizon, segment_safe",
+        ),
+        (["-p", "lazy-smt-paper", "-O", "transit=false"], "lazy-smt-paper: option 'transit'"),
+        (
+            ["-p", "milp", "-O", "generalize=false"],
+            "milp: option 'generalize': not an option of this planner; its options: max_horizon, start_horizon, segment_safe",
+        ),
+        (["-p", "rrt", "--max-horizon", "40"], "rrt: option 'max_horizon'"),
+        (["-p", "lazy-smt", "-O", "variant=convex"], "lazy-smt: option 'variant'"),
+    ],
+)
 def test_an_option_the_planner_does_not_take_is_one_line_and_exit_2(maze1: Path, args: list[str], flag: str) -> None:
     import os
     import subprocess
     import sys
 
-    run = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(maze1), *args],
-                         capture_output=True, text=True, timeout=120, env={**os.environ, "COLUMNS": "400"})
+    run = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "reach", "solve", str(maze1), *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "COLUMNS": "400"},
+    )
     assert run.returncode == 2, run.stdout + run.stderr
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and flag in lines[0], run.stderr
@@ -228,8 +296,9 @@ def test_paper_mode_takes_the_options_given_on_top(maze1: Path, tmp_path: Path) 
 def test_a_mission_takes_its_options_through_the_same_flag(tmp_path: Path) -> None:
     out = tmp_path / "r.json"
     mission = "examples/reach/mission-patrol.yaml"
-    r = runner.invoke(app, ["reach", "solve", mission, "-O", "semantics=lasso", "-O", "loop_first=false",
-                            "--out", str(out)])
+    r = runner.invoke(
+        app, ["reach", "solve", mission, "-O", "semantics=lasso", "-O", "loop_first=false", "--out", str(out)]
+    )
     assert r.exit_code == 0, r.output
     doc = json.loads(out.read_text())
     assert doc["mission"]["semantics"] == "lasso" and doc["options"]["loop_first"] is False

@@ -57,8 +57,14 @@ def box_region(index: int, lo: tuple[float, float], hi: tuple[float, float]) -> 
 
 def one_region() -> tuple[ReachProblem, Abstraction]:
     """An empty 4 x 2 room, a single integrator with |u| <= 1 per step."""
-    p = ReachProblem(workspace=Box((0, 0), (4, 2)), obstacles=(), goal=Box((3, 0.5), (4, 1.5)),
-                     dynamics=single_integrator(2, 1.0), start=[0.5, 1.0], input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (4, 2)),
+        obstacles=(),
+        goal=Box((3, 0.5), (4, 1.5)),
+        dynamics=single_integrator(2, 1.0),
+        start=[0.5, 1.0],
+        input_bound=1.0,
+    )
     a = Abstraction((box_region(0, (0, 0), (4, 2)),), ((),), (0,), (0,), 0.0)
     return p, a
 
@@ -67,8 +73,14 @@ def l_shape() -> tuple[ReachProblem, Abstraction]:
     """A 3 x 3 room whose lower right 2 x 2 is an obstacle; region 0 the left column
     below y = 2, region 1 the top strip. Their union is not convex: a segment from
     region 0 to region 1 can cut the obstacle's corner."""
-    p = ReachProblem(workspace=Box((0, 0), (3, 3)), obstacles=(Box((1, 0), (3, 2)),), goal=Box((2.5, 2), (3, 2.5)),
-                     dynamics=single_integrator(2, 1.0), start=[0.5, 0.5], input_bound=3.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (3, 3)),
+        obstacles=(Box((1, 0), (3, 2)),),
+        goal=Box((2.5, 2), (3, 2.5)),
+        dynamics=single_integrator(2, 1.0),
+        start=[0.5, 0.5],
+        input_bound=3.0,
+    )
     a = Abstraction((box_region(0, (0, 0), (1, 2)), box_region(1, (0, 2), (3, 3))), ((1,), (0,)), (0,), (1,), 0.0)
     return p, a
 
@@ -160,8 +172,14 @@ def test_time_windows_and_bounds_on_the_maze() -> None:
 
 
 def test_time_windows_without_state_bounds_are_unbounded() -> None:
-    p = ReachProblem(workspace=Box((0, 0), (4, 2)), obstacles=(), goal=Box((3, 0.5), (4, 1.5)),
-                     dynamics=double_integrator(2, 1.0), start=[0.5, 1.0, 0, 0], input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (4, 2)),
+        obstacles=(),
+        goal=Box((3, 0.5), (4, 1.5)),
+        dynamics=double_integrator(2, 1.0),
+        start=[0.5, 1.0, 0, 0],
+        input_bound=1.0,
+    )
     down, up = step_reach(p)
     assert np.all(up <= 4.0)  # the workspace still bounds one step's displacement
     assert physical_lower_bound(p) >= 1

@@ -111,14 +111,21 @@ def problem_from_obstacles(obstacles, size: float, dim: int = 2) -> ReachProblem
     """A problem with these obstacles and the first free half-integer points as start/goal."""
     ws = Box((0.0,) * dim, (size,) * dim)
     pts = [np.array(p) + 0.5 for p in itertools.product(range(int(size)), repeat=dim)]
-    free = [p for p in pts if not any(point_in_interior(o, p) for o in obstacles)
-            and not any(_on_boundary(o, p) for o in obstacles)]
+    free = [
+        p
+        for p in pts
+        if not any(point_in_interior(o, p) for o in obstacles) and not any(_on_boundary(o, p) for o in obstacles)
+    ]
     if len(free) < 2:
         return None
     start, goal = free[0], free[-1]
     return ReachProblem(
-        workspace=ws, obstacles=tuple(obstacles), goal=Box(tuple(goal - 0.25), tuple(goal + 0.25)),
-        dynamics=single_integrator(dim, 1.0), start=start, input_bound=1.0,
+        workspace=ws,
+        obstacles=tuple(obstacles),
+        goal=Box(tuple(goal - 0.25), tuple(goal + 0.25)),
+        dynamics=single_integrator(dim, 1.0),
+        start=start,
+        input_bound=1.0,
     )
 
 
@@ -187,8 +194,12 @@ def test_mirrored_discs_cut_no_slivers(method: str) -> None:
     mirror = shapely.affinity.scale(disc, -1, 1, origin=(5, 5))
     obstacles = tuple(Polygon(tuple(map(tuple, g.exterior.coords[:-1]))) for g in (disc, mirror))
     p = ReachProblem(
-        workspace=Box((0.0, 0.0), (10.0, 10.0)), obstacles=obstacles, goal=Box((4.75, 9.0), (5.25, 9.5)),
-        dynamics=single_integrator(2, 1.0), start=np.array([5.0, 0.5]), input_bound=1.0,
+        workspace=Box((0.0, 0.0), (10.0, 10.0)),
+        obstacles=obstacles,
+        goal=Box((4.75, 9.0), (5.25, 9.5)),
+        dynamics=single_integrator(2, 1.0),
+        start=np.array([5.0, 0.5]),
+        input_bound=1.0,
     )
     a = abstract(p, method=method)
     check_2d(p, a)
@@ -251,7 +262,12 @@ def test_3d_random_and_hand_made() -> None:
         check_boxes(p, abstract(p))
     # a 3-D maze floor: a slab with one hole gives the two halves, the hole, and rim boxes
     slab = [Box((0, 0, 4), (10, 10, 5))]
-    hole_floor = [Box((0, 0, 4), (4, 10, 5)), Box((6, 0, 4), (10, 10, 5)), Box((4, 0, 4), (6, 4, 5)), Box((4, 6, 4), (6, 10, 5))]
+    hole_floor = [
+        Box((0, 0, 4), (4, 10, 5)),
+        Box((6, 0, 4), (10, 10, 5)),
+        Box((4, 0, 4), (6, 4, 5)),
+        Box((4, 6, 4), (6, 10, 5)),
+    ]
     p = problem_from_obstacles(hole_floor, 10, dim=3)
     a = abstract(p)
     check_boxes(p, a)

@@ -52,9 +52,11 @@ def test_bound_at_fifty_states_beats_one_step_bounds() -> None:
     assert W[300, 0] < 300 * up[0] / 10  # 300 steps: far below 300 one-step bounds
     # and it raises the horizon lower bound from rest (the maze's goal is 26 m up)
     assert physical_lower_bound(p) == box_steps(
-        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up, W)
+        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up, W
+    )
     assert physical_lower_bound(p) > box_steps(
-        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up)
+        (np.array([1.0, 1.0]),) * 2, (np.array([1.0, 27.0]), np.array([3.0, 29.0])), down, up
+    )
 
 
 def test_no_table_for_chains_and_steps_read_off_it() -> None:

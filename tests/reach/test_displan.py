@@ -78,8 +78,12 @@ def test_models_are_exactly_the_walks_on_random_graphs(graph: RegionGraph, L: in
 @settings(max_examples=25)
 @given(graphs(max_regions=4), st.data())
 def test_time_windows_exclude_exactly_the_early_and_late_visits(graph: RegionGraph, data) -> None:
-    earliest = data.draw(st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions))
-    to_go = data.draw(st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions))
+    earliest = data.draw(
+        st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions)
+    )
+    to_go = data.draw(
+        st.lists(st.sampled_from([0, 1, 2, math.inf]), min_size=graph.n_regions, max_size=graph.n_regions)
+    )
     for encoding in ("auto", "paths"):
         d = DisPlan(graph, earliest=earliest, to_go=to_go, cardinality=encoding)
         for L in range(4):
@@ -105,8 +109,11 @@ def _satisfies(plan, conflicts, graph: RegionGraph) -> bool:
         for sh in shifts:
             if c.anchored_start and c.anchored_goal and sh != 0:
                 continue
-            if c.literals and all(0 <= t + sh <= H and plan[t + sh] == i for t, i in c.literals) and \
-                    c.last_time + sh <= H:
+            if (
+                c.literals
+                and all(0 <= t + sh <= H and plan[t + sh] == i for t, i in c.literals)
+                and c.last_time + sh <= H
+            ):
                 return False
     return True
 

@@ -12,7 +12,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.dynamics import chain_axis_matrices, double_integrator, integrator_chain, named_model, single_integrator
+from plansynth.reach.dynamics import (
+    chain_axis_matrices,
+    double_integrator,
+    integrator_chain,
+    named_model,
+    single_integrator,
+)
 
 
 def expm(M: np.ndarray) -> np.ndarray:

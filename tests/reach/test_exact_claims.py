@@ -61,8 +61,15 @@ def _problem(ws: Box, obstacles: list, goal: Box, start_pos: list[float], order:
     bounds = None
     if order == 2:
         bounds = Box(tuple(ws.lo) + (-2.0,) * dim, tuple(ws.hi) + (2.0,) * dim)
-    return ReachProblem(workspace=ws, obstacles=tuple(obstacles), goal=goal, dynamics=dyn, start=start,
-                        input_bound=1.0, state_bounds=bounds)
+    return ReachProblem(
+        workspace=ws,
+        obstacles=tuple(obstacles),
+        goal=goal,
+        dynamics=dyn,
+        start=start,
+        input_bound=1.0,
+        state_bounds=bounds,
+    )
 
 
 @st.composite
@@ -108,8 +115,12 @@ def floors(draw) -> ReachProblem:
         # obstacle's interior) would let a trajectory pass through the seam
         # ... and reach 0.1 beyond the workspace: a face flush with the workspace's
         # boundary would leave a zero-width slit between them (see SLITS)
-        obstacles += [Box((-0.1, -0.1, z0), (a, 4.1, z1)), Box((b, -0.1, z0), (4.1, 4.1, z1)),
-                      Box((a - 0.01, -0.1, z0), (b + 0.01, c, z1)), Box((a - 0.01, d, z0), (b + 0.01, 4.1, z1))]
+        obstacles += [
+            Box((-0.1, -0.1, z0), (a, 4.1, z1)),
+            Box((b, -0.1, z0), (4.1, 4.1, z1)),
+            Box((a - 0.01, -0.1, z0), (b + 0.01, c, z1)),
+            Box((a - 0.01, d, z0), (b + 0.01, 4.1, z1)),
+        ]
     obstacles = [o for o in obstacles if all(l < h for l, h in zip(o.lo, o.hi))]
     sx, sy = draw(st.floats(0.2, 3.8)), draw(st.floats(0.2, 3.8))
     gx, gy = draw(st.floats(0.4, 3.6)), draw(st.floats(0.4, 3.6))
@@ -123,8 +134,9 @@ def box_worlds(draw) -> ReachProblem:
     dim = draw(st.sampled_from([2, 2, 3]))
     order = draw(st.sampled_from([1, 2]))
     try:
-        return random_workspace(seed, draw(st.integers(1, 5)), dim=dim, polygons=False, order=order,
-                                dt=1.0 if order == 1 else 0.5)
+        return random_workspace(
+            seed, draw(st.integers(1, 5)), dim=dim, polygons=False, order=order, dt=1.0 if order == 1 else 0.5
+        )
     except RuntimeError:  # no free point for start or goal
         return random_workspace(seed % 97, 2, dim=dim, polygons=False, order=order)
 
@@ -237,8 +249,9 @@ def test_relaxation_admits_every_face_oracle_solution(p: ReachProblem, h: int, k
 def test_oracle_separates_samples_from_segments() -> None:
     """A wall 0.5 thick, single integrator (1 per axis per step): samples jump it (2
     steps from y = 4.6 to 5.4 + ...), segments must go round its end."""
-    p = _problem(Box((0.0, 0.0), (10.0, 10.0)), [Box((0.0, 4.8), (9.0, 5.3))], Box((1.0, 9.0), (2.0, 9.5)),
-                 [1.5, 4.5], 1)
+    p = _problem(
+        Box((0.0, 0.0), (10.0, 10.0)), [Box((0.0, 4.8), (9.0, 5.3))], Box((1.0, 9.0), (2.0, 9.5)), [1.5, 4.5], 1
+    )
     assert oracle_minimum(p, 20, segments=False) == 5  # 4.5 -> 9.0 in y: 4.5 steps of 1
     assert oracle_minimum(p, 20, segments=True) > 5
 
@@ -248,8 +261,9 @@ def test_oracle_face_formulation_is_only_sufficient() -> None:
     (-0.5, 0.7) to (0.4, 1.6): the segment misses the box (the line passes above the
     corner (0, 1)), but its end points lie beyond two different faces, so the face
     formulation refuses one step; samples allow it."""
-    p = _problem(Box((-2.0, -2.0), (3.0, 3.0)), [Box((0.0, 0.0), (1.0, 1.0))], Box((0.35, 1.55), (0.45, 1.65)),
-                 [-0.5, 0.7], 1)
+    p = _problem(
+        Box((-2.0, -2.0), (3.0, 3.0)), [Box((0.0, 0.0), (1.0, 1.0))], Box((0.35, 1.55), (0.45, 1.65)), [-0.5, 0.7], 1
+    )
     assert oracle_feasible(p, 1, segments=False) is True
     assert oracle_feasible(p, 1, segments=True) is False
     assert oracle_feasible(p, 2, segments=True) is True
@@ -302,7 +316,12 @@ def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
     p = load_reach_problem(CLAIMS / "gcs-maze-10.yaml")
     assert p.starts_at_rest
     r = solve(p, "lazy-smt", segment_safe=False, horizon_search="linear")
-    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (ReachStatus.FOUND, True, 19, "problem")
+    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (
+        ReachStatus.FOUND,
+        True,
+        19,
+        "problem",
+    )
     assert oracle_feasible(p, 18, segments=False) is False and oracle_feasible(p, 19, segments=False) is True
     r = solve(p, "lazy-smt", horizon_search="linear")
     assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
@@ -310,11 +329,14 @@ def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
     assert "not proved for the problem" in r.message
 
 
-@pytest.mark.parametrize("target, goal, seg_min, samples_min", [
-    ("3", ((0, 4), (1.5, 6)), 8, 6),
-    ("21", ((4, 0.5), (6, 2.5)), 13, 6),  # samples only, region adjacency claimed 13 minimal
-    ("25", ((4, 3), (6, 6)), 13, 6),
-])
+@pytest.mark.parametrize(
+    "target, goal, seg_min, samples_min",
+    [
+        ("3", ((0, 4), (1.5, 6)), 8, 6),
+        ("21", ((4, 0.5), (6, 2.5)), 13, 6),  # samples only, region adjacency claimed 13 minimal
+        ("25", ((4, 3), (6, 6)), 13, 6),
+    ],
+)
 def test_smc_ltl_map_targets(target: str, goal: tuple, seg_min: int, samples_min: int) -> None:
     """SMC-LTL's 27-region map, one target region at a time: the samples-only minimum
     is proved and is the oracle's; segment-safe, a claim for the problem is the face
@@ -325,8 +347,12 @@ def test_smc_ltl_map_targets(target: str, goal: tuple, seg_min: int, samples_min
     assert oracle_minimum(p, 30, segments=False) == samples_min
     assert oracle_minimum(p, 30, segments=True) == seg_min
     r = solve(p, "lazy-smt", segment_safe=False, horizon_search="linear")
-    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (ReachStatus.FOUND, True,
-                                                                                    samples_min, "problem")
+    assert (r.status, r.validated, r.horizon, r.counters["minimal_relative_to"]) == (
+        ReachStatus.FOUND,
+        True,
+        samples_min,
+        "problem",
+    )
     r = solve(p, "lazy-smt", horizon_search="linear")
     assert r.status is ReachStatus.FOUND and r.validated is True and r.horizon >= seg_min
     assert r.counters["minimal_relative_to"] != "problem" or r.horizon == seg_min
@@ -341,17 +367,31 @@ def _doc(**kw):
 #: found by a review: a goal region next to the start region got "one step to go" from the
 #: transit layer's gap (never below 1), so no plan could end in it: "infeasible up to 9" as
 #: a proof, where a 5-step trajectory exists (damped double integrator, explicit A, B)
-DAMPED = dict(workspace={"min": [0, 0], "max": [10, 10]}, obstacles=[{"min": [5, 0], "max": [8, 2]}],
-              goal={"min": [5.4, 8], "max": [6.2, 9]}, max_horizon=9,
-              robot={"dynamics": {"A": [[1, 0, 0.5, 0], [0, 1, 0, 0.5], [0, 0, 0.8, 0], [0, 0, 0, 0.8]],
-                                  "B": [[0.125, 0], [0, 0.125], [0.5, 0], [0, 0.5]], "position": [0, 1]},
-                     "start": [3, 8, 0, 0], "input_bound": 1.0,
-                     "state_bounds": {"min": [0, 0, -2, -2], "max": [10, 10, 2, 2]}})
+DAMPED = dict(
+    workspace={"min": [0, 0], "max": [10, 10]},
+    obstacles=[{"min": [5, 0], "max": [8, 2]}],
+    goal={"min": [5.4, 8], "max": [6.2, 9]},
+    max_horizon=9,
+    robot={
+        "dynamics": {
+            "A": [[1, 0, 0.5, 0], [0, 1, 0, 0.5], [0, 0, 0.8, 0], [0, 0, 0, 0.8]],
+            "B": [[0.125, 0], [0, 0.125], [0.5, 0], [0, 0.5]],
+            "position": [0, 1],
+        },
+        "start": [3, 8, 0, 0],
+        "input_bound": 1.0,
+        "state_bounds": {"min": [0, 0, -2, -2], "max": [10, 10, 2, 2]},
+    },
+)
 #: found by a review: the goal's only free part is a face of a region (the goal's interior
 #: beside it is obstacle), which counted as no goal region: "infeasible up to 5" as a proof
-GOAL_FACE = dict(workspace={"min": [0, 0], "max": [10, 10]}, obstacles=[{"min": [4, 4], "max": [6, 9]}],
-                 goal={"min": [4, 4], "max": [6, 9.5]}, max_horizon=5,
-                 robot={"dynamics": {"model": "single-integrator", "dt": 1}, "start": [5, 1], "input_bound": 1})
+GOAL_FACE = dict(
+    workspace={"min": [0, 0], "max": [10, 10]},
+    obstacles=[{"min": [4, 4], "max": [6, 9]}],
+    goal={"min": [4, 4], "max": [6, 9.5]},
+    max_horizon=5,
+    robot={"dynamics": {"model": "single-integrator", "dt": 1}, "start": [5, 1], "input_bound": 1},
+)
 
 
 @pytest.mark.parametrize("doc,minimum", [(DAMPED, 5), (GOAL_FACE, 3)], ids=["goal-region-to-go", "goal-on-a-face"])

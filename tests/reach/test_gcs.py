@@ -123,8 +123,14 @@ def test_gcs_unknown_variant():
 def test_single_integrator_gcs():
     from plansynth.reach.dynamics import single_integrator
 
-    p = ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(Box((3, 0), (4, 7)),), goal=Box((8, 1), (9, 2)),
-                     dynamics=single_integrator(2, 1.0), start=[1, 1], input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Box((3, 0), (4, 7)),),
+        goal=Box((8, 1), (9, 2)),
+        dynamics=single_integrator(2, 1.0),
+        start=[1, 1],
+        input_bound=1.0,
+    )
     r = solve(p, "gcs", Budget(seconds=60))
     assert r.status is ReachStatus.FOUND and r.validated, r.message
     assert np.abs(r.trajectory.inputs).max() <= 1.0 + 1e-6

@@ -29,8 +29,14 @@ def test_the_reference_walks_the_region_graph_from_start_to_goal(problem: ReachP
 
 
 def test_no_route_to_a_walled_off_goal() -> None:
-    p = ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(Box((6, 6), (10, 7)), Box((6, 7), (7, 10))),
-                     goal=Box((8, 8), (9, 9)), dynamics=single_integrator(2, 1.0), start=[1, 1], input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Box((6, 6), (10, 7)), Box((6, 7), (7, 10))),
+        goal=Box((8, 8), (9, 9)),
+        dynamics=single_integrator(2, 1.0),
+        start=[1, 1],
+        input_bound=1.0,
+    )
     ab = abstract(p)
     assert route(p, ab) is None and reference_plan(p, ab, 10) is None
 

@@ -67,8 +67,19 @@ def test_the_cli_prints_no_banner(tmp_path) -> None:
     from pathlib import Path
 
     maze = Path(__file__).resolve().parents[2] / "examples" / "reach" / "maze-1.yaml"
-    run = subprocess.run([str(Path(sys.executable).with_name("plansynth")), "reach", "solve", str(maze), "--out", str(tmp_path / "p.json")],
-                         capture_output=True, text=True, timeout=600)
+    run = subprocess.run(
+        [
+            str(Path(sys.executable).with_name("plansynth")),
+            "reach",
+            "solve",
+            str(maze),
+            "--out",
+            str(tmp_path / "p.json"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     assert run.stdout.startswith("lazy-smt: found"), run.stdout
     assert "Running HiGHS" not in run.stdout + run.stderr

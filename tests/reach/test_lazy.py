@@ -116,13 +116,20 @@ def test_time_budget_gives_unknown() -> None:
 @pytest.mark.parametrize("counterexample", ["zeroprefix", "trivial"])
 @pytest.mark.parametrize("generalize", [False, True])
 def test_strategies_agree_on_the_horizon(counterexample: str, generalize: bool) -> None:
-    p = ReachProblem(workspace=Box((0, 0), (10, 6)), obstacles=(Box((3, 0), (4, 4)), Box((6, 2), (7, 6))),
-                     goal=Box((8.5, 0.5), (9.5, 1.5)), dynamics=double_integrator(2, 1.0), start=[1, 1, 0, 0],
-                     input_bound=1.0, state_bounds=Box((0, 0, -1.5, -1.5), (10, 6, 1.5, 1.5)))
+    p = ReachProblem(
+        workspace=Box((0, 0), (10, 6)),
+        obstacles=(Box((3, 0), (4, 4)), Box((6, 2), (7, 6))),
+        goal=Box((8.5, 0.5), (9.5, 1.5)),
+        dynamics=double_integrator(2, 1.0),
+        start=[1, 1, 0, 0],
+        input_bound=1.0,
+        state_bounds=Box((0, 0, -1.5, -1.5), (10, 6, 1.5, 1.5)),
+    )
     # the paper's loop finds the smallest horizon whatever the counterexamples
     r = solve(p, counterexample=counterexample, generalize=generalize, horizon_search="linear")
-    reference = solve(p, counterexample="zeroprefix", generalize=False, slack_weights="uniform",
-                      horizon_search="linear")
+    reference = solve(
+        p, counterexample="zeroprefix", generalize=False, slack_weights="uniform", horizon_search="linear"
+    )
     assert r.status is ReachStatus.FOUND and r.validated
     assert r.horizon == reference.horizon
 
@@ -191,8 +198,10 @@ INFEASIBLE_EXAMPLES = {"mission-unsat"}
 
 @pytest.mark.parametrize(
     "name",
-    [pytest.param(p.stem, marks=pytest.mark.slow) if p.stem in SLOW_EXAMPLES else p.stem
-     for p in sorted(EXAMPLES.glob("*.yaml"))],
+    [
+        pytest.param(p.stem, marks=pytest.mark.slow) if p.stem in SLOW_EXAMPLES else p.stem
+        for p in sorted(EXAMPLES.glob("*.yaml"))
+    ],
 )
 def test_every_example_is_solved_and_validated(name: str) -> None:
     p = load_reach_problem(EXAMPLES / f"{name}.yaml")
@@ -205,8 +214,14 @@ def test_every_example_is_solved_and_validated(name: str) -> None:
 
 
 def test_start_in_the_goal_is_horizon_zero() -> None:
-    p = ReachProblem(workspace=Box((0, 0), (4, 4)), obstacles=(Box((2, 2), (3, 3)),), goal=Box((0, 0), (1, 1)),
-                     dynamics=single_integrator(2, 1.0), start=[0.5, 0.5], input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (4, 4)),
+        obstacles=(Box((2, 2), (3, 3)),),
+        goal=Box((0, 0), (1, 1)),
+        dynamics=single_integrator(2, 1.0),
+        start=[0.5, 0.5],
+        input_bound=1.0,
+    )
     r = solve(p)
     assert r.status is ReachStatus.FOUND and r.horizon == 0 and r.validated
     assert r.trajectory.inputs.shape == (0, 2)
@@ -219,18 +234,30 @@ def test_explicit_dynamics_without_state_bounds() -> None:
 
     A = np.array([[1, 0, 0.5, 0], [0, 1, 0, 0.5], [0, 0, 0.8, 0], [0, 0, 0, 0.8]])
     B = np.array([[0.1, 0], [0, 0.1], [0.5, 0], [0, 0.5]])
-    p = ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(Box((4, 0), (5, 7)),), goal=Box((8, 1), (9, 2)),
-                     dynamics=LinearDynamics(A, B, (0, 1)), start=[1, 1, 0, 0], input_bound=1.0, max_horizon=60)
+    p = ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Box((4, 0), (5, 7)),),
+        goal=Box((8, 1), (9, 2)),
+        dynamics=LinearDynamics(A, B, (0, 1)),
+        start=[1, 1, 0, 0],
+        input_bound=1.0,
+        max_horizon=60,
+    )
     r = solve(p)
     assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe
     assert r.counters["physical_bound"] >= 0
 
 
 def test_three_dimensional_boxes() -> None:
-    p = ReachProblem(workspace=Box((0, 0, 0), (4, 4, 4)), obstacles=(Box((0, 1.5, 0), (3, 2.5, 4)),),
-                     goal=Box((0.5, 3, 0.5), (1.5, 3.8, 1.5)), dynamics=double_integrator(3, 0.5),
-                     start=[0.5, 0.5, 0.5, 0, 0, 0], input_bound=1.0,
-                     state_bounds=Box((0, 0, 0, -1, -1, -1), (4, 4, 4, 1, 1, 1)))
+    p = ReachProblem(
+        workspace=Box((0, 0, 0), (4, 4, 4)),
+        obstacles=(Box((0, 1.5, 0), (3, 2.5, 4)),),
+        goal=Box((0.5, 3, 0.5), (1.5, 3.8, 1.5)),
+        dynamics=double_integrator(3, 0.5),
+        start=[0.5, 0.5, 0.5, 0, 0, 0],
+        input_bound=1.0,
+        state_bounds=Box((0, 0, 0, -1, -1, -1), (4, 4, 4, 1, 1, 1)),
+    )
     r = solve(p)
     milp = solve(p, "milp", max_horizon=r.horizon)
     assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe

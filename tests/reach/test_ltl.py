@@ -9,8 +9,27 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from plansynth.reach.mission.ltl import (
-    And, Const, Finally, Globally, Iff, Implies, Lasso, LtlSyntaxError, Next, Not, Or, Prop, Release, Until,
-    finite_word, holds, holds_at, holds_unrolled, nnf, parse, props,
+    And,
+    Const,
+    Finally,
+    Globally,
+    Iff,
+    Implies,
+    Lasso,
+    LtlSyntaxError,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+    finite_word,
+    holds,
+    holds_at,
+    holds_unrolled,
+    nnf,
+    parse,
+    props,
 )
 
 NAMES = ("a", "b", "c")
@@ -22,14 +41,17 @@ def formulas(depth: int = 4) -> st.SearchStrategy:
     def extend(inner: st.SearchStrategy) -> st.SearchStrategy:
         unary = st.sampled_from([Not, Next, Finally, Globally])
         binary = st.sampled_from([And, Or, Implies, Iff, Until, Release])
-        return st.one_of(st.builds(lambda op, f: op(f), unary, inner),
-                         st.builds(lambda op, f, g: op(f, g), binary, inner, inner))
+        return st.one_of(
+            st.builds(lambda op, f: op(f), unary, inner), st.builds(lambda op, f, g: op(f, g), binary, inner, inner)
+        )
 
     return st.recursive(leaf, extend, max_leaves=8)
 
 
 letters = st.frozensets(st.sampled_from(NAMES))
-lassos = st.builds(lambda p, l: Lasso(tuple(p), tuple(l)), st.lists(letters, max_size=4), st.lists(letters, min_size=1, max_size=4))
+lassos = st.builds(
+    lambda p, l: Lasso(tuple(p), tuple(l)), st.lists(letters, max_size=4), st.lists(letters, min_size=1, max_size=4)
+)
 
 
 @settings(max_examples=400)

@@ -25,8 +25,14 @@ def test_big_m_is_the_largest_violation_over_the_box() -> None:
 
 
 def corridor() -> ReachProblem:
-    return ReachProblem(workspace=Box((0, 0), (10, 4)), obstacles=(Box((4, 0), (5, 3)),), goal=Box((8, 0.5), (9, 1.5)),
-                        dynamics=single_integrator(2, 1.0), start=[1, 1], input_bound=1.0)
+    return ReachProblem(
+        workspace=Box((0, 0), (10, 4)),
+        obstacles=(Box((4, 0), (5, 3)),),
+        goal=Box((8, 0.5), (9, 1.5)),
+        dynamics=single_integrator(2, 1.0),
+        start=[1, 1],
+        input_bound=1.0,
+    )
 
 
 def test_milp_finds_the_shortest_horizon_and_a_validated_trajectory() -> None:

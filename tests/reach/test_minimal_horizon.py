@@ -44,9 +44,14 @@ def moving_start() -> ReachProblem:
     """A wall with a gap; the robot starts moving away from it (not at rest: no
     monotonicity, so the window below the plan is refuted as a whole)."""
     return ReachProblem(
-        workspace=Box((0, 0), (8, 8)), obstacles=(Box((0, 3.5), (6, 4.5)),), goal=Box((1, 6), (2, 7)),
-        dynamics=double_integrator(2, 0.5), start=[1, 1, -0.5, 0], input_bound=1.0,
-        state_bounds=Box((0, 0, -2, -2), (8, 8, 2, 2)), max_horizon=60,
+        workspace=Box((0, 0), (8, 8)),
+        obstacles=(Box((0, 3.5), (6, 4.5)),),
+        goal=Box((1, 6), (2, 7)),
+        dynamics=double_integrator(2, 0.5),
+        start=[1, 1, -0.5, 0],
+        input_bound=1.0,
+        state_bounds=Box((0, 0, -2, -2), (8, 8, 2, 2)),
+        max_horizon=60,
     )
 
 
@@ -143,9 +148,14 @@ def walls(draw) -> ReachProblem:
     vx = draw(st.sampled_from([0.0, 0.0, 0.0, -0.5, 0.5]))
     sx, gx = draw(st.floats(1.0, size - 1.0)), draw(st.floats(1.5, size - 1.5))
     return ReachProblem(
-        workspace=Box((0, 0), (size, size)), obstacles=tuple(boxes), goal=Box((gx - 1.0, size - 2.0), (gx + 1.0, size - 0.5)),
-        dynamics=double_integrator(2, 0.5), start=[sx, 1, vx, 0], input_bound=1.0,
-        state_bounds=Box((0, 0, -2, -2), (size, size, 2, 2)), max_horizon=120,
+        workspace=Box((0, 0), (size, size)),
+        obstacles=tuple(boxes),
+        goal=Box((gx - 1.0, size - 2.0), (gx + 1.0, size - 0.5)),
+        dynamics=double_integrator(2, 0.5),
+        start=[sx, 1, vx, 0],
+        input_bound=1.0,
+        state_bounds=Box((0, 0, -2, -2), (size, size, 2, 2)),
+        max_horizon=120,
     )
 
 
@@ -170,8 +180,11 @@ class _TimedStays:
     start keeps a plan feasible, so feasibility is monotone in the horizon), and
     refutes the others with sound conflicts: a step back, or the whole plan."""
 
-    FEASIBLE = (lambda a, b, c: a >= 8 and b == 5 and c >= 4, lambda a, b, c: a >= 5 and b == 2 and c == 7,
-                lambda a, b, c: a >= 6 and b == 3 and c == 3)  # shortest: 6 + 3 + 3 steps, horizon 11
+    FEASIBLE = (
+        lambda a, b, c: a >= 8 and b == 5 and c >= 4,
+        lambda a, b, c: a >= 5 and b == 2 and c == 7,
+        lambda a, b, c: a >= 6 and b == 3 and c == 3,
+    )  # shortest: 6 + 3 + 3 steps, horizon 11
 
     def __init__(self) -> None:
         self.checked: list[int] = []
@@ -183,8 +196,9 @@ class _TimedStays:
         self.checked.append(N)
         for t in range(N):
             if regions[t + 1] < regions[t]:
-                return Conflict(((t, regions[t]), (t + 1, regions[t + 1])), anchored_start=False, anchored_goal=False,
-                                horizon=N)
+                return Conflict(
+                    ((t, regions[t]), (t + 1, regions[t + 1])), anchored_start=False, anchored_goal=False, horizon=N
+                )
         a, b, c = (sum(1 for r in regions if r == k) for k in (0, 1, 2))
         if a and b and c and any(f(a, b, c) for f in self.FEASIBLE):
             return Feasible(None)  # type: ignore[arg-type]
@@ -213,5 +227,7 @@ def test_prove_minimal_finds_the_least_horizon_past_a_stuck_retiming() -> None:
     assert any(f(a, b, c) for f in _TimedStays.FEASIBLE)
     for h in range(2, 11):  # every shorter horizon closed, none realisable
         assert h in displan.closed
-        assert not any(f(a, b, h + 1 - a - b) for f in _TimedStays.FEASIBLE for a in range(1, h) for b in range(1, h + 1 - a))
+        assert not any(
+            f(a, b, h + 1 - a - b) for f in _TimedStays.FEASIBLE for a in range(1, h) for b in range(1, h + 1 - a)
+        )
     displan.delete()

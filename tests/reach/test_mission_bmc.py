@@ -18,7 +18,9 @@ from test_ltl import NAMES, formulas
 
 LETTERS = [frozenset(c) for k in range(len(NAMES) + 1) for c in itertools.combinations(NAMES, k)]
 N = len(LETTERS)
-COMPLETE = RegionGraph(N, tuple(tuple(j for j in range(N) if j != i) for i in range(N)), tuple(range(N)), tuple(range(N)))
+COMPLETE = RegionGraph(
+    N, tuple(tuple(j for j in range(N) if j != i) for i in range(N)), tuple(range(N)), tuple(range(N))
+)
 
 
 def encoding_accepts(f, regions, loop_start, semantics="any"):
@@ -43,7 +45,11 @@ def test_finite_words(f, regions):
 
 
 @settings(max_examples=150, deadline=None)
-@given(formulas(), st.lists(st.sampled_from(range(N)), max_size=3), st.lists(st.sampled_from(range(N)), min_size=1, max_size=3))
+@given(
+    formulas(),
+    st.lists(st.sampled_from(range(N)), max_size=3),
+    st.lists(st.sampled_from(range(N)), min_size=1, max_size=3),
+)
 def test_lasso_words(f, prefix, loop):
     word = Lasso(tuple(LETTERS[r] for r in prefix), tuple(LETTERS[r] for r in loop))
     regions = prefix + loop + [loop[0]]  # x_L = x_k with k = len(prefix)
@@ -63,7 +69,7 @@ def test_every_plan_found_satisfies_the_formula(f, semantics):
                 assert semantics != "lasso" and holds(f, finite_word(ls))
             else:
                 assert semantics != "finite" and ls[-1] == ls[plan.loop_start]
-                assert holds(f, Lasso(tuple(ls[: plan.loop_start]), tuple(ls[plan.loop_start:-1])))
+                assert holds(f, Lasso(tuple(ls[: plan.loop_start]), tuple(ls[plan.loop_start : -1])))
             break
         d.close(L)
     d.delete()

@@ -40,6 +40,7 @@ def brute_force_min_horizon(graph, labels, earliest, f, max_l):
     """The smallest L <= max_l with a walk r_0..r_L (start region, stay or adjacent,
     r_t not before earliest) whose finite word, or lasso word (r_L = r_k), satisfies f."""
     for L in range(max_l + 1):
+
         def walks(prefix):
             t = len(prefix)
             if t == L + 1:
@@ -49,6 +50,7 @@ def brute_force_min_horizon(graph, labels, earliest, f, max_l):
             for r in cands:
                 if earliest[r] <= t:
                     yield from walks(prefix + (r,))
+
         for w in walks(()):
             ls = [labels[r] for r in w]
             if holds(f, finite_word(ls)):

@@ -34,8 +34,9 @@ def rows_of(lp: highspy.HighsLp) -> list[tuple[tuple[tuple[int, float], ...], fl
             r, c = (int(index[k]), outer) if colwise else (outer, int(index[k]))
             rows[r][c] = rows[r].get(c, 0.0) + float(value[k])
     lo, hi = np.asarray(lp.row_lower_), np.asarray(lp.row_upper_)
-    return sorted((tuple(sorted((c, v) for c, v in r.items() if v != 0.0)), float(l), float(u))
-                  for r, l, u in zip(rows, lo, hi))
+    return sorted(
+        (tuple(sorted((c, v) for c, v in r.items() if v != 0.0)), float(l), float(u)) for r, l, u in zip(rows, lo, hi)
+    )
 
 
 def assert_same_lp(new: highspy.HighsLp, old: highspy.HighsLp) -> None:
@@ -59,11 +60,23 @@ EXAMPLES = ["mission-patrol", "mission-visit", "mission-avoid-until", "mission-m
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
-@pytest.mark.parametrize("L, semantics, segment_safe", [(0, "any", True), (1, "any", True), (4, "any", True),
-                                                         (0, "finite", True), (4, "finite", True),
-                                                         (1, "lasso", False), (4, "lasso", False), (4, "lasso", True)])
+@pytest.mark.parametrize(
+    "L, semantics, segment_safe",
+    [
+        (0, "any", True),
+        (1, "any", True),
+        (4, "any", True),
+        (0, "finite", True),
+        (4, "finite", True),
+        (1, "lasso", False),
+        (4, "lasso", False),
+        (4, "lasso", True),
+    ],
+)
 def test_the_array_build_is_the_expression_build(name, L, semantics, segment_safe):
-    new, old = both(load_reach_problem(f"examples/reach/{name}.yaml"), L, semantics=semantics, segment_safe=segment_safe)
+    new, old = both(
+        load_reach_problem(f"examples/reach/{name}.yaml"), L, semantics=semantics, segment_safe=segment_safe
+    )
     assert new.lp.num_row_ > 0
     assert_same_lp(new.lp, old.getLp())
 
@@ -74,8 +87,9 @@ def test_a_lasso_at_horizon_0_has_no_successor_and_is_infeasible(name):
     infeasible (the expression build raised there: ``sum([]) == 1.0`` is a bool)."""
     p = load_reach_problem(f"examples/reach/{name}.yaml")
     la = label_abstraction(p)
-    status, regions, loop_start, _ = solve_mission_horizon(planning_problem(p), la, parse(p.mission), 0,
-                                                           semantics="lasso")
+    status, regions, loop_start, _ = solve_mission_horizon(
+        planning_problem(p), la, parse(p.mission), 0, semantics="lasso"
+    )
     assert (status, regions, loop_start) == ("infeasible", None, None)
     with pytest.raises(AttributeError):
         reference_model(planning_problem(p), la, parse(p.mission), 0, semantics="lasso")

@@ -39,8 +39,9 @@ from test_ltl import formulas
 EXAMPLES = "examples/reach"
 
 
-@pytest.mark.parametrize("name, semantics", [("mission-visit", "finite"), ("mission-avoid-until", "finite"),
-                                             ("mission-patrol", "lasso")])
+@pytest.mark.parametrize(
+    "name, semantics", [("mission-visit", "finite"), ("mission-avoid-until", "finite"), ("mission-patrol", "lasso")]
+)
 def test_examples_solve_and_pass_the_checker(name, semantics):
     p = load_reach_problem(f"{EXAMPLES}/{name}.yaml")
     r = solve(p, "lazy-smt", Budget(seconds=120))
@@ -122,6 +123,7 @@ def test_reach_validate_rejects_a_violating_trajectory_naming_the_first_failing_
     # the first step whose segment [p_t, p_t+1] enters the kitchen's interior
     from shapely.geometry import LineString
     from shapely.geometry import box as sbox
+
     P = r.trajectory.states[:, :2]
     kitchen = sbox(2, 2, 6, 6).buffer(-1e-6)
     first = next(t for t in range(len(P) - 1) if LineString([P[t], P[t + 1]]).intersects(kitchen))
@@ -197,7 +199,9 @@ def test_lazy_and_milp_ltl_agree_and_every_plan_satisfies_the_mission(p):
     # the horizon bound prunes nothing the search from 0 would find: the MILP from 0 agrees
     unbounded = solve(p, "milp-ltl", Budget(seconds=60), horizon_bound=False)
     assert unbounded.status is milp.status and unbounded.horizon == milp.horizon
-    assert milp.counters.get("horizon_bound", 0) <= (milp.horizon if milp.status is ReachStatus.FOUND else p.max_horizon + 1)
+    assert milp.counters.get("horizon_bound", 0) <= (
+        milp.horizon if milp.status is ReachStatus.FOUND else p.max_horizon + 1
+    )
 
 
 # ------------------------------------------------------------ soundness of learned clauses
@@ -232,7 +236,7 @@ def oracle_feasible(p: ReachProblem, ab, walk, loop_start, segment_safe=True) ->
             rows.append((coef, 0.0, 0.0))
     for t, r in enumerate(walk):
         reg = ab.regions[r]
-        for s in ((t, t + 1) if segment_safe and t < N else (t,)):
+        for s in (t, t + 1) if segment_safe and t < N else (t,):
             for row, b in zip(reg.H, reg.h):
                 coef: dict[int, float] = {}
                 for c, k in zip(row, dyn.position):
@@ -294,8 +298,10 @@ def walks_through(ab, N, fixed: dict[int, int], close: int | None = None, limit:
             target = r if t == close else walk[close]
             return chain(sorted([(t, r)] + later + [(N, target)]))
         # walk[close] is still open: some region q for it (and for walk[N])
-        return any(chain(sorted([(t, r)] + later + [(close, q), (N, q)]))
-                   for q in ([fixed[close]] if close in fixed else range(R)))
+        return any(
+            chain(sorted([(t, r)] + later + [(close, q), (N, q)]))
+            for q in ([fixed[close]] if close in fixed else range(R))
+        )
 
     def extend(walk: tuple[int, ...]) -> None:
         if len(out) >= limit:
@@ -317,10 +323,17 @@ def small_problems() -> list[ReachProblem]:
     """The patrol example and a room whose wall makes the patrol between a and b long
     (both learn CON-PLAN conflicts and refuted loops below their max horizons)."""
     patrol = load_reach_problem(f"{EXAMPLES}/mission-patrol.yaml")
-    room = ReachProblem(workspace=Box((0, 0), (6, 6)), obstacles=(Box((0, 2), (4, 3)),), goal=None,
-                        dynamics=patrol.dynamics, start=[0.5, 0.5, 0, 0], input_bound=1.5,
-                        state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)),
-                        labels=(("a", Box((0, 4), (2, 6))), ("b", Box((4, 0), (6, 2)))), mission="G F a & G F b")
+    room = ReachProblem(
+        workspace=Box((0, 0), (6, 6)),
+        obstacles=(Box((0, 2), (4, 3)),),
+        goal=None,
+        dynamics=patrol.dynamics,
+        start=[0.5, 0.5, 0, 0],
+        input_bound=1.5,
+        state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)),
+        labels=(("a", Box((0, 4), (2, 6))), ("b", Box((4, 0), (6, 2)))),
+        mission="G F a & G F b",
+    )
     return [replace(patrol, max_horizon=12), replace(room, max_horizon=14)]
 
 
@@ -385,7 +398,7 @@ def test_the_loop_lp_agrees_with_an_lp_written_from_scratch(which):
                     assert len(traj.states) == H + 1
                     for t, r in enumerate(w):  # p_t in r_t (and p_t+1, segments)
                         reg = ab.regions[r]
-                        for s_ in ((t, t + 1) if seg and t < H else (t,)):
+                        for s_ in (t, t + 1) if seg and t < H else (t,):
                             pos = traj.states[s_][list(p.dynamics.position)]
                             assert np.all(np.asarray(reg.H) @ pos <= np.asarray(reg.h) + 1e-6), (w, t, s_)
                     if close is not None:
@@ -448,7 +461,9 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
     n_conflicts = len(placements)
     for lits, k, L, shifted in loops:
         period = L - k
-        variants = [lits] if not shifted else [tuple((k + (t - k + s) % period, r) for t, r in lits) for s in range(period)]
+        variants = (
+            [lits] if not shifted else [tuple((k + (t - k + s) % period, r) for t, r in lits) for s in range(period)]
+        )
         mine = []
         for H in range(L if not shifted else 1, (L if not shifted else p.max_horizon) + 1):
             s = H - L
@@ -466,8 +481,10 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
             for w in walks_through(ab, H, fixed, close=close, limit=1, seed=n * 100 + j):
                 assert not oracle_feasible(p, ab, w, close), f"{what} excludes the feasible {w}"
                 checked[close is not None] += 1
-    print(f"problem {which}: {len(conflicts)} conflicts, {len(loops)} loop clauses; "
-          f"{checked[0]} finite and {checked[1]} lasso walks refuted")
+    print(
+        f"problem {which}: {len(conflicts)} conflicts, {len(loops)} loop clauses; "
+        f"{checked[0]} finite and {checked[1]} lasso walks refuted"
+    )
     assert checked[0] > 0 and checked[1] > 0
 
 
@@ -483,10 +500,20 @@ def test_the_checker_shares_no_code_with_the_planner():
     tree = ast.parse(inspect.getsource(check))
     imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
     imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
-    planner_side = ("plansynth.reach.mission.bmc", "plansynth.reach.mission.planner", "plansynth.reach.mission.milp",
-                    "plansynth.reach.mission.theory", "plansynth.reach.mission.looplp", "plansynth.reach.mission.plans",
-                    "plansynth.reach.mission.labels", "plansynth.reach.mission.proof", "plansynth.reach.abstraction",
-                    "plansynth.reach.lazy", "plansynth.reach.planners", "plansynth.reach.highs")
+    planner_side = (
+        "plansynth.reach.mission.bmc",
+        "plansynth.reach.mission.planner",
+        "plansynth.reach.mission.milp",
+        "plansynth.reach.mission.theory",
+        "plansynth.reach.mission.looplp",
+        "plansynth.reach.mission.plans",
+        "plansynth.reach.mission.labels",
+        "plansynth.reach.mission.proof",
+        "plansynth.reach.abstraction",
+        "plansynth.reach.lazy",
+        "plansynth.reach.planners",
+        "plansynth.reach.highs",
+    )
     assert not [m for m in imported if m.startswith(planner_side)], imported
     assert "plansynth.reach.mission.ltl" in imported
 
@@ -538,12 +565,18 @@ def test_the_shortest_mission_horizon_is_claimed_through_the_decomposition_only(
     from plansynth.reach.trajectory import Trajectory
     from plansynth.reach.validate import validate
 
-    obs = [{"min": [x, 0], "max": [x + 0.2, 1]} for x in (2, 4, 6)] + \
-          [{"min": [x, 9], "max": [x + 0.2, 10]} for x in (3, 5, 7)]
-    p = reach_problem_from_dict({"workspace": {"min": [0, 0], "max": [10, 10]}, "obstacles": obs,
-                                 "labels": {"a": {"min": [9, 4], "max": [10, 6]}}, "mission": "F a",
-                                 "robot": {"dynamics": {"model": "single-integrator", "dt": 1},
-                                           "start": [0.5, 5], "input_bound": 20}})
+    obs = [{"min": [x, 0], "max": [x + 0.2, 1]} for x in (2, 4, 6)] + [
+        {"min": [x, 9], "max": [x + 0.2, 10]} for x in (3, 5, 7)
+    ]
+    p = reach_problem_from_dict(
+        {
+            "workspace": {"min": [0, 0], "max": [10, 10]},
+            "obstacles": obs,
+            "labels": {"a": {"min": [9, 4], "max": [10, 6]}},
+            "mission": "F a",
+            "robot": {"dynamics": {"model": "single-integrator", "dt": 1}, "start": [0.5, 5], "input_bound": 20},
+        }
+    )
     r = solve(p)
     assert r.status is ReachStatus.FOUND and r.horizon == 2
     assert r.counters["minimal"] and r.counters["minimal_relative_to"] == "decomposition"
@@ -554,11 +587,14 @@ def test_the_shortest_mission_horizon_is_claimed_through_the_decomposition_only(
 def _edge_of_b(mission: str = "F a & G !b"):
     from plansynth.reach.fileformat import reach_problem_from_dict
 
-    return reach_problem_from_dict({
-        "workspace": {"min": [0, 0], "max": [10, 10]},
-        "labels": {"a": {"min": [4, 0], "max": [5, 10]}, "b": {"min": [5, 0], "max": [10, 10]}},
-        "mission": mission,
-        "robot": {"dynamics": {"model": "double-integrator", "dt": 1}, "start": [0.4, 5, 0, 0], "input_bound": 1}})
+    return reach_problem_from_dict(
+        {
+            "workspace": {"min": [0, 0], "max": [10, 10]},
+            "labels": {"a": {"min": [4, 0], "max": [5, 10]}, "b": {"min": [5, 0], "max": [10, 10]}},
+            "mission": mission,
+            "robot": {"dynamics": {"model": "double-integrator", "dt": 1}, "start": [0.4, 5, 0, 0], "input_bound": 1},
+        }
+    )
 
 
 def test_a_finite_plan_must_end_where_the_robot_can_stay():

@@ -67,9 +67,15 @@ def test_the_unsat_example_is_proved_by_its_geometry_and_a_touching_variant_is_n
 
 
 @settings(max_examples=40, deadline=None)
-@given(formulas(depth=3), st.integers(0, 10**6),
-       st.lists(st.tuples(st.integers(0, 7), st.integers(0, 7), st.integers(1, 3), st.integers(1, 3)),
-                min_size=len(NAMES), max_size=len(NAMES)))
+@given(
+    formulas(depth=3),
+    st.integers(0, 10**6),
+    st.lists(
+        st.tuples(st.integers(0, 7), st.integers(0, 7), st.integers(1, 3), st.integers(1, 3)),
+        min_size=len(NAMES),
+        max_size=len(NAMES),
+    ),
+)
 def test_label_proof_gives_the_verdict_of_the_whole_letter_set(f, seed, rects):
     """label_proof decides on the regions' interior letters first (a subset of
     geometry_letters: satisfiable there is satisfiable over all of them) and only then

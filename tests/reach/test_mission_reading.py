@@ -21,7 +21,10 @@ from test_ltl import NAMES, formulas
 #: a "may hold" letter per label: in only, out only, or touched (both)
 _choice = st.sampled_from(["in", "out", "both"])
 may_letters = st.tuples(*[_choice] * len(NAMES)).map(
-    lambda cs: frozenset(x for n, c in zip(NAMES, cs) for x in ({"in": (n,), "out": (NEG + n,), "both": (n, NEG + n)}[c])))
+    lambda cs: frozenset(
+        x for n, c in zip(NAMES, cs) for x in ({"in": (n,), "out": (NEG + n,), "both": (n, NEG + n)}[c])
+    )
+)
 
 
 def brute_force(f, word: Lasso) -> bool:
@@ -52,10 +55,14 @@ def test_the_reading_exists_exactly_when_brute_force_finds_one(f, prefix, loop):
 
 
 def _room(mission: str):
-    return reach_problem_from_dict({
-        "workspace": {"min": [0, 0], "max": [4, 4]}, "labels": {"a": {"min": [2, 0], "max": [4, 4]}},
-        "mission": mission,
-        "robot": {"dynamics": {"model": "single-integrator", "dt": 1}, "start": [0.5, 0.5], "input_bound": 2}})
+    return reach_problem_from_dict(
+        {
+            "workspace": {"min": [0, 0], "max": [4, 4]},
+            "labels": {"a": {"min": [2, 0], "max": [4, 4]}},
+            "mission": mission,
+            "robot": {"dynamics": {"model": "single-integrator", "dt": 1}, "start": [0.5, 0.5], "input_bound": 2},
+        }
+    )
 
 
 def test_a_trajectory_that_only_touches_a_label_is_read_one_way_per_step():

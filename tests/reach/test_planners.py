@@ -25,7 +25,12 @@ def test_lazy_options_are_one_frozen_value() -> None:
 
 def test_the_paper_configuration_is_the_published_loop() -> None:
     p = LazyOptions.paper()
-    assert (p.counterexample, p.generalize, p.slack_weights, p.horizon_search) == ("zeroprefix", False, "uniform", "linear")
+    assert (p.counterexample, p.generalize, p.slack_weights, p.horizon_search) == (
+        "zeroprefix",
+        False,
+        "uniform",
+        "linear",
+    )
     assert not (p.transit or p.guided or p.widen or p.wait_shifts)
     assert p.segment_safe and p.lower_bound  # what both modes share
     assert CONFIGURATIONS["lazy-smt-paper-trivial"] == dataclasses.replace(p, counterexample="trivial")
@@ -67,8 +72,11 @@ def test_a_planners_version_names_every_solver_it_calls() -> None:
         assert version.startswith("python-sat") and ", highspy" in version, version
     assert get_planner("milp-ltl").version().startswith("highspy")
     r = solve(maze(1), "lazy-smt-paper", Budget(seconds=60))
-    assert (r.solver, r.planner, r.solver_version) == ("lazy-smt-paper", "lazy-smt-paper",
-                                                       get_planner("lazy-smt-paper").version())
+    assert (r.solver, r.planner, r.solver_version) == (
+        "lazy-smt-paper",
+        "lazy-smt-paper",
+        get_planner("lazy-smt-paper").version(),
+    )
     record = r.to_json_dict()
     assert record["solver"] == record["planner"] == "lazy-smt-paper"
     assert record["solver_version"] == r.solver_version and "versions" in record
@@ -106,8 +114,11 @@ def test_solve_records_the_options_value_it_was_given() -> None:
     assert r.status is ReachStatus.FOUND and r.validated is True
     assert r.options["counterexample"] == "trivial" and r.options["generalize"] is False
     same = solve(maze(1), "lazy-smt", Budget(seconds=60), counterexample="trivial", generalize=False)
-    assert (same.horizon, same.counters["lp_calls"], same.counters["sat_calls"]) == \
-        (r.horizon, r.counters["lp_calls"], r.counters["sat_calls"])
+    assert (same.horizon, same.counters["lp_calls"], same.counters["sat_calls"]) == (
+        r.horizon,
+        r.counters["lp_calls"],
+        r.counters["sat_calls"],
+    )
 
 
 def test_planners_do_not_validate_solve_does() -> None:
@@ -123,8 +134,11 @@ def test_an_option_of_reach_avoid_planning_given_for_a_mission_is_an_error() -> 
     from plansynth.reach.mission.families import mission_problem
 
     p = mission_problem("maze-1", "visit")
-    with pytest.raises(InvalidOption, match="lazy-smt: option 'counterexample': not an option of this planner for a "
-                                            "problem with a mission; its options: max_horizon, semantics"):
+    with pytest.raises(
+        InvalidOption,
+        match="lazy-smt: option 'counterexample': not an option of this planner for a "
+        "problem with a mission; its options: max_horizon, semantics",
+    ):
         solve(p, "lazy-smt", Budget(seconds=30), counterexample="trivial")
     with pytest.raises(InvalidOption, match="option 'counterexample': not an option .* with a mission"):
         solve(p, "lazy-smt", Budget(seconds=30), LazyOptions(counterexample="trivial"))  # (bench's options value)
@@ -161,12 +175,17 @@ def test_missions_run_through_the_lazy_planner_object_and_the_one_loop(monkeypat
     r = solve(p, "lazy-smt-minimal", Budget(seconds=60))
     assert r.status is ReachStatus.FOUND and r.horizon == 31 and r.mission["ok"] is True
     assert r.solver == "lazy-smt-minimal" and calls == ["MissionDisPlan"]
-    with pytest.raises(InvalidOption, match="lazy-smt-paper: option 'planner': does not plan LTL missions "
-                                            r"\(mission planners: lazy-smt, lazy-smt-minimal, milp-ltl"):
+    with pytest.raises(
+        InvalidOption,
+        match="lazy-smt-paper: option 'planner': does not plan LTL missions "
+        r"\(mission planners: lazy-smt, lazy-smt-minimal, milp-ltl",
+    ):
         solve(p, "lazy-smt-paper", Budget(seconds=30))
     with pytest.raises(InvalidOption, match="milp: option 'planner': does not plan LTL missions"):
         solve(p, "milp", Budget(seconds=30))
-    with pytest.raises(InvalidOption, match="milp-ltl: option 'planner': plans LTL missions, and this problem has none"):
+    with pytest.raises(
+        InvalidOption, match="milp-ltl: option 'planner': plans LTL missions, and this problem has none"
+    ):
         solve(maze(1), "milp-ltl", Budget(seconds=30))
 
 

@@ -63,7 +63,9 @@ def walk(problem: ReachProblem, a: Abstraction, seq: list[int], step: float) -> 
 
 def single_integrator_version(p: ReachProblem) -> ReachProblem:
     fields = {k: getattr(p, k) for k in p.__dataclass_fields__}
-    return ReachProblem(**{**fields, "dynamics": single_integrator(p.dim, 0.5), "start": p.start_position, "state_bounds": None})
+    return ReachProblem(
+        **{**fields, "dynamics": single_integrator(p.dim, 0.5), "start": p.start_position, "state_bounds": None}
+    )
 
 
 def assert_real_png(path: Path, min_colors: int = 8) -> None:
@@ -77,8 +79,11 @@ def assert_real_png(path: Path, min_colors: int = 8) -> None:
     assert np.mean(np.any(rgb < 240, axis=2)) > 0.05
 
 
-@pytest.mark.parametrize("problem", [single_integrator_version(maze(n)) for n in (1, 4)] + [single_integrator_version(cluttered())],
-                         ids=["maze-1", "maze-4", "cluttered"])
+@pytest.mark.parametrize(
+    "problem",
+    [single_integrator_version(maze(n)) for n in (1, 4)] + [single_integrator_version(cluttered())],
+    ids=["maze-1", "maze-4", "cluttered"],
+)
 def test_full_picture(problem: ReachProblem, tmp_path: Path) -> None:
     a = abstract(problem)
     seq = region_path(a)

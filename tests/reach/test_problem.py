@@ -88,8 +88,18 @@ def test_optional_fields_default() -> None:
     assert p.max_horizon == 200 and p.state_bounds is None and p.obstacles == ()
 
 
-@pytest.mark.parametrize("problem", [maze(1), maze(4), maze(2, order=5), cluttered(), dubins_example(),
-                                     random_workspace(7, 6), random_workspace(2, 4, dim=3)])
+@pytest.mark.parametrize(
+    "problem",
+    [
+        maze(1),
+        maze(4),
+        maze(2, order=5),
+        cluttered(),
+        dubins_example(),
+        random_workspace(7, 6),
+        random_workspace(2, 4, dim=3),
+    ],
+)
 def test_round_trip(problem: ReachProblem, tmp_path: Path) -> None:
     doc = reach_problem_to_dict(problem)
     assert reach_problem_from_dict(doc) == problem
@@ -104,8 +114,11 @@ def test_explicit_matrices_and_3d() -> None:
         "workspace": {"min": [0, 0, 0], "max": [5, 5, 5]},
         "obstacles": [{"min": [1, 1, 1], "max": [2, 2, 2]}],
         "goal": {"min": [4, 4, 4], "max": [5, 5, 5]},
-        "robot": {"dynamics": {"A": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "B": [[1], [1], [1]], "position": [2, 0, 1]},
-                  "start": [0, 0, 0], "input_bound": 0.5},
+        "robot": {
+            "dynamics": {"A": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "B": [[1], [1], [1]], "position": [2, 0, 1]},
+            "start": [0, 0, 0],
+            "input_bound": 0.5,
+        },
     }
     p = load(doc)
     assert p.dim == 3 and p.dynamics.model == "explicit" and p.dynamics.dt is None
@@ -147,26 +160,61 @@ BAD = [
     ("start inside an obstacle", with_("robot.start", [5, 10, 0, 0]), "robot.start", "inside obstacles\\[0\\]"),
     ("start inside a polygon", with_("robot.start", [14, 15, 0, 0]), "robot.start", "inside obstacles\\[1\\]"),
     ("start outside the workspace", with_("robot.start", [-1, 1, 0, 0]), "robot.start", "outside the workspace"),
-    ("goal inside obstacles", with_("goal", {"min": [1, 9.6], "max": [2, 10.4]}), "goal", "unreachable: it lies inside obstacles"),
-    ("goal covered by two obstacles", with_("obstacles", [{"min": [26, 26], "max": [28, 30]}, {"min": [28, 26], "max": [30, 30]}]),
-     "goal", "inside obstacles"),
+    (
+        "goal inside obstacles",
+        with_("goal", {"min": [1, 9.6], "max": [2, 10.4]}),
+        "goal",
+        "unreachable: it lies inside obstacles",
+    ),
+    (
+        "goal covered by two obstacles",
+        with_("obstacles", [{"min": [26, 26], "max": [28, 30]}, {"min": [28, 26], "max": [30, 30]}]),
+        "goal",
+        "inside obstacles",
+    ),
     ("goal outside the workspace", with_("goal", {"min": [31, 31], "max": [32, 32]}), "goal", "outside the workspace"),
-    ("A not square", with_("robot.dynamics", {"A": [[1, 0], [0, 1], [0, 0]], "B": [[1, 0], [0, 1]], "position": [0, 1]}),
-     "robot.dynamics.A", "square"),
-    ("B rows differ from A", with_("robot.dynamics", {"A": [[1, 0], [0, 1]], "B": [[1, 0]], "position": [0, 1]}),
-     "robot.dynamics.B", "2 rows"),
-    ("ragged matrix", with_("robot.dynamics", {"A": [[1, 0], [0]], "B": [[1], [1]], "position": [0, 1]}),
-     "robot.dynamics.A\\[1\\]", "row of length 1"),
-    ("position index out of range", with_("robot.dynamics", {"A": [[1, 0], [0, 1]], "B": [[1], [1]], "position": [0, 2]}),
-     "robot.dynamics.position", "distinct state indices"),
+    (
+        "A not square",
+        with_("robot.dynamics", {"A": [[1, 0], [0, 1], [0, 0]], "B": [[1, 0], [0, 1]], "position": [0, 1]}),
+        "robot.dynamics.A",
+        "square",
+    ),
+    (
+        "B rows differ from A",
+        with_("robot.dynamics", {"A": [[1, 0], [0, 1]], "B": [[1, 0]], "position": [0, 1]}),
+        "robot.dynamics.B",
+        "2 rows",
+    ),
+    (
+        "ragged matrix",
+        with_("robot.dynamics", {"A": [[1, 0], [0]], "B": [[1], [1]], "position": [0, 1]}),
+        "robot.dynamics.A\\[1\\]",
+        "row of length 1",
+    ),
+    (
+        "position index out of range",
+        with_("robot.dynamics", {"A": [[1, 0], [0, 1]], "B": [[1], [1]], "position": [0, 2]}),
+        "robot.dynamics.position",
+        "distinct state indices",
+    ),
     ("zero input bound", with_("robot.input_bound", 0), "robot.input_bound", "must be positive"),
     ("negative input bound", with_("robot.input_bound", -1.5), "robot.input_bound", "must be positive"),
     ("zero dt", with_("robot.dynamics.dt", 0), "robot.dynamics.dt", "must be positive"),
     ("negative dt", with_("robot.dynamics.dt", -0.5), "robot.dynamics.dt", "must be positive"),
     ("degenerate polygon", with_("obstacles.1", [[1, 1], [2, 2], [3, 3]]), "obstacles\\[1\\]", "degenerate polygon"),
     ("two-vertex polygon", with_("obstacles.1", [[1, 1], [2, 2]]), "obstacles\\[1\\]", "at least 3 vertices"),
-    ("self-intersecting polygon", with_("obstacles.1", [[10, 20], [12, 22], [12, 20], [10, 22]]), "obstacles\\[1\\]", "self-intersecting"),
-    ("repeated vertex", with_("obstacles.1", [[10, 20], [12, 20], [12, 20], [10, 22]]), "obstacles\\[1\\]", "repeated vertex"),
+    (
+        "self-intersecting polygon",
+        with_("obstacles.1", [[10, 20], [12, 22], [12, 20], [10, 22]]),
+        "obstacles\\[1\\]",
+        "self-intersecting",
+    ),
+    (
+        "repeated vertex",
+        with_("obstacles.1", [[10, 20], [12, 20], [12, 20], [10, 22]]),
+        "obstacles\\[1\\]",
+        "repeated vertex",
+    ),
     ("flat box", with_("obstacles.0", {"min": [0, 9.5], "max": [28, 9.5]}), "obstacles\\[0\\]", "degenerate box"),
     ("flat workspace", with_("workspace", {"min": [0, 0], "max": [30, 0]}), "workspace", "degenerate box"),
     ("non-convex goal", with_("goal", [[26, 26], [29, 26], [27, 27], [26, 29]]), "goal", "must be convex"),
@@ -179,7 +227,12 @@ BAD = [
     ("missing goal", with_("goal", ...), "goal", "missing required field"),
     ("missing dt", with_("robot.dynamics.dt", ...), "robot.dynamics.dt", "missing required field"),
     ("unknown model", with_("robot.dynamics.model", "bicycle"), "robot.dynamics.model", "unknown model"),
-    ("chain without order", with_("robot.dynamics", {"model": "integrator-chain", "dt": 0.5}), "robot.dynamics.order", "missing"),
+    (
+        "chain without order",
+        with_("robot.dynamics", {"model": "integrator-chain", "dt": 0.5}),
+        "robot.dynamics.order",
+        "missing",
+    ),
     ("wrong order for model", with_("robot.dynamics.order", 3), "robot.dynamics.order", "has order 2"),
     ("string bound", with_("robot.input_bound", "fast"), "robot.input_bound", "expected a finite number"),
     ("bool dt", with_("robot.dynamics.dt", True), "robot.dynamics.dt", "expected a finite number"),
@@ -190,15 +243,38 @@ BAD = [
     ("float horizon", with_("max_horizon", 2.5), "max_horizon", "expected an integer"),
     ("zero horizon", with_("max_horizon", 0), "max_horizon", "must be positive"),
     ("start of the wrong length", with_("robot.start", [1, 1]), "robot.start", "expected 4 numbers"),
-    ("3-D obstacle in 2-D", with_("obstacles.0", {"min": [0, 0, 0], "max": [1, 1, 1]}), "obstacles\\[0\\].min", "expected 2 numbers"),
-    ("box corners of different lengths", with_("goal", {"min": [27, 27], "max": [29, 29, 1]}), "goal.max", "expected 2 numbers"),
+    (
+        "3-D obstacle in 2-D",
+        with_("obstacles.0", {"min": [0, 0, 0], "max": [1, 1, 1]}),
+        "obstacles\\[0\\].min",
+        "expected 2 numbers",
+    ),
+    (
+        "box corners of different lengths",
+        with_("goal", {"min": [27, 27], "max": [29, 29, 1]}),
+        "goal.max",
+        "expected 2 numbers",
+    ),
     ("1-D workspace", with_("workspace", {"min": [0], "max": [30]}), "workspace", "2-D or 3-D"),
-    ("state bounds of the wrong dimension", with_("robot.state_bounds", {"min": [0, 0], "max": [30, 30]}),
-     "robot.state_bounds", "4-dimensional"),
+    (
+        "state bounds of the wrong dimension",
+        with_("robot.state_bounds", {"min": [0, 0], "max": [30, 30]}),
+        "robot.state_bounds",
+        "4-dimensional",
+    ),
     ("start violates state bounds", with_("robot.start", [1, 1, 3, 0]), "robot.start", "violates robot.state_bounds"),
-    ("position of the wrong length", with_("robot.dynamics", {"A": [[1, 0], [0, 1]], "B": [[1], [1]], "position": [0]}),
-     "robot.dynamics.position", "expected 2 integers"),
-    ("vertex with three coordinates", with_("obstacles.1", [[12, 14, 0], [16, 14, 0], [14, 18, 0]]), "obstacles\\[1\\]\\[0\\]", "expected 2 numbers"),
+    (
+        "position of the wrong length",
+        with_("robot.dynamics", {"A": [[1, 0], [0, 1]], "B": [[1], [1]], "position": [0]}),
+        "robot.dynamics.position",
+        "expected 2 integers",
+    ),
+    (
+        "vertex with three coordinates",
+        with_("obstacles.1", [[12, 14, 0], [16, 14, 0], [14, 18, 0]]),
+        "obstacles\\[1\\]\\[0\\]",
+        "expected 2 numbers",
+    ),
     ("name not a string", with_("name", 3), "name", "expected a string"),
 ]
 

@@ -34,13 +34,15 @@ from reach_oracles import feasible, problems
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-
 @PROPS
 @given(problems(), st.integers(3, 9), st.booleans())
-def test_lazy_and_milp_agree_and_every_trajectory_validates(p: ReachProblem, max_horizon: int, segment_safe: bool) -> None:
+def test_lazy_and_milp_agree_and_every_trajectory_validates(
+    p: ReachProblem, max_horizon: int, segment_safe: bool
+) -> None:
     lazy = solve(p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="linear")
-    window = solve(p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="window",
-                   window_growth=1.0)
+    window = solve(
+        p, "lazy-smt", max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="window", window_growth=1.0
+    )
     milp = solve(p, "milp", max_horizon=max_horizon, segment_safe=segment_safe)
     for r in (lazy, window, milp):
         # unknown only when every horizon was refuted through the abstraction, which
@@ -105,8 +107,11 @@ def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], seg
             inside(reg.H, reg.h, t + 1)
     inside(*halfspaces(p.goal), N)
     h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
-    h.addVars((N + 1) * n + N * m, np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)]),
-              np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)]))
+    h.addVars(
+        (N + 1) * n + N * m,
+        np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)]),
+        np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)]),
+    )
     return feasible(h, rows)
 
 
@@ -143,8 +148,9 @@ def excludes(c: Conflict, walk: tuple[int, ...], waits: bool = False) -> bool:
     return any(matches(s) for s in range(-c.first_time, H - c.last_time + 1))
 
 
-def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, top: int = 4,
-                      search: str = "linear") -> int:
+def soundness_checked(
+    p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, top: int = 4, search: str = "linear"
+) -> int:
     """Run the lazy planner up to horizon ``top`` from horizon 0, record every clause it
     learns, and refute every walk (up to ``top``) a clause excludes by the oracle LP.
     Returns the number of excluded walks checked."""
@@ -158,9 +164,19 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
 
     DisPlan.learn = recording  # type: ignore[method-assign]
     try:
-        plan_lazy(p, options=LazyOptions(max_horizon=top, counterexample=strategy, generalize=generalize,
-                                         segment_safe=segment_safe, lower_bound=False, horizon_search=search,
-                                         window_growth=2.0), abstraction=ab)
+        plan_lazy(
+            p,
+            options=LazyOptions(
+                max_horizon=top,
+                counterexample=strategy,
+                generalize=generalize,
+                segment_safe=segment_safe,
+                lower_bound=False,
+                horizon_search=search,
+                window_growth=2.0,
+            ),
+            abstraction=ab,
+        )
     finally:
         DisPlan.learn = original  # type: ignore[method-assign]
     checked = 0
@@ -178,26 +194,40 @@ def soundness_checked(p: ReachProblem, strategy: str, generalize: bool, segment_
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(problems(max_obstacles=4), st.sampled_from(["zeroprefix", "trivial", "iis"]), st.booleans(), st.booleans(),
-       st.sampled_from(["linear", "window"]))
-def test_every_learned_clause_excludes_only_infeasible_sequences(p: ReachProblem, strategy: str, generalize: bool,
-                                                                  segment_safe: bool, search: str) -> None:
+@given(
+    problems(max_obstacles=4),
+    st.sampled_from(["zeroprefix", "trivial", "iis"]),
+    st.booleans(),
+    st.booleans(),
+    st.sampled_from(["linear", "window"]),
+)
+def test_every_learned_clause_excludes_only_infeasible_sequences(
+    p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, search: str
+) -> None:
     soundness_checked(p, strategy, generalize, segment_safe, search=search)
 
 
 def detour() -> ReachProblem:
     """A room with two offset walls: the shortest plans need several region changes, so
     short horizons produce many counterexamples."""
-    return ReachProblem(workspace=Box((0, 0), (6, 6)), obstacles=(Box((0, 2), (4, 3)), Box((2, 4), (6, 5))),
-                        goal=Box((0.5, 5.2), (1.5, 5.8)), dynamics=double_integrator(2, 1.0), start=[0.5, 0.5, 0, 0],
-                        input_bound=1.5, state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)))
+    return ReachProblem(
+        workspace=Box((0, 0), (6, 6)),
+        obstacles=(Box((0, 2), (4, 3)), Box((2, 4), (6, 5))),
+        goal=Box((0.5, 5.2), (1.5, 5.8)),
+        dynamics=double_integrator(2, 1.0),
+        start=[0.5, 0.5, 0, 0],
+        input_bound=1.5,
+        state_bounds=Box((0, 0, -2, -2), (6, 6, 2, 2)),
+    )
 
 
 @pytest.mark.parametrize("strategy", ["zeroprefix", "trivial", "iis"])
 @pytest.mark.parametrize("generalize", [False, True])
 @pytest.mark.parametrize("segment_safe", [False, True])
 @pytest.mark.parametrize("search", ["linear", "window"])
-def test_learned_clauses_are_sound_on_a_detour(strategy: str, generalize: bool, segment_safe: bool, search: str) -> None:
+def test_learned_clauses_are_sound_on_a_detour(
+    strategy: str, generalize: bool, segment_safe: bool, search: str
+) -> None:
     assert soundness_checked(detour(), strategy, generalize, segment_safe, top=5, search=search) > 0
 
 
@@ -210,9 +240,15 @@ def small_random_robot(seed: int) -> ReachProblem:
     lo, hi = r.state_bounds.lo, r.state_bounds.hi
     start = np.zeros(6)
     start[:2] = (0.3, 0.3)
-    return ReachProblem(workspace=Box((0, 0), (3, 3)), obstacles=(Box((0, 1.2), (2, 1.5)),),
-                        goal=Box((0.2, 2.3), (0.9, 2.9)), dynamics=r.dynamics, start=start, input_bound=1.0,
-                        state_bounds=Box((0, 0, *lo[2:]), (3, 3, *hi[2:])))
+    return ReachProblem(
+        workspace=Box((0, 0), (3, 3)),
+        obstacles=(Box((0, 1.2), (2, 1.5)),),
+        goal=Box((0.2, 2.3), (0.9, 2.9)),
+        dynamics=r.dynamics,
+        start=start,
+        input_bound=1.0,
+        state_bounds=Box((0, 0, *lo[2:]), (3, 3, *hi[2:])),
+    )
 
 
 @pytest.mark.parametrize("seed", [0, 1])

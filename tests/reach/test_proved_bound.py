@@ -26,26 +26,39 @@ from reach_oracles import problems
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-
 def circle(cx: float, cy: float, r: float, n: int) -> Polygon:
-    return Polygon(tuple((cx + r * math.cos(2 * math.pi * k / n), cy + r * math.sin(2 * math.pi * k / n))
-                         for k in range(n)))
+    return Polygon(
+        tuple((cx + r * math.cos(2 * math.pi * k / n), cy + r * math.sin(2 * math.pi * k / n)) for k in range(n))
+    )
 
 
 def issue_problem(n: int) -> ReachProblem:
     """The reported case: a wall and a circle given as an n-vertex polygon."""
-    return ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(Box((4, 0), (5, 8)), circle(6, 4, 1.5, n)),
-                        goal=Box((8, 8), (9, 9)), dynamics=double_integrator(2, 0.5), start=[1, 1, 0, 0],
-                        input_bound=1.0, state_bounds=Box((0, 0, -2, -2), (10, 10, 2, 2)), max_horizon=100)
+    return ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Box((4, 0), (5, 8)), circle(6, 4, 1.5, n)),
+        goal=Box((8, 8), (9, 9)),
+        dynamics=double_integrator(2, 0.5),
+        start=[1, 1, 0, 0],
+        input_bound=1.0,
+        state_bounds=Box((0, 0, -2, -2), (10, 10, 2, 2)),
+        max_horizon=100,
+    )
 
 
 def ring(n: int) -> ReachProblem:
     """Around a circle (n vertices) from left to right: every decomposition fans out
     from the workspace corners into slivers that a short path crosses one per step.
     Before the fix: "infeasible up to horizon 30" with 400 vertices; 3 steps suffice."""
-    return ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(circle(5, 5, 3, n),),
-                        goal=Box((9, 4.5), (9.5, 5.5)), dynamics=single_integrator(2, 1.0), start=[0.5, 5],
-                        input_bound=3.0, max_horizon=30)
+    return ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(circle(5, 5, 3, n),),
+        goal=Box((9, 4.5), (9.5, 5.5)),
+        dynamics=single_integrator(2, 1.0),
+        start=[0.5, 5],
+        input_bound=3.0,
+        max_horizon=30,
+    )
 
 
 def test_issue_case_is_found() -> None:
@@ -82,8 +95,14 @@ def test_exact_sliver_abstraction_is_not_infeasible() -> None:
 
 
 def test_disconnected_goal_is_still_proved_infeasible() -> None:
-    p = ReachProblem(workspace=Box((0, 0), (10, 10)), obstacles=(Box((6, 6), (10, 7)), Box((6, 7), (7, 10))),
-                     goal=Box((8, 8), (9, 9)), dynamics=single_integrator(2, 1.0), start=[1, 1], input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Box((6, 6), (10, 7)), Box((6, 7), (7, 10))),
+        goal=Box((8, 8), (9, 9)),
+        dynamics=single_integrator(2, 1.0),
+        start=[1, 1],
+        input_bound=1.0,
+    )
     assert math.isinf(proved_horizon_bound(p, abstract(p), 200))
     # samples may jump over a wall: nothing is proved about them but the distance
     assert proved_horizon_bound(p, abstract(p), 200, segment_safe=False) == 7
@@ -92,9 +111,14 @@ def test_disconnected_goal_is_still_proved_infeasible() -> None:
 def test_point_contacts_count_as_touching() -> None:
     """Two obstacles meeting at a corner: the regions on either side of that point
     touch (a segment-safe path may pass through it) though they share no edge."""
-    p = ReachProblem(workspace=Box((0, 0), (4, 4)), obstacles=(Box((0, 2), (2, 4)), Box((2, 0), (4, 2))),
-                     goal=Box((3, 3), (3.5, 3.5)), dynamics=single_integrator(2, 1.0), start=[0.5, 0.5],
-                     input_bound=1.0)
+    p = ReachProblem(
+        workspace=Box((0, 0), (4, 4)),
+        obstacles=(Box((0, 2), (2, 4)), Box((2, 0), (4, 2))),
+        goal=Box((3, 3), (3.5, 3.5)),
+        dynamics=single_integrator(2, 1.0),
+        start=[0.5, 0.5],
+        input_bound=1.0,
+    )
     ab = abstract(p)
     assert ab.n_regions == 2 and ab.adjacency == ((), ())
     assert touching(ab) == ((1,), (0,))
@@ -108,9 +132,12 @@ def test_proved_bound_never_exceeds_a_found_horizon(p: ReachProblem, max_horizon
     horizon of any validated trajectory (the paper's loop, and the region MILP)."""
     ab = abstract(p)
     bound = proved_horizon_bound(p, ab, max_horizon, segment_safe=segment_safe)
-    for r in (solve(p, "lazy-smt", abstraction=ab, max_horizon=max_horizon, segment_safe=segment_safe,
-                    horizon_search="linear"),
-              solve(p, "milp", abstraction=ab, max_horizon=max_horizon, segment_safe=segment_safe)):
+    for r in (
+        solve(
+            p, "lazy-smt", abstraction=ab, max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="linear"
+        ),
+        solve(p, "milp", abstraction=ab, max_horizon=max_horizon, segment_safe=segment_safe),
+    ):
         if r.status is ReachStatus.FOUND:
             assert r.validated is True
             assert bound <= r.horizon, (bound, r.horizon, r.planner)

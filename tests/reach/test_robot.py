@@ -41,13 +41,16 @@ def test_robot_keys_round_trip():
     assert q.robot_shape.half_extent == (0.2, 0.3) and q != p
 
 
-@pytest.mark.parametrize("robot, field, reason", [
-    ({"radius": 1.5}, "robot.start", "does not fit in the workspace"),
-    ({"radius": 0.4, "half_extent": [0.1, 0.1]}, "robot.radius", "not both"),
-    ({"radius": -1}, "robot.radius", "non-negative"),
-    ({"half_extent": [0.1]}, "robot.half_extent", "2"),
-    ({"radius": 1.0}, "goal", "unreachable for the robot"),
-])
+@pytest.mark.parametrize(
+    "robot, field, reason",
+    [
+        ({"radius": 1.5}, "robot.start", "does not fit in the workspace"),
+        ({"radius": 0.4, "half_extent": [0.1, 0.1]}, "robot.radius", "not both"),
+        ({"radius": -1}, "robot.radius", "non-negative"),
+        ({"half_extent": [0.1]}, "robot.half_extent", "2"),
+        ({"radius": 1.0}, "goal", "unreachable for the robot"),
+    ],
+)
 def test_bad_robot_sizes_are_rejected_at_the_door(robot, field, reason):
     d = _doc(**robot)
     if field == "goal":
@@ -58,9 +61,16 @@ def test_bad_robot_sizes_are_rejected_at_the_door(robot, field, reason):
 
 
 def test_a_disc_needs_a_2d_workspace():
-    d = {"workspace": {"min": [0, 0, 0], "max": [5, 5, 5]}, "goal": {"min": [4, 4, 4], "max": [5, 5, 5]},
-         "robot": {"dynamics": {"model": "single-integrator", "dt": 1}, "start": [1, 1, 1], "input_bound": 1,
-                   "radius": 0.2}}
+    d = {
+        "workspace": {"min": [0, 0, 0], "max": [5, 5, 5]},
+        "goal": {"min": [4, 4, 4], "max": [5, 5, 5]},
+        "robot": {
+            "dynamics": {"model": "single-integrator", "dt": 1},
+            "start": [1, 1, 1],
+            "input_bound": 1,
+            "radius": 0.2,
+        },
+    }
     with pytest.raises(InvalidProblem, match="2-D workspace"):
         reach_problem_from_dict(d)
 
@@ -97,7 +107,10 @@ def test_lazy_smt_keeps_the_robot_clear(robot):
     else:  # Chebyshev-style: the robot's box never overlaps a wall box
         pos = p.position_of(r.trajectory.states)
         for o in p.obstacles:
-            inside = np.all((pos > np.array(o.lo) - robot.half_extent + 1e-6) & (pos < np.array(o.hi) + robot.half_extent - 1e-6), axis=1)
+            inside = np.all(
+                (pos > np.array(o.lo) - robot.half_extent + 1e-6) & (pos < np.array(o.hi) + robot.half_extent - 1e-6),
+                axis=1,
+            )
             assert not inside.any()
 
 
@@ -119,9 +132,15 @@ def test_a_disc_no_larger_than_the_tolerance_still_may_not_enter_an_obstacle(rad
     from plansynth.reach.problem import ReachProblem
     from plansynth.reach.trajectory import Trajectory
 
-    p = ReachProblem(workspace=Box((0, 0), (30, 30)), obstacles=(Box((10, 10), (20, 20)),),
-                     goal=Box((25, 25), (27, 27)), dynamics=single_integrator(2, 1.0), start=[5, 5],
-                     input_bound=20.0, robot_shape=RobotShape(radius=radius))
+    p = ReachProblem(
+        workspace=Box((0, 0), (30, 30)),
+        obstacles=(Box((10, 10), (20, 20)),),
+        goal=Box((25, 25), (27, 27)),
+        dynamics=single_integrator(2, 1.0),
+        start=[5, 5],
+        input_bound=20.0,
+        robot_shape=RobotShape(radius=radius),
+    )
     t = Trajectory(states=[[5, 5], [15, 15], [26, 26]], inputs=[[10, 10], [11, 11]])
     r = validate(p, t, require_segment_safe=True, tol=tol)
     assert not r.ok and {v.kind for v in r.violations} >= {"obstacle", "segment"}
@@ -146,8 +165,12 @@ from hypothesis import strategies as st
 
 
 @settings(max_examples=25, deadline=None)
-@given(seed=st.integers(0, 10_000), radius=st.floats(0.05, 0.8), box=st.booleans(),
-       pts=st.lists(st.tuples(st.floats(0, 10), st.floats(0, 10)), min_size=20, max_size=20))
+@given(
+    seed=st.integers(0, 10_000),
+    radius=st.floats(0.05, 0.8),
+    box=st.booleans(),
+    pts=st.lists(st.tuples(st.floats(0, 10), st.floats(0, 10)), min_size=20, max_size=20),
+)
 def test_the_configuration_space_is_conservative(seed, radius, box, pts):
     """Outside every grown obstacle, the robot (disc: clearance >= R; box: its box) meets
     no original obstacle's interior: the growth covers the exact Minkowski sum."""
@@ -157,12 +180,18 @@ def test_the_configuration_space_is_conservative(seed, radius, box, pts):
     base = random_workspace(seed, 4)
     robot = RobotShape(half_extent=(radius, radius / 2)) if box else RobotShape(radius=radius)
     grown = [_grow(o, robot) for o in base.obstacles]
-    originals = [shapely.Polygon(o.vertices) if hasattr(o, "vertices") else shapely.box(*o.lo, *o.hi) for o in base.obstacles]
+    originals = [
+        shapely.Polygon(o.vertices) if hasattr(o, "vertices") else shapely.box(*o.lo, *o.hi) for o in base.obstacles
+    ]
     # the random points, and the points just outside every edge of every grown obstacle
     # (where an inner approximation of the disc would come too close)
     probe = list(pts)
     for g in grown:
-        v = np.array(g.vertices if hasattr(g, "vertices") else [(g.lo[0], g.lo[1]), (g.hi[0], g.lo[1]), (g.hi[0], g.hi[1]), (g.lo[0], g.hi[1])])
+        v = np.array(
+            g.vertices
+            if hasattr(g, "vertices")
+            else [(g.lo[0], g.lo[1]), (g.hi[0], g.lo[1]), (g.hi[0], g.hi[1]), (g.lo[0], g.hi[1])]
+        )
         for a, b in zip(v, np.roll(v, -1, axis=0)):
             e = b - a
             n = np.array([e[1], -e[0]]) / np.hypot(*e)  # outward for CCW

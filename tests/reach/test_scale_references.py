@@ -95,6 +95,13 @@ def test_sweep_on_a_corridor() -> None:
     """Three unit boxes in a row, growth 0.5 per step from the left end: the middle box
     is reached at step 2 (x = 1), the last at step 4, the target at x >= 2.9 at step 6."""
     boxes = [(np.array([float(i), 0.0]), np.array([i + 1.0, 1.0])) for i in range(3)]
-    first, hit = _sweep({0: (np.zeros(2), np.zeros(2))}, boxes, [(1,), (0, 2), (1,)], np.full(2, 0.5),
-                        np.full(2, 0.5), 50, {2: (np.array([2.9, 0.0]), np.array([3.0, 0.1]))})
+    first, hit = _sweep(
+        {0: (np.zeros(2), np.zeros(2))},
+        boxes,
+        [(1,), (0, 2), (1,)],
+        np.full(2, 0.5),
+        np.full(2, 0.5),
+        50,
+        {2: (np.array([2.9, 0.0]), np.array([3.0, 0.1]))},
+    )
     assert first == [0, 2, 4] and hit == 6

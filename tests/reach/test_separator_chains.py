@@ -88,6 +88,7 @@ def test_chains_raise_the_horizon_bound_on_random_dynamics() -> None:
 
 # -- deferral ------------------------------------------------------------------
 
+
 class SetTheory:
     """A toy theory: exactly the walks in ``feasible`` are realised; every other plan is
     refuted by its whole sequence (sound: it blocks that plan only)."""
@@ -114,8 +115,9 @@ def test_deferral_keeps_every_claim_true(g: RegionGraph, data, defer_after: int)
     all_walks = sorted(set().union(*(walks(g, N) for N in range(1, 7))), key=lambda s: (len(s), s))
     chosen = data.draw(st.lists(st.sampled_from(all_walks), max_size=3, unique=True)) if all_walks else []
     theory = SetTheory(set(chosen))
-    out = lazy_loop(DisPlan(g), theory, [(1, 2), (3, 4), (5, 6)], Budget().clock(), {"sat": 0.0, "lp": 0.0},
-                    defer_after=defer_after)
+    out = lazy_loop(
+        DisPlan(g), theory, [(1, 2), (3, 4), (5, 6)], Budget().clock(), {"sat": 0.0, "lp": 0.0}, defer_after=defer_after
+    )
     if not chosen:
         assert out.status is ReachStatus.INFEASIBLE
         return
@@ -148,8 +150,9 @@ def test_deferral_comes_back_to_the_deferred_window() -> None:
     g = RegionGraph(3, ((1,), (0, 2), (1,)), (0,), (2,))
     target = (0, 0, 1, 1, 2)
     displan = DisPlan(g)
-    out = lazy_loop(displan, SetTheory({target}), [(2, 4), (5, 6)], Budget().clock(), {"sat": 0.0, "lp": 0.0},
-                    defer_after=1)
+    out = lazy_loop(
+        displan, SetTheory({target}), [(2, 4), (5, 6)], Budget().clock(), {"sat": 0.0, "lp": 0.0}, defer_after=1
+    )
     assert out.status is ReachStatus.FOUND and out.regions == target and out.minimal is False
     assert {5, 6} <= displan.closed
 

@@ -26,13 +26,21 @@ def test_legs_of_a_plan() -> None:
     tc = TransitCheck(ConPlan(p, abstract(p)), abstract(p))
     # visits: 0 at 0..1, 1 at 2..3, 2 at 4, 1 at 5, 2 at 6 (horizon 6)
     legs = tc.legs((0, 0, 1, 1, 2, 1, 2))
-    assert sorted(legs) == sorted([
-        (START, 1, 0, 2), (0, 1, 1, 1),
-        (START, 2, 0, 4), (0, 2, 1, 3), (1, 2, 3, 1),
-        (0, 1, 1, 4), (2, 1, 4, 1),
-        (0, 2, 1, 5), (1, 2, 5, 1),
-        (0, GOAL, 1, 5), (1, GOAL, 5, 1),
-    ])
+    assert sorted(legs) == sorted(
+        [
+            (START, 1, 0, 2),
+            (0, 1, 1, 1),
+            (START, 2, 0, 4),
+            (0, 2, 1, 3),
+            (1, 2, 3, 1),
+            (0, 1, 1, 4),
+            (2, 1, 4, 1),
+            (0, 2, 1, 5),
+            (1, 2, 5, 1),
+            (0, GOAL, 1, 5),
+            (1, GOAL, 5, 1),
+        ]
+    )
 
 
 def leg_feasible(p: ReachProblem, regions, a: int, b: int, k: int, segment_safe: bool = True) -> bool:
@@ -94,7 +102,7 @@ def test_a_plan_that_jumps_a_corridor_too_fast_is_caught_without_conplan() -> No
     # every conflict is a transit fact that the independent LP confirms
     for c in out:
         if c.anchored_start:
-            (t, r), = c.literals
+            ((t, r),) = c.literals
             assert not leg_feasible(p, ab.regions, START, r, t)
 
 
@@ -147,9 +155,16 @@ def test_monotone_start_legs_agree_with_the_linear_scan(seed: int) -> None:
 
 def test_a_moving_start_is_not_treated_as_monotone() -> None:
     p = maze(1)
-    moving = ReachProblem(workspace=p.workspace, obstacles=p.obstacles, goal=p.goal, dynamics=p.dynamics,
-                          start=np.array([1.0, 1.0, 1.0, 0.5]), input_bound=p.input_bound,
-                          state_bounds=p.state_bounds, name="moving")
+    moving = ReachProblem(
+        workspace=p.workspace,
+        obstacles=p.obstacles,
+        goal=p.goal,
+        dynamics=p.dynamics,
+        start=np.array([1.0, 1.0, 1.0, 0.5]),
+        input_bound=p.input_bound,
+        state_bounds=p.state_bounds,
+        name="moving",
+    )
     ab = abstract(moving)
     tc = TransitCheck(ConPlan(moving, ab), ab)
     assert not tc.start_at_rest

@@ -108,8 +108,9 @@ def test_state_bound() -> None:
 
 def test_velocity_state_bound_of_double_integrator() -> None:
     dyn = double_integrator(2, 1.0)
-    p = ReachProblem(**ROOM, dynamics=dyn, start=[1, 1, 0, 0], input_bound=3.0,
-                     state_bounds=Box((0, 0, -2, -2), (10, 10, 2, 2)))
+    p = ReachProblem(
+        **ROOM, dynamics=dyn, start=[1, 1, 0, 0], input_bound=3.0, state_bounds=Box((0, 0, -2, -2), (10, 10, 2, 2))
+    )
     X = [np.array([1.0, 1, 0, 0])]
     U = [np.array([0.0, 3.0])]
     X.append(dyn.step(X[0], U[0]))  # vy = 3 > 2
@@ -181,8 +182,14 @@ def test_horizon_zero_start_in_goal() -> None:
 
 
 def test_3d_segment_through_a_box_corner() -> None:
-    p = ReachProblem(workspace=Box((0, 0, 0), (6, 6, 6)), obstacles=(Box((2, 2, 2), (4, 4, 4)),),
-                     goal=Box((5, 5, 5), (6, 6, 6)), dynamics=single_integrator(3, 1.0), start=[1, 1, 1], input_bound=10)
+    p = ReachProblem(
+        workspace=Box((0, 0, 0), (6, 6, 6)),
+        obstacles=(Box((2, 2, 2), (4, 4, 4)),),
+        goal=Box((5, 5, 5), (6, 6, 6)),
+        dynamics=single_integrator(3, 1.0),
+        start=[1, 1, 1],
+        input_bound=10,
+    )
     t = path_trajectory([(1, 1, 1), (1, 3.5, 3.5), (3.5, 5, 5), (5.5, 5.5, 5.5)])
     r = validate(p, t)
     assert r.ok and r.segment_safe
@@ -192,8 +199,18 @@ def test_3d_segment_through_a_box_corner() -> None:
 
 
 def test_kinds_are_documented() -> None:
-    assert set(VIOLATION_KINDS) == {"shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment",
-                                    "derivative"}
+    assert set(VIOLATION_KINDS) == {
+        "shape",
+        "start",
+        "dynamics",
+        "input",
+        "state-bound",
+        "workspace",
+        "obstacle",
+        "goal",
+        "segment",
+        "derivative",
+    }
 
 
 # ------------------------------------------------------- the box clipper against shapely
@@ -202,7 +219,12 @@ coord = st.floats(-2, 8, allow_nan=False).map(lambda v: round(v, 2))
 
 
 @settings(max_examples=300)
-@given(p=st.tuples(coord, coord), q=st.tuples(coord, coord), lo=st.tuples(coord, coord), ext=st.tuples(st.floats(0.1, 4), st.floats(0.1, 4)))
+@given(
+    p=st.tuples(coord, coord),
+    q=st.tuples(coord, coord),
+    lo=st.tuples(coord, coord),
+    ext=st.tuples(st.floats(0.1, 4), st.floats(0.1, 4)),
+)
 def test_segment_box_clipper_agrees_with_shapely(p, q, lo, ext) -> None:
     hi = (lo[0] + ext[0], lo[1] + ext[1])
     box = sh_box(lo[0], lo[1], hi[0], hi[1])
@@ -259,8 +281,14 @@ def test_each_dynamics_row_is_held_to_its_own_size() -> None:
 
     o = 1e6
     dyn = double_integrator(2, 1.0)
-    p = ReachProblem(workspace=Box((o, o), (o + 10, o + 10)), obstacles=(), goal=Box((o + 7, o), (o + 8, o + 10)),
-                     dynamics=dyn, start=[o + 1, o + 1, 0, 0], input_bound=0.1)
+    p = ReachProblem(
+        workspace=Box((o, o), (o + 10, o + 10)),
+        obstacles=(),
+        goal=Box((o + 7, o), (o + 8, o + 10)),
+        dynamics=dyn,
+        start=[o + 1, o + 1, 0, 0],
+        input_bound=0.1,
+    )
     X = [np.array([o + 1, o + 1, 0, 0])]
     for _ in range(4):
         nxt = dyn.A @ X[-1]
@@ -272,4 +300,6 @@ def test_each_dynamics_row_is_held_to_its_own_size() -> None:
     Y = [np.array([o + 1, o + 1, 0, 0])]
     for _ in range(12):
         Y.append(dyn.A @ Y[-1] + dyn.B @ np.array([0.1, 0.0]))
-    assert validate(replace(p, goal=Box((o + 7, o), (o + 10, o + 10))), Trajectory(np.array(Y), np.tile([0.1, 0.0], (12, 1)))).ok
+    assert validate(
+        replace(p, goal=Box((o + 7, o), (o + 10, o + 10))), Trajectory(np.array(Y), np.tile([0.1, 0.0], (12, 1)))
+    ).ok

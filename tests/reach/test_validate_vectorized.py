@@ -12,8 +12,11 @@ coord = st.sampled_from([0.0, 1.0, 2.0, 3.0, -1.0, 0.5, 2.5]) | st.floats(-3, 4,
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.tuples(coord, coord, coord, coord), min_size=1, max_size=12),
-       st.tuples(coord, coord), st.tuples(coord, coord))
+@given(
+    st.lists(st.tuples(coord, coord, coord, coord), min_size=1, max_size=12),
+    st.tuples(coord, coord),
+    st.tuples(coord, coord),
+)
 def test_vectorised_box_check_agrees_with_the_scalar_one(segs, lo, hi) -> None:
     S = np.array(segs, dtype=float)
     P, Q = S[:, :2], S[:, 2:]

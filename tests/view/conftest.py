@@ -68,9 +68,19 @@ def browser() -> Any:
 
     options = webdriver.ChromeOptions()
     options.binary_location = CHROMIUM
-    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                "--window-size=1300,950", "--disable-extensions", "--no-first-run", "--disable-background-networking",
-                "--disable-component-update", "--disable-sync", "--metrics-recording-only"):
+    for arg in (
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-dev-shm-usage",
+        "--window-size=1300,950",
+        "--disable-extensions",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--metrics-recording-only",
+    ):
         options.add_argument(arg)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
@@ -90,7 +100,8 @@ def open_page(browser: Any, url: str, kind: str, timeout: float = 20) -> None:
     browser.get(url)
     try:
         WebDriverWait(browser, timeout).until(
-            lambda d: d.find_element("tag name", "body").get_attribute("data-ready") == kind)
+            lambda d: d.find_element("tag name", "body").get_attribute("data-ready") == kind
+        )
     except Exception:
         raise AssertionError(f"the page did not draw; browser log: {browser.get_log('browser')}") from None
     errors = [e for e in browser.get_log("browser") if e.get("level") == "SEVERE" and e.get("source") != "network"]

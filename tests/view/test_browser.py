@@ -34,14 +34,19 @@ def _write(tmp_path: Path, name: str, html: str) -> str:
 
 def _shown_state(browser: Any) -> State:
     robot = browser.find_element("id", "robot")
-    obstacles = sorted(browser.find_elements("css selector", "#board .obstacle"), key=lambda e: int(e.get_attribute("data-i")))
-    return State((int(robot.get_attribute("data-x")), int(robot.get_attribute("data-y"))),
-                 tuple((int(o.get_attribute("data-x")), int(o.get_attribute("data-y"))) for o in obstacles))
+    obstacles = sorted(
+        browser.find_elements("css selector", "#board .obstacle"), key=lambda e: int(e.get_attribute("data-i"))
+    )
+    return State(
+        (int(robot.get_attribute("data-x")), int(robot.get_attribute("data-y"))),
+        tuple((int(o.get_attribute("data-x")), int(o.get_attribute("data-y"))) for o in obstacles),
+    )
 
 
 def _set_step(browser: Any, t: int) -> None:
-    browser.execute_script("const s = document.getElementById('step'); s.value = arguments[0];"
-                           "s.dispatchEvent(new Event('input'));", t)
+    browser.execute_script(
+        "const s = document.getElementById('step'); s.value = arguments[0];s.dispatchEvent(new Event('input'));", t
+    )
 
 
 def _env(problem: Any, s: State) -> dict[str, int]:

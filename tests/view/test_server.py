@@ -37,7 +37,9 @@ def server() -> Any:
 
 def _post(url: str, body: Any, headers: dict[str, str] | None = None) -> tuple[int, dict]:
     data = body if isinstance(body, bytes) else json.dumps(body).encode()
-    req = urllib.request.Request(url + "plan", data=data, headers={"Content-Type": "application/json", **(headers or {})})
+    req = urllib.request.Request(
+        url + "plan", data=data, headers={"Content-Type": "application/json", **(headers or {})}
+    )
     try:
         with urllib.request.urlopen(req, timeout=120) as r:
             return r.status, json.loads(r.read())
@@ -57,12 +59,21 @@ def test_plan_round_trip(server: Any) -> None:
     assert data["trajectory"]["states"][0] == [1.0, 1.0, 0.0, 0.0]
     # the words are the CLI's: the same rows as plansynth reach solve's table for the same problem
     direct = solve(load_reach_problem(MAZE1)).to_json_dict()
-    assert answer["words"][:2] == reach_words(direct)[:2] == ["status: found", f"horizon: {direct['horizon']} (not proved minimal)"]
+    assert (
+        answer["words"][:2]
+        == reach_words(direct)[:2]
+        == ["status: found", f"horizon: {direct['horizon']} (not proved minimal)"]
+    )
 
 
 def test_the_words_match_the_cli(tmp_path: Path) -> None:
-    out = subprocess.run([sys.executable, "-m", "plansynth.cli", "reach", "solve", str(MAZE1), "-o", str(tmp_path / "r.json")],
-                         capture_output=True, text=True, timeout=300, env={**os.environ, "COLUMNS": "200"})
+    out = subprocess.run(
+        [sys.executable, "-m", "plansynth.cli", "reach", "solve", str(MAZE1), "-o", str(tmp_path / "r.json")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "COLUMNS": "200"},
+    )
     from plansynth.view.reach_data import reach_words
 
     rows = [" ".join(line.strip("│┃ ").split()) for line in out.stdout.splitlines()]
@@ -86,8 +97,12 @@ def test_bad_problems_are_refused_with_the_loaders_words(server: Any) -> None:
 def test_the_command_serves_and_dies_with_nothing_left(tmp_path: Path) -> None:
     from plansynth.procs import descendants
 
-    proc = subprocess.Popen([sys.executable, "-m", "plansynth.cli", "view", str(MAZE1), "--serve", "--port", "0"],
-                            stdout=subprocess.PIPE, text=True, start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "plansynth.cli", "view", str(MAZE1), "--serve", "--port", "0"],
+        stdout=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     try:
         line = proc.stdout.readline()
         assert line.startswith("serving on http://127.0.0.1:"), line
@@ -102,8 +117,12 @@ def test_the_command_serves_and_dies_with_nothing_left(tmp_path: Path) -> None:
         deadline = time.monotonic() + 10
         while time.monotonic() < deadline and any(os.path.exists(f"/proc/{p}") for p in children):
             time.sleep(0.1)
-        left = [p for p in children if os.path.exists(f"/proc/{p}")
-                and "Z" not in Path(f"/proc/{p}/stat").read_text().split(")")[-1].split()[:1]]
+        left = [
+            p
+            for p in children
+            if os.path.exists(f"/proc/{p}")
+            and "Z" not in Path(f"/proc/{p}/stat").read_text().split(")")[-1].split()[:1]
+        ]
         assert not left
         with pytest.raises(OSError):
             urllib.request.urlopen(url, timeout=5)

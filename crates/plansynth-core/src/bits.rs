@@ -8,7 +8,10 @@ pub type Bits = Vec<u64>;
 pub fn shift(src: &[u64], d: i64, out: &mut [u64]) {
     let nw = src.len();
     out.iter_mut().for_each(|w| *w = 0);
-    let (ws, bs) = (d.unsigned_abs() as usize / 64, (d.unsigned_abs() % 64) as u32);
+    let (ws, bs) = (
+        d.unsigned_abs() as usize / 64,
+        (d.unsigned_abs() % 64) as u32,
+    );
     if ws >= nw {
         return;
     }

@@ -39,12 +39,22 @@ pub struct Enumeration {
 }
 
 /// Arithmetic terms up to `max_depth`, one per value vector over `states`.
-pub fn arithmetic_terms(states: &[Vec<i64>], n_vars: usize, max_constant: i64, max_depth: u32) -> (Vec<(Arith, u32)>, Vec<Vec<i64>>) {
+pub fn arithmetic_terms(
+    states: &[Vec<i64>],
+    n_vars: usize,
+    max_constant: i64,
+    max_depth: u32,
+) -> (Vec<(Arith, u32)>, Vec<Vec<i64>>) {
     let n = states.len();
     let mut seen: HashMap<Vec<i64>, usize> = HashMap::new();
     let mut terms: Vec<(Arith, u32)> = Vec::new();
     let mut values: Vec<Vec<i64>> = Vec::new();
-    let push = |vec: Vec<i64>, t: Arith, d: u32, terms: &mut Vec<(Arith, u32)>, values: &mut Vec<Vec<i64>>, seen: &mut HashMap<Vec<i64>, usize>| {
+    let push = |vec: Vec<i64>,
+                t: Arith,
+                d: u32,
+                terms: &mut Vec<(Arith, u32)>,
+                values: &mut Vec<Vec<i64>>,
+                seen: &mut HashMap<Vec<i64>, usize>| {
         if !seen.contains_key(&vec) {
             seen.insert(vec.clone(), terms.len());
             terms.push((t, d));
@@ -52,7 +62,14 @@ pub fn arithmetic_terms(states: &[Vec<i64>], n_vars: usize, max_constant: i64, m
         }
     };
     for c in -1..=max_constant {
-        push(vec![c; n], Arith::Const(c), 1, &mut terms, &mut values, &mut seen);
+        push(
+            vec![c; n],
+            Arith::Const(c),
+            1,
+            &mut terms,
+            &mut values,
+            &mut seen,
+        );
     }
     if max_depth >= 2 {
         for j in 0..n_vars {
@@ -69,11 +86,33 @@ pub fn arithmetic_terms(states: &[Vec<i64>], n_vars: usize, max_constant: i64, m
                     continue;
                 }
                 if ia <= ib {
-                    let vec: Vec<i64> = values[ia].iter().zip(&values[ib]).map(|(x, y)| x + y).collect();
-                    push(vec, Arith::Plus(ia, ib), d, &mut terms, &mut values, &mut seen);
+                    let vec: Vec<i64> = values[ia]
+                        .iter()
+                        .zip(&values[ib])
+                        .map(|(x, y)| x + y)
+                        .collect();
+                    push(
+                        vec,
+                        Arith::Plus(ia, ib),
+                        d,
+                        &mut terms,
+                        &mut values,
+                        &mut seen,
+                    );
                 }
-                let vec: Vec<i64> = values[ia].iter().zip(&values[ib]).map(|(x, y)| x - y).collect();
-                push(vec, Arith::Minus(ia, ib), d, &mut terms, &mut values, &mut seen);
+                let vec: Vec<i64> = values[ia]
+                    .iter()
+                    .zip(&values[ib])
+                    .map(|(x, y)| x - y)
+                    .collect();
+                push(
+                    vec,
+                    Arith::Minus(ia, ib),
+                    d,
+                    &mut terms,
+                    &mut values,
+                    &mut seen,
+                );
             }
         }
     }
@@ -102,15 +141,26 @@ impl Found {
 }
 
 /// Every condition behaviour of depth <= `max_depth` on `states` (see module docs).
-pub fn enumerate_conditions(states: &[Vec<i64>], n_vars: usize, max_constant: i64, max_depth: u32, limit: Option<usize>) -> Enumeration {
+pub fn enumerate_conditions(
+    states: &[Vec<i64>],
+    n_vars: usize,
+    max_constant: i64,
+    max_depth: u32,
+    limit: Option<usize>,
+) -> Enumeration {
     let n = states.len();
     let words = n.div_ceil(64).max(1);
     let mut full = vec![0u64; words];
     for i in 0..n {
         full[i / 64] |= 1 << (i % 64);
     }
-    let (terms, values) = arithmetic_terms(states, n_vars, max_constant, (max_depth.max(2) - 1).max(1));
-    let mut found = Found { index: HashMap::new(), conds: Vec::new(), limit };
+    let (terms, values) =
+        arithmetic_terms(states, n_vars, max_constant, (max_depth.max(2) - 1).max(1));
+    let mut found = Found {
+        index: HashMap::new(),
+        conds: Vec::new(),
+        limit,
+    };
     let mut complete_to = 1;
     'levels: for d in 2..=max_depth {
         let before = found.conds.len();
@@ -169,7 +219,11 @@ pub fn enumerate_conditions(states: &[Vec<i64>], n_vars: usize, max_constant: i6
         }
         complete_to = d;
     }
-    Enumeration { terms, conds: found.conds, complete_to }
+    Enumeration {
+        terms,
+        conds: found.conds,
+        complete_to,
+    }
 }
 
 #[cfg(test)]

@@ -124,7 +124,14 @@ mod tests {
         assert_eq!(g.check(&[Op::Const(1)], 0), None);
         assert_eq!(g.check(&[Op::Const(0)], 0), Some(0));
         // (ite (<= rx 0) 1 0) fails at the second pair
-        let p = [Op::Var(0), Op::Const(0), Op::Le(0, 1), Op::Const(1), Op::Const(0), Op::Ite(2, 3, 4)];
+        let p = [
+            Op::Var(0),
+            Op::Const(0),
+            Op::Le(0, 1),
+            Op::Const(1),
+            Op::Const(0),
+            Op::Ite(2, 3, 4),
+        ];
         assert_eq!(g.check(&p, 5), Some(1));
         assert_eq!(g.moves(&p, 5), vec![1, 0]);
     }
@@ -160,12 +167,20 @@ pub fn build_game_graph(
     layers: &[LayerCell],
 ) -> GameGraph {
     use std::collections::HashMap;
-    let at: HashMap<(u32, u32), usize> = layers.iter().enumerate().map(|(i, l)| ((l.t, l.config), i)).collect();
+    let at: HashMap<(u32, u32), usize> = layers
+        .iter()
+        .enumerate()
+        .map(|(i, l)| ((l.t, l.config), i))
+        .collect();
     let mut pair_id: HashMap<(u32, u32, u32), u32> = HashMap::new();
     let mut order: Vec<(u32, u32, u32)> = vec![(0, start, 0)];
     pair_id.insert((0, start, 0), 0);
     let mut state_id: HashMap<(u32, u32), u32> = HashMap::new();
-    let mut g = GameGraph { n_moves, off: vec![0], ..Default::default() };
+    let mut g = GameGraph {
+        n_moves,
+        off: vec![0],
+        ..Default::default()
+    };
     let mut ends: HashMap<(u32, u32, u32), Vec<u32>> = HashMap::new();
     let mut head = 0;
     while head < order.len() {
@@ -218,10 +233,27 @@ mod build_tests {
     fn a_line_of_three_cells() {
         // robot 0 -> 2 on a 3x1 grid in 2 steps, moves stay (0) and right (1); no obstacles
         let layers = vec![
-            LayerCell { t: 0, config: 0, winning: vec![vec![0], vec![0b001]] },
-            LayerCell { t: 1, config: 0, winning: vec![vec![0], vec![0b010]] },
+            LayerCell {
+                t: 0,
+                config: 0,
+                winning: vec![vec![0], vec![0b001]],
+            },
+            LayerCell {
+                t: 1,
+                config: 0,
+                winning: vec![vec![0], vec![0b010]],
+            },
         ];
-        let g = build_game_graph(2, 2, 3, 0, &[vec![]], &[vec![0]], &[0, 1, 1, 2, 2, 2], &layers);
+        let g = build_game_graph(
+            2,
+            2,
+            3,
+            0,
+            &[vec![]],
+            &[vec![0]],
+            &[0, 1, 1, 2, 2, 2],
+            &layers,
+        );
         assert_eq!(g.state_of, vec![0, 1]);
         assert_eq!(g.win, vec![0b10, 0b10]);
         assert_eq!(g.inputs, vec![vec![0, 0], vec![1, 0]]);

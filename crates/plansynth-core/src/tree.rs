@@ -107,13 +107,20 @@ fn grow(
         if c == 0 {
             break; // members without any allowed move (not from a strategy): no label
         }
-        let lab: Vec<u64> = rest.iter().zip(&by_move[kbest]).map(|(a, b)| a & b).collect();
+        let lab: Vec<u64> = rest
+            .iter()
+            .zip(&by_move[kbest])
+            .map(|(a, b)| a & b)
+            .collect();
         for (r, l) in rest.iter_mut().zip(&lab) {
             *r &= !l;
         }
         labels.push(lab);
     }
-    let lab_count: Vec<u64> = labels.iter().map(|m| words.iter().map(|&w| m[w].count_ones() as u64).sum()).collect();
+    let lab_count: Vec<u64> = labels
+        .iter()
+        .map(|m| words.iter().map(|&w| m[w].count_ones() as u64).sum())
+        .collect();
     // key = purity num/den (maximised), then (-depth, -size); first maximum wins
     let mut best: Option<((u128, u128), (i64, i64), usize)> = None;
     for (j, cond) in conds.iter().enumerate() {
@@ -176,6 +183,9 @@ mod tests {
 
     #[test]
     fn no_split_is_an_error() {
-        assert_eq!(greedy_tree(&[vec![0b11]], &[(3, 3)], &[1, 2], 2, 10), Err(GreedyError::NoSplit));
+        assert_eq!(
+            greedy_tree(&[vec![0b11]], &[(3, 3)], &[1, 2], 2, 10),
+            Err(GreedyError::NoSplit)
+        );
     }
 }

@@ -9,9 +9,18 @@ use crate::convert::{bits_of, bytes_of};
 use crate::errors::{bad_value, budget_exhausted};
 use crate::game::checked_ops;
 
-fn clock(seconds: Option<f64>, memory: Option<usize>, max_configs: Option<usize>) -> arena_core::Budget {
-    let deadline = seconds.map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-    arena_core::Budget { deadline, memory, max_configs }
+fn clock(
+    seconds: Option<f64>,
+    memory: Option<usize>,
+    max_configs: Option<usize>,
+) -> arena_core::Budget {
+    let deadline = seconds
+        .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    arena_core::Budget {
+        deadline,
+        memory,
+        max_configs,
+    }
 }
 
 /// The `BudgetExhausted` of a core routine that stopped in `phase`, saying where and
@@ -54,7 +63,14 @@ type LayerRows<'py> = Vec<Vec<(Vec<u32>, Bound<'py, PyBytes>)>>;
 
 impl PyArena {
     fn rows_out<'py>(&self, py: Python<'py>, layers: &[Vec<(u32, Vec<u64>)>]) -> LayerRows<'py> {
-        layers.iter().map(|l| l.iter().map(|(id, m)| (self.a.config(*id).to_vec(), bytes_of(py, m))).collect()).collect()
+        layers
+            .iter()
+            .map(|l| {
+                l.iter()
+                    .map(|(id, m)| (self.a.config(*id).to_vec(), bytes_of(py, m)))
+                    .collect()
+            })
+            .collect()
     }
 
     fn rows_in(&mut self, layers: &[Vec<(Vec<u32>, Bound<'_, PyBytes>)>]) -> PyResult<CoreLayers> {
@@ -84,13 +100,19 @@ impl PyArena {
         self.a.deadline = None;
         self.a.expired = false;
         if expired {
-            return Err(budget_exhausted(phase, "time", format!("{phase}: out of time")));
+            return Err(budget_exhausted(
+                phase,
+                "time",
+                format!("{phase}: out of time"),
+            ));
         }
         Ok(())
     }
 
     fn states_out(&self, rows: Vec<((u32, u32), u32)>) -> Vec<StateRow> {
-        rows.into_iter().map(|((r, id), m)| (r, self.a.config(id).to_vec(), m)).collect()
+        rows.into_iter()
+            .map(|((r, id), m)| (r, self.a.config(id).to_vec(), m))
+            .collect()
     }
 }
 
@@ -114,15 +136,27 @@ impl PyArena {
         if n_cells == 0 || start >= n_cells || goal >= n_cells || robot.is_empty() {
             return bad("empty grid, or start/goal off the grid");
         }
-        if abstract_danger.len() != steps || live.len() != steps + 1 || start_config.len() != obstacles.len() {
-            return bad("one danger mask per step, one live mask per time, one start cell per obstacle");
+        if abstract_danger.len() != steps
+            || live.len() != steps + 1
+            || start_config.len() != obstacles.len()
+        {
+            return bad(
+                "one danger mask per step, one live mask per time, one start cell per obstacle",
+            );
         }
-        if start_config.iter().any(|&c| c as usize >= n_cells) || obstacles.iter().any(|o| o.is_empty()) {
+        if start_config.iter().any(|&c| c as usize >= n_cells)
+            || obstacles.iter().any(|o| o.is_empty())
+        {
             return bad("obstacle start off the grid, or an obstacle without moves");
         }
         // every valid source of a move must stay on the grid (the caller's geometry says so)
         let on_grid = |valid: &[u64], deltas: &[i64]| {
-            (0..n_cells).all(|c| valid[c / 64] >> (c % 64) & 1 == 0 || deltas.iter().all(|&d| (0..n_cells as i64).contains(&(c as i64 + d))))
+            (0..n_cells).all(|c| {
+                valid[c / 64] >> (c % 64) & 1 == 0
+                    || deltas
+                        .iter()
+                        .all(|&d| (0..n_cells as i64).contains(&(c as i64 + d)))
+            })
         };
         let mut rm = vec![];
         for (valid, free, to, offsets) in &robot {
@@ -132,7 +166,12 @@ impl PyArena {
             if !on_grid(&valid, &all) {
                 return bad("a robot move leaves the grid from a valid cell");
             }
-            rm.push(MoveGeo { valid, free: bits_of(free, nw), to: *to, offsets: offsets.clone() });
+            rm.push(MoveGeo {
+                valid,
+                free: bits_of(free, nw),
+                to: *to,
+                offsets: offsets.clone(),
+            });
         }
         let mut om = vec![];
         for moves in &obstacles {
@@ -144,7 +183,12 @@ impl PyArena {
                 if !on_grid(&valid, &all) {
                     return bad("an obstacle move leaves the grid from a valid cell");
                 }
-                v.push(MoveGeo { valid, free: vec![], to: *to, offsets: offsets.clone() });
+                v.push(MoveGeo {
+                    valid,
+                    free: vec![],
+                    to: *to,
+                    offsets: offsets.clone(),
+                });
             }
             om.push(v);
         }
@@ -159,25 +203,41 @@ impl PyArena {
             goal,
             start_config,
         };
-        Ok(Self { a: arena_core::Arena::new(spec), fwd: None })
+        Ok(Self {
+            a: arena_core::Arena::new(spec),
+            fwd: None,
+        })
     }
 
     /// Explore within `seconds`, `memory` bytes and `max_configs` (`BudgetExhausted`
     /// past any of them).
     #[pyo3(signature = (seconds=None, memory=None, max_configs=None))]
-    fn explore(&mut self, py: Python<'_>, seconds: Option<f64>, memory: Option<usize>, max_configs: Option<usize>) -> PyResult<()> {
+    fn explore(
+        &mut self,
+        py: Python<'_>,
+        seconds: Option<f64>,
+        memory: Option<usize>,
+        max_configs: Option<usize>,
+    ) -> PyResult<()> {
         let c = clock(seconds, memory, max_configs);
         let a = &mut self.a;
-        py.detach(|| a.explore(&c)).map_err(|s| stopped("exploring the game", s, memory))
+        py.detach(|| a.explore(&c))
+            .map_err(|s| stopped("exploring the game", s, memory))
     }
 
     /// Backward induction: whether the robot wins when it may see the time
     /// (`BudgetExhausted` past `seconds` or `memory` bytes).
     #[pyo3(signature = (seconds=None, memory=None))]
-    fn solve_game(&mut self, py: Python<'_>, seconds: Option<f64>, memory: Option<usize>) -> PyResult<bool> {
+    fn solve_game(
+        &mut self,
+        py: Python<'_>,
+        seconds: Option<f64>,
+        memory: Option<usize>,
+    ) -> PyResult<bool> {
         let c = clock(seconds, memory, None);
         let a = &mut self.a;
-        py.detach(|| a.solve_game(&c)).map_err(|s| stopped("solving the game", s, memory))
+        py.detach(|| a.solve_game(&c))
+            .map_err(|s| stopped("solving the game", s, memory))
     }
 
     /// Rows per layer.
@@ -192,15 +252,28 @@ impl PyArena {
 
     /// Joint states explored (robot cells summed over every row of every layer).
     fn state_count(&self) -> u64 {
-        self.a.layers.iter().map(|l| l.masks.iter().map(|w| w.count_ones() as u64).sum::<u64>()).sum()
+        self.a
+            .layers
+            .iter()
+            .map(|l| l.masks.iter().map(|w| w.count_ones() as u64).sum::<u64>())
+            .sum()
     }
 
     /// Layer t as `(config cells, robot cells bytes)`; with `win`, the winning cells
     /// (rows that win nowhere left out).
     #[pyo3(signature = (t, win=false))]
-    fn layer<'py>(&self, py: Python<'py>, t: usize, win: bool) -> PyResult<Vec<(Vec<u32>, Bound<'py, PyBytes>)>> {
+    fn layer<'py>(
+        &self,
+        py: Python<'py>,
+        t: usize,
+        win: bool,
+    ) -> PyResult<Vec<(Vec<u32>, Bound<'py, PyBytes>)>> {
         let nw = self.a.nw;
-        let l = self.a.layers.get(t).ok_or_else(|| pyo3::exceptions::PyIndexError::new_err("no such layer"))?;
+        let l = self
+            .a
+            .layers
+            .get(t)
+            .ok_or_else(|| pyo3::exceptions::PyIndexError::new_err("no such layer"))?;
         let src = if win { &l.win } else { &l.masks };
         if win && src.len() != l.masks.len() {
             return Err(bad_value("the game is not solved"));
@@ -209,26 +282,43 @@ impl PyArena {
             .iter()
             .enumerate()
             .filter(|(i, _)| !win || src[i * nw..(i + 1) * nw].iter().any(|&w| w != 0))
-            .map(|(i, &id)| (self.a.config(id).to_vec(), bytes_of(py, &src[i * nw..(i + 1) * nw])))
+            .map(|(i, &id)| {
+                (
+                    self.a.config(id).to_vec(),
+                    bytes_of(py, &src[i * nw..(i + 1) * nw]),
+                )
+            })
             .collect())
     }
 
     /// Per robot move: the cells of layer t's configuration `oc` from which it wins.
-    fn winning_moves<'py>(&mut self, py: Python<'py>, t: usize, oc: Vec<u32>) -> PyResult<Vec<Bound<'py, PyBytes>>> {
+    fn winning_moves<'py>(
+        &mut self,
+        py: Python<'py>,
+        t: usize,
+        oc: Vec<u32>,
+    ) -> PyResult<Vec<Bound<'py, PyBytes>>> {
         if !self.a.solved || t >= self.a.spec.steps {
             return Err(bad_value("winning moves need a solved game and t < steps"));
         }
         let n = self.a.spec.robot.len();
         let row = self.a.find_config(&oc).and_then(|id| self.a.row(t, id));
         Ok(match row {
-            Some(row) => self.a.winning_moves(t, row).iter().map(|m| bytes_of(py, m)).collect(),
+            Some(row) => self
+                .a
+                .winning_moves(t, row)
+                .iter()
+                .map(|m| bytes_of(py, m))
+                .collect(),
             None => (0..n).map(|_| PyBytes::new(py, &[])).collect(),
         })
     }
 
     /// Successor configurations of `oc`.
     fn successors(&mut self, oc: Vec<u32>) -> PyResult<Vec<Vec<u32>>> {
-        if oc.len() != self.a.spec.obstacles.len() || oc.iter().any(|&c| c as usize >= self.a.spec.n_cells) {
+        if oc.len() != self.a.spec.obstacles.len()
+            || oc.iter().any(|&c| c as usize >= self.a.spec.n_cells)
+        {
             return Err(bad_value("one cell on the grid per read obstacle"));
         }
         let id = self.a.config_id(&oc);
@@ -239,13 +329,22 @@ impl PyArena {
     /// The winning-forward layers (kept for the calls below; `BudgetExhausted` past
     /// `seconds` or `memory` bytes).
     #[pyo3(signature = (seconds=None, memory=None))]
-    fn winning_forward<'py>(&mut self, py: Python<'py>, seconds: Option<f64>, memory: Option<usize>) -> PyResult<LayerRows<'py>> {
+    fn winning_forward<'py>(
+        &mut self,
+        py: Python<'py>,
+        seconds: Option<f64>,
+        memory: Option<usize>,
+    ) -> PyResult<LayerRows<'py>> {
         if !self.a.solved || self.a.layers[0].ids.is_empty() {
-            return Err(bad_value("the winning-forward layers need a solved, non-empty game"));
+            return Err(bad_value(
+                "the winning-forward layers need a solved, non-empty game",
+            ));
         }
         let c = clock(seconds, memory, None);
         let a = &mut self.a;
-        let layers = py.detach(|| a.winning_forward(&c)).map_err(|s| stopped("following winning moves", s, memory))?;
+        let layers = py
+            .detach(|| a.winning_forward(&c))
+            .map_err(|s| stopped("following winning moves", s, memory))?;
         let out = self.rows_out(py, &layers);
         self.fwd = Some(layers);
         Ok(out)
@@ -255,8 +354,16 @@ impl PyArena {
     /// over the last winning-forward layers: `(reach layers, allowed moves per state)`,
     /// or None when it meets a state without a move that wins at every time.
     #[pyo3(signature = (width, seconds=None))]
-    fn consistent<'py>(&mut self, py: Python<'py>, width: usize, seconds: Option<f64>) -> PyResult<Option<(LayerRows<'py>, Vec<StateRow>)>> {
-        let fwd = self.fwd.take().ok_or_else(|| bad_value("call winning_forward first"))?;
+    fn consistent<'py>(
+        &mut self,
+        py: Python<'py>,
+        width: usize,
+        seconds: Option<f64>,
+    ) -> PyResult<Option<(LayerRows<'py>, Vec<StateRow>)>> {
+        let fwd = self
+            .fwd
+            .take()
+            .ok_or_else(|| bad_value("call winning_forward first"))?;
         self.start_clock(seconds);
         let a = &mut self.a;
         let got = py.detach(|| {
@@ -273,9 +380,17 @@ impl PyArena {
     /// program (flat ops, root last) wins, else the first failing `(t, cell, config)`;
     /// out of time raises `BudgetExhausted`.
     #[pyo3(signature = (prog, width, seconds=None))]
-    fn check(&mut self, py: Python<'_>, prog: Vec<(u8, i64, i64, i64)>, width: usize, seconds: Option<f64>) -> PyResult<Option<(usize, usize, Vec<u32>)>> {
+    fn check(
+        &mut self,
+        py: Python<'_>,
+        prog: Vec<(u8, i64, i64, i64)>,
+        width: usize,
+        seconds: Option<f64>,
+    ) -> PyResult<Option<(usize, usize, Vec<u32>)>> {
         if !self.a.solved || width == 0 || self.a.spec.n_cells % width != 0 {
-            return Err(bad_value("the check needs a solved game and the grid width"));
+            return Err(bad_value(
+                "the check needs a solved game and the grid width",
+            ));
         }
         let ops = checked_ops(&prog, 2 + 2 * self.a.spec.obstacles.len())?;
         let root = ops.len() - 1;
@@ -294,20 +409,36 @@ impl PyArena {
 
     /// `(pairs, joint states)` of the last winning-forward layers.
     fn forward_sizes(&self) -> PyResult<(u64, u64)> {
-        let fwd = self.fwd.as_ref().ok_or_else(|| bad_value("call winning_forward first"))?;
-        let pairs = fwd.iter().take(self.a.spec.steps).flatten().map(|(_, m)| m.iter().map(|w| w.count_ones() as u64).sum::<u64>()).sum();
+        let fwd = self
+            .fwd
+            .as_ref()
+            .ok_or_else(|| bad_value("call winning_forward first"))?;
+        let pairs = fwd
+            .iter()
+            .take(self.a.spec.steps)
+            .flatten()
+            .map(|(_, m)| m.iter().map(|w| w.count_ones() as u64).sum::<u64>())
+            .sum();
         let mut union: std::collections::HashMap<u32, Vec<u64>> = std::collections::HashMap::new();
         for (id, m) in fwd.iter().take(self.a.spec.steps).flatten() {
             let u = union.entry(*id).or_insert_with(|| vec![0; m.len()]);
             u.iter_mut().zip(m).for_each(|(a, b)| *a |= b);
         }
-        let states = union.values().map(|m| m.iter().map(|w| w.count_ones() as u64).sum::<u64>()).sum();
+        let states = union
+            .values()
+            .map(|m| m.iter().map(|w| w.count_ones() as u64).sum::<u64>())
+            .sum();
         Ok((pairs, states))
     }
 
     /// Allowed moves per state of `reach` (`(cell, config, move bitmask)`).
     #[pyo3(signature = (reach, seconds=None))]
-    fn allowed(&mut self, py: Python<'_>, reach: Vec<Vec<(Vec<u32>, Bound<'_, PyBytes>)>>, seconds: Option<f64>) -> PyResult<Vec<StateRow>> {
+    fn allowed(
+        &mut self,
+        py: Python<'_>,
+        reach: Vec<Vec<(Vec<u32>, Bound<'_, PyBytes>)>>,
+        seconds: Option<f64>,
+    ) -> PyResult<Vec<StateRow>> {
         let reach = self.rows_in(&reach)?;
         self.start_clock(seconds);
         let a = &mut self.a;
@@ -318,7 +449,12 @@ impl PyArena {
 
     /// States reached when every state plays any of its allowed moves.
     #[pyo3(signature = (allowed, seconds=None))]
-    fn closure<'py>(&mut self, py: Python<'py>, allowed: Vec<StateRow>, seconds: Option<f64>) -> PyResult<LayerRows<'py>> {
+    fn closure<'py>(
+        &mut self,
+        py: Python<'py>,
+        allowed: Vec<StateRow>,
+        seconds: Option<f64>,
+    ) -> PyResult<LayerRows<'py>> {
         let mut rows = vec![];
         for (r, oc, m) in &allowed {
             if *r as usize >= self.a.spec.n_cells || oc.len() != self.a.spec.obstacles.len() {

@@ -27,7 +27,9 @@ fn enumerate_conditions<'py>(
             return Err(bad_value("every state needs n_vars values"));
         }
     }
-    let e = py.detach(|| conditions::enumerate_conditions(&states, n_vars, max_constant, max_depth, limit));
+    let e = py.detach(|| {
+        conditions::enumerate_conditions(&states, n_vars, max_constant, max_depth, limit)
+    });
     let terms = term_rows(&e.terms);
     let conds = e
         .conds

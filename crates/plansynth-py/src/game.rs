@@ -43,7 +43,12 @@ pub fn checked_ops(prog: &[(u8, i64, i64, i64)], n_vars: usize) -> PyResult<Vec<
     }
     for (i, o) in ops.iter().enumerate() {
         let kids: &[usize] = match o {
-            Op::Plus(a, b) | Op::Minus(a, b) | Op::Le(a, b) | Op::Eq(a, b) | Op::And(a, b) | Op::Or(a, b) => &[*a, *b],
+            Op::Plus(a, b)
+            | Op::Minus(a, b)
+            | Op::Le(a, b)
+            | Op::Eq(a, b)
+            | Op::And(a, b)
+            | Op::Or(a, b) => &[*a, *b],
             Op::Not(a) => std::slice::from_ref(a),
             Op::Ite(a, b, c) => &[*a, *b, *c],
             _ => &[],
@@ -64,7 +69,14 @@ struct PyGameGraph {
 #[pymethods]
 impl PyGameGraph {
     #[new]
-    fn new(n_moves: usize, state_of: Vec<u32>, win: Vec<u32>, off: Vec<u32>, succ: Vec<u32>, inputs: Vec<Vec<i64>>) -> PyResult<Self> {
+    fn new(
+        n_moves: usize,
+        state_of: Vec<u32>,
+        win: Vec<u32>,
+        off: Vec<u32>,
+        succ: Vec<u32>,
+        inputs: Vec<Vec<i64>>,
+    ) -> PyResult<Self> {
         let n_pairs = state_of.len();
         if win.len() != n_pairs || off.len() != n_pairs * n_moves + 1 {
             return Err(bad_value("inconsistent game graph sizes"));
@@ -76,7 +88,16 @@ impl PyGameGraph {
         {
             return Err(bad_value("game graph index out of range"));
         }
-        Ok(Self { g: GameGraph { n_moves, state_of, win, off, succ, inputs } })
+        Ok(Self {
+            g: GameGraph {
+                n_moves,
+                state_of,
+                win,
+                off,
+                succ,
+                inputs,
+            },
+        })
     }
 
     /// `(pairs, joint states)`.
@@ -88,7 +109,13 @@ impl PyGameGraph {
     #[allow(clippy::type_complexity)]
     fn arrays(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>, Vec<u32>, Vec<Vec<i64>>) {
         let g = &self.g;
-        (g.state_of.clone(), g.win.clone(), g.off.clone(), g.succ.clone(), g.inputs.clone())
+        (
+            g.state_of.clone(),
+            g.win.clone(),
+            g.off.clone(),
+            g.succ.clone(),
+            g.inputs.clone(),
+        )
     }
 
     /// None when the program (flat ops, root last) wins, else the first failing pair.
@@ -131,22 +158,46 @@ fn build_game_graph(
     if successors.len() != n_configs || n_configs == 0 || width == 0 {
         return Err(bad_value("one successor list per configuration"));
     }
-    if successors.iter().flatten().any(|&c| c as usize >= n_configs) {
+    if successors
+        .iter()
+        .flatten()
+        .any(|&c| c as usize >= n_configs)
+    {
         return Err(bad_value("successor configuration out of range"));
     }
     let n_cells = robot_end.len() / n_moves.max(1);
-    if robot_end.len() != n_cells * n_moves || start as usize >= n_cells || robot_end.iter().any(|&e| e as usize >= n_cells) {
+    if robot_end.len() != n_cells * n_moves
+        || start as usize >= n_cells
+        || robot_end.iter().any(|&e| e as usize >= n_cells)
+    {
         return Err(bad_value("robot end table out of range"));
     }
     let mut cells = Vec::with_capacity(layers.len());
     for (t, c, masks) in &layers {
         if masks.len() != n_moves || *c as usize >= n_configs {
-            return Err(bad_value("one winning mask per move, for a known configuration"));
+            return Err(bad_value(
+                "one winning mask per move, for a known configuration",
+            ));
         }
         let nw = n_cells.div_ceil(64).max(1);
-        cells.push(LayerCell { t: *t, config: *c, winning: masks.iter().map(|b| words(b.as_bytes(), nw)).collect() });
+        cells.push(LayerCell {
+            t: *t,
+            config: *c,
+            winning: masks.iter().map(|b| words(b.as_bytes(), nw)).collect(),
+        });
     }
-    let g = py.detach(|| game::build_game_graph(n_moves, steps, width, start, &configs, &successors, &robot_end, &cells));
+    let g = py.detach(|| {
+        game::build_game_graph(
+            n_moves,
+            steps,
+            width,
+            start,
+            &configs,
+            &successors,
+            &robot_end,
+            &cells,
+        )
+    });
     Ok(PyGameGraph { g })
 }
 

@@ -2,7 +2,9 @@
 //! obstacles' configurations (safety solved in the core; the learner's rounds; the
 //! obstacles' rank strategy checked). A call that runs out of its seconds or memory
 //! raises `plansynth.budget.BudgetExhausted` naming what it was doing.
-use plansynth_core::product::{self as core, Limits, ObstacleMove, ObstacleSpec, ProductSpec, RobotMove, Stop};
+use plansynth_core::product::{
+    self as core, Limits, ObstacleMove, ObstacleSpec, ProductSpec, RobotMove, Stop,
+};
 use plansynth_core::tree::Node;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -13,8 +15,12 @@ use crate::errors::{bad_value, budget_exhausted};
 use crate::game::checked_ops;
 
 fn limits(seconds: Option<f64>, max_bytes: Option<usize>) -> Limits {
-    let deadline = seconds.map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-    Limits { deadline, max_bytes }
+    let deadline = seconds
+        .map(|s| std::time::Instant::now() + std::time::Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    Limits {
+        deadline,
+        max_bytes,
+    }
 }
 
 fn stopped(phase: &str, stop: Stop) -> PyErr {
@@ -22,9 +28,26 @@ fn stopped(phase: &str, stop: Stop) -> PyErr {
 }
 
 type RobotRow<'py> = (Bound<'py, PyBytes>, Bound<'py, PyBytes>, i64, Vec<i64>);
-type ObstacleRow<'py> = (usize, usize, Vec<((i64, i64), Vec<(i64, i64)>)>, u32, bool, u32, u32, Bound<'py, PyBytes>, usize);
+type ObstacleRow<'py> = (
+    usize,
+    usize,
+    Vec<((i64, i64), Vec<(i64, i64)>)>,
+    u32,
+    bool,
+    u32,
+    u32,
+    Bound<'py, PyBytes>,
+    usize,
+);
 type CondRow = (u8, usize, usize, u32);
-type RoundOut = (bool, usize, usize, Vec<TermRow>, Vec<CondRow>, Vec<(u8, usize)>);
+type RoundOut = (
+    bool,
+    usize,
+    usize,
+    Vec<TermRow>,
+    Vec<CondRow>,
+    Vec<(u8, usize)>,
+);
 
 /// The product game (see `plansynth_core::product`).
 #[pyclass(name = "ProductGame")]
@@ -41,29 +64,75 @@ impl PyProductGame {
     #[new]
     #[pyo3(signature = (width, height, robot, obstacles, position, start, standing, seconds=None, max_bytes=None))]
     #[allow(clippy::too_many_arguments)]
-    fn new(py: Python<'_>, width: usize, height: usize, robot: Vec<RobotRow<'_>>, obstacles: Vec<ObstacleRow<'_>>,
-           position: bool, start: usize, standing: Bound<'_, PyBytes>, seconds: Option<f64>,
-           max_bytes: Option<usize>) -> PyResult<Self> {
+    fn new(
+        py: Python<'_>,
+        width: usize,
+        height: usize,
+        robot: Vec<RobotRow<'_>>,
+        obstacles: Vec<ObstacleRow<'_>>,
+        position: bool,
+        start: usize,
+        standing: Bound<'_, PyBytes>,
+        seconds: Option<f64>,
+        max_bytes: Option<usize>,
+    ) -> PyResult<Self> {
         let n = width * height;
         if n == 0 || start >= n || robot.is_empty() || robot.len() > 32 {
-            return Err(bad_value("a product game needs cells, a start on the grid and 1..32 robot moves"));
+            return Err(bad_value(
+                "a product game needs cells, a start on the grid and 1..32 robot moves",
+            ));
         }
         let nw = n.div_ceil(64).max(1);
         let robot = robot
             .iter()
-            .map(|(v, f, to, offs)| RobotMove { valid: bits_of(v, nw), free: bits_of(f, nw), to: *to, offsets: offs.clone() })
+            .map(|(v, f, to, offs)| RobotMove {
+                valid: bits_of(v, nw),
+                free: bits_of(f, nw),
+                to: *to,
+                offsets: offs.clone(),
+            })
             .collect();
         let mut obs = vec![];
         for (w, h, moves, period, fixed, phase0, glitches, blocked, cell) in obstacles {
-            if w == 0 || h == 0 || period == 0 || phase0 >= period || period > 255 || glitches > 65535 || cell >= n {
+            if w == 0
+                || h == 0
+                || period == 0
+                || phase0 >= period
+                || period > 255
+                || glitches > 65535
+                || cell >= n
+            {
                 return Err(bad_value("obstacle out of range"));
             }
-            let moves = moves.into_iter().map(|(to, offsets)| ObstacleMove { to, offsets }).collect();
-            obs.push(ObstacleSpec { w, h, moves, period, fixed, phase0, glitches, blocked: bits_of(&blocked, nw), start: cell });
+            let moves = moves
+                .into_iter()
+                .map(|(to, offsets)| ObstacleMove { to, offsets })
+                .collect();
+            obs.push(ObstacleSpec {
+                w,
+                h,
+                moves,
+                period,
+                fixed,
+                phase0,
+                glitches,
+                blocked: bits_of(&blocked, nw),
+                start: cell,
+            });
         }
-        let spec = ProductSpec { width, height, robot, obstacles: obs, position, start, standing: bits_of(&standing, nw) };
+        let spec = ProductSpec {
+            width,
+            height,
+            robot,
+            obstacles: obs,
+            position,
+            start,
+            standing: bits_of(&standing, nw),
+        };
         let lim = limits(seconds, max_bytes);
-        let g = py.detach(|| core::ProductGame::new(spec, lim)).map_err(|s| stopped("exploring the obstacles' configurations", s))?;
+        let g = py
+            .detach(|| core::ProductGame::new(spec, lim))
+            .map_err(|s| stopped("exploring the obstacles' configurations", s))?;
         Ok(Self { g })
     }
 
@@ -85,10 +154,16 @@ impl PyProductGame {
 
     /// Solve the safety game: true iff the robot wins from the start.
     #[pyo3(signature = (seconds=None, max_bytes=None))]
-    fn solve_safety(&mut self, py: Python<'_>, seconds: Option<f64>, max_bytes: Option<usize>) -> PyResult<bool> {
+    fn solve_safety(
+        &mut self,
+        py: Python<'_>,
+        seconds: Option<f64>,
+        max_bytes: Option<usize>,
+    ) -> PyResult<bool> {
         let lim = limits(seconds, max_bytes);
         let g = &mut self.g;
-        py.detach(|| g.solve_safety(lim)).map_err(|s| stopped("the safety fixpoint", s))
+        py.detach(|| g.solve_safety(lim))
+            .map_err(|s| stopped("the safety fixpoint", s))
     }
 
     fn rounds(&self) -> u32 {
@@ -112,21 +187,34 @@ impl PyProductGame {
     /// Explore a program's closed loop: (states reached, states where it misplays,
     /// states new to the sample).
     #[pyo3(signature = (prog, n_vars, grow=false, seconds=None, max_bytes=None))]
-    fn closure(&mut self, py: Python<'_>, prog: Vec<(u8, i64, i64, i64)>, n_vars: usize, grow: bool, seconds: Option<f64>,
-               max_bytes: Option<usize>) -> PyResult<(usize, Vec<(u32, u32)>, usize)> {
+    fn closure(
+        &mut self,
+        py: Python<'_>,
+        prog: Vec<(u8, i64, i64, i64)>,
+        n_vars: usize,
+        grow: bool,
+        seconds: Option<f64>,
+        max_bytes: Option<usize>,
+    ) -> PyResult<(usize, Vec<(u32, u32)>, usize)> {
         if !self.g.solved || n_vars != self.g.spec.n_vars() {
             return Err(bad_value("an unsolved game or a program over other inputs"));
         }
         let ops = checked_ops(&prog, n_vars)?;
         let lim = limits(seconds, max_bytes);
         let g = &mut self.g;
-        let c = py.detach(|| g.closure(&ops, grow, lim)).map_err(|s| stopped("the program's closed loop", s))?;
+        let c = py
+            .detach(|| g.closure(&ops, grow, lim))
+            .map_err(|s| stopped("the program's closed loop", s))?;
         Ok((c.reached, c.bad, c.fresh))
     }
 
     /// The states of the last closure: (configuration id, robot cells) per configuration.
     fn reached_sets<'py>(&self, py: Python<'py>) -> Vec<(u32, Bound<'py, PyBytes>)> {
-        self.g.reached_sets().into_iter().map(|(id, w)| (id, bytes_of(py, w))).collect()
+        self.g
+            .reached_sets()
+            .into_iter()
+            .map(|(id, w)| (id, bytes_of(py, w)))
+            .collect()
     }
 
     /// The learner's sample: (inputs, allowed moves mask) per state.
@@ -149,8 +237,16 @@ impl PyProductGame {
     /// `(0, k)` a leaf, `(1, j)` a split on condition j.
     #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None))]
     #[allow(clippy::too_many_arguments)]
-    fn learn_round(&mut self, py: Python<'_>, cond_depth: u32, max_constant: i64, max_nodes: usize, enum_states: usize,
-                   seconds: Option<f64>, max_bytes: Option<usize>) -> PyResult<RoundOut> {
+    fn learn_round(
+        &mut self,
+        py: Python<'_>,
+        cond_depth: u32,
+        max_constant: i64,
+        max_nodes: usize,
+        enum_states: usize,
+        seconds: Option<f64>,
+        max_bytes: Option<usize>,
+    ) -> PyResult<RoundOut> {
         if !self.g.solved {
             return Err(bad_value("learning on an unsolved game"));
         }
@@ -177,10 +273,17 @@ impl PyProductGame {
 
     /// Check the obstacles' rank strategy from the start: (valid, states checked, why not).
     #[pyo3(signature = (seconds=None, max_bytes=None))]
-    fn certify_safety(&self, py: Python<'_>, seconds: Option<f64>, max_bytes: Option<usize>) -> PyResult<(bool, usize, String)> {
+    fn certify_safety(
+        &self,
+        py: Python<'_>,
+        seconds: Option<f64>,
+        max_bytes: Option<usize>,
+    ) -> PyResult<(bool, usize, String)> {
         let lim = limits(seconds, max_bytes);
         let g = &self.g;
-        let out = py.detach(|| g.certify_safety(lim)).map_err(|s| stopped("checking the obstacles' strategy", s))?;
+        let out = py
+            .detach(|| g.certify_safety(lim))
+            .map_err(|s| stopped("checking the obstacles' strategy", s))?;
         Ok(match out {
             Ok(n) => (true, n, String::new()),
             Err(why) => (false, 0, why),

@@ -48,8 +48,18 @@ def run_task(task: Mapping[str, Any]) -> dict[str, Any]:
         return attrs
     if isinstance(out, Crash):
         status = "memout" if out.memory_out else "crash"
-        return {"status": status, "solved": 0, "time": out.seconds, "wall": out.seconds,
-                "message": (out.describe() + "\n" + (out.error or ""))[:4000],
-                "attributes": {"exitcode": out.exitcode}}
-    return {"status": "timeout", "solved": 0, "time": out.seconds, "wall": out.seconds,
-            "message": f"killed after {out.seconds:.1f} s (limit {limit:.1f} s)"}
+        return {
+            "status": status,
+            "solved": 0,
+            "time": out.seconds,
+            "wall": out.seconds,
+            "message": (out.describe() + "\n" + (out.error or ""))[:4000],
+            "attributes": {"exitcode": out.exitcode},
+        }
+    return {
+        "status": "timeout",
+        "solved": 0,
+        "time": out.seconds,
+        "wall": out.seconds,
+        "message": f"killed after {out.seconds:.1f} s (limit {limit:.1f} s)",
+    }

@@ -13,7 +13,9 @@ from rich.console import Console
 app = typer.Typer(no_args_is_help=True, add_completion=False)
 console = Console()
 
-DB_OPTION = typer.Option(Path("bench-results.db"), "--db", help="SQLite results database (created if absent; resumed if present).")
+DB_OPTION = typer.Option(
+    Path("bench-results.db"), "--db", help="SQLite results database (created if absent; resumed if present)."
+)
 
 GRID_EPILOG = """\
 Examples:
@@ -89,8 +91,9 @@ def _known_solvers(kind: str) -> list[str]:
     return list(dict.fromkeys([*REACH_ORDER, *planners()]))
 
 
-def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: int, jobs: int, memory: int,
-                     orders: list[int]) -> None:
+def _check_arguments(
+    kind: str, solvers: list[str], *, timeout: float, repeat: int, jobs: int, memory: int, orders: list[int]
+) -> None:
     """Validate a sweep's arguments at the door (STYLE.md, point 2)."""
     import math
 
@@ -102,7 +105,9 @@ def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: i
     known = _known_solvers(kind)
     for name in solvers:
         if name not in known and name not in DEBUG_SOLVERS:
-            _refuse(flag, f"unknown {'grid solver' if kind == 'grid' else 'planner'} {name!r} (known: {', '.join(known)})")
+            _refuse(
+                flag, f"unknown {'grid solver' if kind == 'grid' else 'planner'} {name!r} (known: {', '.join(known)})"
+            )
     if not (math.isfinite(timeout) and timeout > 0):
         _refuse("--timeout", f"must be a positive number of seconds, got {timeout}")
     if memory < 1:
@@ -115,9 +120,24 @@ def _check_arguments(kind: str, solvers: list[str], *, timeout: float, repeat: i
         _refuse("--orders", f"chain orders must be at least 1, got {','.join(map(str, orders))}")
 
 
-def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[str], *, orders: list[int],
-           timeout: float, repeat: int, db: Path, jobs: int, memory: int, cluster: Optional[str], seed: int,
-           retry: str = "", options: Optional[list[str]] = None, states: Optional[list[int]] = None) -> None:
+def _sweep(
+    kind: str,
+    families: list[str],
+    values: Optional[str],
+    solvers: list[str],
+    *,
+    orders: list[int],
+    timeout: float,
+    repeat: int,
+    db: Path,
+    jobs: int,
+    memory: int,
+    cluster: Optional[str],
+    seed: int,
+    retry: str = "",
+    options: Optional[list[str]] = None,
+    states: Optional[list[int]] = None,
+) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import run_sweep
     from plansynth.bench.tasks import make_tasks
@@ -144,10 +164,15 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
             if not every:
                 raise typer.Exit(2) from None
         except (ValueError, TypeError, KeyError):  # a value the family cannot use (a name, a value it lacks)
-            _refuse("--values", f"expected comma-separated integers (or, for reactive-suite, instance names) "
-                                f"that family {f!r} has, got {values!r}")
+            _refuse(
+                "--values",
+                f"expected comma-separated integers (or, for reactive-suite, instance names) "
+                f"that family {f!r} has, got {values!r}",
+            )
     if kind == "reach" and "milp" in solvers:
-        console.print("[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)")
+        console.print(
+            "[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)"
+        )
     solver_options = _options(options or [])
     for name, kv in solver_options.items():  # an option for no solver of the sweep is an error, not dropped
         if name not in solvers:
@@ -159,8 +184,9 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
                 NativeOptions.parse([f"{k}={v}" for k, v in kv.items()])
             except InvalidOption as exc:
                 _refuse("--option", str(exc))
-    tasks = make_tasks(insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed,
-                       options=solver_options)
+    tasks = make_tasks(
+        insts, solvers, repeat=repeat, timeout=timeout, memory_mb=memory, seed=seed, options=solver_options
+    )
     console.print(f"{len(tasks)} runs ({len(insts)} instances x {len(solvers)} solvers x {repeat}) -> {db}")
     from plansynth.bench.errors import ClusterUnreachable
     from plansynth.errors import OutputUnwritable
@@ -180,28 +206,57 @@ def _sweep(kind: str, families: list[str], values: Optional[str], solvers: list[
 
 @app.command("grid", epilog=GRID_EPILOG)
 def grid_cmd(
-    family: list[str] = typer.Option(["all"], "--family", "-f", help="Family name (repeatable, or comma-separated), or all."),
-    values: Optional[str] = typer.Option(None, "--values", help="Only these parameter values, e.g. 5,10 (steps L, obstacles N, ...)."),
+    family: list[str] = typer.Option(
+        ["all"], "--family", "-f", help="Family name (repeatable, or comma-separated), or all."
+    ),
+    values: Optional[str] = typer.Option(
+        None, "--values", help="Only these parameter values, e.g. 5,10 (steps L, obstacles N, ...)."
+    ),
     solvers: str = typer.Option("native,cvc5", "--solvers", help="Comma-separated grid backends."),
-    timeout: float = typer.Option(300.0, "--timeout", help="Seconds per run (the solver's budget; the child is killed a little later)."),
+    timeout: float = typer.Option(
+        300.0, "--timeout", help="Seconds per run (the solver's budget; the child is killed a little later)."
+    ),
     repeat: int = typer.Option(1, "--repeat", help="Repeats per instance and solver."),
     db: Path = DB_OPTION,
     jobs: int = typer.Option(1, "--jobs", "-j", help="Runs at once on the local pool."),
     memory: int = typer.Option(8192, "--memory", help="Memory limit per run, MB."),
-    cluster: Optional[str] = typer.Option(None, "--cluster", help="Dask scheduler address (tcp://host:8786); default: local pool."),
+    cluster: Optional[str] = typer.Option(
+        None, "--cluster", help="Dask scheduler address (tcp://host:8786); default: local pool."
+    ),
     seed: int = typer.Option(0, "--seed"),
     retry: str = typer.Option("", "--retry", help="Rerun recorded runs with these statuses, e.g. crash,timeout."),
-    option: list[str] = typer.Option([], "--option", "-O", help='Solver option SOLVER:KEY=VALUE, e.g. "external:command=cvc5 --lang=sygus2 {file}".'),
+    option: list[str] = typer.Option(
+        [], "--option", "-O", help='Solver option SOLVER:KEY=VALUE, e.g. "external:command=cvc5 --lang=sygus2 {file}".'
+    ),
 ) -> None:
     """Run grid families with several backends into the results database."""
     fams = [x for f in family for x in _split(f)]
-    _sweep("grid", fams, values, _split(solvers), orders=[], timeout=timeout, repeat=repeat, db=db, jobs=jobs,
-           memory=memory, cluster=cluster, seed=seed, retry=retry, options=option)
+    _sweep(
+        "grid",
+        fams,
+        values,
+        _split(solvers),
+        orders=[],
+        timeout=timeout,
+        repeat=repeat,
+        db=db,
+        jobs=jobs,
+        memory=memory,
+        cluster=cluster,
+        seed=seed,
+        retry=retry,
+        options=option,
+    )
 
 
 @app.command("reach", epilog=REACH_EPILOG)
 def reach_cmd(
-    family: list[str] = typer.Option(["maze"], "--family", "-f", help="maze, chain, random, random-dynamics, missions, gcs-maze (repeatable or comma-separated), or all."),
+    family: list[str] = typer.Option(
+        ["maze"],
+        "--family",
+        "-f",
+        help="maze, chain, random, random-dynamics, missions, gcs-maze (repeatable or comma-separated), or all.",
+    ),
     values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
     states: str = typer.Option("4,10,20,50", "--states", help="State counts n for the random-dynamics family."),
@@ -225,9 +280,22 @@ def reach_cmd(
         state_list = [int(k) for k in _split(states)]
     except ValueError:
         _refuse("--states", f"expected comma-separated integers, got {states!r}")
-    _sweep("reach", fams, values, _split(planners), orders=order_list, timeout=timeout,
-           repeat=repeat, db=db, jobs=jobs, memory=memory, cluster=cluster, seed=seed, retry=retry,
-           states=state_list)
+    _sweep(
+        "reach",
+        fams,
+        values,
+        _split(planners),
+        orders=order_list,
+        timeout=timeout,
+        repeat=repeat,
+        db=db,
+        jobs=jobs,
+        memory=memory,
+        cluster=cluster,
+        seed=seed,
+        retry=retry,
+        states=state_list,
+    )
 
 
 @contextmanager
@@ -267,8 +335,10 @@ def _require_runs(db: Path, out: Path) -> None:
         raise typer.Exit(2) from None
 
 
-HTML_OPTION_HELP = ("Also write the report as one self-contained HTML page beside the Markdown: a table of "
-                    "contents, sortable tables, the plots embedded; it loads nothing from the network.")
+HTML_OPTION_HELP = (
+    "Also write the report as one self-contained HTML page beside the Markdown: a table of "
+    "contents, sortable tables, the plots embedded; it loads nothing from the network."
+)
 
 
 def _written(markdown: Path, html: bool) -> str:
@@ -278,7 +348,9 @@ def _written(markdown: Path, html: bool) -> str:
 @app.command("report")
 def report_cmd(
     db: Path = DB_OPTION,
-    out: Path = typer.Option(Path("bench-report"), "--out", "-o", help="Directory for REPORT.md, REPORT.html and the PNG plots."),
+    out: Path = typer.Option(
+        Path("bench-report"), "--out", "-o", help="Directory for REPORT.md, REPORT.html and the PNG plots."
+    ),
     html: bool = typer.Option(True, "--html/--no-html", help=HTML_OPTION_HELP),
 ) -> None:
     """Markdown tables (paper numbers beside ours and the peers') and log-scale PNG plots,
@@ -311,8 +383,12 @@ def families_cmd(
 @app.command("publish")
 def publish_cmd(
     db: Path = typer.Option(Path("benchmarks/results.db"), "--db"),
-    out: Path = typer.Option(Path("benchmarks"), "--out", "-o", help="Directory of RESULTS.md, RESULTS.html and the figures."),
-    report_only: bool = typer.Option(False, "--report-only", help="Only regenerate RESULTS.md (and RESULTS.html) from the database."),
+    out: Path = typer.Option(
+        Path("benchmarks"), "--out", "-o", help="Directory of RESULTS.md, RESULTS.html and the figures."
+    ),
+    report_only: bool = typer.Option(
+        False, "--report-only", help="Only regenerate RESULTS.md (and RESULTS.html) from the database."
+    ),
     html: bool = typer.Option(True, "--html/--no-html", help=HTML_OPTION_HELP),
     grid_timeout: float = typer.Option(120.0, "--grid-timeout"),
     reach_timeout: float = typer.Option(60.0, "--reach-timeout"),
@@ -331,8 +407,16 @@ def publish_cmd(
         _require_runs(db, out)
     with _outputs_checked(out):
         try:
-            path = publish(db, out, run=not report_only, grid_timeout=grid_timeout, reach_timeout=reach_timeout,
-                           jobs=jobs, cluster=cluster, html=html)
+            path = publish(
+                db,
+                out,
+                run=not report_only,
+                grid_timeout=grid_timeout,
+                reach_timeout=reach_timeout,
+                jobs=jobs,
+                cluster=cluster,
+                html=html,
+            )
         except ClusterUnreachable as exc:
             _refuse("--cluster", str(exc))
     console.print(f"wrote {_written(path, html)}")

@@ -169,9 +169,20 @@ class ResultsDB:
                 "INSERT INTO experiments (name, totaltime, timelimit, memorylimit, runcount, version, hostname,"
                 " cpuinfo, date, seed, setup, kind, family, instance) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
                 (
-                    name, 0.0, timelimit, memorylimit, runcount, m.get("version"), m.get("hostname"),
-                    m.get("cpuinfo"), time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime()), seed,
-                    json.dumps(dict(setup), sort_keys=True), kind, family, instance,
+                    name,
+                    0.0,
+                    timelimit,
+                    memorylimit,
+                    runcount,
+                    m.get("version"),
+                    m.get("hostname"),
+                    m.get("cpuinfo"),
+                    time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime()),
+                    seed,
+                    json.dumps(dict(setup), sort_keys=True),
+                    kind,
+                    family,
+                    instance,
                 ),
             )
             self.conn.commit()
@@ -189,7 +200,8 @@ class ResultsDB:
         if row is not None:
             return int(row["id"])
         cur = self.conn.execute(
-            "INSERT INTO plannerConfigs (name, settings) VALUES (?, ?)", (name, json.dumps(dict(settings), sort_keys=True))
+            "INSERT INTO plannerConfigs (name, settings) VALUES (?, ?)",
+            (name, json.dumps(dict(settings), sort_keys=True)),
         )
         self.conn.commit()
         return int(cur.lastrowid)
@@ -213,7 +225,8 @@ class ResultsDB:
             (experiment_id, planner_id, *cols.values()),
         )
         self.conn.execute(
-            "UPDATE experiments SET totaltime = totaltime + ? WHERE id = ?", (float(cols.get("wall") or 0.0), experiment_id)
+            "UPDATE experiments SET totaltime = totaltime + ? WHERE id = ?",
+            (float(cols.get("wall") or 0.0), experiment_id),
         )
         self.conn.commit()
 
@@ -226,8 +239,10 @@ class ResultsDB:
         resumed sweep runs them again (the new row replaces the old one).
         """
         retry = tuple(retry)
-        q = ('SELECT e.name, p.name, r."repeat" FROM runs r JOIN experiments e ON r.experimentid = e.id'
-             " JOIN plannerConfigs p ON r.plannerid = p.id")
+        q = (
+            'SELECT e.name, p.name, r."repeat" FROM runs r JOIN experiments e ON r.experimentid = e.id'
+            " JOIN plannerConfigs p ON r.plannerid = p.id"
+        )
         if retry:
             q += f" WHERE r.status NOT IN ({', '.join('?' for _ in retry)})"
         rows = self.conn.execute(q, retry)
@@ -239,8 +254,10 @@ class ResultsDB:
         None time limit: the database does not say, and the run counts as done under any
         budget or options)."""
         retry = tuple(retry)
-        q = ('SELECT e.name, p.name, r."repeat", r.attributes, e.timelimit, e.memorylimit FROM runs r'
-             " JOIN experiments e ON r.experimentid = e.id JOIN plannerConfigs p ON r.plannerid = p.id")
+        q = (
+            'SELECT e.name, p.name, r."repeat", r.attributes, e.timelimit, e.memorylimit FROM runs r'
+            " JOIN experiments e ON r.experimentid = e.id JOIN plannerConfigs p ON r.plannerid = p.id"
+        )
         if retry:
             q += f" WHERE r.status NOT IN ({', '.join('?' for _ in retry)})"
         out: dict[tuple[str, str, int], tuple[Any, Any, Any]] = {}
@@ -253,7 +270,9 @@ class ResultsDB:
             timelimit = attrs.get("timelimit", e_time)
             # None in attributes: the run had no memory limit; absent (older rows): the
             # experiment's limit, else UNRECORDED
-            memorylimit = attrs["memorylimit"] if "memorylimit" in attrs else (UNRECORDED if e_memory is None else e_memory)
+            memorylimit = (
+                attrs["memorylimit"] if "memorylimit" in attrs else (UNRECORDED if e_memory is None else e_memory)
+            )
             out[(a, b, int(c))] = (timelimit, memorylimit, attrs.get("options", UNRECORDED))
         return out
 

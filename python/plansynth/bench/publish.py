@@ -69,33 +69,52 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
     if part in ("all", "reach"):
         tasks += make_tasks(family("reach", "maze"), MAZE_PLANNERS, timeout=reach_timeout)
         # the sampling planners vary with the seed: more repeats (seed + repeat)
-        tasks += [t for t in make_tasks(family("reach", "maze"), ["rrt", "lazy-smt"], repeat=RRT_REPEATS,
-                                        timeout=reach_timeout) if t["repeat"] > 0]
+        tasks += [
+            t
+            for t in make_tasks(family("reach", "maze"), ["rrt", "lazy-smt"], repeat=RRT_REPEATS, timeout=reach_timeout)
+            if t["repeat"] > 0
+        ]
         # counterexamples compared (Section V): the paper's loop with ZEROPREFIX / trivial, ours with ZEROPREFIX
         tasks += make_tasks(family("reach", "maze"), list(CX_VARIANTS), timeout=max(reach_timeout, CX_TIMEOUT))
-        tasks += make_tasks(family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout)
+        tasks += make_tasks(
+            family("reach", "random", [0, 1, 2]), ["lazy-smt", "rrt", "milp-bigm"], timeout=reach_timeout
+        )
         # LTL missions: three per maze, lazy-smt and the milp-ltl baselines side by side
         # (horizons upward from the proved bound, and Wolff et al.'s one MILP at the max horizon)
-        tasks += make_tasks(family("reach", "missions"), ["lazy-smt", "milp-ltl", "milp-ltl-oneshot"],
-                            timeout=max(reach_timeout, MISSIONS_TIMEOUT))
-        tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"],
-                            timeout=reach_timeout)
+        tasks += make_tasks(
+            family("reach", "missions"),
+            ["lazy-smt", "milp-ltl", "milp-ltl-oneshot"],
+            timeout=max(reach_timeout, MISSIONS_TIMEOUT),
+        )
+        tasks += make_tasks(
+            family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"], timeout=reach_timeout
+        )
         # Graphs of Convex Sets (Drake) beside lazy-smt on the mazes, interleaved, medians of 3
         tasks += make_tasks(family("reach", "maze"), ["gcs"], repeat=GCS_REPEATS, timeout=reach_timeout)
         # the horizon proved minimal beside the window search, medians of 3
         tasks += make_tasks(family("reach", "maze"), ["lazy-smt-minimal"], repeat=GCS_REPEATS, timeout=reach_timeout)
         # the GCS paper's n x n mazes: lazy-smt and gcs on the same instances
-        tasks += make_tasks(family("reach", "gcs-maze"), ["lazy-smt", "gcs"], timeout=max(reach_timeout, GCS_MAZE_TIMEOUT))
+        tasks += make_tasks(
+            family("reach", "gcs-maze"), ["lazy-smt", "gcs"], timeout=max(reach_timeout, GCS_MAZE_TIMEOUT)
+        )
         # Figure 4 with random dynamics (the paper's setting): seeded random controllable (A, B)
-        tasks += make_tasks(family("reach", "random-dynamics", [1, 2, 3, 4], states=RANDOM_DYNAMICS_STATES),
-                            ["lazy-smt"], timeout=max(reach_timeout, N50_TIMEOUT))
+        tasks += make_tasks(
+            family("reach", "random-dynamics", [1, 2, 3, 4], states=RANDOM_DYNAMICS_STATES),
+            ["lazy-smt"],
+            timeout=max(reach_timeout, N50_TIMEOUT),
+        )
         # n = 50 states: the scalability target, with a longer limit so that it is measured
-        tasks += make_tasks(family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[-1:]), ["lazy-smt"],
-                            repeat=N50_REPEATS, timeout=max(reach_timeout, N50_TIMEOUT))
+        tasks += make_tasks(
+            family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[-1:]),
+            ["lazy-smt"],
+            repeat=N50_REPEATS,
+            timeout=max(reach_timeout, N50_TIMEOUT),
+        )
     if part in ("all", "grid"):
         # Small instances first, so that an interrupted sweep still covers every figure.
-        insts = [i for f in GRID_FAMILIES if f != "reactive-suite" and f not in SYNTCOMP_FAMILIES
-                 for i in family("grid", f)]
+        insts = [
+            i for f in GRID_FAMILIES if f != "reactive-suite" and f not in SYNTCOMP_FAMILIES for i in family("grid", f)
+        ]
         try:  # the shared suite lives beside the repository; say so when it is not there
             insts += family("grid", "reactive-suite")
         except FileNotFoundError as exc:
@@ -105,20 +124,38 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         insts = [i for i in insts if i.family not in CLI_TIMED_FAMILIES]
         tasks += make_tasks(insts, GRID_SOLVERS, timeout=grid_timeout)
         # native answers in milliseconds: repeat it for medians (cvc5 once: its runs take minutes)
-        tasks += [t for t in make_tasks(insts, ["native"], repeat=NATIVE_REPEATS, timeout=grid_timeout) if t["repeat"] > 0]
+        tasks += [
+            t for t in make_tasks(insts, ["native"], repeat=NATIVE_REPEATS, timeout=grid_timeout) if t["repeat"] > 0
+        ]
         # through the CLI, one sweep with native and cvc5 side by side (the CLI timing targets)
         tasks += make_tasks(timed, GRID_SOLVERS, timeout=CLI_TIMED_TIMEOUT)
         # SYNTCOMP's robot benchmarks: native and the omega peer in one run, side by side
-        tasks += make_tasks(family("grid", "moving-obstacle"), SYNTCOMP_SOLVERS, timeout=MOVING_OBSTACLE_TIMEOUT,
-                            memory_mb=SYNTCOMP_MEMORY_MB)
-        tasks += make_tasks(family("grid", "robot-grid") + family("grid", "robot-grid-fast"), SYNTCOMP_SOLVERS,
-                            timeout=ROBOT_GRID_TIMEOUT)
+        tasks += make_tasks(
+            family("grid", "moving-obstacle"),
+            SYNTCOMP_SOLVERS,
+            timeout=MOVING_OBSTACLE_TIMEOUT,
+            memory_mb=SYNTCOMP_MEMORY_MB,
+        )
+        tasks += make_tasks(
+            family("grid", "robot-grid") + family("grid", "robot-grid-fast"),
+            SYNTCOMP_SOLVERS,
+            timeout=ROBOT_GRID_TIMEOUT,
+        )
     return tasks
 
 
-def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: float = 60.0,
-            reach_timeout: float = 60.0, jobs: int = 1, cluster: str | None = None, part: str = "all",
-            html: bool = True) -> Path:
+def publish(
+    db: str | Path,
+    out: str | Path,
+    *,
+    run: bool = True,
+    grid_timeout: float = 60.0,
+    reach_timeout: float = 60.0,
+    jobs: int = 1,
+    cluster: str | None = None,
+    part: str = "all",
+    html: bool = True,
+) -> Path:
     """Run (resume) the published sweep unless ``run`` is False; write ``out/RESULTS.md``
     (and ``out/RESULTS.html`` when ``html``)."""
     from plansynth.bench.report import write_html, write_report
@@ -129,13 +166,17 @@ def publish(db: str | Path, out: str | Path, *, run: bool = True, grid_timeout: 
     out = Path(out)
     fig_dir = out / "results"
     planned = [(t["experiment"], t["solver"], int(t["repeat"])) for t in published_tasks(grid_timeout, reach_timeout)]
-    report = write_report(db, fig_dir, title="plansynth: both papers' evaluations, reproduced side by side with peers",
-                          planned=planned, image_prefix="results/", html=False)
+    report = write_report(
+        db,
+        fig_dir,
+        title="plansynth: both papers' evaluations, reproduced side by side with peers",
+        planned=planned,
+        image_prefix="results/",
+        html=False,
+    )
     text = report.read_text(encoding="utf-8")
     report.unlink()
-    header = (
-        "<!-- generated by `plansynth bench publish --report-only` from the results database; do not edit -->\n"
-    )
+    header = "<!-- generated by `plansynth bench publish --report-only` from the results database; do not edit -->\n"
     limits = "\n" + _limits_text(db) + "\n"
     lines = text.splitlines()
     # keep the title first, then our notes
@@ -160,10 +201,12 @@ def _limits_text(db: str | Path) -> str:
     parts = []
     for (kind, planner), by in sorted(limits.items()):
         parts.append(f"{kind} {planner}: " + ", ".join(f"{n} runs at {lim:g} s" for lim, n in sorted(by.items())))
-    return ("Time limits of the recorded runs (each cell's own limit is the one shown): " + "; ".join(parts) + ". "
-            "One run at a time per sweep process; up to two sweep processes ran side by side on a 2-core machine "
-            "shared with other jobs, so times carry noise of tens of percent (counts of LPs, SAT calls and "
-            "iterations do not).")
+    return (
+        "Time limits of the recorded runs (each cell's own limit is the one shown): " + "; ".join(parts) + ". "
+        "One run at a time per sweep process; up to two sweep processes ran side by side on a 2-core machine "
+        "shared with other jobs, so times carry noise of tens of percent (counts of LPs, SAT calls and "
+        "iterations do not)."
+    )
 
 
 def main() -> None:  # pragma: no cover - used to run one part in the background
@@ -178,10 +221,18 @@ def main() -> None:  # pragma: no cover - used to run one part in the background
     a = ap.parse_args()
     tasks = published_tasks(a.grid_timeout, a.reach_timeout, a.part)
     t0 = time.time()
-    counts = run_sweep(a.db, tasks, progress=False, retry=[s for s in a.retry.split(",") if s],
-                       on_result=lambda t, r: print(json.dumps({"run": [t["experiment"], t["solver"], t["repeat"]],
-                                                                "status": r.get("status"), "time": r.get("time")}),
-                                                    flush=True))
+    counts = run_sweep(
+        a.db,
+        tasks,
+        progress=False,
+        retry=[s for s in a.retry.split(",") if s],
+        on_result=lambda t, r: print(
+            json.dumps(
+                {"run": [t["experiment"], t["solver"], t["repeat"]], "status": r.get("status"), "time": r.get("time")}
+            ),
+            flush=True,
+        ),
+    )
     print(json.dumps({"counts": counts, "seconds": time.time() - t0}), flush=True)
 
 

@@ -66,16 +66,29 @@ def run_sweep(
             client.close()
 
 
-def _sweep(db_path: str | Path, tasks: Sequence[Mapping[str, Any]], *, jobs: int, client: Any, progress: bool,
-           on_result: Callable[[Mapping[str, Any], Mapping[str, Any]], None] | None, retry: Sequence[str]) -> dict[str, int]:
+def _sweep(
+    db_path: str | Path,
+    tasks: Sequence[Mapping[str, Any]],
+    *,
+    jobs: int,
+    client: Any,
+    progress: bool,
+    on_result: Callable[[Mapping[str, Any], Mapping[str, Any]], None] | None,
+    retry: Sequence[str],
+) -> dict[str, int]:
     db = ResultsDB(db_path)
     try:
         machine = machine_info()
         info = db.info()
         planned = {tuple(k) for k in json.loads(info.get("planned", "[]"))}
         planned |= {(t["experiment"], t["solver"], int(t["repeat"])) for t in tasks}
-        db.set_info({"machine": machine, "last_sweep": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
-                     "planned": sorted(planned)})
+        db.set_info(
+            {
+                "machine": machine,
+                "last_sweep": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+                "planned": sorted(planned),
+            }
+        )
         done = db.recorded_budgets(retry)
         todo = [t for t in tasks if not _same_budget(done.get((t["experiment"], t["solver"], int(t["repeat"]))), t)]
         counts: dict[str, int] = {"skipped": len(tasks) - len(todo), "done": 0}
@@ -89,9 +102,16 @@ def _sweep(db_path: str | Path, tasks: Sequence[Mapping[str, Any]], *, jobs: int
                 continue
             inst = t["instance"]
             eid = db.experiment(
-                t["experiment"], kind=inst["kind"], family=inst["family"], instance=inst["name"], setup=inst,
-                timelimit=t["timeout"], memorylimit=t.get("memory_mb"), runcount=runcount[t["experiment"]],
-                machine=machine, seed=t.get("seed"),
+                t["experiment"],
+                kind=inst["kind"],
+                family=inst["family"],
+                instance=inst["name"],
+                setup=inst,
+                timelimit=t["timeout"],
+                memorylimit=t.get("memory_mb"),
+                runcount=runcount[t["experiment"]],
+                machine=machine,
+                seed=t.get("seed"),
             )
             pid = db.planner(t["solver"], {"options": t.get("options") or {}})
             ids[key] = (eid, pid)
@@ -101,8 +121,12 @@ def _sweep(db_path: str | Path, tasks: Sequence[Mapping[str, Any]], *, jobs: int
             attrs = dict(attrs)
             if attrs.get("message"):
                 attrs["message"] = scrub_paths(str(attrs["message"]))
-            attrs["attributes"] = {**dict(attrs.get("attributes") or {}), "timelimit": float(task["timeout"]),
-                                   "memorylimit": task.get("memory_mb"), "options": dict(task.get("options") or {})}
+            attrs["attributes"] = {
+                **dict(attrs.get("attributes") or {}),
+                "timelimit": float(task["timeout"]),
+                "memorylimit": task.get("memory_mb"),
+                "options": dict(task.get("options") or {}),
+            }
             db.add_run(eid, pid, int(task["repeat"]), attrs)
             counts["done"] += 1
             counts[attrs.get("status", "?")] = counts.get(attrs.get("status", "?"), 0) + 1
@@ -145,13 +169,21 @@ class _Bar:
     def __init__(self, total: int) -> None:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-        self.progress = Progress(TextColumn("[bold]bench"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                                 TextColumn("{task.description}"), transient=False)
+        self.progress = Progress(
+            TextColumn("[bold]bench"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            TextColumn("{task.description}"),
+            transient=False,
+        )
         self.task = self.progress.add_task("", total=total)
         self.progress.start()
 
     def advance(self, task: Mapping[str, Any]) -> None:
-        self.progress.update(self.task, advance=1, description=f"{task['experiment']} {task['solver']} #{task['repeat']}")
+        self.progress.update(
+            self.task, advance=1, description=f"{task['experiment']} {task['solver']} #{task['repeat']}"
+        )
 
     def stop(self) -> None:
         self.progress.stop()
@@ -159,4 +191,3 @@ class _Bar:
 
 def _progress(total: int) -> _Bar:
     return _Bar(total)
-

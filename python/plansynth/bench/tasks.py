@@ -42,16 +42,18 @@ def make_tasks(
     for inst in instances:
         for solver in solvers:
             for r in range(repeat):
-                out.append({
-                    "instance": inst.to_dict(),
-                    "experiment": inst.key,
-                    "solver": solver,
-                    "repeat": r,
-                    "timeout": float(timeout),
-                    "memory_mb": memory_mb,
-                    "seed": seed,
-                    "options": dict((options or {}).get(solver, {})),
-                })
+                out.append(
+                    {
+                        "instance": inst.to_dict(),
+                        "experiment": inst.key,
+                        "solver": solver,
+                        "repeat": r,
+                        "timeout": float(timeout),
+                        "memory_mb": memory_mb,
+                        "seed": seed,
+                        "options": dict((options or {}).get(solver, {})),
+                    }
+                )
     return out
 
 

@@ -24,5 +24,14 @@ from plansynth.grid.verify import Verdict, verify
 
 load = load_grid_problem
 
-__all__ = ["GridProblem", "GridResult", "GridStatus", "Verdict", "backend_names", "load", "load_grid_problem",
-           "solve", "verify"]
+__all__ = [
+    "GridProblem",
+    "GridResult",
+    "GridStatus",
+    "Verdict",
+    "backend_names",
+    "load",
+    "load_grid_problem",
+    "solve",
+    "verify",
+]

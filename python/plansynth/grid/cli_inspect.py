@@ -21,8 +21,16 @@ from rich.table import Table
 from plansynth.cli_support import EXIT_NO, EXIT_UNKNOWN, EXIT_YES, fail, finite_positive, positive_seconds
 from plansynth.errors import PlansynthError
 from plansynth.grid.problem import MAX_STEPS, GridProblem, load_grid_problem
-from plansynth.grid.programs import (ProgramSyntaxError, Term, depth, function_name_problem, parse_program, to_c,
-                                     to_define_fun, to_python)
+from plansynth.grid.programs import (
+    ProgramSyntaxError,
+    Term,
+    depth,
+    function_name_problem,
+    parse_program,
+    to_c,
+    to_define_fun,
+    to_python,
+)
 from plansynth.grid.result import load_result
 from plansynth.io import check_output_path, read_text, write_output
 
@@ -153,10 +161,22 @@ def _cell(c: tuple[int, int]) -> str:
 
 def verify_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
-    result_or_program: str = typer.Argument(..., metavar="RESULT_OR_PROGRAM", help="A result JSON, a file with a term or define-fun, or a literal term."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (past it: unknown, exit 3)."),
-    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, max=1_000_000, help="Memory the verifier may add, in MB (default 4096; past it: unknown, exit 3)."),
+    result_or_program: str = typer.Argument(
+        ..., metavar="RESULT_OR_PROGRAM", help="A result JSON, a file with a term or define-fun, or a literal term."
+    ),
+    steps: Optional[int] = typer.Option(
+        None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."
+    ),
+    timeout: Optional[float] = typer.Option(
+        None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (past it: unknown, exit 3)."
+    ),
+    memory_mb: Optional[int] = typer.Option(
+        None,
+        "--memory-mb",
+        min=1,
+        max=1_000_000,
+        help="Memory the verifier may add, in MB (default 4096; past it: unknown, exit 3).",
+    ),
 ) -> None:
     """Check exactly whether a controller wins against every obstacle behaviour."""
     from plansynth.budget import Budget
@@ -186,7 +206,9 @@ def verify_command(
     console.print(f"[bold red]LOSES[/bold red] at {at}: {program}  ({stats})", highlight=False)
     console.print(f"counterexample: {escape(cex.reason)}", highlight=False)
     if cex.loop is not None:
-        console.print(f"the run ends in the state of step {cex.loop}: the steps from there repeat forever", highlight=False)
+        console.print(
+            f"the run ends in the state of step {cex.loop}: the steps from there repeat forever", highlight=False
+        )
     table = Table(show_edge=False, header_style="bold")
     table.add_column("step", justify="right")
     table.add_column("robot")
@@ -208,12 +230,20 @@ def verify_command(
 
 def animate_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    result_or_program: str = typer.Argument(..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."),
+    result_or_program: str = typer.Argument(
+        ..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."
+    ),
     out: Path = typer.Option(..., "--out", "-o", help="The GIF to write."),
-    obstacles: str = typer.Option("adversarial", "--obstacles", help="adversarial (counterexample, else greedy pursuit) or random."),
+    obstacles: str = typer.Option(
+        "adversarial", "--obstacles", help="adversarial (counterexample, else greedy pursuit) or random."
+    ),
     seed: int = typer.Option(0, "--seed", help="Seed of the random obstacles."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."),
-    fps: float = typer.Option(3.0, "--fps", min=0.1, max=1000.0, callback=finite_positive, help="Frames per second of the GIF."),
+    steps: Optional[int] = typer.Option(
+        None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."
+    ),
+    fps: float = typer.Option(
+        3.0, "--fps", min=0.1, max=1000.0, callback=finite_positive, help="Frames per second of the GIF."
+    ),
     png: Optional[Path] = typer.Option(None, "--png", help="Also write one step as a PNG."),
     step: Optional[int] = typer.Option(None, "--step", min=0, help="The step for --png (default: the last state)."),
 ) -> None:
@@ -244,7 +274,9 @@ def animate_command(
     except (PlansynthError, _BadInput) as exc:
         raise _fail(err, str(exc)) from None
     verdict = "[green]wins[/green]" if run.wins else "[red]loses[/red]"
-    console.print(f"controller {verdict} at l = {l}; this run ({obstacles} obstacles): {escape(run.outcome)}", highlight=False)
+    console.print(
+        f"controller {verdict} at l = {l}; this run ({obstacles} obstacles): {escape(run.outcome)}", highlight=False
+    )
     console.print(f"wrote {escape(str(out))} ({last + 1} states)", highlight=False)
     if png is not None:
         t = last if step is None else step
@@ -256,10 +288,14 @@ def animate_command(
 
 
 def export_command(
-    result_or_program: str = typer.Argument(..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."),
+    result_or_program: str = typer.Argument(
+        ..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."
+    ),
     lang: str = typer.Option(..., "--lang", help="python, c or sygus."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write here (default: standard output)."),
-    problem_file: Optional[Path] = typer.Option(None, "--problem", help="The problem (its obstacle count fixes the inputs); default: the result's."),
+    problem_file: Optional[Path] = typer.Option(
+        None, "--problem", help="The problem (its obstacle count fixes the inputs); default: the result's."
+    ),
     name: str = typer.Option("move", "--name", help="Function name."),
 ) -> None:
     """Export a controller as Python, C or a SyGuS-IF define-fun."""
@@ -277,7 +313,9 @@ def export_command(
         if where is None:
             raise _BadInput("give --problem FILE: the inputs rx ry o0x o0y ... depend on its obstacles")
         if problem_file is None and not _is_file(Path(where)):
-            raise _BadInput(f"the result names the problem {where!r}, which is not a file from here: give --problem FILE")
+            raise _BadInput(
+                f"the result names the problem {where!r}, which is not a file from here: give --problem FILE"
+            )
         problem = load_grid_problem(where)
         from plansynth.grid.verify import check_controller
 

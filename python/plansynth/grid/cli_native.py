@@ -26,7 +26,9 @@ EXIT_REALIZABLE, EXIT_UNREALIZABLE = EXIT_YES, EXIT_NO
 
 def explain_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l to explain (default: the file's steps)."),
+    steps: Optional[int] = typer.Option(
+        None, "--steps", min=1, max=MAX_STEPS, help="Path length l to explain (default: the file's steps)."
+    ),
     timeout: float = typer.Option(60.0, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."),
     gif: Optional[Path] = typer.Option(None, "--gif", help="Animate the obstacles' winning play into this GIF."),
 ) -> None:
@@ -101,8 +103,12 @@ def _animate(problem, e, gif: Path, console: Console) -> None:
 
 def minimize_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."),
+    steps: Optional[int] = typer.Option(
+        None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length."
+    ),
+    timeout: Optional[float] = typer.Option(
+        None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."
+    ),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON here."),
 ) -> None:
     """Synthesize a controller of smallest depth, proved minimal.
@@ -134,7 +140,9 @@ def minimize_command(
     if result.status is GridStatus.REALIZABLE and result.program is not None:
         last = result.attempts[-1]
         proved = last.counters.get("minimal_depth_proved")
-        console.print(f"l = {result.steps}, depth {result.depth} ({'proved minimal' if proved else 'not proved minimal'}), verified: {result.verified}")
+        console.print(
+            f"l = {result.steps}, depth {result.depth} ({'proved minimal' if proved else 'not proved minimal'}), verified: {result.verified}"
+        )
         console.print(f"  {escape(str(result.program))}", highlight=False)
         console.print(escape(to_python(result.program, problem.variables)).rstrip(), highlight=False)
     elif result.message:

@@ -25,6 +25,7 @@ from plansynth.grid.programs import MAX_PROGRAM_NESTING, size, to_python
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome
 from plansynth.io import check_output_folder, check_output_path, write_output
 
+
 def _native_help() -> str:
     from plansynth.grid.native.options import help_text
 
@@ -54,6 +55,7 @@ def _status(status: GridStatus, width: int = 0) -> str:
 
 def _error(exc: Exception) -> None:
     typer.echo(f"{typer.style('error:', fg='red', bold=True)} {exc}", err=True)
+
 
 SOLVE_EPILOG = """\
 Examples:
@@ -96,14 +98,20 @@ def _load(file: Path, steps: int | None, max_steps: int | None) -> GridProblem:
 
 
 def _solver_options(
-    solver: str, command: str | None, option: list[str], keep_sl: Path | None, minimize: bool = False,
+    solver: str,
+    command: str | None,
+    option: list[str],
+    keep_sl: Path | None,
+    minimize: bool = False,
     effort: float | None = None,
 ) -> dict[str, Any]:
     """The backend's options, built once; an option that does not apply to ``solver``
     is an error (exit 2), never dropped."""
     sygus = solver in ("cvc5", "external")
     if minimize and solver != "native":
-        raise typer.BadParameter("--minimize needs --solver native (the only backend that proves minimal depth)", param_hint="--minimize")
+        raise typer.BadParameter(
+            "--minimize needs --solver native (the only backend that proves minimal depth)", param_hint="--minimize"
+        )
     if effort is not None and solver != "native":
         raise typer.BadParameter("--effort needs --solver native", param_hint="--effort")
     if command is not None and solver != "external":
@@ -167,8 +175,13 @@ class _Lines:
             from rich.console import Console
             from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
-            self.bar = Progress(SpinnerColumn(), TextColumn("[progress.description]{task.description}"),
-                                TimeElapsedColumn(), console=Console(stderr=True, soft_wrap=True), transient=True)
+            self.bar = Progress(
+                SpinnerColumn(),
+                TextColumn("[progress.description]{task.description}"),
+                TimeElapsedColumn(),
+                console=Console(stderr=True, soft_wrap=True),
+                transient=True,
+            )
 
     def __enter__(self) -> "_Lines":
         if self.bar is not None:
@@ -207,17 +220,55 @@ class _Lines:
 def solve_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
     solver: str = typer.Option("native", "--solver", "-s", help="Backend: native, cvc5 or external."),
-    command: Optional[str] = typer.Option(None, "--command", help='External SyGuS-IF v2 solver command; {file} is the .sl path, e.g. "cvc5 --lang=sygus2 {file}".'),
-    option: list[str] = typer.Option([], "--option", "-O", help="Solver option KEY=VALUE, repeatable (cvc5: its option names, e.g. sygus-enum=fast; native: " + _NATIVE_HELP + ")."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length (overrides the file)."),
-    max_steps: Optional[int] = typer.Option(None, "--max-steps", min=1, max=MAX_STEPS, help="Search l = 1..N (overrides the file's steps/max_steps)."),
-    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds for the whole search."),
-    memory_mb: Optional[int] = typer.Option(None, "--memory-mb", min=1, max=1_000_000, help="Memory limit of a solver process, in MB (native: of the joint game, default 4096)."),
+    command: Optional[str] = typer.Option(
+        None,
+        "--command",
+        help='External SyGuS-IF v2 solver command; {file} is the .sl path, e.g. "cvc5 --lang=sygus2 {file}".',
+    ),
+    option: list[str] = typer.Option(
+        [],
+        "--option",
+        "-O",
+        help="Solver option KEY=VALUE, repeatable (cvc5: its option names, e.g. sygus-enum=fast; native: "
+        + _NATIVE_HELP
+        + ").",
+    ),
+    steps: Optional[int] = typer.Option(
+        None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length (overrides the file)."
+    ),
+    max_steps: Optional[int] = typer.Option(
+        None, "--max-steps", min=1, max=MAX_STEPS, help="Search l = 1..N (overrides the file's steps/max_steps)."
+    ),
+    depth_bound: Optional[int] = typer.Option(
+        None,
+        "--depth-bound",
+        min=1,
+        max=MAX_PROGRAM_NESTING,
+        help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D.",
+    ),
+    timeout: Optional[float] = typer.Option(
+        None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds for the whole search."
+    ),
+    memory_mb: Optional[int] = typer.Option(
+        None,
+        "--memory-mb",
+        min=1,
+        max=1_000_000,
+        help="Memory limit of a solver process, in MB (native: of the joint game, default 4096).",
+    ),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
-    keep_sl: Optional[Path] = typer.Option(None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."),
-    minimize: bool = typer.Option(False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."),
-    effort: Optional[float] = typer.Option(None, "--effort", min=0.0, help="Native only: seconds spent making the first verified program smaller (default 0.05 s or 10% of --timeout, whichever is smaller; 0: the first program)."),
+    keep_sl: Optional[Path] = typer.Option(
+        None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."
+    ),
+    minimize: bool = typer.Option(
+        False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."
+    ),
+    effort: Optional[float] = typer.Option(
+        None,
+        "--effort",
+        min=0.0,
+        help="Native only: seconds spent making the first verified program smaller (default 0.05 s or 10% of --timeout, whichever is smaller; 0: the first program).",
+    ),
 ) -> None:
     """Synthesize a controller: try path lengths l in order, report the first verified one."""
     from plansynth.grid.solve import solve
@@ -256,8 +307,12 @@ def solve_command(
 
 def compile_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the file's steps)."),
-    depth_bound: Optional[int] = typer.Option(None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Unroll the grammar to programs of depth <= D."),
+    steps: Optional[int] = typer.Option(
+        None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the file's steps)."
+    ),
+    depth_bound: Optional[int] = typer.Option(
+        None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Unroll the grammar to programs of depth <= D."
+    ),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the .sl here (default: stdout)."),
 ) -> None:
     """Write the SyGuS-IF v2 specification of a problem at one path length (paper §3.2)."""

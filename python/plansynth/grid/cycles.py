@@ -17,8 +17,11 @@ from collections.abc import Callable, Hashable, Iterable, Mapping
 __all__ = ["strongly_connected"]
 
 
-def strongly_connected(edges: Mapping[Hashable, Iterable], tick: Callable[[], None] | None = None,
-                       target: Callable[[object], Hashable] = lambda e: e) -> list[list]:
+def strongly_connected(
+    edges: Mapping[Hashable, Iterable],
+    tick: Callable[[], None] | None = None,
+    target: Callable[[object], Hashable] = lambda e: e,
+) -> list[list]:
     """The components of the graph ``edges[v]`` (every vertex a key; ``target`` reads a
     successor off an edge), in reverse topological order; ``tick`` runs once per step
     of the search (a budget's check)."""

@@ -53,8 +53,9 @@ class TooLarge(Exception):
     """The oracle gave up: more states than its limit."""
 
 
-def brute_force(problem: GridProblem, steps: int | None = None, *, limit: int = 50_000,
-                controller: Controller | None = None) -> GridStatus:
+def brute_force(
+    problem: GridProblem, steps: int | None = None, *, limit: int = 50_000, controller: Controller | None = None
+) -> GridStatus:
     """``realizable`` or ``unrealizable``: whether a controller (a map from the states
     the program sees to robot moves) achieves ``problem``'s objective (``steps``: the
     path length l of ``exact`` and ``reach``, default the problem's own).
@@ -111,8 +112,7 @@ def _reach(problem: GridProblem, steps: int, limit: int, controller: Controller 
     graph = game_graph(problem, limit, controller)
     won = {s for s in graph if s.robot == problem.robot.goal}
     for _ in range(steps):
-        won |= {s for s, rows in graph.items()
-                if any(all(not c and n in won for n, c in row) for row in rows)}
+        won |= {s for s, rows in graph.items() if any(all(not c and n in won for n, c in row) for row in rows)}
     return initial_state(problem) in won
 
 
@@ -221,8 +221,9 @@ def _attractor(vertices: set, owner: dict, succ: dict, player: int, target: Iter
         changed = False
         for v in vertices - attr:
             out = [w for w in succ[v] if w in vertices]
-            if (owner[v] == player and any(w in attr for w in out)) or (owner[v] != player and out
-                                                                          and all(w in attr for w in out)):
+            if (owner[v] == player and any(w in attr for w in out)) or (
+                owner[v] != player and out and all(w in attr for w in out)
+            ):
                 attr.add(v)
                 changed = True
     return attr

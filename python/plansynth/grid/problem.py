@@ -216,8 +216,11 @@ class GridProblem:
         """The paper's model (Chasins & Newcomb, SYNT 2016, Section 3.1): the exact-l
         objective, swept-cell collisions and plain obstacles. Everything plansynth added
         before the objectives (walls, custom moves) is inside it."""
-        return (self.objective is ObjectiveKind.EXACT and self.collision is CollisionRule.SWEEP
-                and all(o.plain and not o.glitching for o in self.obstacles))
+        return (
+            self.objective is ObjectiveKind.EXACT
+            and self.collision is CollisionRule.SWEEP
+            and all(o.plain and not o.glitching for o in self.obstacles)
+        )
 
     @property
     def max_constant(self) -> int:
@@ -372,15 +375,19 @@ def _validate_obstacle(p: GridProblem, i: int, o: Obstacle, size: str) -> None:
     if not 1 <= o.period <= MAX_PERIOD:
         raise InvalidProblem(f, f"{where}.period", f"must be in 1..{MAX_PERIOD}, got {o.period}")
     if o.period > 1 and not any(m.to == (0, 0) for m in o.moves):
-        raise InvalidProblem(f, f"{where}.moves", "an obstacle with a period must be able to wait: give it a move "
-                             "that ends where it starts (stay)")
+        raise InvalidProblem(
+            f,
+            f"{where}.moves",
+            "an obstacle with a period must be able to wait: give it a move that ends where it starts (stay)",
+        )
     if o.phase is not None and not 0 <= o.phase < o.period:
         raise InvalidProblem(f, f"{where}.phase", f"must be in 0..{o.period - 1} (the period less one), got {o.phase}")
     if not 0 <= o.glitches <= MAX_GLITCHES:
         raise InvalidProblem(f, f"{where}.glitches", f"must be in 0..{MAX_GLITCHES}, got {o.glitches}")
     if o.glitches and o.period == 1:
-        raise InvalidProblem(f, f"{where}.glitches", "an obstacle that may move every step has nothing to glitch "
-                             "(give it a period > 1)")
+        raise InvalidProblem(
+            f, f"{where}.glitches", "an obstacle that may move every step has nothing to glitch (give it a period > 1)"
+        )
     if len(o.keep_out) > MAX_KEEP_OUT:
         raise InvalidProblem(f, f"{where}.keep_out", f"at most {MAX_KEEP_OUT} cells, got {len(o.keep_out)}")
     for c in sorted(o.keep_out):
@@ -508,9 +515,7 @@ def _moves(value: Any, file: str | None, field_: str) -> tuple[Move, ...]:
 def _move(value: Any, file: str | None, field_: str) -> Move:
     if isinstance(value, str):
         if value not in BUILTIN_MOVES:
-            raise InvalidProblem(
-                file, field_, f"unknown move {show(value)} (built-in: {', '.join(BUILTIN_MOVES)})"
-            )
+            raise InvalidProblem(file, field_, f"unknown move {show(value)} (built-in: {', '.join(BUILTIN_MOVES)})")
         return BUILTIN_MOVES[value]
     if isinstance(value, Mapping):
         m = Fields(value, file, field_)

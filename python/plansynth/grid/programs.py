@@ -146,7 +146,9 @@ def _check(t: Term, sort: str, names: frozenset[str], m: int, dmax: int) -> None
         return
     if isinstance(t, Var):
         if sort != "T":
-            raise ProgramSyntaxError(f"coordinate {t.name} where a {'move' if sort == 'S' else 'condition'} is expected")
+            raise ProgramSyntaxError(
+                f"coordinate {t.name} where a {'move' if sort == 'S' else 'condition'} is expected"
+            )
         if t.name not in names:
             raise ProgramSyntaxError(f"unknown input {t.name!r} (inputs: {' '.join(sorted(names))})")
         return
@@ -179,7 +181,7 @@ def _tokens(text: str) -> list[str]:
     while pos < len(text):
         m = _TOKEN.match(text, pos)
         if not m or m.end() == pos:
-            raise ProgramSyntaxError(f"cannot read {text[pos:pos + 20]!r}")
+            raise ProgramSyntaxError(f"cannot read {text[pos : pos + 20]!r}")
         pos = m.end()
         if m.group(1):
             continue
@@ -221,7 +223,7 @@ def parse_sexpr(text: str) -> object:
     tokens = _tokens(text)
     value, i = _sexpr(tokens, 0)
     if i != len(tokens):
-        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i:i + 5])[:200]!r}")
+        raise ProgramSyntaxError(f"trailing text after the term: {' '.join(tokens[i : i + 5])[:200]!r}")
     return value
 
 
@@ -268,14 +270,21 @@ def _term(sx: object) -> Term:
             return Const(_literal(sx))
         if _NAME.fullmatch(sx) and sx not in SIGNATURES:
             if sx in _KEYWORDS:
-                raise ProgramSyntaxError(f"{sx!r} cannot name an input: it is a keyword of Python or C, "
-                                         "and programs are exported to both")
+                raise ProgramSyntaxError(
+                    f"{sx!r} cannot name an input: it is a keyword of Python or C, and programs are exported to both"
+                )
             return Var(sx)
         raise ProgramSyntaxError(f"unexpected token {sx[:40]!r}")
     if not isinstance(sx, list) or not sx or not isinstance(sx[0], str):
         raise ProgramSyntaxError(f"unexpected term {str(sx)[:60]}")
     op, rest = sx[0], sx[1:]
-    if op == "-" and len(rest) == 1 and isinstance(rest[0], str) and _INTEGER.fullmatch(rest[0]) and not rest[0].startswith("-"):
+    if (
+        op == "-"
+        and len(rest) == 1
+        and isinstance(rest[0], str)
+        and _INTEGER.fullmatch(rest[0])
+        and not rest[0].startswith("-")
+    ):
         return Const(-_literal(rest[0]))  # SyGuS writes the constant -1 as (- 1)
     if op not in SIGNATURES:
         raise ProgramSyntaxError(f"unknown operator {op[:40]!r}")
@@ -312,13 +321,17 @@ def _expr(t: Term, lang: str) -> str:
     return f"({a[0]} {op} {a[1]})"
 
 
-_C_KEYWORDS = frozenset("""auto break case char const continue default do double else enum extern float for goto
+_C_KEYWORDS = frozenset(
+    """auto break case char const continue default do double else enum extern float for goto
 if inline int long register restrict return short signed sizeof static struct switch typedef union unsigned void
 volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic _Imaginary _Noreturn _Static_assert _Thread_local
-alignas alignof bool constexpr false nullptr static_assert thread_local true typeof typeof_unqual main""".split())
-_SYGUS_RESERVED = frozenset("""_ ! as let exists forall match par assert check-sat declare-const declare-fun
+alignas alignof bool constexpr false nullptr static_assert thread_local true typeof typeof_unqual main""".split()
+)
+_SYGUS_RESERVED = frozenset(
+    """_ ! as let exists forall match par assert check-sat declare-const declare-fun
 define-fun define-fun-rec define-sort set-logic set-option synth-fun constraint check-synth declare-var
-ite and or not xor distinct true false Int Bool""".split())
+ite and or not xor distinct true false Int Bool""".split()
+)
 
 
 _KEYWORDS = frozenset(keyword.kwlist) | _C_KEYWORDS  # an input's name is pasted into exported code

@@ -86,8 +86,6 @@ def reachable_cells(problem: GridProblem, i: int, steps: int) -> list[frozenset[
     cur = frozenset((problem.obstacles[i].start,))
     out = [cur]
     for _ in range(steps):
-        cur = frozenset(
-            obstacle_move(problem, i, c, k)[0] for c in cur for k in range(len(problem.obstacles[i].moves))
-        )
+        cur = frozenset(obstacle_move(problem, i, c, k)[0] for c in cur for k in range(len(problem.obstacles[i].moves)))
         out.append(cur)
     return out

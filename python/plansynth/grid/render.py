@@ -108,8 +108,14 @@ def draw_on(ax: Axes, problem: GridProblem, run: Run, t: int) -> None:
                 if end != p:
                     ax.add_patch(
                         FancyArrowPatch(
-                            _center(p), _center(end), arrowstyle="->", mutation_scale=font, color=OBSTACLE,
-                            alpha=0.35, linewidth=0.8, zorder=3,
+                            _center(p),
+                            _center(end),
+                            arrowstyle="->",
+                            mutation_scale=font,
+                            color=OBSTACLE,
+                            alpha=0.35,
+                            linewidth=0.8,
+                            zorder=3,
                         )
                     )
         if faint:
@@ -120,8 +126,17 @@ def draw_on(ax: Axes, problem: GridProblem, run: Run, t: int) -> None:
         ax.plot(*zip(*path), color=ROBOT, linewidth=1.6, alpha=0.6, marker="o", markersize=font * 0.3, zorder=4)
     for i, p in enumerate(state.obstacles):
         ax.add_patch(Rectangle((p[0] + 0.12, p[1] + 0.12), 0.76, 0.76, facecolor=OBSTACLE, edgecolor="none", zorder=5))
-        ax.text(p[0] + 0.5, p[1] + 0.5, str(i), ha="center", va="center", color="white", fontsize=font * 0.8,
-                fontweight="bold", zorder=6)
+        ax.text(
+            p[0] + 0.5,
+            p[1] + 0.5,
+            str(i),
+            ha="center",
+            va="center",
+            color="white",
+            fontsize=font * 0.8,
+            fontweight="bold",
+            zorder=6,
+        )
     ax.add_patch(Circle(_center(state.robot), 0.36, facecolor=ROBOT, edgecolor="white", linewidth=1.0, zorder=7))
 
     verdict = "controller wins" if run.wins else "controller loses"
@@ -140,8 +155,13 @@ def draw_on(ax: Axes, problem: GridProblem, run: Run, t: int) -> None:
         for cells, color in zip(swept, (ROBOT, OBSTACLE)):
             ax.add_collection(
                 PatchCollection(
-                    [Rectangle(c, 1, 1) for c in cells], facecolor="none", edgecolor=color, hatch="///",
-                    linewidth=1.2, alpha=0.7, zorder=4,
+                    [Rectangle(c, 1, 1) for c in cells],
+                    facecolor="none",
+                    edgecolor=color,
+                    hatch="///",
+                    linewidth=1.2,
+                    alpha=0.7,
+                    zorder=4,
                 )
             )
         cx, cy = _center(run.collision.cell)

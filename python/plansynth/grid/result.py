@@ -72,11 +72,14 @@ class GridBackend(Protocol):
 #: The grid backends by name (:mod:`plansynth.registry`): a built-in's module, and so its
 #: solver's library, is imported only when that backend is asked for. A new built-in
 #: backend is one line here; plugins use :func:`register_backend`.
-BACKENDS: Registry[Callable[..., GridBackend]] = Registry("grid solver", {
-    "native": "plansynth.grid.backends.native:NativeBackend",
-    "cvc5": "plansynth.grid.backends.cvc5:Cvc5Backend",
-    "external": "plansynth.grid.backends.external:ExternalBackend",
-})
+BACKENDS: Registry[Callable[..., GridBackend]] = Registry(
+    "grid solver",
+    {
+        "native": "plansynth.grid.backends.native:NativeBackend",
+        "cvc5": "plansynth.grid.backends.cvc5:Cvc5Backend",
+        "external": "plansynth.grid.backends.external:ExternalBackend",
+    },
+)
 
 
 def register_backend(name: str, factory: Callable[..., GridBackend]) -> None:
@@ -197,7 +200,9 @@ def load_result(path: str | Path) -> StoredResult:
     try:
         status = GridStatus(raw.get("status"))
     except ValueError:
-        raise InvalidProblem(name, "status", f"expected one of realizable/unrealizable/unknown, got {show(raw.get('status'))}") from None
+        raise InvalidProblem(
+            name, "status", f"expected one of realizable/unrealizable/unknown, got {show(raw.get('status'))}"
+        ) from None
     steps = raw.get("steps")
     if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= MAX_STEPS):
         raise InvalidProblem(name, "steps", f"expected an integer in 1..{MAX_STEPS}, got {show(steps)}")

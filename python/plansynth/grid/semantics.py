@@ -53,8 +53,11 @@ class State(NamedTuple):
     fair: int = 0
 
     def __repr__(self) -> str:  # a paper problem's state reads as it always did
-        extra = "".join(f", {k}={v!r}" for k, v in (("phases", self.phases), ("glitches", self.glitches),
-                                                   ("mode", self.mode), ("fair", self.fair)) if v)
+        extra = "".join(
+            f", {k}={v!r}"
+            for k, v in (("phases", self.phases), ("glitches", self.glitches), ("mode", self.mode), ("fair", self.fair))
+            if v
+        )
         return f"State(robot={self.robot!r}, obstacles={self.obstacles!r}{extra})"
 
     def inputs(self) -> tuple[int, ...]:
@@ -75,8 +78,12 @@ def initial_state(problem: GridProblem) -> State:
     cells = tuple(o.start for o in problem.obstacles)
     if not problem.stateful:
         return State(problem.robot.start, cells)
-    return State(problem.robot.start, cells, tuple(o.initial_phase for o in problem.obstacles),
-                 tuple(o.glitches for o in problem.obstacles))
+    return State(
+        problem.robot.start,
+        cells,
+        tuple(o.initial_phase for o in problem.obstacles),
+        tuple(o.glitches for o in problem.obstacles),
+    )
 
 
 def controller_inputs(problem: GridProblem, state: State) -> tuple[int, ...]:
@@ -107,8 +114,9 @@ def _sweep(problem: GridProblem, p: Cell, move: Move, size: Cell = (1, 1)) -> tu
     """End cell and swept cells of ``move`` from ``p`` for an agent covering a ``size``
     block; None when a swept cell is off the grid."""
     w, h = size
-    cells = tuple(dict.fromkeys((p[0] + dx + a, p[1] + dy + b) for dx, dy in move.offsets()
-                                for b in range(h) for a in range(w)))
+    cells = tuple(
+        dict.fromkeys((p[0] + dx + a, p[1] + dy + b) for dx, dy in move.offsets() for b in range(h) for a in range(w))
+    )
     if not all(problem.in_grid(c) for c in cells):
         return None
     return (p[0] + move.to[0], p[1] + move.to[1]), cells

@@ -102,7 +102,9 @@ def simulate(
         joint_moves.append(joint)
         if collided:
             break
-    return run_from_moves(problem, steps, obstacles, tuple(states), tuple(robot_moves), tuple(joint_moves), verdict.wins)
+    return run_from_moves(
+        problem, steps, obstacles, tuple(states), tuple(robot_moves), tuple(joint_moves), verdict.wins
+    )
 
 
 def _greedy(problem: GridProblem, state: State, k: int) -> tuple[int, ...]:
@@ -110,6 +112,7 @@ def _greedy(problem: GridProblem, state: State, k: int) -> tuple[int, ...]:
     (rx, ry), _ = robot_move(problem, state.robot, k)
     joint = []
     for i, (o, cell) in enumerate(zip(problem.obstacles, state.obstacles)):
+
         def distance(j: int) -> int:
             (x, y), _ = obstacle_move(problem, i, cell, j)
             return abs(x - rx) + abs(y - ry)

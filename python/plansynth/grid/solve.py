@@ -117,11 +117,21 @@ def solve(
             # an engine may hand over the states its program keeps (a safety invariant)
             invariant = outcome.witness if isinstance(outcome.witness, dict) else None
             verdict = verify(problem, outcome.program, l, budget=clock.left(), invariant=invariant)
-            counters = {**outcome.counters, "verify_seconds": round(time.perf_counter() - started, 6),
-                        "verify_states": verdict.states_explored}
+            counters = {
+                **outcome.counters,
+                "verify_seconds": round(time.perf_counter() - started, 6),
+                "verify_states": verdict.states_explored,
+            }
             if verdict.status is VerifyStatus.UNKNOWN:
-                outcome = replace(outcome, status=GridStatus.UNKNOWN, program=None, counters=counters, message=(
-                    f"{backend.name} returned {outcome.program} for {_at(l)}, not verified: {verdict.message}"))
+                outcome = replace(
+                    outcome,
+                    status=GridStatus.UNKNOWN,
+                    program=None,
+                    counters=counters,
+                    message=(
+                        f"{backend.name} returned {outcome.program} for {_at(l)}, not verified: {verdict.message}"
+                    ),
+                )
                 attempts.append(outcome)
                 if progress is not None:
                     progress(l, outcome)
@@ -132,7 +142,10 @@ def solve(
                 if progress is not None:
                     progress(l, outcome)
                 return result(
-                    GridStatus.REALIZABLE, steps=l, program=outcome.program, verified=True,
+                    GridStatus.REALIZABLE,
+                    steps=l,
+                    program=outcome.program,
+                    verified=True,
                     message=f"verified by the independent verifier ({verdict.states_explored} states explored)",
                 )
             cex = verdict.counterexample
@@ -158,8 +171,9 @@ def solve(
     else:
         searched = f"l = {lengths[0]}" if len(lengths) == 1 else f"every l in {lengths[0]}..{lengths[-1]}"
     if len(attempts) == len(lengths) and all(a.status is GridStatus.UNREALIZABLE for a in attempts):
-        return result(GridStatus.UNREALIZABLE, message=f"no controller{bound} wins at {searched}",
-                      certified_by=CERTIFIER)
+        return result(
+            GridStatus.UNREALIZABLE, message=f"no controller{bound} wins at {searched}", certified_by=CERTIFIER
+        )
     unknown = [f"{_at(a.steps)}: {a.message or 'no answer'}" for a in attempts if a.status is GridStatus.UNKNOWN]
     return result(GridStatus.UNKNOWN, message="; ".join(unknown + notes) or "no answer")
 
@@ -169,8 +183,9 @@ def _at(l: int | None) -> str:
     return "the objective" if l is None else f"l = {l}"
 
 
-def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, clock: Any, budget: Budget,
-               depth_bound: int | None) -> LengthOutcome:
+def _certified(
+    problem: GridProblem, claimant: str, outcome: LengthOutcome, clock: Any, budget: Budget, depth_bound: int | None
+) -> LengthOutcome:
     """``outcome`` (an unrealizable claim by ``claimant``) re-decided by the native
     engine within the budget left: kept and marked ``certified_by``, or ``unknown``
     with the reason (see the module docstring)."""
@@ -181,8 +196,11 @@ def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, cloc
         return replace(outcome, counters={**outcome.counters, "certified_by": CERTIFIER})
     remaining = clock.remaining()
     if remaining <= 0:
-        return replace(outcome, status=GridStatus.UNKNOWN,
-                       message=f"{claimant} claims unrealizable at {_at(l)}, not certified: the budget ran out")
+        return replace(
+            outcome,
+            status=GridStatus.UNKNOWN,
+            message=f"{claimant} claims unrealizable at {_at(l)}, not certified: the budget ran out",
+        )
     started = time.perf_counter()
     check = get_backend(CERTIFIER).solve_length(problem, l, clock.left(), depth_bound=depth_bound)
     counters = {**outcome.counters, "certify_seconds": round(time.perf_counter() - started, 6)}
@@ -192,9 +210,19 @@ def _certified(problem: GridProblem, claimant: str, outcome: LengthOutcome, cloc
     if check.status is GridStatus.REALIZABLE and fits:
         verdict = verify(problem, check.program, l, budget=clock.left())
         if verdict.status is VerifyStatus.WINS:
-            return replace(outcome, status=GridStatus.UNKNOWN, counters=counters, message=(
-                f"BACKEND ERROR: {claimant} claims unrealizable at {_at(l)}, but the native engine finds the "
-                f"controller {check.program}, verified by the independent verifier. The claim is not reported."))
+            return replace(
+                outcome,
+                status=GridStatus.UNKNOWN,
+                counters=counters,
+                message=(
+                    f"BACKEND ERROR: {claimant} claims unrealizable at {_at(l)}, but the native engine finds the "
+                    f"controller {check.program}, verified by the independent verifier. The claim is not reported."
+                ),
+            )
     why = check.message or "no answer"
-    return replace(outcome, status=GridStatus.UNKNOWN, counters=counters,
-                   message=f"{claimant} claims unrealizable at {_at(l)}, not certified by the native engine: {why}")
+    return replace(
+        outcome,
+        status=GridStatus.UNKNOWN,
+        counters=counters,
+        message=f"{claimant} claims unrealizable at {_at(l)}, not certified by the native engine: {why}",
+    )

@@ -305,11 +305,17 @@ def _constraint(problem: GridProblem, steps: int) -> tuple[list[str], str, str]:
     if steps < 1:
         raise InvalidProblem(p.source, "steps", f"must be >= 1, got {steps}")
     choices = [choice_variable(i, t) for t in range(steps) for i in range(n)]
-    allowable = [
-        f"(obstaclePositionsAllowable {' '.join(choice_variable(i, t) for i in range(n))})" for t in range(steps)
-    ] if n else []
-    ante = "true" if not allowable else allowable[0] if len(allowable) == 1 else (
-        "(and " + "\n                    ".join(allowable) + ")"
+    allowable = (
+        [f"(obstaclePositionsAllowable {' '.join(choice_variable(i, t) for i in range(n))})" for t in range(steps)]
+        if n
+        else []
+    )
+    ante = (
+        "true"
+        if not allowable
+        else allowable[0]
+        if len(allowable) == 1
+        else ("(and " + "\n                    ".join(allowable) + ")")
     )
 
     def pos(t: int) -> list[str]:
@@ -362,12 +368,17 @@ def sygus_limitation(problem: GridProblem) -> tuple[str, str] | None:
     if problem.paper_model:
         return None
     if problem.objective.value != "exact":
-        return "objective", f"the SyGuS encoding covers the objective exact only, not {problem.objective.value} (use --solver native)"
+        return (
+            "objective",
+            f"the SyGuS encoding covers the objective exact only, not {problem.objective.value} (use --solver native)",
+        )
     if problem.collision.value != "sweep":
         return "collision", "the SyGuS encoding covers swept-cell collisions only (use --solver native)"
     i = next(i for i, o in enumerate(problem.obstacles) if not (o.plain and not o.glitching))
-    return f"obstacles[{i}]", ("the SyGuS encoding covers one-cell obstacles that move every step (no size, period, "
-                               "glitches or keep_out; use --solver native)")
+    return f"obstacles[{i}]", (
+        "the SyGuS encoding covers one-cell obstacles that move every step (no size, period, "
+        "glitches or keep_out; use --solver native)"
+    )
 
 
 def check_encodable(problem: GridProblem) -> None:

@@ -311,9 +311,7 @@ class _Pieces:
         for pid, cyc in self.cycles.items():
             for i in range(len(cyc)):
                 owner[(cyc[i], cyc[(i + 1) % len(cyc)])] = pid
-        diagonals = [
-            (u, v) for (u, v), pid in owner.items() if (v, u) in owner and owner[(v, u)] != pid and u < v
-        ]
+        diagonals = [(u, v) for (u, v), pid in owner.items() if (v, u) in owner and owner[(v, u)] != pid and u < v]
         diagonals.sort(key=self.order)
         merged_any = False
         for u, v in diagonals:
@@ -398,8 +396,8 @@ def _slabs(polys: list[ShPolygon], axis: int) -> tuple[list[list[Pt]], set[tuple
     Its slivers then stand between the pieces below and above, which share a facet of
     positive length but would only be linked through a region no path can cross.
     """
-    s_of = (lambda p: p[axis])
-    r_of = (lambda p: p[1 - axis])
+    s_of = lambda p: p[axis]
+    r_of = lambda p: p[1 - axis]
 
     def point(s: float, r: float) -> Pt:
         return (r, s) if axis == 1 else (s, r)
@@ -572,7 +570,9 @@ def _region_from_box(index: int, lo: np.ndarray, hi: np.ndarray) -> Region:
     if d == 2:
         v = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
     else:
-        v = np.array([[(lo, hi)[bx][0], (lo, hi)[by][1], (lo, hi)[bz][2]] for bz in (0, 1) for by in (0, 1) for bx in (0, 1)])
+        v = np.array(
+            [[(lo, hi)[bx][0], (lo, hi)[by][1], (lo, hi)[bz][2]] for bz in (0, 1) for by in (0, 1) for bx in (0, 1)]
+        )
     return Region(index=index, H=_ro(H), h=_ro(h), vertices=_ro(v.astype(float)))
 
 
@@ -695,7 +695,9 @@ def abstract(problem: ReachProblem, *, method: str = "auto", coarsen: bool = Tru
     # number regions bottom-up (last axis first), for readable pictures and logs
     order = sorted(range(len(regions)), key=lambda i: tuple(regions[i].center[::-1].round(9)))
     new_index = {old: new for new, old in enumerate(order)}
-    regions = [Region(index=k, H=regions[o].H, h=regions[o].h, vertices=regions[o].vertices) for k, o in enumerate(order)]
+    regions = [
+        Region(index=k, H=regions[o].H, h=regions[o].h, vertices=regions[o].vertices) for k, o in enumerate(order)
+    ]
     adj = {(min(new_index[i], new_index[j]), max(new_index[i], new_index[j])) for i, j in adj}
     nbrs: list[list[int]] = [[] for _ in regions]
     for i, j in adj:

@@ -60,13 +60,17 @@ def planner_options_help() -> str:
     from plansynth.options import describe, help_lines
     from plansynth.reach.planners import get_planner, planners
 
-    blocks = ["Planner options (-O KEY=VALUE, repeatable; values true/false, none, numbers or text; dashes "
-              "in keys are underscores):"]
+    blocks = [
+        "Planner options (-O KEY=VALUE, repeatable; values true/false, none, numbers or text; dashes "
+        "in keys are underscores):"
+    ]
     listed: dict[type, str] = {}  # options class -> the first planner listed with it
     for name in planners():
         planner = get_planner(name)
-        for mission, value in ((False, getattr(planner, "defaults", None)),
-                               (True, getattr(planner, "mission_defaults", None))):
+        for mission, value in (
+            (False, getattr(planner, "defaults", None)),
+            (True, getattr(planner, "mission_defaults", None)),
+        ):
             if value is None:
                 continue
             title = f"{name}, for a problem with a mission" if mission and planner.defaults is not None else name
@@ -74,8 +78,11 @@ def planner_options_help() -> str:
             if type(value) in listed:
                 declared = {n: d for n, d, _ in describe(type(value))}
                 own = [f"{n}={_shown(getattr(value, n))}" for n in declared if getattr(value, n) != declared[n]]
-                blocks.append(f"  {title}: {', '.join(settable)} (as {listed[type(value)]}"
-                              + (f", with {', '.join(own)}" if own else "") + ")")
+                blocks.append(
+                    f"  {title}: {', '.join(settable)} (as {listed[type(value)]}"
+                    + (f", with {', '.join(own)}" if own else "")
+                    + ")"
+                )
                 continue
             listed[type(value)] = title
             rows = [line for line in help_lines(value) if line.split(" ", 1)[0] in settable]
@@ -136,8 +143,17 @@ def _result_table(result: Any) -> Table:
         else:
             horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     table.add_row("horizon", horizon)
-    for key in ("regions", "first_horizon", "iterations", "sat_calls", "lp_calls", "transit_conflicts", "clauses",
-                "milp_calls", "mip_nodes"):
+    for key in (
+        "regions",
+        "first_horizon",
+        "iterations",
+        "sat_calls",
+        "lp_calls",
+        "transit_conflicts",
+        "clauses",
+        "milp_calls",
+        "mip_nodes",
+    ):
         if key in c and c[key] is not None:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
@@ -150,7 +166,9 @@ def _result_table(result: Any) -> Table:
     if result.validated is not None:
         table.add_row("validated", "[green]yes[/green]" if result.validated else "[red]NO[/red]")
     if result.guarantee is not None:
-        held = "" if result.segment_safe is None else (", segments safe" if result.segment_safe else ", segments NOT safe")
+        held = (
+            "" if result.segment_safe is None else (", segments safe" if result.segment_safe else ", segments NOT safe")
+        )
         table.add_row("guarantee", f"{result.guarantee}{held}")
     mission = getattr(result, "mission", None)
     if mission and mission.get("semantics"):  # LTL missions
@@ -185,9 +203,12 @@ def _planner_options(ctx: typer.Context, planner: str, items: list[str], paper: 
     base = None
     if paper:
         if planner != "lazy-smt" or mission:
-            raise typer.BadParameter(f"applies to the lazy-smt planner on a reach-avoid problem only, not {planner}"
-                                     f"{' on a mission' if mission else ''} (the paper's configurations are also "
-                                     "planners: lazy-smt-paper, lazy-smt-paper-trivial)", param_hint="--paper")
+            raise typer.BadParameter(
+                f"applies to the lazy-smt planner on a reach-avoid problem only, not {planner}"
+                f"{' on a mission' if mission else ''} (the paper's configurations are also "
+                "planners: lazy-smt-paper, lazy-smt-paper-trivial)",
+                param_hint="--paper",
+            )
         from plansynth.reach.lazy.options import LazyOptions
 
         base = LazyOptions.paper()
@@ -198,15 +219,40 @@ def _planner_options(ctx: typer.Context, planner: str, items: list[str], paper: 
 def solve_command(
     ctx: typer.Context,
     file: Path = typer.Argument(..., help="Reach problem file (YAML or JSON, spec: reach-problem.md)."),
-    planner: str = typer.Option("lazy-smt", "--planner", "-p", help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot."),
-    option: list[str] = typer.Option([], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."),
+    planner: str = typer.Option(
+        "lazy-smt",
+        "--planner",
+        "-p",
+        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot.",
+    ),
+    option: list[str] = typer.Option(
+        [], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."
+    ),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
+    plot: Optional[Path] = typer.Option(
+        None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."
+    ),
     animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (then status unknown)."),
-    max_horizon: Optional[int] = typer.Option(None, "--max-horizon", min=0, max=MAX_HORIZON_OPTION, help="Largest horizon to try (overrides the file; at most 10,000; the option max_horizon every planner takes)."),
-    segment_safe: bool = typer.Option(True, "--segment-safe/--no-segment-safe", help="Keep whole segments in the regions (default), or only the samples (the paper; the option segment_safe)."),
-    paper: bool = typer.Option(False, "--paper", help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options given apply on top."),
+    timeout: Optional[float] = typer.Option(
+        None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (then status unknown)."
+    ),
+    max_horizon: Optional[int] = typer.Option(
+        None,
+        "--max-horizon",
+        min=0,
+        max=MAX_HORIZON_OPTION,
+        help="Largest horizon to try (overrides the file; at most 10,000; the option max_horizon every planner takes).",
+    ),
+    segment_safe: bool = typer.Option(
+        True,
+        "--segment-safe/--no-segment-safe",
+        help="Keep whole segments in the regions (default), or only the samples (the paper; the option segment_safe).",
+    ),
+    paper: bool = typer.Option(
+        False,
+        "--paper",
+        help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options given apply on top.",
+    ),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -217,7 +263,9 @@ def solve_command(
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
     if planner not in planners():  # exit 2, naming every planner (all load on first use)
-        raise typer.BadParameter(f"unknown planner {planner!r}; choose one of: {', '.join(planners())}", param_hint="--planner")
+        raise typer.BadParameter(
+            f"unknown planner {planner!r}; choose one of: {', '.join(planners())}", param_hint="--planner"
+        )
     try:
         for path in (out, plot, animate):
             if path is not None:
@@ -227,8 +275,9 @@ def solve_command(
         options = _planner_options(ctx, planner, option, paper, problem.mission is not None)
     except PlansynthError as exc:
         raise fail(err, exc) from None
-    with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=err,
-                  transient=True) as bar:
+    with Progress(
+        SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=err, transient=True
+    ) as bar:
         task = bar.add_task(f"{planner}: abstraction", total=None)
 
         def progress(horizon: int, iterations: int) -> None:
@@ -250,8 +299,9 @@ def solve_command(
     raise typer.Exit(code.get(result.status.value, EXIT_UNKNOWN))
 
 
-def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None, plot: Path | None,
-                   animate: Path | None) -> None:
+def _write_outputs(
+    console: Console, problem: Any, result: Any, out: Path | None, plot: Path | None, animate: Path | None
+) -> None:
     """The result JSON, picture and animation of ``reach solve`` (each written atomically)."""
     if out is not None:
         result.write(out)
@@ -270,8 +320,14 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
 
             abstraction = abstract(configuration_space(problem))  # the regions the planner saw
         if plot is not None:
-            plot_problem(problem, abstraction, result.regions, result.trajectory, path=plot,
-                         title=f"{problem.name}: {result.solver}, horizon {result.horizon}, {abstraction.n_regions} regions")
+            plot_problem(
+                problem,
+                abstraction,
+                result.regions,
+                result.trajectory,
+                path=plot,
+                title=f"{problem.name}: {result.solver}, horizon {result.horizon}, {abstraction.n_regions} regions",
+            )
             console.print(f"picture written to {escape(str(plot))}", highlight=False)
         if animate is not None:
             make_gif(problem, abstraction, result.trajectory, result.regions, animate)
@@ -284,9 +340,15 @@ def _write_outputs(console: Console, problem: Any, result: Any, out: Path | None
 def validate_command(
     file: Path = typer.Argument(..., help="Reach problem file."),
     result_file: Path = typer.Argument(..., help="Result JSON with states and inputs."),
-    segment_safe: bool = typer.Option(False, "--segment-safe", help="Also require every segment to avoid the obstacles."),
+    segment_safe: bool = typer.Option(
+        False, "--segment-safe", help="Also require every segment to avoid the obstacles."
+    ),
     tol: float = typer.Option(1e-6, "--tol", help="Tolerance of every check."),
-    dynamics: Optional[str] = typer.Option(None, "--dynamics", help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact."),
+    dynamics: Optional[str] = typer.Option(
+        None,
+        "--dynamics",
+        help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact.",
+    ),
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
     from plansynth.reach.fileformat import load_reach_problem
@@ -324,10 +386,13 @@ def validate_command(
         raise typer.BadParameter("must be exact or curve", param_hint="--dynamics")
     report = validate(problem, trajectory, require_segment_safe=segment_safe or claimed, tol=tol, dynamics=dynamics)
     if dynamics == "curve":
-        console.print("dynamics: curve (the samples of a continuous-time curve; x' = A x + B u is not required)",
-                      highlight=False)
+        console.print(
+            "dynamics: curve (the samples of a continuous-time curve; x' = A x + B u is not required)", highlight=False
+        )
     style = "bold green" if report.ok else "bold red"
-    console.print(f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False)
+    console.print(
+        f"[{style}]{'valid' if report.ok else 'INVALID'}[/{style}]: {escape(report.summary())}", highlight=False
+    )
     for v in report.violations[:50]:
         console.print(f"  {escape(str(v))}", highlight=False)
     if len(report.violations) > 50:
@@ -372,7 +437,9 @@ def plot_command(
 
         abstraction = abstract(configuration_space(problem))  # the regions the planners see
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
-        err.print(f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}")
+        err.print(
+            f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}"
+        )
         raise typer.Exit(EXIT_BAD_INPUT)
     try:
         plot_problem(problem, abstraction, regions, trajectory, path=output)
@@ -404,9 +471,21 @@ options -O sets are lazy-smt's (see plansynth reach solve --help).
 @app.command("table", epilog=TABLE_EPILOG)
 def table_command(
     mazes: str = typer.Option("1,2,3,4", "--mazes", help="Comma-separated passage counts."),
-    order: int = typer.Option(2, "--order", min=1, max=MAX_ORDER_OPTION, help="Integrators per axis (2: the paper's double integrator)."),
-    counterexample: list[str] = typer.Option(["zeroprefix"], "--counterexample", "-c", help="Counterexample strategies to compare, one row each (repeatable)."),
-    option: list[str] = typer.Option([], "--option", "-O", help="Another lazy-smt option KEY=VALUE for every row, repeatable (generalize, minimize, slack_weights, ...)."),
+    order: int = typer.Option(
+        2, "--order", min=1, max=MAX_ORDER_OPTION, help="Integrators per axis (2: the paper's double integrator)."
+    ),
+    counterexample: list[str] = typer.Option(
+        ["zeroprefix"],
+        "--counterexample",
+        "-c",
+        help="Counterexample strategies to compare, one row each (repeatable).",
+    ),
+    option: list[str] = typer.Option(
+        [],
+        "--option",
+        "-O",
+        help="Another lazy-smt option KEY=VALUE for every row, repeatable (generalize, minimize, slack_weights, ...).",
+    ),
     timeout: float = typer.Option(120.0, "--timeout", callback=positive_seconds, help="Budget per solve in seconds."),
 ) -> None:
     """Solve the paper's maze family (Section VI, Table I and Figure 4) and print the
@@ -433,8 +512,20 @@ def table_command(
     except PlansynthError as exc:
         raise fail(err, exc) from None
     table = Table(title=f"maze-n, integrator chains of order {order} ({2 * order} states)")
-    for col in ("maze", "strategy", "status", "horizon", "abstraction s", "SAT s", "LP s", "total s", "CPU s",
-                "iterations", "SAT calls", "LP calls"):
+    for col in (
+        "maze",
+        "strategy",
+        "status",
+        "horizon",
+        "abstraction s",
+        "SAT s",
+        "LP s",
+        "total s",
+        "CPU s",
+        "iterations",
+        "SAT calls",
+        "LP calls",
+    ):
         table.add_column(col, justify="right" if col not in ("strategy", "status") else "left")
     for n in ns:
         problem = maze(n, order=order)
@@ -444,10 +535,23 @@ def table_command(
             cpu = time.process_time() - c0
             t, c = r.timings, r.counters
             style = _STYLE[r.status.value]
-            strategy = opts.counterexample + ("+gen" if opts.generalize else "") + \
-                ("+min" if opts.generalize and opts.minimize else "")
-            table.add_row(str(n), strategy, f"[{style}]{r.status.value}[/{style}]",
-                          str(r.horizon), f"{t.get('abstraction', 0):.3f}", f"{t.get('sat', 0):.3f}",
-                          f"{t.get('lp', 0):.3f}", f"{r.seconds:.3f}", f"{cpu:.3f}", str(c.get("iterations")),
-                          str(c.get("sat_calls")), str(c.get("lp_calls")))
+            strategy = (
+                opts.counterexample
+                + ("+gen" if opts.generalize else "")
+                + ("+min" if opts.generalize and opts.minimize else "")
+            )
+            table.add_row(
+                str(n),
+                strategy,
+                f"[{style}]{r.status.value}[/{style}]",
+                str(r.horizon),
+                f"{t.get('abstraction', 0):.3f}",
+                f"{t.get('sat', 0):.3f}",
+                f"{t.get('lp', 0):.3f}",
+                f"{r.seconds:.3f}",
+                f"{cpu:.3f}",
+                str(c.get("iterations")),
+                str(c.get("sat_calls")),
+                str(c.get("lp_calls")),
+            )
     console.print(table)

@@ -94,7 +94,9 @@ def linearising_feedback(speed: float, heading: float, u: np.ndarray) -> tuple[f
 def _check(problem: ReachProblem) -> tuple[int, int, int, int]:
     dyn = problem.dynamics
     if dyn.model != "double-integrator" or problem.dim != 2:
-        raise ValueError(f"the unicycle mapping needs a 2-D double integrator, got a {problem.dim}-D {dyn.model!r} model")
+        raise ValueError(
+            f"the unicycle mapping needs a 2-D double integrator, got a {problem.dim}-D {dyn.model!r} model"
+        )
     return dyn.position[0], dyn.position[1], 2, 3
 
 

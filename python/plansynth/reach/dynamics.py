@@ -25,8 +25,18 @@ import numpy as np
 
 from plansynth.reach.geometry import _array_key, _frozen_array
 
-__all__ = ["LinearDynamics", "NAMED_MODELS", "MODELS", "integrator_chain", "single_integrator", "double_integrator", "named_model",
-           "chain_axis_matrices", "displacement_reach", "reach_steps"]
+__all__ = [
+    "LinearDynamics",
+    "NAMED_MODELS",
+    "MODELS",
+    "integrator_chain",
+    "single_integrator",
+    "double_integrator",
+    "named_model",
+    "chain_axis_matrices",
+    "displacement_reach",
+    "reach_steps",
+]
 
 
 NAMED_MODELS = ("single-integrator", "double-integrator", "integrator-chain")

@@ -37,7 +37,16 @@ from plansynth.reach.fileformat import reach_problem_to_dict
 from plansynth.reach.geometry import Box, Polygon, Shape, shape_to_shapely
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["maze", "gcs_maze", "cluttered", "dubins_example", "random_workspace", "random_dynamics", "examples", "write_examples"]
+__all__ = [
+    "maze",
+    "gcs_maze",
+    "cluttered",
+    "dubins_example",
+    "random_workspace",
+    "random_dynamics",
+    "examples",
+    "write_examples",
+]
 
 MAZE_SIZE = 30.0
 WALL_THICKNESS = 1.0
@@ -173,8 +182,10 @@ def gcs_maze(n: int, *, seed: int = 4, knock_downs: int | None = None) -> ReachP
                 segs.append(((x - h, y - h), (x + h, y + 1 + h)))
     segs.append(((-h, n - h), (n - 1 + h, n + h)))
     segs.append(((n - h, -h), (n + h, n + h)))
-    obstacles = tuple(Box(tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi)) for lo, hi in sorted(
-        (tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi)) for lo, hi in segs))
+    obstacles = tuple(
+        Box(tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi))
+        for lo, hi in sorted((tuple(round(v, 9) for v in lo), tuple(round(v, 9) for v in hi)) for lo, hi in segs)
+    )
     dyn = integrator_chain(2, 2, 0.5)
     c = n - 0.5
     return ReachProblem(
@@ -240,7 +251,7 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
             a = rng.uniform(-1.0, -0.2)
             if i + 1 < k:
                 b = rng.uniform(0.0, 1.0)
-                D[i:i + 2, i:i + 2] = [[a, -b], [b, a]]
+                D[i : i + 2, i : i + 2] = [[a, -b], [b, a]]
                 i += 2
             else:
                 D[i, i] = a
@@ -273,9 +284,15 @@ def random_dynamics(n_passages: int, n_states: int, seed: int = 0, *, dt: float 
     start[:2] = (1.0, 1.0)
     S_ = MAZE_SIZE
     return ReachProblem(
-        workspace=base.workspace, obstacles=base.obstacles, goal=base.goal, dynamics=dyn, start=start,
-        input_bound=1.0, state_bounds=Box(tuple([0.0, 0.0] + list(-zb)), tuple([S_, S_] + list(zb))),
-        name=f"random-dynamics-{n_passages}-n{n_states}-s{seed}", max_horizon=RANDOM_DYNAMICS_MAX_HORIZON,
+        workspace=base.workspace,
+        obstacles=base.obstacles,
+        goal=base.goal,
+        dynamics=dyn,
+        start=start,
+        input_bound=1.0,
+        state_bounds=Box(tuple([0.0, 0.0] + list(-zb)), tuple([S_, S_] + list(zb))),
+        name=f"random-dynamics-{n_passages}-n{n_states}-s{seed}",
+        max_horizon=RANDOM_DYNAMICS_MAX_HORIZON,
     )
 
 
@@ -325,11 +342,15 @@ def cluttered() -> ReachProblem:
     """
     L = Polygon(((3, 3), (8, 3), (8, 5), (5, 5), (5, 9), (3, 9)))
     U = Polygon(((11, 2), (17, 2), (17, 8), (15, 8), (15, 4), (13, 4), (13, 8), (11, 8)))
-    star = Polygon(tuple(
-        (round(6 + (2.6 if k % 2 == 0 else 1.1) * math.cos(math.pi / 2 + k * math.pi / 5), 3),
-         round(14 + (2.6 if k % 2 == 0 else 1.1) * math.sin(math.pi / 2 + k * math.pi / 5), 3))
-        for k in range(10)
-    ))
+    star = Polygon(
+        tuple(
+            (
+                round(6 + (2.6 if k % 2 == 0 else 1.1) * math.cos(math.pi / 2 + k * math.pi / 5), 3),
+                round(14 + (2.6 if k % 2 == 0 else 1.1) * math.sin(math.pi / 2 + k * math.pi / 5), 3),
+            )
+            for k in range(10)
+        )
+    )
     zigzag = Polygon(((9, 10), (12, 13), (14, 11), (17, 14), (17, 15.5), (14, 12.5), (12, 14.5), (9, 11.5)))
     tri = Polygon(((12, 17), (15, 19), (10, 19.5)))
     dyn = integrator_chain(2, 2, 0.5)
@@ -429,7 +450,10 @@ def _random_star(rng: np.random.Generator, size: float) -> Polygon:
     while np.max(np.diff(np.concatenate([angles, [angles[0] + 2 * math.pi]]))) >= math.pi * 0.9:
         angles = np.sort(rng.uniform(0, 2 * math.pi, k))
     radii = rng.uniform(size * 0.04, size * 0.2, k)
-    vs = tuple((round(float(c[0] + r * math.cos(a)), 3), round(float(c[1] + r * math.sin(a)), 3)) for a, r in zip(angles, radii))
+    vs = tuple(
+        (round(float(c[0] + r * math.cos(a)), 3), round(float(c[1] + r * math.sin(a)), 3))
+        for a, r in zip(angles, radii)
+    )
     return Polygon(vs)
 
 
@@ -441,8 +465,10 @@ def _free_point_sampler(rng: np.random.Generator, ws: Box, obstacles: list[Shape
 
     def inside(p: np.ndarray) -> bool:
         if d == 2:
-            return geom is not None and geom.distance(shapely.Point(p)) < ws.hi[0] * 0.005 or (
-                geom is not None and geom.contains(shapely.Point(p))
+            return (
+                geom is not None
+                and geom.distance(shapely.Point(p)) < ws.hi[0] * 0.005
+                or (geom is not None and geom.contains(shapely.Point(p)))
             )
         return any(all(o.lo[k] - 0.05 <= p[k] <= o.hi[k] + 0.05 for k in range(d)) for o in obstacles)  # type: ignore[union-attr]
 

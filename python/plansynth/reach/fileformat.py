@@ -25,11 +25,31 @@ from typing import Any
 import numpy as np
 
 from plansynth.errors import InvalidProblem
-from plansynth.io import Fields, as_float, as_float_vector, as_int, as_int_vector, as_name, load_document, show, type_name
+from plansynth.io import (
+    Fields,
+    as_float,
+    as_float_vector,
+    as_int,
+    as_int_vector,
+    as_name,
+    load_document,
+    show,
+    type_name,
+)
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics, named_model
 from plansynth.reach.geometry import Box, Polygon, Shape, polygon_problem
-from plansynth.reach.problem import (DEFAULT_MAX_HORIZON, MAX_COORDINATE, MAX_DT, MAX_HORIZON,
-                                     MAX_OBSTACLES, MAX_ORDER, MAX_STATES, MAX_VERTICES, ReachProblem, RobotShape)
+from plansynth.reach.problem import (
+    DEFAULT_MAX_HORIZON,
+    MAX_COORDINATE,
+    MAX_DT,
+    MAX_HORIZON,
+    MAX_OBSTACLES,
+    MAX_ORDER,
+    MAX_STATES,
+    MAX_VERTICES,
+    ReachProblem,
+    RobotShape,
+)
 
 __all__ = ["load_reach_problem", "reach_problem_from_dict", "reach_problem_to_dict"]
 
@@ -71,11 +91,15 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     dynamics = _parse_dynamics(robot.require("dynamics"), source, d)
     n = dynamics.n_states
     start = as_float_vector(robot.require("start"), source, "robot.start", n, max_abs=MAX_COORDINATE)
-    input_bound = as_float(robot.require("input_bound"), source, "robot.input_bound", positive=True, max_abs=MAX_COORDINATE)
+    input_bound = as_float(
+        robot.require("input_bound"), source, "robot.input_bound", positive=True, max_abs=MAX_COORDINATE
+    )
     sb_raw = robot.optional("state_bounds")
     state_bounds = None if sb_raw is None else _parse_box(sb_raw, source, "robot.state_bounds", allow_flat=True)
     if state_bounds is not None and state_bounds.dim != n:
-        raise InvalidProblem(source, "robot.state_bounds", f"must be {n}-dimensional like the state, got {state_bounds.dim}")
+        raise InvalidProblem(
+            source, "robot.state_bounds", f"must be {n}-dimensional like the state, got {state_bounds.dim}"
+        )
     radius_raw, half_raw = robot.optional("radius"), robot.optional("half_extent")
     robot_shape = None
     if radius_raw is not None and half_raw is not None:
@@ -112,7 +136,9 @@ def _parse_labels(value: Any, src: str | None, d: int) -> tuple[tuple[str, Shape
     """``labels:`` maps names to boxes ``{min, max}``, polygons ``{polygon: [...]}`` (or
     ``{vertices: [...]}``, or a bare vertex list)."""
     if not isinstance(value, Mapping):
-        raise InvalidProblem(src, "labels", f"expected a mapping from names to boxes or polygons, got {type_name(value)}")
+        raise InvalidProblem(
+            src, "labels", f"expected a mapping from names to boxes or polygons, got {type_name(value)}"
+        )
     out = []
     for name, shape in value.items():
         where = f"labels.{name}"
@@ -148,7 +174,9 @@ def _parse_shape(value: Any, src: str | None, where: str, d: int) -> Shape:
         return _parse_box(value, src, where, dim=d)
     if isinstance(value, Sequence) and not isinstance(value, (str, bytes)):
         return _parse_polygon(value, src, where, d)
-    raise InvalidProblem(src, where, f"expected a box {{min, max}} or a polygon (list of vertices), got {type_name(value)}")
+    raise InvalidProblem(
+        src, where, f"expected a box {{min, max}} or a polygon (list of vertices), got {type_name(value)}"
+    )
 
 
 def _parse_polygon(value: Any, src: str | None, where: str, d: int) -> Polygon:
@@ -173,7 +201,11 @@ def _parse_dynamics(value: Any, src: str | None, d: int) -> LinearDynamics:
         f.reject_unknown({"model", "dt", "order"})
         model = f.require("model")
         if not isinstance(model, str) or model not in NAMED_MODELS:
-            raise InvalidProblem(src, f"{where}.model", f"unknown model {show(model)} (known: {', '.join(NAMED_MODELS)}, or give A and B)")
+            raise InvalidProblem(
+                src,
+                f"{where}.model",
+                f"unknown model {show(model)} (known: {', '.join(NAMED_MODELS)}, or give A and B)",
+            )
         dt = as_float(f.require("dt"), src, f"{where}.dt", positive=True, max_abs=MAX_DT)
         order_raw = f.optional("order")
         order = None if order_raw is None else as_int(order_raw, src, f"{where}.order", hi=MAX_ORDER)
@@ -195,7 +227,9 @@ def _parse_dynamics(value: Any, src: str | None, d: int) -> LinearDynamics:
         raise InvalidProblem(src, f"{where}.B", f"must have {n} rows like A, got {B.shape[0]} x {B.shape[1]}")
     position = as_int_vector(f.require("position"), src, f"{where}.position", d)
     if len(set(position)) != d or any(not 0 <= i < n for i in position):
-        raise InvalidProblem(src, f"{where}.position", f"must be {d} distinct state indices in 0..{n - 1}, got {list(position)}")
+        raise InvalidProblem(
+            src, f"{where}.position", f"must be {d} distinct state indices in 0..{n - 1}, got {list(position)}"
+        )
     dt_raw = f.optional("dt")
     dt = None if dt_raw is None else as_float(dt_raw, src, f"{where}.dt", positive=True, max_abs=MAX_DT)
     return LinearDynamics(A=A, B=B, position=position, dt=dt, model="explicit", order=None)
@@ -281,7 +315,9 @@ def reach_problem_to_dict(problem: ReachProblem) -> dict:
     if problem.goal is None:
         del out["goal"]
     if problem.labels:
-        out["labels"] = {k: (_box_to_dict(v) if isinstance(v, Box) else {"polygon": _shape_to_dict(v)}) for k, v in problem.labels}
+        out["labels"] = {
+            k: (_box_to_dict(v) if isinstance(v, Box) else {"polygon": _shape_to_dict(v)}) for k, v in problem.labels
+        }
     if problem.mission is not None:
         out["mission"] = problem.mission
     return out

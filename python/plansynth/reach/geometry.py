@@ -24,8 +24,19 @@ import shapely
 from shapely.geometry import Polygon as _ShPolygon
 from shapely.geometry import box as _sh_box
 
-__all__ = ["Box", "Polygon", "Shape", "halfspaces", "polygon_halfspaces", "is_convex", "polygon_problem",
-           "shape_to_shapely", "point_in_interior", "box_difference", "free_measure"]
+__all__ = [
+    "Box",
+    "Polygon",
+    "Shape",
+    "halfspaces",
+    "polygon_halfspaces",
+    "is_convex",
+    "polygon_problem",
+    "shape_to_shapely",
+    "point_in_interior",
+    "box_difference",
+    "free_measure",
+]
 
 
 def _frozen_array(a: Any, dtype: Any = float) -> np.ndarray:

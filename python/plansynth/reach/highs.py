@@ -95,9 +95,19 @@ def _first_highs() -> highspy.Highs:
     return h
 
 
-def csc_lp(n_col: int, n_row: int, R: np.ndarray, C: np.ndarray, V: np.ndarray, cost: np.ndarray,
-           col_lo: np.ndarray, col_hi: np.ndarray, row_lo: np.ndarray, row_hi: np.ndarray,
-           integrality: list[Any] | None = None) -> highspy.HighsLp:
+def csc_lp(
+    n_col: int,
+    n_row: int,
+    R: np.ndarray,
+    C: np.ndarray,
+    V: np.ndarray,
+    cost: np.ndarray,
+    col_lo: np.ndarray,
+    col_hi: np.ndarray,
+    row_lo: np.ndarray,
+    row_hi: np.ndarray,
+    integrality: list[Any] | None = None,
+) -> highspy.HighsLp:
     """A HiGHS LP (a MILP with ``integrality``) with the column-wise matrix of the COO
     entries (R, C, V): the one assembly of CON-PLAN, the region MILP and the mission LP."""
     order = np.lexsort((R, C))
@@ -152,8 +162,11 @@ class Rows:
         """(row, column, value) of every entry so far."""
         if not self._r:
             return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
-        return (np.concatenate(self._r).astype(np.int64), np.concatenate(self._c).astype(np.int64),
-                np.concatenate(self._v))
+        return (
+            np.concatenate(self._r).astype(np.int64),
+            np.concatenate(self._c).astype(np.int64),
+            np.concatenate(self._v),
+        )
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """(lower, upper) of every row so far."""

@@ -50,8 +50,14 @@ class OracleLP:
     horizon: int
 
 
-def oracle_lp(problem: ReachProblem, regions: Sequence[int], *, abstraction: Abstraction | None = None,
-              segment_safe: bool = True, seconds: float | None = None) -> OracleLP | None:
+def oracle_lp(
+    problem: ReachProblem,
+    regions: Sequence[int],
+    *,
+    abstraction: Abstraction | None = None,
+    segment_safe: bool = True,
+    seconds: float | None = None,
+) -> OracleLP | None:
     """Time one cold CON-PLAN LP over ``regions`` (indices into ``abstract(problem)``);
     None when it does not finish within ``seconds``, computing the abstraction included
     (a dense n = 50 LP can take a minute), or HiGHS cannot solve it (a measurement: the
@@ -76,5 +82,4 @@ def oracle_lp(problem: ReachProblem, regions: Sequence[int], *, abstraction: Abs
     except (LpBudgetExhausted, LpFailure):
         return None
     t2 = time.perf_counter()
-    return OracleLP(seconds=t2 - t0, build_seconds=t1 - t0, solve_seconds=t2 - t1, feasible=col is not None,
-                    horizon=N)
+    return OracleLP(seconds=t2 - t0, build_seconds=t1 - t0, solve_seconds=t2 - t1, feasible=col is not None, horizon=N)

@@ -68,7 +68,9 @@ def _new_figure(problem: ReachProblem) -> tuple[Figure, Axes]:
     ws = problem.workspace
     w, h = ws.hi[0] - ws.lo[0], ws.hi[1] - ws.lo[1]
     side = 7.0
-    fig = Figure(figsize=(side, max(3.0, side * h / w) + 0.8) if w >= h else (max(3.0, side * w / h), side + 0.8), dpi=100)
+    fig = Figure(
+        figsize=(side, max(3.0, side * h / w) + 0.8) if w >= h else (max(3.0, side * w / h), side + 0.8), dpi=100
+    )
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1)
     return fig, ax
@@ -98,34 +100,67 @@ def plot_problem(
     ws = problem.workspace
     projected = problem.dim == 3
 
-    ax.add_patch(Rectangle((ws.lo[0], ws.lo[1]), ws.hi[0] - ws.lo[0], ws.hi[1] - ws.lo[1],
-                           facecolor="white", edgecolor="black", linewidth=1.5, zorder=0))
+    ax.add_patch(
+        Rectangle(
+            (ws.lo[0], ws.lo[1]),
+            ws.hi[0] - ws.lo[0],
+            ws.hi[1] - ws.lo[1],
+            facecolor="white",
+            edgecolor="black",
+            linewidth=1.5,
+            zorder=0,
+        )
+    )
 
     if abstraction is not None and result_regions:
         for i in dict.fromkeys(result_regions):
             v = _region_outline(abstraction.regions[i].vertices)
             ax.add_patch(MplPolygon(v, closed=True, facecolor=SEQUENCE, edgecolor="none", alpha=0.55, zorder=1))
         centres = np.array([abstraction.regions[i].center[:2] for i in result_regions])
-        ax.plot(centres[:, 0], centres[:, 1], linestyle="--", color="#b5838d", linewidth=1.2, zorder=2,
-                label="region sequence")
+        ax.plot(
+            centres[:, 0],
+            centres[:, 1],
+            linestyle="--",
+            color="#b5838d",
+            linewidth=1.2,
+            zorder=2,
+            label="region sequence",
+        )
 
     if abstraction is not None:
         show_labels = labels if labels is not None else abstraction.n_regions <= MAX_LABELS
         for r in abstraction.regions:
             v = _region_outline(r.vertices)
-            ax.add_patch(MplPolygon(v, closed=True, facecolor="none", edgecolor=REGION_EDGE, linewidth=0.6,
-                                    alpha=0.9, zorder=2))
+            ax.add_patch(
+                MplPolygon(v, closed=True, facecolor="none", edgecolor=REGION_EDGE, linewidth=0.6, alpha=0.9, zorder=2)
+            )
             if show_labels:
                 c = r.center
-                ax.text(c[0], c[1], str(r.index), fontsize=7, color="#1f4e99", ha="center", va="center", zorder=8.5,
-                        bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.7, "edgecolor": "none"})
+                ax.text(
+                    c[0],
+                    c[1],
+                    str(r.index),
+                    fontsize=7,
+                    color="#1f4e99",
+                    ha="center",
+                    va="center",
+                    zorder=8.5,
+                    bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.7, "edgecolor": "none"},
+                )
 
     for ob in problem.obstacles:
-        ax.add_patch(_shape_patch(ob, facecolor=OBSTACLE, edgecolor="black", linewidth=0.6,
-                                  alpha=0.55 if projected else 1.0, zorder=4))
+        ax.add_patch(
+            _shape_patch(
+                ob, facecolor=OBSTACLE, edgecolor="black", linewidth=0.6, alpha=0.55 if projected else 1.0, zorder=4
+            )
+        )
     if problem.goal is not None:
         ax.add_patch(_shape_patch(problem.goal, facecolor=GOAL, edgecolor=GOAL, alpha=0.45, hatch="//", zorder=5))
-        g = np.array(problem.goal.vertices) if not isinstance(problem.goal, Box) else np.array([problem.goal.lo, problem.goal.hi])
+        g = (
+            np.array(problem.goal.vertices)
+            if not isinstance(problem.goal, Box)
+            else np.array([problem.goal.lo, problem.goal.hi])
+        )
         gc = g.mean(axis=0)
         ax.annotate("goal", (gc[0], gc[1]), fontsize=8, color="black", ha="center", va="center", zorder=6)
     # mission labels (issue 14): outlined in colour, named at their centre
@@ -134,8 +169,18 @@ def plot_problem(
         ax.add_patch(_shape_patch(shape, facecolor=colour, edgecolor=colour, alpha=0.25, linewidth=1.4, zorder=5))
         lv = np.array(shape.vertices) if not isinstance(shape, Box) else np.array([shape.lo, shape.hi])
         # the name in the label's top left corner (the centre is where plans and region numbers go)
-        ax.annotate(name, (lv[:, 0].min(), lv[:, 1].max()), xytext=(2, -2), textcoords="offset points", fontsize=8,
-                    color=colour, ha="left", va="top", zorder=9.5, fontweight="bold")
+        ax.annotate(
+            name,
+            (lv[:, 0].min(), lv[:, 1].max()),
+            xytext=(2, -2),
+            textcoords="offset points",
+            fontsize=8,
+            color=colour,
+            ha="left",
+            va="top",
+            zorder=9.5,
+            fontweight="bold",
+        )
     if problem.mission is not None and title is None:
         title = f"{problem.name}: {problem.mission}"
 
@@ -152,11 +197,20 @@ def plot_problem(
             every = max(1, len(P) // 40)
             for q in P[::every]:
                 if robot.radius is not None:
-                    patch = Circle((q[0], q[1]), robot.radius, facecolor=TRAJ, alpha=0.12, edgecolor=TRAJ, linewidth=0.4)
+                    patch = Circle(
+                        (q[0], q[1]), robot.radius, facecolor=TRAJ, alpha=0.12, edgecolor=TRAJ, linewidth=0.4
+                    )
                 else:
                     hx, hy = robot.half_extent[:2]  # type: ignore[index]
-                    patch = Rectangle((q[0] - hx, q[1] - hy), 2 * hx, 2 * hy, facecolor=TRAJ, alpha=0.12, edgecolor=TRAJ,
-                                      linewidth=0.4)
+                    patch = Rectangle(
+                        (q[0] - hx, q[1] - hy),
+                        2 * hx,
+                        2 * hy,
+                        facecolor=TRAJ,
+                        alpha=0.12,
+                        edgecolor=TRAJ,
+                        linewidth=0.4,
+                    )
                 patch.set_zorder(6.5)
                 ax.add_patch(patch)
 
@@ -214,8 +268,16 @@ def animate(
     (trail,) = ax.plot([], [], color=TRAJ, linewidth=1.3, zorder=7)
     (dots,) = ax.plot([], [], "o", color=TRAJ, markersize=2.5, zorder=8)
     (robot,) = ax.plot([], [], "o", color=TRAJ, markersize=9, markeredgecolor="black", zorder=11)
-    label = ax.text(0.02, 0.97, "", transform=ax.transAxes, fontsize=8, va="top", zorder=12,
-                    bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"})
+    label = ax.text(
+        0.02,
+        0.97,
+        "",
+        transform=ax.transAxes,
+        fontsize=8,
+        va="top",
+        zorder=12,
+        bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"},
+    )
     dt = problem.dynamics.dt
 
     def update(k: int):

@@ -29,9 +29,20 @@ from shapely.geometry import box as _sh_box
 from plansynth.errors import InvalidProblem
 from plansynth.io import MAX_NAME_LENGTH, type_name  # noqa: F401 - MAX_NAME_LENGTH: a documented limit, with the others
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics
-from plansynth.reach.geometry import (Box, Polygon, Shape, _array_key, _frozen_array, _measure_in_workspace,
-                                      free_measure, halfspaces, is_convex, point_in_interior, polygon_problem,
-                                      shape_to_shapely)
+from plansynth.reach.geometry import (
+    Box,
+    Polygon,
+    Shape,
+    _array_key,
+    _frozen_array,
+    _measure_in_workspace,
+    free_measure,
+    halfspaces,
+    is_convex,
+    point_in_interior,
+    polygon_problem,
+    shape_to_shapely,
+)
 
 __all__ = [
     "Box",
@@ -138,7 +149,11 @@ class ReachProblem:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
-        object.__setattr__(self, "labels", tuple((str(k), v) for k, v in (self.labels.items() if isinstance(self.labels, Mapping) else self.labels)))
+        object.__setattr__(
+            self,
+            "labels",
+            tuple((str(k), v) for k, v in (self.labels.items() if isinstance(self.labels, Mapping) else self.labels)),
+        )
         object.__setattr__(self, "start", _frozen_array(np.asarray(self.start, dtype=float).reshape(-1)))
         object.__setattr__(self, "input_bound", float(self.input_bound))
         _check_problem(self)
@@ -243,13 +258,23 @@ def _check_problem(p: ReachProblem) -> None:
         raise InvalidProblem(src, "robot.dynamics.A", f"must be a square n x n matrix, got shape {A.shape}")
     n = A.shape[0]
     if B.ndim != 2 or B.shape[0] != n or B.shape[1] == 0:
-        raise InvalidProblem(src, "robot.dynamics.B", f"must be an {n} x m matrix (A is {n} x {n}), got shape {B.shape}")
+        raise InvalidProblem(
+            src, "robot.dynamics.B", f"must be an {n} x m matrix (A is {n} x {n}), got shape {B.shape}"
+        )
     if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B))):
         raise InvalidProblem(src, "robot.dynamics", "matrices must be finite")
     if len(dyn.position) != d:
-        raise InvalidProblem(src, "robot.dynamics.position", f"must name {d} state components (the workspace is {d}-D), got {len(dyn.position)}")
+        raise InvalidProblem(
+            src,
+            "robot.dynamics.position",
+            f"must name {d} state components (the workspace is {d}-D), got {len(dyn.position)}",
+        )
     if len(set(dyn.position)) != d or any(not 0 <= i < n for i in dyn.position):
-        raise InvalidProblem(src, "robot.dynamics.position", f"must be {d} distinct state indices in 0..{n - 1}, got {list(dyn.position)}")
+        raise InvalidProblem(
+            src,
+            "robot.dynamics.position",
+            f"must be {d} distinct state indices in 0..{n - 1}, got {list(dyn.position)}",
+        )
     if dyn.dt is not None and not dyn.dt > 0:
         raise InvalidProblem(src, "robot.dynamics.dt", f"must be positive, got {dyn.dt}")
 
@@ -292,22 +317,31 @@ def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
         if not math.isfinite(rb.radius) or rb.radius < 0:
             raise InvalidProblem(src, "robot.radius", f"must be a non-negative number, got {rb.radius}")
         if p.dim != 2:
-            raise InvalidProblem(src, "robot.radius", "a disc robot needs a 2-D workspace (give robot.half_extent in 3-D)")
+            raise InvalidProblem(
+                src, "robot.radius", "a disc robot needs a 2-D workspace (give robot.half_extent in 3-D)"
+            )
     else:
         h = rb.half_extent or ()
         if len(h) != p.dim:
-            raise InvalidProblem(src, "robot.half_extent", f"must give {p.dim} half-extents (one per workspace axis), got {len(h)}")
+            raise InvalidProblem(
+                src, "robot.half_extent", f"must give {p.dim} half-extents (one per workspace axis), got {len(h)}"
+            )
         if any(not math.isfinite(v) or v < 0 for v in h):
             raise InvalidProblem(src, "robot.half_extent", f"half-extents must be non-negative numbers, got {list(h)}")
-    what = f"disc of radius {rb.radius:g}" if rb.radius is not None else f"box of half-extents {list(rb.half_extent or ())}"
+    what = (
+        f"disc of radius {rb.radius:g}"
+        if rb.radius is not None
+        else f"box of half-extents {list(rb.half_extent or ())}"
+    )
     m = np.array(rb.margins(p.dim))
     ws = p.workspace
     if np.any(pos - m < np.array(ws.lo)) or np.any(pos + m > np.array(ws.hi)):
         raise InvalidProblem(src, "robot.start", f"the robot ({what}) at {_fmt(pos)} does not fit in the workspace")
     for i, ob in enumerate(p.obstacles):
         if rb.radius is not None:
-            if shape_to_shapely(ob).distance(shapely.Point(float(pos[0]), float(pos[1]))) < rb.radius - 1e-12 \
-                    or point_in_interior(ob, pos):
+            if shape_to_shapely(ob).distance(
+                shapely.Point(float(pos[0]), float(pos[1]))
+            ) < rb.radius - 1e-12 or point_in_interior(ob, pos):
                 raise InvalidProblem(src, "robot.start", f"the robot ({what}) at {_fmt(pos)} overlaps obstacles[{i}]")
         elif isinstance(ob, Box):
             if all(l - e < x < u + e for l, u, e, x in zip(ob.lo, ob.hi, m, pos)):
@@ -320,10 +354,18 @@ def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
         configuration_space(p)  # the point-robot problem the planners solve, checked in turn
     except InvalidProblem as exc:
         if exc.field == "goal":
-            raise InvalidProblem(src, "goal", f"unreachable for the robot ({what}): no free area of the goal is at "
-                                              "the robot's clearance from the obstacles and the workspace's border") from None
-        raise InvalidProblem(src, exc.field, f"for the robot ({what}), in its configuration space (obstacles grown "
-                                             f"by an outer approximation): {exc.reason}") from None
+            raise InvalidProblem(
+                src,
+                "goal",
+                f"unreachable for the robot ({what}): no free area of the goal is at "
+                "the robot's clearance from the obstacles and the workspace's border",
+            ) from None
+        raise InvalidProblem(
+            src,
+            exc.field,
+            f"for the robot ({what}), in its configuration space (obstacles grown "
+            f"by an outer approximation): {exc.reason}",
+        ) from None
 
 
 def _check_mission(p: ReachProblem, d: int) -> None:
@@ -335,7 +377,11 @@ def _check_mission(p: ReachProblem, d: int) -> None:
     for name, shape in p.labels:
         where = f"labels.{name}"
         if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name) or name in KEYWORDS:
-            raise InvalidProblem(src, where, "a label name is a letter or _ followed by letters, digits or _, and not one of X F G U R true false")
+            raise InvalidProblem(
+                src,
+                where,
+                "a label name is a letter or _ followed by letters, digits or _, and not one of X F G U R true false",
+            )
         if name in seen:
             raise InvalidProblem(src, where, "label defined twice")
         if name == "goal" and p.goal is not None:

@@ -133,8 +133,13 @@ def configuration_space(problem: ReachProblem) -> ReachProblem:
             hi[i] = min(hi[i], ws.hi[axis])
         sb = Box(tuple(lo), tuple(hi))
     vals = {f.name: getattr(problem, f.name) for f in fields(problem)}
-    vals.update(workspace=ws, obstacles=obstacles, state_bounds=sb, robot_shape=None,
-                name=f"{problem.name} (configuration space)")
+    vals.update(
+        workspace=ws,
+        obstacles=obstacles,
+        state_bounds=sb,
+        robot_shape=None,
+        name=f"{problem.name} (configuration space)",
+    )
     return ReachProblem(**vals)
 
 
@@ -148,9 +153,13 @@ def robot_note(robot: RobotShape | None) -> str:
     if robot is None or robot.is_point:
         return ""
     if robot.radius is not None:
-        return (f"robot: a disc of radius {robot.radius:g}, planned among obstacles grown by the circumscribed "
-                f"{DISC_SIDES}-gon (an outer approximation: conservative, clearance >= {robot.radius:g} "
-                f"guaranteed, plans needing clearance below {robot.radius / math.cos(math.pi / DISC_SIDES):.4g} "
-                "may be missed)")
-    return (f"robot: a box of half-extents {list(robot.half_extent)}, planned among obstacles grown by the box "  # type: ignore[arg-type]
-            "(exact Minkowski sums)")
+        return (
+            f"robot: a disc of radius {robot.radius:g}, planned among obstacles grown by the circumscribed "
+            f"{DISC_SIDES}-gon (an outer approximation: conservative, clearance >= {robot.radius:g} "
+            f"guaranteed, plans needing clearance below {robot.radius / math.cos(math.pi / DISC_SIDES):.4g} "
+            "may be missed)"
+        )
+    return (
+        f"robot: a box of half-extents {list(robot.half_extent)}, planned among obstacles grown by the box "  # type: ignore[arg-type]
+        "(exact Minkowski sums)"
+    )

@@ -75,8 +75,12 @@ def _validate_trajectory(problem: ReachProblem, result: ReachResult, *, tol: flo
     """The validator on a ``found`` result's trajectory (a curve: :func:`_validate_curve`)."""
     if result.trajectory is None:
         log.error("planner %s reported found without a trajectory", result.solver)
-        return replace(result, status=ReachStatus.UNKNOWN, validated=False,
-                       message=f"{result.solver} reported found without a trajectory")
+        return replace(
+            result,
+            status=ReachStatus.UNKNOWN,
+            validated=False,
+            message=f"{result.solver} reported found without a trajectory",
+        )
     t0 = time.perf_counter()
     if result.guarantee == "curve":
         return _validate_curve(problem, result, tol=tol)
@@ -86,12 +90,18 @@ def _validate_trajectory(problem: ReachProblem, result: ReachResult, *, tol: flo
     total = result.seconds + seconds
     timings["total"] = total
     if report.ok:
-        return replace(result, validated=True, validation=report, segment_safe=report.segment_safe,
-                       timings=timings, seconds=total)
+        return replace(
+            result, validated=True, validation=report, segment_safe=report.segment_safe, timings=timings, seconds=total
+        )
     log.error("planner %s returned a trajectory that fails validation: %s", result.solver, report.summary())
     return replace(
-        result, status=ReachStatus.UNKNOWN, validated=False, validation=report, segment_safe=report.segment_safe,
-        timings=timings, seconds=total,
+        result,
+        status=ReachStatus.UNKNOWN,
+        validated=False,
+        validation=report,
+        segment_safe=report.segment_safe,
+        timings=timings,
+        seconds=total,
         message=f"the {result.solver} trajectory failed validation and is not reported as found: {report.summary()}",
     )
 
@@ -114,9 +124,15 @@ def _validate_mission(problem: ReachProblem, result: ReachResult, *, tol: float)
     if report.ok:
         return replace(checked, mission=mission, timings=timings, seconds=timings["total"])
     log.error("planner %s returned a plan that fails the mission checker: %s", checked.solver, report.summary())
-    return replace(checked, status=ReachStatus.UNKNOWN, validated=False, mission=mission, timings=timings,
-                   seconds=timings["total"], message=f"the {checked.solver} plan fails the mission checker and is "
-                                                     f"not reported as found: {report.summary()}")
+    return replace(
+        checked,
+        status=ReachStatus.UNKNOWN,
+        validated=False,
+        mission=mission,
+        timings=timings,
+        seconds=timings["total"],
+        message=f"the {checked.solver} plan fails the mission checker and is not reported as found: {report.summary()}",
+    )
 
 
 def _validate_curve(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
@@ -127,21 +143,46 @@ def _validate_curve(problem: ReachProblem, result: ReachResult, *, tol: float) -
     report = validate(problem, result.trajectory, tol=tol, dynamics="curve")
     dense = None
     if result.curve is not None:
-        dense = validate(problem, result.curve, require_segment_safe=True, tol=tol, dynamics="curve",
-                         times=None if result.curve_times is None else np.array(result.curve_times))
+        dense = validate(
+            problem,
+            result.curve,
+            require_segment_safe=True,
+            tol=tol,
+            dynamics="curve",
+            times=None if result.curve_times is None else np.array(result.curve_times),
+        )
     seconds = time.perf_counter() - t0
     timings = {**result.timings, "validate": seconds}
     total = result.seconds + seconds
     timings["total"] = total
     ok = report.ok and dense is not None and dense.ok
     if ok:
-        return replace(result, validated=True, validation=report, curve_validation=dense,
-                       segment_safe=report.segment_safe, timings=timings, seconds=total)
-    why = report.summary() if not report.ok else ("no dense curve to check" if dense is None else f"dense curve: {dense.summary()}")
+        return replace(
+            result,
+            validated=True,
+            validation=report,
+            curve_validation=dense,
+            segment_safe=report.segment_safe,
+            timings=timings,
+            seconds=total,
+        )
+    why = (
+        report.summary()
+        if not report.ok
+        else ("no dense curve to check" if dense is None else f"dense curve: {dense.summary()}")
+    )
     log.error("planner %s returned a curve that fails validation: %s", result.solver, why)
-    return replace(result, status=ReachStatus.UNKNOWN, validated=False, validation=report, curve_validation=dense,
-                   segment_safe=report.segment_safe, timings=timings, seconds=total,
-                   message=f"the {result.solver} curve failed validation and is not reported as found: {why}")
+    return replace(
+        result,
+        status=ReachStatus.UNKNOWN,
+        validated=False,
+        validation=report,
+        curve_validation=dense,
+        segment_safe=report.segment_safe,
+        timings=timings,
+        seconds=total,
+        message=f"the {result.solver} curve failed validation and is not reported as found: {why}",
+    )
 
 
 def solve(
@@ -184,8 +225,11 @@ def solve(
         from plansynth.reach.robot import robot_note
 
         note = robot_note(robot)
-        result = replace(result, message=f"{result.message}; {note}" if result.message else note,
-                         options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}})
+        result = replace(
+            result,
+            message=f"{result.message}; {note}" if result.message else note,
+            options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}},
+        )
     return validate_result(problem, result)
 
 

@@ -45,7 +45,9 @@ class Trajectory:
         if u.size == 0:
             u = u.reshape(0, u.shape[1] if u.ndim == 2 else 0)
         if u.ndim != 2 or u.shape[0] != s.shape[0] - 1:
-            raise ValueError(f"inputs must be N x m with N = {s.shape[0] - 1} (one fewer than states), got shape {u.shape}")
+            raise ValueError(
+                f"inputs must be N x m with N = {s.shape[0] - 1} (one fewer than states), got shape {u.shape}"
+            )
         s.flags.writeable = False
         u.flags.writeable = False
         object.__setattr__(self, "states", s)
@@ -103,7 +105,11 @@ def trajectory_from_dict(doc: Any, source: str | None = None) -> Trajectory:
             raise InvalidProblem(source, f"states[{i}]", f"has {len(s)} components, states[0] has {n}")
     inputs = [as_float_vector(u, source, f"inputs[{i}]") for i, u in enumerate(inputs_raw)]
     if len(inputs) != len(states) - 1:
-        raise InvalidProblem(source, "inputs", f"expected {len(states) - 1} inputs (one per step between {len(states)} states), got {len(inputs)}")
+        raise InvalidProblem(
+            source,
+            "inputs",
+            f"expected {len(states) - 1} inputs (one per step between {len(states)} states), got {len(inputs)}",
+        )
     m = len(inputs[0]) if inputs else 0
     for i, u in enumerate(inputs):
         if len(u) != m:

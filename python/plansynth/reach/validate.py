@@ -74,8 +74,18 @@ from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["Violation", "ValidationReport", "validate", "VIOLATION_KINDS"]
 
-VIOLATION_KINDS = ("shape", "start", "dynamics", "input", "state-bound", "workspace", "obstacle", "goal", "segment",
-                   "derivative")
+VIOLATION_KINDS = (
+    "shape",
+    "start",
+    "dynamics",
+    "input",
+    "state-bound",
+    "workspace",
+    "obstacle",
+    "goal",
+    "segment",
+    "derivative",
+)
 DYNAMICS_MODES = ("exact", "curve")
 
 
@@ -263,7 +273,11 @@ class _SweptBox:
         if self.geom.is_empty:
             return False
         pts = [p[:2]] if q is None else [p[:2], q[:2]]
-        corners = [c + s * self.h for c in pts for s in (np.array([-1, -1]), np.array([1, -1]), np.array([1, 1]), np.array([-1, 1]))]
+        corners = [
+            c + s * self.h
+            for c in pts
+            for s in (np.array([-1, -1]), np.array([1, -1]), np.array([1, 1]), np.array([-1, 1]))
+        ]
         body = shapely.MultiPoint([tuple(c) for c in corners]).convex_hull
         return bool(shapely.relate_pattern(self.geom, body, "T********"))
 
@@ -279,7 +293,9 @@ def _obstacle_checks(problem: ReachProblem, tol: float) -> list:
             out.append(_DiscClearance(o, robot.radius, tol))
         elif isinstance(o, Box):
             h = robot.half_extent
-            out.append(_Obstacle(Box(tuple(l - e for l, e in zip(o.lo, h)), tuple(u + e for u, e in zip(o.hi, h))), tol))  # exact
+            out.append(
+                _Obstacle(Box(tuple(l - e for l, e in zip(o.lo, h)), tuple(u + e for u, e in zip(o.hi, h))), tol)
+            )  # exact
         else:
             out.append(_SweptBox(o, robot.half_extent, tol))  # type: ignore[arg-type]
     return out
@@ -362,7 +378,13 @@ def validate(
         )
 
     if X.shape[1] != n or (N > 0 and U.shape[1] != m):
-        viol.append(Violation("shape", None, f"expected states with {n} and inputs with {m} components, got {X.shape[1]} and {U.shape[1]}"))
+        viol.append(
+            Violation(
+                "shape",
+                None,
+                f"expected states with {n} and inputs with {m} components, got {X.shape[1]} and {U.shape[1]}",
+            )
+        )
         return report(False, False, float("inf"), float("inf"))
     if not (np.all(np.isfinite(X)) and np.all(np.isfinite(U))):
         viol.append(Violation("shape", None, "states or inputs contain NaN or infinity"))
@@ -429,15 +451,21 @@ def validate(
             if crosses[i][t]:
                 segment_safe = False
                 if require_segment_safe:
-                    viol.append(Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]"))
+                    viol.append(
+                        Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]")
+                    )
     return report(not viol, segment_safe, max_err, max_u)
 
 
-def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, tol: float, viol: list[Violation]) -> None:
+def _derivative_check(
+    problem: ReachProblem, X: np.ndarray, times: np.ndarray, tol: float, viol: list[Violation]
+) -> None:
     """Curve mode: between two samples, each derivative block of a named integrator
     model moves by at most the bound of the next derivative times the time between them."""
     dyn = problem.dynamics
-    order = {"single-integrator": 1, "double-integrator": 2}.get(dyn.model, dyn.order if dyn.model == "integrator-chain" else None)
+    order = {"single-integrator": 1, "double-integrator": 2}.get(
+        dyn.model, dyn.order if dyn.model == "integrator-chain" else None
+    )
     d = problem.dim
     if order is None or X.shape[0] != times.shape[0]:
         if X.shape[0] != times.shape[0]:
@@ -448,8 +476,8 @@ def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, t
         if i == order:
             bounds.append(problem.input_bound)
         elif problem.state_bounds is not None:
-            lo = np.abs(np.array(problem.state_bounds.lo[i * d:(i + 1) * d]))
-            hi = np.abs(np.array(problem.state_bounds.hi[i * d:(i + 1) * d]))
+            lo = np.abs(np.array(problem.state_bounds.lo[i * d : (i + 1) * d]))
+            hi = np.abs(np.array(problem.state_bounds.hi[i * d : (i + 1) * d]))
             bounds.append(float(max(lo.max(), hi.max())))
         else:
             bounds.append(None)
@@ -458,12 +486,18 @@ def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, t
         b = bounds[i]
         if b is None:
             continue
-        block = X[:, i * d:(i + 1) * d]
+        block = X[:, i * d : (i + 1) * d]
         moved = np.max(np.abs(np.diff(block, axis=0)), axis=1)
         bad = np.nonzero(moved > b * gaps + tol * max(1.0, b))[0]
         for t in bad[:5]:
             what = "position" if i == 0 else f"derivative {i}"
-            viol.append(Violation("derivative", int(t), f"{what} moves by {moved[t]:.4g} in {gaps[t]:.4g} s, more than the bound {b:g} allows"))
+            viol.append(
+                Violation(
+                    "derivative",
+                    int(t),
+                    f"{what} moves by {moved[t]:.4g} in {gaps[t]:.4g} s, more than the bound {b:g} allows",
+                )
+            )
     if order >= 2:
         # each block against the next one's samples: with |d_{i+2}| <= b, d_i(t') - d_i(t)
         # differs from d_{i+1}(t) (t' - t) by at most b (t' - t)^2 / 2, and likewise with
@@ -473,15 +507,23 @@ def _derivative_check(problem: ReachProblem, X: np.ndarray, times: np.ndarray, t
             b = bounds[i + 1]
             if b is None:
                 continue
-            block, rate = X[:, i * d:(i + 1) * d], X[:, (i + 1) * d:(i + 2) * d]
+            block, rate = X[:, i * d : (i + 1) * d], X[:, (i + 1) * d : (i + 2) * d]
             step = np.diff(block, axis=0)
-            slack = b * gaps ** 2 / 2 + tol * max(1.0, b)
-            off = np.maximum(np.max(np.abs(step - rate[:-1] * gaps[:, None]), axis=1),
-                             np.max(np.abs(step - rate[1:] * gaps[:, None]), axis=1))
+            slack = b * gaps**2 / 2 + tol * max(1.0, b)
+            off = np.maximum(
+                np.max(np.abs(step - rate[:-1] * gaps[:, None]), axis=1),
+                np.max(np.abs(step - rate[1:] * gaps[:, None]), axis=1),
+            )
             what = "position" if i == 0 else f"derivative {i}"
             for t in np.nonzero(off > slack)[0][:5]:
-                viol.append(Violation("derivative", int(t), f"{what} moves by {np.max(np.abs(step[t])):.4g} in "
-                                      f"{gaps[t]:.4g} s, {off[t]:.4g} away from what derivative {i + 1} allows"))
+                viol.append(
+                    Violation(
+                        "derivative",
+                        int(t),
+                        f"{what} moves by {np.max(np.abs(step[t])):.4g} in "
+                        f"{gaps[t]:.4g} s, {off[t]:.4g} away from what derivative {i + 1} allows",
+                    )
+                )
 
 
 def _fmt(p: np.ndarray) -> str:

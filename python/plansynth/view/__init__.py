@@ -52,8 +52,9 @@ def read_result(path: str | Path) -> tuple[dict[str, Any], str]:
     return doc, name
 
 
-def build_page(problem: str | Path, result: str | Path | None = None, *, serve: bool = False,
-               timeout: float = 10.0) -> str:
+def build_page(
+    problem: str | Path, result: str | Path | None = None, *, serve: bool = False, timeout: float = 10.0
+) -> str:
     """The HTML page of the problem file ``problem`` and the result file ``result``
     (None: the problem alone). ``serve``: a reach page that re-plans through
     :mod:`~plansynth.view.server`, asking ``timeout`` seconds per plan by default."""

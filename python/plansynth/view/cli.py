@@ -49,8 +49,14 @@ class OneCommand(TyperGroup):
         return [piece for piece in super().collect_usage_pieces(ctx) if piece != self.subcommand_metavar]
 
 
-app = typer.Typer(cls=OneCommand, add_completion=False, invoke_without_command=True, no_args_is_help=True,
-                  subcommand_metavar="", epilog=EPILOG)
+app = typer.Typer(
+    cls=OneCommand,
+    add_completion=False,
+    invoke_without_command=True,
+    no_args_is_help=True,
+    subcommand_metavar="",
+    epilog=EPILOG,
+)
 
 
 def _timeout(value: float) -> float:
@@ -64,11 +70,22 @@ def _timeout(value: float) -> float:
 @app.callback(epilog=EPILOG)
 def view(
     problem: Path = typer.Argument(..., help="Grid or reach problem file (YAML or JSON)."),
-    result: Optional[Path] = typer.Option(None, "--result", "-r", help="Result JSON of plansynth grid solve -o or reach solve -o for this problem."),
-    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the page to this HTML file (one self-contained file)."),
-    serve: bool = typer.Option(False, "--serve", help="Serve a page that re-plans the problem on 127.0.0.1 (reach problems)."),
+    result: Optional[Path] = typer.Option(
+        None, "--result", "-r", help="Result JSON of plansynth grid solve -o or reach solve -o for this problem."
+    ),
+    output: Optional[Path] = typer.Option(
+        None, "--output", "-o", help="Write the page to this HTML file (one self-contained file)."
+    ),
+    serve: bool = typer.Option(
+        False, "--serve", help="Serve a page that re-plans the problem on 127.0.0.1 (reach problems)."
+    ),
     port: int = typer.Option(0, "--port", min=0, max=65535, help="--serve: the port (0: a free one)."),
-    timeout: float = typer.Option(10.0, "--timeout", callback=_timeout, help="--serve: the budget of each re-plan in seconds (at most 30; the page may lower it)."),
+    timeout: float = typer.Option(
+        10.0,
+        "--timeout",
+        callback=_timeout,
+        help="--serve: the budget of each re-plan in seconds (at most 30; the page may lower it).",
+    ),
 ) -> None:
     """Show a problem and its result as an interactive page: a grid controller against
     obstacles you move, or a reach trajectory with its regions, labels and bounds."""

@@ -61,8 +61,11 @@ def problem_json(problem: GridProblem) -> dict[str, Any]:
         "width": problem.width,
         "height": problem.height,
         "walls": [list(w) for w in sorted(problem.walls)],
-        "robot": {"start": list(problem.robot.start), "goal": list(problem.robot.goal),
-                  "moves": moves(problem.robot.moves)},
+        "robot": {
+            "start": list(problem.robot.start),
+            "goal": list(problem.robot.goal),
+            "moves": moves(problem.robot.moves),
+        },
         "obstacles": [{"start": list(o.start), "moves": moves(o.moves)} for o in problem.obstacles],
         "variables": list(problem.variables),
     }
@@ -127,36 +130,62 @@ def check_recorded_problem(problem: GridProblem, raw: Mapping[str, Any], source:
         except (PlansynthError, OSError, ValueError):
             continue
         if replace(recorded, name=problem.name).to_dict() != problem.to_dict():
-            raise InvalidProblem(source, "problem", f"the result was solved for {where}, which holds another problem "
-                                 f"than {problem.source or problem.name}")
+            raise InvalidProblem(
+                source,
+                "problem",
+                f"the result was solved for {where}, which holds another problem than {problem.source or problem.name}",
+            )
         return
 
 
-def grid_page_data(problem: GridProblem, result: Mapping[str, Any] | None, *, source: str = "<result>",
-                   budget_seconds: float = EVIDENCE_SECONDS) -> dict[str, Any]:
+def grid_page_data(
+    problem: GridProblem,
+    result: Mapping[str, Any] | None,
+    *,
+    source: str = "<result>",
+    budget_seconds: float = EVIDENCE_SECONDS,
+) -> dict[str, Any]:
     """Everything the grid page shows (see the module docstring); ``result`` is a result
     document (spec: Result file) or None for the board alone."""
-    data: dict[str, Any] = {"kind": "grid", "problem": problem_json(problem), "status": None, "steps": None,
-                            "program": None, "program_text": None, "verdict": None, "counterexample": None,
-                            "explanation": None, "result_problem": None}
+    data: dict[str, Any] = {
+        "kind": "grid",
+        "problem": problem_json(problem),
+        "status": None,
+        "steps": None,
+        "program": None,
+        "program_text": None,
+        "verdict": None,
+        "counterexample": None,
+        "explanation": None,
+        "result_problem": None,
+    }
     if result is None:
         data["steps"] = _default_steps(problem)
         return data
     status, steps, program = read_grid_result(result, problem, source)
     steps = steps or _default_steps(problem)
     recorded = result.get("problem")
-    data.update(status=status, steps=steps,
-                result_problem=Path(recorded).name if isinstance(recorded, str) and recorded else None)
+    data.update(
+        status=status,
+        steps=steps,
+        result_problem=Path(recorded).name if isinstance(recorded, str) and recorded else None,
+    )
     if program is not None:
         data.update(program=term_json(program), program_text=str(program))
         verdict = verify(problem, program, steps, budget=Budget(seconds=budget_seconds))
-        data["verdict"] = {"status": verdict.status.value, "message": verdict.message,
-                           "states_explored": verdict.states_explored}
+        data["verdict"] = {
+            "status": verdict.status.value,
+            "message": verdict.message,
+            "states_explored": verdict.states_explored,
+        }
         cex = verdict.counterexample
         if cex is not None:
-            data["counterexample"] = {"states": [state_json(s) for s in cex.states],
-                                      "robot_moves": list(cex.robot_moves),
-                                      "obstacle_moves": [list(j) for j in cex.obstacle_moves], "reason": cex.reason}
+            data["counterexample"] = {
+                "states": [state_json(s) for s in cex.states],
+                "robot_moves": list(cex.robot_moves),
+                "obstacle_moves": [list(j) for j in cex.obstacle_moves],
+                "reason": cex.reason,
+            }
     elif status == "unrealizable":
         data["explanation"] = explanation_json(problem, steps, budget_seconds)
     return data
@@ -173,11 +202,23 @@ def explanation_json(problem: GridProblem, steps: int, seconds: float = EVIDENCE
     from plansynth.grid.native.explain import explain
 
     e = explain(problem, steps, Budget(seconds=seconds))
-    out: dict[str, Any] = {"kind": e.kind, "summary": e.summary, "steps": steps,
-                           "play": [{"t": turn.t, "state": state_json(turn.state), "robot_move": turn.robot_move,
-                                     "obstacle_moves": list(turn.obstacle_moves), "reason": turn.reason}
-                                    for turn in e.play],
-                           "strategy": None, "complete": None}
+    out: dict[str, Any] = {
+        "kind": e.kind,
+        "summary": e.summary,
+        "steps": steps,
+        "play": [
+            {
+                "t": turn.t,
+                "state": state_json(turn.state),
+                "robot_move": turn.robot_move,
+                "obstacle_moves": list(turn.obstacle_moves),
+                "reason": turn.reason,
+            }
+            for turn in e.play
+        ],
+        "strategy": None,
+        "complete": None,
+    }
     if e.strategy is not None:
         table, complete = strategy_table(problem, e.strategy, steps)
         out.update(strategy=table, complete=complete)
@@ -193,8 +234,9 @@ def state_key(t: int, s: State) -> str:
     return "|".join([str(t), *(f"{x},{y}" for x, y in (s.robot, *s.obstacles))])
 
 
-def strategy_table(problem: GridProblem, strategy: Any, steps: int,
-                   max_states: int = MAX_STRATEGY_STATES) -> tuple[dict[str, list[list[int]]], bool]:
+def strategy_table(
+    problem: GridProblem, strategy: Any, steps: int, max_states: int = MAX_STRATEGY_STATES
+) -> tuple[dict[str, list[list[int]]], bool]:
     """The obstacles' reply to every robot move in every state the robot can reach
     against ``strategy`` (an :class:`~plansynth.grid.native.explain.ObstacleStrategy`):
     ``{state_key: [joint move per robot move]}``, and whether the table holds every such
@@ -216,4 +258,3 @@ def strategy_table(problem: GridProblem, strategy: Any, steps: int,
             table[state_key(t, s)] = replies
         layer = nxt
     return table, True
-

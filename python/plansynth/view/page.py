@@ -47,8 +47,10 @@ def content_security_policy(*, connect: str = "'none'") -> str:
     >>> "img-src data:;" in content_security_policy()
     True
     """
-    return (f"default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:; "
-            f"connect-src {connect}; base-uri 'none'; form-action 'none'")
+    return (
+        f"default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:; "
+        f"connect-src {connect}; base-uri 'none'; form-action 'none'"
+    )
 
 
 def render_page(data: dict[str, Any], *, title: str, serve: bool = False) -> str:
@@ -72,7 +74,7 @@ def render_page(data: dict[str, Any], *, title: str, serve: bool = False) -> str
 {asset("page.css")}
 </style>
 </head>
-<body data-serve="{'yes' if serve else 'no'}">
+<body data-serve="{"yes" if serve else "no"}">
 <div id="app"></div>
 <script id="plansynth-data" type="application/json">{_inline_json(data)}</script>
 {scripts}

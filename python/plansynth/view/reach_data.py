@@ -90,20 +90,36 @@ def read_reach_result(doc: Any, problem: ReachProblem, source: str) -> tuple[str
     trajectory = trajectory_from_dict(doc, source)
     n, m = problem.dynamics.n_states, problem.dynamics.n_inputs
     if trajectory.n_states != n:
-        raise InvalidProblem(source, "states[0]", f"has {trajectory.n_states} components, but the dynamics of "
-                             f"{problem.name} have {n} states: a result of another problem")
+        raise InvalidProblem(
+            source,
+            "states[0]",
+            f"has {trajectory.n_states} components, but the dynamics of "
+            f"{problem.name} have {n} states: a result of another problem",
+        )
     if trajectory.horizon > 0 and trajectory.n_inputs != m:
-        raise InvalidProblem(source, "inputs[0]", f"has {trajectory.n_inputs} components, but the dynamics of "
-                             f"{problem.name} have {m} inputs: a result of another problem")
+        raise InvalidProblem(
+            source,
+            "inputs[0]",
+            f"has {trajectory.n_inputs} components, but the dynamics of "
+            f"{problem.name} have {m} inputs: a result of another problem",
+        )
     start = np.asarray(problem.start, float)
     if not np.allclose(trajectory.states[0], start, rtol=0, atol=1e-6 * max(1.0, float(np.abs(start).max()))):
-        raise InvalidProblem(source, "states[0]", f"{_vector(trajectory.states[0])} is not the start "
-                             f"{_vector(start)} of {problem.name}: a result of another problem")
+        raise InvalidProblem(
+            source,
+            "states[0]",
+            f"{_vector(trajectory.states[0])} is not the start "
+            f"{_vector(start)} of {problem.name}: a result of another problem",
+        )
     planned_mission = isinstance(doc.get("mission"), Mapping) and doc["mission"].get("formula") is not None
     if planned_mission != (problem.mission is not None):
         has = "has a mission" if problem.mission is not None else "has no mission"
-        raise InvalidProblem(source, "mission", f"the result {'is' if planned_mission else 'is not'} a mission's "
-                             f"plan, and {problem.name} {has}: a result of another problem")
+        raise InvalidProblem(
+            source,
+            "mission",
+            f"the result {'is' if planned_mission else 'is not'} a mission's "
+            f"plan, and {problem.name} {has}: a result of another problem",
+        )
     return status, trajectory
 
 
@@ -143,8 +159,9 @@ def reach_words(doc: Mapping[str, Any]) -> list[str]:
     return lines
 
 
-def reach_page_data(problem: ReachProblem, result: Mapping[str, Any] | None, *,
-                    source: str = "<result>") -> dict[str, Any]:
+def reach_page_data(
+    problem: ReachProblem, result: Mapping[str, Any] | None, *, source: str = "<result>"
+) -> dict[str, Any]:
     """Everything the reach page shows (see the module docstring); ``result`` is a
     result document (spec: Result file) or None for the problem and its regions alone."""
     dyn = problem.dynamics
@@ -168,15 +185,21 @@ def reach_page_data(problem: ReachProblem, result: Mapping[str, Any] | None, *,
         "state_bounds": [[_finite(v) for v in lo], [_finite(v) for v in hi]],
         "input_bound": problem.input_bound,
         "dt": dyn.dt,
-        "status": None, "words": [], "trajectory": None, "result_regions": None, "validation": None, "mission": None,
+        "status": None,
+        "words": [],
+        "trajectory": None,
+        "result_regions": None,
+        "validation": None,
+        "mission": None,
     }
     if result is None:
         return data
     status, trajectory = read_reach_result(result, problem, source)
     data.update(status=status, words=reach_words(result))
     raw_regions = result.get("regions")
-    if isinstance(raw_regions, list) and all(isinstance(r, int) and 0 <= r < abstraction.n_regions
-                                             for r in raw_regions):
+    if isinstance(raw_regions, list) and all(
+        isinstance(r, int) and 0 <= r < abstraction.n_regions for r in raw_regions
+    ):
         data["result_regions"] = raw_regions
     if trajectory is None:
         return data
@@ -184,10 +207,12 @@ def reach_page_data(problem: ReachProblem, result: Mapping[str, Any] | None, *,
     claimed = result.get("segment_safe") is True or result.get("guarantee") == "segments"
     mission = result.get("mission") or {}
     loop_start = mission.get("loop_start") if isinstance(mission, Mapping) else None
-    if loop_start is not None and (isinstance(loop_start, bool) or not isinstance(loop_start, int)
-                                   or not 0 <= loop_start < trajectory.horizon):
-        raise InvalidProblem(source, "mission.loop_start", f"expected a step in 0..{trajectory.horizon - 1}, "
-                             f"got {show(loop_start)}")
+    if loop_start is not None and (
+        isinstance(loop_start, bool) or not isinstance(loop_start, int) or not 0 <= loop_start < trajectory.horizon
+    ):
+        raise InvalidProblem(
+            source, "mission.loop_start", f"expected a step in 0..{trajectory.horizon - 1}, got {show(loop_start)}"
+        )
     if problem.mission is not None:
         from rich.text import Text
 
@@ -197,10 +222,17 @@ def reach_page_data(problem: ReachProblem, result: Mapping[str, Any] | None, *,
         data["validation"] = {"ok": ok, "summary": Text.from_markup(lines[0]).plain}
         letters, _ = trajectory_word(problem, problem.position_of(trajectory.states), loop_start)
         names = [name for name in problem.mission_labels]
-        data["mission"] = {"formula": problem.mission, "loop_start": loop_start,
-                           "holding": [sorted(n for n in names if n in letter) for letter in letters]}
+        data["mission"] = {
+            "formula": problem.mission,
+            "loop_start": loop_start,
+            "holding": [sorted(n for n in names if n in letter) for letter in letters],
+        }
     else:
-        report = validate(problem, trajectory, require_segment_safe=claimed,
-                          dynamics="curve" if result.get("guarantee") == "curve" else "exact")
+        report = validate(
+            problem,
+            trajectory,
+            require_segment_safe=claimed,
+            dynamics="curve" if result.get("guarantee") == "curve" else "exact",
+        )
         data["validation"] = {"ok": report.ok, "summary": report.summary()}
     return data

@@ -44,7 +44,9 @@ def load_edited(doc: Any) -> Any:
     return reach_problem_from_dict(doc, source=EDITED, default_name="edited")
 
 
-def serve_data(problem: Any, result: dict[str, Any] | None, timeout: float, *, source: str = "<result>") -> dict[str, Any]:
+def serve_data(
+    problem: Any, result: dict[str, Any] | None, timeout: float, *, source: str = "<result>"
+) -> dict[str, Any]:
     """The reach page's data for a served page: the problem's own document (what the page
     edits), and the budget it asks for by default."""
     from plansynth.reach.fileformat import reach_problem_to_dict
@@ -81,8 +83,13 @@ class PlanServer(ThreadingHTTPServer):
 
     daemon_threads = True
 
-    def __init__(self, page: str, port: int, timeout: float,
-                 planner: Callable[[dict[str, Any], float], dict[str, Any]] = plan_edited) -> None:
+    def __init__(
+        self,
+        page: str,
+        port: int,
+        timeout: float,
+        planner: Callable[[dict[str, Any], float], dict[str, Any]] = plan_edited,
+    ) -> None:
         super().__init__(("127.0.0.1", port), _Handler)
         self.page = page.encode("utf-8")
         self.timeout_default = timeout

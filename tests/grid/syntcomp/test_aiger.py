@@ -143,8 +143,7 @@ def random_circuits(draw):
         ands.append((lhs, draw(st.sampled_from(pool)), draw(st.sampled_from(pool))))
         lits.append(lhs)
     pool = [0, 1] + lits + [x ^ 1 for x in lits]
-    latches = [(2 * (ni + k + 1), draw(st.sampled_from(pool)), draw(st.sampled_from([0, 1, None])))
-               for k in range(nl)]
+    latches = [(2 * (ni + k + 1), draw(st.sampled_from(pool)), draw(st.sampled_from([0, 1, None]))) for k in range(nl)]
     outputs = draw(st.lists(st.sampled_from(pool), min_size=1, max_size=3))
     text = [f"aag {ni + nl + na} {ni} {nl} {len(outputs)} {na}"]
     text += [str(2 * (k + 1)) for k in range(ni)]
@@ -182,8 +181,9 @@ def test_random_circuits_against_a_reference(circ, seed):
     inputs = rng.integers(0, 2, (n, ni)).astype(bool)
     out, nxt = Simulator(c).step(state, inputs)
     for row in range(n):
-        ro, rn = reference_step(ni, latches, ands, outputs, state[row].astype(int).tolist(),
-                                inputs[row].astype(int).tolist())
+        ro, rn = reference_step(
+            ni, latches, ands, outputs, state[row].astype(int).tolist(), inputs[row].astype(int).tolist()
+        )
         assert out[row].astype(int).tolist() == ro and nxt[row].astype(int).tolist() == rn
     same_behaviour(c, parse(to_binary(c)), rng)
     # reset values: 0, 1, or free (given by the caller)
@@ -199,16 +199,19 @@ def test_aiger_1_9_header_and_bad_section():
     assert c.latches[0].init is None  # reset = its own literal: not initialised
 
 
-@pytest.mark.parametrize("data,field", [
-    (b"aig 1 1\n", "header"),
-    (b"aag 1 2 0 0 0\n2\n4\n", "header"),
-    (b"aag 2 1 0 1 1\n2\n4\n4 2 6\n", "literals"),
-    (b"aag 3 1 0 1 2\n2\n4\n4 2 6\n6 4 2\n", "ands"),
-    (b"aag 2 1 0 1 1\n2\n2\n2 2 2\n", "ands"),
-    (b"aag 1 1 0 1 0\n2\n", "outputs"),
-    (b"aag 2 0 1 0 0\n4 2 7\n", "latches"),
-    (b"aag 1 0 0 0 0 0 0 1 0\n", "header"),
-])
+@pytest.mark.parametrize(
+    "data,field",
+    [
+        (b"aig 1 1\n", "header"),
+        (b"aag 1 2 0 0 0\n2\n4\n", "header"),
+        (b"aag 2 1 0 1 1\n2\n4\n4 2 6\n", "literals"),
+        (b"aag 3 1 0 1 2\n2\n4\n4 2 6\n6 4 2\n", "ands"),
+        (b"aag 2 1 0 1 1\n2\n2\n2 2 2\n", "ands"),
+        (b"aag 1 1 0 1 0\n2\n", "outputs"),
+        (b"aag 2 0 1 0 0\n4 2 7\n", "latches"),
+        (b"aag 1 0 0 0 0 0 0 1 0\n", "header"),
+    ],
+)
 def test_malformed_files_are_named_errors(data, field):
     with pytest.raises(InvalidProblem, match=field):
         parse(data)

@@ -31,10 +31,16 @@ def test_rules_of_the_family():
     assert ((4, 4), 2) in replies and ((4, 4), 1) not in replies
     # a resting obstacle moves freely, inside the grid (corner 0..6), and may raise the counter
     assert {o for o, g in game.obstacle_moves(State((0, 0), (6, 0), False, 0)) if g == 0} == {
-        (5, 0), (6, 0), (5, 1), (6, 1)}
+        (5, 0),
+        (6, 0),
+        (5, 1),
+        (6, 1),
+    }
     # no glitches left: a waiting obstacle stays
     assert set(game.obstacle_moves(State((0, 0), (3, 3), True, 2))) == {((3, 3), 2)}
-    assert all(t.obstacle_waits == (t.obstacle != (3, 3)) for t in game.successors(State((0, 0), (3, 3), False, 0), (1, 0)))
+    assert all(
+        t.obstacle_waits == (t.obstacle != (3, 3)) for t in game.successors(State((0, 0), (3, 3), False, 0), (1, 0))
+    )
 
 
 def test_invalid_instances_are_named_errors():
@@ -62,7 +68,9 @@ def test_five_by_five_is_the_smallest_grid_the_robot_evades_without_glitches():
     """Ehlers, Sect. II: "allows the robot to evade the obstacle for workspace sizes of
     5 x 5 cells or larger"."""
     assert [solve(MovingObstacle(m, 0)).status for m in (3, 4, 5, 6, 7)] == [
-        GridStatus.UNREALIZABLE, GridStatus.UNREALIZABLE] + [GridStatus.REALIZABLE] * 3
+        GridStatus.UNREALIZABLE,
+        GridStatus.UNREALIZABLE,
+    ] + [GridStatus.REALIZABLE] * 3
 
 
 @settings(max_examples=12)
@@ -85,10 +93,17 @@ def test_certificates_check_on_sampled_states_of_16x16(c):
     game = MovingObstacle(16, c)
     sol = solve(game)
     rng = np.random.default_rng(c)
-    states = [State((int(a), int(b)), (int(x), int(y)), bool(w), int(g))
-              for a, b, x, y, w, g in zip(rng.integers(0, 16, 3000), rng.integers(0, 16, 3000),
-                                          rng.integers(0, 15, 3000), rng.integers(0, 15, 3000),
-                                          rng.integers(0, 2, 3000), rng.integers(0, c + 1, 3000))]
+    states = [
+        State((int(a), int(b)), (int(x), int(y)), bool(w), int(g))
+        for a, b, x, y, w, g in zip(
+            rng.integers(0, 16, 3000),
+            rng.integers(0, 16, 3000),
+            rng.integers(0, 15, 3000),
+            rng.integers(0, 15, 3000),
+            rng.integers(0, 2, 3000),
+            rng.integers(0, c + 1, 3000),
+        )
+    ]
     check_solution(sol, states=states)
 
 

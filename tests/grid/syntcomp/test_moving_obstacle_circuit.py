@@ -24,7 +24,13 @@ from hypothesis import strategies as st
 from plansynth.grid.syntcomp.aiger import Simulator, read
 from plansynth.grid.syntcomp.moving_obstacle import MOVES, MovingObstacle, State, circuit_name
 from plansynth.grid.syntcomp.moving_obstacle_circuit import (
-    FIRST_ROUND, VIOLATED, StepBatch, compare_step, expected_step, input_layout, latch_layout,
+    FIRST_ROUND,
+    VIOLATED,
+    StepBatch,
+    compare_step,
+    expected_step,
+    input_layout,
+    latch_layout,
 )
 
 DATA = Path(__file__).parent / "data"
@@ -38,8 +44,16 @@ def state_move_grid(game: MovingObstacle, moves=MOVES, rx: int | None = None) ->
     """Every (state, robot move) pair as columns (those with the robot in column ``rx``
     if given: the exhaustive checks go column by column to keep their memory small)."""
     m, c = game.size, game.glitches
-    axes = np.meshgrid(np.arange(m) if rx is None else np.array([rx]), np.arange(m), np.arange(m - 1), np.arange(m - 1), np.arange(2),
-                       np.arange(c + 1), np.arange(len(moves)), indexing="ij")
+    axes = np.meshgrid(
+        np.arange(m) if rx is None else np.array([rx]),
+        np.arange(m),
+        np.arange(m - 1),
+        np.arange(m - 1),
+        np.arange(2),
+        np.arange(c + 1),
+        np.arange(len(moves)),
+        indexing="ij",
+    )
     rx, ry, ox, oy, waits, g, k = (a.ravel() for a in axes)
     d = np.array(moves)[k]
     return dict(rx=rx, ry=ry, ox=ox, oy=oy, waits=waits, g=g, dx=d[:, 0], dy=d[:, 1])
@@ -67,9 +81,13 @@ def test_the_circuits_name_the_fields_the_game_reads():
     assert inputs.names() == ["obsx", "obsy", "robx", "roby", "glitches", "movx", "movy", "obsmove"]
     assert inputs.ranges["robx"] == (0, 7) and inputs.ranges["obsx"] == (0, 6)
     assert inputs.ranges["glitches"] == (0, 1) and inputs.ranges["movx"] == (0, 2)
-    assert [i.name.split("@")[0] for i in c.controllable_inputs] == ["controllable_movx", "controllable_movx",
-                                                                      "controllable_movy", "controllable_movy",
-                                                                      "controllable_obsmove"]
+    assert [i.name.split("@")[0] for i in c.controllable_inputs] == [
+        "controllable_movx",
+        "controllable_movx",
+        "controllable_movy",
+        "controllable_movy",
+        "controllable_obsmove",
+    ]
     assert set(latches.names()) == {FIRST_ROUND, VIOLATED} | {"prev_" + n for n in inputs.names()}
     assert all(la.init == 0 for la in c.latches)
     assert [o.name for o in c.outputs] == ["err"]
@@ -94,10 +112,18 @@ def _check_env_replies(game, circ, c, cols, j, rng) -> np.ndarray:
     obsmove = j // (9 * (c + 1))
     obsx, obsy = cols["ox"] + delta[:, 0], cols["oy"] + delta[:, 1]
     keep = (obsx >= 0) & (obsy >= 0)  # negative positions have no encoding; the top edge is 7 > 6, kept
-    q = StepBatch.of(int(keep.sum()), **{k: v[keep] for k, v in cols.items()},
-                     robx=np.clip(cols["rx"] + cols["dx"], 0, 7)[keep], roby=np.clip(cols["ry"] + cols["dy"], 0, 7)[keep],
-                     obsx=obsx[keep], obsy=obsy[keep], glitches=g_next[keep], obsmove=obsmove[keep],
-                     movx=rng.integers(0, 3, int(keep.sum())), movy=rng.integers(0, 3, int(keep.sum())))
+    q = StepBatch.of(
+        int(keep.sum()),
+        **{k: v[keep] for k, v in cols.items()},
+        robx=np.clip(cols["rx"] + cols["dx"], 0, 7)[keep],
+        roby=np.clip(cols["ry"] + cols["dy"], 0, 7)[keep],
+        obsx=obsx[keep],
+        obsy=obsy[keep],
+        glitches=g_next[keep],
+        obsmove=obsmove[keep],
+        movx=rng.integers(0, 3, int(keep.sum())),
+        movy=rng.integers(0, 3, int(keep.sum())),
+    )
     err, violated = expected_step(game, q)
     assert_same(game, circ, q)
     return np.array([err.sum(), (~err & ~violated).sum(), violated.sum()])
@@ -107,9 +133,18 @@ def _check_env_replies(game, circ, c, cols, j, rng) -> np.ndarray:
 def test_8x8_every_controller_move_code(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
     for cols, code in each_state_and_move(game, 16):
-        q = StepBatch.of(len(code), **cols, robx=np.clip(cols["rx"] + cols["dx"], 0, 7),
-                         roby=np.clip(cols["ry"] + cols["dy"], 0, 7), obsx=cols["ox"], obsy=cols["oy"],
-                         glitches=cols["g"], obsmove=1, movx=code % 4, movy=code // 4)
+        q = StepBatch.of(
+            len(code),
+            **cols,
+            robx=np.clip(cols["rx"] + cols["dx"], 0, 7),
+            roby=np.clip(cols["ry"] + cols["dy"], 0, 7),
+            obsx=cols["ox"],
+            obsy=cols["oy"],
+            glitches=cols["g"],
+            obsmove=1,
+            movx=code % 4,
+            movy=code // 4,
+        )
         assert_same(game, circ, q)
 
 
@@ -118,8 +153,18 @@ def test_8x8_every_robot_position_the_bits_encode(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
     for cols, cell in each_state_and_move(game, 64):
         n = len(cell)
-        q = StepBatch.of(n, **cols, robx=cell % 8, roby=cell // 8, obsx=cols["ox"], obsy=cols["oy"],
-                         glitches=cols["g"], obsmove=1, movx=1, movy=1)
+        q = StepBatch.of(
+            n,
+            **cols,
+            robx=cell % 8,
+            roby=cell // 8,
+            obsx=cols["ox"],
+            obsy=cols["oy"],
+            glitches=cols["g"],
+            obsmove=1,
+            movx=1,
+            movy=1,
+        )
         _, violated = expected_step(game, q)
         assert violated.sum() == n * 63 // 64  # one position per row is where the move leads
         assert_same(game, circ, q)
@@ -130,8 +175,18 @@ def test_8x8_every_obstacle_position_and_counter_the_bits_encode(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
     gbits = 1 if c else 0
     for cols, j in each_state_and_move(game, 64 << gbits, moves=((0, 0),)):
-        q = StepBatch.of(len(j), **cols, robx=cols["rx"], roby=cols["ry"], obsx=j % 8, obsy=(j // 8) % 8,
-                         glitches=j // 64, obsmove=1, movx=1, movy=1)
+        q = StepBatch.of(
+            len(j),
+            **cols,
+            robx=cols["rx"],
+            roby=cols["ry"],
+            obsx=j % 8,
+            obsy=(j // 8) % 8,
+            glitches=j // 64,
+            obsmove=1,
+            movx=1,
+            movy=1,
+        )
         assert_same(game, circ, q)
 
 
@@ -140,9 +195,18 @@ def test_8x8_every_first_step(c):
     game, circ = MovingObstacle(8, c), circuit(8, c)
     gvals = 2 if c else 1
     j = np.arange(64 * 64 * gvals * 2 * 16)
-    q = StepBatch.of(len(j), first=1, robx=j % 8, roby=(j // 8) % 8, obsx=(j // 64) % 8, obsy=(j // 512) % 8,
-                     glitches=(j // 4096) % gvals, obsmove=(j // (4096 * gvals)) % 2,
-                     movx=(j // (8192 * gvals)) % 4, movy=(j // (32768 * gvals)) % 4)
+    q = StepBatch.of(
+        len(j),
+        first=1,
+        robx=j % 8,
+        roby=(j // 8) % 8,
+        obsx=(j // 64) % 8,
+        obsy=(j // 512) % 8,
+        glitches=(j // 4096) % gvals,
+        obsmove=(j // (4096 * gvals)) % 2,
+        movx=(j // (8192 * gvals)) % 4,
+        movy=(j // (32768 * gvals)) % 4,
+    )
     err, violated = expected_step(game, q)
     assert (~violated).sum() == 2 * 16 and err.sum() == 2 * 16 - 9
     assert_same(game, circ, q)
@@ -163,12 +227,30 @@ def random_rows(game: MovingObstacle, n: int, seed: int) -> StepBatch:
     obsx = np.where(off == 4, rng.integers(0, m, n), np.clip(ox + e[:, 0], 0, m - 2))
     obsy = np.where(off == 4, rng.integers(0, m, n), np.clip(oy + e[:, 1], 0, m - 2))
     gbits = max(c, 1).bit_length() if c else 0
-    glitches = np.where(off == 5, rng.integers(0, 1 << gbits, n) if gbits else 0,
-                        np.minimum(g + rng.integers(0, 2, n), c))
-    return StepBatch.of(n, rx=rx, ry=ry, ox=ox, oy=oy, waits=rng.integers(0, 2, n), g=g, dx=d[:, 0], dy=d[:, 1],
-                        robx=robx, roby=roby, obsx=obsx, obsy=obsy, glitches=glitches,
-                        movx=rng.choice([0, 1, 2, 1, 0, 2, 3], n), movy=rng.choice([0, 1, 2, 1, 0, 2, 3], n),
-                        obsmove=rng.integers(0, 2, n), first=rng.random(n) < 0.02, violated=rng.random(n) < 0.02)
+    glitches = np.where(
+        off == 5, rng.integers(0, 1 << gbits, n) if gbits else 0, np.minimum(g + rng.integers(0, 2, n), c)
+    )
+    return StepBatch.of(
+        n,
+        rx=rx,
+        ry=ry,
+        ox=ox,
+        oy=oy,
+        waits=rng.integers(0, 2, n),
+        g=g,
+        dx=d[:, 0],
+        dy=d[:, 1],
+        robx=robx,
+        roby=roby,
+        obsx=obsx,
+        obsy=obsy,
+        glitches=glitches,
+        movx=rng.choice([0, 1, 2, 1, 0, 2, 3], n),
+        movy=rng.choice([0, 1, 2, 1, 0, 2, 3], n),
+        obsmove=rng.integers(0, 2, n),
+        first=rng.random(n) < 0.02,
+        violated=rng.random(n) < 0.02,
+    )
 
 
 @pytest.mark.parametrize("c", [3, 4])
@@ -181,18 +263,44 @@ def test_16x16_random_rows(c):
 
 
 @settings(max_examples=300)
-@given(c=st.sampled_from([3, 4]), rx=st.integers(0, 15), ry=st.integers(0, 15), ox=st.integers(0, 14),
-       oy=st.integers(0, 14), waits=st.booleans(), g=st.integers(0, 4), move=st.sampled_from(MOVES),
-       reply=st.integers(0, 10**6), obsmove=st.booleans())
-def test_16x16_each_legal_reply_of_the_game_is_a_legal_input_of_the_circuit(c, rx, ry, ox, oy, waits, g, move, reply,
-                                                                             obsmove):
+@given(
+    c=st.sampled_from([3, 4]),
+    rx=st.integers(0, 15),
+    ry=st.integers(0, 15),
+    ox=st.integers(0, 14),
+    oy=st.integers(0, 14),
+    waits=st.booleans(),
+    g=st.integers(0, 4),
+    move=st.sampled_from(MOVES),
+    reply=st.integers(0, 10**6),
+    obsmove=st.booleans(),
+)
+def test_16x16_each_legal_reply_of_the_game_is_a_legal_input_of_the_circuit(
+    c, rx, ry, ox, oy, waits, g, move, reply, obsmove
+):
     game, circ = MovingObstacle(16, c), CIRCUITS_16[c]
     state = State((rx, ry), (ox, oy), waits, min(g, c))
     replies = list(game.successors(state, move))
     nxt = replies[reply % len(replies)]
-    q = StepBatch.of(1, rx=rx, ry=ry, ox=ox, oy=oy, waits=int(waits), g=state.glitches, dx=move[0], dy=move[1],
-                     robx=nxt.robot[0], roby=nxt.robot[1], obsx=nxt.obstacle[0], obsy=nxt.obstacle[1],
-                     glitches=nxt.glitches, movx=1, movy=1, obsmove=int(obsmove))
+    q = StepBatch.of(
+        1,
+        rx=rx,
+        ry=ry,
+        ox=ox,
+        oy=oy,
+        waits=int(waits),
+        g=state.glitches,
+        dx=move[0],
+        dy=move[1],
+        robx=nxt.robot[0],
+        roby=nxt.robot[1],
+        obsx=nxt.obstacle[0],
+        obsy=nxt.obstacle[1],
+        glitches=nxt.glitches,
+        movx=1,
+        movy=1,
+        obsmove=int(obsmove),
+    )
     err, violated = expected_step(game, q)
     assert not violated[0]
     assert err[0] == (game.is_collision(state) or obsmove == nxt.obstacle_waits)
@@ -221,9 +329,16 @@ def test_random_runs_of_the_circuit_follow_the_game(m, c):
             else:
                 move = MOVES[rng.integers(9)]
             inputs = np.zeros((1, inp.width), bool)
-            for name, v in {"robx": state.robot[0], "roby": state.robot[1], "obsx": state.obstacle[0],
-                            "obsy": state.obstacle[1], "glitches": state.glitches, "movx": move[0] + 1,
-                            "movy": move[1] + 1, "obsmove": int(not state.obstacle_waits)}.items():
+            for name, v in {
+                "robx": state.robot[0],
+                "roby": state.robot[1],
+                "obsx": state.obstacle[0],
+                "obsy": state.obstacle[1],
+                "glitches": state.glitches,
+                "movx": move[0] + 1,
+                "movy": move[1] + 1,
+                "obsmove": int(not state.obstacle_waits),
+            }.items():
                 if inp.has(name):
                     inp.encode(inputs, name, v)
             out, latches = sim.step(latches, inputs)

@@ -56,16 +56,22 @@ def compare_state(game: MovingObstacle, problem, s: State) -> None:
     ours = {}
     for k in range(len(problem.robot.moves)):
         end, _ = robot_move(problem, s.robot, k)
-        ours.setdefault(end, set()).update(game_state(game, step(problem, gs, k, j).state)
-                                           for j in joint_choices(problem, gs))
+        ours.setdefault(end, set()).update(
+            game_state(game, step(problem, gs, k, j).state) for j in joint_choices(problem, gs)
+        )
     assert set(ours) == set(theirs), s
     for end, succ in ours.items():
         extra = theirs[end] - succ
         assert succ <= theirs[end], s
         # every extra reply is one of ours with the counter raised for nothing
         for t in extra:
-            assert any(u.robot == t.robot and u.obstacle == t.obstacle and u.obstacle_waits == t.obstacle_waits
-                       and u.glitches < t.glitches for u in succ), (s, t)
+            assert any(
+                u.robot == t.robot
+                and u.obstacle == t.obstacle
+                and u.obstacle_waits == t.obstacle_waits
+                and u.glitches < t.glitches
+                for u in succ
+            ), (s, t)
 
 
 @pytest.mark.parametrize("c", [0, 1])
@@ -113,10 +119,26 @@ def test_the_circuit_accepts_every_step_of_the_format(c):
                 nxt_game = game_state(game, nxt)
                 if game.is_collision(nxt_game):
                     continue  # a loss of the robot: its err comes one step later
-                row = dict(rx=s.robot[0], ry=s.robot[1], ox=s.obstacle[0], oy=s.obstacle[1], waits=int(s.obstacle_waits),
-                           g=s.glitches, dx=dx, dy=dy, robx=end[0], roby=end[1], obsx=nxt_game.obstacle[0],
-                           obsy=nxt_game.obstacle[1], glitches=nxt_game.glitches, movx=dx + 1, movy=dy + 1,
-                           obsmove=int(nxt_game.obstacle == s.obstacle), first=0, violated=0)
+                row = dict(
+                    rx=s.robot[0],
+                    ry=s.robot[1],
+                    ox=s.obstacle[0],
+                    oy=s.obstacle[1],
+                    waits=int(s.obstacle_waits),
+                    g=s.glitches,
+                    dx=dx,
+                    dy=dy,
+                    robx=end[0],
+                    roby=end[1],
+                    obsx=nxt_game.obstacle[0],
+                    obsy=nxt_game.obstacle[1],
+                    glitches=nxt_game.glitches,
+                    movx=dx + 1,
+                    movy=dy + 1,
+                    obsmove=int(nxt_game.obstacle == s.obstacle),
+                    first=0,
+                    violated=0,
+                )
                 for key, v in row.items():
                     rows[key].append(v)
     q = StepBatch(**{k: np.array(v, dtype=np.int32) for k, v in rows.items()})
@@ -137,7 +159,7 @@ def test_winning_regions_are_equal(m, c):
     ours = grid_safety(space)
     index = {conf: i for i, conf in enumerate(space.configs)}
     compared = 0
-    for (ox, oy) in ((x, y) for x in range(m - 1) for y in range(m - 1)):
+    for ox, oy in ((x, y) for x in range(m - 1) for y in range(m - 1)):
         for waits in (0, 1):
             for g in range(c + 1):
                 oc = index.get((((ox, oy), waits, c - g),))
@@ -147,8 +169,14 @@ def test_winning_regions_are_equal(m, c):
                     rx, ry = r % m, r // m
                     if ox <= rx <= ox + 1 and oy <= ry <= oy + 1:
                         continue  # a collision: the play is over, no state of the format's game
-                    assert ours.wins(r, space.node(oc)) == bool(theirs.winning[rx, ry, ox, oy, waits, g]), \
-                        (rx, ry, ox, oy, waits, g)
+                    assert ours.wins(r, space.node(oc)) == bool(theirs.winning[rx, ry, ox, oy, waits, g]), (
+                        rx,
+                        ry,
+                        ox,
+                        oy,
+                        waits,
+                        g,
+                    )
                     compared += 1
     assert compared > m * m * (m - 1) ** 2
     r0, n0 = space.start()

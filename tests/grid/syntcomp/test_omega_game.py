@@ -12,7 +12,11 @@ from plansynth.grid.syntcomp.safety import solve as solve_explicit
 
 # omega and dd come with the baselines extra, which setup installs: no skip here
 from plansynth.grid.syntcomp.omega_game import (
-    _type_invariant, check_strategy, solve, synthesize, versions,
+    _type_invariant,
+    check_strategy,
+    solve,
+    synthesize,
+    versions,
 )
 
 
@@ -42,7 +46,8 @@ def test_omega_agrees_on_the_published_instances(m, c):
 def test_strict_and_plain_implication_decide_alike(plus_one):
     for c in (0, 1):
         assert synthesize(MovingObstacle(8, c), strategy=False, plus_one=plus_one).status is (
-            GridStatus.REALIZABLE if c == 0 else GridStatus.UNREALIZABLE)
+            GridStatus.REALIZABLE if c == 0 else GridStatus.UNREALIZABLE
+        )
 
 
 @pytest.mark.parametrize("m,c", [(5, 0), (8, 0), (8, 1)])
@@ -54,8 +59,10 @@ def test_omega_winning_set_is_the_explicit_one(m, c):
     syn = synthesize(game, strategy=False)
     aut = syn.aut
     names = ["rx", "ry", "ox", "oy", "g", "mx", "my", "obsmove"]
-    got = {(d["rx"], d["ry"], d["ox"], d["oy"], int(not d["obsmove"]), d["g"], d["mx"], d["my"])
-           for d in aut.pick_iter(syn.winning & aut.add_expr(_type_invariant(game)), care_vars=names)}
+    got = {
+        (d["rx"], d["ry"], d["ox"], d["oy"], int(not d["obsmove"]), d["g"], d["mx"], d["my"])
+        for d in aut.pick_iter(syn.winning & aut.add_expr(_type_invariant(game)), care_vars=names)
+    }
     sol = solve_explicit(game)
     after_env = _environment_cannot_escape(sol.winning, c)
     expected = set()

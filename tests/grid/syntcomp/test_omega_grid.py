@@ -38,6 +38,10 @@ def test_omega_agrees_with_the_oracle(data):
 
 
 def test_unsupported_problems_are_named():
-    doc = {"grid": [3, 3], "objective": "safety", "robot": {"start": [0, 0], "moves": ["stay"]},
-           "obstacles": [{"start": [1, 1], "size": [2, 2], "moves": ["stay"]}]}
+    doc = {
+        "grid": [3, 3],
+        "objective": "safety",
+        "robot": {"start": [0, 0], "moves": ["stay"]},
+        "obstacles": [{"start": [1, 1], "size": [2, 2], "moves": ["stay"]}],
+    }
     assert "one-cell obstacles" in supports(grid_problem_from_dict(doc))

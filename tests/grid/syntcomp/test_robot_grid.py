@@ -54,10 +54,13 @@ def test_map_is_the_picture(name):
     assert m.walls == cells_of(pixels, [1])
     doors = {f"door{c}": cells_of(pixels, [c]) for c, what in coding.items() if what == "Door"}
     assert {d.name: d.cells for d in m.doors} == doors
-    stations = {f"deliveryrequest{c}": (cells_of(pixels, [c]), cells_of(pixels, [c + 1]))
-                for c, what in coding.items() if what == "Delivery"}
+    stations = {
+        f"deliveryrequest{c}": (cells_of(pixels, [c]), cells_of(pixels, [c + 1]))
+        for c, what in coding.items()
+        if what == "Delivery"
+    }
     assert {s.name: (s.pickup, s.drop) for s in m.deliveries} == stations
-    (colour, spec), = [(c, w) for c, w in coding.items() if w.startswith("MovingObstacle:")]
+    ((colour, spec),) = [(c, w) for c, w in coding.items() if w.startswith("MovingObstacle:")]
     speed, w, h, blockades = spec.split(":")[1:]
     assert (w, h) == ("1", "1")
     assert {m.obstacle.start} == cells_of(pixels, [colour])
@@ -78,7 +81,7 @@ def test_the_robot_moves_as_the_docstring_says(name):
     """One clause per (command or none, coordinate value); none for a command off the grid."""
     t = text(name)
     m = read(DATA / f"{name}.tlsf.gz")
-    body = t[t.index("coordinates are updated"):t.index("}", t.index("coordinates are updated"))]
+    body = t[t.index("coordinates are updated") : t.index("}", t.index("coordinates are updated"))]
     found = set()
     for line in body.splitlines()[1:]:
         if "->" not in line:
@@ -103,8 +106,10 @@ def test_the_robot_moves_as_the_docstring_says(name):
 def test_door_clauses_are_the_moves_into_closed_doors(name):
     t = text(name)
     m = read(DATA / f"{name}.tlsf.gz")
-    found = {(d, cmd, cell_of(rest)) for d, cmd, rest in
-             re.findall(r"^! \(X (door\d+) && X (left|right|up|down) && (.*)\);$", t, re.M)}
+    found = {
+        (d, cmd, cell_of(rest))
+        for d, cmd, rest in re.findall(r"^! \(X (door\d+) && X (left|right|up|down) && (.*)\);$", t, re.M)
+    }
     expected = set()
     for door in m.doors:
         for x, y in m.cells():
@@ -114,7 +119,8 @@ def test_door_clauses_are_the_moves_into_closed_doors(name):
     assert found == expected
     assert set(re.findall(r"^G F ! (door\d+);$", t, re.M)) == {d.name for d in m.doors}
     assert set(re.findall(r"^G F ! pending(delivery\d+);$", t, re.M)) == {
-        s.name.replace("deliveryrequest", "delivery") for s in m.deliveries}
+        s.name.replace("deliveryrequest", "delivery") for s in m.deliveries
+    }
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -124,9 +130,12 @@ def test_obstacle_clauses(name):
     ob = m.obstacle
     k = ob.name.removeprefix("mo")
     # it stays or takes a 4-neighbour step, never into a blocked cell
-    for (x, y) in m.cells():
-        expected = {(x + dx, y + dy) for dx, dy in ((0, 0), *STEPS.values())
-                    if 0 <= x + dx < m.width and 0 <= y + dy < m.height and (x + dx, y + dy) not in ob.blocked}
+    for x, y in m.cells():
+        expected = {
+            (x + dx, y + dy)
+            for dx, dy in ((0, 0), *STEPS.values())
+            if 0 <= x + dx < m.width and 0 <= y + dy < m.height and (x + dx, y + dy) not in ob.blocked
+        }
         assert ob.moves[(x, y)] == expected, (x, y)
     # no collision: robot and obstacle never on the same cell, for every cell
     pairs = re.findall(rf"^! \(((?:! )?X mox{k}_0.*?)  &&  (.*)\);$", t, re.M)
@@ -142,8 +151,9 @@ def test_obstacle_clauses(name):
 
 def test_gr_maps_grow_as_the_readme_says():
     """README: the number of assumptions and guarantees grows with the index."""
-    counts = [(len(read(DATA / f"gr_{i}.tlsf.gz").doors), len(read(DATA / f"gr_{i}.tlsf.gz").deliveries))
-              for i in range(1, 9)]
+    counts = [
+        (len(read(DATA / f"gr_{i}.tlsf.gz").doors), len(read(DATA / f"gr_{i}.tlsf.gz").deliveries)) for i in range(1, 9)
+    ]
     assert counts == [(i, i) for i in range(1, 9)]
 
 

@@ -13,7 +13,11 @@ impl Arena {
         let c0 = self.config_id(&start_config);
         let mut first = vec![0u64; nw];
         first[self.spec.start / 64] |= 1 << (self.spec.start % 64);
-        let first: Bits = first.iter().zip(&self.spec.live[0]).map(|(a, b)| a & b).collect();
+        let first: Bits = first
+            .iter()
+            .zip(&self.spec.live[0])
+            .map(|(a, b)| a & b)
+            .collect();
         let mut l0 = Layer::default();
         if any(&first) {
             l0.ids.push(c0);
@@ -41,7 +45,9 @@ impl Arena {
                     self.image(&src, k, &mut part, &mut tmp);
                     img.iter_mut().zip(&part).for_each(|(a, b)| *a |= b);
                 }
-                img.iter_mut().zip(&self.spec.live[t + 1]).for_each(|(a, b)| *a &= b);
+                img.iter_mut()
+                    .zip(&self.spec.live[t + 1])
+                    .for_each(|(a, b)| *a &= b);
                 if !any(&img) {
                     continue;
                 }
@@ -50,7 +56,10 @@ impl Arena {
                         Some(&i) => {
                             next.push(i);
                             let i = i as usize;
-                            nxt.masks[i * nw..(i + 1) * nw].iter_mut().zip(&img).for_each(|(a, b)| *a |= b);
+                            nxt.masks[i * nw..(i + 1) * nw]
+                                .iter_mut()
+                                .zip(&img)
+                                .for_each(|(a, b)| *a |= b);
                         }
                         None => {
                             next.push(nxt.ids.len() as u32);
@@ -61,7 +70,10 @@ impl Arena {
                     }
                 }
                 if row % 64 == 0 {
-                    let held = nxt.ids.capacity() * 4 + map_bytes(&nxt.index) + nxt.masks.capacity() * 8 + next.capacity() * 4;
+                    let held = nxt.ids.capacity() * 4
+                        + map_bytes(&nxt.index)
+                        + nxt.masks.capacity() * 8
+                        + next.capacity() * 4;
                     self.check(clock, t, count + nxt.ids.len(), held)?;
                 }
             }

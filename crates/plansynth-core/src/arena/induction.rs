@@ -20,7 +20,10 @@ impl Arena {
                 target.iter_mut().for_each(|w| *w = 0);
             } else {
                 let i = i as usize;
-                target.iter_mut().zip(&next.win[i * nw..(i + 1) * nw]).for_each(|(x, y)| *x &= y);
+                target
+                    .iter_mut()
+                    .zip(&next.win[i * nw..(i + 1) * nw])
+                    .for_each(|(x, y)| *x &= y);
             }
             if !any(&target) {
                 break;
@@ -62,12 +65,18 @@ impl Arena {
                 let wm = self.winning_moves(t, row);
                 let l = &mut self.layers[t];
                 for m in &wm {
-                    l.win[row * nw..(row + 1) * nw].iter_mut().zip(m).for_each(|(a, b)| *a |= b);
+                    l.win[row * nw..(row + 1) * nw]
+                        .iter_mut()
+                        .zip(m)
+                        .for_each(|(a, b)| *a |= b);
                 }
                 if row % 64 == 0 {
                     self.check(clock, t, 0, 0).map_err(|e| match e {
                         Stop::Memory { .. } => e,
-                        _ => Stop::Time { step: t, configs: 0 },
+                        _ => Stop::Time {
+                            step: t,
+                            configs: 0,
+                        },
                     })?;
                 }
             }

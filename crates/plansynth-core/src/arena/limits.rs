@@ -16,20 +16,39 @@ pub struct Budget {
 /// Why exploration or induction stopped.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Stop {
-    Time { step: usize, configs: usize },
-    Memory { step: usize, configs: usize, bytes: usize },
-    Configs { configs: usize },
+    Time {
+        step: usize,
+        configs: usize,
+    },
+    Memory {
+        step: usize,
+        configs: usize,
+        bytes: usize,
+    },
+    Configs {
+        configs: usize,
+    },
 }
 
 impl Arena {
-    pub(super) fn check(&self, clock: &Budget, step: usize, configs: usize, extra: usize) -> Result<(), Stop> {
+    pub(super) fn check(
+        &self,
+        clock: &Budget,
+        step: usize,
+        configs: usize,
+        extra: usize,
+    ) -> Result<(), Stop> {
         if clock.deadline.is_some_and(|d| Instant::now() >= d) {
             return Err(Stop::Time { step, configs });
         }
         if let Some(limit) = clock.memory {
             let bytes = self.bytes() + extra;
             if bytes > limit {
-                return Err(Stop::Memory { step, configs, bytes });
+                return Err(Stop::Memory {
+                    step,
+                    configs,
+                    bytes,
+                });
             }
         }
         Ok(())

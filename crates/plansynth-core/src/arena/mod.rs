@@ -67,7 +67,19 @@ impl Arena {
             full[c / 64] |= 1 << (c % 64);
         }
         let n_read = spec.obstacles.len();
-        Arena { spec, nw, full, n_read, configs: vec![], intern: HashMap::default(), succ: vec![], layers: vec![], solved: false, deadline: None, expired: false }
+        Arena {
+            spec,
+            nw,
+            full,
+            n_read,
+            configs: vec![],
+            intern: HashMap::default(),
+            succ: vec![],
+            layers: vec![],
+            solved: false,
+            deadline: None,
+            expired: false,
+        }
     }
 
     /// The id of a configuration, interned on first use.
@@ -106,13 +118,25 @@ impl Arena {
     /// Bytes held by the explored game now (capacities, not lengths).
     pub fn bytes(&self) -> usize {
         let spec = &self.spec;
-        let masks = spec.live.len() + spec.abstract_danger.len() + 2 * spec.robot.len() + spec.obstacles.iter().map(|o| o.len()).sum::<usize>();
+        let masks = spec.live.len()
+            + spec.abstract_danger.len()
+            + 2 * spec.robot.len()
+            + spec.obstacles.iter().map(|o| o.len()).sum::<usize>();
         let mut b = masks * self.nw * 8;
-        b += self.configs.capacity() * 4 + map_bytes(&self.intern) + self.intern.len() * (self.n_read * 4 + 16);
+        b += self.configs.capacity() * 4
+            + map_bytes(&self.intern)
+            + self.intern.len() * (self.n_read * 4 + 16);
         b += self.succ.capacity() * std::mem::size_of::<Option<Box<[u32]>>>();
-        b += self.succ.iter().flatten().map(|s| s.len() * 4 + 16).sum::<usize>();
+        b += self
+            .succ
+            .iter()
+            .flatten()
+            .map(|s| s.len() * 4 + 16)
+            .sum::<usize>();
         for l in &self.layers {
-            b += l.ids.capacity() * 4 + map_bytes(&l.index) + (l.masks.capacity() + l.win.capacity()) * 8;
+            b += l.ids.capacity() * 4
+                + map_bytes(&l.index)
+                + (l.masks.capacity() + l.win.capacity()) * 8;
             b += (l.next_off.capacity() + l.next.capacity()) * 4;
         }
         b

@@ -115,7 +115,9 @@ impl Arena {
     /// End cells of robot move k from every cell of `mask` (`AgentGeometry.image`).
     pub fn image(&self, mask: &[u64], k: usize, out: &mut [u64], tmp: &mut [u64]) {
         let m = &self.spec.robot[k];
-        let v: Vec<u64> = (0..self.nw).map(|i| mask[i] & m.free[i] & m.valid[i]).collect();
+        let v: Vec<u64> = (0..self.nw)
+            .map(|i| mask[i] & m.free[i] & m.valid[i])
+            .collect();
         shift(&v, m.to, tmp);
         for i in 0..self.nw {
             out[i] = tmp[i] | (mask[i] & m.free[i] & !m.valid[i]);

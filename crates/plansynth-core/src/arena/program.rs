@@ -23,15 +23,27 @@ impl Arena {
     /// sweep in step t (read, or folded into the step's danger).
     pub fn move_safe(&self, t: usize, r: usize, id: u32, k: usize) -> bool {
         let m = &self.spec.robot[k];
-        if !bit(&m.free, r) || self.row(t, id).is_none_or(|row| !bit(&self.layers[t].masks[row * self.nw..], r)) {
+        if !bit(&m.free, r)
+            || self
+                .row(t, id)
+                .is_none_or(|row| !bit(&self.layers[t].masks[row * self.nw..], r))
+        {
             return false;
         }
         let valid = bit(&m.valid, r);
         let n_sw = if valid { m.offsets.len() } else { 1 };
         let oc = self.config(id);
         (0..n_sw).all(|i| {
-            let x = if valid { (r as i64 + m.offsets[i]) as usize } else { r };
-            !bit(&self.spec.abstract_danger[t], x) && !oc.iter().enumerate().any(|(j, &c)| self.obstacle_sweeps(j, c as usize, x))
+            let x = if valid {
+                (r as i64 + m.offsets[i]) as usize
+            } else {
+                r
+            };
+            !bit(&self.spec.abstract_danger[t], x)
+                && !oc
+                    .iter()
+                    .enumerate()
+                    .any(|(j, &c)| self.obstacle_sweeps(j, c as usize, x))
         })
     }
 
@@ -42,7 +54,11 @@ impl Arena {
         self.succ_of(id);
         let succ = self.succ[id as usize].as_deref().unwrap_or(&[]);
         let next = &self.layers[t + 1];
-        succ.iter().all(|c2| next.index.get(c2).is_some_and(|&i| !next.win.is_empty() && bit(&next.win[i as usize * nw..], e)))
+        succ.iter().all(|c2| {
+            next.index
+                .get(c2)
+                .is_some_and(|&i| !next.win.is_empty() && bit(&next.win[i as usize * nw..], e))
+        })
     }
 
     /// Whether robot move k wins at (t, cell r, configuration id) of the solved game.
@@ -55,7 +71,13 @@ impl Arena {
     /// None when it plays a winning move in every pair it reaches (it then wins the
     /// bounded game, SYNT 2016 Section 3.1), else the first pair where it does not.
     /// `width` gives the controller's inputs (rx, ry, o0x, o0y, ...).
-    pub fn check_program(&mut self, prog: &[crate::game::Op], root: usize, width: usize, clock: &Budget) -> Result<Option<(usize, usize, u32)>, Stop> {
+    pub fn check_program(
+        &mut self,
+        prog: &[crate::game::Op],
+        root: usize,
+        width: usize,
+        clock: &Budget,
+    ) -> Result<Option<(usize, usize, u32)>, Stop> {
         let steps = self.spec.steps;
         let nw = self.nw;
         let n_moves = self.spec.robot.len() as i64;
@@ -65,9 +87,21 @@ impl Arena {
         // per layer, per row: the robot cells queued (pairs met), and per (row, end
         // cell) whether the end cell's replies were judged and won. Zeroed allocations:
         // the pages a check never touches cost nothing.
-        let mut seen: Vec<Vec<u64>> = self.layers.iter().map(|l| vec![0u64; l.ids.len() * nw]).collect();
-        let mut judged: Vec<Vec<u64>> = self.layers.iter().map(|l| vec![0u64; l.ids.len() * nw]).collect();
-        let mut won: Vec<Vec<u64>> = self.layers.iter().map(|l| vec![0u64; l.ids.len() * nw]).collect();
+        let mut seen: Vec<Vec<u64>> = self
+            .layers
+            .iter()
+            .map(|l| vec![0u64; l.ids.len() * nw])
+            .collect();
+        let mut judged: Vec<Vec<u64>> = self
+            .layers
+            .iter()
+            .map(|l| vec![0u64; l.ids.len() * nw])
+            .collect();
+        let mut won: Vec<Vec<u64>> = self
+            .layers
+            .iter()
+            .map(|l| vec![0u64; l.ids.len() * nw])
+            .collect();
         let set = |m: &mut Vec<u64>, row: usize, c: usize| -> bool {
             let w = &mut m[row * nw + c / 64];
             let had = *w >> (c % 64) & 1 == 1;
@@ -107,7 +141,11 @@ impl Arena {
             let l = &self.layers[t];
             let (a, b) = (l.next_off[row] as usize, l.next_off[row + 1] as usize);
             let next = &self.layers[t + 1];
-            let ok = a < b && !next.win.is_empty() && l.next[a..b].iter().all(|&i| bit(&next.win[i as usize * nw..], e));
+            let ok = a < b
+                && !next.win.is_empty()
+                && l.next[a..b]
+                    .iter()
+                    .all(|&i| bit(&next.win[i as usize * nw..], e));
             if !ok {
                 return Ok(Some((t, r, id)));
             }
@@ -120,7 +158,10 @@ impl Arena {
                 }
             }
             if head % 4096 == 0 && clock.deadline.is_some_and(|d| Instant::now() >= d) {
-                return Err(Stop::Time { step: t, configs: 0 });
+                return Err(Stop::Time {
+                    step: t,
+                    configs: 0,
+                });
             }
         }
         Ok(None)

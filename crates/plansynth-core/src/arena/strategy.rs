@@ -8,7 +8,12 @@ use crate::fx::HashMap;
 
 /// Or `bits` into the entry of each configuration of `succ` in the layer being built
 /// (`at`: configuration -> its index in `nxt`), adding an entry for each new one.
-fn merge_into(nxt: &mut Vec<(u32, Bits)>, at: &mut HashMap<u32, usize>, succ: &[u32], bits: &[u64]) {
+fn merge_into(
+    nxt: &mut Vec<(u32, Bits)>,
+    at: &mut HashMap<u32, usize>,
+    succ: &[u32],
+    bits: &[u64],
+) {
     for &c2 in succ {
         match at.get(&c2) {
             Some(&i) => nxt[i].1.iter_mut().zip(bits).for_each(|(a, b)| *a |= b),
@@ -59,7 +64,10 @@ impl Arena {
             out.push(nxt);
             self.check(clock, t, 0, 0).map_err(|e| match e {
                 Stop::Memory { .. } => e,
-                _ => Stop::Time { step: t, configs: 0 },
+                _ => Stop::Time {
+                    step: t,
+                    configs: 0,
+                },
             })?;
         }
         Ok(out)
@@ -71,8 +79,10 @@ impl Arena {
     pub fn allowed(&mut self, reach: &[Vec<(u32, Bits)>]) -> Vec<((u32, u32), u32)> {
         let steps = self.spec.steps;
         let n_moves = self.spec.robot.len();
-        let index: Vec<HashMap<u32, usize>> =
-            reach.iter().map(|l| l.iter().enumerate().map(|(i, (id, _))| (*id, i)).collect()).collect();
+        let index: Vec<HashMap<u32, usize>> = reach
+            .iter()
+            .map(|l| l.iter().enumerate().map(|(i, (id, _))| (*id, i)).collect())
+            .collect();
         let mut at: HashMap<(u32, u32), usize> = HashMap::default();
         let mut out: Vec<((u32, u32), u32)> = vec![];
         for t in 0..steps.min(reach.len()) {
@@ -94,7 +104,9 @@ impl Arena {
                         if t + 1 < steps {
                             let e = self.robot_end(r, k);
                             let inside = succ.iter().all(|c2| {
-                                index[t + 1].get(c2).is_some_and(|&i| bit(&reach[t + 1][i].1, e))
+                                index[t + 1]
+                                    .get(c2)
+                                    .is_some_and(|&i| bit(&reach[t + 1][i].1, e))
                             });
                             if !inside {
                                 continue;
@@ -155,7 +167,11 @@ impl Arena {
     /// time the state is met on `fwd`, the one heading most for the goal (then the
     /// lowest number). Returns the reach layers it visits, or None when some reached
     /// state has no such move. `width` gives cell coordinates.
-    pub fn consistent(&mut self, fwd: &[Vec<(u32, Bits)>], width: usize) -> Option<Vec<Vec<(u32, Bits)>>> {
+    pub fn consistent(
+        &mut self,
+        fwd: &[Vec<(u32, Bits)>],
+        width: usize,
+    ) -> Option<Vec<Vec<(u32, Bits)>>> {
         let nw = self.nw;
         let n_moves = self.spec.robot.len();
         let steps = self.spec.steps;
@@ -169,7 +185,9 @@ impl Arena {
                     Some(row) => self.winning_moves(t, row),
                     None => vec![vec![0u64; nw]; n_moves],
                 };
-                let b = bad.entry(*id).or_insert_with(|| vec![vec![0u64; nw]; n_moves]);
+                let b = bad
+                    .entry(*id)
+                    .or_insert_with(|| vec![vec![0u64; nw]; n_moves]);
                 for k in 0..n_moves {
                     for i in 0..nw {
                         b[k][i] |= rmask[i] & !wm[k][i];
@@ -177,7 +195,10 @@ impl Arena {
                 }
             }
         }
-        let (gx, gy) = ((self.spec.goal % width) as i64, (self.spec.goal / width) as i64);
+        let (gx, gy) = (
+            (self.spec.goal % width) as i64,
+            (self.spec.goal / width) as i64,
+        );
         let dist = |c: usize| ((c % width) as i64 - gx).abs() + ((c / width) as i64 - gy).abs();
         let mut choice: HashMap<(u32, u32), Option<usize>> = HashMap::default();
         let c0 = self.layers[0].ids[0];

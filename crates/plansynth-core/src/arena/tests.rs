@@ -29,11 +29,26 @@ fn line(blocker: bool) -> Arena {
     let nw = 1;
     let all = ones(&[0, 1, 2], nw);
     let robot = vec![
-        MoveGeo { valid: all.clone(), free: all.clone(), to: 0, offsets: vec![0] },
-        MoveGeo { valid: ones(&[0, 1], nw), free: all.clone(), to: 1, offsets: vec![1] },
+        MoveGeo {
+            valid: all.clone(),
+            free: all.clone(),
+            to: 0,
+            offsets: vec![0],
+        },
+        MoveGeo {
+            valid: ones(&[0, 1], nw),
+            free: all.clone(),
+            to: 1,
+            offsets: vec![1],
+        },
     ];
     let obstacles = if blocker {
-        vec![vec![MoveGeo { valid: all.clone(), free: all.clone(), to: 0, offsets: vec![0] }]]
+        vec![vec![MoveGeo {
+            valid: all.clone(),
+            free: all.clone(),
+            to: 0,
+            offsets: vec![0],
+        }]]
     } else {
         vec![]
     };
@@ -55,7 +70,10 @@ fn line(blocker: bool) -> Arena {
 fn free_corridor_is_won_and_a_parked_obstacle_wins_for_the_obstacles() {
     let mut a = line(false);
     a.explore(&Budget::default()).unwrap();
-    assert_eq!(a.layers.iter().map(|l| l.ids.len()).collect::<Vec<_>>(), vec![1, 1, 1]);
+    assert_eq!(
+        a.layers.iter().map(|l| l.ids.len()).collect::<Vec<_>>(),
+        vec![1, 1, 1]
+    );
     assert!(a.solve_game(&Budget::default()).unwrap());
     let fwd = a.winning_forward(&Budget::default()).unwrap();
     assert_eq!(fwd[2], vec![(0, ones(&[2], 1))]);
@@ -74,19 +92,38 @@ fn the_program_check_follows_the_program_on_the_solved_game() {
     assert!(a.solve_game(&Budget::default()).unwrap());
     let b = Budget::default();
     assert_eq!(a.check_program(&[Op::Const(1)], 0, 3, &b), Ok(None)); // right, right
-    assert_eq!(a.check_program(&[Op::Const(0)], 0, 3, &b), Ok(Some((0, 0, 0)))); // staying never arrives
-    assert_eq!(a.check_program(&[Op::Const(7)], 0, 3, &b), Ok(Some((0, 0, 0)))); // no such move
-    // (ite (<= rx 0) 1 0): right first, then stays at cell 1 and misses the goal
-    let p = [Op::Var(0), Op::Const(0), Op::Le(0, 1), Op::Const(1), Op::Const(0), Op::Ite(2, 3, 4)];
+    assert_eq!(
+        a.check_program(&[Op::Const(0)], 0, 3, &b),
+        Ok(Some((0, 0, 0)))
+    ); // staying never arrives
+    assert_eq!(
+        a.check_program(&[Op::Const(7)], 0, 3, &b),
+        Ok(Some((0, 0, 0)))
+    ); // no such move
+       // (ite (<= rx 0) 1 0): right first, then stays at cell 1 and misses the goal
+    let p = [
+        Op::Var(0),
+        Op::Const(0),
+        Op::Le(0, 1),
+        Op::Const(1),
+        Op::Const(0),
+        Op::Ite(2, 3, 4),
+    ];
     assert_eq!(a.check_program(&p, 5, 3, &b), Ok(Some((1, 1, 0))));
 }
 
 #[test]
 fn the_memory_limit_is_checked_against_what_is_held() {
     let mut a = line(false);
-    let got = a.explore(&Budget { memory: Some(1), ..Default::default() });
+    let got = a.explore(&Budget {
+        memory: Some(1),
+        ..Default::default()
+    });
     assert!(matches!(got, Err(Stop::Memory { .. })));
     let mut b = line(false);
-    let past = Budget { deadline: Some(Instant::now()), ..Default::default() };
+    let past = Budget {
+        deadline: Some(Instant::now()),
+        ..Default::default()
+    };
     assert!(matches!(b.explore(&past), Err(Stop::Time { .. })));
 }

@@ -50,11 +50,16 @@ impl ProductGame {
                             queue.push((s, e as u32));
                         }
                     }
-                    _ => return Ok(Err(format!("state ({id}, {r}) of rank {rank}: move {k} has no reply of smaller rank"))),
+                    _ => return Ok(Err(format!(
+                        "state ({id}, {r}) of rank {rank}: move {k} has no reply of smaller rank"
+                    ))),
                 }
             }
             if head % 65536 == 0 {
-                limits.check(self.bytes() + seen.capacity() * 8 + queue.capacity() * 8, "checking the obstacles' strategy")?;
+                limits.check(
+                    self.bytes() + seen.capacity() * 8 + queue.capacity() * 8,
+                    "checking the obstacles' strategy",
+                )?;
             }
         }
         Ok(Ok(queue.len()))

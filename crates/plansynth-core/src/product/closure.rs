@@ -64,7 +64,10 @@ impl ProductGame {
                 }
             }
             if head % 65536 == 0 {
-                limits.check(self.bytes() + queue.capacity() * 8 + self.seen.capacity() * 8, "the program's closed loop")?;
+                limits.check(
+                    self.bytes() + queue.capacity() * 8 + self.seen.capacity() * 8,
+                    "the program's closed loop",
+                )?;
             }
         }
         Ok(out)

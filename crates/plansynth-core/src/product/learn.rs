@@ -29,8 +29,14 @@ pub struct Round {
 impl ProductGame {
     /// One round (see the module docs). `enum_states`: the part of the sample the
     /// conditions are enumerated on.
-    pub fn learn_round(&mut self, cond_depth: u32, max_constant: i64, max_nodes: usize, enum_states: usize,
-                       limits: Limits) -> Result<Round, Stop> {
+    pub fn learn_round(
+        &mut self,
+        cond_depth: u32,
+        max_constant: i64,
+        max_nodes: usize,
+        enum_states: usize,
+        limits: Limits,
+    ) -> Result<Round, Stop> {
         if self.sample.is_empty() {
             self.reset_sample();
         }
@@ -52,24 +58,44 @@ impl ProductGame {
         let conds: Vec<(Cond, u32)> = e.conds.iter().map(|(_, c, d)| (*c, *d)).collect();
         let masks = behaviours(&terms, &conds, &rows);
         drop(rows);
-        limits.check(self.bytes() + masks.len() * n.div_ceil(64) * 8, "learning a program")?;
+        limits.check(
+            self.bytes() + masks.len() * n.div_ceil(64) * 8,
+            "learning a program",
+        )?;
         let keys: Vec<(u32, u32)> = {
             let ts = term_sizes(&terms);
-            cond_sizes(&conds, &ts).into_iter().zip(&conds).map(|(s, (_, d))| (*d, s)).collect()
+            cond_sizes(&conds, &ts)
+                .into_iter()
+                .zip(&conds)
+                .map(|(s, (_, d))| (*d, s))
+                .collect()
         };
         let nodes = match greedy_tree(&masks, &keys, &allowed, self.spec.robot.len(), max_nodes) {
             Ok(nodes) => nodes,
             Err(GreedyError::TooLarge) => {
-                return Err(Stop { resource: "nodes", detail: format!("the greedy tree needs more than {max_nodes} splits") })
+                return Err(Stop {
+                    resource: "nodes",
+                    detail: format!("the greedy tree needs more than {max_nodes} splits"),
+                })
             }
             Err(GreedyError::NoSplit) => {
-                return Err(Stop { resource: "conditions", detail: "no condition separates two sampled states".into() })
+                return Err(Stop {
+                    resource: "conditions",
+                    detail: "no condition separates two sampled states".into(),
+                })
             }
         };
         drop(masks);
         let ops = program_ops(&terms, &conds, &nodes);
         let c = self.closure(&ops, true, limits)?;
-        Ok(Round { closed: c.bad.is_empty(), sample: self.sample.len(), reached: c.reached, terms, conds, nodes })
+        Ok(Round {
+            closed: c.bad.is_empty(),
+            sample: self.sample.len(),
+            reached: c.reached,
+            terms,
+            conds,
+            nodes,
+        })
     }
 }
 
@@ -88,10 +114,16 @@ impl ProductGame {
         self.rep = vec![0; n];
         for id in 0..n as u32 {
             // cell and wait counter (bits 0..40) of every obstacle
-            let key: Vec<u64> = self.config(id).iter().map(|&s| s & 0xff_ffff_ffff).collect();
+            let key: Vec<u64> = self
+                .config(id)
+                .iter()
+                .map(|&s| s & 0xff_ffff_ffff)
+                .collect();
             self.rep[id as usize] = *index.entry(key).or_insert(id);
         }
-        let left: Vec<u32> = (0..n as u32).map(|id| self.config(id).iter().map(|&s| super::unpack(s).2).sum()).collect();
+        let left: Vec<u32> = (0..n as u32)
+            .map(|id| self.config(id).iter().map(|&s| super::unpack(s).2).sum())
+            .collect();
         self.family = vec![vec![]; n];
         for id in 0..n as u32 {
             self.family[self.rep[id as usize] as usize].push(id);

@@ -40,10 +40,19 @@ pub struct Limits {
 impl Limits {
     pub fn check(&self, bytes: usize, what: &str) -> Result<(), Stop> {
         if self.deadline.is_some_and(|d| Instant::now() >= d) {
-            return Err(Stop { resource: "time", detail: format!("{what}: out of time") });
+            return Err(Stop {
+                resource: "time",
+                detail: format!("{what}: out of time"),
+            });
         }
         if self.max_bytes.is_some_and(|m| bytes > m) {
-            return Err(Stop { resource: "memory", detail: format!("{what}: the game outgrows the memory budget ({} MB)", bytes >> 20) });
+            return Err(Stop {
+                resource: "memory",
+                detail: format!(
+                    "{what}: the game outgrows the memory budget ({} MB)",
+                    bytes >> 20
+                ),
+            });
         }
         Ok(())
     }
@@ -56,7 +65,11 @@ pub fn pack(cell: usize, phase: u32, glitches: u32) -> u64 {
 }
 
 pub fn unpack(s: u64) -> (usize, u32, u32) {
-    ((s & 0xffff_ffff) as usize, ((s >> 32) & 0xff) as u32, ((s >> 40) & 0xffff) as u32)
+    (
+        (s & 0xffff_ffff) as usize,
+        ((s >> 32) & 0xff) as u32,
+        ((s >> 40) & 0xffff) as u32,
+    )
 }
 
 /// The explored configurations and, once solved, the winning states.
@@ -115,14 +128,20 @@ impl ProductGame {
             rep: vec![],
             family: vec![],
         };
-        let first: Vec<u64> = g.spec.obstacles.iter().map(|o| pack(o.start, o.phase0, o.glitches)).collect();
+        let first: Vec<u64> = g
+            .spec
+            .obstacles
+            .iter()
+            .map(|o| pack(o.start, o.phase0, o.glitches))
+            .collect();
         let mut index: HashMap<Vec<u64>, u32> = HashMap::default();
         index.insert(first.clone(), 0);
         g.configs.extend_from_slice(&first);
         let mut head = 0usize;
         while head < g.n_configs() {
             let oc: Vec<u64> = g.config(head as u32).to_vec();
-            let replies: Vec<Vec<(u64, Vec<usize>)>> = (0..n_obs).map(|i| g.replies(i, oc[i])).collect();
+            let replies: Vec<Vec<(u64, Vec<usize>)>> =
+                (0..n_obs).map(|i| g.replies(i, oc[i])).collect();
             let mut dng: Vec<u32> = vec![];
             for row in &replies {
                 for (_, swept) in row {
@@ -195,13 +214,18 @@ impl ProductGame {
     }
 
     pub fn danger_cells(&self, id: u32) -> &[u32] {
-        &self.danger[self.danger_off[id as usize] as usize..self.danger_off[id as usize + 1] as usize]
+        &self.danger
+            [self.danger_off[id as usize] as usize..self.danger_off[id as usize + 1] as usize]
     }
 
     /// Bytes held by the game's arrays (capacities).
     pub fn bytes(&self) -> usize {
         self.configs.capacity() * 8
-            + (self.succ.capacity() + self.succ_off.capacity() + self.danger.capacity() + self.danger_off.capacity()) * 4
+            + (self.succ.capacity()
+                + self.succ_off.capacity()
+                + self.danger.capacity()
+                + self.danger_off.capacity())
+                * 4
             + self.win.capacity() * 8
             + self.rank.capacity()
             + self.sample.capacity() * 8
@@ -224,7 +248,10 @@ impl ProductGame {
         let o = &self.spec.obstacles[i];
         let (cell, phase, gl) = unpack(s);
         let (w, h) = (self.spec.width as i64, self.spec.height as i64);
-        let (x, y) = ((cell % self.spec.width) as i64, (cell / self.spec.width) as i64);
+        let (x, y) = (
+            (cell % self.spec.width) as i64,
+            (cell / self.spec.width) as i64,
+        );
         let mut out: Vec<(u64, Vec<usize>)> = vec![];
         for mv in &o.moves {
             let mut swept: Vec<usize> = vec![];
@@ -248,7 +275,11 @@ impl ProductGame {
                     }
                 }
             }
-            let end = if ok { ((y + mv.to.1) * w + x + mv.to.0) as usize } else { cell };
+            let end = if ok {
+                ((y + mv.to.1) * w + x + mv.to.0) as usize
+            } else {
+                cell
+            };
             if !ok {
                 swept = self.block(i, cell).collect();
             }
@@ -259,7 +290,11 @@ impl ProductGame {
             let gl2 = if moved && phase > 0 { gl - 1 } else { gl };
             let k = o.period;
             let phase2 = if o.fixed {
-                if phase == 0 { k - 1 } else { phase - 1 }
+                if phase == 0 {
+                    k - 1
+                } else {
+                    phase - 1
+                }
             } else if moved {
                 k - 1
             } else {

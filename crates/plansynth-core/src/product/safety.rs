@@ -117,7 +117,10 @@ impl ProductGame {
                 break;
             }
             if round > 254 {
-                return Err(Stop { resource: "rounds", detail: "the safety fixpoint: more than 254 rounds (ranks are bytes)".into() });
+                return Err(Stop {
+                    resource: "rounds",
+                    detail: "the safety fixpoint: more than 254 rounds (ranks are bytes)".into(),
+                });
             }
             let mut next: Vec<u32> = vec![];
             for (id, new) in changed {
@@ -185,12 +188,17 @@ impl ProductGame {
         if !valid {
             return dng.contains(&(r as u32));
         }
-        m.offsets.iter().any(|&o| dng.contains(&((r as i64 + o) as u32)))
+        m.offsets
+            .iter()
+            .any(|&o| dng.contains(&((r as i64 + o) as u32)))
     }
 
     /// Whether cell `c` lies in a block of configuration `id`.
     pub fn in_blocks(&self, id: u32, c: usize) -> bool {
-        self.config(id).iter().enumerate().any(|(j, &st)| self.block(j, super::unpack(st).0).any(|b| b == c))
+        self.config(id)
+            .iter()
+            .enumerate()
+            .any(|(j, &st)| self.block(j, super::unpack(st).0).any(|b| b == c))
     }
 
     /// The round at which state (id, r) left the winning set (0: it never did).

@@ -78,6 +78,10 @@ impl ProductSpec {
 
     /// The controller's inputs per state: `rx ry`, per obstacle `x y [p] [g]`.
     pub fn n_vars(&self) -> usize {
-        2 + self.obstacles.iter().map(|o| 2 + o.periodic() as usize + o.glitching() as usize).sum::<usize>()
+        2 + self
+            .obstacles
+            .iter()
+            .map(|o| 2 + o.periodic() as usize + o.glitching() as usize)
+            .sum::<usize>()
     }
 }

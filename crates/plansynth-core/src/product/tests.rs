@@ -21,14 +21,38 @@ fn corridor() -> ProductSpec {
         width: 3,
         height: 1,
         robot: vec![
-            RobotMove { valid: full(n), free: full(n), to: 0, offsets: vec![0] },
-            RobotMove { valid: right_valid, free: full(n), to: 1, offsets: vec![0, 1] },
-            RobotMove { valid: left_valid, free: full(n), to: -1, offsets: vec![0, -1] },
+            RobotMove {
+                valid: full(n),
+                free: full(n),
+                to: 0,
+                offsets: vec![0],
+            },
+            RobotMove {
+                valid: right_valid,
+                free: full(n),
+                to: 1,
+                offsets: vec![0, 1],
+            },
+            RobotMove {
+                valid: left_valid,
+                free: full(n),
+                to: -1,
+                offsets: vec![0, -1],
+            },
         ],
         obstacles: vec![ObstacleSpec {
             w: 1,
             h: 1,
-            moves: vec![ObstacleMove { to: (0, 0), offsets: vec![(0, 0)] }, ObstacleMove { to: (-1, 0), offsets: vec![(0, 0), (-1, 0)] }],
+            moves: vec![
+                ObstacleMove {
+                    to: (0, 0),
+                    offsets: vec![(0, 0)],
+                },
+                ObstacleMove {
+                    to: (-1, 0),
+                    offsets: vec![(0, 0), (-1, 0)],
+                },
+            ],
             period: 2,
             fixed: false,
             phase0: 1,

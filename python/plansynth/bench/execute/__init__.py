@@ -76,5 +76,3 @@ def _allow_children() -> None:
     import multiprocessing
 
     multiprocessing.current_process()._config["daemon"] = False  # type: ignore[attr-defined]
-
-

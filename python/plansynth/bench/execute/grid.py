@@ -46,8 +46,15 @@ def _cli_command(solver: str, problem_file: str, out: str, timeout: float, optio
     from pathlib import Path
 
     script = Path(sys.executable).with_name("plansynth")
-    exe = [str(script)] if script.is_file() else ([shutil.which("plansynth")] if shutil.which("plansynth") else
-                                                  [sys.executable, "-c", "from plansynth.cli import main; main()"])
+    exe = (
+        [str(script)]
+        if script.is_file()
+        else (
+            [shutil.which("plansynth")]
+            if shutil.which("plansynth")
+            else [sys.executable, "-c", "from plansynth.cli import main; main()"]
+        )
+    )
     cmd = [*exe, "grid", "solve", problem_file, "--solver", solver, "--timeout", f"{float(timeout):g}", "--out", out]
     for key, value in options.items():
         cmd += ["--command", str(value)] if key == "command" else ["-O", f"{key}={value}"]
@@ -76,13 +83,20 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
             problem_file = str(reactive_suite_dir() / f"{inst.name}.yaml")
         else:
             problem_file = str(Path(tmp) / f"{inst.name}.yaml")
-            Path(problem_file).write_text(yaml.safe_dump(json.loads(json.dumps(inst.document())), sort_keys=False),
-                                          encoding="utf-8")
+            Path(problem_file).write_text(
+                yaml.safe_dump(json.loads(json.dumps(inst.document())), sort_keys=False), encoding="utf-8"
+            )
         out = str(Path(tmp) / "result.json")
         cmd = _cli_command(task["solver"], problem_file, out, timeout, dict(task.get("options") or {}))
         t0 = time.perf_counter()
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, errors="replace",
-                                preexec_fn=pdeathsig_preexec())
+        proc = subprocess.Popen(
+            cmd,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            errors="replace",
+            preexec_fn=pdeathsig_preexec(),
+        )
         killed = False
         try:
             # the runner's hard limit (T + grace) kills this whole process group anyway
@@ -94,20 +108,40 @@ def _grid_cli(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         wall = time.perf_counter() - t0
         result = json.loads(Path(out).read_text(encoding="utf-8")) if Path(out).is_file() else None
     kept = wall <= timeout + BUDGET_SLACK_SECONDS
-    shown = [f"{inst.name}.yaml" if a == problem_file else "result.json" if a == out else a
-             for a in cmd[cmd.index("grid"):]]  # the command as a user types it, without this machine's paths
-    attributes: dict[str, Any] = {"cli_wall": wall, "budget_kept": kept, "exit_status": proc.returncode,
-                                  "expected": inst.expected, "command": "plansynth " + " ".join(shown)}
+    shown = [
+        f"{inst.name}.yaml" if a == problem_file else "result.json" if a == out else a for a in cmd[cmd.index("grid") :]
+    ]  # the command as a user types it, without this machine's paths
+    attributes: dict[str, Any] = {
+        "cli_wall": wall,
+        "budget_kept": kept,
+        "exit_status": proc.returncode,
+        "expected": inst.expected,
+        "command": "plansynth " + " ".join(shown),
+    }
     if result is None:  # no result file: bad input, a crash, or killed past its budget
         status = "timeout" if killed else "crash"
-        return {"status": status, "solved": 0, "time": wall, "wall": wall,
-                "message": (stderr or stdout or f"exit status {proc.returncode}")[-2000:], "attributes": attributes}
+        return {
+            "status": status,
+            "solved": 0,
+            "time": wall,
+            "wall": wall,
+            "message": (stderr or stdout or f"exit status {proc.returncode}")[-2000:],
+            "attributes": attributes,
+        }
     counters = _summed(a.get("counters") or {} for a in result.get("attempts") or [])
     status = _grid_status(result.get("status"), result.get("verified"), counters)
     program = result.get("program")
-    attributes.update({"program": program, "depth_minimal": result.get("depth_minimal"), "counters": counters,
-                       "attempts": [(a.get("steps"), a.get("status"), round(float(a.get("seconds") or 0), 4))
-                                    for a in result.get("attempts") or []]})
+    attributes.update(
+        {
+            "program": program,
+            "depth_minimal": result.get("depth_minimal"),
+            "counters": counters,
+            "attempts": [
+                (a.get("steps"), a.get("status"), round(float(a.get("seconds") or 0), 4))
+                for a in result.get("attempts") or []
+            ],
+        }
+    )
     from plansynth.grid.programs import parse_program, size
 
     return {
@@ -170,6 +204,10 @@ def _grid_in_process(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         "iterations": len(res.attempts),
         "solver_version": res.solver_version,
         "message": res.message[:2000],
-        "attributes": {"program": None if res.program is None else str(res.program), "expected": inst.expected,
-                       "counters": counters, "attempts": [(a.steps, a.status.value, round(a.seconds, 4)) for a in res.attempts]},
+        "attributes": {
+            "program": None if res.program is None else str(res.program),
+            "expected": inst.expected,
+            "counters": counters,
+            "attempts": [(a.steps, a.status.value, round(a.seconds, 4)) for a in res.attempts],
+        },
     }

@@ -82,18 +82,31 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     oracle = None
     # (not for a mission: its regions index the label-refined abstraction, and a lasso's
     # loop closure is no CON-PLAN row, so the reach-avoid oracle LP does not apply)
-    if status == "solved" and res.regions is not None and res.horizon is not None and problem.mission is None \
-            and len(res.regions) == res.horizon + 1 and getattr(res, "guarantee", None) in ("segments", "samples"):
+    if (
+        status == "solved"
+        and res.regions is not None
+        and res.horizon is not None
+        and problem.mission is None
+        and len(res.regions) == res.horizon + 1
+        and getattr(res, "guarantee", None) in ("segments", "samples")
+    ):
         from plansynth.reach.oracle import oracle_lp
 
         # within the child's wall-clock limit (the budget plus its grace), 2 s kept for the rest;
         # with less than a second left the run records no limit
         left = wall_limit(task) - (time.perf_counter() - started) - 2.0
-        lim = None if left < 1.0 else oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments",
-                                                seconds=left)
+        lim = (
+            None
+            if left < 1.0
+            else oracle_lp(problem, res.regions, segment_safe=res.guarantee == "segments", seconds=left)
+        )
         if lim is not None:
-            oracle = {"seconds": lim.seconds, "build": lim.build_seconds, "solve": lim.solve_seconds,
-                      "feasible": lim.feasible}
+            oracle = {
+                "seconds": lim.seconds,
+                "build": lim.build_seconds,
+                "solve": lim.solve_seconds,
+                "feasible": lim.feasible,
+            }
     return {
         "status": status,
         "solved": int(status == "solved"),
@@ -107,9 +120,14 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         "regions": c.get("regions"),
         "solver_version": reported_version(res, solver),
         "message": (res.message or "")[:2000],
-        "attributes": {"counters": {k: v for k, v in c.items() if isinstance(v, (int, float, str))},
-                       "timings": timings, "seed": seed, "oracle_lp": oracle,
-                       "guarantee": getattr(res, "guarantee", None),
-                       "duration": None if res.trajectory is None or res.horizon is None or not problem.dynamics.dt
-                       else res.horizon * float(problem.dynamics.dt)},
+        "attributes": {
+            "counters": {k: v for k, v in c.items() if isinstance(v, (int, float, str))},
+            "timings": timings,
+            "seed": seed,
+            "oracle_lp": oracle,
+            "guarantee": getattr(res, "guarantee", None),
+            "duration": None
+            if res.trajectory is None or res.horizon is None or not problem.dynamics.dt
+            else res.horizon * float(problem.dynamics.dt),
+        },
     }

@@ -78,6 +78,8 @@ def write_family_files(directory: str | Path, instances: Iterable[Instance]) -> 
             header += f"# expected answer: {inst.expected}\n"
         from plansynth.io import write_output
 
-        write_output(path, header + yaml.safe_dump(json.loads(json.dumps(doc)), sort_keys=False, default_flow_style=None))
+        write_output(
+            path, header + yaml.safe_dump(json.loads(json.dumps(doc)), sort_keys=False, default_flow_style=None)
+        )
         written.append(path)
     return written

@@ -57,8 +57,16 @@ from typing import Any
 from plansynth.bench.families.grid_problems import SuiteMissing, reactive_suite_dir
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["GRID_FAMILIES", "CLI_TIMED_FAMILIES", "PAPER_FAMILIES", "PAPER_GRID_SECONDS", "grid_family", "paper_depth",
-           "paper_problems", "reactive_suite"]
+__all__ = [
+    "GRID_FAMILIES",
+    "CLI_TIMED_FAMILIES",
+    "PAPER_FAMILIES",
+    "PAPER_GRID_SECONDS",
+    "grid_family",
+    "paper_depth",
+    "paper_problems",
+    "reactive_suite",
+]
 
 
 def reactive_suite() -> list[Instance]:
@@ -149,8 +157,12 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
 #: game, decided exactly by backward induction). Instances not listed: not always decided
 #: within 60 s and 4 GiB (roads30-stall-3: 25.7 million joint states, a verified program in
 #: 52-55 s in two runs of three; guards30-4: more than 1.5 million configurations by step 22).
-_KNOWN = {("roads30", 32): "unrealizable", ("roads30", 36): "realizable", ("roads30-stall", 2): "realizable",
-          ("guards30", 3): "unrealizable"}
+_KNOWN = {
+    ("roads30", 32): "unrealizable",
+    ("roads30", 36): "realizable",
+    ("roads30-stall", 2): "realizable",
+    ("guards30", 3): "unrealizable",
+}
 
 
 def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance]:
@@ -170,16 +182,27 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
 
         return robot_grid_family(values, fast=name == "robot-grid-fast")
     out = []
-    for v in (values if values is not None else defaults):
+    for v in values if values is not None else defaults:
         if name == "figure1":
             out.append(Instance("grid", "figure1", "figure1", {}, expected))
             continue
-        builder_key = {"d": "d", "L": "L", "N": "N", "S": "S", "cars": "cars", "height": "height", "size": "size", "l": "l",
-                       "lanes": "lanes", "doors": "doors", "roads": "roads", "guards": "guards"}[pname]
+        builder_key = {
+            "d": "d",
+            "L": "L",
+            "N": "N",
+            "S": "S",
+            "cars": "cars",
+            "height": "height",
+            "size": "size",
+            "l": "l",
+            "lanes": "lanes",
+            "doors": "doors",
+            "roads": "roads",
+            "guards": "guards",
+        }[pname]
         params = {builder_key: int(v)}
         inst_name = f"{name}-{v}"
         paper = PAPER_GRID_SECONDS.get(name, {}).get(int(v))
         known = "realizable" if (name == "patrol" and int(v) > 13) else _KNOWN.get((name, int(v)), expected)
         out.append(Instance("grid", name, inst_name, params, known, paper))
     return out
-

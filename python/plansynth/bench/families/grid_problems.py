@@ -23,9 +23,19 @@ UP_DOWN = ["up", "down"]
 ALL_MOVES = ["stay", "up", "right", "down", "left"]
 
 
-def _grid_doc(width: int, height: int, start: Sequence[int], goal: Sequence[int], obstacles: list[dict[str, Any]],
-              *, steps: int | None = None, max_steps: int | None = None, walls: Iterable[Sequence[int]] = (),
-              robot_moves: list[Any] | None = None, name: str = "") -> dict[str, Any]:
+def _grid_doc(
+    width: int,
+    height: int,
+    start: Sequence[int],
+    goal: Sequence[int],
+    obstacles: list[dict[str, Any]],
+    *,
+    steps: int | None = None,
+    max_steps: int | None = None,
+    walls: Iterable[Sequence[int]] = (),
+    robot_moves: list[Any] | None = None,
+    name: str = "",
+) -> dict[str, Any]:
     doc: dict[str, Any] = {
         "name": name,
         "grid": [width, height],
@@ -43,9 +53,15 @@ def _grid_doc(width: int, height: int, start: Sequence[int], goal: Sequence[int]
 
 
 def _figure1() -> dict[str, Any]:
-    return _grid_doc(5, 7, (1, 1), (4, 4), [{"start": [2, 5], "moves": UP_DOWN},
-                                            {"start": [3, 5], "moves": ["stay", "up", "down"]}],
-                     max_steps=12, name="figure1")
+    return _grid_doc(
+        5,
+        7,
+        (1, 1),
+        (4, 4),
+        [{"start": [2, 5], "moves": UP_DOWN}, {"start": [3, 5], "moves": ["stay", "up", "down"]}],
+        max_steps=12,
+        name="figure1",
+    )
 
 
 _DEPTH = {1: ((0, 0), (5, 0)), 4: ((0, 0), (4, 0)), 5: ((1, 0), (4, 1)), 6: ((3, 0), (3, 2))}
@@ -87,7 +103,10 @@ def _crossing(cars: int, width: int = 7, steps: int = 12, stall: bool = False) -
     return _grid_doc(width, 5, (3, 0), (3, 4), obstacles, steps=steps, walls=walls, name=name)
 
 
-_SPRINT = [{"name": "sprint-up", "to": [0, 2], "via": [[0, 1]]}, {"name": "sprint-down", "to": [0, -2], "via": [[0, -1]]}]
+_SPRINT = [
+    {"name": "sprint-up", "to": [0, 2], "via": [[0, 1]]},
+    {"name": "sprint-down", "to": [0, -2], "via": [[0, -1]]},
+]
 
 
 def _patrol(height: int, steps: int = 14, sprint: bool = True) -> dict[str, Any]:
@@ -95,8 +114,16 @@ def _patrol(height: int, steps: int = 14, sprint: bool = True) -> dict[str, Any]
     mid = height // 2
     moves: list[Any] = list(ALL_MOVES) + (list(_SPRINT) if sprint else [])
     name = f"patrol-{height}" if sprint else f"patrol-walk-{height}"
-    return _grid_doc(5, height, (0, mid), (4, mid), [{"start": [2, mid], "moves": UP_DOWN}], steps=steps,
-                     robot_moves=moves, name=name)
+    return _grid_doc(
+        5,
+        height,
+        (0, mid),
+        (4, mid),
+        [{"start": [2, mid], "moves": UP_DOWN}],
+        steps=steps,
+        robot_moves=moves,
+        name=name,
+    )
 
 
 def _door(steps: int, stall: bool = False, height: int = 11) -> dict[str, Any]:
@@ -109,8 +136,9 @@ def _door(steps: int, stall: bool = False, height: int = 11) -> dict[str, Any]:
     walls = [(x, y) for x in (2, 4) for y in range(height) if y != mid]
     moves: list[Any] = (["stay"] if stall else []) + ["down", {"name": "down2", "to": [0, -2], "via": [[0, -1]]}]
     name = f"door-stall-{steps}" if stall else f"door-{steps}"
-    return _grid_doc(7, height, (1, mid), (6, mid), [{"start": [3, mid + 5], "moves": moves}], steps=steps,
-                     walls=walls, name=name)
+    return _grid_doc(
+        7, height, (1, mid), (6, mid), [{"start": [3, mid + 5], "moves": moves}], steps=steps, walls=walls, name=name
+    )
 
 
 def _scale(size: int) -> dict[str, Any]:
@@ -136,9 +164,11 @@ def reactive_suite_dir() -> Path:
 
     d = Path(os.environ.get("PLANSYNTH_REACTIVE_SUITE") or REACTIVE_SUITE)
     if not d.is_dir():
-        raise SuiteMissing(f"family 'reactive-suite' reads NAME.yaml and NAME.label.json from {d}, which is missing "
-                           "(expected at ../shared/grid-reactive/ relative to the repository root, or set "
-                           "PLANSYNTH_REACTIVE_SUITE)")
+        raise SuiteMissing(
+            f"family 'reactive-suite' reads NAME.yaml and NAME.label.json from {d}, which is missing "
+            "(expected at ../shared/grid-reactive/ relative to the repository root, or set "
+            "PLANSYNTH_REACTIVE_SUITE)"
+        )
     return d
 
 
@@ -164,10 +194,20 @@ def _lanes(lanes: int, steps: int | None = None) -> dict[str, Any]:
     walls = [(x, y) for y in range(height) for x in range(width) if y not in roads and x not in (4, 5, 6)]
     right = ["right", {"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}]
     left = ["left", {"name": "fast-left", "to": [-2, 0], "via": [[-1, 0]]}]
-    obstacles = [{"start": [0, y] if i % 2 == 0 else [width - 1, y], "moves": right if i % 2 == 0 else left}
-                 for i, y in enumerate(roads)]
-    return _grid_doc(width, height, (5, 0), (5, height - 1), obstacles, steps=steps or height + 5, walls=walls,
-                     name=f"lanes-{lanes}" + (f"-l{steps}" if steps else ""))
+    obstacles = [
+        {"start": [0, y] if i % 2 == 0 else [width - 1, y], "moves": right if i % 2 == 0 else left}
+        for i, y in enumerate(roads)
+    ]
+    return _grid_doc(
+        width,
+        height,
+        (5, 0),
+        (5, height - 1),
+        obstacles,
+        steps=steps or height + 5,
+        walls=walls,
+        name=f"lanes-{lanes}" + (f"-l{steps}" if steps else ""),
+    )
 
 
 def _doors(doors: int, steps: int | None = None, jam: bool = False) -> dict[str, Any]:
@@ -195,7 +235,10 @@ def _doors(doors: int, steps: int | None = None, jam: bool = False) -> dict[str,
     return _grid_doc(width, height, (0, mid), (width - 1, mid), panels, steps=length, walls=walls, name=name)
 
 
-_SIDESTEP = [{"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}, {"name": "fast-left", "to": [-2, 0], "via": [[-1, 0]]}]
+_SIDESTEP = [
+    {"name": "fast-right", "to": [2, 0], "via": [[1, 0]]},
+    {"name": "fast-left", "to": [-2, 0], "via": [[-1, 0]]},
+]
 
 
 def _patrols(roads: int, run: bool = True, width: int = 11) -> dict[str, Any]:
@@ -217,8 +260,17 @@ def _patrols(roads: int, run: bool = True, width: int = 11) -> dict[str, Any]:
     guards = [{"start": [mid, r], "moves": ["left", "right"]} for r in rows]
     moves = list(ALL_MOVES) + (list(_SIDESTEP) if run else []) + list(_SPRINT)
     name = f"patrols-{roads}" if run else f"patrols-walk-{roads}"
-    return _grid_doc(width, height, (mid, 0), (mid, height - 1), guards, steps=4 * roads + 8, walls=walls,
-                     robot_moves=moves, name=name)
+    return _grid_doc(
+        width,
+        height,
+        (mid, 0),
+        (mid, height - 1),
+        guards,
+        steps=4 * roads + 8,
+        walls=walls,
+        robot_moves=moves,
+        name=name,
+    )
 
 
 def _field30(lanes: int, steps: int, *, cars: str) -> dict[str, Any]:
@@ -234,18 +286,30 @@ def _field30(lanes: int, steps: int, *, cars: str) -> dict[str, Any]:
     for i, y in enumerate(rows):
         if cars == "fast":
             sgn = 1 if i % 2 == 0 else -1
-            moves = [{"name": f"v{v}", "to": [sgn * v, 0], "via": [[sgn * u, 0] for u in range(1, v)]} for v in (1, 2, 3)]
+            moves = [
+                {"name": f"v{v}", "to": [sgn * v, 0], "via": [[sgn * u, 0] for u in range(1, v)]} for v in (1, 2, 3)
+            ]
             obstacles.append({"start": [0 if sgn > 0 else 29, y], "moves": moves})
         elif cars == "stall":
-            obstacles.append({"start": [0, y], "moves": ["stay", "right", {"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}]})
+            obstacles.append(
+                {"start": [0, y], "moves": ["stay", "right", {"name": "fast-right", "to": [2, 0], "via": [[1, 0]]}]}
+            )
         else:
             obstacles.append({"start": [3 + 6 * i, y + 1], "moves": ["left", "right"]})
     if cars == "guard":
         rows = [y + 1 for y in rows]
     walls = [(x, y) for y in range(30) for x in range(30) if y not in rows and not 12 <= x <= 16]
-    return _grid_doc(30, 30, (14, 0), (14, 29), obstacles, steps=steps, walls=walls,
-                     robot_moves=["stay", "up", "right", "down", "left", "up-right", "up-left"],
-                     name=f"field30-{cars}-{lanes}-l{steps}")
+    return _grid_doc(
+        30,
+        30,
+        (14, 0),
+        (14, 29),
+        obstacles,
+        steps=steps,
+        walls=walls,
+        robot_moves=["stay", "up", "right", "down", "left", "up-right", "up-left"],
+        name=f"field30-{cars}-{lanes}-l{steps}",
+    )
 
 
 GRID_PROBLEMS: dict[str, Any] = {

@@ -34,8 +34,14 @@ from typing import Any
 
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["SYNTCOMP_PROBLEMS", "MOVING_OBSTACLE_SIZES", "moving_obstacle_family", "robot_grid_family", "SLUGS_MACHINE",
-           "SYNTCOMP_FAMILIES"]
+__all__ = [
+    "SYNTCOMP_PROBLEMS",
+    "MOVING_OBSTACLE_SIZES",
+    "moving_obstacle_family",
+    "robot_grid_family",
+    "SLUGS_MACHINE",
+    "SYNTCOMP_FAMILIES",
+]
 
 #: The families of this module (bench solvers: native and the omega peer).
 SYNTCOMP_FAMILIES = ("moving-obstacle", "robot-grid", "robot-grid-fast")
@@ -59,8 +65,11 @@ def moving_obstacle_family(values: Sequence[int] | None = None) -> list[Instance
         for c in pairs:
             answer, seconds = PUBLISHED[(int(m), c)]
             expected = None if answer is None else ("realizable" if answer else "unrealizable")
-            out.append(Instance("grid", "moving-obstacle", f"moving-obstacle-{m}x{m}-{c}", {"m": int(m), "c": c},
-                                expected, seconds))
+            out.append(
+                Instance(
+                    "grid", "moving-obstacle", f"moving-obstacle-{m}x{m}-{c}", {"m": int(m), "c": c}, expected, seconds
+                )
+            )
     return out
 
 

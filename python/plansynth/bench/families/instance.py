@@ -47,8 +47,14 @@ class Instance:
         return f"{self.kind}/{self.family}/{self.name}"
 
     def to_dict(self) -> dict[str, Any]:
-        return {"kind": self.kind, "family": self.family, "name": self.name, "params": dict(self.params),
-                "expected": self.expected, "paper_seconds": self.paper_seconds}
+        return {
+            "kind": self.kind,
+            "family": self.family,
+            "name": self.name,
+            "params": dict(self.params),
+            "expected": self.expected,
+            "paper_seconds": self.paper_seconds,
+        }
 
     def document(self) -> dict[str, Any]:
         """The problem as a spec document (grid-problem.md / reach-problem.md)."""
@@ -71,4 +77,3 @@ def instance_from_task(task: Mapping[str, Any]) -> Instance:
     """Rebuild an :class:`Instance` from the dict a task carries (``Instance.to_dict``)."""
     d = task["instance"]
     return Instance(d["kind"], d["family"], d["name"], dict(d["params"]), d.get("expected"), d.get("paper_seconds"))
-

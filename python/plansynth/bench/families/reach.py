@@ -37,8 +37,14 @@ REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 
 
-def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequence[int] = (1, 2, 3, 5),
-                 states: Sequence[int] = RANDOM_DYNAMICS_STATES, seed: int = 0) -> list[Instance]:
+def reach_family(
+    name: str,
+    values: Sequence[Any] | None = None,
+    *,
+    orders: Sequence[int] = (1, 2, 3, 5),
+    states: Sequence[int] = RANDOM_DYNAMICS_STATES,
+    seed: int = 0,
+) -> list[Instance]:
     """Instances of reach family ``name``.
 
     ``maze``: values are passage counts (default 1..4). ``chain``: values are passage
@@ -57,8 +63,12 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     out = []
     if name == "maze":
         for n in values or [1, 2, 3, 4]:
-            tot = sum(float(v) for k, v in PAPER_TABLE_I[int(n)].items() if k in ("abstraction", "dis-plan", "con-plan"))
-            out.append(Instance("reach", "maze", f"maze-{n}", {"n": int(n)}, "found", tot if int(n) in PAPER_TABLE_I else None))
+            tot = sum(
+                float(v) for k, v in PAPER_TABLE_I[int(n)].items() if k in ("abstraction", "dis-plan", "con-plan")
+            )
+            out.append(
+                Instance("reach", "maze", f"maze-{n}", {"n": int(n)}, "found", tot if int(n) in PAPER_TABLE_I else None)
+            )
     elif name == "chain":
         for n in values or [1, 2, 3, 4]:
             for k in orders:
@@ -66,8 +76,15 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     elif name == "random-dynamics":
         for n in values or [1, 2, 3, 4]:
             for k in states:
-                out.append(Instance("reach", "random-dynamics", f"rdyn-{n}-n{k}-s{seed}",
-                                    {"n": int(n), "states": int(k), "seed": int(seed)}, None))
+                out.append(
+                    Instance(
+                        "reach",
+                        "random-dynamics",
+                        f"rdyn-{n}-n{k}-s{seed}",
+                        {"n": int(n), "states": int(k), "seed": int(seed)},
+                        None,
+                    )
+                )
     elif name == "random":
         for s in values or [0, 1, 2, 3, 4]:
             out.append(Instance("reach", "random", f"random-{s}", {"seed": int(s)}, None))
@@ -83,4 +100,3 @@ def reach_family(name: str, values: Sequence[Any] | None = None, *, orders: Sequ
     else:
         raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")
     return out
-

@@ -53,5 +53,11 @@ def _missions(n: int, mission: str) -> Any:
     return mission_problem(f"maze-{n}", mission)
 
 
-REACH_PROBLEMS: dict[str, Any] = {"maze": _maze, "chain": _chain, "random": _random, "random-dynamics": _random_dynamics,
-                                   "missions": _missions, "gcs-maze": _gcs_maze}
+REACH_PROBLEMS: dict[str, Any] = {
+    "maze": _maze,
+    "chain": _chain,
+    "random": _random,
+    "random-dynamics": _random_dynamics,
+    "missions": _missions,
+    "gcs-maze": _gcs_maze,
+}

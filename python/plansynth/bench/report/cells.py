@@ -25,8 +25,6 @@ __all__ = ["Cell", "summarise", "fmt", "status_summary", "param_value", "instanc
 
 
 @dataclass(frozen=True)
-
-
 class Cell:
     """Aggregate of the repeats of one (instance, solver)."""
 
@@ -118,35 +116,48 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
             statuses[r["status"]] += 1
         first = solved[0] if solved else rs[0]
         out[key] = Cell(
-            runs=len(rs), solved=len(solved),
+            runs=len(rs),
+            solved=len(solved),
             median=statistics.median(times) if times else None,
             worst=max(times) if times else None,
             limit=max(((r.get("attributes") or {}).get("timelimit") or r["timelimit"] or 0) for r in rs) or None,
             statuses=dict(statuses),
-            depth=first.get("depth"), steps=first.get("steps"), horizon=first.get("horizon"),
-            extra={"median_any": statistics.median(all_times) if all_times else None,
-                   "family": rs[0]["family"], "instance": rs[0]["instance"], "setup": rs[0]["setup"],
-                   "lp_calls": first.get("lp_calls"), "sat_calls": first.get("sat_calls"),
-                   "timings": (first.get("attributes") or {}).get("timings", {}),
-                   "expected": (rs[0]["setup"] or {}).get("expected"),
-                   "samples_only": any(r.get("segment_safe") == 0 for r in solved),
-                   "program": (first.get("attributes") or {}).get("program"),
-                   # the limit beside the time: one cold LP over the final region sequence (median)
-                   "oracle_lp": _median_attr(solved, "oracle_lp", "seconds"),
-                   "duration": _median_attr(solved, "duration"),
-                   "guarantee": (first.get("attributes") or {}).get("guarantee"),
-                   # the planner's own time: the run's time less the validator's (median)
-                   "planner_median": _median_planner(solved),
-                   # runs through the CLI (bench.execute._grid_cli): wall clock of the whole process
-                   "cli_wall": _median_attr(rs, "cli_wall"),
-                   "budget_kept": [bool((r.get("attributes") or {}).get("budget_kept")) for r in rs
-                                   if "budget_kept" in (r.get("attributes") or {})],
-                   "depth_minimal": (first.get("attributes") or {}).get("depth_minimal"),
-                   # the lazy planner's minimality claim: proved? for what? how many probes?
-                   "minimal": {k: ((first.get("attributes") or {}).get("counters") or {}).get(k)
-                               for k in ("minimal", "minimal_relative_to", "minimal_probes")},
-                   "regions": first.get("regions"),
-                   "counters": (first.get("attributes") or {}).get("counters") or {}},
+            depth=first.get("depth"),
+            steps=first.get("steps"),
+            horizon=first.get("horizon"),
+            extra={
+                "median_any": statistics.median(all_times) if all_times else None,
+                "family": rs[0]["family"],
+                "instance": rs[0]["instance"],
+                "setup": rs[0]["setup"],
+                "lp_calls": first.get("lp_calls"),
+                "sat_calls": first.get("sat_calls"),
+                "timings": (first.get("attributes") or {}).get("timings", {}),
+                "expected": (rs[0]["setup"] or {}).get("expected"),
+                "samples_only": any(r.get("segment_safe") == 0 for r in solved),
+                "program": (first.get("attributes") or {}).get("program"),
+                # the limit beside the time: one cold LP over the final region sequence (median)
+                "oracle_lp": _median_attr(solved, "oracle_lp", "seconds"),
+                "duration": _median_attr(solved, "duration"),
+                "guarantee": (first.get("attributes") or {}).get("guarantee"),
+                # the planner's own time: the run's time less the validator's (median)
+                "planner_median": _median_planner(solved),
+                # runs through the CLI (bench.execute._grid_cli): wall clock of the whole process
+                "cli_wall": _median_attr(rs, "cli_wall"),
+                "budget_kept": [
+                    bool((r.get("attributes") or {}).get("budget_kept"))
+                    for r in rs
+                    if "budget_kept" in (r.get("attributes") or {})
+                ],
+                "depth_minimal": (first.get("attributes") or {}).get("depth_minimal"),
+                # the lazy planner's minimality claim: proved? for what? how many probes?
+                "minimal": {
+                    k: ((first.get("attributes") or {}).get("counters") or {}).get(k)
+                    for k in ("minimal", "minimal_relative_to", "minimal_probes")
+                },
+                "regions": first.get("regions"),
+                "counters": (first.get("attributes") or {}).get("counters") or {},
+            },
         )
     return out
 
@@ -185,8 +196,10 @@ def instances_of(cells: Mapping[tuple[str, str], Cell], family: str) -> list[tup
     for (exp, _), c in cells.items():
         if c.extra and c.extra["family"] == family:
             seen.setdefault(exp, c.extra["setup"])
-    return sorted(seen.items(), key=lambda kv: (param_value(kv[1]), kv[1].get("params", {}).get("k", 0),
-                                                kv[1].get("params", {}).get("c", 0)))
+    return sorted(
+        seen.items(),
+        key=lambda kv: (param_value(kv[1]), kv[1].get("params", {}).get("k", 0), kv[1].get("params", {}).get("c", 0)),
+    )
 
 
 def planners_of(cells: Mapping[tuple[str, str], Cell], kind_prefix: str, order: Sequence[str]) -> list[str]:

@@ -16,7 +16,9 @@ from plansynth.bench.report.ratios import over_limit
 __all__ = ["chains_section", "random_dynamics_section"]
 
 
-def chains_section(cells: Mapping[tuple[str, str], Cell], reach_planners: Sequence[str], out: Path, image_prefix: str) -> list[str]:
+def chains_section(
+    cells: Mapping[tuple[str, str], Cell], reach_planners: Sequence[str], out: Path, image_prefix: str
+) -> list[str]:
     """Figure 4 on the integrator chains (family ``chain``): table and figure."""
     chains = instances_of(cells, "chain")
     if not chains:
@@ -24,8 +26,10 @@ def chains_section(cells: Mapping[tuple[str, str], Cell], reach_planners: Sequen
     L: list[str] = []
     L.append("### Figure 4: scalability with the number of states (integrator chains)")
     L.append("")
-    L.append("The paper reports 1.64 s (1 passage) to 152 s (4 passages) at n = 50 states, with random A, B; "
-             "we use integrator chains of order k (n = 2k states).")
+    L.append(
+        "The paper reports 1.64 s (1 passage) to 152 s (4 passages) at n = 50 states, with random A, B; "
+        "we use integrator chains of order k (n = 2k states)."
+    )
     L.append("")
     used = [p for p in reach_planners if any((e, p) in cells for e, _ in chains)]
     hdr = ["passages", "k", "states n"] + used + ["lazy-smt horizon", "lazy-smt total / limit"]

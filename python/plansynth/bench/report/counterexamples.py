@@ -20,19 +20,25 @@ CX_VARIANTS = {
 }
 
 
-def counterexample_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, dict[str, Any]]]) -> list[str]:
+def counterexample_table(
+    cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, dict[str, Any]]]
+) -> list[str]:
     """LP calls and time per maze for each counterexample configuration (median run)."""
     used = [p for p in ("lazy-smt", *CX_VARIANTS) if any((e, p) in cells for e, _ in mazes)]
     if len(used) < 2:
         return []
     names = {"lazy-smt": "our loop, Farkas (default)", **CX_VARIANTS}
-    L = ["### Counterexamples (Section V): LP calls per maze", "",
-         "The paper's loop (one horizon at a time, counterexamples as published, no refinement beyond the paper "
-         "except the shared abstraction, segment safety and horizon lower bound) with ZEROPREFIX and with the "
-         "trivial counterexample (block the whole sequence), and our loop (horizon windows, transit layer, guided "
-         "DIS-PLAN) with ZEROPREFIX and with the default Farkas counterexample. Each cell: LP calls, then time "
-         "(an unfinished run shows the LP calls made until its limit and the horizon it had reached: every "
-         "shorter one was refuted).", ""]
+    L = [
+        "### Counterexamples (Section V): LP calls per maze",
+        "",
+        "The paper's loop (one horizon at a time, counterexamples as published, no refinement beyond the paper "
+        "except the shared abstraction, segment safety and horizon lower bound) with ZEROPREFIX and with the "
+        "trivial counterexample (block the whole sequence), and our loop (horizon windows, transit layer, guided "
+        "DIS-PLAN) with ZEROPREFIX and with the default Farkas counterexample. Each cell: LP calls, then time "
+        "(an unfinished run shows the LP calls made until its limit and the horizon it had reached: every "
+        "shorter one was refuted).",
+        "",
+    ]
     hdr = ["maze"] + [f"{names[p]}: LP calls" for p in used] + [f"{names[p]}: time" for p in used]
     L.append("| " + " | ".join(hdr) + " |")
     L.append("|" + "---|" * len(hdr))

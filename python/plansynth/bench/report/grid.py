@@ -27,8 +27,21 @@ GRID_FIGURES = [
     ("obstacles", "Figure 4: time vs number of obstacles", "number of obstacles N"),
     ("dimensions", "Figure 5: time vs grid size", "grid size S (S x S)"),
 ]
-REACTIVE = ["figure1", "crossing", "crossing-stall", "patrol", "patrol-walk", "door", "door-stall", "scale", "lanes",
-            "lanes-rush", "roads30", "roads30-stall", "guards30"]
+REACTIVE = [
+    "figure1",
+    "crossing",
+    "crossing-stall",
+    "patrol",
+    "patrol-walk",
+    "door",
+    "door-stall",
+    "scale",
+    "lanes",
+    "lanes-rush",
+    "roads30",
+    "roads30-stall",
+    "guards30",
+]
 PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0, "Enumerative 2015": 805.0}
 
 
@@ -45,14 +58,19 @@ def grid_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix:
     if "native" in grid_planners and "cvc5" in grid_planners:
         h = headline(cells, "cvc5", "native", "grid/")  # (cvc5 refuses the SYNTCOMP families: never both decided)
         if h["n"]:
-            L.append(f"**Headline: native vs cvc5** (time ratio cvc5 / native on the same instance, {h['n']} "
-                     f"instances both decided): median {h['median']:.3g}x; worst case for native (smallest ratio) "
-                     f"{h['best_for_b'][0]:.3g}x on {h['best_for_b'][1]}; largest {h['worst_for_b'][0]:.3g}x on "
-                     f"{h['worst_for_b'][1]}.")
+            L.append(
+                f"**Headline: native vs cvc5** (time ratio cvc5 / native on the same instance, {h['n']} "
+                f"instances both decided): median {h['median']:.3g}x; worst case for native (smallest ratio) "
+                f"{h['best_for_b'][0]:.3g}x on {h['best_for_b'][1]}; largest {h['worst_for_b'][0]:.3g}x on "
+                f"{h['worst_for_b'][1]}."
+            )
         if h.get("bounds"):
             L.append("")
-            L.append(f"Decided by one side only ({len(h['bounds'])} instances; ratio bounds from the time limit): "
-                     + "; ".join(f"{e.split('/')[-1]} {s} {v:.3g}x" for v, e, s in h["bounds"]) + ".")
+            L.append(
+                f"Decided by one side only ({len(h['bounds'])} instances; ratio bounds from the time limit): "
+                + "; ".join(f"{e.split('/')[-1]} {s} {v:.3g}x" for v, e, s in h["bounds"])
+                + "."
+            )
         L.append("")
     for fam, caption, pname in GRID_FIGURES:
         insts = instances_of(cells, fam)
@@ -86,7 +104,9 @@ def grid_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix:
     return L
 
 
-def _figure6(cells: Mapping[tuple[str, str], Cell], grid_planners: Sequence[str], out: Path, image_prefix: str) -> list[str]:
+def _figure6(
+    cells: Mapping[tuple[str, str], Cell], grid_planners: Sequence[str], out: Path, image_prefix: str
+) -> list[str]:
     """Figure 6: every solver on steps-20 beside the paper's three (table and bars)."""
     exp6 = "grid/steps/steps-20"
     if not any(e == exp6 for e, _ in cells):
@@ -118,8 +138,14 @@ def _figure6(cells: Mapping[tuple[str, str], Cell], grid_planners: Sequence[str]
     return L
 
 
-def grid_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str, dict[str, Any]]],
-                planners: Sequence[str], *, paper: bool, expected: bool = False) -> list[str]:
+def grid_table(
+    cells: Mapping[tuple[str, str], Cell],
+    insts: Sequence[tuple[str, dict[str, Any]]],
+    planners: Sequence[str],
+    *,
+    paper: bool,
+    expected: bool = False,
+) -> list[str]:
     hdr = ["instance"] + (["paper (s)"] if paper else []) + (["expected"] if expected else [])
     for p in planners:
         hdr += [f"{p} (s)", f"{p} depth / l"]
@@ -135,7 +161,9 @@ def grid_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str,
         for p in planners:
             c = cells.get((exp, p))
             row.append(c.text() if c else "-")
-            row.append(f"{c.depth if c and c.depth is not None else '-'} / {c.steps if c and c.steps is not None else '-'}")
+            row.append(
+                f"{c.depth if c and c.depth is not None else '-'} / {c.steps if c and c.steps is not None else '-'}"
+            )
         for a, b in pairs:
             row.append(ratio(cells.get((exp, a)), cells.get((exp, b))))
         out.append("| " + " | ".join(row) + " |")
@@ -145,8 +173,12 @@ def grid_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str,
 def paper_regression(cells: Mapping[tuple[str, str], Cell], planner: str = "native") -> str:
     """The target "no regression on the paper's families": every instance solved in under
     1 s (median solve time) with a program no deeper than the paper's; one line."""
-    got = [(setup["name"], cells[(exp, planner)]) for f in PAPER_FAMILIES for exp, setup in instances_of(cells, f)
-           if (exp, planner) in cells]
+    got = [
+        (setup["name"], cells[(exp, planner)])
+        for f in PAPER_FAMILIES
+        for exp, setup in instances_of(cells, f)
+        if (exp, planner) in cells
+    ]
     if not got:
         return ""
     solved = [(n, c) for n, c in got if c.all_solved and c.median is not None]
@@ -154,9 +186,11 @@ def paper_regression(cells: Mapping[tuple[str, str], Cell], planner: str = "nati
     shallow = [n for n, c in solved if c.depth is not None and c.depth <= paper_depth(n)]
     slowest = max(solved, key=lambda nc: nc[1].median, default=None)
     verdict = "holds" if len(under) == len(shallow) == len(got) else "FAILS"
-    return (f"**No regression on the paper's families** ({planner}, {len(got)} instances): solved {len(solved)}/"
-            f"{len(got)}, under 1 s {len(under)}/{len(got)}"
-            + (f" (slowest {slowest[0]}, {fmt(slowest[1].median)} s)" if slowest else "")
-            + f", depth at most the paper's {len(shallow)}/{len(got)}: {verdict}. "
-            "`--minimize` proving the depth family's minimal depths is a test "
-            "(`tests/grid/test_native.py::test_minimize_proves_the_depth_family`).")
+    return (
+        f"**No regression on the paper's families** ({planner}, {len(got)} instances): solved {len(solved)}/"
+        f"{len(got)}, under 1 s {len(under)}/{len(got)}"
+        + (f" (slowest {slowest[0]}, {fmt(slowest[1].median)} s)" if slowest else "")
+        + f", depth at most the paper's {len(shallow)}/{len(got)}: {verdict}. "
+        "`--minimize` proving the depth family's minimal depths is a test "
+        "(`tests/grid/test_native.py::test_minimize_proves_the_depth_family`)."
+    )

@@ -21,21 +21,27 @@ def missions_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
     insts = instances_of(cells, "missions")
     if not insts:
         return []
-    L = ["### LTL missions on the mazes: lazy SMT (BMC encoding in DIS-PLAN) vs one big-M MILP per horizon", "",
-         "Three missions per maze (`plansynth.reach.mission.families`): `visit` = `F (b & F d) & G !h` (finite plan), "
-         "`patrol` = `G F a & G F b` (a lasso), `avoid-until` = `!h U door`. Both planners search horizons "
-         "upwards from the same proved lower bound (the product graph of `plansynth.reach.mission.horizon`) "
-         "and report the shortest; every plan is validated and mission-checked. "
-         "`milp-ltl in HiGHS` is the part of the baseline's time spent in HiGHS's MILP solves (the rest "
-         "builds one model per horizon in array operations, passed to HiGHS whole, and the abstraction, the "
-         "geometry's proof and the exact LP of the plan found); the next column compares lazy-smt with it.", "",
-         "| instance | lazy-smt | milp-ltl | milp-ltl / lazy-smt | milp-ltl in HiGHS | HiGHS part / lazy-smt |",
-         "|---|---|---|---|---|---|"]
+    L = [
+        "### LTL missions on the mazes: lazy SMT (BMC encoding in DIS-PLAN) vs one big-M MILP per horizon",
+        "",
+        "Three missions per maze (`plansynth.reach.mission.families`): `visit` = `F (b & F d) & G !h` (finite plan), "
+        "`patrol` = `G F a & G F b` (a lasso), `avoid-until` = `!h U door`. Both planners search horizons "
+        "upwards from the same proved lower bound (the product graph of `plansynth.reach.mission.horizon`) "
+        "and report the shortest; every plan is validated and mission-checked. "
+        "`milp-ltl in HiGHS` is the part of the baseline's time spent in HiGHS's MILP solves (the rest "
+        "builds one model per horizon in array operations, passed to HiGHS whole, and the abstraction, the "
+        "geometry's proof and the exact LP of the plan found); the next column compares lazy-smt with it.",
+        "",
+        "| instance | lazy-smt | milp-ltl | milp-ltl / lazy-smt | milp-ltl in HiGHS | HiGHS part / lazy-smt |",
+        "|---|---|---|---|---|---|",
+    ]
     oneshot = any(p == "milp-ltl-oneshot" for _, p in cells)
     if oneshot:
-        L[-3] += (" `milp-ltl-oneshot` is Wolff et al.'s setting as published: one MILP at the fixed horizon K = "
-                  "the problem's max horizon (60), whose plan has exactly K steps (not the shortest; lazy-smt's "
-                  "and milp-ltl's horizons are the shortest).")
+        L[-3] += (
+            " `milp-ltl-oneshot` is Wolff et al.'s setting as published: one MILP at the fixed horizon K = "
+            "the problem's max horizon (60), whose plan has exactly K steps (not the shortest; lazy-smt's "
+            "and milp-ltl's horizons are the shortest)."
+        )
         L[-2] += " milp-ltl-oneshot (horizon) | milp-ltl-oneshot / lazy-smt |"
         L[-1] += "---|---|"
     ratios, solve_ratios, oneshot_ratios = [], [], []
@@ -58,17 +64,25 @@ def missions_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
         if hs is not None and ta:
             solve_ratios.append(hs / max(ta, 1e-6))
             part = f"{hs / max(ta, 1e-6):.3g}"
-        L.append(f"| {setup['name']} | {a.text() if a else '-'} | {b.text() if b else '-'} | {ratio(b, a)} | "
-                 f"{fmt(hs)} | {part} |{extra}")
+        L.append(
+            f"| {setup['name']} | {a.text() if a else '-'} | {b.text() if b else '-'} | {ratio(b, a)} | "
+            f"{fmt(hs)} | {part} |{extra}"
+        )
     L.append("")
     if ratios:
-        L.append(f"Median speed-up of lazy-smt over milp-ltl: **{statistics.median(ratios):.3g}x** over {len(ratios)} "
-                 "instances (a bound where the MILP ran out of time counts at the time limit).")
+        L.append(
+            f"Median speed-up of lazy-smt over milp-ltl: **{statistics.median(ratios):.3g}x** over {len(ratios)} "
+            "instances (a bound where the MILP ran out of time counts at the time limit)."
+        )
         if oneshot_ratios:
-            L.append(f"Over milp-ltl-oneshot (one MILP at the max horizon): **{statistics.median(oneshot_ratios):.3g}x** "
-                     f"in median over {len(oneshot_ratios)} instances.")
+            L.append(
+                f"Over milp-ltl-oneshot (one MILP at the max horizon): **{statistics.median(oneshot_ratios):.3g}x** "
+                f"in median over {len(oneshot_ratios)} instances."
+            )
         if solve_ratios:
-            L.append(f"Against the baseline's HiGHS time alone: {statistics.median(solve_ratios):.3g}x in median over "
-                     f"{len(solve_ratios)} instances.")
+            L.append(
+                f"Against the baseline's HiGHS time alone: {statistics.median(solve_ratios):.3g}x in median over "
+                f"{len(solve_ratios)} instances."
+            )
         L.append("")
     return L

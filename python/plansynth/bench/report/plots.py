@@ -20,9 +20,16 @@ from plansynth.io import atomic_output
 __all__ = ["plot_family", "plot_bars", "plot_chain"]
 
 
-def plot_family(cells: Mapping[tuple[str, str], Cell], family: str, planners: Sequence[str], title: str,
-                 xlabel: str, path: Path, paper: Mapping[float, float] | None = None,
-                 xkey: Any = None) -> bool:
+def plot_family(
+    cells: Mapping[tuple[str, str], Cell],
+    family: str,
+    planners: Sequence[str],
+    title: str,
+    xlabel: str,
+    path: Path,
+    paper: Mapping[float, float] | None = None,
+    xkey: Any = None,
+) -> bool:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -50,8 +57,15 @@ def plot_family(cells: Mapping[tuple[str, str], Cell], family: str, planners: Se
         if xs or xu:
             line = ax.plot(xs, ys, marker=markers[i % len(markers)], label=p)[0]
             if xu:
-                ax.plot(xu, yu, linestyle="none", marker=markers[i % len(markers)], mfc="none",
-                        color=line.get_color(), label=f"{p}: no answer within limit")
+                ax.plot(
+                    xu,
+                    yu,
+                    linestyle="none",
+                    marker=markers[i % len(markers)],
+                    mfc="none",
+                    color=line.get_color(),
+                    label=f"{p}: no answer within limit",
+                )
     if paper:
         px = sorted(k for k, v in paper.items() if v is not None)
         ax.plot(px, [paper[k] for k in px], "k--", marker="x", label="paper (Enumerative 2015, 2016 machine)")
@@ -68,8 +82,13 @@ def plot_family(cells: Mapping[tuple[str, str], Cell], family: str, planners: Se
     return True
 
 
-def plot_bars(groups: Sequence[str], series: Mapping[str, Sequence[float | None]], title: str, path: Path,
-               limits: Mapping[str, Sequence[bool]] | None = None) -> None:
+def plot_bars(
+    groups: Sequence[str],
+    series: Mapping[str, Sequence[float | None]],
+    title: str,
+    path: Path,
+    limits: Mapping[str, Sequence[bool]] | None = None,
+) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -100,8 +119,12 @@ def plot_bars(groups: Sequence[str], series: Mapping[str, Sequence[float | None]
     plt.close(fig)
 
 
-def plot_chain(cells: Mapping[tuple[str, str], Cell], chains: Sequence[tuple[str, dict[str, Any]]],
-                planners: Sequence[str], path: Path) -> None:
+def plot_chain(
+    cells: Mapping[tuple[str, str], Cell],
+    chains: Sequence[tuple[str, dict[str, Any]]],
+    planners: Sequence[str],
+    path: Path,
+) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -124,8 +147,13 @@ def plot_chain(cells: Mapping[tuple[str, str], Cell], chains: Sequence[tuple[str
     for (p, n), pts in sorted(by.items()):
         pts.sort()
         done = [(x, y) for x, y, u in pts if not u]
-        line = ax.plot([x for x, _ in done], [max(y, 1e-3) for _, y in done], linestyle=styles[planners.index(p) % 4],
-                       marker="o", label=f"{p}, {n} passage{'s' if n > 1 else ''}")[0]
+        line = ax.plot(
+            [x for x, _ in done],
+            [max(y, 1e-3) for _, y in done],
+            linestyle=styles[planners.index(p) % 4],
+            marker="o",
+            label=f"{p}, {n} passage{'s' if n > 1 else ''}",
+        )[0]
         unl = [(x, y) for x, y, u in pts if u]
         if unl:
             ax.plot([x for x, _ in unl], [y for _, y in unl], "x", markersize=9, mew=2, color=line.get_color())

@@ -24,8 +24,11 @@ __all__ = ["reach_section"]
 def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix: str) -> list[str]:
     """The reach half's Markdown lines (figures written under ``out``, referred to as
     ``image_prefix + name``); none without a reach run."""
-    reach_planners = [p for p in planners_of(cells, "reach/", REACH_ORDER)
-                      if p not in CX_VARIANTS and p not in ("milp-ltl", "lazy-smt-minimal")]  # (their own tables)
+    reach_planners = [
+        p
+        for p in planners_of(cells, "reach/", REACH_ORDER)
+        if p not in CX_VARIANTS and p not in ("milp-ltl", "lazy-smt-minimal")
+    ]  # (their own tables)
     if not reach_planners:
         return []
     L: list[str] = []
@@ -57,6 +60,10 @@ def _random_workspaces(cells: Mapping[tuple[str, str], Cell], reach_planners: Se
     L.append("| " + " | ".join(hdr) + " |")
     L.append("|" + "---|" * len(hdr))
     for exp, setup in rnd:
-        L.append("| " + " | ".join([setup["name"]] + [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used]) + " |")
+        L.append(
+            "| "
+            + " | ".join([setup["name"]] + [cells[(exp, p)].text() if (exp, p) in cells else "-" for p in used])
+            + " |"
+        )
     L.append("")
     return L

@@ -16,10 +16,12 @@ from plansynth.bench.report.cells import Cell, fmt, instances_of
 
 __all__ = ["CLI_TIMED_NOTE", "cli_timed_sections", "suite_table"]
 
-CLI_TIMED_NOTE = ("Each run is `plansynth grid solve FILE --solver S --timeout T` in a fresh process, as a user "
-                  "runs it: *wall* is that process's wall clock from spawn to exit (start-up included), *solve* the "
-                  "time the result file reports; *budget kept*: wall <= T + 1 s (issue 11's Targets). *depth - "
-                  "witness*: the program's depth minus the depth of the label's witness program.")
+CLI_TIMED_NOTE = (
+    "Each run is `plansynth grid solve FILE --solver S --timeout T` in a fresh process, as a user "
+    "runs it: *wall* is that process's wall clock from spawn to exit (start-up included), *solve* the "
+    "time the result file reports; *budget kept*: wall <= T + 1 s (issue 11's Targets). *depth - "
+    "witness*: the program's depth minus the depth of the label's witness program."
+)
 
 
 def cli_timed_sections(cells: Mapping[tuple[str, str], Cell], planners: Sequence[str]) -> list[str]:
@@ -35,8 +37,10 @@ def cli_timed_sections(cells: Mapping[tuple[str, str], Cell], planners: Sequence
         L.append("")
     doors = [i for f in ("doors", "doors-rush", "doors-jam", "patrols", "patrols-walk") for i in instances_of(cells, f)]
     if doors:
-        L.append("### Doors that close and guards that patrol (families `doors`, `doors-rush`, `doors-jam`, "
-                 "`patrols`, `patrols-walk`; labels certified by brute force)")
+        L.append(
+            "### Doors that close and guards that patrol (families `doors`, `doors-rush`, `doors-jam`, "
+            "`patrols`, `patrols-walk`; labels certified by brute force)"
+        )
         L.append("")
         L.append(CLI_TIMED_NOTE)
         L.append("")
@@ -53,8 +57,9 @@ def _answer(c: Cell | None) -> str:
     return "/".join(sorted(c.statuses))
 
 
-def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str, dict[str, Any]]],
-                 planners: Sequence[str]) -> list[str]:
+def suite_table(
+    cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str, dict[str, Any]]], planners: Sequence[str]
+) -> list[str]:
     """Per instance and solver (the CLI timing targets): the wall time of the run through the
     CLI in a fresh process (start-up included), the solve time the result reports, the
     answer and whether it matches the certified label, the program depth, depth minus
@@ -62,11 +67,20 @@ def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str
     (the process ended within T + 1 s). A summary line per solver comes first."""
     hdr = ["instance", "label", "witness depth"]
     for p in planners:
-        hdr += [f"{p} wall (s)", f"{p} solve (s)", f"{p} answer", f"{p} matches", f"{p} depth", f"{p} depth - witness",
-                f"{p} depth_minimal", f"{p} budget kept"]
+        hdr += [
+            f"{p} wall (s)",
+            f"{p} solve (s)",
+            f"{p} answer",
+            f"{p} matches",
+            f"{p} depth",
+            f"{p} depth - witness",
+            f"{p} depth_minimal",
+            f"{p} budget kept",
+        ]
     rows = ["| " + " | ".join(hdr) + " |", "|" + "---|" * len(hdr)]
-    summary: dict[str, dict[str, list[Any]]] = {p: {"ok": [], "wrong": [], "wall": [], "dd": [], "kept": [], "proved": []}
-                                               for p in planners}
+    summary: dict[str, dict[str, list[Any]]] = {
+        p: {"ok": [], "wrong": [], "wall": [], "dd": [], "kept": [], "proved": []} for p in planners
+    }
     for exp, setup in insts:
         wd = (setup.get("params") or {}).get("witness_depth")
         expected = setup.get("expected")
@@ -77,11 +91,13 @@ def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str
                 row += ["-"] * 8
                 continue
             ex = c.extra or {}
-            ok = (expected == "realizable" and c.all_solved) or (expected == "unrealizable"
-                                                                 and set(c.statuses) == {"unrealizable"})
+            ok = (expected == "realizable" and c.all_solved) or (
+                expected == "unrealizable" and set(c.statuses) == {"unrealizable"}
+            )
             # a wrong answer contradicts the label; unknown or timeout is no answer
-            wrong = (expected == "realizable" and "unrealizable" in c.statuses) or (expected == "unrealizable"
-                                                                                   and c.solved > 0)
+            wrong = (expected == "realizable" and "unrealizable" in c.statuses) or (
+                expected == "unrealizable" and c.solved > 0
+            )
             t = c.median if c.solved else c.median_any
             wall = ex.get("cli_wall")
             kept = ex.get("budget_kept") or []
@@ -96,10 +112,16 @@ def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str
             if wall is not None:
                 summary[p]["wall"].append(float(wall))
             summary[p]["kept"] += kept
-            row += [fmt(wall), fmt(t), _answer(c), "yes" if ok else "WRONG" if wrong else "no answer",
-                    str(c.depth) if c.solved and c.depth is not None else "-", dd,
-                    str(ex.get("depth_minimal") or "-") if c.solved else "-",
-                    ("yes" if all(kept) else "NO") if kept else "-"]
+            row += [
+                fmt(wall),
+                fmt(t),
+                _answer(c),
+                "yes" if ok else "WRONG" if wrong else "no answer",
+                str(c.depth) if c.solved and c.depth is not None else "-",
+                dd,
+                str(ex.get("depth_minimal") or "-") if c.solved else "-",
+                ("yes" if all(kept) else "NO") if kept else "-",
+            ]
         rows.append("| " + " | ".join(row) + " |")
     lines = [_suite_summary(p, summary[p]) for p in planners if summary[p]["ok"]]
     return lines + [""] + rows
@@ -108,11 +130,20 @@ def suite_table(cells: Mapping[tuple[str, str], Cell], insts: Sequence[tuple[str
 def _suite_summary(planner: str, sm: Mapping[str, list[Any]]) -> str:
     """One line: correct answers, median and max CLI wall, depth against the witnesses,
     budgets kept (the CLI timing targets, in the order they are stated)."""
-    wall = (f"wall through the CLI median {fmt(statistics.median(sm['wall']))} s, max {fmt(max(sm['wall']))} s"
-            if sm["wall"] else "no CLI wall recorded")
-    dd = (f"depth - witness depth median {statistics.median(sm['dd']):+g}, max {max(sm['dd']):+d} "
-          f"({len(sm['dd'])} programs)" if sm["dd"] else "no depth against a witness")
+    wall = (
+        f"wall through the CLI median {fmt(statistics.median(sm['wall']))} s, max {fmt(max(sm['wall']))} s"
+        if sm["wall"]
+        else "no CLI wall recorded"
+    )
+    dd = (
+        f"depth - witness depth median {statistics.median(sm['dd']):+g}, max {max(sm['dd']):+d} "
+        f"({len(sm['dd'])} programs)"
+        if sm["dd"]
+        else "no depth against a witness"
+    )
     kept = f"budget kept {sum(sm['kept'])}/{len(sm['kept'])}" if sm["kept"] else "budget not recorded"
     proved = f"; depth_minimal proved on {sum(sm['proved'])}/{len(sm['proved'])}" if sm["proved"] else ""
-    return (f"- **{planner}**: correct {sum(sm['ok'])}/{len(sm['ok'])} ({sum(sm['wrong'])} contradict the label); "
-            f"{wall}; {dd}; {kept}{proved}.")
+    return (
+        f"- **{planner}**: correct {sum(sm['ok'])}/{len(sm['ok'])} ({sum(sm['wrong'])} contradict the label); "
+        f"{wall}; {dd}; {kept}{proved}."
+    )

@@ -21,9 +21,15 @@ from plansynth.io import write_output
 __all__ = ["write_report"]
 
 
-def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plansynth benchmark report",
-                 planned: Sequence[tuple[str, str, int]] | None = None, image_prefix: str = "",
-                 html: bool = True) -> Path:
+def write_report(
+    db_path: str | Path,
+    out_dir: str | Path,
+    *,
+    title: str = "plansynth benchmark report",
+    planned: Sequence[tuple[str, str, int]] | None = None,
+    image_prefix: str = "",
+    html: bool = True,
+) -> Path:
     """Write ``out_dir/REPORT.md`` and its PNG figures from the database; returns the path.
 
     ``html``: also write ``out_dir/REPORT.html``, the same report as one self-contained
@@ -49,16 +55,21 @@ def write_report(db_path: str | Path, out_dir: str | Path, *, title: str = "plan
     cells = summarise(runs)
     machine = json.loads(info.get("machine", "{}"))
     L: list[str] = [f"# {title}", ""]
-    L.append(f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from `{Path(db_path).name}` "
-             f"({len(runs)} runs). Machine: {machine.get('cpuinfo', '?')}; Python {machine.get('python', '?')}; "
-             + ", ".join(f"{k} {v}" for k, v in (machine.get("versions") or {}).items() if v) + ".")
+    L.append(
+        f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from `{Path(db_path).name}` "
+        f"({len(runs)} runs). Machine: {machine.get('cpuinfo', '?')}; Python {machine.get('python', '?')}; "
+        + ", ".join(f"{k} {v}" for k, v in (machine.get("versions") or {}).items() if v)
+        + "."
+    )
     L.append("")
-    L.append("Times are medians over repeats, in seconds, measured by each solver around its own solve "
-             "(problem construction and process start excluded). `> T` means no repeat answered within the "
-             "limit T; the statuses say what happened (`unknown`: the solver's budget ran out; `timeout`: "
-             "killed by the runner; `crash`/`memout`: the child died). A result counts as solved only if the "
-             "independent checker accepted it (grid: `plansynth.grid.verify`; reach: `plansynth.reach.validate`). "
-             "Paper numbers were measured in 2016 on the authors' machines; they are context, not a comparison.")
+    L.append(
+        "Times are medians over repeats, in seconds, measured by each solver around its own solve "
+        "(problem construction and process start excluded). `> T` means no repeat answered within the "
+        "limit T; the statuses say what happened (`unknown`: the solver's budget ran out; `timeout`: "
+        "killed by the runner; `crash`/`memout`: the child died). A result counts as solved only if the "
+        "independent checker accepted it (grid: `plansynth.grid.verify`; reach: `plansynth.reach.validate`). "
+        "Paper numbers were measured in 2016 on the authors' machines; they are context, not a comparison."
+    )
     L.append("")
     if planned:
         missing = [k for k in planned if tuple(k) not in done]

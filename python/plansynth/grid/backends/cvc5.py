@@ -136,7 +136,9 @@ class Cvc5Backend:
 
     name = "cvc5"
 
-    def __init__(self, options: Sequence[str] | Mapping[str, Any] | None = None, keep_sl: str | Path | None = None) -> None:
+    def __init__(
+        self, options: Sequence[str] | Mapping[str, Any] | None = None, keep_sl: str | Path | None = None
+    ) -> None:
         self.options = parse_options(options)
         check_options(self.options)
         self.keep_sl = keep_sl
@@ -159,8 +161,12 @@ class Cvc5Backend:
             "sl_chars": len(text),
         }
         outcome = run_isolated(
-            _timed_run, text, self.options, sl_file_name(problem, steps, depth_bound),
-            timeout=budget.seconds, memory_mb=budget.memory_mb,
+            _timed_run,
+            text,
+            self.options,
+            sl_file_name(problem, steps, depth_bound),
+            timeout=budget.seconds,
+            memory_mb=budget.memory_mb,
         )
         seconds = time.perf_counter() - start
         if isinstance(outcome, Finished):
@@ -170,8 +176,19 @@ class Cvc5Backend:
             return outcome_from_answer(problem, steps, output, "cvc5", seconds, counters, artefact)
         if isinstance(outcome, Crash):
             limit = "" if budget.memory_mb is None else f" (memory limit {budget.memory_mb} MB)"
-            return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
-                                 message=f"cvc5 crashed: {outcome.describe()}{limit}", artefact=artefact)
-        return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
-                             message=f"cvc5 ran out of the time budget ({budget.seconds:.3g} s)", artefact=artefact)
-
+            return LengthOutcome(
+                GridStatus.UNKNOWN,
+                steps,
+                seconds=seconds,
+                counters=counters,
+                message=f"cvc5 crashed: {outcome.describe()}{limit}",
+                artefact=artefact,
+            )
+        return LengthOutcome(
+            GridStatus.UNKNOWN,
+            steps,
+            seconds=seconds,
+            counters=counters,
+            message=f"cvc5 ran out of the time budget ({budget.seconds:.3g} s)",
+            artefact=artefact,
+        )

@@ -32,7 +32,7 @@ def main(argv: list[str] | None = None) -> int:
         text, _ = read_text(files[0])  # regular UTF-8 file within plansynth's size limit
         sys.stdout.write(run_sygus_text(text, options, files[0]))
     except (OSError, RuntimeError, InvalidProblem) as exc:
-        print(f"(error \"{str(exc).strip()}\")", file=sys.stderr)
+        print(f'(error "{str(exc).strip()}")', file=sys.stderr)
         return 1
     sys.stdout.flush()
     return 0

@@ -71,7 +71,9 @@ class ExternalBackend:
         except ValueError as exc:
             raise SolverUnavailable("external", f"cannot read the command {command!r}: {exc}") from None
         if not argv or shutil.which(argv[0]) is None:
-            raise SolverUnavailable("external", f"command {argv[0] if argv else command!r} not found on PATH ({_EXAMPLE})")
+            raise SolverUnavailable(
+                "external", f"command {argv[0] if argv else command!r} not found on PATH ({_EXAMPLE})"
+            )
         self.command = command
         self.keep_sl = keep_sl
 
@@ -97,13 +99,25 @@ class ExternalBackend:
         seconds = time.perf_counter() - start
         counters["exit_status"] = code
         if status == "timeout":
-            return LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
-                                 message=f"{argv[0]} ran out of the time budget ({budget.seconds:.3g} s)", artefact=kept)
+            return LengthOutcome(
+                GridStatus.UNKNOWN,
+                steps,
+                seconds=seconds,
+                counters=counters,
+                message=f"{argv[0]} ran out of the time budget ({budget.seconds:.3g} s)",
+                artefact=kept,
+            )
         outcome = outcome_from_answer(problem, steps, stdout, argv[0], seconds, counters, kept)
         if outcome.status is GridStatus.UNKNOWN and stderr.strip():
             tail = " ".join(stderr.strip().split())[-300:]
-            outcome = LengthOutcome(GridStatus.UNKNOWN, steps, seconds=seconds, counters=counters,
-                                    message=f"{outcome.message} (exit status {code}; stderr: {tail})", artefact=kept)
+            outcome = LengthOutcome(
+                GridStatus.UNKNOWN,
+                steps,
+                seconds=seconds,
+                counters=counters,
+                message=f"{outcome.message} (exit status {code}; stderr: {tail})",
+                artefact=kept,
+            )
         return outcome
 
 
@@ -125,8 +139,15 @@ def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | N
     from plansynth.procs import kill_tree, new_tag, pdeathsig_preexec, snapshot, tagged_env
 
     tag = new_tag()
-    proc = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            start_new_session=True, preexec_fn=pdeathsig_preexec(), env=tagged_env(tag))
+    proc = subprocess.Popen(
+        argv,
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+        preexec_fn=pdeathsig_preexec(),
+        env=tagged_env(tag),
+    )
     assert proc.stdout is not None and proc.stderr is not None
     fd_out, fd_err = proc.stdout.fileno(), proc.stderr.fileno()
     buffers = {fd_out: bytearray(), fd_err: bytearray()}
@@ -178,4 +199,3 @@ def _run(argv: list[str], timeout: float | None) -> tuple[str, str, str, int | N
         proc.stderr.close()
     out, err = (bytes(buffers[fd]).decode("utf-8", errors="replace") for fd in (fd_out, fd_err))
     return status, out, err, proc.returncode
-

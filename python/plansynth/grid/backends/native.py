@@ -29,7 +29,9 @@ class NativeBackend:
     def __init__(self, options: NativeOptions | list[str] | tuple[str, ...] = (), **kwargs: Any) -> None:
         if isinstance(options, NativeOptions):
             if kwargs:
-                raise InvalidOption("native", "options", "give the native options as one NativeOptions or as keywords, not both")
+                raise InvalidOption(
+                    "native", "options", "give the native options as one NativeOptions or as keywords, not both"
+                )
             self.options = options
         else:
             self.options = NativeOptions.parse(options, **kwargs)
@@ -42,6 +44,7 @@ class NativeBackend:
         core = fast.core_version() if fast.available() else "pure-python"
         return f"plansynth {py_version} (core {core})"
 
-    def solve_length(self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+    def solve_length(
+        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+    ) -> LengthOutcome:
         return self._engine.solve_length(problem, steps, budget, depth_bound=depth_bound)
-

@@ -43,7 +43,10 @@ def effort(run: RunState, clock: Clock) -> float:
         want = DEFAULT_EFFORT if b is None else min(DEFAULT_EFFORT, 0.1 * b)
     return max(0.0, min(want, clock.remaining() - 0.05))
 
-def answer_program(run: RunState, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None) -> Term | None:
+
+def answer_program(
+    run: RunState, arena: Arena, strategy: Strategy, clock: Clock, depth_bound: int | None
+) -> Term | None:
     """A small program choosing an allowed move in every state the strategy reaches.
 
     Answer first: the greedy tree over the enumerated conditions is correct by
@@ -89,8 +92,10 @@ def answer_program(run: RunState, arena: Arena, strategy: Strategy, clock: Clock
     run.counters["program_depth"] = depth(program)
     return program
 
-def _keep_smaller(run: RunState, arena: Arena, allowed, inputs, graph: GameGraph | ArenaCheck, program: Term,
-                  clock: Clock) -> Term:
+
+def _keep_smaller(
+    run: RunState, arena: Arena, allowed, inputs, graph: GameGraph | ArenaCheck, program: Term, clock: Clock
+) -> Term:
     """The default answer or a plain greedy tree over the same strategy, whichever is
     shallower (both checked on the game graph): the greedy tree over every condition up
     to ``condition_depth`` (the answer's own tree uses depth <= 3, which is shallowest
@@ -101,9 +106,16 @@ def _keep_smaller(run: RunState, arena: Arena, allowed, inputs, graph: GameGraph
     try:
         run.check_conditions_fit(len(inputs), len(arena.variables()), arena.problem, clock)
         if run.o.use_rust is not False and fast.available():
-            plain = fast.greedy_from_enumeration(inputs, arena.variables(), arena.problem.max_constant,
-                                                 run.o.condition_depth, condition_limit(len(inputs)), allowed,
-                                                 len(arena.robot.moves), 10_000)
+            plain = fast.greedy_from_enumeration(
+                inputs,
+                arena.variables(),
+                arena.problem.max_constant,
+                run.o.condition_depth,
+                condition_limit(len(inputs)),
+                allowed,
+                len(arena.robot.moves),
+                10_000,
+            )
         else:
             enum = run.conditions(inputs, arena.variables(), arena.problem, run.o.condition_depth, clock)
             plain = greedy_program(allowed, enum.conditions, len(arena.robot.moves), use_rust=False)
@@ -124,8 +136,16 @@ def _keep_smaller(run: RunState, arena: Arena, allowed, inputs, graph: GameGraph
     return program
 
 
-def _smaller(run: RunState, arena: Arena, allowed, enum: Enumeration, graph: GameGraph | ArenaCheck, program: Term,
-             clock: Clock, deadline: float) -> Term:
+def _smaller(
+    run: RunState,
+    arena: Arena,
+    allowed,
+    enum: Enumeration,
+    graph: GameGraph | ArenaCheck,
+    program: Term,
+    clock: Clock,
+    deadline: float,
+) -> Term:
     """Tree SAT at depths below the current program's, largest first, until one
     fails or the effort is spent; every program kept passes the game-graph check."""
     n_moves = len(arena.robot.moves)
@@ -140,8 +160,16 @@ def _smaller(run: RunState, arena: Arena, allowed, enum: Enumeration, graph: Gam
         if d > run.o.max_tree_depth:
             break  # a tree SAT this deep does not fit a small effort
         try:
-            better = tree_program(allowed, useful, d, n_moves, clock, max_clauses=run.o.max_clauses,
-                                  max_conflicts=run.o.conflicts, max_seconds=left)
+            better = tree_program(
+                allowed,
+                useful,
+                d,
+                n_moves,
+                clock,
+                max_clauses=run.o.max_clauses,
+                max_conflicts=run.o.conflicts,
+                max_seconds=left,
+            )
         except BudgetExhausted:
             if clock.exhausted():
                 raise
@@ -156,9 +184,19 @@ def _smaller(run: RunState, arena: Arena, allowed, enum: Enumeration, graph: Gam
         # any winning strategy will do, not only this one: the exact depth search over
         # the whole game when it is small (its encoding is built before any clock check)
         try:
-            found, _, _ = minimal_program(arena, clock, depth(program) - 1, run, arena.problem, cond_depth=3,
-                                          max_clauses=run.o.max_clauses, max_conflicts=run.o.conflicts,
-                                          max_seconds=left, total_seconds=left, skip_hard=True)
+            found, _, _ = minimal_program(
+                arena,
+                clock,
+                depth(program) - 1,
+                run,
+                arena.problem,
+                cond_depth=3,
+                max_clauses=run.o.max_clauses,
+                max_conflicts=run.o.conflicts,
+                max_seconds=left,
+                total_seconds=left,
+                skip_hard=True,
+            )
         except BudgetExhausted:
             if clock.exhausted():
                 raise

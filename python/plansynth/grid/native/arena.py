@@ -75,7 +75,18 @@ class Arena:
 
     # -- construction --------------------------------------------------------------
     @classmethod
-    def build(cls, problem: GridProblem, steps: int, cone: Cone, read: tuple[int, ...], clock: Clock | None = None, max_states: int | None = None, explore: bool = True, memory_mb: int | None = None, use_rust: bool | None = None) -> "Arena":
+    def build(
+        cls,
+        problem: GridProblem,
+        steps: int,
+        cone: Cone,
+        read: tuple[int, ...],
+        clock: Clock | None = None,
+        max_states: int | None = None,
+        explore: bool = True,
+        memory_mb: int | None = None,
+        use_rust: bool | None = None,
+    ) -> "Arena":
         """Explore the states reachable from the start that can still reach the goal.
 
         Stops with :class:`~plansynth.budget.BudgetExhausted` when the clock runs out (keeping the time that
@@ -122,15 +133,28 @@ class Arena:
         def delta(o) -> int:
             return o[1] * w + o[0]
 
-        robot = [(b(self.robot.valid[k]), b(self.robot.free[k]), delta(m.to), [delta(o) for o in m.offsets()])
-                 for k, m in enumerate(self.robot.moves)]
+        robot = [
+            (b(self.robot.valid[k]), b(self.robot.free[k]), delta(m.to), [delta(o) for o in m.offsets()])
+            for k, m in enumerate(self.robot.moves)
+        ]
         obstacles = []
         for i in self.read:
             g = AgentGeometry.obstacle(p, i)
-            obstacles.append([(b(g.valid[k]), delta(m.to), [delta(o) for o in m.offsets()]) for k, m in enumerate(g.moves)])
+            obstacles.append(
+                [(b(g.valid[k]), delta(m.to), [delta(o) for o in m.offsets()]) for k, m in enumerate(g.moves)]
+            )
         oc0 = [self.sem.index(p.obstacles[i].start) for i in self.read]
-        return core.Arena(n, self.steps, robot, obstacles, [b(d) for d in self.abstract_danger], [b(x) for x in self.live],
-                          self.sem.index(p.robot.start), self.sem.index(p.robot.goal), oc0)
+        return core.Arena(
+            n,
+            self.steps,
+            robot,
+            obstacles,
+            [b(d) for d in self.abstract_danger],
+            [b(x) for x in self.live],
+            self.sem.index(p.robot.start),
+            self.sem.index(p.robot.goal),
+            oc0,
+        )
 
     def core_seconds(self, clock: Clock | None) -> float | None:
         """Seconds a call of the compiled core may use (None: no limit): what is left,
@@ -182,7 +206,10 @@ class Arena:
         configs, tuples = self._footprint()
         if clock is not None and clock.remaining() <= self.FREE_SECONDS_PER_OBJECT * (configs + tuples):
             return "time"
-        if memory_bytes is not None and configs * self.BYTES_PER_CONFIG + tuples * self.BYTES_PER_SUCCESSOR > memory_bytes:
+        if (
+            memory_bytes is not None
+            and configs * self.BYTES_PER_CONFIG + tuples * self.BYTES_PER_SUCCESSOR > memory_bytes
+        ):
             return "memory"
         return None
 
@@ -208,7 +235,9 @@ class Arena:
             self.layers.append(nxt)
             count += len(nxt)
             if max_states is not None and count > max_states:
-                raise BudgetExhausted("exploring the game", "configurations", f"more than {max_states} obstacle configurations")
+                raise BudgetExhausted(
+                    "exploring the game", "configurations", f"more than {max_states} obstacle configurations"
+                )
 
     def _explore_stopped(self, why: str | None, clock: Clock | None, t: int, configs: int) -> None:
         """Raise why the reference exploration stops at step ``t``."""
@@ -216,10 +245,13 @@ class Arena:
         if why == "time":  # what is left would not free the game
             raise BudgetExhausted("exploring the game", "time", f"exploring the game{where}: out of time")
         check_clock(clock, "exploring the game", where)
-        raise BudgetExhausted("exploring the game", "memory",
-                              f"exploring the game at step {t}: the game outgrows the memory budget of "
-                              f"{(self.memory_bytes or 0) >> 20} MB ({configs} obstacle configurations, "
-                              f"{self._succ_tuples} joint obstacle moves)")
+        raise BudgetExhausted(
+            "exploring the game",
+            "memory",
+            f"exploring the game at step {t}: the game outgrows the memory budget of "
+            f"{(self.memory_bytes or 0) >> 20} MB ({configs} obstacle configurations, "
+            f"{self._succ_tuples} joint obstacle moves)",
+        )
 
     # -- local facts ---------------------------------------------------------------
     def successors(self, oc: Config) -> tuple[Config, ...]:

@@ -145,8 +145,9 @@ class GameGraph:
             for k in range(n_moves):
                 robot_end[r * n_moves + k] = arena.robot_end(r, k) if cells >> r & 1 else r
         start = arena.sem.index(arena.problem.robot.start)
-        compiled = core.build_game_graph(n_moves, arena.steps, arena.problem.width, start, configs, successors,
-                                         robot_end, layers)
+        compiled = core.build_game_graph(
+            n_moves, arena.steps, arena.problem.width, start, configs, successors, robot_end, layers
+        )
         g = cls(n_moves, arena.variables(), [], [], [], [], [], None)
         g._compiled = compiled  # the arrays stay in the core until asked for (materialize)
         g._sizes = compiled.sizes()
@@ -163,7 +164,9 @@ class GameGraph:
         return self
 
     @classmethod
-    def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+    def from_arena_reference(
+        cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None
+    ) -> "GameGraph":
         """:meth:`from_arena` in pure Python (the reference of ``build_game_graph``)."""
         n_moves = len(arena.robot.moves)
         steps = arena.steps
@@ -256,7 +259,7 @@ class GameGraph:
             if not isinstance(k, int) or isinstance(k, bool) or not 0 <= k < n or not self.win[p] >> k & 1:
                 return p
             i = p * n + k
-            for q in self.succ[self.off[i]:self.off[i + 1]]:
+            for q in self.succ[self.off[i] : self.off[i + 1]]:
                 if q not in seen:
                     seen.add(q)
                     queue.append(q)
@@ -271,8 +274,9 @@ class GameGraph:
             if not fast.available() or not hasattr(fast._core, "GameGraph"):
                 self.use_rust = False
                 return None
-            self._compiled = fast._core.GameGraph(self.n_moves, self.state_of, self.win, self.off, self.succ,
-                                                  [list(x) for x in self.inputs])
+            self._compiled = fast._core.GameGraph(
+                self.n_moves, self.state_of, self.win, self.off, self.succ, [list(x) for x in self.inputs]
+            )
         return self._compiled
 
 
@@ -378,7 +382,11 @@ def _compact(ops: list[tuple[int, int, int, int]]) -> list[tuple[int, int, int, 
             return keep[i]
         op, a, b, c = ops[i]
         kids = [go(x) for x in (a, b, c)[: arity[op]]] + [0, 0, 0]
-        row = (op, a, 0, 0) if arity[op] == 0 else (op, kids[0], kids[1] if arity[op] > 1 else 0, kids[2] if arity[op] > 2 else 0)
+        row = (
+            (op, a, 0, 0)
+            if arity[op] == 0
+            else (op, kids[0], kids[1] if arity[op] > 1 else 0, kids[2] if arity[op] > 2 else 0)
+        )
         out.append(row)
         keep[i] = len(out) - 1
         return keep[i]

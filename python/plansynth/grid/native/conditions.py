@@ -44,12 +44,16 @@ class Enumeration:
     complete_to: int  # every behaviour of a condition of depth <= this is present
 
 
-def _values(term_vals: dict[tuple[int, ...], Term], new: dict[tuple[int, ...], Term], vec: tuple[int, ...], t: Term) -> None:
+def _values(
+    term_vals: dict[tuple[int, ...], Term], new: dict[tuple[int, ...], Term], vec: tuple[int, ...], t: Term
+) -> None:
     if vec not in term_vals and vec not in new:
         new[vec] = t
 
 
-def arithmetic_terms(states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int, max_depth: int) -> list[tuple[int, tuple[int, ...], Term]]:
+def arithmetic_terms(
+    states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int, max_depth: int
+) -> list[tuple[int, tuple[int, ...], Term]]:
     """Integer terms up to ``max_depth``, one per value vector: (depth, values, term)."""
     seen: dict[tuple[int, ...], Term] = {}
     out: list[tuple[int, tuple[int, ...], Term]] = []
@@ -191,13 +195,19 @@ def check_enumeration_fits(n_states: int, n_vars: int, max_constant: int, clock:
     need = work / CONDITION_CELLS_PER_SECOND
     nbytes = min(limit, 2 * terms * terms) * (n_states // 8 + 64) + terms * n_states * 8
     if need > clock.remaining():
-        raise BudgetExhausted("enumerating conditions", "time",
-                              f"enumerating conditions over {n_states} program states would take about "
-                              f"{need:.0f} s ({max(0.0, clock.remaining()):.1f} s left)")
+        raise BudgetExhausted(
+            "enumerating conditions",
+            "time",
+            f"enumerating conditions over {n_states} program states would take about "
+            f"{need:.0f} s ({max(0.0, clock.remaining()):.1f} s left)",
+        )
     if nbytes > (memory_mb << 20):
-        raise BudgetExhausted("enumerating conditions", "memory",
-                              f"enumerating conditions over {n_states} program states needs about "
-                              f"{nbytes >> 20} MB (memory budget {memory_mb} MB)")
+        raise BudgetExhausted(
+            "enumerating conditions",
+            "memory",
+            f"enumerating conditions over {n_states} program states needs about "
+            f"{nbytes >> 20} MB (memory budget {memory_mb} MB)",
+        )
 
 
 def smallest(term: Term) -> tuple[int, int]:

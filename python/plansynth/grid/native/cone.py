@@ -115,8 +115,9 @@ def _tick(clock, what: str, t: int) -> None:
     check_clock(clock, what, f" at step {t}")
 
 
-def robot_live(robot: AgentGeometry, start: int, goal: int, steps: int, danger: tuple[int, ...] | None = None,
-               clock=None) -> tuple[int, ...]:
+def robot_live(
+    robot: AgentGeometry, start: int, goal: int, steps: int, danger: tuple[int, ...] | None = None, clock=None
+) -> tuple[int, ...]:
     """Robot cells at each time t on a path start -> goal of exactly ``steps`` steps.
 
     With ``danger`` (a mask per step), a move that sweeps ``danger[t]`` in step t is

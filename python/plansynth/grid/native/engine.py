@@ -76,21 +76,26 @@ class Engine:
 
     def __init__(self, options: NativeOptions | None = None, **values: Any) -> None:
         if options is not None and values:
-            raise InvalidOption("native", "options", "give the native options as one NativeOptions or as keywords, not both")
+            raise InvalidOption(
+                "native", "options", "give the native options as one NativeOptions or as keywords, not both"
+            )
         self.options = options if options is not None else NativeOptions.parse(**values)
 
-    def solve_length(self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+    def solve_length(
+        self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None
+    ) -> LengthOutcome:
         """Decide length ``steps`` within ``budget`` (a fresh run: nothing is kept);
         ``steps`` is None for the objectives without a path length."""
         return _Run(self.options).solve_length(problem, steps, budget, depth_bound=depth_bound)
-
 
 
 class _Run(RunState):
     """One solve of one length through the stages (the module docstring), on the state
     of the run (:class:`~plansynth.grid.native.run.RunState`)."""
 
-    def solve_length(self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None) -> LengthOutcome:
+    def solve_length(
+        self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None
+    ) -> LengthOutcome:
         clock = budget.clock()
         t0 = time.perf_counter()
         self.start(budget, t0)
@@ -103,8 +108,11 @@ class _Run(RunState):
         if status is GridStatus.REALIZABLE and depth_bound is not None and depth(program) > depth_bound:
             # (a path that builds its program without the bound, e.g. reading clock obstacles):
             # the question was "a program of depth <= D", and this one does not answer it
-            status, program, message = GridStatus.UNKNOWN, None, (
-                f"a winning program of depth {depth(program)} was found, none of depth <= {depth_bound}")
+            status, program, message = (
+                GridStatus.UNKNOWN,
+                None,
+                (f"a winning program of depth {depth(program)} was found, none of depth <= {depth_bound}"),
+            )
         if status is GridStatus.REALIZABLE:
             self.counters["depth_minimal"] = "proved" if self.counters.get("minimal_depth_proved") else "not proved"
         return LengthOutcome(
@@ -127,7 +135,9 @@ class _Run(RunState):
         self.counters["relevant_obstacles"] = len(cone.relevant)
         self.counters["dropped_obstacles"] = len(problem.obstacles) - len(cone.relevant)
         if not cone.goal_reachable:
-            ref = Refutation("goal", steps, detail=f"the goal cannot be reached in exactly {steps} steps even without obstacles")
+            ref = Refutation(
+                "goal", steps, detail=f"the goal cannot be reached in exactly {steps} steps even without obstacles"
+            )
             return GridStatus.UNREALIZABLE, None, ref.detail, ref
         exact_bound = self.o.minimize or depth_bound is not None
 
@@ -142,7 +152,12 @@ class _Run(RunState):
                 program = answer_program(self, blind, strategy, clock, depth_bound)
                 if program is not None and not exact_bound:
                     return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
-                if program is not None and depth_bound is not None and not self.o.minimize and depth(program) <= depth_bound:
+                if (
+                    program is not None
+                    and depth_bound is not None
+                    and not self.o.minimize
+                    and depth(program) <= depth_bound
+                ):
                     return GridStatus.REALIZABLE, program, "obstacle-blind controller", None
                 if self.o.minimize:
                     blind_program = self._blind_minimal(problem, blind, clock, program)
@@ -151,13 +166,26 @@ class _Run(RunState):
                         # search refuted it exactly, so depth 4 (or 1) is minimal.
                         self.counters["program_depth"] = depth(blind_program)
                         self.counters["minimal_depth_proved"] = True
-                        return GridStatus.REALIZABLE, blind_program, f"depth {depth(blind_program)} is minimal (proved)", None
+                        return (
+                            GridStatus.REALIZABLE,
+                            blind_program,
+                            f"depth {depth(blind_program)} is minimal (proved)",
+                            None,
+                        )
 
         # Stages 3-4: the joint game over the relevant obstacles.
         try:
             self.phase("blind")
-            arena = Arena.build(problem, steps, cone, cone.relevant, clock, self.o.max_configs, memory_mb=self.memory_mb,
-                                use_rust=self.o.use_rust)
+            arena = Arena.build(
+                problem,
+                steps,
+                cone,
+                cone.relevant,
+                clock,
+                self.o.max_configs,
+                memory_mb=self.memory_mb,
+                use_rust=self.o.use_rust,
+            )
             self.counters["configurations"] = arena.config_count()
             self.counters["states"] = arena.state_count()
             won = arena.start_alive() and arena.solve_game(clock)
@@ -177,9 +205,15 @@ class _Run(RunState):
                 raise
             self.counters["program_depth"] = depth(blind_program)
             self.counters["minimal_depth_proved"] = False
-            return GridStatus.REALIZABLE, blind_program, (
-                f"obstacle-blind controller of depth {depth(blind_program)}; smaller programs reading obstacles "
-                f"not excluded ({exc})"), None
+            return (
+                GridStatus.REALIZABLE,
+                blind_program,
+                (
+                    f"obstacle-blind controller of depth {depth(blind_program)}; smaller programs reading obstacles "
+                    f"not excluded ({exc})"
+                ),
+                None,
+            )
         strategy = stationary_strategy(arena, clock, quick=self.o.quick)
         self.phase("stationary")
         if strategy is None:
@@ -212,17 +246,34 @@ class _Run(RunState):
             # time. Decide exactly by reading them too (they never collide).
             clocks = tuple(i for i in range(len(problem.obstacles)) if i not in cone.relevant and not cone.parkable[i])
             read = tuple(sorted(cone.relevant + clocks))
-            full = Arena.build(problem, arena.steps, cone, read, clock, self.o.max_configs, memory_mb=self.memory_mb,
-                               use_rust=self.o.use_rust)
+            full = Arena.build(
+                problem,
+                arena.steps,
+                cone,
+                read,
+                clock,
+                self.o.max_configs,
+                memory_mb=self.memory_mb,
+                use_rust=self.o.use_rust,
+            )
             self.counters["clock_obstacles"] = len(clocks)
             if full.layers[0] and full.solve_game(clock):
                 strategy = stationary_strategy(full, clock, quick=self.o.quick)
                 if strategy is not None:
                     self.counters["stage"] = "joint+clock"
                     program = answer_program(self, full, strategy, clock, None)
-                    return GridStatus.REALIZABLE, program, "controller reads obstacles outside the cone as a clock", None
-        ref = Refutation("stationary", arena.steps, arena,
-                         "controllers that see the time would win, but no controller that sees only positions does")
+                    return (
+                        GridStatus.REALIZABLE,
+                        program,
+                        "controller reads obstacles outside the cone as a clock",
+                        None,
+                    )
+        ref = Refutation(
+            "stationary",
+            arena.steps,
+            arena,
+            "controllers that see the time would win, but no controller that sees only positions does",
+        )
         return GridStatus.UNREALIZABLE, None, ref.detail, ref
 
     # -- programs ----------------------------------------------------------------------
@@ -236,8 +287,17 @@ class _Run(RunState):
                 raise AssertionError(f"native engine bug: program {found} does not win")
             self.counters["program_depth"] = depth(found)
             self.counters["minimal_depth_proved"] = bool(proved and parkable)
-            msg = f"depth {depth(found)} is minimal (proved)" if proved and parkable else f"depth {depth(found)}; smaller depths not excluded"
+            msg = (
+                f"depth {depth(found)} is minimal (proved)"
+                if proved and parkable
+                else f"depth {depth(found)}; smaller depths not excluded"
+            )
             return GridStatus.REALIZABLE, found, msg, None
         if proved and parkable:
             return GridStatus.UNREALIZABLE, None, f"no program of depth <= {d_used} wins", None
-        return GridStatus.UNKNOWN, None, f"no program of depth <= {d_used} found; conditions not enumerated completely", None
+        return (
+            GridStatus.UNKNOWN,
+            None,
+            f"no program of depth <= {d_used} found; conditions not enumerated completely",
+            None,
+        )

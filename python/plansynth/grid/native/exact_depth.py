@@ -21,9 +21,19 @@ from plansynth.grid.problem import GridProblem
 __all__ = ["minimal_program"]
 
 
-def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, run: RunState, problem: GridProblem,
-                    cond_depth: int | None = None, max_clauses: int | None = None, max_conflicts: int | None = None,
-                    max_seconds: float | None = None, total_seconds: float | None = None, skip_hard: bool = False):
+def minimal_program(
+    arena: Arena,
+    clock: Clock,
+    depth_bound: int | None,
+    run: RunState,
+    problem: GridProblem,
+    cond_depth: int | None = None,
+    max_clauses: int | None = None,
+    max_conflicts: int | None = None,
+    max_seconds: float | None = None,
+    total_seconds: float | None = None,
+    skip_hard: bool = False,
+):
     """Search program depths 1, 4, 5, ... for a winning program over the whole game.
 
     Returns ``(program or None, proved, last depth tried)``; ``proved`` is True when
@@ -32,17 +42,21 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, run: Ru
     fwd = winning_forward(arena)
     states = sorted({(r, oc) for layer in fwd[:-1] for oc, m in layer.items() for r in bits(m)})
     top_ = depth_bound if depth_bound is not None else run.o.max_tree_depth
-    if max_clauses is not None and (len(states) > run.o.improve_states or len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50):
-        raise BudgetExhausted("the exact depth search", "states",
-                              f"{len(states)} states are too many for the exact depth search")
+    if max_clauses is not None and (
+        len(states) > run.o.improve_states or len(states) * 2 ** tree_levels(min(top_, 5)) > max_clauses // 50
+    ):
+        raise BudgetExhausted(
+            "the exact depth search", "states", f"{len(states)} states are too many for the exact depth search"
+        )
     clauses, ids, fwd = encode_stationary(arena, clock, fwd=fwd)
     inputs = [arena.inputs(r, oc) for r, oc in states]
     run.counters["universe_states"] = len(states)
     top = depth_bound if depth_bound is not None else run.o.max_tree_depth
     cap = min(5, run.o.condition_depth + 1) if cond_depth is None else cond_depth
     if max_clauses is not None and len(states) * 2 ** tree_levels(min(top, 5)) > max_clauses // 50:
-        raise BudgetExhausted("the exact depth search", "states",
-                              f"{len(states)} states are too many for the exact depth search")
+        raise BudgetExhausted(
+            "the exact depth search", "states", f"{len(states)} states are too many for the exact depth search"
+        )
     n_moves = len(arena.robot.moves)
     proved = True
     last = 0
@@ -57,7 +71,9 @@ def minimal_program(arena: Arena, clock: Clock, depth_bound: int | None, run: Ru
             enums[need] = run.conditions(inputs, arena.variables(), problem, need, clock)
         enum = enums[need]
         by_level = conditions_by_level(enum.conditions, d, len(states))
-        est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(states)
+        est = len(clauses) + sum(len(by_level[(n + 1).bit_length() - 1]) for n in range(2 ** tree_levels(d) - 1)) * len(
+            states
+        )
         run.counters["exact_search_clauses"] = est
         if max_clauses is not None and est > max_clauses:
             raise BudgetExhausted("the exact depth search", "clauses", f"depth-{d} search of about {est} clauses")

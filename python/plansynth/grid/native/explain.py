@@ -179,8 +179,9 @@ class ObstacleStrategy:
         return joint, val
 
 
-def witness_play(problem: GridProblem, arena: Arena,
-                 strategy: ObstacleStrategy | None = None) -> tuple[list[Turn], State]:
+def witness_play(
+    problem: GridProblem, arena: Arena, strategy: ObstacleStrategy | None = None
+) -> tuple[list[Turn], State]:
     """Play the obstacles' strategy (:class:`ObstacleStrategy`) against a robot that
     postpones its loss for as long as it can."""
     strategy = strategy or ObstacleStrategy(problem, arena)
@@ -203,8 +204,13 @@ def witness_play(problem: GridProblem, arena: Arena,
         play.append(Turn(t, state, k, joint))
         state = out.state
     last = play[-1]
-    play[-1] = Turn(last.t, last.state, last.robot_move, last.obstacle_moves,
-                    f"not on the goal after step {steps - 1}: the robot is at {state.robot}")
+    play[-1] = Turn(
+        last.t,
+        last.state,
+        last.robot_move,
+        last.obstacle_moves,
+        f"not on the goal after step {steps - 1}: the robot is at {state.robot}",
+    )
     return play, state
 
 

@@ -32,7 +32,9 @@ def core_version() -> str:
     return _core.core_version() if _core is not None else "none"
 
 
-def enumerate_conditions(states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int, max_depth: int, limit: int | None) -> Enumeration:
+def enumerate_conditions(
+    states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int, max_depth: int, limit: int | None
+) -> Enumeration:
     """:func:`plansynth.grid.native.conditions._enumerate`, compiled."""
     rows = [list(s) for s in states]
     terms_raw, conds_raw, complete_to = _core.enumerate_conditions(rows, len(variables), max_constant, max_depth, limit)
@@ -56,7 +58,9 @@ def enumerate_conditions(states: Sequence[Sequence[int]], variables: Sequence[st
     return Enumeration(tuple(conds), complete_to)
 
 
-def greedy_tree(conds: Sequence[Condition], allowed: Sequence[Sequence[int]], n_moves: int, max_nodes: int) -> list[tuple[int, int]] | None:
+def greedy_tree(
+    conds: Sequence[Condition], allowed: Sequence[Sequence[int]], n_moves: int, max_nodes: int
+) -> list[tuple[int, int]] | None:
     """The pre-order nodes of :func:`plansynth.grid.native.synth.greedy_program`'s tree,
     compiled: ``(0, k)`` a leaf playing move k, ``(1, j)`` a split on ``conds[j]``; None
     when more than ``max_nodes`` splits are needed."""
@@ -82,9 +86,16 @@ def term_sizes(terms: Sequence[Term]) -> list[int]:
     return [size_of(t) for t in terms]
 
 
-def greedy_from_enumeration(states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int,
-                            max_depth: int, limit: int | None, allowed: Sequence[Sequence[int]], n_moves: int,
-                            max_nodes: int) -> Term | None:
+def greedy_from_enumeration(
+    states: Sequence[Sequence[int]],
+    variables: Sequence[str],
+    max_constant: int,
+    max_depth: int,
+    limit: int | None,
+    allowed: Sequence[Sequence[int]],
+    n_moves: int,
+    max_nodes: int,
+) -> Term | None:
     """:func:`~plansynth.grid.native.synth.greedy_program` over every condition up to
     ``max_depth``, without building a term for each condition: the behaviours stay raw
     between the enumeration and the tree, and only the conditions the tree splits on
@@ -112,7 +123,13 @@ def greedy_from_enumeration(states: Sequence[Sequence[int]], variables: Sequence
         t = term_memo.get(i)
         if t is None:
             kind, a, b, _ = terms_raw[i]
-            t = Const(a) if kind == 0 else Var(variables[a]) if kind == 1 else App("+" if kind == 2 else "-", (term(a), term(b)))
+            t = (
+                Const(a)
+                if kind == 0
+                else Var(variables[a])
+                if kind == 1
+                else App("+" if kind == 2 else "-", (term(a), term(b)))
+            )
             term_memo[i] = t
         return t
 

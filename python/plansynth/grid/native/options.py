@@ -38,27 +38,38 @@ MAX_TREE_DEPTH = 9
 class NativeOptions:
     """Every option of the native engine, each with what it does (``--help``, the docs)."""
 
-    minimize: bool = option(False, "search program depths 1, 4, 5, ... over every winning strategy and return "
-                                   "the smallest, proved minimal when the condition enumeration is complete "
-                                   "(--minimize)")
-    effort: float | None = option(None, "seconds spent making the first verified program smaller with tree SAT "
-                                        "(--effort; default 0.05 s or 10% of the budget, whichever is smaller; 0 "
-                                        "returns the first program)", minimum=0)
-    condition_depth: int = option(CONDITION_DEPTH, "deepest condition enumerated for the exact depth search",
-                                  minimum=1)
+    minimize: bool = option(
+        False,
+        "search program depths 1, 4, 5, ... over every winning strategy and return "
+        "the smallest, proved minimal when the condition enumeration is complete "
+        "(--minimize)",
+    )
+    effort: float | None = option(
+        None,
+        "seconds spent making the first verified program smaller with tree SAT "
+        "(--effort; default 0.05 s or 10% of the budget, whichever is smaller; 0 "
+        "returns the first program)",
+        minimum=0,
+    )
+    condition_depth: int = option(CONDITION_DEPTH, "deepest condition enumerated for the exact depth search", minimum=1)
     max_tree_depth: int = option(MAX_TREE_DEPTH, "deepest decision tree tried by tree SAT", minimum=1)
-    max_configs: int | None = option(None, "an explicit cap on joint obstacle configurations (default none: the "
-                                           "game is bounded by the budget's time and --memory-mb, else 4096 MB)",
-                                     minimum=1)
+    max_configs: int | None = option(
+        None,
+        "an explicit cap on joint obstacle configurations (default none: the "
+        "game is bounded by the budget's time and --memory-mb, else 4096 MB)",
+        minimum=1,
+    )
     simplify: bool = option(True, "simplify programs against the game-graph check")
     improve: bool = option(True, "spend the effort at all (false is effort=0)")
     quick: bool = option(True, "read a stationary strategy off the game before trying SAT")
-    use_rust: bool | None = option(None, "true/none: the compiled core (built with the package); false: the "
-                                         "pure-Python references")
+    use_rust: bool | None = option(
+        None, "true/none: the compiled core (built with the package); false: the pure-Python references"
+    )
     conflicts: int = option(5_000, "CaDiCaL conflicts allowed per tree-SAT attempt while improving", minimum=1)
     improve_states: int = option(1000, "tree SAT improves programs over at most this many states", minimum=1)
-    exact_states: int = option(150, "the exact depth search over the whole game when it has at most this many "
-                                    "states", minimum=1)
+    exact_states: int = option(
+        150, "the exact depth search over the whole game when it has at most this many states", minimum=1
+    )
     tree_conditions: int = option(400, "conditions offered to tree SAT while improving", minimum=1)
     max_clauses: int = option(3_000_000, "largest tree-SAT encoding built", minimum=1)
 

@@ -18,8 +18,15 @@ from plansynth.grid.problem import GridProblem
 __all__ = ["RunState", "conditions_upto"]
 
 
-def conditions_upto(states: Sequence[Sequence[int]], variables: Sequence[str], max_constant: int, max_depth: int, *,
-                    limit: int | None = None, use_rust: bool | None = None) -> Enumeration:
+def conditions_upto(
+    states: Sequence[Sequence[int]],
+    variables: Sequence[str],
+    max_constant: int,
+    max_depth: int,
+    *,
+    limit: int | None = None,
+    use_rust: bool | None = None,
+) -> Enumeration:
     """Conditions with a completeness flag: the compiled core when available (and
     ``use_rust`` is not False), else the pure-Python reference; both give the same."""
     if use_rust is not False and fast.available():
@@ -54,14 +61,26 @@ class RunState:
         ph[name] = round(ph.get(name, 0.0) + now - self._t_phase, 6)
         self._t_phase = now
 
-    def conditions(self, states: Sequence[tuple[int, ...]], variables, problem: GridProblem, max_depth: int,
-                   clock: Clock | None = None) -> Enumeration:
+    def conditions(
+        self,
+        states: Sequence[tuple[int, ...]],
+        variables,
+        problem: GridProblem,
+        max_depth: int,
+        clock: Clock | None = None,
+    ) -> Enumeration:
         """The conditions over ``states`` up to ``max_depth`` (refused when they do not
         fit what is left of the budget), counted in ``counters["conditions"]``."""
         if clock is not None:
             self.check_conditions_fit(len(states), len(variables), problem, clock)
-        e = conditions_upto(states, variables, problem.max_constant, max_depth, limit=condition_limit(len(states)),
-                            use_rust=self.o.use_rust)
+        e = conditions_upto(
+            states,
+            variables,
+            problem.max_constant,
+            max_depth,
+            limit=condition_limit(len(states)),
+            use_rust=self.o.use_rust,
+        )
         self.counters["conditions"] = len(e.conditions)
         return e
 

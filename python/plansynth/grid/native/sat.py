@@ -24,8 +24,13 @@ class ConflictLimit(BudgetExhausted):
     """
 
 
-def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[int] | None = None,
-                  max_conflicts: int | None = None, max_seconds: float | None = None) -> list[int] | None:
+def solve_clauses(
+    clauses: list[list[int]],
+    clock: Clock | None,
+    phases: list[int] | None = None,
+    max_conflicts: int | None = None,
+    max_seconds: float | None = None,
+) -> list[int] | None:
     """Solve with CaDiCaL; :class:`~plansynth.budget.BudgetExhausted` when the clock runs
     out, :class:`ConflictLimit` after ``max_conflicts`` conflicts or ``max_seconds``
     seconds of this call."""
@@ -37,8 +42,9 @@ def solve_clauses(clauses: list[list[int]], clock: Clock | None, phases: list[in
         return solve_sliced(s, clock, max_conflicts, max_seconds)
 
 
-def solve_sliced(solver: Any, clock: Clock | None, max_conflicts: int | None = None,
-                 max_seconds: float | None = None) -> list[int] | None:
+def solve_sliced(
+    solver: Any, clock: Clock | None, max_conflicts: int | None = None, max_seconds: float | None = None
+) -> list[int] | None:
     """One (possibly incremental) CaDiCaL call: a model, or None when unsatisfiable.
 
     CaDiCaL cannot be interrupted from another thread through PySAT, but it honours

@@ -145,8 +145,9 @@ def encode_stationary(arena: Arena, clock: Clock | None = None, label: Callable[
     return clauses, ids, fwd
 
 
-def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None,
-                        quick: bool = True) -> Strategy | None:
+def stationary_strategy(
+    arena: Arena, clock: Clock | None = None, label: Callable[[int], int] | None = None, quick: bool = True
+) -> Strategy | None:
     """A stationary winning strategy, or None when none exists (exact).
 
     Requires :meth:`Arena.solve_game` to have returned True. ``label`` optionally adds
@@ -187,7 +188,9 @@ def stationary_strategy(arena: Arena, clock: Clock | None = None, label: Callabl
     return Strategy(final, tuple(reach), counters)
 
 
-def consistent_strategy(arena: Arena, fwd: list[dict[Config, int]] | None, clock: Clock | None = None) -> Strategy | None:
+def consistent_strategy(
+    arena: Arena, fwd: list[dict[Config, int]] | None, clock: Clock | None = None
+) -> Strategy | None:
     """A stationary strategy read off the game without SAT, when one is there to read.
 
     A move that wins at *every* time a state can be met on the winning-forward graph

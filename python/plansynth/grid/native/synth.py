@@ -29,6 +29,7 @@ from plansynth.grid.native.limits import check_clock
 from plansynth.grid.native.sat import SAT_SOLVER, ConflictLimit, solve_sliced
 from plansynth.grid.programs import App, Const, Term, depth, size
 
+
 #: Valid program depths in increasing order (2 and 3 cannot beat 1).
 def program_depths(max_depth: int) -> list[int]:
     return [1] + list(range(4, max_depth + 1))
@@ -242,15 +243,17 @@ def tree_program(
         seen.setdefault(frozenset(a), i)
     # size first, then build: a deep tree over many conditions is refused before any work
     if per_state * len(seen) > max_clauses:
-        raise BudgetExhausted("building the tree SAT instance", "clauses",
-                              f"tree SAT instance of about {per_state * len(seen)} literals")
+        raise BudgetExhausted(
+            "building the tree SAT instance", "clauses", f"tree SAT instance of about {per_state * len(seen)} literals"
+        )
     t0 = time.perf_counter()
     for i in seen.values():
         enc.add_state(i, out_lit)
         check_clock(clock, "building the tree SAT instance")
         if max_seconds is not None and time.perf_counter() - t0 > max_seconds:
-            raise ConflictLimit("building the tree SAT instance", "time",
-                                f"tree SAT instance not built within {max_seconds:.2f} s")
+            raise ConflictLimit(
+                "building the tree SAT instance", "time", f"tree SAT instance not built within {max_seconds:.2f} s"
+            )
     added = set(seen.values())
     from pysat.solvers import Solver  # here: a program found without tree SAT never loads it
 
@@ -271,11 +274,14 @@ def tree_program(
                     added.add(s)
                     enc.add_state(s, out_lit)
             if per_state * len(added) > max_clauses:
-                raise BudgetExhausted("building the tree SAT instance", "clauses",
-                                      f"tree SAT instance beyond {max_clauses} literals")
+                raise BudgetExhausted(
+                    "building the tree SAT instance", "clauses", f"tree SAT instance beyond {max_clauses} literals"
+                )
 
 
-def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, keep: int) -> list[Condition]:
+def useful_conditions(
+    allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, keep: int
+) -> list[Condition]:
     """The ``keep`` conditions that best split the states by a shared allowed move:
     score = states served by the best move on each side (the greedy tree's measure).
     Used to keep the tree SAT small when exactness is not asked for."""
@@ -296,8 +302,13 @@ def useful_conditions(allowed: Sequence[Sequence[int]], conds: Sequence[Conditio
     return [x[-1] for x in scored[:keep]]
 
 
-def greedy_program(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, max_nodes: int = 10_000,
-                   use_rust: bool | None = None) -> Term:
+def greedy_program(
+    states_allowed: Sequence[Sequence[int]],
+    conds: Sequence[Condition],
+    n_moves: int,
+    max_nodes: int = 10_000,
+    use_rust: bool | None = None,
+) -> Term:
     """A top-down decision tree (always exists; not minimal): pick, at each node, the
     condition after which most states can share a move on each side.
 
@@ -328,8 +339,9 @@ def _tree_from_nodes(nodes: Sequence[tuple[int, int]], conds: Sequence[Condition
     return build()
 
 
-def greedy_program_reference(states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int,
-                             max_nodes: int = 10_000) -> Term:
+def greedy_program_reference(
+    states_allowed: Sequence[Sequence[int]], conds: Sequence[Condition], n_moves: int, max_nodes: int = 10_000
+) -> Term:
     """:func:`greedy_program` in pure Python (the reference of the compiled tree).
 
     A node whose states share a move is a leaf; otherwise the states are labelled by

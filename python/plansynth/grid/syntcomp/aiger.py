@@ -107,7 +107,9 @@ class Circuit:
         the 1.9 style with no output, its single bad-state property)."""
         props = self.outputs or self.bad_properties
         if len(props) != 1:
-            raise InvalidProblem(self.file, "outputs", f"a SYNTCOMP game has one bad output, this file has {len(props)}")
+            raise InvalidProblem(
+                self.file, "outputs", f"a SYNTCOMP game has one bad output, this file has {len(props)}"
+            )
         return props[0].literal
 
     @property
@@ -164,7 +166,7 @@ class _Reader:
             if self.pos >= len(self.data):
                 raise self.fail(field, "the file ends early")
             end = len(self.data)
-        text = self.data[self.pos:end]
+        text = self.data[self.pos : end]
         self.pos = end + 1
         return text.rstrip(b"\r")
 
@@ -233,7 +235,7 @@ class _Reader:
         while self.pos < len(self.data):
             text = self.line("symbols").decode("utf-8", "replace")
             if text == "c":
-                comments = self.data[self.pos:].decode("utf-8", "replace").splitlines()
+                comments = self.data[self.pos :].decode("utf-8", "replace").splitlines()
                 break
             sym = re.fullmatch(r"([ilobc])(\d+) (.+)", text)
             if sym is None:
@@ -267,16 +269,22 @@ class _Reader:
 
 def _check_literals(c: Circuit, reader: _Reader) -> None:
     defined = {0}
-    for field, lits in (("inputs", [i.literal for i in c.inputs]), ("latches", [la.literal for la in c.latches]),
-                        ("ands", [a[0] for a in c.ands])):
+    for field, lits in (
+        ("inputs", [i.literal for i in c.inputs]),
+        ("latches", [la.literal for la in c.latches]),
+        ("ands", [a[0] for a in c.ands]),
+    ):
         for k, lit in enumerate(lits):
             if lit & 1 or lit < 2 or lit >> 1 > c.max_var:
                 raise reader.fail(f"{field}[{k}]", f"{lit} is not an even literal in 2..2M")
             if lit >> 1 in defined:
                 raise reader.fail(f"{field}[{k}]", f"variable {lit >> 1} is defined twice")
             defined.add(lit >> 1)
-    used = ([la.next for la in c.latches] + [o.literal for o in c.outputs + c.bad_properties + c.constraints]
-            + [r for a in c.ands for r in a[1:]])
+    used = (
+        [la.next for la in c.latches]
+        + [o.literal for o in c.outputs + c.bad_properties + c.constraints]
+        + [r for a in c.ands for r in a[1:]]
+    )
     for lit in used:
         if lit >> 1 not in defined:
             raise reader.fail("literals", f"literal {lit} reads variable {lit >> 1}, which nothing defines")
@@ -343,10 +351,15 @@ class Simulator:
         latches = np.asarray(latches, dtype=bool)
         inputs = np.asarray(inputs, dtype=bool)
         batch = latches.shape[0]
-        if (latches.ndim != 2 or inputs.shape != (batch, len(self.circuit.inputs))
-                or latches.shape[1] != len(self.circuit.latches)):
-            raise ValueError(f"expected latches (batch, {len(self.circuit.latches)}) and inputs "
-                             f"(batch, {len(self.circuit.inputs)}), got {latches.shape} and {inputs.shape}")
+        if (
+            latches.ndim != 2
+            or inputs.shape != (batch, len(self.circuit.inputs))
+            or latches.shape[1] != len(self.circuit.latches)
+        ):
+            raise ValueError(
+                f"expected latches (batch, {len(self.circuit.latches)}) and inputs "
+                f"(batch, {len(self.circuit.inputs)}), got {latches.shape} and {inputs.shape}"
+            )
         values = np.zeros((self.circuit.max_var + 1, (batch + 7) // 8), dtype=np.uint8)
         if len(self._in_vars):
             values[self._in_vars] = np.packbits(inputs.T, axis=1)

@@ -91,8 +91,17 @@ from typing import NamedTuple
 
 from plansynth.errors import InvalidProblem
 
-__all__ = ["MOVES", "PUBLISHED", "MovingObstacle", "State", "Cell", "Move", "circuit_name", "grid_document",
-           "KING_MOVES"]
+__all__ = [
+    "MOVES",
+    "PUBLISHED",
+    "MovingObstacle",
+    "State",
+    "Cell",
+    "Move",
+    "circuit_name",
+    "grid_document",
+    "KING_MOVES",
+]
 
 Cell = tuple[int, int]
 Move = tuple[int, int]
@@ -103,14 +112,22 @@ MOVES: tuple[Move, ...] = tuple((dx, dy) for dx in (0, -1, 1) for dy in (0, -1, 
 #: Ehlers' Table I: ``(m, c) -> (realizable, SLUGS seconds on an AMD E-450 1.6 GHz)``;
 #: ``None`` where SLUGS did not decide in 4 h (128 x 128).
 PUBLISHED: dict[tuple[int, int], tuple[bool | None, float | None]] = {
-    (8, 0): (True, 0.3), (8, 1): (False, 0.4),
-    (16, 3): (True, 1.7), (16, 4): (False, 4.5),
-    (24, 7): (True, 27.6), (24, 8): (False, 20.0),
-    (32, 11): (True, 53.0), (32, 12): (False, 53.0),
-    (48, 19): (True, 359.0), (48, 20): (False, 294.0),
-    (64, 27): (True, 2172.0), (64, 28): (False, 3280.0),
-    (96, 43): (True, 3764.0), (96, 44): (False, 5744.829),
-    (128, 59): (None, None), (128, 60): (None, None),
+    (8, 0): (True, 0.3),
+    (8, 1): (False, 0.4),
+    (16, 3): (True, 1.7),
+    (16, 4): (False, 4.5),
+    (24, 7): (True, 27.6),
+    (24, 8): (False, 20.0),
+    (32, 11): (True, 53.0),
+    (32, 12): (False, 53.0),
+    (48, 19): (True, 359.0),
+    (48, 20): (False, 294.0),
+    (64, 27): (True, 2172.0),
+    (64, 28): (False, 3280.0),
+    (96, 43): (True, 3764.0),
+    (96, 44): (False, 5744.829),
+    (128, 59): (None, None),
+    (128, 60): (None, None),
 }
 
 
@@ -141,8 +158,14 @@ def grid_document(m: int, c: int) -> dict:
     obstacle: dict = {"start": [m - 2, m - 2], "size": [2, 2], "moves": list(KING_MOVES), "period": 2}
     if c:
         obstacle["glitches"] = c
-    return {"name": f"moving-obstacle-{m}x{m}-{c}", "grid": [m, m], "objective": "safety", "collision": "position",
-            "robot": {"start": [0, 0], "moves": list(KING_MOVES)}, "obstacles": [obstacle]}
+    return {
+        "name": f"moving-obstacle-{m}x{m}-{c}",
+        "grid": [m, m],
+        "objective": "safety",
+        "collision": "position",
+        "robot": {"start": [0, 0], "moves": list(KING_MOVES)},
+        "obstacles": [obstacle],
+    }
 
 
 def circuit_name(m: int, c: int) -> str:

@@ -36,8 +36,16 @@ import numpy as np
 from plansynth.grid.syntcomp.aiger import CONTROLLABLE_PREFIX, Circuit, Input, Latch, Simulator
 from plansynth.grid.syntcomp.moving_obstacle import MovingObstacle
 
-__all__ = ["FieldLayout", "StepBatch", "expected_step", "compare_step", "latch_layout", "input_layout",
-           "FIRST_ROUND", "VIOLATED"]
+__all__ = [
+    "FieldLayout",
+    "StepBatch",
+    "expected_step",
+    "compare_step",
+    "latch_layout",
+    "input_layout",
+    "FIRST_ROUND",
+    "VIOLATED",
+]
 
 FIRST_ROUND = "IsNotFirstRound"
 VIOLATED = "AssumptionsAlreadyViolated"
@@ -197,8 +205,15 @@ def _encode(game: MovingObstacle, circuit: Circuit, q: StepBatch) -> tuple[np.nd
 
     lat.encode(latches, FIRST_ROUND, (~first).astype(np.int64))
     lat.encode(latches, VIOLATED, later(q.violated))
-    for name, v in (("prev_robx", q.rx), ("prev_roby", q.ry), ("prev_obsx", q.ox), ("prev_obsy", q.oy),
-                    ("prev_movx", q.dx + 1), ("prev_movy", q.dy + 1), ("prev_obsmove", 1 - q.waits)):
+    for name, v in (
+        ("prev_robx", q.rx),
+        ("prev_roby", q.ry),
+        ("prev_obsx", q.ox),
+        ("prev_obsy", q.oy),
+        ("prev_movx", q.dx + 1),
+        ("prev_movy", q.dy + 1),
+        ("prev_obsmove", 1 - q.waits),
+    ):
         lat.encode(latches, name, later(v))
     if game.glitches:
         lat.encode(latches, "prev_glitches", later(q.g))
@@ -218,7 +233,7 @@ def compare_step(game: MovingObstacle, circuit: Circuit, q: StepBatch, *, chunk:
     expect_err, expect_violated = expected_step(game, q)
     rows = {"err": [], "violated": [], "latches": []}
     for lo in range(0, len(q), chunk):
-        part = StepBatch(**{k: getattr(q, k)[lo:lo + chunk] for k in StepBatch.__dataclass_fields__})
+        part = StepBatch(**{k: getattr(q, k)[lo : lo + chunk] for k in StepBatch.__dataclass_fields__})
         latches, inputs = _encode(game, circuit, part)
         out, nxt = sim.step(latches, inputs)
         err = out[:, 0]
@@ -229,8 +244,14 @@ def compare_step(game: MovingObstacle, circuit: Circuit, q: StepBatch, *, chunk:
             copied &= lat.decode(nxt, "prev_" + name) == inp.decode(inputs, name)
         copied &= lat.decode(nxt, FIRST_ROUND) == 1
         sl = slice(lo, lo + len(part))
-        for key, bad in (("err", err != expect_err[sl]), ("violated", violated != expect_violated[sl]),
-                         ("latches", ok_rows & ~copied)):
+        for key, bad in (
+            ("err", err != expect_err[sl]),
+            ("violated", violated != expect_violated[sl]),
+            ("latches", ok_rows & ~copied),
+        ):
             rows[key].extend((np.nonzero(bad)[0] + lo).tolist())
-    return {"rows": len(q), **{f"{k}_mismatches": len(v) for k, v in rows.items()},
-            "first_mismatches": {k: v[:5] for k, v in rows.items() if v}}
+    return {
+        "rows": len(q),
+        **{f"{k}_mismatches": len(v) for k, v in rows.items()},
+        "first_mismatches": {k: v[:5] for k, v in rows.items() if v},
+    }

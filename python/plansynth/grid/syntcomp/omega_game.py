@@ -49,7 +49,16 @@ from plansynth.errors import SolverUnavailable
 from plansynth.grid.result import GridStatus
 from plansynth.grid.syntcomp.moving_obstacle import MovingObstacle
 
-__all__ = ["automaton", "synthesize", "solve", "check_strategy", "OmegaSynthesis", "OmegaAnswer", "versions", "isolated"]
+__all__ = [
+    "automaton",
+    "synthesize",
+    "solve",
+    "check_strategy",
+    "OmegaSynthesis",
+    "OmegaAnswer",
+    "versions",
+    "isolated",
+]
 
 ENV_VARS = ("rx", "ry", "ox", "oy", "g")
 SYS_VARS = ("mx", "my", "obsmove")
@@ -82,11 +91,13 @@ def _all(*parts: str) -> str:
 def _robot_update(coord: str, move: str, top: int) -> str:
     """``EnvNext`` for one coordinate: move code 0/1/2 is -1/0/+1, stopping at 0 and top."""
     c, d = coord, move
-    return _all(rf"({d} = 0 /\ {c} > 0) => ({c}' = {c} - 1)",
-                rf"({d} = 0 /\ {c} = 0) => ({c}' = 0)",
-                rf"({d} = 1) => ({c}' = {c})",
-                rf"({d} = 2 /\ {c} < {top}) => ({c}' = {c} + 1)",
-                rf"({d} = 2 /\ {c} = {top}) => ({c}' = {top})")
+    return _all(
+        rf"({d} = 0 /\ {c} > 0) => ({c}' = {c} - 1)",
+        rf"({d} = 0 /\ {c} = 0) => ({c}' = 0)",
+        rf"({d} = 1) => ({c}' = {c})",
+        rf"({d} = 2 /\ {c} < {top}) => ({c}' = {c} + 1)",
+        rf"({d} = 2 /\ {c} = {top}) => ({c}' = {top})",
+    )
 
 
 def automaton(game: MovingObstacle, *, plus_one: bool = False) -> Any:
@@ -94,8 +105,16 @@ def automaton(game: MovingObstacle, *, plus_one: bool = False) -> Any:
     _, trl = _omega()
     m, c = game.size, game.glitches
     aut = trl.Automaton()
-    aut.declare_variables(rx=(0, m - 1), ry=(0, m - 1), ox=(0, m - 2), oy=(0, m - 2), g=(0, max(c, 1)),
-                          mx=(0, 2), my=(0, 2), obsmove="bool")
+    aut.declare_variables(
+        rx=(0, m - 1),
+        ry=(0, m - 1),
+        ox=(0, m - 2),
+        oy=(0, m - 2),
+        g=(0, max(c, 1)),
+        mx=(0, 2),
+        my=(0, 2),
+        obsmove="bool",
+    )
     aut.varlist.update(env=list(ENV_VARS), sys=list(SYS_VARS))
     aut.init["env"] = _all("rx = 0", "ry = 0", f"ox = {m - 2}", f"oy = {m - 2}", "g = 0")
     aut.init["sys"] = _all(r"mx \in 0..2", r"my \in 0..2", "~ obsmove")
@@ -106,14 +125,18 @@ def automaton(game: MovingObstacle, *, plus_one: bool = False) -> Any:
         _robot_update("rx", "mx", m - 1),
         _robot_update("ry", "my", m - 1),
         # assumption 1: the obstacle moves by at most one cell in x and in y
-        "ox' <= ox + 1", "ox <= ox' + 1", "oy' <= oy + 1", "oy <= oy' + 1",
+        "ox' <= ox + 1",
+        "ox <= ox' + 1",
+        "oy' <= oy + 1",
+        "oy <= oy' + 1",
         # Sect. II: the counter never decreases, and rises when the obstacle moves while obsmove is false
         "g <= g'",
         r"(~ obsmove /\ (ox' # ox \/ oy' # oy)) => (g' > g)",
     )
     aut.action["sys"] = _all(
         # guarantees 3, 4: valid move codes
-        r"mx' \in 0..2", r"my' \in 0..2",
+        r"mx' \in 0..2",
+        r"my' \in 0..2",
         # guarantee 2: obsmove is false exactly after a change of the obstacle's position
         r"obsmove' <=> (ox' = ox /\ oy' = oy)",
         # guarantee 1: the robot is never within the obstacle's 2 x 2 block
@@ -159,8 +182,14 @@ def synthesize(game: MovingObstacle, *, strategy: bool = True, plus_one: bool = 
         gr1.make_streett_transducer(z, yij, xijk, aut)
         impl = aut.action["impl"]
     t4 = time.perf_counter()
-    return OmegaSynthesis(game, aut, status, z, impl, {
-        "build": t1 - t0, "winning_set": t2 - t1, "realizability": t3 - t2, "strategy": t4 - t3, "total": t4 - t0})
+    return OmegaSynthesis(
+        game,
+        aut,
+        status,
+        z,
+        impl,
+        {"build": t1 - t0, "winning_set": t2 - t1, "realizability": t3 - t2, "strategy": t4 - t3, "total": t4 - t0},
+    )
 
 
 def _quiet(fn: Any, *args: Any) -> Any:
@@ -202,8 +231,10 @@ def check_strategy(syn: OmegaSynthesis) -> None:
 def _env_types(game: MovingObstacle, prime: str) -> str:
     """The environment's variables in their ranges (``prime`` = "'" for the next state)."""
     m, c, p = game.size, game.glitches, prime
-    return (rf"rx{p} \in 0..{m - 1} /\ ry{p} \in 0..{m - 1} /\ ox{p} \in 0..{m - 2} /\ oy{p} \in 0..{m - 2} "
-            rf"/\ g{p} \in 0..{c}")
+    return (
+        rf"rx{p} \in 0..{m - 1} /\ ry{p} \in 0..{m - 1} /\ ox{p} \in 0..{m - 2} /\ oy{p} \in 0..{m - 2} "
+        rf"/\ g{p} \in 0..{c}"
+    )
 
 
 def _type_invariant(game: MovingObstacle) -> str:
@@ -236,8 +267,9 @@ def _solve_here(game: MovingObstacle, strategy: bool, checked: bool = False) -> 
     return OmegaAnswer(syn.status, syn.seconds["total"], syn.seconds, counters)
 
 
-def solve(game: MovingObstacle, budget: Budget | None = None, *, strategy: bool = True,
-          checked: bool = False) -> OmegaAnswer:
+def solve(
+    game: MovingObstacle, budget: Budget | None = None, *, strategy: bool = True, checked: bool = False
+) -> OmegaAnswer:
     """Solve with omega in a child process within ``budget`` (time and memory); a budget
     that runs out gives ``unknown``. ``checked``: check the strategy (:func:`check_strategy`)
     after the timed solve, reported as the counter ``strategy_checked``."""

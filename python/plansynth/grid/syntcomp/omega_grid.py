@@ -48,7 +48,9 @@ def supports(problem: GridProblem) -> str | None:
     """None when :func:`automaton` encodes ``problem``, else why not."""
     if problem.objective not in (ObjectiveKind.SAFETY, ObjectiveKind.RECURRENCE):
         return f"the omega peer poses safety and recurrence objectives, not {problem.objective.value}"
-    for who, moves in [("the robot", problem.robot.moves)] + [(f"obstacle {i}", o.moves) for i, o in enumerate(problem.obstacles)]:
+    for who, moves in [("the robot", problem.robot.moves)] + [
+        (f"obstacle {i}", o.moves) for i, o in enumerate(problem.obstacles)
+    ]:
         if any(BUILTIN_MOVES.get(m.name) != m for m in moves):
             return f"{who} has a move that is not a built-in one"
     if any(o.size != (1, 1) or o.glitches for o in problem.obstacles):
@@ -81,8 +83,12 @@ def automaton(problem: GridProblem) -> Any:
     act: list[str] = []
     for j, m in enumerate(problem.robot.moves):
         dx, dy = m.to
-        inside = _all(f"{_offset('rx', dx)} >= 0", f"{_offset('rx', dx)} <= {w - 1}",
-                      f"{_offset('ry', dy)} >= 0", f"{_offset('ry', dy)} <= {h - 1}")
+        inside = _all(
+            f"{_offset('rx', dx)} >= 0",
+            f"{_offset('rx', dx)} <= {w - 1}",
+            f"{_offset('ry', dy)} >= 0",
+            f"{_offset('ry', dy)} <= {h - 1}",
+        )
         act.append(f"(k = {j} /\\ {inside}) => (rx' = {_offset('rx', dx)} /\\ ry' = {_offset('ry', dy)})")
         act.append(f"(k = {j} /\\ ~ ({inside})) => (rx' = rx /\\ ry' = ry)")
     guarantees = [f"~ ({_cells('rx', 'ry', problem.walls)})"] if problem.walls else []
@@ -97,8 +103,7 @@ def automaton(problem: GridProblem) -> Any:
         steps = [f"({x}' = {_offset(x, m.to[0])} /\\ {y}' = {_offset(y, m.to[1])})" for m in o.moves if m.to != (0, 0)]
         blocked = set(problem.walls) | set(o.keep_out)
         # a move sweeps its start and end cells: one on a wall or a kept-out cell is void
-        free = (f"~ ({_cells(x, y, blocked)}) /\\ ~ ({_cells(x + chr(39), y + chr(39), blocked)})" if blocked
-                else "TRUE")
+        free = f"~ ({_cells(x, y, blocked)}) /\\ ~ ({_cells(x + chr(39), y + chr(39), blocked)})" if blocked else "TRUE"
         may = "TRUE"
         if o.period > 1:
             decl[p] = (0, o.period - 1)
@@ -164,8 +169,11 @@ def synthesize(problem: GridProblem, *, strategy: bool = True) -> tuple[GridStat
         counters["strategy_nodes"] = len(aut.action["impl"])
     t4 = time.perf_counter()
     status = GridStatus.REALIZABLE if realizable else GridStatus.UNREALIZABLE
-    return status, {"build": t1 - t0, "winning_set": t2 - t1, "realizability": t3 - t2, "strategy": t4 - t3,
-                    "total": t4 - t0}, counters
+    return (
+        status,
+        {"build": t1 - t0, "winning_set": t2 - t1, "realizability": t3 - t2, "strategy": t4 - t3, "total": t4 - t0},
+        counters,
+    )
 
 
 def _solve_here(problem: GridProblem, strategy: bool) -> OmegaAnswer:

@@ -268,7 +268,7 @@ def parse(text: str, *, name: str = "", file: str | None = None) -> RobotGridMap
             doors.append(Door(pending_door, frozenset(robot.all_in(joined))))
             pending_door = None
         elif sec == "INPUTS" and re.fullmatch(r"deliveryrequest\d+;", joined):
-            deliveries.append(_delivery(joined[:-1], blocks[k + 1:], robot, fail))
+            deliveries.append(_delivery(joined[:-1], blocks[k + 1 :], robot, fail))
         elif sec == "INPUTS" and joined.startswith("mox"):
             ob_name = re.match(r"mox(\d+)_0;", joined).group(1)
             mo = _Cells(f"mox{ob_name}", f"moy{ob_name}")
@@ -290,8 +290,18 @@ def parse(text: str, *, name: str = "", file: str | None = None) -> RobotGridMap
         obstacle = MovingObstacle(f"mo{ob_name}", ob_start, ob_monitor, ob_moves)
     if None in walls:
         raise fail("forbidden zones", "a clause that is not one cell")
-    return RobotGridMap(name, width, height, (0, 0), frozenset(walls), tuple(doors), tuple(deliveries), obstacle,
-                        robot_fav, obstacle_fav)
+    return RobotGridMap(
+        name,
+        width,
+        height,
+        (0, 0),
+        frozenset(walls),
+        tuple(doors),
+        tuple(deliveries),
+        obstacle,
+        robot_fav,
+        obstacle_fav,
+    )
 
 
 def grid_document(m: RobotGridMap, *, period: int = 2, fair: bool = False) -> dict:
@@ -324,14 +334,22 @@ def grid_document(m: RobotGridMap, *, period: int = 2, fair: bool = False) -> di
     goals: list[list[int]] = []
     for d in sorted(m.deliveries, key=lambda d: min(d.pickup)[::-1]):
         goals += [list(min(d.pickup)), list(min(d.drop))]
-    obstacle: dict = {"start": list(m.obstacle.start), "moves": moves,
-                      "keep_out": [list(c) for c in sorted(m.obstacle.blocked)]}
+    obstacle: dict = {
+        "start": list(m.obstacle.start),
+        "moves": moves,
+        "keep_out": [list(c) for c in sorted(m.obstacle.blocked)],
+    }
     if period > 1:
         obstacle.update(period=period, schedule="fixed")
-    doc: dict = {"name": f"robot-grid-{m.name}" + ("" if period == 2 else f"-p{period}") + ("-fair" if fair else ""),
-                 "grid": [m.width, m.height], "objective": "recurrence", "collision": "position",
-                 "robot": {"start": list(m.robot_start), "goals": goals, "moves": moves},
-                 "obstacles": [obstacle], "walls": [list(c) for c in sorted(m.walls)]}
+    doc: dict = {
+        "name": f"robot-grid-{m.name}" + ("" if period == 2 else f"-p{period}") + ("-fair" if fair else ""),
+        "grid": [m.width, m.height],
+        "objective": "recurrence",
+        "collision": "position",
+        "robot": {"start": list(m.robot_start), "goals": goals, "moves": moves},
+        "obstacles": [obstacle],
+        "walls": [list(c) for c in sorted(m.walls)],
+    }
     if fair:
         doc["fair"] = True
     return doc

@@ -108,8 +108,15 @@ def solve(game: MovingObstacle, budget: Budget | None = None) -> SafetySolution:
     except BudgetExhausted as e:
         return SafetySolution(game, GridStatus.UNKNOWN, None, None, iterations, clock.elapsed(), str(e))
     status = GridStatus.REALIZABLE if win[(0, 0, m - 2, m - 2, 1, 0)] else GridStatus.UNREALIZABLE
-    return SafetySolution(game, status, win, rank, iterations, clock.elapsed(),
-                          counters={"states": int(win.size), "winning_states": int(win.sum())})
+    return SafetySolution(
+        game,
+        status,
+        win,
+        rank,
+        iterations,
+        clock.elapsed(),
+        counters={"states": int(win.size), "winning_states": int(win.sum())},
+    )
 
 
 def _shift(a: np.ndarray, axis: int, d: int, fill: bool) -> np.ndarray:
@@ -187,8 +194,10 @@ def check_solution(solution: SafetySolution, *, states: list[State] | None = Non
         raise SolutionRejected("no certificate: the solve ran out of budget")
     initial_wins = solution.is_winning(game.initial)
     if initial_wins != (solution.status is GridStatus.REALIZABLE):
-        raise SolutionRejected(f"status {solution.status.value} but the initial state is "
-                               f"{'in' if initial_wins else 'outside'} the winning region")
+        raise SolutionRejected(
+            f"status {solution.status.value} but the initial state is "
+            f"{'in' if initial_wins else 'outside'} the winning region"
+        )
     todo = list(game.states()) if states is None else [game.initial, *states]
     for s in todo:
         k = int(solution.rank[solution.index(s)])
@@ -203,6 +212,6 @@ def check_solution(solution: SafetySolution, *, states: list[State] | None = Non
         else:
             for d in MOVES:
                 if not any(0 <= solution.rank[solution.index(t)] < k for t in game.successors(s, d)):
-                    raise SolutionRejected(f"{s}: rank {k}, but after robot move {d} the environment "
-                                           f"cannot reach a smaller rank")
-
+                    raise SolutionRejected(
+                        f"{s}: rank {k}, but after robot move {d} the environment cannot reach a smaller rank"
+                    )

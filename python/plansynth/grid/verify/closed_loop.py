@@ -85,8 +85,9 @@ class ClosedLoop:
                 yield joint, nxt, collided
 
 
-def verify_closed_loop(problem: GridProblem, program: Term, steps: int | None, *,
-                       budget: Budget | None = None) -> Verdict:
+def verify_closed_loop(
+    problem: GridProblem, program: Term, steps: int | None, *, budget: Budget | None = None
+) -> Verdict:
     """Decide exactly whether ``program`` achieves ``problem``'s objective (``steps``:
     the path length l of ``exact`` and ``reach``; None otherwise), within ``budget``."""
     t0 = time.perf_counter()
@@ -103,11 +104,25 @@ def verify_closed_loop(problem: GridProblem, program: Term, steps: int | None, *
         else:
             cex = search.stationary(cycles=True)
     except BudgetExhausted as out:
-        return Verdict(VerifyStatus.UNKNOWN, steps, None, search.explored, time.perf_counter() - t0, out.phase,
-                       f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}")
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            steps,
+            None,
+            search.explored,
+            time.perf_counter() - t0,
+            out.phase,
+            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
+        )
     except MemoryError:
-        return Verdict(VerifyStatus.UNKNOWN, steps, None, search.explored, time.perf_counter() - t0, meter.phase,
-                       f"the verifier's budget ran out in {meter.phase}: out of memory")
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            steps,
+            None,
+            search.explored,
+            time.perf_counter() - t0,
+            meter.phase,
+            f"the verifier's budget ran out in {meter.phase}: out of memory",
+        )
     status = VerifyStatus.WINS if cex is None else VerifyStatus.LOSES
     return Verdict(status, steps, cex, search.explored, time.perf_counter() - t0)
 
@@ -118,7 +133,9 @@ class _Search:
         self.explored = 0
 
     # -- runs ----------------------------------------------------------------------
-    def _run(self, parent: dict[State, Edge | None], last: State) -> tuple[list[State], list[int], list[tuple[int, ...]]]:
+    def _run(
+        self, parent: dict[State, Edge | None], last: State
+    ) -> tuple[list[State], list[int], list[tuple[int, ...]]]:
         states, moves, joints = [last], [], []
         while parent[states[-1]] is not None:
             prev, k, joint = parent[states[-1]]
@@ -152,16 +169,19 @@ class _Search:
                         continue
                     states, moves, joints = self._runs(history, state)
                     where = "after step" if exact else "within"
-                    reason = (f"not on the goal ({goal[0]}, {goal[1]}) {where} {steps - 1 if exact else steps}"
-                              f"{'' if exact else ' steps'}: the robot is at ({state.robot[0]}, {state.robot[1]})")
+                    reason = (
+                        f"not on the goal ({goal[0]}, {goal[1]}) {where} {steps - 1 if exact else steps}"
+                        f"{'' if exact else ' steps'}: the robot is at ({state.robot[0]}, {state.robot[1]})"
+                    )
                     return Counterexample(tuple(joints), tuple(states), tuple(moves), reason)
                 k = self.loop.move(state)
                 for joint, nxt, collided in self.loop.successors(state, k):
                     if collided:
                         states, moves, joints = self._runs(history, state)
                         reason = collision_reason(self.problem, state, k, joint, t)
-                        return Counterexample(tuple(joints) + (tuple(joint),), tuple(states) + (nxt,),
-                                              tuple(moves) + (k,), reason)
+                        return Counterexample(
+                            tuple(joints) + (tuple(joint),), tuple(states) + (nxt,), tuple(moves) + (k,), reason
+                        )
                     if nxt not in nxt_layer:
                         nxt_layer[nxt] = (state, k, joint)
             layer = nxt_layer
@@ -258,8 +278,9 @@ class _Search:
             states.append(v)
         m = entry.mode
         g = problem.robot.goals[m]
-        reason = (f"the robot never reaches goal {m} at ({g[0]}, {g[1]}) again: the run repeats from step {loop_at}"
-                  + (" while every obstacle keeps moving" if problem.fair else ""))
+        reason = f"the robot never reaches goal {m} at ({g[0]}, {g[1]}) again: the run repeats from step {loop_at}" + (
+            " while every obstacle keeps moving" if problem.fair else ""
+        )
         return Counterexample(tuple(joints), tuple(states), tuple(moves), reason, loop=loop_at)
 
     @staticmethod

@@ -28,8 +28,7 @@ def counterexample(search: Search, loss: Loss) -> Counterexample:
             j = loss.obstacle
             table = search.obstacle[search.read[j]]
             cells[j], joint[loss.t][search.read[j]] = next(
-                (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c])
-                if not m.isdisjoint(r_swept)
+                (c, k) for c in sorted(loss.part[j]) for k, (_, m) in enumerate(table[c]) if not m.isdisjoint(r_swept)
             )
     # Walk back through the parents: a parent part whose image holds the cells, and
     # for each obstacle a cell there with a move into its current cell.

@@ -76,8 +76,9 @@ def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:
     return State(cell, cells, (), (), mode, fair)
 
 
-def check_invariant(problem: GridProblem, program: Term, invariant: Invariant, *,
-                    budget: Budget | None = None) -> Verdict:
+def check_invariant(
+    problem: GridProblem, program: Term, invariant: Invariant, *, budget: Budget | None = None
+) -> Verdict:
     """``wins`` if ``invariant`` is an inductive invariant of ``program`` for the safety
     objective holding the initial state; ``unknown`` (with the first failure) if not.
 
@@ -100,8 +101,8 @@ def check_invariant(problem: GridProblem, program: Term, invariant: Invariant, *
     try:
         if not invariant.get(state_key(problem, start), 0) >> (start.robot[1] * w + start.robot[0]) & 1:
             return _unknown(t0, 0, "not inductive: the initial state is outside the invariant")
-        table = _bit_table(invariant, keys, n)                   # (keys, n) bool
-        ends, swept, wall_hit = _robot_tables(problem)           # (moves, n), (moves, n, s), (moves, n)
+        table = _bit_table(invariant, keys, n)  # (keys, n) bool
+        ends, swept, wall_hit = _robot_tables(problem)  # (moves, n), (moves, n, s), (moves, n)
         kid, cells = np.nonzero(table)
         checked = int(kid.size)
         probes = [_state_of(problem, k, (0, 0)) for k in keys]
@@ -113,15 +114,16 @@ def check_invariant(problem: GridProblem, program: Term, invariant: Invariant, *
         bad = (moves < 0) | (moves >= n_moves)
         if bad.any():
             i = int(np.argmax(bad))
-            return _unknown(t0, checked, f"the program returns no move in state "
-                                         f"{probes[kid[i]]._replace(robot=_xy(cells[i], w))}")
+            return _unknown(
+                t0, checked, f"the program returns no move in state {probes[kid[i]]._replace(robot=_xy(cells[i], w))}"
+            )
         end = ends[moves, cells]
         hit = wall_hit[moves, cells]
         meter.phase = "the obstacles' replies on the invariant"
         replies = [_replies(problem, s, key_id) for s in probes]
         width = max(len(r) for r in replies)
         position = problem.collision is CollisionRule.POSITION
-        robot_swept = swept[moves, cells]                         # (states, s)
+        robot_swept = swept[moves, cells]  # (states, s)
         for j in range(width):
             meter.check()
             has = np.array([j < len(r) for r in replies])[kid]
@@ -133,8 +135,8 @@ def check_invariant(problem: GridProblem, program: Term, invariant: Invariant, *
             depth = max(1, max(len(d) for d in danger))
             dcells = np.full((len(keys), depth), -1, np.int64)
             for i, d in enumerate(danger):
-                dcells[i, :len(d)] = d
-            mine = dcells[kid]                                      # (states, depth)
+                dcells[i, : len(d)] = d
+            mine = dcells[kid]  # (states, depth)
             if position:
                 collide = (mine == end[:, None]).any(axis=1)
             else:
@@ -143,18 +145,37 @@ def check_invariant(problem: GridProblem, program: Term, invariant: Invariant, *
             out = has & ~collide & ~inside
             if out.any():
                 i = int(np.argmax(out))
-                return _unknown(t0, checked, f"not inductive: state {_xy(end[i], w)} after move {int(moves[i])} "
-                                             f"from {_xy(cells[i], w)} is outside the invariant")
+                return _unknown(
+                    t0,
+                    checked,
+                    f"not inductive: state {_xy(end[i], w)} after move {int(moves[i])} "
+                    f"from {_xy(cells[i], w)} is outside the invariant",
+                )
         if hit.any():
             i = int(np.argmax(hit))
-            return _unknown(t0, checked, f"not inductive: the program's move {int(moves[i])} from "
-                                         f"{_xy(cells[i], w)} may collide")
+            return _unknown(
+                t0, checked, f"not inductive: the program's move {int(moves[i])} from {_xy(cells[i], w)} may collide"
+            )
     except BudgetExhausted as out:
-        return Verdict(VerifyStatus.UNKNOWN, None, None, checked, time.perf_counter() - t0, out.phase,
-                       f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}")
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            None,
+            None,
+            checked,
+            time.perf_counter() - t0,
+            out.phase,
+            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
+        )
     except MemoryError:
-        return Verdict(VerifyStatus.UNKNOWN, None, None, checked, time.perf_counter() - t0, meter.phase,
-                       f"the verifier's budget ran out in {meter.phase}: out of memory")
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            None,
+            None,
+            checked,
+            time.perf_counter() - t0,
+            meter.phase,
+            f"the verifier's budget ran out in {meter.phase}: out of memory",
+        )
     return Verdict(VerifyStatus.WINS, None, None, checked, time.perf_counter() - t0)
 
 
@@ -200,7 +221,7 @@ def _replies(problem: GridProblem, probe: State, key_id: dict) -> list[tuple[int
         cells: set[int] = set()
         for i, o in enumerate(problem.obstacles):
             o_end, o_swept = obstacle_move(problem, i, probe.obstacles[i], joint[i])
-            for c in (o.block(o_end) if position else o_swept):
+            for c in o.block(o_end) if position else o_swept:
                 cells.add(c[1] * w + c[0])
         key = (state_key(problem, nxt), tuple(sorted(cells)))
         if key not in out:

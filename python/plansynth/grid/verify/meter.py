@@ -56,6 +56,5 @@ class Meter:
         assert self.clock is not None, "only a budgeted meter runs out"
         budget = self.clock.budget
         if exc.resource == "memory":
-            return (f"memory (it grew by {self.clock.memory_used() >> 20} MB, over the budget of "
-                    f"{budget.memory_mb} MB)")
+            return f"memory (it grew by {self.clock.memory_used() >> 20} MB, over the budget of {budget.memory_mb} MB)"
         return f"{exc.resource} ({budget.seconds:g} s)" if exc.resource == "time" else exc.resource

@@ -165,8 +165,11 @@ class UnreadReach(StepDanger):
                 c = int(cur[np.argmax(meets)])
                 moves = [k]
                 for step_t in range(t - 1, -1, -1):
-                    cells = np.flatnonzero(np.unpackbits(np.frombuffer(history[step_t], dtype=np.uint8),
-                                                         count=self.n_cells, bitorder="little"))
+                    cells = np.flatnonzero(
+                        np.unpackbits(
+                            np.frombuffer(history[step_t], dtype=np.uint8), count=self.n_cells, bitorder="little"
+                        )
+                    )
                     for m in range(table.n_moves):
                         prev = cells[table.end[m, cells] - 1 == c]
                         if prev.size:

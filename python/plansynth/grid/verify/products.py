@@ -30,8 +30,9 @@ class ReadObstacles:
     """The obstacles a program reads (``read``, in slot order) and the program's choice
     on products of their cell sets, with what has been computed kept for reuse."""
 
-    def __init__(self, program: Term, read: tuple[int, ...], tables: Sequence[MoveTable], width: int,
-                 meter: Meter) -> None:
+    def __init__(
+        self, program: Term, read: tuple[int, ...], tables: Sequence[MoveTable], width: int, meter: Meter
+    ) -> None:
         self.program = program
         self.read = read
         self.tables = [tables[i] for i in read]

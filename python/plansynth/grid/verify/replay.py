@@ -29,8 +29,7 @@ def replay(
         state = nxt
     if len(robot_moves) == steps and state.robot != problem.robot.goal:
         return tuple(states), (
-            f"not on the goal {_fmt(problem.robot.goal)} after step {steps - 1}: "
-            f"the robot is at {_fmt(state.robot)}"
+            f"not on the goal {_fmt(problem.robot.goal)} after step {steps - 1}: the robot is at {_fmt(state.robot)}"
         )
     return tuple(states), None
 
@@ -44,7 +43,11 @@ def collision_reason(problem: GridProblem, state: State, k: int, joint: Sequence
     position = problem.collision is CollisionRule.POSITION
     for i, (p, j) in enumerate(zip(state.obstacles, joint)):
         o_end, o_swept = obstacle_move(problem, i, p, j)
-        common = ([end] if end in problem.obstacles[i].block(o_end) else []) if position else [c for c in swept if c in o_swept]
+        common = (
+            ([end] if end in problem.obstacles[i].block(o_end) else [])
+            if position
+            else [c for c in swept if c in o_swept]
+        )
         if common:
             return f"collision at step {t} in cell {_fmt(common[0])} with obstacle {i}"
     raise ValueError(f"no collision at step {t}")

@@ -84,8 +84,9 @@ class Search:
     S' x T make (S | S') x T) or one contains another.
     """
 
-    def __init__(self, problem: GridProblem, program: Term, steps: int, probe_nodes: int, meter: Meter,
-                 use_numpy: bool = True) -> None:
+    def __init__(
+        self, problem: GridProblem, program: Term, steps: int, probe_nodes: int, meter: Meter, use_numpy: bool = True
+    ) -> None:
         self.probe_nodes = probe_nodes
         self.problem = problem
         self.program = program

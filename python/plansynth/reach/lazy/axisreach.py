@@ -128,8 +128,12 @@ def _box(P: Poly | None, plo: float, phi: float, vlo: float, vhi: float) -> Poly
         return None
     xs = [x for x, _ in P]
     ys = [y for _, y in P]
-    for a0, a1, b, top in ((1.0, 0.0, phi, max(xs)), (-1.0, 0.0, -plo, -min(xs)), (0.0, 1.0, vhi, max(ys)),
-                           (0.0, -1.0, -vlo, -min(ys))):
+    for a0, a1, b, top in (
+        (1.0, 0.0, phi, max(xs)),
+        (-1.0, 0.0, -plo, -min(xs)),
+        (0.0, 1.0, vhi, max(ys)),
+        (0.0, -1.0, -vlo, -min(ys)),
+    ):
         if top <= b + EPS:  # (also b infinite) the polygon is within: no cut
             continue
         P = _cut(P, a0, a1, b)
@@ -143,7 +147,7 @@ def _meet(P: Poly, Q: Poly) -> Poly | None:
     segment Q cuts along its own line both ways)."""
     n = len(Q)
     if n == 1:
-        (x, y), = Q
+        ((x, y),) = Q
         return _box(P, x, x, y, y)
     edges = [(Q[k], Q[(k + 1) % n]) for k in range(n)] if n > 2 else [(Q[0], Q[1]), (Q[1], Q[0])]
     for (x0, y0), (x1, y1) in edges:
@@ -170,8 +174,11 @@ class _Axis:
         self.cols = [(float(c[0]), float(c[1])) for c in cols]
         self.lo, self.hi = (float(lo[0]), float(lo[1])), (float(hi[0]), float(hi[1]))
         det = self.A[0][0] * self.A[1][1] - self.A[0][1] * self.A[1][0]
-        self.Ainv = ([[self.A[1][1] / det, -self.A[0][1] / det], [-self.A[1][0] / det, self.A[0][0] / det]]
-                     if abs(det) > 1e-12 else None)
+        self.Ainv = (
+            [[self.A[1][1] / det, -self.A[0][1] / det], [-self.A[1][0] / det, self.A[0][0] / det]]
+            if abs(det) > 1e-12
+            else None
+        )
 
     def image(self, P: Poly) -> Poly:
         (a, b), (c, d) = self.A
@@ -195,9 +202,17 @@ class AxisReach:
     start and goal regions: the relation DIS-PLAN uses), segment-safe or samples only.
     Build it with :meth:`build` (None when the problem does not separate)."""
 
-    def __init__(self, axes: list[_Axis], boxes: list[tuple[list[float], list[float]]], goal: tuple[list[float], list[float]],
-                 start: list[tuple[float, float]], adjacency: Sequence[Sequence[int]], start_regions: Sequence[int],
-                 goal_regions: Sequence[int], segment_safe: bool) -> None:
+    def __init__(
+        self,
+        axes: list[_Axis],
+        boxes: list[tuple[list[float], list[float]]],
+        goal: tuple[list[float], list[float]],
+        start: list[tuple[float, float]],
+        adjacency: Sequence[Sequence[int]],
+        start_regions: Sequence[int],
+        goal_regions: Sequence[int],
+        segment_safe: bool,
+    ) -> None:
         self.axes, self.boxes, self.goal, self.start = axes, boxes, goal, start
         self.adjacency = [tuple(a) for a in adjacency]
         self.start_regions, self.goal_regions = tuple(start_regions), tuple(goal_regions)
@@ -210,8 +225,16 @@ class AxisReach:
         self.reached = False  # did first_horizon's answer reach the goal (else: its work cap)?
 
     @classmethod
-    def build(cls, problem: ReachProblem, abstraction: Abstraction, adjacency: Sequence[Sequence[int]],
-              start_regions: Sequence[int], goal_regions: Sequence[int], *, segment_safe: bool) -> "AxisReach | None":
+    def build(
+        cls,
+        problem: ReachProblem,
+        abstraction: Abstraction,
+        adjacency: Sequence[Sequence[int]],
+        start_regions: Sequence[int],
+        goal_regions: Sequence[int],
+        *,
+        segment_safe: bool,
+    ) -> "AxisReach | None":
         """The sweep for ``problem``, or None unless its dynamics separate by position
         axis into blocks of one or two states with one input column each (see the module
         docstring); every other state, in no position's block, is left free (a
@@ -258,8 +281,16 @@ class AxisReach:
         glo, ghi = shape_box(problem.goal)
         x0 = np.asarray(problem.start, float)
         start = [(float(x0[ix[0]]), float(x0[ix[1]]) if len(ix) > 1 else 0.0) for _, ix in axes]
-        return cls([a for a, _ in axes], boxes, (list(map(float, glo)), list(map(float, ghi))), start, adjacency,
-                   start_regions, goal_regions, segment_safe)
+        return cls(
+            [a for a, _ in axes],
+            boxes,
+            (list(map(float, glo)), list(map(float, ghi))),
+            start,
+            adjacency,
+            start_regions,
+            goal_regions,
+            segment_safe,
+        )
 
     # ------------------------------------------------------------------ the forward sweep
     def _reaches_goal(self, i: int, sets: list[Poly]) -> list[Poly] | None:
@@ -272,8 +303,9 @@ class AxisReach:
             out.append(c)
         return out
 
-    def first_horizon(self, limit: int, earliest: Sequence[float] | None = None,
-                      to_go: Sequence[float] | None = None) -> int | None:
+    def first_horizon(
+        self, limit: int, earliest: Sequence[float] | None = None, to_go: Sequence[float] | None = None
+    ) -> int | None:
         """The first horizon L <= ``limit`` at which the sweep reaches the goal (None: none
         does, so no plan of any horizon up to ``limit`` exists). Every horizon below the
         answer has no plan (module docstring). ``earliest``/``to_go``: DIS-PLAN's time

@@ -31,8 +31,19 @@ from plansynth.reach.dynamics import displacement_reach, reach_steps
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["step_reach", "physical_lower_bound", "shape_box", "box_steps", "TimeWindows", "time_windows",
-           "touching", "step_adjacency", "proved_horizon_bound", "SWEEP_MAX_REGIONS", "SWEEP_MAX_WORK"]
+__all__ = [
+    "step_reach",
+    "physical_lower_bound",
+    "shape_box",
+    "box_steps",
+    "TimeWindows",
+    "time_windows",
+    "touching",
+    "step_adjacency",
+    "proved_horizon_bound",
+    "SWEEP_MAX_REGIONS",
+    "SWEEP_MAX_WORK",
+]
 
 
 def step_reach(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:
@@ -114,8 +125,9 @@ def physical_lower_bound(problem: ReachProblem) -> int:
     """
     down, up = step_reach(problem)
     s = np.asarray(problem.start_position, dtype=float)
-    table = (displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE)
-             if problem.starts_at_rest else None)
+    table = (
+        displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE) if problem.starts_at_rest else None
+    )
     return box_steps((s, s), shape_box(problem.goal), down, up, table)
 
 
@@ -126,8 +138,13 @@ def shape_box(shape: Any) -> tuple[np.ndarray, np.ndarray]:
     return _box_of(np.asarray(shape.vertices))
 
 
-def box_steps(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray],
-              down: Sequence[float], up: Sequence[float], table: np.ndarray | None = None) -> int:
+def box_steps(
+    a: tuple[np.ndarray, np.ndarray],
+    b: tuple[np.ndarray, np.ndarray],
+    down: Sequence[float],
+    up: Sequence[float],
+    table: np.ndarray | None = None,
+) -> int:
     """The fewest steps from a position in box ``a`` to one in box ``b`` when a step moves
     at most ``down[i]``/``up[i]`` along axis i (1 << 30: some axis cannot move that way),
     and (``table``, :func:`plansynth.reach.dynamics.displacement_reach`) k steps move at
@@ -299,8 +316,9 @@ def _sweep_reference(
     return first, hit
 
 
-def time_windows(problem: ReachProblem, abstraction: Abstraction, limit: int, *,
-                 adjacency: Sequence[Sequence[int]] | None = None) -> TimeWindows:
+def time_windows(
+    problem: ReachProblem, abstraction: Abstraction, limit: int, *, adjacency: Sequence[Sequence[int]] | None = None
+) -> TimeWindows:
     """Reach times of the displacement-box relaxation (beyond the paper).
 
     Forget the dynamics except that a position moves by at most
@@ -395,8 +413,9 @@ def touching(abstraction: Abstraction, tol: float = 1e-9) -> tuple[tuple[int, ..
     return tuple(tuple(sorted(n)) for n in out)
 
 
-def step_adjacency(problem: ReachProblem, abstraction: Abstraction,
-                   reach: tuple[np.ndarray, np.ndarray] | None = None) -> tuple[tuple[int, ...], ...]:
+def step_adjacency(
+    problem: ReachProblem, abstraction: Abstraction, reach: tuple[np.ndarray, np.ndarray] | None = None
+) -> tuple[tuple[int, ...], ...]:
     """The regions one step can connect, for samples-only trajectories (issue 13, item 7;
     beyond Shoukry et al., CDC 2016, whose DIS-PLAN, Section IV, moves to adjacent
     regions only): j is listed for i when some p in region i and q in region j have
@@ -436,14 +455,21 @@ def step_adjacency(problem: ReachProblem, abstraction: Abstraction,
 
         polys = [ShPolygon(g.vertices) for g in regions]
         corners = np.array([[-r[0], -r[1]], [r[0], -r[1]], [r[0], r[1]], [-r[0], r[1]]])
-        grown = [shapely.convex_hull(shapely.multipoints((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2)))
-                 for g in regions]
+        grown = [
+            shapely.convex_hull(
+                shapely.multipoints((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2))
+            )
+            for g in regions
+        ]
         tree = shapely.STRtree(polys)
         left, right = tree.query(grown, predicate="dwithin", distance=eps)
         pairs = zip(left.tolist(), right.tolist())
     else:
-        pairs = ((i, int(j)) for i in range(k)
-                 for j in np.nonzero(np.all(lo <= hi[i] + r, axis=1) & np.all(hi >= lo[i] - r, axis=1))[0])
+        pairs = (
+            (i, int(j))
+            for i in range(k)
+            for j in np.nonzero(np.all(lo <= hi[i] + r, axis=1) & np.all(hi >= lo[i] - r, axis=1))[0]
+        )
     for i, j in pairs:
         checkpoint()
         if i != j:
@@ -452,8 +478,9 @@ def step_adjacency(problem: ReachProblem, abstraction: Abstraction,
     return tuple(tuple(sorted(n)) for n in out)
 
 
-def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
-                  down: np.ndarray, up: np.ndarray) -> float:
+def _proved_sweep(
+    problem: ReachProblem, abstraction: Abstraction, limit: int, down: np.ndarray, up: np.ndarray
+) -> float:
     """The displacement-box sweep with any number of regions per step (segment-safe
     trajectories): the first step at which the goal may be reached, ``limit + 1`` if
     not within ``limit`` steps, ``inf`` if the sweep closes without reaching it.
@@ -489,7 +516,9 @@ def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
 
     def hit() -> bool:
         for j in goal_regions:
-            if np.all(reach_lo[j] <= reach_hi[j]) and np.all(np.maximum(reach_lo[j], g_lo) <= np.minimum(reach_hi[j], g_hi) + pad):
+            if np.all(reach_lo[j] <= reach_hi[j]) and np.all(
+                np.maximum(reach_lo[j], g_lo) <= np.minimum(reach_hi[j], g_hi) + pad
+            ):
                 return True
         return False
 
@@ -526,8 +555,9 @@ def _proved_sweep(problem: ReachProblem, abstraction: Abstraction, limit: int,
     return limit + 1
 
 
-def proved_horizon_bound(problem: ReachProblem, abstraction: Abstraction, limit: int, *,
-                         segment_safe: bool = True) -> float:
+def proved_horizon_bound(
+    problem: ReachProblem, abstraction: Abstraction, limit: int, *, segment_safe: bool = True
+) -> float:
     """A lower bound on the horizon of *every* trajectory of ``problem`` (the spec's
     semantics), whatever the decomposition: ``inf`` when no trajectory reaches the goal
     at all, ``limit + 1`` when none does within ``limit`` steps.
@@ -553,8 +583,6 @@ def proved_horizon_bound(problem: ReachProblem, abstraction: Abstraction, limit:
     if segment_safe and abstraction.exact and 0 < len(abstraction.regions) <= SWEEP_MAX_REGIONS and bound <= limit:
         bound = max(bound, _proved_sweep(problem, abstraction, limit, down, up))
     return bound
-
-
 
 
 # ---------------------------------------------------------------------------------
@@ -599,8 +627,9 @@ def _unreached(adjacency: Sequence[Sequence[int]], sources: Sequence[int], remov
     return {j for j in range(k) if not seen[j] and j != removed}
 
 
-def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence[int],
-                     goal_regions: Sequence[int], gap: Any) -> ChainBounds:
+def separator_bounds(
+    adjacency: Sequence[Sequence[int]], start_regions: Sequence[int], goal_regions: Sequence[int], gap: Any
+) -> ChainBounds:
     """Time windows and a horizon bound from chains of *separators* (beyond the paper).
 
     Plans are walks in the region graph ``adjacency`` (one region per step, each step
@@ -636,6 +665,7 @@ def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence
     k = len(adjacency)
     starts, goals = tuple(start_regions), tuple(goal_regions)
     inf = math.inf
+
     # BFS distances: a separator is strictly nearer (to the start, resp. the goal)
     def bfs(sources: Sequence[int]) -> list[float]:
         dist = [inf] * k
@@ -698,8 +728,12 @@ def separator_bounds(adjacency: Sequence[Sequence[int]], start_regions: Sequence
         chain.append(last)
         last = via[last] if last not in starts else START_NODE
     chain.append(START_NODE)
-    return ChainBounds(tuple(int(e) if e < inf else inf for e in earliest),
-                       tuple(int(r) if r < inf else inf for r in to_go), int(horizon), tuple(chain[::-1]))
+    return ChainBounds(
+        tuple(int(e) if e < inf else inf for e in earliest),
+        tuple(int(r) if r < inf else inf for r in to_go),
+        int(horizon),
+        tuple(chain[::-1]),
+    )
 
 
 def chain_gaps(problem: ReachProblem, abstraction: Abstraction) -> Any | None:

@@ -73,8 +73,10 @@ def uncertified(out: LoopOutcome, n: int, relaxation: str | None) -> LoopOutcome
 
 
 #: What makes a samples-only refutation a proof (see the module docstring).
-EXACT_SAMPLES = ("samples only, steps between any two regions one step can connect, regions covering the free "
-                 "space: a proof for the problem")
+EXACT_SAMPLES = (
+    "samples only, steps between any two regions one step can connect, regions covering the free "
+    "space: a proof for the problem"
+)
 
 #: What a segment-safe search's refutations are relative to (see the module docstring).
 DECOMPOSITION_ONLY = "consecutive samples in one convex region"
@@ -109,16 +111,24 @@ def prove_claims(problem: ReachProblem, out: LoopOutcome, proved: float, clock: 
         ok = refute_below(problem, out.horizon, lowest=lowest, seconds=clock.remaining())
         counters["relaxation"] = "minimal" if ok else "not proved"
         if ok:
-            return replace(out, minimal=True, message=f"{out.message}; proved minimal for the problem: no shorter "
-                           f"trajectory keeps its samples and {SUBDIVISIONS - 1} points per segment free")
+            return replace(
+                out,
+                minimal=True,
+                message=f"{out.message}; proved minimal for the problem: no shorter "
+                f"trajectory keeps its samples and {SUBDIVISIONS - 1} points per segment free",
+            )
     elif out.status is ReachStatus.UNKNOWN and counters.get("abstraction_refuted") is not None:
         L = int(counters["abstraction_refuted"])
         ok = refute_below(problem, L + 1, lowest=lowest, seconds=clock.remaining())
         counters["relaxation"] = "infeasible" if ok else "not proved"
         if ok:
-            return LoopOutcome(ReachStatus.INFEASIBLE, L, f"infeasible up to horizon {L}: no trajectory keeps its "
-                               f"samples and {SUBDIVISIONS - 1} points per segment free (a MILP relaxation of "
-                               f"segment safety: a proof for the problem)")
+            return LoopOutcome(
+                ReachStatus.INFEASIBLE,
+                L,
+                f"infeasible up to horizon {L}: no trajectory keeps its "
+                f"samples and {SUBDIVISIONS - 1} points per segment free (a MILP relaxation of "
+                f"segment safety: a proof for the problem)",
+            )
     if counters.get("relaxation") == "not proved":
         return replace(out, message=f"{out.message}; prove: the relaxation MILP has a solution or ran out of time")
     return out
@@ -126,5 +136,7 @@ def prove_claims(problem: ReachProblem, out: LoopOutcome, proved: float, clock: 
 
 def not_a_proof(proved: float) -> str:
     """What a refutation through the abstraction is not (segment-safe; see the module docstring)."""
-    return (f"not a proof of infeasibility (a step may cross several regions; proved lower bound on the "
-            f"horizon: {int(proved)})")
+    return (
+        f"not a proof of infeasibility (a step may cross several regions; proved lower bound on the "
+        f"horizon: {int(proved)})"
+    )

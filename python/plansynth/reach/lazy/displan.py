@@ -202,11 +202,17 @@ class DisPlan(LearnedClauses):
         waits_at_start: bool = False,
     ) -> None:
         if cardinality == "auto":
-            cardinality = ("pairwise" if graph.n_regions <= PAIRWISE_MAX_REGIONS else
-                           "paths" if graph.n_regions > PATHS_MIN_REGIONS else "seqcounter")
+            cardinality = (
+                "pairwise"
+                if graph.n_regions <= PAIRWISE_MAX_REGIONS
+                else "paths"
+                if graph.n_regions > PATHS_MIN_REGIONS
+                else "seqcounter"
+            )
         if cardinality not in CARDINALITY_ENCODINGS and cardinality != "paths":
-            raise ValueError(f"unknown cardinality encoding {cardinality!r} "
-                             f"(known: auto, {', '.join(CARDINALITY_ENCODINGS)}, paths)")
+            raise ValueError(
+                f"unknown cardinality encoding {cardinality!r} (known: auto, {', '.join(CARDINALITY_ENCODINGS)}, paths)"
+            )
         self.paths = cardinality == "paths"
         self._starts = frozenset(graph.start_regions)
         self.graph = graph
@@ -309,7 +315,9 @@ class DisPlan(LearnedClauses):
             if self.cardinality == "pairwise":
                 enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool, encoding=EncType.pairwise)
             else:
-                enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool, encoding=CARDINALITY_ENCODINGS[self.cardinality])
+                enc = CardEnc.equals(
+                    lits=lits, bound=1, vpool=self.pool, encoding=CARDINALITY_ENCODINGS[self.cardinality]
+                )
             for c in enc.clauses:
                 self._add(c)
             self.sat_clauses_encoding += len(enc.clauses)
@@ -471,8 +479,9 @@ class DisPlan(LearnedClauses):
             self.floor = self.open_from = lo
             self._to_go_windows()
             if self.preferred is not None:  # prefer() came first: the plan ends at its horizon, not before
-                self.solver.set_phases([-e for e in (self.ends_before(T) for T in range(lo + 1, self.preferred + 1))
-                                        if e is not None])
+                self.solver.set_phases(
+                    [-e for e in (self.ends_before(T) for T in range(lo + 1, self.preferred + 1)) if e is not None]
+                )
         elif lo < self.floor:
             raise ValueError(f"horizon {lo} is below the first horizon tried ({self.floor})")
         self._extend(horizon)
@@ -562,11 +571,18 @@ class DisPlan(LearnedClauses):
         self._extend(H)
         if self.paths:
             obj = self.pool.obj2id
-            phases = [v if i == r else -v for t, r in enumerate(plan) for i in range(self.graph.n_regions)
-                      if (v := obj.get(("at", t, i))) is not None]
+            phases = [
+                v if i == r else -v
+                for t, r in enumerate(plan)
+                for i in range(self.graph.n_regions)
+                if (v := obj.get(("at", t, i))) is not None
+            ]
         else:
-            phases = [self.at(t, i) if i == r else -self.at(t, i) for t, r in enumerate(plan)
-                      for i in range(self.graph.n_regions)]
+            phases = [
+                self.at(t, i) if i == r else -self.at(t, i)
+                for t, r in enumerate(plan)
+                for i in range(self.graph.n_regions)
+            ]
         if self.floor is not None:  # ... and ending at H, not before
             phases += [-e for e in (self.ends_before(T) for T in range(self.floor + 1, H + 1)) if e is not None]
         if self.paths:  # no auxiliary variables to phase

@@ -164,7 +164,9 @@ def _entry_fraction(region: Region, a: np.ndarray, b: np.ndarray, length: float,
 
 
 def reference_plans(
-    problem: ReachProblem, abstraction: Abstraction, path: Sequence[int] | None = None,
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    path: Sequence[int] | None = None,
     first_leg: Callable[[int], int] | None = None,
 ) -> Callable[[int], Sequence[int] | None] | None:
     """DIS-PLAN's reference plan per horizon, for the lazy loop's ``guide``: the

@@ -48,8 +48,15 @@ from plansynth.reach.lazy.displan import SatOutcome
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["TheoryChecker", "PlanSource", "LoopOutcome", "lazy_loop", "horizon_windows", "DEFER_AFTER",
-           "DEAR_DEFER_AFTER"]
+__all__ = [
+    "TheoryChecker",
+    "PlanSource",
+    "LoopOutcome",
+    "lazy_loop",
+    "horizon_windows",
+    "DEFER_AFTER",
+    "DEAR_DEFER_AFTER",
+]
 
 ProgressFn = Callable[[int, int], None]  # (horizon, iterations so far)
 
@@ -166,7 +173,9 @@ def lazy_loop(
                 outcome, plan = displan.solve(hi, clock, lowest=lo)
                 timings["sat"] += time.perf_counter() - t0
                 if outcome is SatOutcome.INTERRUPTED:
-                    return LoopOutcome(ReachStatus.UNKNOWN, hi, f"budget ran out in the SAT solver at horizon {_span(lo, hi)}")
+                    return LoopOutcome(
+                        ReachStatus.UNKNOWN, hi, f"budget ran out in the SAT solver at horizon {_span(lo, hi)}"
+                    )
                 if outcome is SatOutcome.UNSAT:
                     for L in range(lo, hi + 1):
                         displan.close(L)
@@ -182,8 +191,9 @@ def lazy_loop(
                     h = len(plan) - 1
                     below = _lowest_open(displan, first_lo, h)
                     note = "" if h == first_lo else _refuted_note(below, h if below == h else lo)
-                    return LoopOutcome(ReachStatus.FOUND, h, f"found at horizon {h}{note}", answer.trajectory, plan,
-                                       minimal=below == h)
+                    return LoopOutcome(
+                        ReachStatus.FOUND, h, f"found at horizon {h}{note}", answer.trajectory, plan, minimal=below == h
+                    )
                 learn_all(displan, answer)
                 if cap is not None and costly >= cap:
                     deferred.append((lo, hi))
@@ -238,9 +248,18 @@ def learn_all(displan: PlanSource, answer: Conflict | tuple[Conflict, ...]) -> N
 
 #: Names that moved to the modules of one concept each (see :mod:`plansynth.reach.lazy`),
 #: still importable from here.
-_MOVED = {"plan_lazy": "planner", "prove_minimal": "minimal", "retimed": "minimal", "shortened": "minimal",
-          "compressed": "minimal", "LazyOptions": "options", "COUNTEREXAMPLES": "options",
-          "HORIZON_SEARCHES": "options", "EXACT_SAMPLES": "claims", "DECOMPOSITION_ONLY": "claims"}
+_MOVED = {
+    "plan_lazy": "planner",
+    "prove_minimal": "minimal",
+    "retimed": "minimal",
+    "shortened": "minimal",
+    "compressed": "minimal",
+    "LazyOptions": "options",
+    "COUNTEREXAMPLES": "options",
+    "HORIZON_SEARCHES": "options",
+    "EXACT_SAMPLES": "claims",
+    "DECOMPOSITION_ONLY": "claims",
+}
 
 
 def __getattr__(name: str) -> Any:

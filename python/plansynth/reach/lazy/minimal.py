@@ -106,8 +106,11 @@ def prove_minimal(
             counters["reach_sets_bound"] = bound
             counters["reach_sets_reached"] = reach.reached
         if bound is None:
-            return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every "
-                                                       f"shorter horizon {REACH_SETS})"), probes
+            return replace(
+                best,
+                minimal=True,
+                message=f"found at horizon {best.horizon} (proved minimal: every shorter horizon {REACH_SETS})",
+            ), probes
         bound = max(bound, bottom)
         for L in range(bottom, bound):
             if L not in displan.closed:
@@ -120,15 +123,21 @@ def prove_minimal(
             # transit layer's leg LPs (maze-4: 80 to decide the legs of one refuted plan)
             # would only repeat what CON-PLAN's conflict says: CON-PLAN alone
             plain = theory.inner if isinstance(theory, TransitCheck) and tube is not None else theory
-            out = lazy_loop(displan, plain, [(bound, bound)], clock, timings, None,
-                            lambda H, plan=best.regions: compressed(plan, H))
+            out = lazy_loop(
+                displan, plain, [(bound, bound)], clock, timings, None, lambda H, plan=best.regions: compressed(plan, H)
+            )
             probes += 1
             if out.status is ReachStatus.FOUND:
-                return replace(out, minimal=True, message=f"found at horizon {out.horizon} (proved minimal: every "
-                                                          f"shorter horizon {REACH_SETS})"), probes
+                return replace(
+                    out,
+                    minimal=True,
+                    message=f"found at horizon {out.horizon} (proved minimal: every shorter horizon {REACH_SETS})",
+                ), probes
             if out.status is not ReachStatus.INFEASIBLE:
-                return (replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"),
-                        probes)
+                return (
+                    replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"),
+                    probes,
+                )
             if bound not in displan.closed:
                 displan.close(bound)
             bottom = bound + 1
@@ -141,8 +150,7 @@ def prove_minimal(
         else:
             probe = max(bottom, top + 1 - step)
         window = [(probe, probe)] if monotone else [(bottom, top)]
-        out = lazy_loop(displan, theory, window, clock, timings, None,
-                        lambda H, plan=best.regions: compressed(plan, H))
+        out = lazy_loop(displan, theory, window, clock, timings, None, lambda H, plan=best.regions: compressed(plan, H))
         probes += 1
         if out.status is ReachStatus.FOUND:
             best = retimed(displan, theory, out, bottom, clock, timings)
@@ -157,8 +165,11 @@ def prove_minimal(
             return replace(best, minimal=False, message=f"{best.message}; not proved minimal: {out.message}"), probes
     assert best.horizon is not None
     how = ", by monotonicity from the start at rest" if monotone else ""
-    return replace(best, minimal=True, message=f"found at horizon {best.horizon} (proved minimal: every shorter "
-                                               f"horizon refuted{how})"), probes
+    return replace(
+        best,
+        minimal=True,
+        message=f"found at horizon {best.horizon} (proved minimal: every shorter horizon refuted{how})",
+    ), probes
 
 
 def retimed(
@@ -199,8 +210,9 @@ def retimed(
                 timings["lp"] += time.perf_counter() - t0
                 if isinstance(answer, Feasible):
                     h = len(plan) - 1
-                    shorter = LoopOutcome(ReachStatus.FOUND, h, f"found at horizon {h} (re-timed)", answer.trajectory,
-                                          plan, minimal=False)
+                    shorter = LoopOutcome(
+                        ReachStatus.FOUND, h, f"found at horizon {h} (re-timed)", answer.trajectory, plan, minimal=False
+                    )
                     break
                 learn_all(displan, answer)
             if shorter is None:
@@ -260,8 +272,9 @@ def shortened(
         return found
     minimal = hi == below
     note = _refuted_note(below, hi)
-    return replace(best, message=f"found at horizon {hi}{note}; shortened from {h} by compressing its stays",
-                   minimal=minimal)
+    return replace(
+        best, message=f"found at horizon {hi}{note}; shortened from {h} by compressing its stays", minimal=minimal
+    )
 
 
 def compressed(plan: Sequence[int], horizon: int) -> tuple[int, ...]:

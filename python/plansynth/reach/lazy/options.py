@@ -24,8 +24,18 @@ from typing import Any
 
 from plansynth.options import check_fields, option
 
-__all__ = ["LazyOptions", "CONFIGURATIONS", "COUNTEREXAMPLES", "HORIZON_SEARCHES", "SLACK_WEIGHTS", "CARDINALITIES",
-           "WINDOW_GROWTH", "LARGE_WINDOW_GROWTH", "LARGE_REGIONS", "window_growth_for"]
+__all__ = [
+    "LazyOptions",
+    "CONFIGURATIONS",
+    "COUNTEREXAMPLES",
+    "HORIZON_SEARCHES",
+    "SLACK_WEIGHTS",
+    "CARDINALITIES",
+    "WINDOW_GROWTH",
+    "LARGE_WINDOW_GROWTH",
+    "LARGE_REGIONS",
+    "window_growth_for",
+]
 
 #: CON-PLAN's counterexample strategies (``farkas`` is ``trivial`` shrunk by its Farkas
 #: certificate; see :mod:`plansynth.reach.lazy.conplan`).
@@ -55,7 +65,9 @@ def window_growth_for(growth: float | None, regions: int) -> float:
 #: The help lines of the options several planners take (the lazy planner's for a mission,
 #: the MILPs' and the baselines' say the same).
 MAX_HORIZON_DOC = "largest horizon tried (none: the problem's max_horizon)"
-SEGMENT_SAFE_DOC = "keep each segment between samples in one convex region (false: the samples only, the paper's guarantee)"
+SEGMENT_SAFE_DOC = (
+    "keep each segment between samples in one convex region (false: the samples only, the paper's guarantee)"
+)
 TRANSIT_DOC = "refute plans with impossible transit times between regions before CON-PLAN"
 WAIT_SHIFTS_DOC = "robot at rest at its start: counterexamples anchored at the start also hold shifted earlier"
 
@@ -76,35 +88,61 @@ class LazyOptions:
     """
 
     max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
-    counterexample: str = option("farkas", "how CON-PLAN explains an infeasible plan (Section V): farkas (one LP "
-                                           "over the whole plan, shrunk by its Farkas certificate), zeroprefix (the "
-                                           "paper's ZEROPREFIX), trivial (the whole plan) or iis (HiGHS's IIS)",
-                                 choices=COUNTEREXAMPLES)
+    counterexample: str = option(
+        "farkas",
+        "how CON-PLAN explains an infeasible plan (Section V): farkas (one LP "
+        "over the whole plan, shrunk by its Farkas certificate), zeroprefix (the "
+        "paper's ZEROPREFIX), trivial (the whole plan) or iis (HiGHS's IIS)",
+        choices=COUNTEREXAMPLES,
+    )
     segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
-    generalize: bool = option(True, "shrink counterexamples to their Farkas certificate's literals and reuse them "
-                                    "at every time shift")
-    minimize: bool = option(True, "with generalize: also drop every region literal a counterexample does not need "
-                                  "(deletion filter)")
-    slack_weights: str = option("geometric", "zeroprefix's slack LP objective: geometric (violations pushed later) or "
-                                             "uniform (the paper's plain sum)", choices=SLACK_WEIGHTS)
-    cardinality: str = option("auto", "DIS-PLAN's exactly-one encoding: auto (pairwise up to 8 regions, paths beyond "
-                                      "200), pairwise, seqcounter, ladder, totalizer or paths", choices=CARDINALITIES)
-    lower_bound: bool = option(True, "start at the horizon lower bound, with time windows per region (false: from "
-                                     "horizon 0)")
-    horizon_search: str = option("window", "window (goal at some step of a growing window), linear (one horizon at a "
-                                           "time, the paper: the horizon found is minimal) or minimal (windows, then "
-                                           "every shorter horizon refuted)", choices=HORIZON_SEARCHES)
-    window_growth: float | None = option(None, "window search: each window this fraction longer than its start "
-                                               "(none: 0.25, and 1.0 on abstractions of more than 200 regions)",
-                                         positive=True)
+    generalize: bool = option(
+        True, "shrink counterexamples to their Farkas certificate's literals and reuse them at every time shift"
+    )
+    minimize: bool = option(
+        True, "with generalize: also drop every region literal a counterexample does not need (deletion filter)"
+    )
+    slack_weights: str = option(
+        "geometric",
+        "zeroprefix's slack LP objective: geometric (violations pushed later) or uniform (the paper's plain sum)",
+        choices=SLACK_WEIGHTS,
+    )
+    cardinality: str = option(
+        "auto",
+        "DIS-PLAN's exactly-one encoding: auto (pairwise up to 8 regions, paths beyond "
+        "200), pairwise, seqcounter, ladder, totalizer or paths",
+        choices=CARDINALITIES,
+    )
+    lower_bound: bool = option(
+        True, "start at the horizon lower bound, with time windows per region (false: from horizon 0)"
+    )
+    horizon_search: str = option(
+        "window",
+        "window (goal at some step of a growing window), linear (one horizon at a "
+        "time, the paper: the horizon found is minimal) or minimal (windows, then "
+        "every shorter horizon refuted)",
+        choices=HORIZON_SEARCHES,
+    )
+    window_growth: float | None = option(
+        None,
+        "window search: each window this fraction longer than its start "
+        "(none: 0.25, and 1.0 on abstractions of more than 200 regions)",
+        positive=True,
+    )
     transit: bool = option(True, TRANSIT_DOC)
     guided: bool = option(True, "make DIS-PLAN's decisions follow an evenly timed route")
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")
     wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
-    prove: bool = option(False, "segment-safe: prove the minimal horizon (or infeasibility) for the problem by a MILP "
-                                "relaxation of segment safety (small instances; within the budget)")
-    reach_sets: bool = option(True, "horizon_search=minimal: refute shorter horizons by per-axis reachable sets "
-                                    "first, where the dynamics separate by axis")
+    prove: bool = option(
+        False,
+        "segment-safe: prove the minimal horizon (or infeasibility) for the problem by a MILP "
+        "relaxation of segment safety (small instances; within the budget)",
+    )
+    reach_sets: bool = option(
+        True,
+        "horizon_search=minimal: refute shorter horizons by per-axis reachable sets "
+        "first, where the dynamics separate by axis",
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "lazy-smt")
@@ -114,8 +152,17 @@ class LazyOptions:
         """The paper's loop and counterexamples: the refinements beyond the paper off,
         except the abstraction, segment safety and the (sound) horizon lower bound,
         which both modes share."""
-        return cls(counterexample="zeroprefix", generalize=False, slack_weights="uniform", horizon_search="linear",
-                   transit=False, guided=False, widen=False, wait_shifts=False, **values)
+        return cls(
+            counterexample="zeroprefix",
+            generalize=False,
+            slack_weights="uniform",
+            horizon_search="linear",
+            transit=False,
+            guided=False,
+            widen=False,
+            wait_shifts=False,
+            **values,
+        )
 
     @classmethod
     def names(cls) -> tuple[str, ...]:

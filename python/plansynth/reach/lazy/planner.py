@@ -70,15 +70,36 @@ from dataclasses import dataclass, replace
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.axisreach import AxisReach
-from plansynth.reach.lazy.bounds import (SEPARATOR_MAX_REGIONS, ChainBounds, chain_gaps, physical_lower_bound,
-                                         proved_horizon_bound, separator_bounds, step_adjacency, time_windows)
-from plansynth.reach.lazy.claims import (DECOMPOSITION_ONLY, EXACT_SAMPLES, minimal_claim, not_a_proof, prove_claims,
-                                         uncertified)
+from plansynth.reach.lazy.bounds import (
+    SEPARATOR_MAX_REGIONS,
+    ChainBounds,
+    chain_gaps,
+    physical_lower_bound,
+    proved_horizon_bound,
+    separator_bounds,
+    step_adjacency,
+    time_windows,
+)
+from plansynth.reach.lazy.claims import (
+    DECOMPOSITION_ONLY,
+    EXACT_SAMPLES,
+    minimal_claim,
+    not_a_proof,
+    prove_claims,
+    uncertified,
+)
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.lazy.guide import reference_plans, route
-from plansynth.reach.lazy.loop import (DEAR_DEFER_AFTER, DEFER_AFTER, LoopOutcome, ProgressFn, TheoryChecker,
-                                       horizon_windows, lazy_loop)
+from plansynth.reach.lazy.loop import (
+    DEAR_DEFER_AFTER,
+    DEFER_AFTER,
+    LoopOutcome,
+    ProgressFn,
+    TheoryChecker,
+    horizon_windows,
+    lazy_loop,
+)
 from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LazyOptions, window_growth_for
 from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
@@ -154,9 +175,19 @@ def plan_lazy(
 
     def result(out: LoopOutcome) -> ReachResult:
         timings["total"] = time.perf_counter() - t_start
-        return ReachResult(status=out.status, solver="lazy-smt", seconds=timings["total"], trajectory=out.trajectory,
-                           regions=out.regions, horizon=out.horizon, counters=counters, timings=timings,
-                           options=record, message=out.message, guarantee=guarantee)
+        return ReachResult(
+            status=out.status,
+            solver="lazy-smt",
+            seconds=timings["total"],
+            trajectory=out.trajectory,
+            regions=out.regions,
+            horizon=out.horizon,
+            counters=counters,
+            timings=timings,
+            options=record,
+            message=out.message,
+            guarantee=guarantee,
+        )
 
     try:
         if abstraction is None:
@@ -169,24 +200,33 @@ def plan_lazy(
         counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
         with _timed(clock, timings, "bounds", "the horizon bounds (time windows)"):
             bounds = _horizon_bounds(problem, abstraction, graph, opts, L_max)
-        counters.update(proved_bound=_count(bounds.proved), exact_abstraction=abstraction.exact,
-                        bfs_bound=_count(bounds.bfs), physical_bound=bounds.physical, box_bound=_count(bounds.box),
-                        first_horizon=bounds.first)
+        counters.update(
+            proved_bound=_count(bounds.proved),
+            exact_abstraction=abstraction.exact,
+            bfs_bound=_count(bounds.bfs),
+            physical_bound=bounds.physical,
+            box_bound=_count(bounds.box),
+            first_horizon=bounds.first,
+        )
         conplan = _conplan(problem, abstraction, opts, search, clock)
-        theory: TheoryChecker = (TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else conplan)
+        theory: TheoryChecker = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else conplan
         path = route(problem, abstraction) if opts.guided else None
         if bounds.earliest is not None and bounds.first <= L_max:
             with _timed(clock, timings, "bounds", "the separator chains (time windows)"):
-                bounds = _with_chains(bounds, _chain_bounds(problem, abstraction, graph, theory, path), L_max,
-                                      counters)
+                bounds = _with_chains(bounds, _chain_bounds(problem, abstraction, graph, theory, path), L_max, counters)
     except BudgetExhausted as exc:  # before the loop: in the abstraction or the bounds
         return result(LoopOutcome(ReachStatus.UNKNOWN, None, str(exc)))
 
     # are the loop's refutations proofs for the problem? (samples only, exact regions)
     exact = not opts.segment_safe and abstraction.exact
     proved = bounds.proved
-    displan = DisPlan(graph, cardinality=opts.cardinality, earliest=bounds.earliest, to_go=bounds.to_go,
-                      waits_at_start=opts.wait_shifts and problem.starts_at_rest)
+    displan = DisPlan(
+        graph,
+        cardinality=opts.cardinality,
+        earliest=bounds.earliest,
+        to_go=bounds.to_go,
+        waits_at_start=opts.wait_shifts and problem.starts_at_rest,
+    )
     if proved > L_max or bounds.first > L_max:
         out = _refuted_by_bounds(problem, bounds, L_max, exact, opts, counters)
         if out.status is ReachStatus.UNKNOWN and opts.prove and opts.segment_safe:
@@ -195,7 +235,7 @@ def plan_lazy(
         growth = window_growth_for(opts.window_growth, graph.n_regions)
         record["window_growth"] = growth  # (None: resolved)
         windows = horizon_windows(bounds.first, L_max, growth if search != "linear" else 0.0)
-        first_leg = ((lambda region: theory.first_gap(START, region)) if isinstance(theory, TransitCheck) else None)
+        first_leg = (lambda region: theory.first_gap(START, region)) if isinstance(theory, TransitCheck) else None
         guide = reference_plans(problem, abstraction, path, first_leg) if opts.guided else None
         with clock.phase("the lazy SMT loop"):
             defer = (DEAR_DEFER_AFTER if conplan.dear else DEFER_AFTER) if search == "window" else None
@@ -203,15 +243,20 @@ def plan_lazy(
             if search == "window" and out.status is ReachStatus.FOUND and not out.minimal and not conplan.dear:
                 out = shortened(displan, theory, out, windows, clock, timings, counters)
             if search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
-                out = _prove_minimal(problem, abstraction, graph, displan, theory, out, windows, clock, timings,
-                                     counters, opts)
+                out = _prove_minimal(
+                    problem, abstraction, graph, displan, theory, out, windows, clock, timings, counters, opts
+                )
         if out.status is ReachStatus.INFEASIBLE and exact:
-            out = replace(out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted "
-                                       f"({EXACT_SAMPLES})")
+            out = replace(
+                out, message=f"infeasible up to horizon {out.horizon}: every horizon refuted ({EXACT_SAMPLES})"
+            )
         elif out.status is ReachStatus.INFEASIBLE:  # refuted through the abstraction only: not a proof
             counters["abstraction_refuted"] = out.horizon
-            out = LoopOutcome(ReachStatus.UNKNOWN, out.horizon, f"every horizon up to {out.horizon} refuted for "
-                              f"plans through the abstraction; {not_a_proof(proved)}")
+            out = LoopOutcome(
+                ReachStatus.UNKNOWN,
+                out.horizon,
+                f"every horizon up to {out.horizon} refuted for plans through the abstraction; {not_a_proof(proved)}",
+            )
         if opts.prove and opts.segment_safe and not exact:
             out = prove_claims(problem, out, proved, clock, counters)
     out = _claims(out, conplan, proved, exact, counters)
@@ -225,21 +270,32 @@ def _count(bound: float) -> int | None:
     return None if math.isinf(bound) else int(bound)
 
 
-def _horizon_bounds(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, opts: LazyOptions,
-                    L_max: int) -> _Bounds:
+def _horizon_bounds(
+    problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, opts: LazyOptions, L_max: int
+) -> _Bounds:
     """The lower bounds on the horizon and DIS-PLAN's time windows (module docstring)."""
     bfs = graph.horizon_lower_bound()
     phys = physical_lower_bound(problem) if opts.lower_bound else 0
-    windows = (time_windows(problem, abstraction, L_max, adjacency=graph.adjacency)
-               if (opts.lower_bound and math.isfinite(bfs)) else None)
+    windows = (
+        time_windows(problem, abstraction, L_max, adjacency=graph.adjacency)
+        if (opts.lower_bound and math.isfinite(bfs))
+        else None
+    )
     proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=opts.segment_safe)
     box = windows.horizon if windows is not None else 0
     if not math.isfinite(bfs) or not math.isfinite(box):
         first = L_max + 1
     else:
         first = int(max(bfs, phys, box)) if opts.lower_bound else 0
-    return _Bounds(bfs, phys, box, proved, first, None if windows is None else windows.earliest,
-                   None if windows is None else windows.to_go)
+    return _Bounds(
+        bfs,
+        phys,
+        box,
+        proved,
+        first,
+        None if windows is None else windows.earliest,
+        None if windows is None else windows.to_go,
+    )
 
 
 def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions, search: str, clock: Clock) -> ConPlan:
@@ -252,9 +308,17 @@ def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions,
     # block per axis; maze-4: HiGHS's time 2-3x less); the window search needs a handful,
     # and the paper's loop (no generalisation) keeps the LPs it was measured with
     proof = search == "minimal" or (search == "linear" and opts.generalize)
-    return ConPlan(problem, abstraction, segment_safe=opts.segment_safe, counterexample=counterexample,
-                   generalize=generalize, minimize=opts.minimize, slack_weights=opts.slack_weights, clock=clock,
-                   split=True if proof else None)
+    return ConPlan(
+        problem,
+        abstraction,
+        segment_safe=opts.segment_safe,
+        counterexample=counterexample,
+        generalize=generalize,
+        minimize=opts.minimize,
+        slack_weights=opts.slack_weights,
+        clock=clock,
+        split=True if proof else None,
+    )
 
 
 def _with_chains(bounds: _Bounds, chain: ChainBounds | None, L_max: int, counters: dict) -> _Bounds:
@@ -264,12 +328,17 @@ def _with_chains(bounds: _Bounds, chain: ChainBounds | None, L_max: int, counter
     counters["chain_bound"] = _count(chain.horizon)
     first = L_max + 1 if math.isinf(chain.horizon) else max(bounds.first, int(chain.horizon))
     counters["first_horizon"] = first
-    return replace(bounds, first=first, earliest=tuple(max(a, b) for a, b in zip(bounds.earliest, chain.earliest)),
-                   to_go=tuple(max(a, b) for a, b in zip(bounds.to_go, chain.to_go)))
+    return replace(
+        bounds,
+        first=first,
+        earliest=tuple(max(a, b) for a, b in zip(bounds.earliest, chain.earliest)),
+        to_go=tuple(max(a, b) for a, b in zip(bounds.to_go, chain.to_go)),
+    )
 
 
-def _refuted_by_bounds(problem: ReachProblem, bounds: _Bounds, L_max: int, exact: bool, opts: LazyOptions,
-                       counters: dict) -> LoopOutcome:
+def _refuted_by_bounds(
+    problem: ReachProblem, bounds: _Bounds, L_max: int, exact: bool, opts: LazyOptions, counters: dict
+) -> LoopOutcome:
     """The answer when the bounds alone exceed ``max_horizon``: ``infeasible`` when the
     proved bound does (or the search is exact), else ``unknown`` (no plan through the
     abstraction: not a proof)."""
@@ -278,8 +347,11 @@ def _refuted_by_bounds(problem: ReachProblem, bounds: _Bounds, L_max: int, exact
         if (bounds.physical if opts.lower_bound else physical_lower_bound(problem)) >= 1 << 30:
             why = "the dynamics and bounds allow no displacement toward the goal"
         elif math.isinf(proved):
-            why = ("the goal is not connected to the start in the free space" if math.isinf(bfs)
-                   else "no position reaches the goal by bounded displacements through the free space")
+            why = (
+                "the goal is not connected to the start in the free space"
+                if math.isinf(bfs)
+                else "no position reaches the goal by bounded displacements through the free space"
+            )
         else:
             why = f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)"
         return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
@@ -292,22 +364,46 @@ def _refuted_by_bounds(problem: ReachProblem, bounds: _Bounds, L_max: int, exact
     if exact:
         return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} ({EXACT_SAMPLES})")
     counters["abstraction_refuted"] = L_max
-    return LoopOutcome(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: {why}; "
-                                                   f"{not_a_proof(proved)}")
+    return LoopOutcome(
+        ReachStatus.UNKNOWN,
+        L_max,
+        f"no plan through the abstraction up to horizon {L_max}: {why}; {not_a_proof(proved)}",
+    )
 
 
-def _prove_minimal(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, displan: DisPlan,
-                   theory: TheoryChecker, out: LoopOutcome, windows: list[tuple[int, int]], clock: Clock,
-                   timings: dict[str, float], counters: dict, opts: LazyOptions) -> LoopOutcome:
+def _prove_minimal(
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    graph: RegionGraph,
+    displan: DisPlan,
+    theory: TheoryChecker,
+    out: LoopOutcome,
+    windows: list[tuple[int, int]],
+    clock: Clock,
+    timings: dict[str, float],
+    counters: dict,
+    opts: LazyOptions,
+) -> LoopOutcome:
     """``horizon_search="minimal"``: :func:`~plansynth.reach.lazy.minimal.prove_minimal`
     from the window of the plan found (every horizon below it is refuted), with the
     per-axis reachable sets when ``reach_sets``."""
     t0 = time.perf_counter()
     bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)
-    reach = (AxisReach.build(problem, abstraction, graph.adjacency, graph.start_regions, graph.goal_regions,
-                             segment_safe=opts.segment_safe) if opts.reach_sets else None)
-    out, counters["minimal_probes"] = prove_minimal(displan, theory, out, bottom, clock, timings,
-                                                    monotone=problem.starts_at_rest, reach=reach, counters=counters)
+    reach = (
+        AxisReach.build(
+            problem,
+            abstraction,
+            graph.adjacency,
+            graph.start_regions,
+            graph.goal_regions,
+            segment_safe=opts.segment_safe,
+        )
+        if opts.reach_sets
+        else None
+    )
+    out, counters["minimal_probes"] = prove_minimal(
+        displan, theory, out, bottom, clock, timings, monotone=problem.starts_at_rest, reach=reach, counters=counters
+    )
     timings["minimal"] = time.perf_counter() - t0
     return out
 
@@ -321,30 +417,54 @@ def _claims(out: LoopOutcome, conplan: ConPlan, proved: float, exact: bool, coun
     if out.status is ReachStatus.FOUND:
         counters.update(minimal_claim(out, proved, exact or counters.get("relaxation") == "minimal"))
         if counters["minimal_relative_to"] == "decomposition":
-            out = replace(out, message=f"{out.message}; minimal only among plans through the decomposition "
-                                       f"({DECOMPOSITION_ONLY}), not proved for the problem (proved lower bound: "
-                                       f"{int(proved)})")
+            out = replace(
+                out,
+                message=f"{out.message}; minimal only among plans through the decomposition "
+                f"({DECOMPOSITION_ONLY}), not proved for the problem (proved lower bound: "
+                f"{int(proved)})",
+            )
     return out
 
 
-def _count_run(counters: dict, clock: Clock, displan: DisPlan, conplan: ConPlan, theory: TheoryChecker,
-               out: LoopOutcome) -> None:
+def _count_run(
+    counters: dict, clock: Clock, displan: DisPlan, conplan: ConPlan, theory: TheoryChecker, out: LoopOutcome
+) -> None:
     """What the run did, in ``counters``."""
     st = conplan.stats
     counters.update(
-        iterations=clock.iterations, sat_calls=displan.sat_calls, sat_slices=displan.sat_slices,
-        clauses=displan.clauses, window_clauses=displan.window_clauses, conflicts=len(displan.conflicts),
-        lp_calls=st.lp_calls, lp_calls_by_kind=dict(st.by_kind), iis_calls=st.iis_calls, ray_calls=st.ray_calls,
-        certified=st.certified, rejected=st.rejected, lp_retries=st.retries, ipm_fallbacks=st.ipm_fallbacks,
-        polished=st.polished, slack_failures=st.slack_failures,
+        iterations=clock.iterations,
+        sat_calls=displan.sat_calls,
+        sat_slices=displan.sat_slices,
+        clauses=displan.clauses,
+        window_clauses=displan.window_clauses,
+        conflicts=len(displan.conflicts),
+        lp_calls=st.lp_calls,
+        lp_calls_by_kind=dict(st.by_kind),
+        iis_calls=st.iis_calls,
+        ray_calls=st.ray_calls,
+        certified=st.certified,
+        rejected=st.rejected,
+        lp_retries=st.retries,
+        ipm_fallbacks=st.ipm_fallbacks,
+        polished=st.polished,
+        slack_failures=st.slack_failures,
     )
     if isinstance(theory, TransitCheck):
-        counters.update(transit_conflicts=theory.conflicts, transit_lp_calls=theory.lp_calls,
-                        transit_plans=theory.plans_caught, widened_conflicts=theory.widened)
+        counters.update(
+            transit_conflicts=theory.conflicts,
+            transit_lp_calls=theory.lp_calls,
+            transit_plans=theory.plans_caught,
+            widened_conflicts=theory.widened,
+        )
 
 
-def _chain_bounds(problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, theory: TheoryChecker,
-                  path: Sequence[int] | None) -> ChainBounds | None:
+def _chain_bounds(
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    graph: RegionGraph,
+    theory: TheoryChecker,
+    path: Sequence[int] | None,
+) -> ChainBounds | None:
     """The separator chains of :func:`~plansynth.reach.lazy.bounds.separator_bounds` over
     DIS-PLAN's region graph (beyond the paper), or None when they do
     not apply: no multi-step displacement table (integrator chains, whose one-step
@@ -376,8 +496,9 @@ def _chain_bounds(problem: ReachProblem, abstraction: Abstraction, graph: Region
     out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
     for _ in range(CHAIN_ROUNDS if transit is not None else 0):
         # (start straight to goal, one region holding both: no leg LP, the box gap stands)
-        legs = [(a, b) for a, b in zip(out.critical, out.critical[1:])
-                if (a, b) not in refined and (a, b) != (START, GOAL)]
+        legs = [
+            (a, b) for a, b in zip(out.critical, out.critical[1:]) if (a, b) not in refined and (a, b) != (START, GOAL)
+        ]
         if not legs:
             break
         for a, b in legs:

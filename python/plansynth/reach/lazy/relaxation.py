@@ -59,8 +59,9 @@ def _pieces(problem: ReachProblem) -> list[tuple[np.ndarray, np.ndarray]]:
     return out
 
 
-def relaxation_feasible(problem: ReachProblem, horizon: int, *, subdivisions: int = SUBDIVISIONS,
-                        seconds: float = math.inf) -> bool | None:
+def relaxation_feasible(
+    problem: ReachProblem, horizon: int, *, subdivisions: int = SUBDIVISIONS, seconds: float = math.inf
+) -> bool | None:
     """Does the relaxation (see the module docstring) have a solution of exactly
     ``horizon`` steps? True, False (then no segment-safe trajectory of this horizon
     exists), or None (HiGHS's time limit, or a status it did not decide)."""
@@ -83,9 +84,13 @@ def relaxation_feasible(problem: ReachProblem, horizon: int, *, subdivisions: in
     ai, aj = np.nonzero(A)
     bi, bj = np.nonzero(B)
     for t in range(N):  # x_{t+1} - A x_t - B u_t = 0
-        rows.add(np.concatenate([np.arange(n), ai, bi]),
-                 np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, n_x + t * m + bj]),
-                 np.concatenate([np.ones(n), -A[ai, aj], -B[bi, bj]]), np.zeros(n), np.zeros(n))
+        rows.add(
+            np.concatenate([np.arange(n), ai, bi]),
+            np.concatenate([(t + 1) * n + np.arange(n), t * n + aj, n_x + t * m + bj]),
+            np.concatenate([np.ones(n), -A[ai, aj], -B[bi, bj]]),
+            np.zeros(n),
+            np.zeros(n),
+        )
     Hg, hg = (np.asarray(a, float) for a in halfspaces(problem.goal))
     kg = Hg.shape[0]
     rows.add(np.repeat(np.arange(kg), d), np.tile(N * n + pos, kg), Hg.ravel(), np.full(kg, -np.inf), hg)
@@ -108,16 +113,29 @@ def relaxation_feasible(problem: ReachProblem, horizon: int, *, subdivisions: in
                 # H_f ((1 - lam) p_t + lam p_{t+1}) - M z >= h_f - M
                 cols = [t * n + pos] + ([(t + 1) * n + pos] if lam > 0 else [])
                 vals = [(1 - lam) * H[f]] + ([lam * H[f]] if lam > 0 else [])
-                rows.add(np.zeros(d * len(cols) + 1, dtype=np.int64), np.concatenate(cols + [[z]]),
-                         np.concatenate(vals + [[-M]]), np.array([h[f] - M]), np.array([np.inf]))
+                rows.add(
+                    np.zeros(d * len(cols) + 1, dtype=np.int64),
+                    np.concatenate(cols + [[z]]),
+                    np.concatenate(vals + [[-M]]),
+                    np.array([h[f] - M]),
+                    np.array([np.inf]),
+                )
             rows.add(np.zeros(len(faces), dtype=np.int64), zs, np.ones(len(faces)), np.ones(1), np.full(1, np.inf))
     n_col = n_x + n_u + n_bin
     s_lo, s_hi = problem.state_box
     col_lo = np.concatenate([np.tile(s_lo, T), np.full(n_u, -problem.input_bound), np.zeros(n_bin)])
     col_hi = np.concatenate([np.tile(s_hi, T), np.full(n_u, problem.input_bound), np.ones(n_bin)])
     col_lo[:n] = col_hi[:n] = problem.start
-    lp = csc_lp(n_col, rows.n_row, *rows.coo(), np.zeros(n_col), col_lo, col_hi, *rows.bounds(),
-                integrality=[highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_bin)
+    lp = csc_lp(
+        n_col,
+        rows.n_row,
+        *rows.coo(),
+        np.zeros(n_col),
+        col_lo,
+        col_hi,
+        *rows.bounds(),
+        integrality=[highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_bin,
+    )
     hs = new_highs()
     hs.passModel(lp)
     left = deadline - time.perf_counter()
@@ -135,8 +153,9 @@ def relaxation_feasible(problem: ReachProblem, horizon: int, *, subdivisions: in
     return None
 
 
-def refute_below(problem: ReachProblem, horizon: int, *, lowest: int = 0, subdivisions: int = SUBDIVISIONS,
-                 seconds: float = math.inf) -> bool:
+def refute_below(
+    problem: ReachProblem, horizon: int, *, lowest: int = 0, subdivisions: int = SUBDIVISIONS, seconds: float = math.inf
+) -> bool:
     """Is it proved that no segment-safe trajectory has a horizon below ``horizon``?
     With a start at rest one relaxation MILP at ``horizon - 1`` decides it (waiting at
     the start turns a shorter trajectory into one of that horizon); otherwise one MILP
@@ -147,6 +166,9 @@ def refute_below(problem: ReachProblem, horizon: int, *, lowest: int = 0, subdiv
         return True
     tops = [horizon - 1] if problem.starts_at_rest else range(max(0, lowest), horizon)
     for N in tops:
-        if relaxation_feasible(problem, N, subdivisions=subdivisions, seconds=deadline - time.perf_counter()) is not False:
+        if (
+            relaxation_feasible(problem, N, subdivisions=subdivisions, seconds=deadline - time.perf_counter())
+            is not False
+        ):
             return False
     return True

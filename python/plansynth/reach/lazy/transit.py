@@ -83,15 +83,19 @@ class TransitCheck:
         problem = inner.problem
         down, up = step_reach(problem)
         self.step_down, self.step_up = np.asarray(down, float), np.asarray(up, float)
-        self.boxes = {i: (np.min(r.vertices, axis=0), np.max(r.vertices, axis=0))
-                      for i, r in enumerate(abstraction.regions)}
+        self.boxes = {
+            i: (np.min(r.vertices, axis=0), np.max(r.vertices, axis=0)) for i, r in enumerate(abstraction.regions)
+        }
         s = np.asarray(problem.start_position, float)
         self.boxes[START] = (s, s)
         self.boxes[GOAL] = shape_box(problem.goal)
         # from rest, a stable internal block bounds the displacement of k steps by far
         # less than k one-step bounds (random dynamics; None for integrator chains)
-        self.reach_table = (displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE)
-                            if problem.starts_at_rest else None)
+        self.reach_table = (
+            displacement_reach(problem.dynamics, problem.input_bound, MULTISTEP_TABLE)
+            if problem.starts_at_rest
+            else None
+        )
         # the start is an equilibrium: legs out of it are monotone in the gap
         self.start_at_rest = problem.starts_at_rest
         self._first: dict[tuple[int, int], int] = {}
@@ -153,8 +157,7 @@ class TransitCheck:
         parts = self.inner.span_parts()
         if parts is None:
             return self._gallop(box, lambda k: self._impossible_lp(START, b, k))
-        return max(self._gallop(box, lambda k, p=p: self._impossible_lp(START, b, k, part=p))
-                   for p in range(parts))
+        return max(self._gallop(box, lambda k, p=p: self._impossible_lp(START, b, k, part=p)) for p in range(parts))
 
     @staticmethod
     def _gallop(box: int, impossible) -> int:
@@ -193,8 +196,14 @@ class TransitCheck:
             return Conflict(((gap, b),), anchored_start=True, anchored_goal=False, horizon=N, last_time=gap)
         if b == GOAL:
             return Conflict(((t, a),), anchored_start=False, anchored_goal=True, horizon=N, first_time=t)
-        return Conflict(((t, a), (t + gap, b)), anchored_start=False, anchored_goal=False, horizon=N,
-                        first_time=t, last_time=t + gap)
+        return Conflict(
+            ((t, a), (t + gap, b)),
+            anchored_start=False,
+            anchored_goal=False,
+            horizon=N,
+            first_time=t,
+            last_time=t + gap,
+        )
 
     # ---------------------------------------------------------------- the theory check
     def legs(self, regions: Sequence[int]) -> list[tuple[int, int, int, int]]:
@@ -221,8 +230,9 @@ class TransitCheck:
         out += [(x, GOAL, e, N - e) for x, e in last_end.items() if e < N]
         return out
 
-    def violations(self, regions: Sequence[int], span: tuple[int, int] | None = None, *,
-                   known_only: bool = False) -> list[Conflict]:
+    def violations(
+        self, regions: Sequence[int], span: tuple[int, int] | None = None, *, known_only: bool = False
+    ) -> list[Conflict]:
         """The conflicts of every leg the plan gets wrong, for all of its impossible gaps
         the first time the leg is seen wrong, for the plan's gap afterwards; with
         ``span`` (lo, hi), only the legs that lie within steps lo..hi; with
@@ -307,8 +317,10 @@ class TransitCheck:
         # of a plan took ~8,000 LPs where the plan needed one conflict)
         span = None
         if first is not None:
-            span = (0 if first.anchored_start else first.first_time,
-                    len(regions) - 1 if first.anchored_goal else first.last_time)
+            span = (
+                0 if first.anchored_start else first.first_time,
+                len(regions) - 1 if first.anchored_goal else first.last_time,
+            )
         # a leg known to be wrong: report the legs known so, without LPs for the others
         # (a plan of a 1,500-region maze has thousands of legs near their box bounds)
         found = self.violations(regions, span, known_only=known_wrong)
@@ -330,20 +342,38 @@ def _moved(c: Conflict, end: str, j: int) -> Conflict | None:
     lits = sorted(c.literals)
     if end == "later":
         if c.anchored_goal:  # the goal is the later end: the horizon grows
-            return Conflict(tuple(lits), anchored_start=c.anchored_start, anchored_goal=True, horizon=c.horizon + j,
-                            first_time=c.first_time)
+            return Conflict(
+                tuple(lits),
+                anchored_start=c.anchored_start,
+                anchored_goal=True,
+                horizon=c.horizon + j,
+                first_time=c.first_time,
+            )
         if c.anchored_start and len(lits) == 0:
             return None
         *rest, (t, r) = lits
-        return Conflict((*rest, (t + j, r)), anchored_start=c.anchored_start, anchored_goal=False,
-                        horizon=max(c.horizon, c.last_time + j), first_time=c.first_time, last_time=c.last_time + j)
+        return Conflict(
+            (*rest, (t + j, r)),
+            anchored_start=c.anchored_start,
+            anchored_goal=False,
+            horizon=max(c.horizon, c.last_time + j),
+            first_time=c.first_time,
+            last_time=c.last_time + j,
+        )
     if c.anchored_start:  # the start is the earlier end: every literal moves later
         moved = tuple((t + j, r) for t, r in lits)
-        return Conflict(moved, anchored_start=True, anchored_goal=c.anchored_goal, horizon=c.horizon + j,
-                        last_time=c.last_time + j)
+        return Conflict(
+            moved, anchored_start=True, anchored_goal=c.anchored_goal, horizon=c.horizon + j, last_time=c.last_time + j
+        )
     if len(lits) < 2 and not c.anchored_goal:
         return None
     (t0, r0), *rest = lits
     moved = ((t0, r0), *((t + j, r) for t, r in rest))
-    return Conflict(moved, anchored_start=False, anchored_goal=c.anchored_goal, horizon=c.horizon + j,
-                    first_time=c.first_time, last_time=c.last_time + j)
+    return Conflict(
+        moved,
+        anchored_start=False,
+        anchored_goal=c.anchored_goal,
+        horizon=c.horizon + j,
+        first_time=c.first_time,
+        last_time=c.last_time + j,
+    )

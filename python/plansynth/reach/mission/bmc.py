@@ -61,10 +61,29 @@ from pysat.solvers import Solver
 
 from plansynth.budget import Clock
 from plansynth.reach.lazy.conflict import Conflict
-from plansynth.reach.lazy.displan import (CONFLICTS_PER_SLICE, PAIRWISE_MAX_REGIONS, SAT_SOLVER, LearnedClauses,
-                                         RegionGraph, SatOutcome)
+from plansynth.reach.lazy.displan import (
+    CONFLICTS_PER_SLICE,
+    PAIRWISE_MAX_REGIONS,
+    SAT_SOLVER,
+    LearnedClauses,
+    RegionGraph,
+    SatOutcome,
+)
 from plansynth.reach.mission.ltl import (
-    And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, _children, nnf, subformulas,
+    And,
+    Const,
+    Finally,
+    Formula,
+    Globally,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+    _children,
+    nnf,
+    subformulas,
 )
 from plansynth.reach.mission.options import SEMANTICS
 from plansynth.reach.mission.plans import LoopConflict, MissionPlan, StayConflict
@@ -184,8 +203,12 @@ class MissionDisPlan(LearnedClauses):
     def _position(self, t: int) -> None:
         g = self.graph
         lits = list(self.row(t))
-        enc = CardEnc.equals(lits=lits, bound=1, vpool=self.pool,
-                             encoding=EncType.pairwise if g.n_regions <= PAIRWISE_MAX_REGIONS else EncType.seqcounter)
+        enc = CardEnc.equals(
+            lits=lits,
+            bound=1,
+            vpool=self.pool,
+            encoding=EncType.pairwise if g.n_regions <= PAIRWISE_MAX_REGIONS else EncType.seqcounter,
+        )
         for c in enc.clauses:
             self._add(c)
         for i in range(g.n_regions):
@@ -262,7 +285,9 @@ class MissionDisPlan(LearnedClauses):
         for s, _ in sels:
             self._add([-s, act])
         if len(sels) > 1:
-            for c in CardEnc.atmost(lits=[s for s, _ in sels], bound=1, vpool=self.pool, encoding=EncType.seqcounter).clauses:
+            for c in CardEnc.atmost(
+                lits=[s for s, _ in sels], bound=1, vpool=self.pool, encoding=EncType.seqcounter
+            ).clauses:
                 self._add(c)
         for s, j in sels:
             if s != self.stay(L):  # x_L = x_{j-1}: the same region
@@ -330,8 +355,7 @@ class MissionDisPlan(LearnedClauses):
             for end in range(c.last_time - c.first_time, self.built + 1):
                 self._shift(c, end - c.last_time, None)
 
-    def learn_loop(self, literals: Sequence[tuple[int, int]], loop_start: int, horizon: int, *,
-                   shifted: bool) -> None:
+    def learn_loop(self, literals: Sequence[tuple[int, int]], loop_start: int, horizon: int, *, shifted: bool) -> None:
         """CON-PLAN refuted the loop x_L = x_k (L = ``horizon``, k = ``loop_start``)
         together with these (time, region) literals: block them with the loop selector.
         ``shifted``: the proof used neither the start nor any step before k, so it holds
@@ -375,8 +399,9 @@ class MissionDisPlan(LearnedClauses):
         self._add([-self.act(horizon)])
 
     # -- solving -----------------------------------------------------------------
-    def solve(self, horizon: int, clock: Clock | None = None, *,
-              lowest: int | None = None) -> tuple[SatOutcome, MissionPlan | None]:
+    def solve(
+        self, horizon: int, clock: Clock | None = None, *, lowest: int | None = None
+    ) -> tuple[SatOutcome, MissionPlan | None]:
         """A plan of exactly this horizon satisfying the mission and every learned
         clause, UNSAT, or INTERRUPTED when ``clock`` runs out. (One horizon at a time:
         ``lowest``, the lazy loop's window, must be the horizon itself.)"""

@@ -57,7 +57,22 @@ from shapely.geometry import LineString, Point
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach.mission.ltl import (
-    And, Const, Finally, Formula, Globally, Lasso, Next, Not, Or, Prop, Release, Until, holds, holds_at, nnf, parse,
+    And,
+    Const,
+    Finally,
+    Formula,
+    Globally,
+    Lasso,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+    holds,
+    holds_at,
+    nnf,
+    parse,
 )
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
@@ -92,8 +107,14 @@ class MissionReport:
         return f"mission VIOLATED ({kind}) at step {self.step}: {self.reason}"
 
     def to_json_dict(self) -> dict:
-        return {"ok": self.ok, "semantics": self.semantics, "loop_start": self.loop_start, "step": self.step,
-                "reason": self.reason, "letters": [list(a) for a in self.letters]}
+        return {
+            "ok": self.ok,
+            "semantics": self.semantics,
+            "loop_start": self.loop_start,
+            "step": self.step,
+            "reason": self.reason,
+            "letters": [list(a) for a in self.letters],
+        }
 
 
 class _Label:
@@ -116,8 +137,14 @@ class _Label:
         return (not self.inner.is_empty) and bool(shapely.relate_pattern(self.inner, geom, "T********"))
 
 
-def trajectory_word(problem: ReachProblem, positions: np.ndarray, loop_start: int | None, tol: float = 1e-6, *,
-                    labels: dict | None = None):
+def trajectory_word(
+    problem: ReachProblem,
+    positions: np.ndarray,
+    loop_start: int | None,
+    tol: float = 1e-6,
+    *,
+    labels: dict | None = None,
+):
     """The letters (sets of "may hold" literals) of the trajectory's word, and the first
     segment crossing, as ``(letters, crossing)`` with ``crossing = (step, label, into)``
     or None. A lasso's word has N letters (position N is position k again). ``labels``:
@@ -137,9 +164,14 @@ def trajectory_word(problem: ReachProblem, positions: np.ndarray, loop_start: in
     # vectorised predicates: the same answers as one call per geometry)
     garr = np.array(geoms, dtype=object)
     covers = {n: np.asarray(shapely.covers(lab.closed, garr), dtype=bool) for n, lab in labels.items()}
-    enter = {n: (np.zeros(len(geoms), dtype=bool) if lab.inner.is_empty else
-                 np.asarray(shapely.relate_pattern(lab.inner, garr, "T********"), dtype=bool))
-             for n, lab in labels.items()}
+    enter = {
+        n: (
+            np.zeros(len(geoms), dtype=bool)
+            if lab.inner.is_empty
+            else np.asarray(shapely.relate_pattern(lab.inner, garr, "T********"), dtype=bool)
+        )
+        for n, lab in labels.items()
+    }
     letters, crossing = [], None
     for t in range(last + 1):
         p = positions[t]
@@ -184,9 +216,14 @@ def check_mission(
     semantics = "finite" if loop_start is None else "lasso"
     labels = {n: _Label(s, tol) for n, s in problem.mission_labels.items()}  # each label's geometry once
     points = np.array([Point(p[0], p[1]) for p in P], dtype=object)
-    inside = {n: (np.zeros(len(P), dtype=bool) if lab.inner.is_empty else
-                  np.asarray(shapely.relate_pattern(lab.inner, points, "T********"), dtype=bool))
-              for n, lab in labels.items()}
+    inside = {
+        n: (
+            np.zeros(len(P), dtype=bool)
+            if lab.inner.is_empty
+            else np.asarray(shapely.relate_pattern(lab.inner, points, "T********"), dtype=bool)
+        )
+        for n, lab in labels.items()
+    }
     shown = tuple(tuple(sorted(n for n in labels if inside[n][t])) for t in range(len(P)))
 
     def fail(step: int | None, reason: str) -> MissionReport:
@@ -200,8 +237,11 @@ def check_mission(
         if np.any(gap > component_tolerance(X[loop_start], tol)):
             return fail(N, f"the loop does not close: |x_{N} - x_{loop_start}|_inf = {err:.3g}")
     elif not can_rest(problem, X[N], tol):
-        return fail(N, f"the plan cannot end at x_{N}: no admissible input keeps the robot there, and a finite "
-                       "plan's robot stays at its last state")
+        return fail(
+            N,
+            f"the plan cannot end at x_{N}: no admissible input keeps the robot there, and a finite "
+            "plan's robot stays at its last state",
+        )
     letters, crossing = trajectory_word(problem, P, loop_start, tol, labels=labels)
     if crossing is not None:
         t, name, into = crossing
@@ -216,8 +256,11 @@ def check_mission(
         return fail(step, reason)
     if consistent_reading(f, word) is None:
         touched = sorted({t for t, a in enumerate(word.letters) for n in labels if n in a and NEG + n in a})
-        return fail(touched[0], "no consistent reading of the boundary touches satisfies the mission "
-                                f"(the robot touches a label's boundary at steps {', '.join(map(str, touched))})")
+        return fail(
+            touched[0],
+            "no consistent reading of the boundary touches satisfies the mission "
+            f"(the robot touches a label's boundary at steps {', '.join(map(str, touched))})",
+        )
     return MissionReport(True, semantics, loop_start, None, None, shown)
 
 
@@ -266,8 +309,9 @@ def consistent_reading(f: Formula, word: Lasso) -> Lasso | None:
     (frozenset({'a'}),)
     """
     letters = word.letters
-    ambiguous = sorted({(i, n[len(NEG):]) for i, a in enumerate(letters) for n in a
-                        if n.startswith(NEG) and n[len(NEG):] in a})
+    ambiguous = sorted(
+        {(i, n[len(NEG) :]) for i, a in enumerate(letters) for n in a if n.startswith(NEG) and n[len(NEG) :] in a}
+    )
     if not ambiguous:
         return word if holds(f, word) else None
 
@@ -332,7 +376,7 @@ def consistent_reading(f: Formula, word: Lasso) -> Lasso | None:
             v = [TRUE if g.value else -TRUE] * n_pos
         elif isinstance(g, Prop):
             neg = g.name.startswith(NEG)
-            name = g.name[len(NEG):] if neg else g.name
+            name = g.name[len(NEG) :] if neg else g.name
             v = []
             for i, a in enumerate(letters):
                 lit = var[(i, name)] if (i, name) in var else (TRUE if g.name in a else -TRUE)
@@ -405,8 +449,9 @@ def _first_failure(f: Formula, word: Lasso, i: int) -> tuple[int, str]:
     raise TypeError(f"not in negation normal form: {f!r}")  # pragma: no cover
 
 
-def validate_mission_file(problem: ReachProblem, trajectory: Trajectory, result: dict, *, segment_safe: bool = False,
-                          tol: float = 1e-6) -> tuple[bool, list[str]]:
+def validate_mission_file(
+    problem: ReachProblem, trajectory: Trajectory, result: dict, *, segment_safe: bool = False, tol: float = 1e-6
+) -> tuple[bool, list[str]]:
     """``plansynth reach validate`` for a mission: the validator (the problem's goal
     is no constraint then) and :func:`check_mission`, with the loop start read from the
     result file's ``mission.loop_start`` (absent: a finite plan). (ok, lines to print)."""
@@ -421,6 +466,8 @@ def validate_mission_file(problem: ReachProblem, trajectory: Trajectory, result:
     mission = check_mission(problem, trajectory, loop_start, tol=tol)
     ok = report.ok and mission.ok
     style = "bold green" if ok else "bold red"
-    lines = [f"[{style}]{'valid' if ok else 'INVALID'}[/{style}]: {escape(report.summary())}; {escape(mission.summary())}"]
+    lines = [
+        f"[{style}]{'valid' if ok else 'INVALID'}[/{style}]: {escape(report.summary())}; {escape(mission.summary())}"
+    ]
     lines += [f"  {escape(str(v))}" for v in report.violations[:50]]
     return ok, lines

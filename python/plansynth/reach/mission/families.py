@@ -45,8 +45,9 @@ def mission_problem(instance: str, mission: str) -> ReachProblem:
         text = "!h U door"
     else:
         raise ValueError(f"unknown mission {mission!r} (known: {', '.join(MISSIONS)})")
-    return replace(base, goal=None, labels=tuple(labels.items()), mission=text, max_horizon=60,
-                   name=f"{instance}-{mission}")
+    return replace(
+        base, goal=None, labels=tuple(labels.items()), mission=text, max_horizon=60, name=f"{instance}-{mission}"
+    )
 
 
 def mission_instances() -> list[ReachProblem]:

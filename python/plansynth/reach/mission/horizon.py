@@ -56,8 +56,9 @@ __all__ = ["horizon_lower_bound", "timed_horizon_bound", "product_graph", "live_
 State = tuple[int, frozenset]  # (region, tableau node)
 
 
-def product_graph(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula, *,
-                  max_nodes: int = MAX_NODES) -> dict[State, list[tuple[State, frozenset]]]:
+def product_graph(
+    graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula, *, max_nodes: int = MAX_NODES
+) -> dict[State, list[tuple[State, frozenset]]]:
     """The product of the region graph and the mission's tableau, from the start
     regions: ``edges[s]``, the successors of state s as (state, eventualities carried
     on). Raises :class:`~plansynth.reach.mission.proof.TooLarge` past ``max_nodes``
@@ -84,8 +85,9 @@ def product_graph(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formu
     return edges
 
 
-def live_states(edges: dict[State, list[tuple[State, frozenset]]], allowed: frozenset[int],
-                eventualities: frozenset | None = None) -> set[State]:
+def live_states(
+    edges: dict[State, list[tuple[State, frozenset]]], allowed: frozenset[int], eventualities: frozenset | None = None
+) -> set[State]:
     """The states of the product restricted to the regions ``allowed`` from which an
     accepting path (inside ``allowed``) leaves: those that reach a strongly connected
     component with an inner edge that does not carry each eventuality on (the generalized
@@ -120,9 +122,16 @@ def _eventualities(edges: dict[State, list[tuple[State, frozenset]]]) -> frozens
     return frozenset(g for pend in {pend for es in edges.values() for _, pend in es} for g in pend)
 
 
-def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula,
-                        earliest: Sequence[float] | None, max_horizon: int, *, max_nodes: int = MAX_NODES,
-                        clock: Clock | None = None) -> int:
+def horizon_lower_bound(
+    graph: RegionGraph,
+    labels_of: Sequence[frozenset[str]],
+    formula: Formula,
+    earliest: Sequence[float] | None,
+    max_horizon: int,
+    *,
+    max_nodes: int = MAX_NODES,
+    clock: Clock | None = None,
+) -> int:
     """The smallest horizon L <= ``max_horizon`` at which DIS-PLAN may have a plan (see
     the module doc), ``max_horizon + 1`` when none has one, 0 when the product graph
     is past ``max_nodes`` states or the ``clock`` runs out (no bound: 0 is always one)."""
@@ -151,9 +160,16 @@ def horizon_lower_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]],
     return max_horizon + 1
 
 
-def timed_horizon_bound(graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula,
-                        earliest: Sequence[float] | None, max_horizon: int, timings: dict, counters: dict,
-                        clock: Clock | None = None) -> int:
+def timed_horizon_bound(
+    graph: RegionGraph,
+    labels_of: Sequence[frozenset[str]],
+    formula: Formula,
+    earliest: Sequence[float] | None,
+    max_horizon: int,
+    timings: dict,
+    counters: dict,
+    clock: Clock | None = None,
+) -> int:
     """:func:`horizon_lower_bound` as both mission planners run it: its time goes to
     ``timings["horizon_bound"]``, the bound to ``counters["horizon_bound"]``."""
     import time

@@ -48,6 +48,7 @@ def planning_problem(problem: ReachProblem) -> ReachProblem:
     for every position and the mission alone constrains the plan."""
     return replace(problem, goal=problem.workspace)
 
+
 Pt = tuple[float, float]
 
 
@@ -209,8 +210,10 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
     near = {(i, j) for i in range(base.n_regions) for j in (i, *base.adjacency[i])}
     nbrs: list[list[int]] = [[] for _ in regions]
     verts = [[(float(x), float(y)) for x, y in r.vertices.tolist()] for r in regions]
-    boxes = [(min(x for x, _ in v) - tol, min(y for _, y in v) - tol, max(x for x, _ in v) + tol,
-              max(y for _, y in v) + tol) for v in verts]
+    boxes = [
+        (min(x for x, _ in v) - tol, min(y for _, y in v) - tol, max(x for x, _ in v) + tol, max(y for _, y in v) + tol)
+        for v in verts
+    ]
     for i in range(len(regions)):
         bi = boxes[i]
         for j in range(i + 1, len(regions)):

@@ -76,9 +76,12 @@ class LoopLP:
         # in the state box
         other = self._other = np.setdiff1d(np.arange(self.n), self.pos)
         eye = np.eye(self.n)
-        self._rest_ok = bool(np.array_equal(A[:, self.pos], eye[:, self.pos])
-                             and np.all(self.state_lo[other] <= 0) and np.all(self.state_hi[other] >= 0)
-                             and problem.input_bound >= 0)
+        self._rest_ok = bool(
+            np.array_equal(A[:, self.pos], eye[:, self.pos])
+            and np.all(self.state_lo[other] <= 0)
+            and np.all(self.state_hi[other] >= 0)
+            and problem.input_bound >= 0
+        )
         start = np.asarray(problem.start, float)
         self._start_rests = self._rest_ok and bool(np.all(start[other] == 0))
         self._start_pos = start[self.pos]
@@ -94,7 +97,7 @@ class LoopLP:
             return None
         n, m = self.problem.dynamics.n_states, self.problem.dynamics.n_inputs
         xs = col[: (L + 1) * n].reshape(L + 1, n).copy()
-        us = col[(L + 1) * n:].reshape(L, m)
+        us = col[(L + 1) * n :].reshape(L, m)
         if loop_start is not None:
             xs[L] = xs[loop_start]  # the closure holds to tolerance; make it exact
         return Trajectory(states=xs, inputs=us)
@@ -125,8 +128,9 @@ class LoopLP:
         lits, _ = self.conflict(tuple(regions) + (regions[-1],), L, seconds)
         return tuple(sorted({(min(t, L), r) for t, r in lits}))
 
-    def conflict(self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf, *,
-                 loop_refuted: bool = False) -> tuple[tuple[tuple[int, int], ...], bool]:
+    def conflict(
+        self, regions: tuple[int, ...], loop_start: int, seconds: float = math.inf, *, loop_refuted: bool = False
+    ) -> tuple[tuple[tuple[int, int], ...], bool]:
         """Why the lasso has no trajectory: (literals, shifted). First the loop alone
         (states k..L, any x_k): if it is infeasible, the literals are among its steps and
         hold at every shift (``shifted``); else the whole plan from the start. Then a
@@ -239,8 +243,17 @@ class LoopLP:
         self._loop_memo[key] = (infeasible, ray)
         return infeasible
 
-    def _lp(self, assign: dict[int, int], first: int, last: int, anchored: bool, loop_start: int | None,
-            seconds: float, *, solution: bool = True) -> np.ndarray | None:
+    def _lp(
+        self,
+        assign: dict[int, int],
+        first: int,
+        last: int,
+        anchored: bool,
+        loop_start: int | None,
+        seconds: float,
+        *,
+        solution: bool = True,
+    ) -> np.ndarray | None:
         """Feasibility LP over the states first..last (columns of every state and input,
         those outside unused): p_t in region assign[t] (and p_{t+1}, segments), the start
         when ``anchored``, the closure x_last = x_loop_start.
@@ -257,8 +270,7 @@ class LoopLP:
             mask = np.zeros(last + 1, dtype=bool)
             mask[np.fromiter(assign, dtype=np.int64, count=len(assign))] = True
             on = mask[owner]
-            self.highs.changeRowsBounds(len(owner), loaded[4], np.full(len(owner), -np.inf),
-                                        np.where(on, hi, np.inf))
+            self.highs.changeRowsBounds(len(owner), loaded[4], np.full(len(owner), -np.inf), np.where(on, hi, np.inf))
             self.warm += 1
         else:
             self._load(assign, first, last, anchored, loop_start)
@@ -280,8 +292,16 @@ class LoopLP:
         if len(T):  # x_{t+1} - A x_t - B u_t = 0, all steps at once
             base_r = np.concatenate([np.arange(n), ai, bi])
             R.append(((T - first)[:, None] * n + base_r[None, :]).ravel())
-            C.append(np.concatenate([((T + 1)[:, None] * n + np.arange(n)[None, :]), T[:, None] * n + aj[None, :],
-                                     nx + T[:, None] * m + bj[None, :]], axis=1).ravel())
+            C.append(
+                np.concatenate(
+                    [
+                        ((T + 1)[:, None] * n + np.arange(n)[None, :]),
+                        T[:, None] * n + aj[None, :],
+                        nx + T[:, None] * m + bj[None, :],
+                    ],
+                    axis=1,
+                ).ravel()
+            )
             V.append(np.tile(np.concatenate([np.ones(n), -av, -bv]), len(T)))
         row = len(T) * n
         lit_from = row
@@ -290,7 +310,7 @@ class LoopLP:
         # sample, gathered for all blocks at once
         bt, br, bs = [], [], []
         for t, r in assign.items():
-            for s_ in ((t, t + 1) if (self.segment_safe and t < L) else (t,)):
+            for s_ in (t, t + 1) if (self.segment_safe and t < L) else (t,):
                 bt.append(t)
                 br.append(r)
                 bs.append(s_)
@@ -317,14 +337,23 @@ class LoopLP:
         col_lo = np.concatenate([np.tile(self.state_lo, L + 1), np.full(L * m, -p.input_bound)])
         col_hi = np.concatenate([np.tile(self.state_hi, L + 1), np.full(L * m, p.input_bound)])
         if anchored:
-            col_lo[first * n:(first + 1) * n] = col_hi[first * n:(first + 1) * n] = p.start
-        coo = (np.concatenate(R).astype(np.int64), np.concatenate(C).astype(np.int64), np.concatenate(V)) if R else \
-            (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
+            col_lo[first * n : (first + 1) * n] = col_hi[first * n : (first + 1) * n] = p.start
+        coo = (
+            (np.concatenate(R).astype(np.int64), np.concatenate(C).astype(np.int64), np.concatenate(V))
+            if R
+            else (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))
+        )
         lp = csc_lp(ncol, row, *coo, np.zeros(ncol), col_lo, col_hi, row_lo, row_hi)
         self.highs.passModel(lp)
         lit_owner = np.concatenate(owner) if owner else np.zeros(0, np.int64)
-        self._loaded = ((first, last, anchored, loop_start), dict(assign), lit_owner, lit_hi.copy(),
-                        np.arange(lit_from, lit_to, dtype=np.int32), row)
+        self._loaded = (
+            (first, last, anchored, loop_start),
+            dict(assign),
+            lit_owner,
+            lit_hi.copy(),
+            np.arange(lit_from, lit_to, dtype=np.int32),
+            row,
+        )
 
     def _run(self, assign: dict[int, int], seconds: float, solution: bool = True) -> np.ndarray | None:
         h = self.highs

@@ -54,9 +54,30 @@ from functools import lru_cache
 from typing import Union
 
 __all__ = [
-    "Formula", "Const", "Prop", "Not", "And", "Or", "Implies", "Iff", "Next", "Finally", "Globally",
-    "Until", "Release", "LtlSyntaxError", "parse", "nnf", "props", "subformulas", "Lasso", "finite_word",
-    "holds", "holds_at", "holds_unrolled", "KEYWORDS",
+    "Formula",
+    "Const",
+    "Prop",
+    "Not",
+    "And",
+    "Or",
+    "Implies",
+    "Iff",
+    "Next",
+    "Finally",
+    "Globally",
+    "Until",
+    "Release",
+    "LtlSyntaxError",
+    "parse",
+    "nnf",
+    "props",
+    "subformulas",
+    "Lasso",
+    "finite_word",
+    "holds",
+    "holds_at",
+    "holds_unrolled",
+    "KEYWORDS",
 ]
 
 KEYWORDS = frozenset({"X", "F", "G", "U", "R", "true", "false"})

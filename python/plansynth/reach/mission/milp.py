@@ -57,7 +57,22 @@ from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.mission.horizon import timed_horizon_bound
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
 from plansynth.reach.mission.looplp import LoopLP
-from plansynth.reach.mission.ltl import And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf, parse, subformulas
+from plansynth.reach.mission.ltl import (
+    And,
+    Const,
+    Finally,
+    Formula,
+    Globally,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+    nnf,
+    parse,
+    subformulas,
+)
 from plansynth.reach.mission.options import MilpLtlOptions
 from plansynth.reach.mission.proof import NOT_A_PROOF, timed_label_proof
 from plansynth.reach.problem import ReachProblem
@@ -130,13 +145,30 @@ class _Model:
         row_lo, row_hi = self.rows.bounds()
         integrality = np.full(self.n_col, highspy.HighsVarType.kContinuous)
         integrality[integer] = highspy.HighsVarType.kInteger
-        return csc_lp(self.n_col, self.rows.n_row, R, C, V, np.zeros(self.n_col), np.concatenate(self.lo),
-                      np.concatenate(self.hi), row_lo, row_hi, integrality=list(integrality))
+        return csc_lp(
+            self.n_col,
+            self.rows.n_row,
+            R,
+            C,
+            V,
+            np.zeros(self.n_col),
+            np.concatenate(self.lo),
+            np.concatenate(self.hi),
+            row_lo,
+            row_hi,
+            integrality=list(integrality),
+        )
 
 
 def mission_milp(
-    problem: ReachProblem, labelled: LabelledAbstraction, formula: Formula, L: int, *,
-    segment_safe: bool = True, semantics: str = "any", earliest=None,
+    problem: ReachProblem,
+    labelled: LabelledAbstraction,
+    formula: Formula,
+    L: int,
+    *,
+    segment_safe: bool = True,
+    semantics: str = "any",
+    earliest=None,
 ) -> MissionMilp | None:
     """The mission MILP at horizon L (the model the module docstring describes),
     assembled in array operations and passed to HiGHS whole; ``None`` when the mission
@@ -168,8 +200,13 @@ def mission_milp(
     ai, aj = np.nonzero(A)
     bi, bj = np.nonzero(B)
     for t in range(L):
-        mdl.block(np.concatenate([np.arange(n), ai, bi]), np.concatenate([X[t + 1], X[t][aj], U[t][bj]]),
-                  np.concatenate([ones(n), -A[ai, aj], -B[bi, bj]]), np.zeros(n), "==")
+        mdl.block(
+            np.concatenate([np.arange(n), ai, bi]),
+            np.concatenate([X[t + 1], X[t][aj], U[t][bj]]),
+            np.concatenate([ones(n), -A[ai, aj], -B[bi, bj]]),
+            np.zeros(n),
+            "==",
+        )
     # one region per step, start regions, time windows, transitions to equal or adjacent regions
     ear = np.asarray(earliest if earliest is not None else [0] * R)
     nbrs = [np.array((i, *ab.adjacency[i])) for i in range(R)]
@@ -182,12 +219,18 @@ def mission_milp(
     mdl.block(np.arange(int(off.sum())), Z[off], ones(int(off.sum())), np.zeros(int(off.sum())), "==")
     # z[t, i] <= sum of z[t + 1, j] over j equal or adjacent to i: row t R + i
     Tl = np.arange(L)
-    mdl.block(np.concatenate([Z[:L].ravel() - Z[0, 0], (Tl[:, None] * R + tr_r[None, :]).ravel()]),
-              np.concatenate([Z[:L].ravel(), Z[1:][:, tr_j].ravel()]),
-              np.concatenate([ones(L * R), -ones(L * len(tr_j))]), np.zeros(L * R), "<=")
+    mdl.block(
+        np.concatenate([Z[:L].ravel() - Z[0, 0], (Tl[:, None] * R + tr_r[None, :]).ravel()]),
+        np.concatenate([Z[:L].ravel(), Z[1:][:, tr_j].ravel()]),
+        np.concatenate([ones(L * R), -ones(L * len(tr_j))]),
+        np.zeros(L * R),
+        "<=",
+    )
     # big-M membership H_i p_s + M z[t, i] <= h_i + M for s = t (and t + 1: segments)
-    pairs = ([t for t in range(L + 1) for _ in ((t, t + 1) if (segment_safe and t < L) else (t,))],
-             [s for t in range(L + 1) for s in ((t, t + 1) if (segment_safe and t < L) else (t,))])
+    pairs = (
+        [t for t in range(L + 1) for _ in ((t, t + 1) if (segment_safe and t < L) else (t,))],
+        [s for t in range(L + 1) for s in ((t, t + 1) if (segment_safe and t < L) else (t,))],
+    )
     for i, reg in enumerate(ab.regions):
         H, hh = np.asarray(reg.H, float), np.asarray(reg.h, float)
         M = _big_m(H, hh, ws_lo, ws_hi)
@@ -198,9 +241,13 @@ def mission_milp(
         # one block for every (t, s): row q k_rows + j is row j of the pair q
         q_t, q_s = np.array(pairs[0]), np.array(pairs[1])
         q = np.arange(len(q_t))
-        mdl.block(np.concatenate([(q[:, None] * k_rows + rk).ravel(), (q[:, None] * k_rows + np.arange(k_rows)).ravel()]),
-                  np.concatenate([X[q_s][:, pos[kk]].ravel(), np.repeat(Z[q_t, i], k_rows)]),
-                  np.concatenate([np.tile(H[rk, kk], len(q)), np.tile(M, len(q))]), np.tile(hh + M, len(q)), "<=")
+        mdl.block(
+            np.concatenate([(q[:, None] * k_rows + rk).ravel(), (q[:, None] * k_rows + np.arange(k_rows)).ravel()]),
+            np.concatenate([X[q_s][:, pos[kk]].ravel(), np.repeat(Z[q_t, i], k_rows)]),
+            np.concatenate([np.tile(H[rk, kk], len(q)), np.tile(M, len(q))]),
+            np.tile(hh + M, len(q)),
+            "<=",
+        )
     # the successor of the last position: stay (finite) or loop_j (x_L = x_{j-1})
     sel_j: list[tuple[int, bool]] = []
     if semantics in ("any", "finite"):
@@ -221,16 +268,31 @@ def mission_milp(
             ri, rj = np.nonzero(AI)
             qi, qj = np.nonzero(B)
             for sign in (1.0, -1.0):
-                mdl.block(np.concatenate([ri, qi, np.arange(n)]), np.concatenate([X[L][rj], u_rest[qj], np.full(n, s)]),
-                          np.concatenate([sign * AI[ri, rj], sign * B[qi, qj], Mr]), Mr, "<=")
+                mdl.block(
+                    np.concatenate([ri, qi, np.arange(n)]),
+                    np.concatenate([X[L][rj], u_rest[qj], np.full(n, s)]),
+                    np.concatenate([sign * AI[ri, rj], sign * B[qi, qj], Mr]),
+                    Mr,
+                    "<=",
+                )
             continue
         rr = np.arange(n)
         for sign in (1.0, -1.0):
-            mdl.block(np.concatenate([rr, rr, rr]), np.concatenate([X[L], X[j - 1], np.full(n, s)]),
-                      np.concatenate([np.full(n, sign), np.full(n, -sign), Mx]), Mx, "<=")
+            mdl.block(
+                np.concatenate([rr, rr, rr]),
+                np.concatenate([X[L], X[j - 1], np.full(n, s)]),
+                np.concatenate([np.full(n, sign), np.full(n, -sign), Mx]),
+                Mx,
+                "<=",
+            )
         rr = np.arange(R)
-        mdl.block(np.concatenate([rr, rr, rr]), np.concatenate([Z[L], Z[j - 1], np.full(R, s)]),
-                  np.concatenate([ones(R), -ones(R), ones(R)]), np.ones(R), "<=")
+        mdl.block(
+            np.concatenate([rr, rr, rr]),
+            np.concatenate([Z[L], Z[j - 1], np.full(R, s)]),
+            np.concatenate([ones(R), -ones(R), ones(R)]),
+            np.ones(R),
+            "<=",
+        )
     # the mission: P[g, t] in [0, 1] for t = 0..L + 1, rows (cols, coefs, rhs) of "<= rhs"
     subs = [g for g in subformulas(f) if not isinstance(g, Const)]
     P0 = mdl.cols(len(subs) * (L + 2), 0.0, 1.0)
@@ -310,14 +372,22 @@ def _minus(v: int, a: Formula, t: int, nxt: int, P) -> tuple[list[int], list[flo
 
 
 def solve_mission_horizon(
-    problem: ReachProblem, labelled: LabelledAbstraction, formula: Formula, L: int, *,
-    segment_safe: bool = True, semantics: str = "any", earliest=None, seconds: float = math.inf,
+    problem: ReachProblem,
+    labelled: LabelledAbstraction,
+    formula: Formula,
+    L: int,
+    *,
+    segment_safe: bool = True,
+    semantics: str = "any",
+    earliest=None,
+    seconds: float = math.inf,
 ) -> tuple[str, tuple[int, ...] | None, int | None, dict]:
     """One MILP at horizon L (:func:`mission_milp`): ``(status, regions, loop_start,
     stats)`` with status ``found`` / ``infeasible`` / ``unknown`` (time limit)."""
     t0 = time.perf_counter()
-    model = mission_milp(problem, labelled, formula, L, segment_safe=segment_safe, semantics=semantics,
-                         earliest=earliest)
+    model = mission_milp(
+        problem, labelled, formula, L, segment_safe=segment_safe, semantics=semantics, earliest=earliest
+    )
     if model is None:
         return "infeasible", None, None, {"binaries": 0, "mip_nodes": 0, "build_seconds": time.perf_counter() - t0}
     h = new_highs()
@@ -330,11 +400,15 @@ def solve_mission_horizon(
     status = h.getModelStatus()
     S = highspy.HighsModelStatus
     R = model.n_regions
-    stats = {"binaries": (L + 1) * R + len(model.sels), "mip_nodes": int(h.getInfo().mip_node_count),
-             "solve_seconds": time.perf_counter() - t0, "build_seconds": build}
+    stats = {
+        "binaries": (L + 1) * R + len(model.sels),
+        "mip_nodes": int(h.getInfo().mip_node_count),
+        "solve_seconds": time.perf_counter() - t0,
+        "build_seconds": build,
+    }
     if status == S.kOptimal:
         col = np.asarray(h.getSolution().col_value)
-        z = col[model.z0:model.z0 + (L + 1) * R].reshape(L + 1, R)
+        z = col[model.z0 : model.z0 + (L + 1) * R].reshape(L + 1, R)
         regions = tuple(int(r) for r in np.argmax(z, axis=1))
         chosen = max(model.sels, key=lambda sj: col[sj[0]])
         return "found", regions, (chosen[1] - 1 if chosen[2] else None), stats
@@ -361,8 +435,9 @@ def plan_milp_ltl(
     one_shot, segment_safe = opts.one_shot, opts.segment_safe
     name = "milp-ltl-oneshot" if one_shot else "milp-ltl"
     if problem.mission is None:
-        raise InvalidOption(name, "planner", "plans LTL missions, and this problem has none (plan it with a "
-                                             "reach-avoid planner)")
+        raise InvalidOption(
+            name, "planner", "plans LTL missions, and this problem has none (plan it with a reach-avoid planner)"
+        )
     t_start = time.perf_counter()
     clock = budget.clock()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
@@ -377,17 +452,35 @@ def plan_milp_ltl(
     timings["bounds"] = time.perf_counter() - t0
     formula = parse(problem.mission)
     polish = LoopLP(pp, labelled.abstraction, segment_safe=segment_safe)
-    record = {**asdict(opts), "max_horizon": L_max, "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+    record = {
+        **asdict(opts),
+        "max_horizon": L_max,
+        "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
+    }
     counters: dict[str, Any] = {"regions": labelled.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0}
 
     def finish(status, horizon, message, traj=None, regions=None, loop_start=None) -> ReachResult:
         timings["total"] = time.perf_counter() - t_start
         counters["iterations"] = clock.iterations
-        mission = {"formula": problem.mission, "semantics": None if regions is None else ("finite" if loop_start is None else "lasso"),
-                   "loop_start": loop_start}
-        return ReachResult(status=status, solver=name, seconds=timings["total"], trajectory=traj, regions=regions,
-                           horizon=horizon, counters=counters, timings=timings, options=record, message=message,
-                           guarantee="segments" if segment_safe else "samples", mission=mission)
+        mission = {
+            "formula": problem.mission,
+            "semantics": None if regions is None else ("finite" if loop_start is None else "lasso"),
+            "loop_start": loop_start,
+        }
+        return ReachResult(
+            status=status,
+            solver=name,
+            seconds=timings["total"],
+            trajectory=traj,
+            regions=regions,
+            horizon=horizon,
+            counters=counters,
+            timings=timings,
+            options=record,
+            message=message,
+            guarantee="segments" if segment_safe else "samples",
+            mission=mission,
+        )
 
     proved, why = timed_label_proof(problem, labelled, timings, counters)
     if proved:
@@ -403,8 +496,15 @@ def plan_milp_ltl(
         for L in clock.steps(range(L0, L_max + 1), progress=progress, what="the MILP at horizon"):
             t0 = time.perf_counter()
             status, regions, loop_start, stats = solve_mission_horizon(
-                pp, labelled, formula, L, segment_safe=segment_safe, semantics=opts.semantics, earliest=earliest,
-                seconds=clock.remaining())
+                pp,
+                labelled,
+                formula,
+                L,
+                segment_safe=segment_safe,
+                semantics=opts.semantics,
+                earliest=earliest,
+                seconds=clock.remaining(),
+            )
             timings["milp"] += time.perf_counter() - t0
             timings["milp_solve"] = timings.get("milp_solve", 0.0) + stats.get("solve_seconds", 0.0)
             counters["milp_calls"] += 1
@@ -417,17 +517,37 @@ def plan_milp_ltl(
                 traj = polish.solve(regions, loop_start) if loop_start is not None else polish.solve_finite(regions)
                 timings["lp"] += time.perf_counter() - t0
                 if traj is None:
-                    return finish(ReachStatus.UNKNOWN, L, f"the MILP's regions at horizon {L} have no trajectory under "
-                                  "exact LP tolerances (numerically borderline)", regions=regions, loop_start=loop_start)
+                    return finish(
+                        ReachStatus.UNKNOWN,
+                        L,
+                        f"the MILP's regions at horizon {L} have no trajectory under "
+                        "exact LP tolerances (numerically borderline)",
+                        regions=regions,
+                        loop_start=loop_start,
+                    )
                 if one_shot:
-                    return finish(ReachStatus.FOUND, L, f"found at horizon {L} (one MILP at the max horizon: a plan of "
-                                  "exactly that many steps, not the shortest)", traj, regions, loop_start)
+                    return finish(
+                        ReachStatus.FOUND,
+                        L,
+                        f"found at horizon {L} (one MILP at the max horizon: a plan of "
+                        "exactly that many steps, not the shortest)",
+                        traj,
+                        regions,
+                        loop_start,
+                    )
                 return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, regions, loop_start)
     except BudgetExhausted as exc:  # (the polishing LP's time limit too)
         return finish(ReachStatus.UNKNOWN, L, str(exc) if exc.phase.startswith("before") else f"{exc} at horizon {L}")
     if one_shot:
-        return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution at horizon {L_max} (one MILP at the max "
-                      f"horizon: shorter horizons not tried, no proof); {NOT_A_PROOF} ({why})")
+        return finish(
+            ReachStatus.UNKNOWN,
+            L_max,
+            f"no MILP solution at horizon {L_max} (one MILP at the max "
+            f"horizon: shorter horizons not tried, no proof); {NOT_A_PROOF} ({why})",
+        )
     counters["abstraction_refuted"] = L_max  # one region per step: no proof (see plansynth.reach.mission.planner)
-    return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the label-refined abstraction at any "
-                  f"horizon up to {L_max}; {NOT_A_PROOF} ({why})")
+    return finish(
+        ReachStatus.UNKNOWN,
+        L_max,
+        f"no MILP solution through the label-refined abstraction at any horizon up to {L_max}; {NOT_A_PROOF} ({why})",
+    )

@@ -29,19 +29,21 @@ __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 SEMANTICS = ("any", "finite", "lasso")
 
 
-
 @dataclass(frozen=True)
 class _BoundedMission:
     """The options both mission planners take: the horizons and plans they search."""
 
     max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
-    semantics: str = option("any", "the plans looked for: any (finite or lasso, finite first), finite (ending at "
-                                   "rest) or lasso", choices=SEMANTICS)
+    semantics: str = option(
+        "any",
+        "the plans looked for: any (finite or lasso, finite first), finite (ending at rest) or lasso",
+        choices=SEMANTICS,
+    )
     segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
-    lower_bound: bool = option(True, "each region impossible before its earliest step from the displacement-box "
-                                     "relaxation")
-    horizon_bound: bool = option(True, "start at the product graph's proved lower bound on the horizon (false: "
-                                       "from 0)")
+    lower_bound: bool = option(
+        True, "each region impossible before its earliest step from the displacement-box relaxation"
+    )
+    horizon_bound: bool = option(True, "start at the product graph's proved lower bound on the horizon (false: from 0)")
 
 
 @dataclass(frozen=True)
@@ -50,8 +52,11 @@ class MissionOptions(_BoundedMission):
 
     transit: bool = option(True, TRANSIT_DOC)
     wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
-    loop_first: bool = option(True, "check a lasso's loop alone (any x_k with x_L = x_k) before CON-PLAN sees the "
-                                    "plan: a refuted loop is refuted at every horizon and rotation")
+    loop_first: bool = option(
+        True,
+        "check a lasso's loop alone (any x_k with x_L = x_k) before CON-PLAN sees the "
+        "plan: a refuted loop is refuted at every horizon and rotation",
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "lazy-smt")
@@ -61,8 +66,11 @@ class MissionOptions(_BoundedMission):
 class MilpLtlOptions(_BoundedMission):
     """The options of the mission MILP (see :func:`~plansynth.reach.mission.milp.plan_milp_ltl`)."""
 
-    one_shot: bool = option(False, "one MILP at max_horizon only (Wolff et al.'s fixed horizon: a plan of exactly "
-                                   "that many steps, not the shortest)")
+    one_shot: bool = option(
+        False,
+        "one MILP at max_horizon only (Wolff et al.'s fixed horizon: a plan of exactly "
+        "that many steps, not the shortest)",
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "milp-ltl")

@@ -98,13 +98,21 @@ def plan_mission(
     earliest = time_windows(pp, ab, L_max).earliest if opts.lower_bound else None
     timings["bounds"] = time.perf_counter() - t0
     formula = parse(problem.mission)
-    displan = MissionDisPlan(graph, labelled.labels_of, formula, semantics=opts.semantics, earliest=earliest,
-                             waits_at_start=opts.wait_shifts and problem.starts_at_rest)
-    conplan = ConPlan(pp, ab, segment_safe=opts.segment_safe, counterexample="trivial", generalize=True,
-                      minimize=True, clock=clock)
+    displan = MissionDisPlan(
+        graph,
+        labelled.labels_of,
+        formula,
+        semantics=opts.semantics,
+        earliest=earliest,
+        waits_at_start=opts.wait_shifts and problem.starts_at_rest,
+    )
+    conplan = ConPlan(
+        pp, ab, segment_safe=opts.segment_safe, counterexample="trivial", generalize=True, minimize=True, clock=clock
+    )
     loop_lp = LoopLP(pp, ab, segment_safe=opts.segment_safe)
-    theory = MissionTheory(MissionTransit(conplan, ab) if opts.transit else conplan, loop_lp, clock,
-                           loop_first=opts.loop_first)
+    theory = MissionTheory(
+        MissionTransit(conplan, ab) if opts.transit else conplan, loop_lp, clock, loop_first=opts.loop_first
+    )
     counters: dict[str, Any] = {"regions": graph.n_regions, "edges": ab.n_edges}
 
     proved, why = timed_label_proof(problem, labelled, timings, counters)
@@ -114,17 +122,24 @@ def plan_mission(
         counters["abstraction_refuted"] = L_max
         out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
     else:
-        L0 = (timed_horizon_bound(graph, labelled.labels_of, formula, earliest, L_max, timings, counters, clock)
-              if opts.horizon_bound else 0)
+        L0 = (
+            timed_horizon_bound(graph, labelled.labels_of, formula, earliest, L_max, timings, counters, clock)
+            if opts.horizon_bound
+            else 0
+        )
         if L0 > L_max:
-            out = LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"no plan through the label-refined abstraction at any "
-                                                             f"horizon up to {L_max} (product graph)")
+            out = LoopOutcome(
+                ReachStatus.INFEASIBLE,
+                L_max,
+                f"no plan through the label-refined abstraction at any horizon up to {L_max} (product graph)",
+            )
         else:
             with clock.phase("the lazy SMT loop"):
                 out = lazy_loop(displan, theory, range(L0, L_max + 1), clock, timings, progress)
             if out.status is ReachStatus.INFEASIBLE:
-                out = replace(out, message=f"every horizon up to {L_max} refuted for plans through the "
-                                           f"label-refined abstraction")
+                out = replace(
+                    out, message=f"every horizon up to {L_max} refuted for plans through the label-refined abstraction"
+                )
         if out.status is ReachStatus.FOUND:
             plan = out.regions
             kind = "a finite plan" if plan.loop_start is None else "a lasso"
@@ -139,14 +154,21 @@ def plan_mission(
 
     plan = out.regions if out.status is ReachStatus.FOUND else None
     st = conplan.stats
-    counters.update(iterations=clock.iterations, sat_calls=displan.sat_calls, clauses=displan.clauses,
-                    loop_clauses=displan.loop_clauses, lp_calls=st.lp_calls + loop_lp.lp_calls,
-                    loop_lp_calls=loop_lp.lp_calls, loop_lp_memo_hits=loop_lp.memo_hits,
-                    loop_lp_rest_answers=loop_lp.rest_answers, horizon=out.horizon,
-                    minimal=out.status is ReachStatus.FOUND,
-                    # DIS-PLAN moves one region per step, and a real step may cross several: the
-                    # shortest horizon is the shortest through the label-refined decomposition only
-                    minimal_relative_to="decomposition" if out.status is ReachStatus.FOUND else None)
+    counters.update(
+        iterations=clock.iterations,
+        sat_calls=displan.sat_calls,
+        clauses=displan.clauses,
+        loop_clauses=displan.loop_clauses,
+        lp_calls=st.lp_calls + loop_lp.lp_calls,
+        loop_lp_calls=loop_lp.lp_calls,
+        loop_lp_memo_hits=loop_lp.memo_hits,
+        loop_lp_rest_answers=loop_lp.rest_answers,
+        horizon=out.horizon,
+        minimal=out.status is ReachStatus.FOUND,
+        # DIS-PLAN moves one region per step, and a real step may cross several: the
+        # shortest horizon is the shortest through the label-refined decomposition only
+        minimal_relative_to="decomposition" if out.status is ReachStatus.FOUND else None,
+    )
     if theory.wrap_conflicts:
         counters["wrap_conflicts"] = theory.wrap_conflicts
     timings["highs"] = st.seconds + loop_lp.seconds
@@ -154,15 +176,31 @@ def plan_mission(
     timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
     timings["total"] = time.perf_counter() - t_start
     displan.delete()
-    mission = {"formula": problem.mission, "semantics": None if plan is None else plan.semantics,
-               "loop_start": None if plan is None else plan.loop_start}
-    return ReachResult(status=out.status, solver="lazy-smt", seconds=timings["total"], trajectory=out.trajectory,
-                       regions=None if plan is None else plan.regions, horizon=out.horizon, counters=counters,
-                       timings=timings, options=_record(opts, L_max, budget), message=out.message,
-                       guarantee="segments" if opts.segment_safe else "samples", mission=mission)
+    mission = {
+        "formula": problem.mission,
+        "semantics": None if plan is None else plan.semantics,
+        "loop_start": None if plan is None else plan.loop_start,
+    }
+    return ReachResult(
+        status=out.status,
+        solver="lazy-smt",
+        seconds=timings["total"],
+        trajectory=out.trajectory,
+        regions=None if plan is None else plan.regions,
+        horizon=out.horizon,
+        counters=counters,
+        timings=timings,
+        options=_record(opts, L_max, budget),
+        message=out.message,
+        guarantee="segments" if opts.segment_safe else "samples",
+        mission=mission,
+    )
 
 
 def _record(opts: MissionOptions, max_horizon: int, budget: Budget) -> dict[str, Any]:
     """The options as the result records them (``max_horizon`` resolved, the budget)."""
-    return {**asdict(opts), "max_horizon": max_horizon,
-            "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
+    return {
+        **asdict(opts),
+        "max_horizon": max_horizon,
+        "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
+    }

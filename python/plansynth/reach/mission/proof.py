@@ -47,11 +47,30 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from plansynth.reach.mission.ltl import (
-    And, Const, Finally, Formula, Globally, Next, Not, Or, Prop, Release, Until, nnf,
+    And,
+    Const,
+    Finally,
+    Formula,
+    Globally,
+    Next,
+    Not,
+    Or,
+    Prop,
+    Release,
+    Until,
+    nnf,
 )
 
-__all__ = ["satisfiable", "witness", "geometry_letters", "TooLarge", "MAX_NODES", "label_proof", "timed_label_proof",
-           "NOT_A_PROOF"]
+__all__ = [
+    "satisfiable",
+    "witness",
+    "geometry_letters",
+    "TooLarge",
+    "MAX_NODES",
+    "label_proof",
+    "timed_label_proof",
+    "NOT_A_PROOF",
+]
 
 #: What a refutation through the label-refined decomposition is not (DIS-PLAN moves one
 #: region per step, a real step may cross several): only :func:`label_proof` is a proof.
@@ -123,8 +142,9 @@ def satisfiable(formula: Formula, letters: Iterable[Letter], *, max_nodes: int =
     return witness(formula, letters, max_nodes=max_nodes) is not None
 
 
-def witness(formula: Formula, letters: Iterable[Letter], *, max_nodes: int = MAX_NODES
-            ) -> tuple[list[int], list[int]] | None:
+def witness(
+    formula: Formula, letters: Iterable[Letter], *, max_nodes: int = MAX_NODES
+) -> tuple[list[int], list[int]] | None:
     """A lasso satisfying ``formula`` as (prefix, loop) of indices into ``letters``, or
     None when no infinite word over them does (see :func:`satisfiable`)."""
     f = nnf(formula)
@@ -307,8 +327,10 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
     interior = list(dict.fromkeys((frozenset(s), names - frozenset(s)) for s in labelled.labels_of))
     try:
         if satisfiable(mission, interior):
-            return False, (f"some word over the {len(interior)} letters of the regions' interiors (a subset of the "
-                           "labels' geometry's letters) satisfies the mission")
+            return False, (
+                f"some word over the {len(interior)} letters of the regions' interiors (a subset of the "
+                "labels' geometry's letters) satisfies the mission"
+            )
     except TooLarge:
         pass  # decided on the whole set below
     letters = geometry_letters(labelled, problem.mission_labels, margin=margin)
@@ -319,8 +341,10 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
             return False, f"some word over the {len(letters)} letters of the labels' geometry satisfies the mission"
     except TooLarge as exc:
         return None, f"the LTL tableau is too large ({exc})"
-    return True, (f"no word over the {len(letters)} letters the labels' geometry allows satisfies the mission "
-                  "(LTL tableau), so no trajectory does, at any horizon")
+    return True, (
+        f"no word over the {len(letters)} letters the labels' geometry allows satisfies the mission "
+        "(LTL tableau), so no trajectory does, at any horizon"
+    )
 
 
 def timed_label_proof(problem, labelled, timings: dict, counters: dict) -> tuple[bool | None, str]:

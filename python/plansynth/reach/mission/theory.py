@@ -72,7 +72,11 @@ class MissionTheory:
                 return LoopConflict(lits, k, L, shifted)
             return Feasible(traj)
         # a finite plan: it must also end at rest
-        traj = answer.trajectory if lp.ends_at_rest(answer.trajectory) else lp.solve_finite(regions, self.clock.remaining())
+        traj = (
+            answer.trajectory
+            if lp.ends_at_rest(answer.trajectory)
+            else lp.solve_finite(regions, self.clock.remaining())
+        )
         if traj is None:
             return StayConflict(lp.rest_conflict(regions, self.clock.remaining()), L)
         return Feasible(traj)
@@ -95,8 +99,9 @@ class MissionTheory:
         return None
 
 
-def wrap_violation(transit: TransitCheck, regions: tuple[int, ...], loop_start: int
-                   ) -> tuple[tuple[int, int], tuple[int, int]] | None:
+def wrap_violation(
+    transit: TransitCheck, regions: tuple[int, ...], loop_start: int
+) -> tuple[tuple[int, int], tuple[int, int]] | None:
     """Two loop positions i >= j whose wrap-around leg is too short: with x_L = x_k
     the robot repeats the loop, so it is in r_i at step i and in r_j at step
     L + (j - k), and if the transit layer proves r_i -> r_j impossible in that many

@@ -47,8 +47,16 @@ from plansynth.errors import InvalidOption
 from plansynth.options import changed, configure as configure_value
 from plansynth.registry import Registry, package_version
 
-__all__ = ["Planner", "OptionsPlanner", "planners", "get_planner", "register_planner", "package_version",
-           "SHARED_OPTIONS", "mission_planners"]
+__all__ = [
+    "Planner",
+    "OptionsPlanner",
+    "planners",
+    "get_planner",
+    "register_planner",
+    "package_version",
+    "SHARED_OPTIONS",
+    "mission_planners",
+]
 
 #: The options every built-in planner takes (the lazy planner's named configurations
 #: take only these: their other options are what names them).
@@ -77,8 +85,15 @@ class Planner(Protocol):
         ``mission`` or not) with ``values`` set."""
         ...
 
-    def solve(self, problem: Any, budget: Budget, options: Any = None, *,
-              progress: ProgressFn | None = None, abstraction: Any = None) -> Any:
+    def solve(
+        self,
+        problem: Any,
+        budget: Budget,
+        options: Any = None,
+        *,
+        progress: ProgressFn | None = None,
+        abstraction: Any = None,
+    ) -> Any:
         """Plan ``problem`` within ``budget`` (a ``ReachResult``, not yet validated);
         ``abstraction``: a decomposition computed before (an input, not an option)."""
         ...
@@ -132,8 +147,11 @@ class OptionsPlanner:
         a kind this planner does not plan is :class:`~plansynth.errors.InvalidOption`."""
         value = self.mission_defaults if mission else self.defaults
         if value is None:
-            why = (f"does not plan LTL missions (mission planners: {', '.join(mission_planners())})" if mission else
-                   "plans LTL missions, and this problem has none (plan it with a reach-avoid planner)")
+            why = (
+                f"does not plan LTL missions (mission planners: {', '.join(mission_planners())})"
+                if mission
+                else "plans LTL missions, and this problem has none (plan it with a reach-avoid planner)"
+            )
             raise InvalidOption(self.name, "planner", why)
         return value
 
@@ -149,8 +167,9 @@ class OptionsPlanner:
         elif type(base) is not type(default):
             other = self.mission_defaults if not mission else self.defaults
             if other is None or type(base) is not type(other):
-                raise InvalidOption(self.name, "options", f"expected {type(default).__name__}, "
-                                                          f"got {type(base).__name__}")
+                raise InvalidOption(
+                    self.name, "options", f"expected {type(default).__name__}, got {type(base).__name__}"
+                )
             # the options of the other kind of problem (lazy-smt's reach-avoid options
             # for a problem with a mission): those set away from their defaults carry over
             values = {**changed(base, other), **values}
@@ -159,14 +178,27 @@ class OptionsPlanner:
         for key in values:
             if key not in allowed:
                 where = " for a problem with a mission" if mission and self.defaults is not None else ""
-                fixed = (" (a named configuration: its other options are fixed)"
-                         if self.settable is not None and key in {f.name for f in fields(base)} else "")
-                raise InvalidOption(self.name, key, f"not an option of this planner{where}{fixed}; "
-                                                    f"its options: {', '.join(allowed) or 'none'}")
+                fixed = (
+                    " (a named configuration: its other options are fixed)"
+                    if self.settable is not None and key in {f.name for f in fields(base)}
+                    else ""
+                )
+                raise InvalidOption(
+                    self.name,
+                    key,
+                    f"not an option of this planner{where}{fixed}; its options: {', '.join(allowed) or 'none'}",
+                )
         return configure_value(self.name, base, values)
 
-    def solve(self, problem: Any, budget: Budget = Budget(), options: Any = None, *,
-              progress: ProgressFn | None = None, abstraction: Any = None) -> Any:
+    def solve(
+        self,
+        problem: Any,
+        budget: Budget = Budget(),
+        options: Any = None,
+        *,
+        progress: ProgressFn | None = None,
+        abstraction: Any = None,
+    ) -> Any:
         opts = self.configure(options, mission=getattr(problem, "mission", None) is not None)
         run = _load(self.run)
         if abstraction is None:
@@ -189,21 +221,25 @@ class OptionsPlanner:
 #: on first use) or to a planner itself. A new built-in planner is one line here;
 #: plugins use :func:`register_planner`. The baselines' libraries (OMPL, Drake) come
 #: with the ``baselines`` extra.
-PLANNERS: Registry[Planner | Callable[..., Any]] = Registry("planner", {
-    "lazy-smt": "plansynth.reach.planners.lazy_smt:LAZY_SMT",
-    "milp": "plansynth.reach.planners.baselines:MILP",
-    "lazy-smt-paper": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER",
-    "lazy-smt-paper-trivial": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER_TRIVIAL",
-    "lazy-smt-zeroprefix": "plansynth.reach.planners.lazy_smt:LAZY_SMT_ZEROPREFIX",
-    "lazy-smt-minimal": "plansynth.reach.planners.lazy_smt:LAZY_SMT_MINIMAL",  # horizon proved minimal
-    "milp-bigm": "plansynth.reach.planners.baselines:MILP_BIGM",
-    "rrt": "plansynth.reach.planners.baselines:RRT",
-    "est": "plansynth.reach.planners.baselines:EST",
-    "kpiece": "plansynth.reach.planners.baselines:KPIECE",
-    "gcs": "plansynth.reach.planners.baselines:GCS",  # Drake's Graphs of Convex Sets
-    "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
-    "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
-}, extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs")})
+PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
+    "planner",
+    {
+        "lazy-smt": "plansynth.reach.planners.lazy_smt:LAZY_SMT",
+        "milp": "plansynth.reach.planners.baselines:MILP",
+        "lazy-smt-paper": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER",
+        "lazy-smt-paper-trivial": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER_TRIVIAL",
+        "lazy-smt-zeroprefix": "plansynth.reach.planners.lazy_smt:LAZY_SMT_ZEROPREFIX",
+        "lazy-smt-minimal": "plansynth.reach.planners.lazy_smt:LAZY_SMT_MINIMAL",  # horizon proved minimal
+        "milp-bigm": "plansynth.reach.planners.baselines:MILP_BIGM",
+        "rrt": "plansynth.reach.planners.baselines:RRT",
+        "est": "plansynth.reach.planners.baselines:EST",
+        "kpiece": "plansynth.reach.planners.baselines:KPIECE",
+        "gcs": "plansynth.reach.planners.baselines:GCS",  # Drake's Graphs of Convex Sets
+        "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
+        "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
+    },
+    extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs")},
+)
 
 
 def register_planner(name: str, planner: Planner | Callable[..., Any], *, replace_existing: bool = False) -> None:

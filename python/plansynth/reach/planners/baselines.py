@@ -32,8 +32,14 @@ KPIECE = OptionsPlanner("kpiece", OmplOptions(), "plansynth.reach.planners.ompl:
 GCS = OptionsPlanner("gcs", GcsOptions(), "plansynth.reach.planners.gcs:run", ("drake",), takes_abstraction=True)
 #: ``milp-ltl``: the bounded mission as one big-M MILP per horizon (missions only;
 #: :func:`plansynth.reach.mission.milp.plan_milp_ltl`)
-MILP_LTL = OptionsPlanner("milp-ltl", None, "plansynth.reach.mission.milp:plan_milp_ltl", _HIGHS,
-                          mission_defaults=MilpLtlOptions())
+MILP_LTL = OptionsPlanner(
+    "milp-ltl", None, "plansynth.reach.mission.milp:plan_milp_ltl", _HIGHS, mission_defaults=MilpLtlOptions()
+)
 #: ``milp-ltl-oneshot``: one MILP at the max horizon (Wolff et al.'s fixed horizon K)
-MILP_LTL_ONESHOT = OptionsPlanner("milp-ltl-oneshot", None, "plansynth.reach.mission.milp:plan_milp_ltl", _HIGHS,
-                                  mission_defaults=MilpLtlOptions(one_shot=True))
+MILP_LTL_ONESHOT = OptionsPlanner(
+    "milp-ltl-oneshot",
+    None,
+    "plansynth.reach.mission.milp:plan_milp_ltl",
+    _HIGHS,
+    mission_defaults=MilpLtlOptions(one_shot=True),
+)

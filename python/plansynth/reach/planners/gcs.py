@@ -127,19 +127,31 @@ def _import_drake() -> dict[str, Any]:
         from pydrake.solvers import ClarabelSolver, IpoptSolver, SolverOptions
     except ImportError as exc:  # pragma: no cover - drake is a dependency
         raise SolverUnavailable("gcs", "install Drake (pip install drake)") from exc
-    return {"Gcs": GcsTrajectoryOptimization, "Options": GraphOfConvexSetsOptions, "HPolyhedron": HPolyhedron,
-            "Point": Point, "Clarabel": ClarabelSolver, "Ipopt": IpoptSolver, "SolverOptions": SolverOptions}
+    return {
+        "Gcs": GcsTrajectoryOptimization,
+        "Options": GraphOfConvexSetsOptions,
+        "HPolyhedron": HPolyhedron,
+        "Point": Point,
+        "Clarabel": ClarabelSolver,
+        "Ipopt": IpoptSolver,
+        "SolverOptions": SolverOptions,
+    }
 
 
 def _order(problem: ReachProblem) -> int:
     """The derivative order of the robot (1: single, 2: double integrator)."""
     dyn = problem.dynamics
-    order = {"single-integrator": 1, "double-integrator": 2}.get(dyn.model, dyn.order if dyn.model == "integrator-chain" else None)
+    order = {"single-integrator": 1, "double-integrator": 2}.get(
+        dyn.model, dyn.order if dyn.model == "integrator-chain" else None
+    )
     if order not in (1, 2) or dyn.dt is None:
         raise SolverUnavailable(
-            "gcs", f"GCS plans for single- and double-integrator robots only (named models of order 1 or 2); "
-                   f"this problem's dynamics are {dyn.model}" + (f" of order {dyn.order}" if dyn.order else "")
-                   + ": use lazy-smt")
+            "gcs",
+            f"GCS plans for single- and double-integrator robots only (named models of order 1 or 2); "
+            f"this problem's dynamics are {dyn.model}"
+            + (f" of order {dyn.order}" if dyn.order else "")
+            + ": use lazy-smt",
+        )
     return int(order)
 
 
@@ -149,8 +161,8 @@ def _derivative_bounds(problem: ReachProblem, k: int) -> tuple[np.ndarray, np.nd
     if problem.state_bounds is None:
         return None
     d = problem.dim
-    lo = np.array(problem.state_bounds.lo[k * d:(k + 1) * d])
-    hi = np.array(problem.state_bounds.hi[k * d:(k + 1) * d])
+    lo = np.array(problem.state_bounds.lo[k * d : (k + 1) * d])
+    hi = np.array(problem.state_bounds.hi[k * d : (k + 1) * d])
     if lo.size != d:
         return None
     return lo, hi
@@ -216,16 +228,29 @@ def plan_gcs(
     T = float(time_unit)
     d = problem.dim
     dt = float(problem.dynamics.dt)  # type: ignore[arg-type]
-    options = {"variant": variant, "order": order, "time_unit": T,
-               "drake": drake_version(), "relaxation_solver": "Clarabel",
-               "restriction_solver": "IPOPT" if variant != "convex" and k == 2 else "Clarabel"}
+    options = {
+        "variant": variant,
+        "order": order,
+        "time_unit": T,
+        "drake": drake_version(),
+        "relaxation_solver": "Clarabel",
+        "restriction_solver": "IPOPT" if variant != "convex" and k == 2 else "Clarabel",
+    }
     counters: dict[str, Any] = {}
     timings: dict[str, float] = {}
 
     def unknown(message: str) -> ReachResult:
         timings["total"] = time.perf_counter() - t0
-        return ReachResult(status=ReachStatus.UNKNOWN, solver="gcs", seconds=timings["total"], counters=counters,
-                           timings=timings, options=options, message=message, guarantee="curve")
+        return ReachResult(
+            status=ReachStatus.UNKNOWN,
+            solver="gcs",
+            seconds=timings["total"],
+            counters=counters,
+            timings=timings,
+            options=options,
+            message=message,
+            guarantee="curve",
+        )
 
     ta = time.perf_counter()
     if abstraction is None:
@@ -266,8 +291,11 @@ def plan_gcs(
             gcs.AddVelocityBounds(vb[0] * T, vb[1] * T)
         if variant in ("like-for-like", "surrogate"):
             if not problem.starts_at_rest:
-                raise SolverUnavailable("gcs", f"the {variant} GCS variant starts at rest; this problem's start "
-                                               "has a nonzero velocity (use variant=convex or lazy-smt)")
+                raise SolverUnavailable(
+                    "gcs",
+                    f"the {variant} GCS variant starts at rest; this problem's start "
+                    "has a nonzero velocity (use variant=convex or lazy-smt)",
+                )
             src_edges.AddZeroDerivativeConstraints(1)
             if variant == "like-for-like":
                 # true velocity continuity (nonconvex: exact in the restriction, its
@@ -350,7 +378,7 @@ def plan_gcs(
         X = np.zeros((len(times_s), n))
         X[:, list(problem.dynamics.position)] = P
         if k == 2:
-            X[:, d:2 * d] = V
+            X[:, d : 2 * d] = V
             U = A[:-1]
         else:
             U = V[:-1]
@@ -369,19 +397,50 @@ def plan_gcs(
         regions.append(inside[0] if inside else -1)
     timings["sample"] = time.perf_counter() - tr
     timings["total"] = time.perf_counter() - t0
-    counters.update({"pieces": len(pieces), "curve_seconds": float(N * dt), "gcs_duration": float(duration),
-                     "stretch": float(stretch), "curve_samples": int(len(dense))})
+    counters.update(
+        {
+            "pieces": len(pieces),
+            "curve_seconds": float(N * dt),
+            "gcs_duration": float(duration),
+            "stretch": float(stretch),
+            "curve_samples": int(len(dense)),
+        }
+    )
     return ReachResult(
-        status=ReachStatus.FOUND, solver="gcs", seconds=timings["total"], trajectory=traj_dt,
-        regions=tuple(int(r) for r in regions), horizon=N, counters=counters, timings=timings, options=options,
-        guarantee="curve", message=GUARANTEE, curve=curve, curve_times=tuple(float(t) for t in dense),
+        status=ReachStatus.FOUND,
+        solver="gcs",
+        seconds=timings["total"],
+        trajectory=traj_dt,
+        regions=tuple(int(r) for r in regions),
+        horizon=N,
+        counters=counters,
+        timings=timings,
+        options=options,
+        guarantee="curve",
+        message=GUARANTEE,
+        curve=curve,
+        curve_times=tuple(float(t) for t in dense),
     )
 
 
-def run(problem: ReachProblem, budget: Budget, options: GcsOptions, progress: Any = None,
-        abstraction: Abstraction | None = None) -> ReachResult:
+def run(
+    problem: ReachProblem,
+    budget: Budget,
+    options: GcsOptions,
+    progress: Any = None,
+    abstraction: Abstraction | None = None,
+) -> ReachResult:
     """``gcs`` as a planner of :func:`plansynth.reach.solve`: :func:`plan_gcs` with the
     fields of its options value."""
-    return plan_gcs(problem, budget, variant=options.variant, order=options.order, time_unit=options.time_unit,
-                    max_rounded_paths=options.max_rounded_paths, abstraction=abstraction,
-                    segment_safe=options.segment_safe, max_horizon=options.max_horizon, progress=progress)
+    return plan_gcs(
+        problem,
+        budget,
+        variant=options.variant,
+        order=options.order,
+        time_unit=options.time_unit,
+        max_rounded_paths=options.max_rounded_paths,
+        abstraction=abstraction,
+        segment_safe=options.segment_safe,
+        max_horizon=options.max_horizon,
+        progress=progress,
+    )

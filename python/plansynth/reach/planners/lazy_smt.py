@@ -35,8 +35,15 @@ from plansynth.reach.lazy.options import CONFIGURATIONS
 from plansynth.reach.mission.options import MissionOptions
 from plansynth.reach.planners import SHARED_OPTIONS, OptionsPlanner
 
-__all__ = ["LAZY_SMT", "LAZY_SMT_PAPER", "LAZY_SMT_PAPER_TRIVIAL", "LAZY_SMT_ZEROPREFIX", "LAZY_SMT_MINIMAL", "CONFIGURED",
-           "run"]
+__all__ = [
+    "LAZY_SMT",
+    "LAZY_SMT_PAPER",
+    "LAZY_SMT_PAPER_TRIVIAL",
+    "LAZY_SMT_ZEROPREFIX",
+    "LAZY_SMT_MINIMAL",
+    "CONFIGURED",
+    "run",
+]
 
 #: the solvers the lazy planner calls: CaDiCaL (DIS-PLAN) and HiGHS (CON-PLAN)
 PACKAGES = ("python-sat", "highspy")
@@ -59,9 +66,15 @@ def run(problem: Any, budget: Budget, options: Any, progress: Any, abstraction: 
 
 
 def _planner(name: str) -> OptionsPlanner:
-    return OptionsPlanner(name, CONFIGURATIONS[name], run, PACKAGES,
-                          settable=None if name == "lazy-smt" else SHARED_OPTIONS, takes_abstraction=True,
-                          mission_defaults=MissionOptions() if name in PLAN_MISSIONS else None)
+    return OptionsPlanner(
+        name,
+        CONFIGURATIONS[name],
+        run,
+        PACKAGES,
+        settable=None if name == "lazy-smt" else SHARED_OPTIONS,
+        takes_abstraction=True,
+        mission_defaults=MissionOptions() if name in PLAN_MISSIONS else None,
+    )
 
 
 LAZY_SMT = _planner("lazy-smt")
@@ -70,5 +83,6 @@ LAZY_SMT_PAPER_TRIVIAL = _planner("lazy-smt-paper-trivial")
 LAZY_SMT_ZEROPREFIX = _planner("lazy-smt-zeroprefix")
 LAZY_SMT_MINIMAL = _planner("lazy-smt-minimal")
 #: every configuration of the lazy planner by name
-CONFIGURED = {p.name: p for p in (LAZY_SMT, LAZY_SMT_PAPER, LAZY_SMT_PAPER_TRIVIAL, LAZY_SMT_ZEROPREFIX,
-                                  LAZY_SMT_MINIMAL)}
+CONFIGURED = {
+    p.name: p for p in (LAZY_SMT, LAZY_SMT_PAPER, LAZY_SMT_PAPER_TRIVIAL, LAZY_SMT_ZEROPREFIX, LAZY_SMT_MINIMAL)
+}

@@ -99,9 +99,13 @@ def solve_horizon(
     ai, aj = np.nonzero(A)
     bi, bj = np.nonzero(B)
     for t in range(N):
-        add(np.concatenate([np.arange(n), ai, bi]),
+        add(
+            np.concatenate([np.arange(n), ai, bi]),
             np.concatenate([x(t + 1) + np.arange(n), x(t) + aj, n_x + t * m + bj]),
-            np.concatenate([np.ones(n), -A[ai, aj], -B[bi, bj]]), np.zeros(n), np.zeros(n))
+            np.concatenate([np.ones(n), -A[ai, aj], -B[bi, bj]]),
+            np.zeros(n),
+            np.zeros(n),
+        )
     # one region per step
     for t in range(T):
         add(np.zeros(R, dtype=np.int64), z(t, 0) + np.arange(R), np.ones(R), np.ones(1), np.ones(1))
@@ -109,8 +113,13 @@ def solve_horizon(
     for t in range(N):
         for i in range(R):
             nb = (i, *graph.adjacency[i])
-            add(np.zeros(1 + len(nb), dtype=np.int64), np.array([z(t, i)] + [z(t + 1, j) for j in nb]),
-                np.array([1.0] + [-1.0] * len(nb)), np.full(1, -np.inf), np.zeros(1))
+            add(
+                np.zeros(1 + len(nb), dtype=np.int64),
+                np.array([z(t, i)] + [z(t + 1, j) for j in nb]),
+                np.array([1.0] + [-1.0] * len(nb)),
+                np.full(1, -np.inf),
+                np.zeros(1),
+            )
     # big-M membership (and segments)
     for i, reg in enumerate(abstraction.regions):
         H, h = np.asarray(reg.H, float), np.asarray(reg.h, float)
@@ -118,7 +127,7 @@ def solve_horizon(
         k = H.shape[0]
         rr = np.concatenate([np.repeat(np.arange(k), d), np.arange(k)])
         for t in range(T):
-            for state_t in ((t, t + 1) if (segment_safe and t < N) else (t,)):
+            for state_t in (t, t + 1) if (segment_safe and t < N) else (t,):
                 cc = np.concatenate([np.tile(x(state_t) + pos, k), np.full(k, z(t, i))])
                 add(rr, cc, np.concatenate([H.ravel(), M]), np.full(k, -np.inf), h + M)
     # goal
@@ -143,8 +152,16 @@ def solve_horizon(
             col_hi[z(N, i)] = 0.0
 
     r0 = blocks.n_row
-    lp = csc_lp(n_col, r0, *blocks.coo(), np.zeros(n_col), col_lo, col_hi, *blocks.bounds(),
-                integrality=[highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z)
+    lp = csc_lp(
+        n_col,
+        r0,
+        *blocks.coo(),
+        np.zeros(n_col),
+        col_lo,
+        col_hi,
+        *blocks.bounds(),
+        integrality=[highspy.HighsVarType.kContinuous] * (n_x + n_u) + [highspy.HighsVarType.kInteger] * n_z,
+    )
 
     h = new_highs()
     h.passModel(lp)
@@ -204,9 +221,15 @@ def plan_milp(
         except BudgetExhausted as exc:
             timings["abstraction"] = time.perf_counter() - t0
             timings["total"] = time.perf_counter() - t_start
-            return ReachResult(status=ReachStatus.UNKNOWN, solver="milp", seconds=timings["total"], timings=timings,
-                               options={"segment_safe": segment_safe}, message=str(exc),
-                               guarantee="segments" if segment_safe else "samples")
+            return ReachResult(
+                status=ReachStatus.UNKNOWN,
+                solver="milp",
+                seconds=timings["total"],
+                timings=timings,
+                options={"segment_safe": segment_safe},
+                message=str(exc),
+                guarantee="segments" if segment_safe else "samples",
+            )
         timings["abstraction"] = time.perf_counter() - t0
     graph = RegionGraph.from_abstraction(abstraction)
     step = None if segment_safe else step_adjacency(problem, abstraction)  # samples only: exact (see lazy/claims.py)
@@ -217,39 +240,78 @@ def plan_milp(
     first = int(bfs) if math.isfinite(bfs) else L_max + 1
     if start_horizon is not None:
         first = max(first, int(start_horizon))
-    options = {"segment_safe": segment_safe, "max_horizon": L_max, "start_horizon": first,
-               "budget": {"seconds": budget.seconds, "iterations": budget.iterations}}
-    counters: dict = {"regions": graph.n_regions, "milp_calls": 0, "mip_nodes": 0, "binaries": 0,
-                      "bfs_bound": None if math.isinf(bfs) else int(bfs)}
+    options = {
+        "segment_safe": segment_safe,
+        "max_horizon": L_max,
+        "start_horizon": first,
+        "budget": {"seconds": budget.seconds, "iterations": budget.iterations},
+    }
+    counters: dict = {
+        "regions": graph.n_regions,
+        "milp_calls": 0,
+        "mip_nodes": 0,
+        "binaries": 0,
+        "bfs_bound": None if math.isinf(bfs) else int(bfs),
+    }
     guarantee = "segments" if segment_safe else "samples"
 
     def finish(status: ReachStatus, horizon: int | None, message: str, trajectory=None, regions=None) -> ReachResult:
         timings["total"] = time.perf_counter() - t_start
         counters["iterations"] = clock.iterations
-        return ReachResult(status=status, solver="milp", seconds=timings["total"], trajectory=trajectory,
-                           regions=regions, horizon=horizon, counters=counters, timings=timings, options=options,
-                           message=message, guarantee=guarantee)
+        return ReachResult(
+            status=status,
+            solver="milp",
+            seconds=timings["total"],
+            trajectory=trajectory,
+            regions=regions,
+            horizon=horizon,
+            counters=counters,
+            timings=timings,
+            options=options,
+            message=message,
+            guarantee=guarantee,
+        )
 
     proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=segment_safe)
     counters["proved_bound"] = None if math.isinf(proved) else int(proved)
-    not_proof = (f"not a proof of infeasibility (a step may cross several regions; proved lower bound on the "
-                 f"horizon: {int(proved)})") if math.isfinite(proved) else ""
+    not_proof = (
+        (
+            f"not a proof of infeasibility (a step may cross several regions; proved lower bound on the "
+            f"horizon: {int(proved)})"
+        )
+        if math.isfinite(proved)
+        else ""
+    )
     if proved > L_max:
-        why = ("no trajectory reaches the goal through the free space" if math.isinf(proved)
-               else f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)")
+        why = (
+            "no trajectory reaches the goal through the free space"
+            if math.isinf(proved)
+            else f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)"
+        )
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
     if first > L_max and exact and (start_horizon is None or first == int(bfs)):
-        return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: no region path of at most "
-                      f"{L_max} steps ({EXACT_SAMPLES})")
+        return finish(
+            ReachStatus.INFEASIBLE,
+            L_max,
+            f"infeasible up to horizon {L_max}: no region path of at most {L_max} steps ({EXACT_SAMPLES})",
+        )
     if first > L_max:
         if math.isinf(bfs):
             counters["abstraction_refuted"] = L_max
-            return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction: the goal regions are not "
-                          f"connected to the start regions; {not_proof}")
+            return finish(
+                ReachStatus.UNKNOWN,
+                L_max,
+                f"no plan through the abstraction: the goal regions are not "
+                f"connected to the start regions; {not_proof}",
+            )
         if start_horizon is None or first == int(bfs):
             counters["abstraction_refuted"] = L_max
-            return finish(ReachStatus.UNKNOWN, L_max, f"no plan through the abstraction up to horizon {L_max}: the "
-                          f"region-graph distance is {first}; {not_proof}")
+            return finish(
+                ReachStatus.UNKNOWN,
+                L_max,
+                f"no plan through the abstraction up to horizon {L_max}: the "
+                f"region-graph distance is {first}; {not_proof}",
+            )
         return finish(ReachStatus.UNKNOWN, None, f"start horizon {first} exceeds max_horizon {L_max}")
     polish = ConPlan(problem, abstraction, segment_safe=segment_safe, counterexample="trivial", clock=clock)
     N = first
@@ -257,37 +319,55 @@ def plan_milp(
         with clock.phase("building the MILP"):
             for N in clock.steps(range(first, L_max + 1), progress=progress, what="the MILP at horizon"):
                 t0 = time.perf_counter()
-                outcome, regions, stats = solve_horizon(problem, abstraction, N, segment_safe=segment_safe,
-                                                        seconds=clock.remaining(), adjacency=step)
+                outcome, regions, stats = solve_horizon(
+                    problem, abstraction, N, segment_safe=segment_safe, seconds=clock.remaining(), adjacency=step
+                )
                 timings["milp"] += time.perf_counter() - t0
                 counters["milp_calls"] += 1
                 counters["mip_nodes"] += stats["mip_nodes"]
                 counters["binaries"] = stats["binaries"]
                 if outcome == "unknown":
-                    return finish(ReachStatus.UNKNOWN, N, f"budget ran out in the MILP solver (HiGHS time limit) at horizon {N}")
+                    return finish(
+                        ReachStatus.UNKNOWN, N, f"budget ran out in the MILP solver (HiGHS time limit) at horizon {N}"
+                    )
                 if outcome == "found":
                     assert regions is not None
                     t0 = time.perf_counter()
                     trajectory = polish.feasible(regions)
                     timings["lp"] += time.perf_counter() - t0
                     if trajectory is None:
-                        return finish(ReachStatus.UNKNOWN, N, f"the MILP's region sequence at horizon {N} has no trajectory "
-                                      "under exact LP tolerances (numerically borderline instance)", regions=regions)
+                        return finish(
+                            ReachStatus.UNKNOWN,
+                            N,
+                            f"the MILP's region sequence at horizon {N} has no trajectory "
+                            "under exact LP tolerances (numerically borderline instance)",
+                            regions=regions,
+                        )
                     message = f"found at horizon {N}"
                     if start_horizon is None or first == int(bfs):  # every shorter horizon refuted
                         relative = "problem" if (exact or N <= proved) else "decomposition"
                         counters.update(minimal=True, minimal_relative_to=relative)
                         if relative == "decomposition":
-                            message += (f"; minimal only among plans through the decomposition ({DECOMPOSITION_ONLY}), "
-                                        f"not proved for the problem (proved lower bound: {int(proved)})")
+                            message += (
+                                f"; minimal only among plans through the decomposition ({DECOMPOSITION_ONLY}), "
+                                f"not proved for the problem (proved lower bound: {int(proved)})"
+                            )
                     return finish(ReachStatus.FOUND, N, message, trajectory, regions)
             if start_horizon is not None and first > (int(bfs) if math.isfinite(bfs) else 0):
-                return finish(ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)")
+                return finish(
+                    ReachStatus.UNKNOWN, L_max, f"no solution at horizons {first}..{L_max} (shorter ones not tried)"
+                )
             if exact:
-                return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: no MILP solution at any "
-                              f"horizon ({EXACT_SAMPLES})")
+                return finish(
+                    ReachStatus.INFEASIBLE,
+                    L_max,
+                    f"infeasible up to horizon {L_max}: no MILP solution at any horizon ({EXACT_SAMPLES})",
+                )
             counters["abstraction_refuted"] = L_max
-            return finish(ReachStatus.UNKNOWN, L_max, f"no MILP solution through the abstraction at any horizon up to "
-                          f"{L_max}; {not_proof}")
+            return finish(
+                ReachStatus.UNKNOWN,
+                L_max,
+                f"no MILP solution through the abstraction at any horizon up to {L_max}; {not_proof}",
+            )
     except BudgetExhausted as exc:  # (the LP solver's too: the trajectory of the MILP's regions)
         return finish(ReachStatus.UNKNOWN, N, str(exc) if exc.phase.startswith("before") else f"{exc} at horizon {N}")

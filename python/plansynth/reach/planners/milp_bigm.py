@@ -143,9 +143,15 @@ class _Rows:
 MARGIN = 1e-4
 
 
-def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str,
-                   margin: float = MARGIN, segment_safe: bool = True,
-                   pieces: list[tuple[np.ndarray, np.ndarray]] | None = None) -> tuple[str, Trajectory | None, dict[str, Any]]:
+def _solve_horizon(
+    problem: ReachProblem,
+    N: int,
+    seconds: float,
+    objective: str,
+    margin: float = MARGIN,
+    segment_safe: bool = True,
+    pieces: list[tuple[np.ndarray, np.ndarray]] | None = None,
+) -> tuple[str, Trajectory | None, dict[str, Any]]:
     import highspy
 
     deadline = time.perf_counter() + seconds  # building the model spends the budget too
@@ -155,6 +161,7 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
     A, B = np.array(dyn.A), np.array(dyn.B)
     pos = list(dyn.position)
     d = len(pos)
+
     # columns: x_t (t=0..N), u_t (t=0..N-1), then binaries
     def xi(t: int, i: int) -> int:
         return t * n + i
@@ -241,15 +248,25 @@ def _solve_horizon(problem: ReachProblem, N: int, seconds: float, objective: str
         h.changeColsCost(N * m, np.arange(s0, s0 + N * m, dtype=np.int32), np.ones(N * m))
     nrows = len(rows.lower)
     h.addRows(
-        nrows, np.array(rows.lower), np.array(rows.upper), len(rows.index),
-        np.array(rows.starts, dtype=np.int32), np.array(rows.index, dtype=np.int32), np.array(rows.value),
+        nrows,
+        np.array(rows.lower),
+        np.array(rows.upper),
+        len(rows.index),
+        np.array(rows.starts, dtype=np.int32),
+        np.array(rows.index, dtype=np.int32),
+        np.array(rows.value),
     )
     checkpoint()
     h.setOptionValue("time_limit", max(0.01, float(deadline - time.perf_counter())))
     h.run()
     status = h.getModelStatus()
     info = h.getInfo()
-    stats = {"binaries": n_bin, "rows": nrows, "columns": total, "mip_nodes": int(getattr(info, "mip_node_count", 0) or 0)}
+    stats = {
+        "binaries": n_bin,
+        "rows": nrows,
+        "columns": total,
+        "mip_nodes": int(getattr(info, "mip_node_count", 0) or 0),
+    }
     S = highspy.HighsModelStatus
     has_sol = getattr(info, "primal_solution_status", 0) == 2
     if status == S.kOptimal or (has_sol and status in (S.kTimeLimit, S.kSolutionLimit, S.kInterrupt)):
@@ -292,8 +309,13 @@ def plan_milp_bigm(
     horizons = [horizon] if horizon is not None else horizon_schedule(problem, growth)
     counters: dict[str, Any] = {"milp_calls": 0, "binaries": 0, "mip_nodes": 0, "horizons_infeasible": 0}
     timings: dict[str, float] = {"milp": 0.0}
-    options = {"objective": objective, "growth": growth, "horizon": horizon, "segment_safe": segment_safe,
-               "highs": highs_version()}
+    options = {
+        "objective": objective,
+        "growth": growth,
+        "horizon": horizon,
+        "segment_safe": segment_safe,
+        "highs": highs_version(),
+    }
     message = ""
     last = "unknown"
     pieces: list[tuple[np.ndarray, np.ndarray]] | None = None
@@ -312,8 +334,14 @@ def plan_milp_bigm(
                     for o in problem.obstacles:
                         checkpoint()
                         pieces += convex_pieces(o)
-                outcome, traj, stats = _solve_horizon(problem, N, 1e6 if math.isinf(remaining) else remaining,
-                                                      objective, segment_safe=segment_safe, pieces=pieces)
+                outcome, traj, stats = _solve_horizon(
+                    problem,
+                    N,
+                    1e6 if math.isinf(remaining) else remaining,
+                    objective,
+                    segment_safe=segment_safe,
+                    pieces=pieces,
+                )
         except BudgetExhausted as exc:
             timings["milp"] += time.perf_counter() - ts
             message = f"{exc} at horizon {N}"
@@ -328,9 +356,18 @@ def plan_milp_bigm(
         if outcome == "found" and traj is not None:  # validated by plansynth.reach.solve, like every planner's
             timings["total"] = time.perf_counter() - t0
             return ReachResult(
-                status=ReachStatus.FOUND, solver="milp-bigm", seconds=timings["total"], trajectory=traj, regions=None,
-                segment_safe=None, horizon=N, counters=counters, timings=timings, options=options,
-                guarantee="segments" if segment_safe else "samples", message=f"found at horizon {N}",
+                status=ReachStatus.FOUND,
+                solver="milp-bigm",
+                seconds=timings["total"],
+                trajectory=traj,
+                regions=None,
+                segment_safe=None,
+                horizon=N,
+                counters=counters,
+                timings=timings,
+                options=options,
+                guarantee="segments" if segment_safe else "samples",
+                message=f"found at horizon {N}",
             )
         if outcome == "infeasible":
             counters["horizons_infeasible"] += 1
@@ -342,14 +379,31 @@ def plan_milp_bigm(
             message = "no trajectory at any horizon tried (not a proof for the horizons in between)"
     timings["total"] = time.perf_counter() - t0
     return ReachResult(
-        status=ReachStatus.UNKNOWN, solver="milp-bigm", seconds=timings["total"], trajectory=None, regions=None,
-        segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
-        validated=None, validation=None, message=message,
+        status=ReachStatus.UNKNOWN,
+        solver="milp-bigm",
+        seconds=timings["total"],
+        trajectory=None,
+        regions=None,
+        segment_safe=None,
+        horizon=None,
+        counters=counters,
+        timings=timings,
+        options=options,
+        guarantee="segments" if segment_safe else "samples",
+        validated=None,
+        validation=None,
+        message=message,
     )
 
 
 def run(problem: ReachProblem, budget: Budget, options: BigMOptions, progress: Any = None) -> Any:
     """``milp-bigm`` as a planner of :func:`plansynth.reach.solve` (no progress: one
     MILP per horizon of :func:`horizon_schedule`)."""
-    return plan_milp_bigm(problem, budget, horizon=options.horizon, objective=options.objective,
-                          growth=options.growth, segment_safe=options.segment_safe)
+    return plan_milp_bigm(
+        problem,
+        budget,
+        horizon=options.horizon,
+        objective=options.objective,
+        growth=options.growth,
+        segment_safe=options.segment_safe,
+    )

@@ -287,17 +287,37 @@ def plan_rrt(
         counters["tree_states"] = int(pdata.numVertices())
     except Exception:  # planner data is a counter only
         pass
-    options = {"planner": PLANNERS[planner], "seed": seed, "seed_applied": seeded, "segment_safe": segment_safe, "step": step, "goal_bias": goal_bias, "ompl": ompl_version()}
+    options = {
+        "planner": PLANNERS[planner],
+        "seed": seed,
+        "seed_applied": seeded,
+        "segment_safe": segment_safe,
+        "step": step,
+        "goal_bias": goal_bias,
+        "ompl": ompl_version(),
+    }
     timings = {"plan": plan_s, "setup": setup_s}
     name = planner
     if not exact:
         timings["total"] = time.perf_counter() - t0
         return ReachResult(
-            status=ReachStatus.UNKNOWN, solver=name, seconds=timings["total"], trajectory=None, regions=None,
-            segment_safe=None, horizon=None, counters=counters, timings=timings, options=options, guarantee="segments" if segment_safe else "samples",
-            validated=None, validation=None,
-            message=(f"budget ran out in OMPL {PLANNERS[planner]} planning: no exact solution "
-                     f"({_status_text(status)}) after {plan_s:.2f} s"),
+            status=ReachStatus.UNKNOWN,
+            solver=name,
+            seconds=timings["total"],
+            trajectory=None,
+            regions=None,
+            segment_safe=None,
+            horizon=None,
+            counters=counters,
+            timings=timings,
+            options=options,
+            guarantee="segments" if segment_safe else "samples",
+            validated=None,
+            validation=None,
+            message=(
+                f"budget ran out in OMPL {PLANNERS[planner]} planning: no exact solution "
+                f"({_status_text(status)}) after {plan_s:.2f} s"
+            ),
         )
     path = ss.getSolutionPath()
     inputs: list[np.ndarray] = []
@@ -312,9 +332,18 @@ def plan_rrt(
     traj = Trajectory(states=np.array(states), inputs=np.array(inputs).reshape(len(inputs), m))
     timings["total"] = time.perf_counter() - t0
     return ReachResult(  # validated by plansynth.reach.solve, like every planner's
-        status=ReachStatus.FOUND, solver=name, seconds=timings["total"], trajectory=traj, regions=None,
-        segment_safe=None, horizon=traj.horizon, counters=counters, timings=timings,
-        options=options, guarantee="segments" if segment_safe else "samples", message="",
+        status=ReachStatus.FOUND,
+        solver=name,
+        seconds=timings["total"],
+        trajectory=traj,
+        regions=None,
+        segment_safe=None,
+        horizon=traj.horizon,
+        counters=counters,
+        timings=timings,
+        options=options,
+        guarantee="segments" if segment_safe else "samples",
+        message="",
     )
 
 
@@ -327,8 +356,9 @@ def _status_text(status: Any) -> str:
 
 def _run(name: str) -> Callable[..., Any]:
     def run(problem: ReachProblem, budget: Budget, options: OmplOptions, progress: Any = None) -> Any:
-        return plan_rrt(problem, budget, options.seed, name, goal_bias=options.goal_bias,
-                        segment_safe=options.segment_safe)
+        return plan_rrt(
+            problem, budget, options.seed, name, goal_bias=options.goal_bias, segment_safe=options.segment_safe
+        )
 
     run.__name__ = f"run_{name}"
     run.__doc__ = f"OMPL {PLANNERS[name]} as a :func:`plansynth.reach.solve` planner (see :func:`plan_rrt`)."

@@ -36,8 +36,11 @@ class MilpOptions:
     """The options of the region MILP (see :func:`~plansynth.reach.planners.milp.plan_milp`)."""
 
     max_horizon: int | None = option(None, _MAX_HORIZON, minimum=0)
-    start_horizon: int | None = option(None, "first horizon tried (none: the region-graph distance; above it, a "
-                                             "found horizon is not claimed minimal)", minimum=0)
+    start_horizon: int | None = option(
+        None,
+        "first horizon tried (none: the region-graph distance; above it, a found horizon is not claimed minimal)",
+        minimum=0,
+    )
     segment_safe: bool = option(True, _SEGMENT_SAFE)
 
     def __post_init__(self) -> None:
@@ -48,8 +51,11 @@ class MilpOptions:
 class BigMOptions:
     """The options of the big-M MILP (see :func:`~plansynth.reach.planners.milp_bigm.plan_milp_bigm`)."""
 
-    horizon: int | None = option(None, "the only horizon tried (none: horizons growing from a lower bound to the "
-                                       "problem's max_horizon)", minimum=1)
+    horizon: int | None = option(
+        None,
+        "the only horizon tried (none: horizons growing from a lower bound to the problem's max_horizon)",
+        minimum=1,
+    )
     objective: str = option("feasibility", "feasibility, or l1 (the sum of |u|)", choices=BIGM_OBJECTIVES)
     growth: float = option(1.5, "each horizon tried this factor above the last", minimum=1.0, positive=True)
     segment_safe: bool = option(True, _SEGMENT_SAFE)
@@ -64,8 +70,9 @@ class OmplOptions:
 
     seed: int = option(0, "OMPL's random seed (a run is reproducible up to timing)", minimum=0)
     goal_bias: float | None = option(None, "probability of sampling the goal (none: OMPL's default)", minimum=0.0)
-    segment_safe: bool = option(True, "reject an edge whose straight segment enters an obstacle (false: the samples "
-                                      "only)")
+    segment_safe: bool = option(
+        True, "reject an edge whose straight segment enters an obstacle (false: the samples only)"
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "ompl")
@@ -77,13 +84,18 @@ class OmplOptions:
 class GcsOptions:
     """The options of the GCS planner (see :func:`~plansynth.reach.planners.gcs.plan_gcs`)."""
 
-    variant: str = option("like-for-like", "like-for-like (velocity continuity, |v| and |a| bounds, start at rest), "
-                                           "surrogate (velocity continuity as Drake's convex surrogate) or convex "
-                                           "(continuity of the curve only)", choices=GCS_VARIANTS)
+    variant: str = option(
+        "like-for-like",
+        "like-for-like (velocity continuity, |v| and |a| bounds, start at rest), "
+        "surrogate (velocity continuity as Drake's convex surrogate) or convex "
+        "(continuity of the curve only)",
+        choices=GCS_VARIANTS,
+    )
     order: int = option(5, "the Bezier curves' order", minimum=1)
     time_unit: float = option(10.0, "seconds per unit of Drake's curve time", positive=True)
-    max_rounded_paths: int | None = option(None, "paths the rounding tries (none: 5, or 1 beyond 200 regions)",
-                                           minimum=1)
+    max_rounded_paths: int | None = option(
+        None, "paths the rounding tries (none: 5, or 1 beyond 200 regions)", minimum=1
+    )
     segment_safe: bool = option(True, "(the whole curve is kept in the regions whatever this says)")
     max_horizon: int | None = option(None, "(GCS has no horizon; taken as every planner's)", minimum=0)
 

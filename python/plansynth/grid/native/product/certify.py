@@ -90,8 +90,9 @@ class ObstacleStrategy:
         raise AssertionError(f"no joint obstacle move realizes the reply {j} in {state}")
 
 
-def check_refutation(problem: GridProblem, strategy: Strategy, steps: int | None,
-                     clock: Clock | None = None) -> Certificate:
+def check_refutation(
+    problem: GridProblem, strategy: Strategy, steps: int | None, clock: Clock | None = None
+) -> Certificate:
     """Check that ``strategy`` defeats every robot (see the module docstring)."""
     kind = problem.objective
     if kind.bounded:
@@ -115,15 +116,23 @@ def check_refutation(problem: GridProblem, strategy: Strategy, steps: int | None
                     return Certificate(False, len(graph), f"a cycle of plays reaches goal {s.mode} again and again")
     if problem.fair:
         for i in range(len(problem.obstacles)):
-            sub = {s: [t for t, moved in out if t.robot != goals[s.mode] and not moved >> i & 1]
-                   for s, out in graph.items()}
+            sub = {
+                s: [t for t, moved in out if t.robot != goals[s.mode] and not moved >> i & 1]
+                for s, out in graph.items()
+            }
             for comp in strongly_connected(sub):
                 members = set(comp)
                 if any(t in members for s in comp for t in sub[s]):
-                    return Certificate(False, len(graph), f"a cycle of plays in which obstacle {i} never moves "
-                                                          "(the fairness assumption fails there)")
-    return Certificate(True, len(graph), "no play visits the goals in turn forever"
-                       + (" while the obstacles keep moving" if problem.fair else ""))
+                    return Certificate(
+                        False,
+                        len(graph),
+                        f"a cycle of plays in which obstacle {i} never moves (the fairness assumption fails there)",
+                    )
+    return Certificate(
+        True,
+        len(graph),
+        "no play visits the goals in turn forever" + (" while the obstacles keep moving" if problem.fair else ""),
+    )
 
 
 def _plays(problem: GridProblem, strategy: Strategy, clock: Clock | None):

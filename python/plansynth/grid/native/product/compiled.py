@@ -30,8 +30,10 @@ def available() -> bool:
 
 def _budget(clock: Clock | None, memory_mb: int | None) -> dict:
     left = None if clock is None else clock.remaining()
-    return {"seconds": None if left is None or left == float("inf") else max(0.0, left),
-            "max_bytes": None if memory_mb is None else int(memory_mb) << 20}
+    return {
+        "seconds": None if left is None or left == float("inf") else max(0.0, left),
+        "max_bytes": None if memory_mb is None else int(memory_mb) << 20,
+    }
 
 
 class CompiledSafety:
@@ -52,21 +54,41 @@ class CompiledSafety:
         robot = AgentGeometry.robot(problem)
         self.geometry = robot
         walls = wall_mask(problem)
-        rows = [(b(robot.valid[k]), b(robot.free[k]), m.to[1] * w + m.to[0], [o[1] * w + o[0] for o in m.offsets()])
-                for k, m in enumerate(problem.robot.moves)]
+        rows = [
+            (b(robot.valid[k]), b(robot.free[k]), m.to[1] * w + m.to[0], [o[1] * w + o[0] for o in m.offsets()])
+            for k, m in enumerate(problem.robot.moves)
+        ]
         obstacles = []
         for o in problem.obstacles:
             blocked = walls
             for c in o.keep_out:
                 blocked |= cell_mask(problem, c)
             moves = [(m.to, list(m.offsets())) for m in o.moves]
-            obstacles.append((o.size[0], o.size[1], moves, o.period, o.schedule is Schedule.FIXED, o.initial_phase,
-                              o.glitches, b(blocked), o.start[1] * w + o.start[0]))
+            obstacles.append(
+                (
+                    o.size[0],
+                    o.size[1],
+                    moves,
+                    o.period,
+                    o.schedule is Schedule.FIXED,
+                    o.initial_phase,
+                    o.glitches,
+                    b(blocked),
+                    o.start[1] * w + o.start[0],
+                )
+            )
         start = problem.robot.start[1] * w + problem.robot.start[0]
         standing = robot.full & ~walls
-        self.core = fast._core.ProductGame(w, problem.height, rows, obstacles,
-                                           problem.collision is CollisionRule.POSITION, start, b(standing),
-                                           **_budget(clock, memory_mb))
+        self.core = fast._core.ProductGame(
+            w,
+            problem.height,
+            rows,
+            obstacles,
+            problem.collision is CollisionRule.POSITION,
+            start,
+            b(standing),
+            **_budget(clock, memory_mb),
+        )
         self.start = (0, start)
         self.won: bool | None = None
 
@@ -97,7 +119,8 @@ class CompiledSafety:
 
     def learn_round(self, cond_depth: int, max_nodes: int, enum_states: int) -> tuple[bool, int, int, Term]:
         closed, sample, reached, terms, conds, nodes = self.core.learn_round(
-            cond_depth, self.problem.max_constant, max_nodes, enum_states, **_budget(self.clock, self.memory_mb))
+            cond_depth, self.problem.max_constant, max_nodes, enum_states, **_budget(self.clock, self.memory_mb)
+        )
         return closed, sample, reached, _tree(terms, conds, nodes, self.problem.variables)
 
     def reached_sets(self) -> dict[tuple, int]:

@@ -58,8 +58,14 @@ class _RankStrategy:
             nxt, collided = step(p, state, k, joint)
             if collided:
                 return tuple(joint)
-            key = tuple(zip(nxt.obstacles, nxt.phases or (0,) * len(nxt.obstacles),
-                            nxt.glitches or (0,) * len(nxt.obstacles), strict=True))
+            key = tuple(
+                zip(
+                    nxt.obstacles,
+                    nxt.phases or (0,) * len(nxt.obstacles),
+                    nxt.glitches or (0,) * len(nxt.obstacles),
+                    strict=True,
+                )
+            )
             oc = self.index[key]
             r = nxt.robot[1] * p.width + nxt.robot[0]
             rank = self.game.core.rank(oc, r) or 10**9

@@ -44,7 +44,12 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
         valid, states, why = game.certify()
         run.phase("certify")
         if not valid:
-            return GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: the obstacles' rank strategy fails: {why}", None
+            return (
+                GridStatus.UNKNOWN,
+                None,
+                f"NATIVE ENGINE INTERNAL ERROR: the obstacles' rank strategy fails: {why}",
+                None,
+            )
         run.counters["certificate_states"] = states
         run.counters["decided_seconds"] = _elapsed(run)
         run.counters["certified_by"] = "the obstacles' rank strategy"
@@ -55,10 +60,15 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
     try:
         program = _learn(run, game, problem, clock)
     except BudgetExhausted as exc:
-        raise BudgetExhausted(exc.phase, exc.resource, (
-            f"the robot wins the safety game (its winning region holds the start: decided in "
-            f"{sum(run.counters['phase_seconds'].values()):.3g} s, {game.rounds()} rounds), but no program was found "
-            f"within the budget ({exc})")) from None
+        raise BudgetExhausted(
+            exc.phase,
+            exc.resource,
+            (
+                f"the robot wins the safety game (its winning region holds the start: decided in "
+                f"{sum(run.counters['phase_seconds'].values()):.3g} s, {game.rounds()} rounds), but no program was found "
+                f"within the budget ({exc})"
+            ),
+        ) from None
     check = CompiledCheck(game)
     if run.o.simplify:
         # each check explores the program's closed loop: the simplifier gets the effort
@@ -77,8 +87,15 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
     run.counters["depth_minimal"] = "not proved"
     run.phase("check")
     if depth_bound is not None and depth(program) > depth_bound:
-        return GridStatus.UNKNOWN, None, (f"a winning program of depth {depth(program)} was found; smaller ones are "
-                                          "not searched for this objective"), None
+        return (
+            GridStatus.UNKNOWN,
+            None,
+            (
+                f"a winning program of depth {depth(program)} was found; smaller ones are "
+                "not searched for this objective"
+            ),
+            None,
+        )
     return GridStatus.REALIZABLE, program, "safety objective won on the product game", game.reached_sets()
 
 

@@ -149,8 +149,13 @@ def safety(space: ProductSpace, clock: Clock | None = None) -> Solution:
         lost = False
         for node in range(space.n_nodes):
             oc, m, f = space.split(node)
-            moves = controllable(space, node, lambda j, oc2, m=m, f=f, oc=oc, win=win:
-                                 win[space.node(oc2, m, _next_f(space, f, space.changed[oc][j]))])
+            moves = controllable(
+                space,
+                node,
+                lambda j, oc2, m=m, f=f, oc=oc, win=win: win[
+                    space.node(oc2, m, _next_f(space, f, space.changed[oc][j]))
+                ],
+            )
             keep = win[node] & _or(moves)
             gone[node] = win[node] & ~keep
             lost |= bool(gone[node])
@@ -240,8 +245,10 @@ def recurrence(space: ProductSpace, clock: Clock | None = None) -> Solution:
                 x = [standing] * space.n_nodes
                 while True:
                     sol.rounds += 1
-                    nx = [_or(controllable(space, n, _recurrence_target(space, n, z, y, x))) & standing
-                          for n in range(space.n_nodes)]
+                    nx = [
+                        _or(controllable(space, n, _recurrence_target(space, n, z, y, x))) & standing
+                        for n in range(space.n_nodes)
+                    ]
                     check_clock(clock, "the recurrence fixpoint", f" (round {sol.rounds})")
                     if nx == x:
                         break
@@ -249,8 +256,10 @@ def recurrence(space: ProductSpace, clock: Clock | None = None) -> Solution:
                 ny = x
             else:
                 sol.rounds += 1
-                ny = [_or(controllable(space, n, _recurrence_target(space, n, z, y, None))) & standing
-                      for n in range(space.n_nodes)]
+                ny = [
+                    _or(controllable(space, n, _recurrence_target(space, n, z, y, None))) & standing
+                    for n in range(space.n_nodes)
+                ]
                 check_clock(clock, "the recurrence fixpoint", f" (round {sol.rounds})")
             if ny == y:
                 break
@@ -263,7 +272,9 @@ def recurrence(space: ProductSpace, clock: Clock | None = None) -> Solution:
     return sol
 
 
-def recurrence_dual(space: ProductSpace, clock: Clock | None = None) -> tuple[list[int], list[list[tuple[list[int], list[list[int]]]]]]:
+def recurrence_dual(
+    space: ProductSpace, clock: Clock | None = None
+) -> tuple[list[int], list[list[tuple[list[int], list[list[int]]]]]]:
     """The obstacles' winning states of the recurrence game and the ranks of their
     strategy: ``(lose, levels)`` with ``lose[node]`` the robot cells the obstacles win
     from, and per outer level i (Z' rounds) the pair (Y'_i, the X' rounds of Y'_i)."""
@@ -279,8 +290,10 @@ def recurrence_dual(space: ProductSpace, clock: Clock | None = None) -> tuple[li
             xrounds: list[list[int]] = []
             while True:
                 rounds += 1
-                nx = [environment_forces(space, n, _dual_target(space, n, zp, yp, xp, fair)) & standing
-                      for n in range(space.n_nodes)]
+                nx = [
+                    environment_forces(space, n, _dual_target(space, n, zp, yp, xp, fair)) & standing
+                    for n in range(space.n_nodes)
+                ]
                 check_clock(clock, "the obstacles' recurrence fixpoint", f" (round {rounds})")
                 if nx == xp:
                     break

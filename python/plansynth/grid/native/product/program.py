@@ -112,8 +112,9 @@ class ProductCheck:
         return self.check(ops_program(ops, self.variables))
 
 
-def learn_program(moves: RobotMoves, run: RunState, clock: Clock, *, max_rounds: int = 200,
-                  horizon: int | None = None) -> tuple[Term, ProductCheck]:
+def learn_program(
+    moves: RobotMoves, run: RunState, clock: Clock, *, max_rounds: int = 200, horizon: int | None = None
+) -> tuple[Term, ProductCheck]:
     """A program whose closed loop plays only allowed moves (see the module docstring),
     simplified against :class:`ProductCheck`, then made smaller with tree SAT within the
     run's effort. Raises :class:`~plansynth.budget.BudgetExhausted` past the budget."""
@@ -166,8 +167,9 @@ def learn_program(moves: RobotMoves, run: RunState, clock: Clock, *, max_rounds:
     return program, check
 
 
-def _improve(run: RunState, check: ProductCheck, sample: dict[StateKey, tuple[int, ...]], program: Term,
-             clock: Clock) -> Term:
+def _improve(
+    run: RunState, check: ProductCheck, sample: dict[StateKey, tuple[int, ...]], program: Term, clock: Clock
+) -> Term:
     """Tree SAT at depths below the program's, on the final sample, within the effort;
     each candidate must pass :class:`ProductCheck` (its own closed loop may differ)."""
     from plansynth.grid.native.answer import effort
@@ -179,8 +181,9 @@ def _improve(run: RunState, check: ProductCheck, sample: dict[StateKey, tuple[in
         return program
     states = list(sample)
     allowed = [sample[s] for s in states]
-    enum = run.conditions([check.inputs(s) for s in states], check.variables, check.space.problem,
-                          min(3, run.o.condition_depth), clock)
+    enum = run.conditions(
+        [check.inputs(s) for s in states], check.variables, check.space.problem, min(3, run.o.condition_depth), clock
+    )
     useful = useful_conditions(allowed, enum.conditions, check.n_moves, run.o.tree_conditions)
     while depth(program) > 1:
         left = deadline - time.perf_counter()
@@ -190,8 +193,16 @@ def _improve(run: RunState, check: ProductCheck, sample: dict[StateKey, tuple[in
         if d > run.o.max_tree_depth:
             break
         try:
-            better = tree_program(allowed, useful, d, check.n_moves, clock, max_clauses=run.o.max_clauses,
-                                  max_conflicts=run.o.conflicts, max_seconds=left)
+            better = tree_program(
+                allowed,
+                useful,
+                d,
+                check.n_moves,
+                clock,
+                max_clauses=run.o.max_clauses,
+                max_conflicts=run.o.conflicts,
+                max_seconds=left,
+            )
         except BudgetExhausted:
             if clock.exhausted():
                 raise
@@ -200,4 +211,3 @@ def _improve(run: RunState, check: ProductCheck, sample: dict[StateKey, tuple[in
             break
         program = simplify(better, check, deadline) if run.o.simplify else better
     return program
-

@@ -42,8 +42,9 @@ class ProductRefutation:
     detail: str
 
 
-def solve_product(run: RunState, problem: GridProblem, steps: int | None, clock: Clock,
-                  depth_bound: int | None) -> tuple[GridStatus, Term | None, str, ProductRefutation | None]:
+def solve_product(
+    run: RunState, problem: GridProblem, steps: int | None, clock: Clock, depth_bound: int | None
+) -> tuple[GridStatus, Term | None, str, ProductRefutation | None]:
     """(status, program, message, refutation) for ``problem`` (``steps``: the path
     length of ``exact`` and ``reach``). A safety game runs in the compiled core when it
     is built (:mod:`.compiled`); the realizable answer then hands the verifier the states
@@ -66,11 +67,20 @@ def solve_product(run: RunState, problem: GridProblem, steps: int | None, clock:
         game = ExactGame(space, steps, clock)
         run.phase("game")
         if not game.won:
-            return _refuted(run, problem, steps, game, clock, "the obstacles win even against controllers that see the time")
+            return _refuted(
+                run, problem, steps, game, clock, "the obstacles win even against controllers that see the time"
+            )
         if game.choice is None:
-            return GridStatus.UNKNOWN, None, ("controllers that see the time win, and no positional strategy was read "
-                                              "off the game (the exact positional question is implemented for the "
-                                              "paper's model only)"), None
+            return (
+                GridStatus.UNKNOWN,
+                None,
+                (
+                    "controllers that see the time win, and no positional strategy was read "
+                    "off the game (the exact positional question is implemented for the "
+                    "paper's model only)"
+                ),
+                None,
+            )
         moves = game
         horizon = steps
     else:
@@ -93,8 +103,15 @@ def solve_product(run: RunState, problem: GridProblem, steps: int | None, clock:
         horizon = None
     program, _ = learn_program(moves, run, clock, horizon=horizon)
     if depth_bound is not None and depth(program) > depth_bound:
-        return GridStatus.UNKNOWN, None, (f"a winning program of depth {depth(program)} was found; smaller ones are "
-                                          "not searched for this objective"), None
+        return (
+            GridStatus.UNKNOWN,
+            None,
+            (
+                f"a winning program of depth {depth(program)} was found; smaller ones are "
+                "not searched for this objective"
+            ),
+            None,
+        )
     run.counters["stage"] = "product"
     run.counters["depth_minimal"] = "not proved"
     return GridStatus.REALIZABLE, program, f"{kind.value} objective won on the product game", None
@@ -117,7 +134,12 @@ def _refuted(run: RunState, problem: GridProblem, steps: int | None, replies, cl
     run.phase("certify")
     run.counters["decided_seconds"] = round(sum(run.counters["phase_seconds"].values()), 6)
     if not cert.valid:
-        return GridStatus.UNKNOWN, None, f"NATIVE ENGINE INTERNAL ERROR: the obstacles' strategy fails: {cert.reason}", None
+        return (
+            GridStatus.UNKNOWN,
+            None,
+            f"NATIVE ENGINE INTERNAL ERROR: the obstacles' strategy fails: {cert.reason}",
+            None,
+        )
     run.counters["certified_by"] = "the obstacles' strategy"
     ref = ProductRefutation("game", steps, strategy, cert, detail)
     return GridStatus.UNREALIZABLE, None, f"{detail} (certified: {cert.reason}, {cert.states} states)", ref

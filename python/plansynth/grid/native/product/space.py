@@ -108,8 +108,11 @@ class ProductSpace:
                     j = index[nxt] = len(space.configs)
                     space.configs.append(nxt)
                     if max_configs is not None and len(space.configs) > max_configs:
-                        raise BudgetExhausted("exploring the obstacles' configurations", "configurations",
-                                              f"more than {max_configs} obstacle configurations")
+                        raise BudgetExhausted(
+                            "exploring the obstacles' configurations",
+                            "configurations",
+                            f"more than {max_configs} obstacle configurations",
+                        )
                 if j not in succ:
                     succ.append(j)
                     changed.append(sum(1 << i for i, c in enumerate(combo) if c[1]))
@@ -130,9 +133,18 @@ class ProductSpace:
         """Obstacle i's distinct replies from ``s``: (next state, changed cell, swept mask)."""
         p = self.problem
         cell, phase, glitches = s
-        probe = State(p.robot.start, tuple(cell if j == i else o.start for j, o in enumerate(p.obstacles)),
-                      *((tuple(phase if j == i else 0 for j in range(len(p.obstacles))),
-                         tuple(glitches if j == i else 0 for j in range(len(p.obstacles)))) if p.stateful else ((), ())))
+        probe = State(
+            p.robot.start,
+            tuple(cell if j == i else o.start for j, o in enumerate(p.obstacles)),
+            *(
+                (
+                    tuple(phase if j == i else 0 for j in range(len(p.obstacles))),
+                    tuple(glitches if j == i else 0 for j in range(len(p.obstacles))),
+                )
+                if p.stateful
+                else ((), ())
+            ),
+        )
         out: dict[ObstacleState, list] = {}
         for k in legal_moves(p, probe, i):
             end, swept = obstacle_move(p, i, cell, k)

@@ -89,7 +89,9 @@ class RobotMoves:
         oc, m, f = space.split(node)
         if self.kind is ObjectiveKind.SAFETY:
             win = sol.win
-            got = controllable(space, node, lambda j, oc2: win[space.node(oc2, m, _next_f(space, f, space.changed[oc][j]))])
+            got = controllable(
+                space, node, lambda j, oc2: win[space.node(oc2, m, _next_f(space, f, space.changed[oc][j]))]
+            )
         elif self.kind is ObjectiveKind.REACH:
             below, goal = sol.layers[rank - 1], space.goal_mask(0)
             got = controllable(space, node, lambda j, oc2: below[space.node(oc2)] | goal)

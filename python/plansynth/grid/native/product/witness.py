@@ -43,9 +43,12 @@ def product_play(problem: GridProblem, strategy: ObstacleStrategy, steps: int | 
             if state in seen:
                 loop = seen[state]
                 goal = problem.robot.goals[state.mode] if kind is ObjectiveKind.RECURRENCE else None
-                why = (f"the play repeats from step {loop} forever" if goal is None else
-                       f"the play repeats from step {loop} forever without reaching goal {state.mode} at {goal}"
-                       + (" while every obstacle keeps moving" if problem.fair else ""))
+                why = (
+                    f"the play repeats from step {loop} forever"
+                    if goal is None
+                    else f"the play repeats from step {loop} forever without reaching goal {state.mode} at {goal}"
+                    + (" while every obstacle keeps moving" if problem.fair else "")
+                )
                 last = turns[-1]
                 turns[-1] = Turn(last.t, last.state, last.robot_move, last.obstacle_moves, why)
                 return turns, state, loop
@@ -65,9 +68,14 @@ def product_play(problem: GridProblem, strategy: ObstacleStrategy, steps: int | 
         state = nxt
     if turns and kind.bounded:
         last = turns[-1]
-        turns[-1] = Turn(last.t, last.state, last.robot_move, last.obstacle_moves,
-                         f"not on the goal {'after step' if kind is ObjectiveKind.EXACT else 'within'} "
-                         f"{steps - 1 if kind is ObjectiveKind.EXACT else steps}: the robot is at {state.robot}")
+        turns[-1] = Turn(
+            last.t,
+            last.state,
+            last.robot_move,
+            last.obstacle_moves,
+            f"not on the goal {'after step' if kind is ObjectiveKind.EXACT else 'within'} "
+            f"{steps - 1 if kind is ObjectiveKind.EXACT else steps}: the robot is at {state.robot}",
+        )
     return turns, state, None
 
 
@@ -99,8 +107,11 @@ def check_product_play(problem: GridProblem, turns, loop: int | None, steps: int
             return turn is turns[-1]
     kind = problem.objective
     if kind.bounded:
-        return len(turns) == steps and state.robot != problem.robot.goal and (
-            kind is ObjectiveKind.EXACT or all(s.robot != problem.robot.goal for s in states))
+        return (
+            len(turns) == steps
+            and state.robot != problem.robot.goal
+            and (kind is ObjectiveKind.EXACT or all(s.robot != problem.robot.goal for s in states))
+        )
     if loop is None or states[loop] != state:
         return False
     if kind is ObjectiveKind.SAFETY:
@@ -109,6 +120,7 @@ def check_product_play(problem: GridProblem, turns, loop: int | None, steps: int
     if any(b.robot == problem.robot.goals[a.mode] for a, b in zip(cyc, cyc[1:])):
         return False
     if problem.fair:
-        return all(any(a.obstacles[i] != b.obstacles[i] for a, b in zip(cyc, cyc[1:]))
-                   for i in range(len(problem.obstacles)))
+        return all(
+            any(a.obstacles[i] != b.obstacles[i] for a, b in zip(cyc, cyc[1:])) for i in range(len(problem.obstacles))
+        )
     return True

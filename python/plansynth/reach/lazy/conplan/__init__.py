@@ -76,9 +76,26 @@ ladder), :mod:`~plansynth.reach.lazy.conplan.certificates` (rays, shrinking, the
 deletion filter).
 """
 
-from plansynth.reach.lazy.conplan.check import COUNTEREXAMPLES, POLISH_RESIDUAL, SLACK_WEIGHTS, ZERO_SLACK, ConPlan, zero_prefix
+from plansynth.reach.lazy.conplan.check import (
+    COUNTEREXAMPLES,
+    POLISH_RESIDUAL,
+    SLACK_WEIGHTS,
+    ZERO_SLACK,
+    ConPlan,
+    zero_prefix,
+)
 from plansynth.reach.lazy.conplan.lp import LONG_CHAIN_STATES
 from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted, LpFailure, LpStats
 
-__all__ = ["ConPlan", "LpBudgetExhausted", "LpFailure", "LpStats", "zero_prefix", "COUNTEREXAMPLES", "SLACK_WEIGHTS",
-           "ZERO_SLACK", "POLISH_RESIDUAL", "LONG_CHAIN_STATES"]
+__all__ = [
+    "ConPlan",
+    "LpBudgetExhausted",
+    "LpFailure",
+    "LpStats",
+    "zero_prefix",
+    "COUNTEREXAMPLES",
+    "SLACK_WEIGHTS",
+    "ZERO_SLACK",
+    "POLISH_RESIDUAL",
+    "LONG_CHAIN_STATES",
+]

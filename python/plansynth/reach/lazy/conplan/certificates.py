@@ -129,19 +129,36 @@ class _Certificates:
         last_infeasible = False
         for lit in list(keep):
             trial = [x for x in keep if x != lit]
-            col = self._solve_model(N, dict(trial), "minimize", goal=c.anchored_goal,
-                                    anchored_start=c.anchored_start, span=span, part=part)
+            col = self._solve_model(
+                N, dict(trial), "minimize", goal=c.anchored_goal, anchored_start=c.anchored_start, span=span, part=part
+            )
             last_infeasible = col is None
             if last_infeasible:
                 keep = trial
         if len(keep) == len(c.literals):
             return c
         if not last_infeasible:  # HiGHS must hold the kept set's (infeasible) LP
-            if self._solve_model(N, dict(keep), "minimize", goal=c.anchored_goal,
-                                 anchored_start=c.anchored_start, span=span, part=part) is not None:  # pragma: no cover
+            if (
+                self._solve_model(
+                    N,
+                    dict(keep),
+                    "minimize",
+                    goal=c.anchored_goal,
+                    anchored_start=c.anchored_start,
+                    span=span,
+                    part=part,
+                )
+                is not None
+            ):  # pragma: no cover
                 return c
-        smaller = Conflict(tuple(keep), anchored_start=c.anchored_start, anchored_goal=c.anchored_goal,
-                           horizon=c.horizon, first_time=span[0], last_time=span[1])
+        smaller = Conflict(
+            tuple(keep),
+            anchored_start=c.anchored_start,
+            anchored_goal=c.anchored_goal,
+            horizon=c.horizon,
+            first_time=span[0],
+            last_time=span[1],
+        )
         return self._from_ray(regions, smaller, self.span_slot)
 
     def _unanchor(self, regions: Sequence[int], c: Conflict) -> Conflict:
@@ -152,17 +169,31 @@ class _Certificates:
             return c
         N = len(regions) - 1
         span = (c.first_time, c.last_time)
-        col = self._solve_model(N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False, span=span,
-                                part=self._ray_part)
+        col = self._solve_model(
+            N, dict(c.literals), "unanchor", goal=c.anchored_goal, anchored_start=False, span=span, part=self._ray_part
+        )
         if col is not None:
             return c
-        free = Conflict(c.literals, anchored_start=False, anchored_goal=c.anchored_goal, horizon=c.horizon,
-                        first_time=span[0], last_time=span[1])
+        free = Conflict(
+            c.literals,
+            anchored_start=False,
+            anchored_goal=c.anchored_goal,
+            horizon=c.horizon,
+            first_time=span[0],
+            last_time=span[1],
+        )
         return self._from_ray(regions, free, self.span_slot)
 
     def _shrunk(
-        self, lay: _Layout, b: _Bounds, regions: Sequence[int], rows: np.ndarray, cols: np.ndarray,
-        fallback: Conflict, *, certified: bool,
+        self,
+        lay: _Layout,
+        b: _Bounds,
+        regions: Sequence[int],
+        rows: np.ndarray,
+        cols: np.ndarray,
+        fallback: Conflict,
+        *,
+        certified: bool,
     ) -> Conflict:
         """The conflict of an infeasible subsystem (``rows`` and the bounds of ``cols``):
         the regions at the times of its region rows, anchored at the start when it uses
@@ -213,8 +244,15 @@ class _Certificates:
         if not cold or part is not None:
             # the span model, shared with the deletion filter: warm from the LPs that
             # just shrank this conflict
-            col = self._solve_model(c.last_time, assign, "verify", goal=c.anchored_goal,
-                                    anchored_start=c.anchored_start, span=(c.first_time, c.last_time), part=part)
+            col = self._solve_model(
+                c.last_time,
+                assign,
+                "verify",
+                goal=c.anchored_goal,
+                anchored_start=c.anchored_start,
+                span=(c.first_time, c.last_time),
+                part=part,
+            )
             return col is None
         lay = self.layout(c.first_time, c.last_time)
         self._pass_cold(lay, assign, goal=c.anchored_goal, anchored_start=c.anchored_start)

@@ -75,7 +75,9 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         clock: Clock | None = None,
     ) -> None:
         if counterexample not in COUNTEREXAMPLES:
-            raise ValueError(f"unknown counterexample strategy {counterexample!r} (known: {', '.join(COUNTEREXAMPLES)})")
+            raise ValueError(
+                f"unknown counterexample strategy {counterexample!r} (known: {', '.join(COUNTEREXAMPLES)})"
+            )
         if slack_weights not in SLACK_WEIGHTS:
             raise ValueError(f"unknown slack weights {slack_weights!r} (known: {', '.join(SLACK_WEIGHTS)})")
         self.problem = problem
@@ -182,11 +184,24 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
             if self.residual(found.trajectory) <= WARM_POLISH_RESIDUAL:
                 return found
         lay = self.layout(0, len(regions) - 1)
-        methods = ({"solver": "ipm", "presolve": "off", "run_crossover": "on", "primal_feasibility_tolerance": 1e-10,
-                    "dual_feasibility_tolerance": 1e-10, "ipm_optimality_tolerance": 1e-10},
-                   {"solver": "simplex", "presolve": "on", "simplex_scale_strategy": 0,
-                    "primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10,
-                    "simplex_iteration_limit": 2**31 - 1})
+        methods = (
+            {
+                "solver": "ipm",
+                "presolve": "off",
+                "run_crossover": "on",
+                "primal_feasibility_tolerance": 1e-10,
+                "dual_feasibility_tolerance": 1e-10,
+                "ipm_optimality_tolerance": 1e-10,
+            },
+            {
+                "solver": "simplex",
+                "presolve": "on",
+                "simplex_scale_strategy": 0,
+                "primal_feasibility_tolerance": 1e-10,
+                "dual_feasibility_tolerance": 1e-10,
+                "simplex_iteration_limit": 2**31 - 1,
+            },
+        )
         best = found
         for tight in methods:
             self._pass_cold(lay, dict(enumerate(int(r) for r in regions)), goal=True, anchored_start=True)
@@ -222,8 +237,11 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         if slot.held != ("plan", N, True) or slot.layout is None or (slot.layout.t0, slot.layout.t1) != (0, N):
             return None
         models = [p.highs for p in slot.parts] if slot.parts is not None else [slot.highs]
-        tight = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10,
-                 "simplex_scale_strategy": 0}
+        tight = {
+            "primal_feasibility_tolerance": 1e-10,
+            "dual_feasibility_tolerance": 1e-10,
+            "simplex_scale_strategy": 0,
+        }
         try:
             with ExitStack() as stack:
                 for h in models:
@@ -275,8 +293,13 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
 
     def _prefix(self, regions: Sequence[int], k: int) -> Conflict:
         N = len(regions) - 1
-        return Conflict(tuple((t, regions[t]) for t in range(k + 1)), anchored_start=True, anchored_goal=False,
-                        horizon=N, last_time=N)
+        return Conflict(
+            tuple((t, regions[t]) for t in range(k + 1)),
+            anchored_start=True,
+            anchored_goal=False,
+            horizon=N,
+            last_time=N,
+        )
 
     def prefix_feasible(self, regions: Sequence[int], k: int) -> bool:
         """Is the prefix r_0..r_k (at times 0..k) realisable, continuing within the
@@ -356,7 +379,10 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         if col is not None:
             return Feasible(self._trajectory(lay, col))
         whole = self._whole(regions)
-        self.cold.setOptionValue("iis_strategy", int(highspy.IisStrategy.kIisStrategyFromLp) | int(highspy.IisStrategy.kIisStrategyIrreducible))
+        self.cold.setOptionValue(
+            "iis_strategy",
+            int(highspy.IisStrategy.kIisStrategyFromLp) | int(highspy.IisStrategy.kIisStrategyIrreducible),
+        )
         t0 = time.perf_counter()
         status, iis = self.cold.getIis()
         self.stats.seconds += time.perf_counter() - t0

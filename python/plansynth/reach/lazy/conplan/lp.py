@@ -121,12 +121,27 @@ class _Layout:
         and the latest state time it constrains (-1: none)."""
         T, steps, K, n = self.T, self.steps, self.K, self.n
         ts = np.arange(self.first, self.last + 1)
-        kind = np.concatenate([np.full(steps * n, DYN), np.full(T * K, REGION), np.full(steps * K, SEGMENT),
-                               np.full(self.Kg, GOAL), np.full(steps, ORDER)])
-        lit = np.concatenate([np.full(steps * n, -1), np.repeat(ts, K), np.repeat(ts[:-1], K),
-                              np.full(self.Kg, -1), np.full(steps, -1)])
-        state = np.concatenate([np.repeat(ts[1:], n), np.repeat(ts, K), np.repeat(ts[1:], K),
-                                np.full(self.Kg, self.t1), np.full(steps, -1)])
+        kind = np.concatenate(
+            [
+                np.full(steps * n, DYN),
+                np.full(T * K, REGION),
+                np.full(steps * K, SEGMENT),
+                np.full(self.Kg, GOAL),
+                np.full(steps, ORDER),
+            ]
+        )
+        lit = np.concatenate(
+            [np.full(steps * n, -1), np.repeat(ts, K), np.repeat(ts[:-1], K), np.full(self.Kg, -1), np.full(steps, -1)]
+        )
+        state = np.concatenate(
+            [
+                np.repeat(ts[1:], n),
+                np.repeat(ts, K),
+                np.repeat(ts[1:], K),
+                np.full(self.Kg, self.t1),
+                np.full(steps, -1),
+            ]
+        )
         return kind, lit, state
 
 
@@ -212,8 +227,12 @@ class _LpEdits:
         def row_label(touched: np.ndarray) -> int:
             return int(label[self.pos[touched[0]]]) if touched.size else -1
 
-        return (label[:n], label[n:], np.array([row_label(t) for t in reg_rows], dtype=np.int64),
-                np.array([row_label(t) for t in goal_rows], dtype=np.int64))
+        return (
+            label[:n],
+            label[n:],
+            np.array([row_label(t) for t in reg_rows], dtype=np.int64),
+            np.array([row_label(t) for t in goal_rows], dtype=np.int64),
+        )
 
     def _split(self, slot: _Slot, lay: _Layout, b: "_Bounds") -> None:
         """Load the LP of ``lay`` (matrix ``slot.coo``, bounds ``b``) into ``slot`` as
@@ -223,8 +242,9 @@ class _LpEdits:
         state_b, input_b, reg_b, goal_b = self.blocks
         T, steps = lay.T, lay.steps
         col_part = np.concatenate([np.tile(state_b, T), np.tile(input_b, steps), np.full(T, -1)])
-        row_part = np.concatenate([np.tile(state_b, steps), np.tile(reg_b, T), np.tile(reg_b, steps), goal_b,
-                                   np.full(steps, -1)])
+        row_part = np.concatenate(
+            [np.tile(state_b, steps), np.tile(reg_b, T), np.tile(reg_b, steps), goal_b, np.full(steps, -1)]
+        )
         slot.col_part, slot.row_part = col_part, row_part
         slot.col_local = np.zeros(lay.n_col, dtype=np.int64)
         slot.row_local = np.zeros(lay.n_row, dtype=np.int64)
@@ -242,8 +262,18 @@ class _LpEdits:
             slot.col_local[cols] = np.arange(cols.size)
             mine = row_part[R] == p
             r, c, v = slot.row_local[R[mine]], slot.col_local[C[mine]], V[mine]
-            lp = csc_lp(int(cols.size), int(rows.size), r, c, v, np.zeros(cols.size), b.col_lo[cols],
-                         b.col_hi[cols], b.row_lo[rows], b.row_hi[rows])
+            lp = csc_lp(
+                int(cols.size),
+                int(rows.size),
+                r,
+                c,
+                v,
+                np.zeros(cols.size),
+                b.col_lo[cols],
+                b.col_hi[cols],
+                b.row_lo[rows],
+                b.row_hi[rows],
+            )
             h = self._new_highs()
             h.passOptions(options)
             h.passModel(lp)
@@ -298,8 +328,11 @@ class _LpEdits:
         r1 = np.concatenate([np.arange(n), ai, bi])
         tt = np.arange(steps)[:, None]
         rows = [(tt * n + r1[None, :]).ravel()]
-        cols = [np.concatenate([tt * n + np.concatenate([n + np.arange(n), aj])[None, :],
-                                lay.n_x + tt * m + bj[None, :]], axis=1).ravel()]
+        cols = [
+            np.concatenate(
+                [tt * n + np.concatenate([n + np.arange(n), aj])[None, :], lay.n_x + tt * m + bj[None, :]], axis=1
+            ).ravel()
+        ]
         vals = [np.tile(np.concatenate([np.ones(n), -self.A[ai, aj], -self.B[bi, bj]]), steps)]
         # region blocks (time b) and segment blocks (rows on p_{b+1}, H of time b)
         kk = np.repeat(np.arange(K), d)
@@ -315,15 +348,30 @@ class _LpEdits:
         vals.append(self.Hgoal.ravel())
         # slacks: -s_t in every row on p_t; order rows s_t - s_{t+1} <= 0
         s0 = lay.n_x + lay.n_u
-        rows += [lay.reg0 + np.arange(T * K), lay.seg0 + np.arange(steps * K), lay.goal0 + np.arange(Kg),
-                 lay.ord0 + np.arange(steps), lay.ord0 + np.arange(steps)]
-        cols += [s0 + np.repeat(np.arange(T), K), s0 + 1 + np.repeat(np.arange(steps), K), np.full(Kg, s0 + lay.t1 - lay.first),
-                 s0 + np.arange(steps), s0 + 1 + np.arange(steps)]
+        rows += [
+            lay.reg0 + np.arange(T * K),
+            lay.seg0 + np.arange(steps * K),
+            lay.goal0 + np.arange(Kg),
+            lay.ord0 + np.arange(steps),
+            lay.ord0 + np.arange(steps),
+        ]
+        cols += [
+            s0 + np.repeat(np.arange(T), K),
+            s0 + 1 + np.repeat(np.arange(steps), K),
+            np.full(Kg, s0 + lay.t1 - lay.first),
+            s0 + np.arange(steps),
+            s0 + 1 + np.arange(steps),
+        ]
         vals += [-np.ones(T * K), -np.ones(steps * K), -np.ones(Kg), np.ones(steps), -np.ones(steps)]
-        return (np.concatenate(rows).astype(np.int64), np.concatenate(cols).astype(np.int64),
-                np.concatenate(vals).astype(float))
+        return (
+            np.concatenate(rows).astype(np.int64),
+            np.concatenate(cols).astype(np.int64),
+            np.concatenate(vals).astype(float),
+        )
 
-    def _lp(self, lay: _Layout, coo: tuple[np.ndarray, np.ndarray, np.ndarray], b: _Bounds, cost: np.ndarray) -> highspy.HighsLp:
+    def _lp(
+        self, lay: _Layout, coo: tuple[np.ndarray, np.ndarray, np.ndarray], b: _Bounds, cost: np.ndarray
+    ) -> highspy.HighsLp:
         return csc_lp(lay.n_col, lay.n_row, *coo, cost, b.col_lo, b.col_hi, b.row_lo, b.row_hi)
 
     def _pass_cold(self, lay: _Layout, assignment: Mapping[int, int], *, goal: bool, anchored_start: bool) -> _Bounds:
@@ -370,8 +418,9 @@ class _LpEdits:
         if slack:
             row_hi[lay.ord0 + w0 : lay.ord0 + w1] = 0.0
             slack_hi[w0 : w1 + 1] = INF
-        col_lo = np.concatenate([np.tile(self.state_lo, lay.T), np.full(lay.n_u, -self.problem.input_bound),
-                                 np.zeros(lay.T)])
+        col_lo = np.concatenate(
+            [np.tile(self.state_lo, lay.T), np.full(lay.n_u, -self.problem.input_bound), np.zeros(lay.T)]
+        )
         col_hi = np.concatenate([np.tile(self.state_hi, lay.T), np.full(lay.n_u, self.problem.input_bound), slack_hi])
         if anchored_start:
             col_lo[w0 * n : (w0 + 1) * n] = self.start

@@ -98,13 +98,18 @@ class _HighsRuns:
         # (a part is cold while it has no basis: before its first run, since the first plan
         # LP of a frame may stop at another part's refutation, and after an interior-point
         # run without crossover)
-        together = (interior and len(order) > 1 and PART_THREADS > 1
-                    and all(slot.parts[i].cold for i in order))
+        together = interior and len(order) > 1 and PART_THREADS > 1 and all(slot.parts[i].cold for i in order)
         statuses = self._interior_together([slot.parts[i] for i in order]) if together else None
         for k, i in enumerate(order):
             part = slot.parts[i]
-            sub = self._run(part.highs, purpose, count=k == 0, ipm_first=interior and part.cold, crossover=False,
-                            first=None if statuses is None else statuses[k])
+            sub = self._run(
+                part.highs,
+                purpose,
+                count=k == 0,
+                ipm_first=interior and part.cold,
+                crossover=False,
+                first=None if statuses is None else statuses[k],
+            )
             # (an interior-point run without crossover leaves no basis: the part stays cold)
             part.cold = not part.highs.getInfo().basis_validity
             if sub is None:
@@ -145,8 +150,15 @@ class _HighsRuns:
         # infeasible LP (for shrinking conflicts) is only available without it
         return new_highs(presolve="off")
 
-    def _run(self, h: highspy.Highs, purpose: str, count: bool = True, ipm_first: bool = False,
-             crossover: bool = True, first: highspy.HighsModelStatus | None = None) -> np.ndarray | None:
+    def _run(
+        self,
+        h: highspy.Highs,
+        purpose: str,
+        count: bool = True,
+        ipm_first: bool = False,
+        crossover: bool = True,
+        first: highspy.HighsModelStatus | None = None,
+    ) -> np.ndarray | None:
         """Solve the model ``h`` holds: column values when optimal, None when infeasible.
 
         ``ipm_first`` (a plan LP with no basis to start from, many states): the
@@ -180,12 +192,16 @@ class _HighsRuns:
         answers = (S.kOptimal, S.kInfeasible, S.kUnboundedOrInfeasible, S.kTimeLimit, S.kInterrupt, S.kHighsInterrupt)
         t0 = time.perf_counter()
         status = S.kNotset
-        fresh = {"ipm": {"solver": "ipm", "presolve": "off", "run_crossover": "on"},
-                 "presolved": {"solver": "simplex", "presolve": "on", "simplex_iteration_limit": 2**31 - 1}}
-        methods = {"first": {"solver": "ipm", "run_crossover": "on" if crossover else "off"},  # (in h itself)
-                   **fresh}
+        fresh = {
+            "ipm": {"solver": "ipm", "presolve": "off", "run_crossover": "on"},
+            "presolved": {"solver": "simplex", "presolve": "on", "simplex_iteration_limit": 2**31 - 1},
+        }
+        methods = {
+            "first": {"solver": "ipm", "run_crossover": "on" if crossover else "off"},  # (in h itself)
+            **fresh,
+        }
         assert first is None or ipm_first, "a status of an interior-point run without ipm_first"
-        for attempt in ("first", "warm", "cold", "ipm", "presolved")[0 if ipm_first else 1:]:
+        for attempt in ("first", "warm", "cold", "ipm", "presolved")[0 if ipm_first else 1 :]:
             if attempt == "first" and first is not None:
                 status = first
             elif self.clock is not None:
@@ -239,10 +255,19 @@ class _HighsRuns:
             raise LpBudgetExhausted()
         raise LpFailure(f"HiGHS could not solve a CON-PLAN LP ({purpose}): {h.modelStatusToString(status)}")
 
-    def _solve_model(self, N: int, assignment: Mapping[int, int], purpose: str, *, goal: bool = False,
-                     anchored_start: bool = True, slack: bool = False,
-                     span: tuple[int, int] | None = None, part: int | None = None,
-                     slot: _Slot | None = None) -> np.ndarray | None:
+    def _solve_model(
+        self,
+        N: int,
+        assignment: Mapping[int, int],
+        purpose: str,
+        *,
+        goal: bool = False,
+        anchored_start: bool = True,
+        slack: bool = False,
+        span: tuple[int, int] | None = None,
+        part: int | None = None,
+        slot: _Slot | None = None,
+    ) -> np.ndarray | None:
         """Solve the LP of ``assignment`` over the states 0..N, or only over ``span``
         (first, last) in the span model (for conflicts: a smaller LP that claims no more).
         ``part``: in a split model, solve only that part (an infeasible answer holds for
@@ -250,7 +275,9 @@ class _HighsRuns:
         if slot is None:
             slot = self.slack_slot if slack else (self.span_slot if span is not None else self.slot)
         lay = self._frame(slot, *((0, N) if span is None else span))
-        self._load(slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack))
+        self._load(
+            slot, lay, assignment, self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=slack)
+        )
         col = self._run_slot(slot, purpose, part)
         slot.held = (purpose, max(assignment, default=-1), col is not None)
         return col
