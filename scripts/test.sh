@@ -10,10 +10,9 @@
 # prints as it goes, orders 2 and 3 are printed when they end.
 # PLANSYNTH_TEST_SERIAL=1 runs them one after another instead.
 # Before pytest: the documentation site builds without a warning (`mkdocs build --strict`,
-# into a temporary folder) and, with PLANSYNTH_LINT=1, the code checks: the import
-# contracts (`lint-imports`, [tool.importlinter] in pyproject.toml), `ruff check` and
-# `ruff format --check`. (PLANSYNTH_LINT is off until the code is formatted and split
-# into its layers; then it is on by default.)
+# into a temporary folder) and the code checks: the import contracts (`lint-imports`,
+# [tool.importlinter] in pyproject.toml), `ruff check`, `ruff format --check` and
+# `cargo fmt --check` (PLANSYNTH_LINT=0 skips them, for a quick local run).
 # Rerun one order with the command printed above it. Arguments go to every pytest run;
 # PLANSYNTH_TEST_SEEDS="s1 s2 s3" fixes the seeds.
 set -euo pipefail
@@ -21,12 +20,13 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 . .venv/bin/activate
 cargo test -q -p plansynth-core
-if [ "${PLANSYNTH_LINT:-0}" = 1 ]; then
-  echo "== lint-imports, ruff check, ruff format --check"
+if [ "${PLANSYNTH_LINT:-1}" = 1 ]; then
+  echo "== lint-imports, ruff check, ruff format --check, cargo fmt --check"
   lint_status=0
   lint-imports || lint_status=1
   ruff check || lint_status=1
   ruff format --check || lint_status=1
+  cargo fmt --check || lint_status=1
   [ "$lint_status" = 0 ] || { echo "the code checks FAILED (see above)" >&2; exit 1; }
 fi
 echo "== mkdocs build --strict"

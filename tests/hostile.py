@@ -1,5 +1,5 @@
 """Hostile and malformed inputs shared by the bad-input regression tests and the fuzz
-test (issue 10, item 7), and a checker of the CLI's contract on them: exit status in
+test, and a checker of the CLI's contract on them: exit status in
 {0, 1, 2, 3}, no traceback, and on status 2 exactly one line, ``error: ...``.
 """
 
@@ -71,7 +71,7 @@ def invoke(args: list[str], **kwargs: Any):
 
 
 def check_contract(result: Any, args: list[str]) -> None:
-    """The CLI's contract on any input (issue 10, item 7)."""
+    """The CLI's contract on any input."""
     where = f"plansynth {' '.join(map(str, args))[:300]}"
     exc = result.exception
     assert exc is None or isinstance(exc, SystemExit), f"{where}: raised {exc!r}"

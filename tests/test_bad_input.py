@@ -1,4 +1,4 @@
-"""Regression tests of the bad inputs of issue 10, item 7: each one is refused at the
+"""Regression tests of bad inputs found by generating them: each one is refused at the
 door with an error naming file, field and reason (exit 2, one line, no traceback), or,
 where the input is legal, handled without a traceback, a hang or a memory blow-up.
 
@@ -130,7 +130,7 @@ def test_hostile_files_stay_within_memory_and_time_in_a_real_process(tmp_path: P
         ["grid", "solve", str(FIGURE1), "--steps", "2", "--solver", "external", "--command", solver + " {file}"],
     ]
     script = textwrap.dedent(
-        f"""
+        """
         import json, resource, sys
         resource.setrlimit(resource.RLIMIT_AS, (1536 << 20, 1536 << 20))
         from typer.testing import CliRunner

@@ -1,4 +1,4 @@
-"""Budgets that hold (issue 10, item 5; STYLE.md, point 4).
+"""Budgets that hold (STYLE.md, point 4).
 
 One reliability test per reach planner and per SyGuS grid backend: a problem that needs
 far more than the budget, run with a 2 s budget, answers ``unknown`` within 10 s and
@@ -192,6 +192,7 @@ GRID = Path(__file__).resolve().parents[1] / "examples" / "grid"
 
 def test_cvc5_stops_and_leaves_no_child():
     import psutil
+
     from plansynth.grid.problem import load_grid_problem
     from plansynth.grid.result import GridStatus
     from plansynth.grid.solve import solve
@@ -214,6 +215,7 @@ def test_cvc5_stops_and_leaves_no_child():
 
 def test_external_solver_stops_and_leaves_no_child(tmp_path):
     import psutil
+
     from plansynth.grid.problem import load_grid_problem
     from plansynth.grid.result import GridStatus
     from plansynth.grid.solve import solve
@@ -233,19 +235,17 @@ def test_external_solver_stops_and_leaves_no_child(tmp_path):
 def test_the_long_phases_check_the_clock():
     """The abstraction and the time-window bounds stop at their next checkpoint once the
     clock is out of time (the reach planners run them inside budget phases)."""
-    from plansynth.reach.lazy.bounds import time_windows
     from plansynth.reach.abstraction import abstract
+    from plansynth.reach.lazy.bounds import time_windows
 
     problem = maze(2)
     abstraction = abstract(problem)
     dead = Budget(seconds=1e-6).clock()
     time.sleep(0.01)
-    with pytest.raises(BudgetExhausted, match="the abstraction"):
-        with dead.phase("the abstraction"):
-            abstract(problem)
-    with pytest.raises(BudgetExhausted, match="the bounds"):
-        with dead.phase("the bounds"):
-            time_windows(problem, abstraction, 200)
+    with pytest.raises(BudgetExhausted, match="the abstraction"), dead.phase("the abstraction"):
+        abstract(problem)
+    with pytest.raises(BudgetExhausted, match="the bounds"), dead.phase("the bounds"):
+        time_windows(problem, abstraction, 200)
 
 
 SLOW_START = """
@@ -261,8 +261,9 @@ if __name__ == "__main__":
 
 
 def test_a_child_that_cannot_start_by_the_deadline_is_given_up_at_once_and_killed(tmp_path):
-    import psutil
     import subprocess
+
+    import psutil
 
     script = tmp_path / "slow_start.py"
     script.write_text(SLOW_START)

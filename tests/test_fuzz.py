@@ -1,4 +1,4 @@
-"""Fuzz test of plansynth's door (issue 10, item 7): random mutations of the example
+"""Fuzz test of plansynth's door: random mutations of the example
 problem files (wrong types, missing and extra fields, huge, negative and NaN numbers,
 strings, deep nesting, bad bytes), random result files, random program strings and
 random command lines with output paths, all through the CLI's entry.

@@ -1,4 +1,4 @@
-"""Outputs, certification and claims (issue 10, item 7): every output file is checked
+"""Outputs, certification and claims: every output file is checked
 before the work and written atomically; unwritable outputs exit 2 with one line that
 names the path; an ``unrealizable`` is certified by the native engine; a validation
 tolerance must be sane and a file's segment-safety claim is checked; an exported

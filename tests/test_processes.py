@@ -1,4 +1,4 @@
-"""No process left behind (issue 10, item 7): the ``plansynth`` command is started in a
+"""No process left behind: the ``plansynth`` command is started in a
 fresh process, stopped by a signal, and none of its descendants may survive it.
 (Linux: PR_SET_PDEATHSIG and /proc, as in CI.)
 """

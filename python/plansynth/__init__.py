@@ -13,8 +13,8 @@ Shared pieces live beside them: :mod:`plansynth.errors` (the named errors),
 problem files with errors that name the file and the field).
 """
 
-from plansynth.errors import InvalidProblem, PlansynthError, SolverUnavailable
 from plansynth.budget import Budget
+from plansynth.errors import InvalidProblem, PlansynthError, SolverUnavailable
 
 __version__ = "0.1.0"
 

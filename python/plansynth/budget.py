@@ -69,7 +69,7 @@ class BudgetExhausted(Exception):
         super().__init__(detail or f"budget ran out in {phase}{shown}")
 
 
-_ACTIVE: ContextVar["tuple[Clock, str] | None"] = ContextVar("plansynth_budget_phase", default=None)
+_ACTIVE: ContextVar[tuple[Clock, str] | None] = ContextVar("plansynth_budget_phase", default=None)
 
 
 def checkpoint() -> None:
@@ -126,7 +126,7 @@ class Budget:
         if self.memory_mb is not None and not self.memory_mb > 0:
             raise ValueError(f"budget memory_mb must be positive, got {self.memory_mb}")
 
-    def clock(self) -> "Clock":
+    def clock(self) -> Clock:
         """Start counting this budget now."""
         return Clock(self)
 
@@ -184,7 +184,7 @@ class Clock:
             )
 
     @contextmanager
-    def phase(self, name: str) -> Iterator["Clock"]:
+    def phase(self, name: str) -> Iterator[Clock]:
         """Within this block, :func:`checkpoint` raises :class:`BudgetExhausted`
         naming ``name`` once this clock is out of time or memory."""
         token = _ACTIVE.set((self, name))

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import gc
 import importlib
-from typing import Any, Optional
+from typing import Any
 
 import typer
 from typer.core import TyperGroup
@@ -42,7 +42,7 @@ class LazyGroup(OneLineErrorsGroup):
     def list_commands(self, ctx: Any) -> list[str]:
         return [*GROUPS, *(name for name in super().list_commands(ctx) if name not in GROUPS)]
 
-    def get_command(self, ctx: Any, cmd_name: str) -> Optional[Any]:
+    def get_command(self, ctx: Any, cmd_name: str) -> Any | None:
         if cmd_name not in GROUPS:
             return super().get_command(ctx, cmd_name)
         module, help_text = GROUPS[cmd_name]

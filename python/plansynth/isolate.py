@@ -39,7 +39,7 @@ import time
 import traceback
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Generic, TypeVar, Union
+from typing import Any, Generic, TypeVar
 
 __all__ = ["Finished", "Timeout", "Crash", "Outcome", "Cancelled", "run_isolated", "preload", "cancel_all"]
 
@@ -89,7 +89,7 @@ class Crash:
         return f"exited with code {self.exitcode} without answering"
 
 
-Outcome = Union[Finished[T], Timeout, Crash]
+Outcome = Finished[T] | Timeout | Crash
 
 
 class Cancelled(Exception):
@@ -192,7 +192,7 @@ def _ensure_forkserver() -> None:
 
     with _OWNER_LOCK:
         if os.getpid() not in _OWNER:  # (a forked child has no owner thread of its own yet)
-            requests: "queue.Queue[tuple[threading.Event, list[BaseException]]]" = queue.Queue()
+            requests: queue.Queue[tuple[threading.Event, list[BaseException]]] = queue.Queue()
 
             def serve() -> None:
                 from multiprocessing import forkserver

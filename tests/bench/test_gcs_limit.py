@@ -66,7 +66,7 @@ def test_bench_records_the_limit_and_runs_gcs():
 
 
 def test_random_dynamics_is_seeded_controllable_and_bounded():
-    from plansynth.reach.families import _controllable
+    from plansynth.reach.families.random_robots import _controllable
 
     a, b = random_dynamics(2, 10, seed=5), random_dynamics(2, 10, seed=5)
     assert a == b and a != random_dynamics(2, 10, seed=6)

@@ -8,12 +8,12 @@ import re
 from pathlib import Path
 
 import pytest
+from tests.bench.html_page import Page, markdown_headers, markdown_images, read_page
+from tests.bench.test_report import _fill
 from typer.testing import CliRunner
 
 from plansynth.bench.cli import app
 from plansynth.bench.report import render_html, write_report
-from tests.bench.html_page import Page, markdown_headers, markdown_images, read_page
-from tests.bench.test_report import _fill
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCHMARKS = ROOT / "benchmarks"

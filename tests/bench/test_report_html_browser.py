@@ -6,10 +6,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from plansynth.bench.report import render_html, write_report
 from tests.bench.html_page import markdown_headers, markdown_images
 from tests.bench.test_report import _fill
-from tests.view.conftest import browser, open_page  # noqa: F401 - browser is a fixture
+from tests.view.conftest import browser, open_page  # noqa: F401, F811 - browser is a fixture
+
+from plansynth.bench.report import render_html, write_report
 
 BOUNDS = """# Sorting
 

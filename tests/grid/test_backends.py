@@ -14,11 +14,11 @@ from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem, SolverUnavailable
 from plansynth.grid.backends.cvc5 import Cvc5Backend, parse_options
 from plansynth.grid.backends.external import ExternalBackend
-from plansynth.isolate import Crash, Finished, Timeout, run_isolated
 from plansynth.grid.problem import grid_problem_from_dict
 from plansynth.grid.programs import Const, parse_program
 from plansynth.grid.result import GridStatus, get_backend
 from plansynth.grid.sygus import compile_sygus
+from plansynth.isolate import Crash, Finished, Timeout, run_isolated
 
 #: Robot in a 3x1 corridor, goal two cells right: realizable at l = 2 (and not at l = 1).
 CORRIDOR = grid_problem_from_dict(

@@ -1,4 +1,4 @@
-"""``plansynth grid solve`` on a small problem starts fast (issue 11, Targets: every
+"""``plansynth grid solve`` on a small problem starts fast (the targets: every
 reactive-suite problem under 1 s wall through the CLI, median under 0.2 s, start-up
 included): it imports only what the command needs. Guarded by what a fresh process
 imports, not by timing it (a loaded machine would make a timed test flaky): numpy

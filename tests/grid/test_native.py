@@ -20,7 +20,7 @@ from plansynth.grid.native.cone import influence_cone
 from plansynth.grid.native.engine import Engine, program_wins
 from plansynth.grid.problem import grid_problem_from_dict, load_grid_problem
 from plansynth.grid.programs import depth, reads_obstacles
-from plansynth.grid.reference import reference_wins, reachable_cells
+from plansynth.grid.reference import reachable_cells, reference_wins
 from plansynth.grid.result import GridStatus, get_backend
 from plansynth.grid.semantics import obstacle_move, robot_move
 from plansynth.grid.verify import verify
@@ -122,7 +122,7 @@ def test_bitset_moves_match_the_semantics(problem, data):
 
 @pytest.mark.parametrize("name", sorted(set(families()) - {"figure1"}))
 def test_paper_instances_are_solved_with_the_papers_depth(name):
-    """No regression on the paper's families (issue 11, Targets): every instance of
+    """No regression on the paper's families: every instance of
     Section 4.1 is realizable at its length with a program no deeper than the paper's
     (the times are the bench's business: ``plansynth bench grid --family depth,...``)."""
     problem = grid_problem_from_dict(families()[name])
@@ -173,7 +173,7 @@ class _Countdown(Clock):
     """A clock whose time runs out at its ``reads``-th reading, whatever the machine's
     speed: the compiled core then gets no seconds either."""
 
-    def __init__(self, budget: "_CountdownBudget") -> None:
+    def __init__(self, budget: _CountdownBudget) -> None:
         super().__init__(budget)
         self.reads_left = budget.reads
 

@@ -5,6 +5,8 @@ column and row. Kept here as the reference the array build is compared against
 
 from __future__ import annotations
 
+from typing import Any
+
 import highspy
 import numpy as np
 
@@ -38,7 +40,6 @@ def reference_model(
     pos = list(dyn.position)
     R = ab.n_regions
     h = new_highs()
-    inf = highspy.kHighsInf
     # not problem.state_box: a big-M needs finite bounds, so unbounded states get +-1e4
     slo = np.full(n, -1e4)
     shi = np.full(n, 1e4)

@@ -55,7 +55,7 @@ def feasible(h: highspy.Highs, rows: list[Row]) -> bool:
 
 
 # ------------------------------------------------------------------------------------
-# The independent exact oracle of issue 13, item 7: a big-M MILP over the spec's
+# The independent exact oracle: a big-M MILP over the spec's
 # semantics (shared/spec/reach-problem.md), written from the problem's data only (its
 # obstacles, dynamics, bounds and goal), sharing nothing with the planners (no
 # decomposition, no region, no plansynth LP code).

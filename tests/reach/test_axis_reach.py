@@ -14,7 +14,6 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach import ReachStatus, plan_lazy
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import LinearDynamics, integrator_chain
@@ -22,6 +21,7 @@ from plansynth.reach.families import maze
 from plansynth.reach.geometry import Box
 from plansynth.reach.lazy.axisreach import AxisReach, _hull, _meet
 from plansynth.reach.lazy.bounds import step_adjacency
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.planners.milp import solve_horizon
 from plansynth.reach.problem import ReachProblem
 

@@ -207,7 +207,7 @@ def test_the_help_lists_every_planners_options_with_defaults_and_help() -> None:
         assert f"  {name}" in text, name
         p = get_planner(name)
         for value in (p.defaults, p.mission_defaults):
-            for key, default, doc in describe(value) if value is not None else ():
+            for key, _default, _doc in describe(value) if value is not None else ():
                 if key in p.option_names(mission=value is p.mission_defaults):
                     assert key in text
     lazy = text.split("  lazy-smt:", 1)[1].split("  lazy-smt, for a problem with a mission:", 1)[0]

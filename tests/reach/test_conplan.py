@@ -6,16 +6,16 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
-from plansynth.reach.lazy.bounds import physical_lower_bound, step_reach, time_windows
-from plansynth.reach.lazy.conflict import Conflict, Feasible
-from plansynth.reach.lazy.conplan import COUNTEREXAMPLES, ConPlan, zero_prefix
 from plansynth.reach.abstraction import Abstraction, Region, abstract
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
 from plansynth.reach.geometry import Box
+from plansynth.reach.lazy.bounds import physical_lower_bound, step_reach, time_windows
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan import COUNTEREXAMPLES, ConPlan, zero_prefix
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.validate import validate
 

@@ -19,10 +19,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.lazy.conflict import Conflict, Feasible
-from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import cluttered, maze, random_workspace
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.validate import validate
 
 #: Hypothesis examples per property test below; PLANSYNTH_TEST_SCALE=N runs N times as

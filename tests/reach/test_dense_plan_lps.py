@@ -5,6 +5,7 @@ window is deferred keeps the whole plan as its conflict)."""
 from __future__ import annotations
 
 import numpy as np
+from tests.reach.test_separator_chains import SetTheory
 
 from plansynth.budget import Budget
 from plansynth.reach.abstraction import abstract
@@ -19,8 +20,6 @@ from plansynth.reach.oracle import oracle_lp
 from plansynth.reach.problem import DEFAULT_MAX_HORIZON
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.solve import solve
-
-from tests.reach.test_separator_chains import SetTheory
 
 
 def test_every_random_dynamics_instance_gets_the_family_horizon() -> None:

@@ -1,5 +1,5 @@
-"""The multi-step displacement bound of random dynamics (issue 13, item 4;
-plansynth.reach.dynamics.displacement_reach) against an independent computation: the
+"""The multi-step displacement bound of random dynamics
+(plansynth.reach.dynamics.displacement_reach) against an independent computation: the
 largest move of k steps from time t is the l1 norm of the inputs' coefficients in
 p_{t+k} - p_t, read off by simulating unit impulses with A and B themselves."""
 
@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from plansynth.reach.dynamics import displacement_reach, integrator_chain, reach_steps
 from plansynth.reach.families import random_dynamics

@@ -31,6 +31,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
+from reach_oracles import oracle_feasible, oracle_minimum
 
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import abstract
@@ -39,8 +40,6 @@ from plansynth.reach.families import random_workspace
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box, Polygon
 from plansynth.reach.problem import ReachProblem
-
-from reach_oracles import oracle_feasible, oracle_minimum
 
 #: Zero-width slits: a position on a face two obstacles share, or on an obstacle's face
 #: flush with the workspace's boundary, is outside every obstacle's interior (the

@@ -145,12 +145,11 @@ def test_the_surrogate_variant_jumps_in_velocity_and_is_refused():
 
 
 def test_cli_solves_with_gcs_and_validates_the_curve_result(tmp_path):
+    import yaml
     from typer.testing import CliRunner
 
     from plansynth.cli import app
     from plansynth.reach.fileformat import reach_problem_to_dict
-
-    import yaml
 
     f = tmp_path / "maze-1.yaml"
     f.write_text(yaml.safe_dump(reach_problem_to_dict(maze(1))))

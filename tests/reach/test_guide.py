@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import pytest
 
-from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import cluttered, maze
-from plansynth.reach.lazy.guide import departure, reference_plan, route
-from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.geometry import Box
+from plansynth.reach.lazy.guide import departure, reference_plan, route
+from plansynth.reach.lazy.options import LazyOptions
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.validate import validate
 

@@ -1,6 +1,6 @@
 """HiGHS's shared task scheduler (plansynth.reach.highs): whatever ran HiGHS first in a
 process, plansynth's LPs still run. Each case is a fresh process, since the scheduler
-lives as long as the process (the failure of issue 10 only showed in a fresh one)."""
+lives as long as the process (a failure of that kind only shows in a fresh one)."""
 
 from __future__ import annotations
 

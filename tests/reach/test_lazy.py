@@ -10,17 +10,17 @@ import numpy as np
 import pytest
 
 from plansynth.budget import Budget
-from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach import ReachStatus, plan_lazy, solve
 from plansynth.reach.abstraction import abstract
-from plansynth.reach.lazy.conflict import Conflict, Feasible
-from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.lazy.loop import lazy_loop
-from plansynth.reach.planners.milp import solve_horizon
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
+from plansynth.reach.lazy.conflict import Conflict, Feasible
+from plansynth.reach.lazy.displan import DisPlan, RegionGraph
+from plansynth.reach.lazy.loop import lazy_loop
+from plansynth.reach.lazy.options import LazyOptions
+from plansynth.reach.planners.milp import solve_horizon
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 

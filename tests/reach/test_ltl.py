@@ -1,4 +1,4 @@
-"""LTL syntax and semantics (plansynth.reach.mission.ltl): the parser's precedence, negation
+"""LTL syntax and semantics (plansynth.reach.ltl, reached through plansynth.reach.mission.ltl): the parser's precedence, negation
 normal form, and the fixpoint evaluator against the textbook definitions over the
 unrolled lasso, on random formulas and random finite and lasso words."""
 

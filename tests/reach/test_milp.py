@@ -10,8 +10,8 @@ from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.dynamics import single_integrator
 from plansynth.reach.families import maze
-from plansynth.reach.planners.milp import MilpOptions, _big_m, plan_milp, solve_horizon
 from plansynth.reach.geometry import Box
+from plansynth.reach.planners.milp import MilpOptions, _big_m, plan_milp, solve_horizon
 from plansynth.reach.problem import ReachProblem
 
 

@@ -19,8 +19,8 @@ from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.lazy.loop import LoopOutcome
 from plansynth.reach.lazy.minimal import compressed, retimed
-from plansynth.reach.lazy.transit import TransitCheck
 from plansynth.reach.lazy.options import LazyOptions
+from plansynth.reach.lazy.transit import TransitCheck
 from plansynth.reach.planners.milp import solve_horizon
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.validate import validate

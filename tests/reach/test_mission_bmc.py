@@ -9,12 +9,11 @@ import itertools
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_ltl import NAMES, formulas
 
 from plansynth.reach.lazy.displan import RegionGraph, SatOutcome
-from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
 from plansynth.reach.mission.bmc import MissionDisPlan, MissionPlan
-
-from test_ltl import NAMES, formulas
+from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
 
 LETTERS = [frozenset(c) for k in range(len(NAMES) + 1) for c in itertools.combinations(NAMES, k)]
 N = len(LETTERS)

@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.errors import InvalidProblem
-from plansynth.reach.mission.labels import label_abstraction
 from plansynth.reach.fileformat import reach_problem_from_dict, reach_problem_to_dict
 from plansynth.reach.geometry import Box, Polygon
+from plansynth.reach.mission.labels import label_abstraction
 
 DOC = {
     "workspace": {"min": [0, 0], "max": [30, 30]},

@@ -10,12 +10,11 @@ import itertools
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from test_ltl import NAMES, formulas
 
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.mission.horizon import horizon_lower_bound
 from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
-
-from test_ltl import NAMES, formulas
 
 MAX_L = 4
 

@@ -11,15 +11,14 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from mission_milp_reference import reference_model
+from test_mission_planner import mission_problems
 
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.lazy.bounds import time_windows
 from plansynth.reach.mission.labels import label_abstraction, planning_problem
 from plansynth.reach.mission.ltl import Const, nnf, parse
 from plansynth.reach.mission.milp import mission_milp, solve_mission_horizon
-
-from mission_milp_reference import reference_model
-from test_mission_planner import mission_problems
 
 
 def rows_of(lp: highspy.HighsLp) -> list[tuple[tuple[tuple[int, float], ...], float, float]]:

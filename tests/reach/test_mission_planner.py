@@ -5,36 +5,32 @@ written here from scratch over every lasso or finite plan the clause excludes)."
 
 from __future__ import annotations
 
-import itertools
-import json
 from dataclasses import replace
+from pathlib import Path
 
 import highspy
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from reach_oracles import feasible
+from test_ltl import formulas
 from typer.testing import CliRunner
 
 from plansynth import Budget
 from plansynth.cli import app
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.families import random_workspace
-from plansynth.reach.mission.ltl import Lasso, finite_word, holds, parse
+from plansynth.reach.fileformat import load_reach_problem
+from plansynth.reach.geometry import Box
 from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
 from plansynth.reach.mission.labels import label_abstraction
 from plansynth.reach.mission.options import MissionOptions
 from plansynth.reach.mission.planner import plan_mission
-from plansynth.reach.fileformat import load_reach_problem
-from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
-
-from reach_oracles import feasible
-
-from test_ltl import formulas
 
 EXAMPLES = "examples/reach"
 
@@ -118,7 +114,9 @@ def test_reach_validate_rejects_a_violating_trajectory_naming_the_first_failing_
     assert "mission holds" in ok.output
     # the same trajectory judged against a mission it violates: the kitchen must never be entered
     bad_problem = tmp_path / "bad.yaml"
-    text = open(f"{EXAMPLES}/mission-visit.yaml").read().replace('"F (kitchen & F lab) & G !stairs"', '"G !kitchen"')
+    text = (
+        Path(f"{EXAMPLES}/mission-visit.yaml").read_text().replace('"F (kitchen & F lab) & G !stairs"', '"G !kitchen"')
+    )
     bad_problem.write_text(text)
     # the first step whose segment [p_t, p_t+1] enters the kitchen's interior
     from shapely.geometry import LineString

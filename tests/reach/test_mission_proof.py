@@ -8,11 +8,10 @@ import itertools
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_ltl import NAMES, formulas
 
 from plansynth.reach.mission.ltl import Lasso, holds, parse
 from plansynth.reach.mission.proof import geometry_letters, satisfiable, witness
-
-from test_ltl import NAMES, formulas
 
 ALL = frozenset(NAMES)
 alphabets = st.lists(st.frozensets(st.sampled_from(NAMES)), min_size=1, max_size=3, unique=True)
@@ -52,8 +51,8 @@ def test_may_hold_letters_are_monotone():
 def test_the_unsat_example_is_proved_by_its_geometry_and_a_touching_variant_is_not():
     from dataclasses import replace
 
-    from plansynth.reach.geometry import Box
     from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.geometry import Box
     from plansynth.reach.mission.labels import label_abstraction
 
     p = load_reach_problem("examples/reach/mission-unsat.yaml")

@@ -5,18 +5,16 @@ brute force over every reading, and on trajectories that only touch a label."""
 from __future__ import annotations
 
 import itertools
-from dataclasses import replace
 
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from plansynth.reach.mission.check import NEG, _literal_form, check_mission, consistent_reading
-from plansynth.reach.mission.ltl import Lasso, holds, nnf, parse
-from plansynth.reach.problem import reach_problem_from_dict
-from plansynth.reach.trajectory import Trajectory
-
 from test_ltl import NAMES, formulas
+
+from plansynth.reach.fileformat import reach_problem_from_dict
+from plansynth.reach.mission.check import NEG, _literal_form, check_mission, consistent_reading
+from plansynth.reach.mission.ltl import Lasso, holds, nnf
+from plansynth.reach.trajectory import Trajectory
 
 #: a "may hold" letter per label: in only, out only, or touched (both)
 _choice = st.sampled_from(["in", "out", "both"])

@@ -140,3 +140,83 @@ def test_animation_subsamples_long_trajectories(tmp_path: Path) -> None:
     out = animate(p, a, t, seq, tmp_path / "short.gif", max_frames=5, dpi=40)
     with Image.open(out) as im:
         assert im.n_frames == 5
+
+
+# ------------------------------------------------------------------ a trajectory of another robot
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _result_file(tmp_path: Path, states: list[list[float]], inputs: list[list[float]]) -> Path:
+    import json
+
+    path = tmp_path / "other-robot.json"
+    path.write_text(json.dumps({"status": "found", "states": states, "inputs": inputs}), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    "states, inputs, field, reason",
+    [
+        (
+            [[1, 1, 0], [1.5, 1, 0], [2, 1, 0]],
+            [[0, 0], [0, 0]],
+            "states",
+            "each state has 3 components, but the problem's robot has 4 states",
+        ),
+        (
+            [[1, 1, 0, 0, 0], [1.5, 1, 0, 0, 0]],
+            [[0, 0]],
+            "states",
+            "each state has 5 components, but the problem's robot has 4 states",
+        ),
+        (
+            [[1, 1, 0, 0], [1.5, 1, 0, 0]],
+            [[0, 0, 0]],
+            "inputs",
+            "each input has 3 components, but the problem's robot has 2 inputs",
+        ),
+    ],
+    ids=["3-of-4-states", "5-of-4-states", "3-of-2-inputs"],
+)
+def test_plot_refuses_a_trajectory_of_another_robot(
+    tmp_path: Path, states: list, inputs: list, field: str, reason: str
+) -> None:
+    """``plansynth reach plot`` of maze-1 (4 states, 2 inputs) with a result whose states
+    or inputs have other dimensions: one line naming the file, the field and the reason,
+    exit 2, and no picture (it used to draw the first two components as positions)."""
+    import subprocess
+    import sys
+
+    from plansynth.errors import InvalidProblem
+    from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.trajectory import load_trajectory
+
+    result = _result_file(tmp_path, states, inputs)
+    out = tmp_path / "picture.png"
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "plansynth.cli",
+            "reach",
+            "plot",
+            str(ROOT / "examples/reach/maze-1.yaml"),
+            str(result),
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 2, run.stdout + run.stderr
+    assert run.stderr.strip() == f"error: {result}: {field}: {reason}", run.stderr
+    assert "Traceback" not in run.stderr and not out.exists()
+    # the API says the same, for the picture and for the animation
+    problem, trajectory = load_reach_problem(ROOT / "examples/reach/maze-1.yaml"), load_trajectory(result)
+    with pytest.raises(InvalidProblem, match=f"^{result}: {field}: {reason}$"):
+        plot_problem(problem, abstract(problem), None, trajectory, path=out)
+    with pytest.raises(InvalidProblem, match=f"^{result}: {field}: "):
+        animate(problem, abstract(problem), trajectory, None, tmp_path / "run.gif")
+    assert not out.exists() and not (tmp_path / "run.gif").exists()

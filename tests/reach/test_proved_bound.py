@@ -12,16 +12,15 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from reach_oracles import problems
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach import ReachStatus, solve
-from plansynth.reach.lazy.bounds import proved_horizon_bound, touching
 from plansynth.reach.abstraction import OUTER_VERTICES, abstract, outer_polygon
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.geometry import Box, Polygon
+from plansynth.reach.lazy.bounds import proved_horizon_bound, touching
 from plansynth.reach.problem import ReachProblem
-
-from reach_oracles import problems
 
 PROPS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -161,12 +160,12 @@ def test_outer_polygon_contains_the_polygon(n: int, r: float, stretch: float, tu
 
 
 def test_sweep_stopped_early_still_gives_a_bound(monkeypatch: pytest.MonkeyPatch) -> None:
-    from plansynth.reach.lazy import bounds
     from plansynth.reach.families import maze
+    from plansynth.reach.lazy.bounds import proved
 
     p = maze(1)
     full = proved_horizon_bound(p, abstract(p), 200)
-    monkeypatch.setattr(bounds, "SWEEP_MAX_WORK", 50)
+    monkeypatch.setattr(proved, "SWEEP_MAX_WORK", 50)
     early = proved_horizon_bound(p, abstract(p), 200)
     assert 26 <= early < full == 38  # at least the distance bound, never more than the full sweep
 

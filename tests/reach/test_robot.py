@@ -8,15 +8,16 @@ import math
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from plansynth.budget import Budget
 from plansynth.errors import InvalidProblem
 from plansynth.reach.families import maze
 from plansynth.reach.fileformat import reach_problem_from_dict, reach_problem_to_dict
 from plansynth.reach.geometry import Box
-from plansynth.reach.problem import RobotShape
 from plansynth.reach.result import ReachStatus
-from plansynth.reach.robot import configuration_space, disc_polygon, with_robot
+from plansynth.reach.robot import RobotShape, configuration_space, disc_polygon, with_robot
 from plansynth.reach.solve import solve
 from plansynth.reach.validate import validate
 
@@ -158,10 +159,6 @@ def test_the_plot_draws_the_robot(tmp_path):
     dashed = [a for a in ax.patches if a.get_linestyle() == "--"]
     assert circles and abs(circles[0].radius - 0.4) < 1e-12 and len(dashed) == len(configuration_space(p).obstacles)
     assert (tmp_path / "m.png").stat().st_size > 0
-
-
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 
 @settings(max_examples=25, deadline=None)

@@ -10,8 +10,8 @@ import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.abstraction import _drop_collinear, _drop_collinear_reference
-from plansynth.reach.lazy.bounds import _sweep, _sweep_reference
+from plansynth.reach.abstraction.predicates import drop_collinear, drop_collinear_reference
+from plansynth.reach.lazy.bounds.windows import _sweep, _sweep_reference
 
 
 @st.composite
@@ -43,13 +43,13 @@ def cycles(draw):
 @settings(max_examples=300, deadline=None)
 @given(cycles())
 def test_drop_collinear_agrees_with_the_reference(cycle) -> None:
-    assert _drop_collinear(list(cycle)) == _drop_collinear_reference(list(cycle))
+    assert drop_collinear(list(cycle)) == drop_collinear_reference(list(cycle))
 
 
 def test_drop_collinear_removes_the_midpoints_of_a_square() -> None:
     sq = [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, 0.5)]
-    assert _drop_collinear(sq) == [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-    assert sorted(_drop_collinear(sq)) == [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)]
+    assert drop_collinear(sq) == [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+    assert sorted(drop_collinear(sq)) == [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0), (1.0, 1.0)]
 
 
 @st.composite

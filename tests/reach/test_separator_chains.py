@@ -8,6 +8,7 @@ import math
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from tests.reach.test_displan import graphs, walks
 
 from plansynth.budget import Budget
 from plansynth.reach.families import maze, random_dynamics
@@ -18,8 +19,6 @@ from plansynth.reach.lazy.loop import lazy_loop
 from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.trajectory import Trajectory
-
-from tests.reach.test_displan import graphs, walks
 
 
 def respects(seq: tuple[int, ...], gap) -> bool:

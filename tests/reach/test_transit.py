@@ -9,16 +9,16 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from plansynth.reach.lazy.options import LazyOptions
-from plansynth.reach.lazy.conflict import Feasible
-from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.abstraction import abstract
 from plansynth.reach.families import maze, random_workspace
-from plansynth.reach.highs import new_highs
-from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.geometry import halfspaces
-from plansynth.reach.problem import ReachProblem
+from plansynth.reach.highs import new_highs
+from plansynth.reach.lazy.conflict import Feasible
+from plansynth.reach.lazy.conplan import ConPlan
+from plansynth.reach.lazy.options import LazyOptions
+from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
+from plansynth.reach.problem import ReachProblem
 
 
 def test_legs_of_a_plan() -> None:

@@ -16,12 +16,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from tests.view.conftest import EXAMPLES, open_page, screenshot
 
 from plansynth.grid import load as load_grid
 from plansynth.grid.programs import evaluate, parse_program
 from plansynth.grid.semantics import State, initial_state, step
 from plansynth.view import build_page
-from tests.view.conftest import EXAMPLES, open_page, screenshot
 
 TRAFFIC = EXAMPLES / "grid/traffic.yaml"
 

@@ -10,8 +10,8 @@ import shutil
 import signal
 import subprocess
 import sys
-from pathlib import Path
 import urllib.request
+from pathlib import Path
 
 import pytest
 

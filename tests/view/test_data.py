@@ -7,6 +7,7 @@ import re
 from pathlib import Path
 
 import pytest
+from tests.view.conftest import EXAMPLES
 
 from plansynth.errors import InvalidProblem
 from plansynth.grid import load as load_grid
@@ -15,7 +16,6 @@ from plansynth.grid.semantics import initial_state, step
 from plansynth.view import build_page
 from plansynth.view.grid_data import grid_page_data, state_key, strategy_table
 from plansynth.view.page import render_page
-from tests.view.conftest import EXAMPLES
 
 TRAFFIC = EXAMPLES / "grid/traffic.yaml"
 

@@ -16,11 +16,11 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from tests.view.conftest import EXAMPLES
 
 from plansynth.reach.fileformat import load_reach_problem, reach_problem_to_dict
 from plansynth.view import build_page
 from plansynth.view.server import PlanServer
-from tests.view.conftest import EXAMPLES
 
 MAZE1 = EXAMPLES / "reach/maze-1.yaml"
 

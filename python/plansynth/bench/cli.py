@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Optional
 
 import typer
 from rich.console import Console
@@ -123,7 +122,7 @@ def _check_arguments(
 def _sweep(
     kind: str,
     families: list[str],
-    values: Optional[str],
+    values: str | None,
     solvers: list[str],
     *,
     orders: list[int],
@@ -132,11 +131,11 @@ def _sweep(
     db: Path,
     jobs: int,
     memory: int,
-    cluster: Optional[str],
+    cluster: str | None,
     seed: int,
     retry: str = "",
-    options: Optional[list[str]] = None,
-    states: Optional[list[int]] = None,
+    options: list[str] | None = None,
+    states: list[int] | None = None,
 ) -> None:
     from plansynth.bench.families import GRID_FAMILIES, REACH_FAMILIES, family
     from plansynth.bench.runner import run_sweep
@@ -209,7 +208,7 @@ def grid_cmd(
     family: list[str] = typer.Option(
         ["all"], "--family", "-f", help="Family name (repeatable, or comma-separated), or all."
     ),
-    values: Optional[str] = typer.Option(
+    values: str | None = typer.Option(
         None, "--values", help="Only these parameter values, e.g. 5,10 (steps L, obstacles N, ...)."
     ),
     solvers: str = typer.Option("native,cvc5", "--solvers", help="Comma-separated grid backends."),
@@ -220,7 +219,7 @@ def grid_cmd(
     db: Path = DB_OPTION,
     jobs: int = typer.Option(1, "--jobs", "-j", help="Runs at once on the local pool."),
     memory: int = typer.Option(8192, "--memory", help="Memory limit per run, MB."),
-    cluster: Optional[str] = typer.Option(
+    cluster: str | None = typer.Option(
         None, "--cluster", help="Dask scheduler address (tcp://host:8786); default: local pool."
     ),
     seed: int = typer.Option(0, "--seed"),
@@ -257,7 +256,7 @@ def reach_cmd(
         "-f",
         help="maze, chain, random, random-dynamics, missions, gcs-maze (repeatable or comma-separated), or all.",
     ),
-    values: Optional[str] = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
+    values: str | None = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
     states: str = typer.Option("4,10,20,50", "--states", help="State counts n for the random-dynamics family."),
     planners: str = typer.Option("lazy-smt,rrt,milp-bigm", "--planners", help="Comma-separated planners (also gcs)."),
@@ -266,7 +265,7 @@ def reach_cmd(
     db: Path = DB_OPTION,
     jobs: int = typer.Option(1, "--jobs", "-j"),
     memory: int = typer.Option(8192, "--memory"),
-    cluster: Optional[str] = typer.Option(None, "--cluster"),
+    cluster: str | None = typer.Option(None, "--cluster"),
     seed: int = typer.Option(0, "--seed", help="Base seed of the sampling planners (repeat r uses seed + r)."),
     retry: str = typer.Option("", "--retry", help="Rerun recorded runs with these statuses, e.g. crash,timeout."),
 ) -> None:
@@ -393,7 +392,7 @@ def publish_cmd(
     grid_timeout: float = typer.Option(120.0, "--grid-timeout"),
     reach_timeout: float = typer.Option(60.0, "--reach-timeout"),
     jobs: int = typer.Option(1, "--jobs", "-j"),
-    cluster: Optional[str] = typer.Option(None, "--cluster"),
+    cluster: str | None = typer.Option(None, "--cluster"),
 ) -> None:
     """Run (or resume) the published sweep and write benchmarks/RESULTS.md from it, and
     benchmarks/RESULTS.html, the same report as one page with the figures embedded.

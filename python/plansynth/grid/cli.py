@@ -10,7 +10,7 @@ pay for the imports of ``verify``'s or ``explain``'s shells (rich tables, the re
 from __future__ import annotations
 
 import importlib
-from typing import Any, Optional
+from typing import Any
 
 import typer
 from typer.core import TyperGroup
@@ -35,7 +35,7 @@ class LazyCommands(TyperGroup):
     def list_commands(self, ctx: Any) -> list[str]:
         return [*COMMANDS, *(name for name in super().list_commands(ctx) if name not in COMMANDS)]
 
-    def get_command(self, ctx: Any, cmd_name: str) -> Optional[Any]:
+    def get_command(self, ctx: Any, cmd_name: str) -> Any | None:
         module = COMMANDS.get(cmd_name)
         if module is None:
             return super().get_command(ctx, cmd_name)

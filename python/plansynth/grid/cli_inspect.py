@@ -11,7 +11,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
 
 import typer
 from rich.console import Console
@@ -164,13 +163,13 @@ def verify_command(
     result_or_program: str = typer.Argument(
         ..., metavar="RESULT_OR_PROGRAM", help="A result JSON, a file with a term or define-fun, or a literal term."
     ),
-    steps: Optional[int] = typer.Option(
+    steps: int | None = typer.Option(
         None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."
     ),
-    timeout: Optional[float] = typer.Option(
+    timeout: float | None = typer.Option(
         None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (past it: unknown, exit 3)."
     ),
-    memory_mb: Optional[int] = typer.Option(
+    memory_mb: int | None = typer.Option(
         None,
         "--memory-mb",
         min=1,
@@ -238,14 +237,14 @@ def animate_command(
         "adversarial", "--obstacles", help="adversarial (counterexample, else greedy pursuit) or random."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the random obstacles."),
-    steps: Optional[int] = typer.Option(
+    steps: int | None = typer.Option(
         None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the result's, else the problem's)."
     ),
     fps: float = typer.Option(
         3.0, "--fps", min=0.1, max=1000.0, callback=finite_positive, help="Frames per second of the GIF."
     ),
-    png: Optional[Path] = typer.Option(None, "--png", help="Also write one step as a PNG."),
-    step: Optional[int] = typer.Option(None, "--step", min=0, help="The step for --png (default: the last state)."),
+    png: Path | None = typer.Option(None, "--png", help="Also write one step as a PNG."),
+    step: int | None = typer.Option(None, "--step", min=0, help="The step for --png (default: the last state)."),
 ) -> None:
     """Animate one run of a controller as a GIF (and optionally one step as a PNG)."""
     from plansynth.grid.render import animate, draw_state
@@ -292,8 +291,8 @@ def export_command(
         ..., metavar="RESULT", help="A result JSON, a file with a term or define-fun, or a literal term."
     ),
     lang: str = typer.Option(..., "--lang", help="python, c or sygus."),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write here (default: standard output)."),
-    problem_file: Optional[Path] = typer.Option(
+    out: Path | None = typer.Option(None, "--out", "-o", help="Write here (default: standard output)."),
+    problem_file: Path | None = typer.Option(
         None, "--problem", help="The problem (its obstacle count fixes the inputs); default: the result's."
     ),
     name: str = typer.Option("move", "--name", help="Function name."),

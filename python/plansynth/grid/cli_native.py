@@ -8,7 +8,6 @@ with the native backend's ``minimize`` option.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 from rich.console import Console
@@ -26,11 +25,11 @@ EXIT_REALIZABLE, EXIT_UNREALIZABLE = EXIT_YES, EXIT_NO
 
 def explain_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(
+    steps: int | None = typer.Option(
         None, "--steps", min=1, max=MAX_STEPS, help="Path length l to explain (default: the file's steps)."
     ),
     timeout: float = typer.Option(60.0, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."),
-    gif: Optional[Path] = typer.Option(None, "--gif", help="Animate the obstacles' winning play into this GIF."),
+    gif: Path | None = typer.Option(None, "--gif", help="Animate the obstacles' winning play into this GIF."),
 ) -> None:
     """Explain why no controller exists at path length l.
 
@@ -103,13 +102,11 @@ def _animate(problem, e, gif: Path, console: Console) -> None:
 
 def minimize_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(
-        None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length."
-    ),
-    timeout: Optional[float] = typer.Option(
+    steps: int | None = typer.Option(None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length."),
+    timeout: float | None = typer.Option(
         None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds."
     ),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON here."),
+    out: Path | None = typer.Option(None, "--out", "-o", help="Write the result JSON here."),
 ) -> None:
     """Synthesize a controller of smallest depth, proved minimal.
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import typer
 
@@ -183,7 +183,7 @@ class _Lines:
                 transient=True,
             )
 
-    def __enter__(self) -> "_Lines":
+    def __enter__(self) -> _Lines:
         if self.bar is not None:
             self.bar.__enter__()
             self.task = self.bar.add_task(self._description(0), total=len(self.lengths))
@@ -220,7 +220,7 @@ class _Lines:
 def solve_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON, spec: grid-problem.md)."),
     solver: str = typer.Option("native", "--solver", "-s", help="Backend: native, cvc5 or external."),
-    command: Optional[str] = typer.Option(
+    command: str | None = typer.Option(
         None,
         "--command",
         help='External SyGuS-IF v2 solver command; {file} is the .sl path, e.g. "cvc5 --lang=sygus2 {file}".',
@@ -233,37 +233,37 @@ def solve_command(
         + _NATIVE_HELP
         + ").",
     ),
-    steps: Optional[int] = typer.Option(
+    steps: int | None = typer.Option(
         None, "--steps", min=1, max=MAX_STEPS, help="Solve for exactly this path length (overrides the file)."
     ),
-    max_steps: Optional[int] = typer.Option(
+    max_steps: int | None = typer.Option(
         None, "--max-steps", min=1, max=MAX_STEPS, help="Search l = 1..N (overrides the file's steps/max_steps)."
     ),
-    depth_bound: Optional[int] = typer.Option(
+    depth_bound: int | None = typer.Option(
         None,
         "--depth-bound",
         min=1,
         max=MAX_PROGRAM_NESTING,
         help="Only programs of depth <= D (the paper's depth); unrealizable is then relative to D.",
     ),
-    timeout: Optional[float] = typer.Option(
+    timeout: float | None = typer.Option(
         None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds for the whole search."
     ),
-    memory_mb: Optional[int] = typer.Option(
+    memory_mb: int | None = typer.Option(
         None,
         "--memory-mb",
         min=1,
         max=1_000_000,
         help="Memory limit of a solver process, in MB (native: of the joint game, default 4096).",
     ),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
-    keep_sl: Optional[Path] = typer.Option(
+    out: Path | None = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
+    keep_sl: Path | None = typer.Option(
         None, "--keep-sl", help="Keep the .sl file of every attempt in this directory."
     ),
     minimize: bool = typer.Option(
         False, "--minimize", help="Native only: return a program of smallest depth, proved minimal."
     ),
-    effort: Optional[float] = typer.Option(
+    effort: float | None = typer.Option(
         None,
         "--effort",
         min=0.0,
@@ -307,13 +307,13 @@ def solve_command(
 
 def compile_command(
     file: Path = typer.Argument(..., help="Grid problem file (YAML or JSON)."),
-    steps: Optional[int] = typer.Option(
+    steps: int | None = typer.Option(
         None, "--steps", min=1, max=MAX_STEPS, help="Path length l (default: the file's steps)."
     ),
-    depth_bound: Optional[int] = typer.Option(
+    depth_bound: int | None = typer.Option(
         None, "--depth-bound", min=1, max=MAX_PROGRAM_NESTING, help="Unroll the grammar to programs of depth <= D."
     ),
-    output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write the .sl here (default: stdout)."),
+    output: Path | None = typer.Option(None, "--output", "-o", help="Write the .sl here (default: stdout)."),
 ) -> None:
     """Write the SyGuS-IF v2 specification of a problem at one path length (paper §3.2)."""
     from plansynth.grid.sygus import compile_sygus

@@ -240,7 +240,7 @@ class GridProblem:
     def in_grid(self, c: Cell) -> bool:
         return 0 <= c[0] < self.width and 0 <= c[1] < self.height
 
-    def with_steps(self, steps: int | None) -> "GridProblem":
+    def with_steps(self, steps: int | None) -> GridProblem:
         """The same problem with a fixed path length."""
         from dataclasses import replace
 

@@ -26,7 +26,6 @@ import keyword
 import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Union
 
 from plansynth.errors import PlansynthError
 
@@ -63,13 +62,13 @@ class App:
     """An operator application: ``ite``, ``and``, ``or``, ``not``, ``<=``, ``=``, ``+``, ``-``."""
 
     op: str
-    args: tuple["Term", ...]
+    args: tuple[Term, ...]
 
     def __str__(self) -> str:
         return f"({self.op} {' '.join(str(a) for a in self.args)})"
 
 
-Term = Union[Const, Var, App]
+Term = Const | Var | App
 
 #: Operator -> (argument sorts, result sort); sorts are "S" (Start), "B", "T".
 SIGNATURES: dict[str, tuple[tuple[str, ...], str]] = {
@@ -322,15 +321,99 @@ def _expr(t: Term, lang: str) -> str:
 
 
 _C_KEYWORDS = frozenset(
-    """auto break case char const continue default do double else enum extern float for goto
-if inline int long register restrict return short signed sizeof static struct switch typedef union unsigned void
-volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic _Imaginary _Noreturn _Static_assert _Thread_local
-alignas alignof bool constexpr false nullptr static_assert thread_local true typeof typeof_unqual main""".split()
+    [
+        "auto",
+        "break",
+        "case",
+        "char",
+        "const",
+        "continue",
+        "default",
+        "do",
+        "double",
+        "else",
+        "enum",
+        "extern",
+        "float",
+        "for",
+        "goto",
+        "if",
+        "inline",
+        "int",
+        "long",
+        "register",
+        "restrict",
+        "return",
+        "short",
+        "signed",
+        "sizeof",
+        "static",
+        "struct",
+        "switch",
+        "typedef",
+        "union",
+        "unsigned",
+        "void",
+        "volatile",
+        "while",
+        "_Alignas",
+        "_Alignof",
+        "_Atomic",
+        "_Bool",
+        "_Complex",
+        "_Generic",
+        "_Imaginary",
+        "_Noreturn",
+        "_Static_assert",
+        "_Thread_local",
+        "alignas",
+        "alignof",
+        "bool",
+        "constexpr",
+        "false",
+        "nullptr",
+        "static_assert",
+        "thread_local",
+        "true",
+        "typeof",
+        "typeof_unqual",
+        "main",
+    ]
 )
 _SYGUS_RESERVED = frozenset(
-    """_ ! as let exists forall match par assert check-sat declare-const declare-fun
-define-fun define-fun-rec define-sort set-logic set-option synth-fun constraint check-synth declare-var
-ite and or not xor distinct true false Int Bool""".split()
+    [
+        "_",
+        "!",
+        "as",
+        "let",
+        "exists",
+        "forall",
+        "match",
+        "par",
+        "assert",
+        "check-sat",
+        "declare-const",
+        "declare-fun",
+        "define-fun",
+        "define-fun-rec",
+        "define-sort",
+        "set-logic",
+        "set-option",
+        "synth-fun",
+        "constraint",
+        "check-synth",
+        "declare-var",
+        "ite",
+        "and",
+        "or",
+        "not",
+        "xor",
+        "distinct",
+        "true",
+        "false",
+        "Int",
+        "Bool",
+    ]
 )
 
 

@@ -32,7 +32,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import cache, cached_property
 from typing import NamedTuple
 
 from plansynth.grid.objective import CollisionRule, ObjectiveKind, Schedule
@@ -150,7 +150,7 @@ def robot_end(problem: GridProblem, p: Cell, k: int) -> Cell:
     return p
 
 
-@lru_cache(maxsize=None)
+@cache
 def _extent(move: Move) -> tuple[int, int, int, int]:
     """The bounding box of a move's offsets: all of them are in the grid iff it is."""
     offsets = move.offsets()

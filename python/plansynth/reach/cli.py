@@ -8,7 +8,7 @@ Exit status of ``solve``: 0 found (validated trajectory), 1 infeasible, 2 bad in
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import typer
 from rich.console import Console
@@ -228,15 +228,13 @@ def solve_command(
     option: list[str] = typer.Option(
         [], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."
     ),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
-    plot: Optional[Path] = typer.Option(
-        None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."
-    ),
-    animate: Optional[Path] = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
-    timeout: Optional[float] = typer.Option(
+    out: Path | None = typer.Option(None, "--out", "-o", help="Write the result JSON (spec: Result file) here."),
+    plot: Path | None = typer.Option(None, "--plot", help="Draw regions, region sequence and trajectory to this PNG."),
+    animate: Path | None = typer.Option(None, "--animate", help="Write an animated GIF of the trajectory."),
+    timeout: float | None = typer.Option(
         None, "--timeout", callback=positive_seconds, help="Wall-clock budget in seconds (then status unknown)."
     ),
-    max_horizon: Optional[int] = typer.Option(
+    max_horizon: int | None = typer.Option(
         None,
         "--max-horizon",
         min=0,
@@ -344,7 +342,7 @@ def validate_command(
         False, "--segment-safe", help="Also require every segment to avoid the obstacles."
     ),
     tol: float = typer.Option(1e-6, "--tol", help="Tolerance of every check."),
-    dynamics: Optional[str] = typer.Option(
+    dynamics: str | None = typer.Option(
         None,
         "--dynamics",
         help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact.",
@@ -403,13 +401,13 @@ def validate_command(
 @app.command("plot", epilog=PLOT_EPILOG)
 def plot_command(
     file: Path = typer.Argument(..., help="Reach problem file."),
-    result_file: Optional[Path] = typer.Argument(None, help="Optional result JSON (trajectory and regions)."),
+    result_file: Path | None = typer.Argument(None, help="Optional result JSON (trajectory and regions)."),
     output: Path = typer.Option(..., "--output", "-o", help="PNG file to write."),
 ) -> None:
     """Draw the workspace, the convex regions and (with a result) the trajectory."""
     from plansynth.reach.abstraction import abstract
-    from plansynth.reach.plot import plot_problem
     from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.plot import plot_problem
     from plansynth.reach.trajectory import trajectory_from_dict
 
     console = Console(soft_wrap=True)

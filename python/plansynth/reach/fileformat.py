@@ -48,8 +48,8 @@ from plansynth.reach.problem import (
     MAX_STATES,
     MAX_VERTICES,
     ReachProblem,
-    RobotShape,
 )
+from plansynth.reach.robot import RobotShape
 
 __all__ = ["load_reach_problem", "reach_problem_from_dict", "reach_problem_to_dict"]
 

@@ -17,12 +17,14 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Union
+from typing import Any
 
 import numpy as np
 import shapely
 from shapely.geometry import Polygon as _ShPolygon
 from shapely.geometry import box as _sh_box
+
+from plansynth.budget import checkpoint
 
 __all__ = [
     "Box",
@@ -32,6 +34,7 @@ __all__ = [
     "polygon_halfspaces",
     "is_convex",
     "polygon_problem",
+    "convex_pieces",
     "shape_to_shapely",
     "point_in_interior",
     "box_difference",
@@ -113,7 +116,7 @@ class Polygon:
         return _signed_area(self.vertices)
 
 
-Shape = Union[Box, Polygon]
+Shape = Box | Polygon
 
 
 def _signed_area(vs: Sequence[tuple[float, float]]) -> float:
@@ -201,6 +204,30 @@ def polygon_halfspaces(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         rows.append(n)
         rhs.append(float(n @ a))
     return np.array(rows), np.array(rhs)
+
+
+def convex_pieces(shape: Shape) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Half-space forms ``(H, h)`` of convex pieces whose union is ``shape``: a box or a
+    convex polygon as it is, a non-convex polygon by shapely's constrained Delaunay
+    triangulation (the obstacle pieces of the big-M MILP and of the lazy planner's
+    relaxation).
+
+    >>> len(convex_pieces(Box((0, 0), (1, 1))))
+    1
+    >>> L = Polygon(((0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)))
+    >>> len(convex_pieces(L)) >= 2
+    True
+    """
+    if isinstance(shape, Box) or is_convex(shape):
+        return [halfspaces(shape)]
+    tris = shapely.constrained_delaunay_triangles(shape_to_shapely(shape))
+    pieces = []
+    for tri in shapely.get_parts(tris):
+        checkpoint()  # thousands of triangles: within the budget phase, if any
+        coords = list(tri.exterior.coords)[:-1]
+        poly = Polygon(tuple((float(x), float(y)) for x, y in coords))
+        pieces.append(halfspaces(poly))
+    return pieces
 
 
 def shape_to_shapely(shape: Shape) -> shapely.Geometry:

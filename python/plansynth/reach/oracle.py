@@ -31,9 +31,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from plansynth.budget import Budget
+from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted, LpFailure
-from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["OracleLP", "oracle_lp"]

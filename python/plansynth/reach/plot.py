@@ -26,15 +26,14 @@ from matplotlib.animation import FuncAnimation, PillowWriter
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.patches import Circle, Rectangle
 from matplotlib.patches import Polygon as MplPolygon
-from matplotlib.patches import Rectangle
-from matplotlib.patches import Circle
 
 from plansynth.io import atomic_output
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import Box, Shape
 from plansynth.reach.problem import ReachProblem
-from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.trajectory import Trajectory, check_dimensions
 
 __all__ = ["plot_problem", "animate"]
 
@@ -91,8 +90,12 @@ def plot_problem(
 
     Writes a PNG to ``path`` when given; draws into ``ax`` when given (else a new
     figure). ``labels`` forces region numbers on/off (default: on when at most 60
-    regions). Returns the figure.
+    regions). Returns the figure. A trajectory whose states or inputs do not have the
+    problem's dimensions raises :class:`~plansynth.errors.InvalidProblem` before
+    anything is drawn.
     """
+    if trajectory is not None:
+        check_dimensions(trajectory, problem.dynamics.n_states, problem.dynamics.n_inputs)
     if ax is None:
         fig, ax = _new_figure(problem)
     else:
@@ -163,7 +166,7 @@ def plot_problem(
         )
         gc = g.mean(axis=0)
         ax.annotate("goal", (gc[0], gc[1]), fontsize=8, color="black", ha="center", va="center", zorder=6)
-    # mission labels (issue 14): outlined in colour, named at their centre
+    # mission labels: outlined in colour, named at their centre
     for k, (name, shape) in enumerate(problem.labels):
         colour = LABEL_COLOURS[k % len(LABEL_COLOURS)]
         ax.add_patch(_shape_patch(shape, facecolor=colour, edgecolor=colour, alpha=0.25, linewidth=1.4, zorder=5))
@@ -261,6 +264,7 @@ def animate(
     One frame per sample (subsampled to at most ``max_frames``); the region the robot
     is in is not re-computed, the planner's sequence is shown as in :func:`plot_problem`.
     """
+    check_dimensions(trajectory, problem.dynamics.n_states, problem.dynamics.n_inputs)
     fig = plot_problem(problem, abstraction, result_regions, None)
     ax = fig.axes[0]
     P = trajectory.positions(problem.dynamics.position)

@@ -5,9 +5,11 @@ A :class:`ReachProblem` is a box workspace, obstacles (boxes, or simple polygons
 2-D, possibly non-convex), a convex goal, and a discrete-time linear robot
 ``x' = A x + B u`` with ``||u||_inf <= input_bound``; it is checked when it is made.
 The shapes live in :mod:`plansynth.reach.geometry`, the dynamics in
-:mod:`plansynth.reach.dynamics`, the file format in :mod:`plansynth.reach.fileformat`
-(``load_reach_problem``, ``reach_problem_from_dict``, ``reach_problem_to_dict``, also
-reachable from here for callers outside plansynth).
+:mod:`plansynth.reach.dynamics`, the robot's extent in :mod:`plansynth.reach.robot` and
+the mission language in :mod:`plansynth.reach.ltl`, all below this module; the file
+format (:mod:`plansynth.reach.fileformat`: ``load_reach_problem``,
+``reach_problem_from_dict``, ``reach_problem_to_dict``) sits above it and reads files
+into problems, so a problem value knows nothing of files.
 
 Equality: problems, dynamics and shapes compare by value (arrays element-wise) and are
 hashable, so a problem round-trips through the file format.
@@ -43,6 +45,7 @@ from plansynth.reach.geometry import (
     polygon_problem,
     shape_to_shapely,
 )
+from plansynth.reach.robot import RobotShape, configuration_space
 
 __all__ = [
     "Box",
@@ -54,9 +57,6 @@ __all__ = [
     "halfspaces",
     "is_convex",
     "shape_to_shapely",
-    "load_reach_problem",
-    "reach_problem_from_dict",
-    "reach_problem_to_dict",
     "DEFAULT_MAX_HORIZON",
     "NAMED_MODELS",
 ]
@@ -82,42 +82,6 @@ MAX_OBSTACLES = 10_000
 MAX_VERTICES = 100_000
 
 
-@dataclass(frozen=True)
-class RobotShape:
-    """The robot's extent around its reference point: a disc (``radius``, 2-D) or an
-    axis-aligned box (``half_extent`` per axis); neither (or zero) is a point robot.
-    File keys ``robot.radius`` / ``robot.half_extent``; see :mod:`plansynth.reach.robot`.
-
-    >>> RobotShape(radius=0.5).margins(2), RobotShape(half_extent=(0.2, 0.3)).margins(2)
-    ((0.5, 0.5), (0.2, 0.3))
-    """
-
-    radius: float | None = None
-    half_extent: tuple[float, ...] | None = None
-
-    def __post_init__(self) -> None:
-        if self.radius is not None and self.half_extent is not None:
-            raise ValueError("a robot is a disc (radius) or a box (half_extent), not both")
-        if self.radius is not None:
-            object.__setattr__(self, "radius", float(self.radius))
-        if self.half_extent is not None:
-            object.__setattr__(self, "half_extent", tuple(float(v) for v in self.half_extent))
-
-    @property
-    def is_point(self) -> bool:
-        if self.radius is not None:
-            return self.radius == 0.0
-        return self.half_extent is None or all(v == 0.0 for v in self.half_extent)
-
-    def margins(self, dim: int) -> tuple[float, ...]:
-        """How far the robot reaches from its reference point along each axis."""
-        if self.radius is not None:
-            return (self.radius,) * dim
-        if self.half_extent is None:
-            return (0.0,) * dim
-        return self.half_extent
-
-
 # --------------------------------------------------------------------------- problem
 
 
@@ -141,7 +105,7 @@ class ReachProblem:
     name: str = "reach"
     source: str | None = field(default=None)
     robot_shape: RobotShape | None = None
-    # LTL missions (issue 14; plansynth.reach.mission): named label shapes and the
+    # LTL missions (plansynth.reach.mission): named label shapes and the
     # mission text over their names. With a mission the goal is optional: it is then
     # only the label "goal", and the mission alone says what a plan must do.
     labels: tuple[tuple[str, Shape], ...] = ()
@@ -309,8 +273,6 @@ def _check_problem(p: ReachProblem) -> None:
 
 def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
     """The start and goal checks for a sized robot (the robot's extent, not its point)."""
-    from plansynth.reach.robot import configuration_space
-
     src, rb = p.source, p.robot_shape
     assert rb is not None
     if rb.radius is not None:
@@ -370,7 +332,10 @@ def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
 
 def _check_mission(p: ReachProblem, d: int) -> None:
     """Labels and mission at the door: names, shapes, the formula's syntax and names."""
-    from plansynth.reach.mission.ltl import KEYWORDS, LtlSyntaxError, parse, props
+    if not p.labels and p.mission is None:
+        return
+    # imported here: a problem without a mission needs no parser
+    from plansynth.reach.ltl.syntax import KEYWORDS, LtlSyntaxError, parse, props
 
     src = p.source
     seen: set[str] = set()
@@ -429,16 +394,3 @@ def _check_shape(shape: Any, d: int, src: str | None, where: str) -> None:
             raise InvalidProblem(src, where, why)
     else:
         raise InvalidProblem(src, where, f"expected a Box or Polygon, got {type_name(shape)}")
-
-
-#: The file-format functions, defined in :mod:`plansynth.reach.fileformat` (which
-#: imports this module), reachable here by their earlier address.
-_FILE_FORMAT = ("load_reach_problem", "reach_problem_from_dict", "reach_problem_to_dict")
-
-
-def __getattr__(name: str) -> Any:
-    if name in _FILE_FORMAT:
-        from plansynth.reach import fileformat
-
-        return getattr(fileformat, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -27,6 +27,10 @@ problem and validates against the original one; the validator checks clearance i
 robot's box at each sample and the area it sweeps along each segment against each
 obstacle), without this module.
 
+The module sits below the problem value: :class:`RobotShape` is one of its fields, and
+its check at the door asks for the configuration space (a start or goal the sized robot
+cannot occupy is refused there).
+
 >>> from plansynth.reach.families import maze
 >>> p = with_robot(maze(1), RobotShape(half_extent=(0.25, 0.25)))
 >>> c = configuration_space(p)
@@ -37,7 +41,8 @@ obstacle), without this module.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 import shapely
@@ -45,12 +50,63 @@ from shapely.geometry import MultiPoint
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach.geometry import Box, Polygon, Shape, shape_to_shapely
-from plansynth.reach.problem import ReachProblem, RobotShape
 
 __all__ = ["RobotShape", "configuration_space", "with_robot", "disc_polygon", "DISC_SIDES", "robot_note"]
 
 #: sides of the polygon circumscribing a disc robot
 DISC_SIDES = 16
+
+
+@dataclass(frozen=True)
+class RobotShape:
+    """The robot's extent around its reference point: a disc (``radius``, 2-D) or an
+    axis-aligned box (``half_extent`` per axis); neither (or zero) is a point robot.
+    File keys ``robot.radius`` / ``robot.half_extent``; see :mod:`plansynth.reach.robot`.
+
+    >>> RobotShape(radius=0.5).margins(2), RobotShape(half_extent=(0.2, 0.3)).margins(2)
+    ((0.5, 0.5), (0.2, 0.3))
+    """
+
+    radius: float | None = None
+    half_extent: tuple[float, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.radius is not None and self.half_extent is not None:
+            raise ValueError("a robot is a disc (radius) or a box (half_extent), not both")
+        if self.radius is not None:
+            object.__setattr__(self, "radius", float(self.radius))
+        if self.half_extent is not None:
+            object.__setattr__(self, "half_extent", tuple(float(v) for v in self.half_extent))
+
+    @property
+    def is_point(self) -> bool:
+        if self.radius is not None:
+            return self.radius == 0.0
+        return self.half_extent is None or all(v == 0.0 for v in self.half_extent)
+
+    def margins(self, dim: int) -> tuple[float, ...]:
+        """How far the robot reaches from its reference point along each axis."""
+        if self.radius is not None:
+            return (self.radius,) * dim
+        if self.half_extent is None:
+            return (0.0,) * dim
+        return self.half_extent
+
+
+class _Problem(Protocol):
+    """What :func:`configuration_space` reads of a :class:`~plansynth.reach.problem.ReachProblem`
+    (this module sits below the problem value, whose check at the door asks for its
+    configuration space, so it names the fields it needs instead of importing it)."""
+
+    workspace: Box
+    obstacles: tuple[Shape, ...]
+    state_bounds: Box | None
+    robot_shape: RobotShape | None
+    dynamics: Any
+    name: str
+
+
+Problem = TypeVar("Problem", bound=_Problem)
 
 
 def disc_polygon(radius: float, sides: int = DISC_SIDES) -> np.ndarray:
@@ -117,9 +173,10 @@ def _shrink(box: Box, robot: RobotShape) -> Box:
     return Box(tuple(l + m for l, m in zip(box.lo, e)), tuple(u - m for u, m in zip(box.hi, e)))
 
 
-def configuration_space(problem: ReachProblem) -> ReachProblem:
-    """The point-robot problem of ``problem``'s sized robot (the problem itself when the
-    robot has no size)."""
+def configuration_space(problem: Problem) -> Problem:
+    """The point-robot problem of a :class:`~plansynth.reach.problem.ReachProblem`'s
+    sized robot (the problem itself when the robot has no size); checked like any
+    problem."""
     robot = problem.robot_shape
     if robot is None or robot.is_point:
         return problem
@@ -132,18 +189,17 @@ def configuration_space(problem: ReachProblem) -> ReachProblem:
             lo[i] = max(lo[i], ws.lo[axis])
             hi[i] = min(hi[i], ws.hi[axis])
         sb = Box(tuple(lo), tuple(hi))
-    vals = {f.name: getattr(problem, f.name) for f in fields(problem)}
-    vals.update(
+    return replace(
+        problem,
         workspace=ws,
         obstacles=obstacles,
         state_bounds=sb,
         robot_shape=None,
         name=f"{problem.name} (configuration space)",
     )
-    return ReachProblem(**vals)
 
 
-def with_robot(problem: ReachProblem, robot: RobotShape | None) -> ReachProblem:
+def with_robot(problem: Problem, robot: RobotShape | None) -> Problem:
     """``problem`` with the robot's shape set (checked like a file's)."""
     return replace(problem, robot_shape=robot)
 

@@ -14,7 +14,7 @@ A trajectory is plain data; whether it solves a problem is the validator's busin
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +23,7 @@ import numpy as np
 from plansynth.errors import InvalidProblem
 from plansynth.io import Fields, as_float_vector, load_document, show
 
-__all__ = ["Trajectory", "load_trajectory", "trajectory_from_dict", "trajectory_to_lists"]
+__all__ = ["Trajectory", "load_trajectory", "trajectory_from_dict", "trajectory_to_lists", "check_dimensions"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,10 +32,12 @@ class Trajectory:
 
     A trajectory of horizon 0 (start already in the goal) has ``inputs`` of shape
     (0, m), with m = 0 when unknown. Equality compares the arrays element-wise.
+    ``source``: the file it was read from, for error messages (not compared).
     """
 
     states: np.ndarray
     inputs: np.ndarray
+    source: str | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         s = np.array(self.states, dtype=float)
@@ -114,7 +116,31 @@ def trajectory_from_dict(doc: Any, source: str | None = None) -> Trajectory:
     for i, u in enumerate(inputs):
         if len(u) != m:
             raise InvalidProblem(source, f"inputs[{i}]", f"has {len(u)} components, inputs[0] has {m}")
-    return Trajectory(states=np.array(states), inputs=np.array(inputs).reshape(len(inputs), m))
+    return Trajectory(states=np.array(states), inputs=np.array(inputs).reshape(len(inputs), m), source=source)
+
+
+def check_dimensions(trajectory: Trajectory, n_states: int, n_inputs: int) -> None:
+    """Raise :class:`InvalidProblem` (naming the trajectory's file) unless its states have
+    ``n_states`` components and its inputs ``n_inputs`` (the problem's robot): a
+    trajectory of another robot is a bad input, not a picture or a plan.
+
+    >>> check_dimensions(Trajectory(states=[[0, 0, 0], [1, 0, 0]], inputs=[[1, 0]], source="r.json"), 4, 2)
+    Traceback (most recent call last):
+    ...
+    plansynth.errors.InvalidProblem: r.json: states: each state has 3 components, but the problem's robot has 4 states
+    """
+    if trajectory.n_states != n_states:
+        raise InvalidProblem(
+            trajectory.source,
+            "states",
+            f"each state has {trajectory.n_states} components, but the problem's robot has {n_states} states",
+        )
+    if trajectory.horizon > 0 and trajectory.n_inputs != n_inputs:
+        raise InvalidProblem(
+            trajectory.source,
+            "inputs",
+            f"each input has {trajectory.n_inputs} components, but the problem's robot has {n_inputs} inputs",
+        )
 
 
 def load_trajectory(path: str | Path) -> Trajectory:

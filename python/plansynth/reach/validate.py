@@ -342,7 +342,7 @@ def validate(
     require_segment_safe: bool = False,
     tol: float = 1e-6,
     dynamics: str = "exact",
-    times: "np.ndarray | None" = None,
+    times: np.ndarray | None = None,
 ) -> ValidationReport:
     """Check ``trajectory`` against ``problem`` (Definition 2.3) and report every violation.
 
@@ -437,7 +437,7 @@ def validate(
         p = P[t]
         if np.any(p < ws_lo - tol) or np.any(p > ws_hi + tol):
             viol.append(Violation("workspace", t, f"position {_fmt(p)} outside the workspace"))
-        for i, ob in enumerate(obstacles):
+        for i, _ob in enumerate(obstacles):
             if inside[i][t]:
                 viol.append(Violation("obstacle", t, f"position {_fmt(p)} inside obstacles[{i}]"))
     if not _in_shape(problem.goal, P[N], tol):
@@ -447,7 +447,7 @@ def validate(
     segment_safe = True
     crosses = [_hits_all(ob, P[:-1], P[1:]) for ob in obstacles]
     for t in range(N):
-        for i, ob in enumerate(obstacles):
+        for i, _ob in enumerate(obstacles):
             if crosses[i][t]:
                 segment_safe = False
                 if require_segment_safe:

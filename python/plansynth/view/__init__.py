@@ -64,7 +64,6 @@ def build_page(
     doc, name = read_result(result) if result is not None else (None, "")
     if kind == "grid":
         from plansynth.grid import load
-
         from plansynth.view.grid_data import check_recorded_problem, grid_page_data
 
         p = load(problem)

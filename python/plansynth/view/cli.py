@@ -9,7 +9,7 @@ stopped), 2 bad input.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import typer
 from typer.core import TyperGroup
@@ -70,10 +70,10 @@ def _timeout(value: float) -> float:
 @app.callback(epilog=EPILOG)
 def view(
     problem: Path = typer.Argument(..., help="Grid or reach problem file (YAML or JSON)."),
-    result: Optional[Path] = typer.Option(
+    result: Path | None = typer.Option(
         None, "--result", "-r", help="Result JSON of plansynth grid solve -o or reach solve -o for this problem."
     ),
-    output: Optional[Path] = typer.Option(
+    output: Path | None = typer.Option(
         None, "--output", "-o", help="Write the page to this HTML file (one self-contained file)."
     ),
     serve: bool = typer.Option(

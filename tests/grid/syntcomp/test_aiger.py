@@ -219,4 +219,4 @@ def test_malformed_files_are_named_errors(data, field):
 
 def test_a_game_needs_one_bad_output():
     with pytest.raises(InvalidProblem, match="one bad output"):
-        parse(b"aag 1 1 0 2 0\n2\n2\n3\n").bad
+        _ = parse(b"aag 1 1 0 2 0\n2\n2\n3\n").bad

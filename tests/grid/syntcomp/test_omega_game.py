@@ -7,8 +7,6 @@ import pytest
 from plansynth.budget import Budget
 from plansynth.grid.result import GridStatus
 from plansynth.grid.syntcomp.moving_obstacle import PUBLISHED, MovingObstacle
-from plansynth.grid.syntcomp.safety import _environment_cannot_escape
-from plansynth.grid.syntcomp.safety import solve as solve_explicit
 
 # omega and dd come with the baselines extra, which setup installs: no skip here
 from plansynth.grid.syntcomp.omega_game import (
@@ -18,6 +16,8 @@ from plansynth.grid.syntcomp.omega_game import (
     synthesize,
     versions,
 )
+from plansynth.grid.syntcomp.safety import _environment_cannot_escape
+from plansynth.grid.syntcomp.safety import solve as solve_explicit
 
 
 def test_omega_runs_on_cudd():

@@ -50,9 +50,11 @@ impl ProductGame {
                             queue.push((s, e as u32));
                         }
                     }
-                    _ => return Ok(Err(format!(
+                    _ => {
+                        return Ok(Err(format!(
                         "state ({id}, {r}) of rank {rank}: move {k} has no reply of smaller rank"
-                    ))),
+                    )))
+                    }
                 }
             }
             if head % 65536 == 0 {

@@ -20,8 +20,8 @@ import time
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-from plansynth.budget import Budget
 from plansynth.bench.families.grid import CLI_TIMED_FAMILIES
+from plansynth.budget import Budget
 
 __all__ = ["run_grid", "BUDGET_SLACK_SECONDS"]
 

@@ -19,8 +19,8 @@ import time
 from collections.abc import Mapping
 from typing import Any
 
-from plansynth.budget import Budget
 from plansynth.bench.tasks import wall_limit
+from plansynth.budget import Budget
 
 __all__ = ["run_reach", "reported_version"]
 

@@ -60,7 +60,7 @@ class Instance:
         """The problem as a spec document (grid-problem.md / reach-problem.md)."""
         if self.kind == "grid":
             return GRID_PROBLEMS[self.family](**self.params)
-        from plansynth.reach.problem import reach_problem_to_dict
+        from plansynth.reach.fileformat import reach_problem_to_dict
 
         return reach_problem_to_dict(self.build())
 

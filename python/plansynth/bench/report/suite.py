@@ -19,7 +19,7 @@ __all__ = ["CLI_TIMED_NOTE", "cli_timed_sections", "suite_table"]
 CLI_TIMED_NOTE = (
     "Each run is `plansynth grid solve FILE --solver S --timeout T` in a fresh process, as a user "
     "runs it: *wall* is that process's wall clock from spawn to exit (start-up included), *solve* the "
-    "time the result file reports; *budget kept*: wall <= T + 1 s (issue 11's Targets). *depth - "
+    "time the result file reports; *budget kept*: wall <= T + 1 s (the CLI's budget promise). *depth - "
     "witness*: the program's depth minus the depth of the label's witness program."
 )
 

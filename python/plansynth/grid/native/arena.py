@@ -86,7 +86,7 @@ class Arena:
         explore: bool = True,
         memory_mb: int | None = None,
         use_rust: bool | None = None,
-    ) -> "Arena":
+    ) -> Arena:
         """Explore the states reachable from the start that can still reach the goal.
 
         Stops with :class:`~plansynth.budget.BudgetExhausted` when the clock runs out (keeping the time that

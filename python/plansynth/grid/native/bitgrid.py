@@ -107,7 +107,7 @@ class AgentGeometry:
         return ok
 
     @classmethod
-    def robot(cls, problem: GridProblem) -> "AgentGeometry":
+    def robot(cls, problem: GridProblem) -> AgentGeometry:
         full = grid_mask(problem)
         walls = wall_mask(problem)
         valid = tuple(cls._valid(problem, m, 0) for m in problem.robot.moves)
@@ -120,7 +120,7 @@ class AgentGeometry:
         return cls(problem.width, full, problem.robot.moves, valid, tuple(free))
 
     @classmethod
-    def obstacle(cls, problem: GridProblem, i: int) -> "AgentGeometry":
+    def obstacle(cls, problem: GridProblem, i: int) -> AgentGeometry:
         full = grid_mask(problem)
         moves = problem.obstacles[i].moves
         valid = tuple(cls._valid(problem, m, wall_mask(problem)) for m in moves)

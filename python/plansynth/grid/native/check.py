@@ -94,7 +94,7 @@ class GameGraph:
     checks: int = 0
 
     @classmethod
-    def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> "GameGraph":
+    def from_arena(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> GameGraph:
         """Explore the pairs reachable from the start with winning moves (needs
         :meth:`Arena.solve_game` first): in the compiled core when available
         (``game.rs``, ``build_game_graph``), else :meth:`from_arena_reference`; both
@@ -107,7 +107,7 @@ class GameGraph:
         return cls.from_arena_reference(arena, clock, use_rust)
 
     @classmethod
-    def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> "GameGraph":
+    def _from_arena_compiled(cls, arena: Arena, clock: Clock | None, core) -> GameGraph:
         from plansynth.grid.native.stationary import winning_forward
 
         n_moves = len(arena.robot.moves)
@@ -153,7 +153,7 @@ class GameGraph:
         g._sizes = compiled.sizes()
         return g
 
-    def materialize(self) -> "GameGraph":
+    def materialize(self) -> GameGraph:
         """Fetch the arrays of a graph built in the compiled core (for the reference
         check and for comparing the two builds)."""
         if self._sizes is not None and self._compiled is not None:
@@ -164,9 +164,7 @@ class GameGraph:
         return self
 
     @classmethod
-    def from_arena_reference(
-        cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None
-    ) -> "GameGraph":
+    def from_arena_reference(cls, arena: Arena, clock: Clock | None = None, use_rust: bool | None = None) -> GameGraph:
         """:meth:`from_arena` in pure Python (the reference of ``build_game_graph``)."""
         n_moves = len(arena.robot.moves)
         steps = arena.steps
@@ -339,7 +337,7 @@ def ops_program(ops: list[tuple[int, int, int, int]], variables: tuple[str, ...]
     return built[-1]
 
 
-def simplify(program: Term, graph: "GameGraph | ArenaCheck", deadline: float | None = None) -> Term:
+def simplify(program: Term, graph: GameGraph | ArenaCheck, deadline: float | None = None) -> Term:
     """Shrink ``program`` top-down while the checker accepts it: each ``ite`` node is
     replaced by one of its branches or by a move when the whole program still wins.
     Stops at ``deadline`` (a ``time.perf_counter()`` value), keeping the best so far.

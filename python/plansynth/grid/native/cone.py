@@ -70,11 +70,11 @@ class Cone:
         return got
 
     @property
-    def positions(self) -> "_PerObstacle":
+    def positions(self) -> _PerObstacle:
         return _PerObstacle(self, 0)
 
     @property
-    def danger(self) -> "_PerObstacle":
+    def danger(self) -> _PerObstacle:
         return _PerObstacle(self, 1)
 
 

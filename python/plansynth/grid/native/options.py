@@ -79,7 +79,7 @@ class NativeOptions:
             raise InvalidOption("native", "effort", f"must be finite, got {self.effort}")
 
     @classmethod
-    def parse(cls, items: Iterable[str] = (), **values: Any) -> "NativeOptions":
+    def parse(cls, items: Iterable[str] = (), **values: Any) -> NativeOptions:
         """Options from ``KEY=VALUE`` strings (``-O``; dashes in keys are underscores)
         and keyword values; an unknown key is an error, never dropped."""
         return configure("native", cls(), {**parse_assignments(items, "native"), **values})

@@ -13,7 +13,7 @@ engine's answers with them.
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 from plansynth.grid.oracle import outcome_of
 from plansynth.grid.problem import GridProblem
@@ -29,7 +29,7 @@ def game_won(problem: GridProblem, steps: int) -> bool:
     joints = list(obstacle_choices(problem))
     n = len(problem.robot.moves)
 
-    @lru_cache(maxsize=None)
+    @cache
     def win(t: int, s: State) -> bool:
         if t == steps:
             return s.robot == problem.robot.goal

@@ -143,7 +143,7 @@ class StepBatch:
     violated: np.ndarray
 
     @staticmethod
-    def of(n: int, **columns: np.ndarray | int) -> "StepBatch":
+    def of(n: int, **columns: np.ndarray | int) -> StepBatch:
         """A batch of ``n`` rows; columns not given are 0 (``first``/``violated`` false)."""
         names = StepBatch.__dataclass_fields__
         unknown = set(columns) - set(names)

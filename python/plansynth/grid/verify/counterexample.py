@@ -34,7 +34,7 @@ def counterexample(search: Search, loss: Loss) -> Counterexample:
     # for each obstacle a cell there with a move into its current cell.
     node, t = loss.node, loss.t
     while t > 0:
-        for parent, part, k in node.parents:
+        for parent, part, k in node.parents:  # noqa: B007 - the parent found and its move are read after the loop
             back = _preimage(search, part, cells)
             if back is not None:
                 break

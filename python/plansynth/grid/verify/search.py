@@ -34,7 +34,7 @@ class Node:
 
     __slots__ = ("r", "sets", "parents")
 
-    def __init__(self, r: int, sets: Sets, parents: list[tuple["Node", Sets, int]]) -> None:
+    def __init__(self, r: int, sets: Sets, parents: list[tuple[Node, Sets, int]]) -> None:
         self.r = r
         self.sets = sets
         self.parents = parents

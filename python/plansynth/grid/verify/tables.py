@@ -29,7 +29,7 @@ class MoveTable(Protocol):
     :mod:`plansynth.grid.semantics` on first use."""
 
     n_moves: int
-    successors: "Distinct"
+    successors: Distinct
 
     def __getitem__(self, c: int) -> Row: ...
 

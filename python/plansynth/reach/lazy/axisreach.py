@@ -1,6 +1,5 @@
 """Reachable sets per axis over the region graph: a sound horizon lower bound and a tube
-for :func:`~plansynth.reach.lazy.minimal.prove_minimal` (beyond Shoukry et al., CDC 2016;
-issue 13, item 3).
+for :func:`~plansynth.reach.lazy.minimal.prove_minimal` (beyond Shoukry et al., CDC 2016).
 
 **What it computes.** When the dynamics separate by workspace axis into blocks of at
 most two states (the double and single integrators: position and velocity per axis,
@@ -234,7 +233,7 @@ class AxisReach:
         goal_regions: Sequence[int],
         *,
         segment_safe: bool,
-    ) -> "AxisReach | None":
+    ) -> AxisReach | None:
         """The sweep for ``problem``, or None unless its dynamics separate by position
         axis into blocks of one or two states with one input column each (see the module
         docstring); every other state, in no position's block, is left free (a
@@ -296,7 +295,7 @@ class AxisReach:
     def _reaches_goal(self, i: int, sets: list[Poly]) -> list[Poly] | None:
         (glo, ghi), (blo, bhi) = self.goal, self.boxes[i]
         out = []
-        for a, (ax, P) in enumerate(zip(self.axes, sets)):
+        for a, (_ax, P) in enumerate(zip(self.axes, sets)):
             c = _box(P, max(glo[a], blo[a]), min(ghi[a], bhi[a]), -math.inf, math.inf)
             if c is None:
                 return None

@@ -108,7 +108,7 @@ class RegionGraph:
                     raise ValueError(f"adjacency must be symmetric without self-loops: {i} -> {j}")
 
     @classmethod
-    def from_abstraction(cls, abstraction: Abstraction) -> "RegionGraph":
+    def from_abstraction(cls, abstraction: Abstraction) -> RegionGraph:
         return cls(len(abstraction.regions), abstraction.adjacency, abstraction.start_regions, abstraction.goal_regions)
 
     def distances(self, sources: Sequence[int]) -> list[float]:
@@ -604,7 +604,7 @@ class DisPlan(LearnedClauses):
     def delete(self) -> None:
         self.solver.delete()
 
-    def __enter__(self) -> "DisPlan":
+    def __enter__(self) -> DisPlan:
         return self
 
     def __exit__(self, *exc: object) -> None:

@@ -186,7 +186,7 @@ def lazy_loop(
                 t0 = time.perf_counter()
                 answer = theory.check(plan)
                 timings["lp"] += time.perf_counter() - t0
-                costly += 1 if checked is None or getattr(theory, "plans_checked") > checked else 0
+                costly += 1 if checked is None or theory.plans_checked > checked else 0
                 if isinstance(answer, Feasible):
                     h = len(plan) - 1
                     below = _lowest_open(displan, first_lo, h)

@@ -18,7 +18,6 @@ plansynth.errors.InvalidOption: lazy-smt: option 'counterexample': unknown value
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
@@ -148,7 +147,7 @@ class LazyOptions:
         check_fields(self, "lazy-smt")
 
     @classmethod
-    def paper(cls, **values: Any) -> "LazyOptions":
+    def paper(cls, **values: Any) -> LazyOptions:
         """The paper's loop and counterexamples: the refinements beyond the paper off,
         except the abstraction, segment safety and the (sound) horizon lower bound,
         which both modes share."""

@@ -1,5 +1,5 @@
-"""Proofs for segment-safe claims by a relaxation of segment safety (issue 13, item 7;
-beyond Shoukry et al., CDC 2016).
+"""Proofs for segment-safe claims by a relaxation of segment safety (beyond
+Shoukry et al., CDC 2016).
 
 The lazy loop's segment-safe search keeps each segment inside one convex region, which
 is sufficient for safety but not necessary, so the horizons it refutes are refuted only
@@ -40,7 +40,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import checkpoint
-from plansynth.reach.geometry import halfspaces
+from plansynth.reach.geometry import convex_pieces, halfspaces
 from plansynth.reach.highs import Rows, csc_lp, new_highs
 from plansynth.reach.problem import ReachProblem
 
@@ -51,8 +51,6 @@ SUBDIVISIONS = 4
 
 
 def _pieces(problem: ReachProblem) -> list[tuple[np.ndarray, np.ndarray]]:
-    from plansynth.reach.planners.milp_bigm import convex_pieces
-
     out = []
     for o in problem.obstacles:
         out += convex_pieces(o)

@@ -48,11 +48,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.dynamics import displacement_reach
 from plansynth.reach.lazy.bounds import MULTISTEP_TABLE, box_steps, shape_box, step_reach
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan import ConPlan
-from plansynth.reach.abstraction import Abstraction
 
 __all__ = ["TransitCheck", "REFINE_SPAN", "WIDEN_MAX", "START", "GOAL"]
 

@@ -81,7 +81,7 @@ from plansynth.reach.mission.ltl import (
     Prop,
     Release,
     Until,
-    _children,
+    children,
     nnf,
     subformulas,
 )
@@ -135,7 +135,7 @@ class MissionDisPlan(LearnedClauses):
             if id(g) in self._ids or isinstance(g, Const):
                 continue
             self._ids[id(g)] = self.index[g]
-            todo.extend(_children(g))
+            todo.extend(children(g))
         # the subformulas whose value at position i + 1 the clauses of position i use
         nxt: list[Formula] = []
         for s in self.subs:

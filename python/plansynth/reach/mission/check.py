@@ -36,7 +36,7 @@ step where f fails, ``a U b`` into the first step where a fails before b, a labe
 literal to its step) and names the step where the descent ends; ``F f`` that never
 holds fails at the first position of the loop, after which no future remains unseen.
 
->>> from plansynth.reach.problem import reach_problem_from_dict
+>>> from plansynth.reach.fileformat import reach_problem_from_dict
 >>> from plansynth.reach.trajectory import Trajectory
 >>> p = reach_problem_from_dict({"workspace": {"min": [0, 0], "max": [4, 4]},
 ...     "labels": {"s": {"min": [1, 0], "max": [2, 4]}}, "mission": "G !s",
@@ -56,6 +56,7 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.geometry import Polygon as ShPolygon
 
+from plansynth.reach.geometry import Box
 from plansynth.reach.mission.ltl import (
     And,
     Const,
@@ -74,7 +75,6 @@ from plansynth.reach.mission.ltl import (
     nnf,
     parse,
 )
-from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import component_tolerance, row_tolerance

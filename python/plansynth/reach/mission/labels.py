@@ -35,7 +35,8 @@ import numpy as np
 from shapely.geometry import Point
 from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.abstraction import Abstraction, _region_from_cycle, abstract
+from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.abstraction.regions import region_from_cycle
 from plansynth.reach.geometry import Box, Polygon, Shape, halfspaces, is_convex, polygon_halfspaces
 from plansynth.reach.problem import ReachProblem
 
@@ -193,7 +194,7 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
         for pc in cur:
             pieces.append(pc)
             parent.append(reg.index)
-    regions = [_region_from_cycle(i, pc) for i, pc in enumerate(pieces)]
+    regions = [region_from_cycle(i, pc) for i, pc in enumerate(pieces)]
     geoms = {n: (ShPolygon(labels[n].vertices) if isinstance(labels[n], Polygon) else None) for n in names}
     labels_of = []
     for r in regions:

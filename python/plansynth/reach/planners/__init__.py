@@ -44,7 +44,8 @@ from typing import Any, Protocol
 
 from plansynth.budget import Budget
 from plansynth.errors import InvalidOption
-from plansynth.options import changed, configure as configure_value
+from plansynth.options import changed
+from plansynth.options import configure as configure_value
 from plansynth.registry import Registry, package_version
 
 __all__ = [

@@ -36,9 +36,13 @@ from typing import Any
 import numpy as np
 
 from plansynth.budget import Budget, BudgetExhausted, checkpoint
+from plansynth.reach.geometry import (
+    Box,
+    convex_pieces,  # (moved there: the lazy planner uses it too)
+    halfspaces,
+)
 from plansynth.reach.highs import new_highs
 from plansynth.reach.planners.options import BigMOptions
-from plansynth.reach.geometry import Box, Polygon, halfspaces, is_convex, shape_to_shapely
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
@@ -52,29 +56,6 @@ def highs_version() -> str:
         return version("highspy")
     except Exception:  # pragma: no cover
         return "unknown"
-
-
-def convex_pieces(shape: Box | Polygon) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Half-space forms ``(H, h)`` of convex pieces whose union is ``shape``.
-
-    >>> len(convex_pieces(Box((0, 0), (1, 1))))
-    1
-    >>> L = Polygon(((0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)))
-    >>> len(convex_pieces(L)) >= 2
-    True
-    """
-    if isinstance(shape, Box) or is_convex(shape):
-        return [halfspaces(shape)]
-    import shapely
-
-    tris = shapely.constrained_delaunay_triangles(shape_to_shapely(shape))
-    pieces = []
-    for tri in shapely.get_parts(tris):
-        checkpoint()  # thousands of triangles: within the budget phase, if any
-        coords = list(tri.exterior.coords)[:-1]
-        poly = Polygon(tuple((float(x), float(y)) for x, y in coords))
-        pieces.append(halfspaces(poly))
-    return pieces
 
 
 def horizon_schedule(problem: ReachProblem, growth: float = 1.5) -> list[int]:

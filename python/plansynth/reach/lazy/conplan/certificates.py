@@ -6,7 +6,6 @@ dropped when the proof does not need it."""
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Sequence
 
 import highspy

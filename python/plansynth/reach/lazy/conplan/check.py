@@ -14,12 +14,12 @@ import numpy as np
 
 from plansynth.budget import Clock
 from plansynth.reach.abstraction import Abstraction
-from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.geometry import halfspaces
-from plansynth.reach.problem import ReachProblem
+from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.conplan.certificates import _Certificates
 from plansynth.reach.lazy.conplan.lp import INF, LONG_CHAIN_STATES, _LpEdits, _Slot
 from plansynth.reach.lazy.conplan.runs import LpFailure, LpStats, _HighsRuns, _options
+from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 COUNTEREXAMPLES = ("zeroprefix", "trivial", "iis")

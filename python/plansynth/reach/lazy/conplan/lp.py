@@ -5,7 +5,6 @@ independent blocks a separable LP splits into."""
 
 from __future__ import annotations
 
-import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
@@ -65,7 +64,7 @@ class _Layout:
     def frame(self) -> tuple[int, ...]:
         return (self.first, self.last, self.n, self.m, self.d, self.K, self.Kg)
 
-    def window(self, lo: int, hi: int) -> "_Layout":
+    def window(self, lo: int, hi: int) -> _Layout:
         assert self.first <= lo <= hi <= self.last
         return _Layout(*self.frame, lo, hi)
 
@@ -168,7 +167,7 @@ class _Slot:
     layout: _Layout | None = None
     coef: np.ndarray | None = None  # the region whose H fills each time's blocks
     coo: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
-    bounds: "_Bounds | None" = None
+    bounds: _Bounds | None = None
     held: tuple | None = None  # a description of the LP last solved
     splits: bool = False  # may this slot's LPs be split into parts?
     parts: list[_Part] | None = None
@@ -234,7 +233,7 @@ class _LpEdits:
             np.array([row_label(t) for t in goal_rows], dtype=np.int64),
         )
 
-    def _split(self, slot: _Slot, lay: _Layout, b: "_Bounds") -> None:
+    def _split(self, slot: _Slot, lay: _Layout, b: _Bounds) -> None:
         """Load the LP of ``lay`` (matrix ``slot.coo``, bounds ``b``) into ``slot`` as
         independent parts. Rows and columns in no part (slack-order rows, slack
         columns, inputs that drive nothing) must be free and fixable at 0."""
@@ -293,7 +292,7 @@ class _LpEdits:
         else:  # a slack column, or another part's column: only ever a zero
             assert value == 0.0 or slot.col_part[col] < 0, "a coefficient across split parts"
 
-    def _change_bounds(self, slot: _Slot, b: "_Bounds") -> None:
+    def _change_bounds(self, slot: _Slot, b: _Bounds) -> None:
         if slot.parts is None:
             h, lay = slot.highs, slot.layout
             h.changeRowsBounds(lay.n_row, np.arange(lay.n_row, dtype=np.int32), b.row_lo, b.row_hi)
