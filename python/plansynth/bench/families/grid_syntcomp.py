@@ -30,8 +30,8 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
+from plansynth.bench.families.grid_problems import SYNTCOMP_PROBLEMS
 from plansynth.bench.families.instance import Instance
 
 __all__ = [
@@ -83,22 +83,3 @@ def robot_grid_family(values: Sequence[int] | None = None, *, fast: bool = False
             raise ValueError(f"robot_grid has the maps gr_1..gr_8, not gr_{v}")
         out.append(Instance("grid", family, f"{family}-{v}", {"map": int(v)}, expected))
     return out
-
-
-def _robot_grid(map: int, period: int) -> dict[str, Any]:  # noqa: A002 - the family's parameter name
-    from plansynth.grid.syntcomp.robot_grid_maps import map_document
-
-    return map_document(f"gr_{map}", period=period)
-
-
-def _moving_obstacle(m: int, c: int) -> dict[str, Any]:
-    from plansynth.grid.syntcomp.moving_obstacle import grid_document
-
-    return grid_document(m, c)
-
-
-SYNTCOMP_PROBLEMS: dict[str, Any] = {
-    "moving-obstacle": _moving_obstacle,
-    "robot-grid": lambda map: _robot_grid(map, 2),  # noqa: A006
-    "robot-grid-fast": lambda map: _robot_grid(map, 1),  # noqa: A006
-}

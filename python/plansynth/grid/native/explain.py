@@ -30,20 +30,10 @@ from plansynth.budget import Budget
 from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.cone import influence_cone
 from plansynth.grid.native.engine import Engine
+from plansynth.grid.native.turn import Turn, collision_text
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus
 from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_move, step
-
-
-@dataclass(frozen=True)
-class Turn:
-    """One step of the play: the state seen, the robot's move, the obstacles' answer."""
-
-    t: int
-    state: State
-    robot_move: int
-    obstacle_moves: tuple[int, ...]
-    reason: str = ""  # set on the last turn: how the robot lost
 
 
 @dataclass(frozen=True)
@@ -212,19 +202,6 @@ def witness_play(
         f"not on the goal after step {steps - 1}: the robot is at {state.robot}",
     )
     return play, state
-
-
-def collision_text(problem: GridProblem, state: State, k: int, joint: tuple[int, ...], t: int) -> str:
-    _, r_swept = robot_move(problem, state.robot, k)
-    for c in r_swept:
-        if c in problem.walls:
-            return f"collision at step {t} with the wall at {c}"
-    for i, j in enumerate(joint):
-        _, swept = obstacle_move(problem, i, state.obstacles[i], j)
-        common = sorted(set(swept) & set(r_swept))
-        if common:
-            return f"collision at step {t} in cell {common[0]} with obstacle {i}"
-    return f"collision at step {t}"
 
 
 def check_witness_play(problem: GridProblem, play: tuple[Turn, ...], steps: int) -> bool:

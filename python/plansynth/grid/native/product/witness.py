@@ -15,6 +15,7 @@ obstacle changes cell in it; :func:`check_product_play` replays the play through
 from __future__ import annotations
 
 from plansynth.grid.native.product.certify import ObstacleStrategy
+from plansynth.grid.native.turn import Turn, collision_text
 from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.semantics import State, initial_state, robot_move, step
@@ -28,9 +29,7 @@ def _distance(a: tuple[int, int], b: tuple[int, int]) -> int:
 
 def product_play(problem: GridProblem, strategy: ObstacleStrategy, steps: int | None):
     """(turns, final state, loop start or None): the play described above, as the
-    :class:`~plansynth.grid.native.explain.Turn` values of the paper engine's witness."""
-    from plansynth.grid.native.explain import Turn, collision_text
-
+    :class:`~plansynth.grid.native.turn.Turn` values of the paper engine's witness."""
     kind = problem.objective
     state = initial_state(problem)
     turns: list[Turn] = []
