@@ -36,6 +36,7 @@ obstacles.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterable
 
 from plansynth.grid.objective import ObjectiveKind
@@ -43,14 +44,14 @@ from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus
 from plansynth.grid.semantics import State, initial_state, joint_choices, step
 
-__all__ = ["brute_force", "game_graph", "zielonka", "TooLarge"]
+__all__ = ["brute_force", "game_graph", "zielonka", "stationary_search", "TooLarge"]
 
 #: The collision sink of :func:`game_graph`.
 LOST = "lost"
 
 
 class TooLarge(Exception):
-    """The oracle gave up: more states than its limit."""
+    """The oracle gave up: more states (or partial strategies, or seconds) than its limit."""
 
 
 def brute_force(
@@ -128,16 +129,26 @@ def _safety(problem: GridProblem, limit: int, controller: Controller | None) -> 
 
 def _exact(problem: GridProblem, steps: int, limit: int, controller: Controller | None) -> bool:
     """Backtracking over positional strategies, each checked on the runs it allows."""
-    n = len(problem.robot.moves)
-    nodes = [0]
     if controller is not None:
         f = _Fixed(controller)
         return outcome_of(problem, steps, f) is True
+    return stationary_search(problem, steps, limit)
+
+
+def stationary_search(problem: GridProblem, steps: int, limit: int, max_seconds: float | None = None) -> bool:
+    """Is there a positional strategy (a map from states to moves) that wins at exactly
+    ``steps``? Backtracking over the states the partial map reaches; raises
+    :class:`TooLarge` past ``limit`` partial strategies or ``max_seconds``."""
+    n = len(problem.robot.moves)
+    nodes = [0]
+    deadline = None if max_seconds is None else time.perf_counter() + max_seconds
 
     def search(f: dict[State, int]) -> bool:
         nodes[0] += 1
         if nodes[0] > limit:
             raise TooLarge(f"more than {limit} partial strategies")
+        if deadline is not None and nodes[0] % 64 == 0 and time.perf_counter() > deadline:
+            raise TooLarge(f"more than {max_seconds} s")
         r = outcome_of(problem, steps, f)
         if r is True or r is False:
             return r
