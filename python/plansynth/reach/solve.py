@@ -108,12 +108,15 @@ def _validate_trajectory(problem: ReachProblem, result: ReachResult, *, tol: flo
 
 def _validate_mission(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
     """The validator on the problem with the workspace as its goal (a mission has no goal
-    constraint), then the independent mission checker on the trajectory and its loop;
-    a failure of either turns the result into ``unknown``."""
+    constraint) and its obstacles grown by the mission's obstacle margin (the robot's
+    size checked by the validator itself), then the independent mission checker on the
+    trajectory and its loop, in the problem's reading; a failure of either turns the
+    result into ``unknown``."""
     from plansynth.reach.mission.check import check_mission
-    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.labels import margin_problem
 
-    checked = _validate_trajectory(planning_problem(problem), result, tol=tol)
+    grown = margin_problem(problem)
+    checked = _validate_trajectory(replace(grown, goal=grown.workspace), result, tol=tol)
     if checked.status is not ReachStatus.FOUND:
         return checked
     t0 = time.perf_counter()
@@ -221,7 +224,7 @@ def solve(
         planned = configuration_space(problem)
     result = run.solve(planned, budget, opts, progress=progress, abstraction=abstraction)
     result = replace(result, solver=planner, solver_version=run.version(), options=_record(opts, result.options))
-    if planned is not problem:
+    if robot is not None and not robot.is_point:  # (a mission plans in the configuration space itself)
         from plansynth.reach.robot import robot_note
 
         note = robot_note(robot)

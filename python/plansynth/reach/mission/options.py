@@ -7,6 +7,11 @@ MILP baselines ``milp-ltl`` and ``milp-ltl-oneshot`` take
 (:mod:`plansynth.reach.mission.milp`). Each field's help line is what ``plansynth reach
 solve --help`` lists for ``-O KEY=VALUE``. Nothing heavy is imported here.
 
+How the mission reads a plan is the problem's, not a planner's option: its reading
+(segment or sample: ``--reading``, which ``--no-segment-safe`` selects too), the end of
+a finite plan (``--end``) and the margins (``--margin``, ``--obstacle-margin``), so that
+every planner and the checker read it alike.
+
 >>> MissionOptions().semantics, MilpLtlOptions(one_shot=True).one_shot
 ('any', True)
 >>> MissionOptions(semantics="periodic")
@@ -20,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from plansynth.options import check_fields, option
-from plansynth.reach.lazy.options import MAX_HORIZON_DOC, SEGMENT_SAFE_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
+from plansynth.reach.lazy.options import MAX_HORIZON_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
 
 __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 
@@ -39,7 +44,6 @@ class _BoundedMission:
         "the plans looked for: any (finite or lasso, finite first), finite (ending at rest) or lasso",
         choices=SEMANTICS,
     )
-    segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
     lower_bound: bool = option(
         True, "each region impossible before its earliest step from the displacement-box relaxation"
     )
