@@ -167,6 +167,25 @@ class ReachProblem:
             out.setdefault("goal", self.goal)
         return out
 
+    def reach_view(self) -> ReachProblem:
+        """The reach-avoid problem under a mission: the goal the whole workspace (so "p_N
+        in the goal" holds for every position) and no mission (its labels and readings are
+        the mission planners' and checker's business): what the validator and the
+        reach-avoid machinery see of a mission problem."""
+        from dataclasses import replace
+
+        return replace(
+            self,
+            goal=self.workspace,
+            labels=(),
+            mission=None,
+            reading="segment",
+            end="rest",
+            margin=0.0,
+            label_margins=(),
+            obstacle_margin=0.0,
+        )
+
     def label_margin(self, name: str) -> float:
         """The margin of label ``name``: its own, else the mission's ``margin``."""
         return float(dict(self.label_margins).get(name, self.margin))

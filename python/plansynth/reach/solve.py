@@ -115,8 +115,7 @@ def _validate_mission(problem: ReachProblem, result: ReachResult, *, tol: float)
     from plansynth.reach.mission.check import check_mission
     from plansynth.reach.mission.labels import margin_problem
 
-    grown = margin_problem(problem)
-    checked = _validate_trajectory(replace(grown, goal=grown.workspace), result, tol=tol)
+    checked = _validate_trajectory(margin_problem(problem).reach_view(), result, tol=tol)
     if checked.status is not ReachStatus.FOUND:
         return checked
     t0 = time.perf_counter()

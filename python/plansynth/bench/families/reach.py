@@ -8,7 +8,10 @@ controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
 boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
 ``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
 sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
-``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`).
+``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`);
+``missions-literature`` the temporal-logic planning literature's scenarios (keys and
+doors, target groups, dwell, stepping stones, obstacles as labels:
+:mod:`plansynth.reach.mission.literature`).
 The problems themselves are built by :mod:`plansynth.bench.families.reach_problems`.
 
 >>> [i.name for i in reach_family("chain", [1], orders=[1, 2])]
@@ -22,7 +25,7 @@ from typing import Any
 
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["REACH_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "reach_family"]
+__all__ = ["REACH_FAMILIES", "MISSION_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "reach_family"]
 
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
@@ -33,7 +36,9 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze")
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "missions-literature", "gcs-maze")
+#: The families whose problems have an LTL mission (planned by the mission planners only).
+MISSION_FAMILIES = ("missions", "missions-literature")
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 
 
@@ -92,8 +97,18 @@ def reach_family(
         from plansynth.reach.mission.families import MISSIONS
 
         for n in values or [1, 2, 3, 4]:
+            if isinstance(n, bool) or not isinstance(n, int) or n not in (1, 2, 3, 4):
+                raise ValueError(f"the mission mazes are maze-1..4, got {n!r}")
             for m in MISSIONS:
                 out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
+    elif name == "missions-literature":  # the temporal-logic planning literature's scenarios
+        from plansynth.reach.mission.literature import SCENARIOS, scenario_names
+
+        for key in values or list(SCENARIOS):
+            if key not in SCENARIOS:
+                raise ValueError(f"unknown scenario {key!r} (known: {', '.join(SCENARIOS)})")
+            for inst in scenario_names(key):
+                out.append(Instance("reach", "missions-literature", inst, {"name": inst}, None))
     elif name == "gcs-maze":
         for n in values or [10, 20, 50]:
             out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))

@@ -53,7 +53,14 @@ def _missions(n: int, mission: str) -> Any:
     return mission_problem(f"maze-{n}", mission)
 
 
+def _missions_literature(name: str) -> Any:
+    from plansynth.reach.mission.literature import literature_problem
+
+    return literature_problem(name)
+
+
 REACH_PROBLEMS: dict[str, Any] = {
+    "missions-literature": _missions_literature,
     "maze": _maze,
     "chain": _chain,
     "random": _random,

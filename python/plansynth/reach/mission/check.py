@@ -660,16 +660,13 @@ def validate_mission_file(
     start read from the result file's ``mission.loop_start`` (absent: a finite plan).
     (ok, lines to print). The result file's fields must have passed
     :func:`check_result_mission` (the CLI's door)."""
-    from dataclasses import replace
-
     from rich.markup import escape
 
     from plansynth.reach.validate import validate
 
     loop_start = (result.get("mission") or {}).get("loop_start")
-    checked = _margin_problem(problem)
     report = validate(
-        replace(checked, goal=checked.workspace),
+        _margin_problem(problem).reach_view(),
         trajectory,
         require_segment_safe=segment_safe or problem.reading == "segment",
         tol=tol,

@@ -77,9 +77,8 @@ def planning_problem(problem: ReachProblem) -> ReachProblem:
     robot's configuration space (:func:`plansynth.reach.robot.configuration_space`: the
     labels are read at the robot's reference point), and the goal replaced by the whole
     workspace, so that "p_N in the goal" holds for every position and the mission alone
-    constrains the plan."""
-    p = configuration_space(margin_problem(problem))
-    return replace(p, goal=p.workspace)
+    constrains the plan (the problem has no mission itself)."""
+    return configuration_space(margin_problem(problem)).reach_view()
 
 
 Pt = tuple[float, float]

@@ -370,7 +370,11 @@ class _Literals:
         if np.any(mn >= h):
             return True
         out: list[int] = []
-        for i in np.nonzero(mx >= h)[0]:
+        # an edge whose outer side meets the box in a line only (an obstacle flush with the
+        # workspace's border, clipped there in a robot's configuration space) separates
+        # nothing: beyond it lies a slit of zero width, never a path (as for the regions)
+        eps = 1e-9 * (1.0 + float(np.max(np.abs(np.concatenate([lo, hi])))))
+        for i in np.nonzero(mx > h + eps)[0]:
             d = self.mdl.col(0, 1, binary=True)
             M = float(h[i] - mn[i])
             for s in points:
