@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from hostile import check_contract, invoke
 
+from hostile import check_contract, invoke
 from plansynth import Budget
 from plansynth.errors import InvalidProblem
 from plansynth.reach import ReachStatus, solve
