@@ -77,16 +77,17 @@ def test_a_mission_out_of_reach_in_time_is_unknown_not_infeasible(planner):
     assert r.counters["label_proof"] is False and "not a proof" in r.message
 
 
-@pytest.mark.parametrize("name, semantics", [("mission-visit", "finite"), ("mission-patrol", "lasso")])
+@pytest.mark.parametrize("name, semantics", [("mission-visit", {"finite", "lasso"}), ("mission-patrol", {"lasso"})])
 def test_the_one_shot_baseline_plans_exactly_the_max_horizon_and_is_checked(name, semantics):
     """``milp-ltl-oneshot`` (Wolff et al.'s fixed horizon K): one MILP, a plan of exactly
-    K steps, validated and mission-checked like every plan; the per-horizon search finds
-    a shorter one."""
+    K steps, validated and mission-checked like every plan (the visit mission may end in a
+    finite plan or in a loop resting in the lab); the per-horizon search finds a shorter
+    one."""
     p = replace(load_reach_problem(f"{EXAMPLES}/{name}.yaml"), max_horizon=34)  # shortest: 28 and 13
     r = solve(p, "milp-ltl-oneshot", Budget(seconds=60))
     assert r.status is ReachStatus.FOUND and r.planner == "milp-ltl-oneshot", r.message
     assert r.horizon == 34 and len(r.trajectory.states) == 35 and r.counters["milp_calls"] == 1
-    assert r.validated is True and r.mission["ok"] is True and r.mission["semantics"] == semantics
+    assert r.validated is True and r.mission["ok"] is True and r.mission["semantics"] in semantics
     assert check_mission(p, r.trajectory, r.mission["loop_start"]).ok
     shortest = solve(p, "milp-ltl", Budget(seconds=60))
     assert shortest.status is ReachStatus.FOUND and shortest.horizon < 34

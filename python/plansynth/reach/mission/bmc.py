@@ -65,7 +65,7 @@ from pysat.card import CardEnc, EncType
 from pysat.formula import IDPool
 from pysat.solvers import Solver
 
-from plansynth.budget import Clock
+from plansynth.budget import Clock, checkpoint
 from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.lazy.displan import (
     CONFLICTS_PER_SLICE,
@@ -241,7 +241,9 @@ class MissionDisPlan(LearnedClauses):
             before, now = self.row(t - 1), self.row(t)
             for i in range(g.n_regions):
                 self._add([-before[i], now[i]] + [now[j] for j in g.adjacency[i]])
-        for f in self.subs:
+        for k, f in enumerate(self.subs):
+            if k % 1024 == 0:
+                checkpoint()  # a long mission: its encoding keeps the budget too
             self._expand(f, t)
 
     def _expand(self, f: Formula, i: int) -> None:

@@ -29,8 +29,9 @@ from plansynth.reach.lazy.options import MAX_HORIZON_DOC, TRANSIT_DOC, WAIT_SHIF
 
 __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 
-#: The plans a mission planner looks for: ``finite`` (the robot stays at its last state
-#: forever), ``lasso`` (x_L = x_k: it repeats x_k..x_L forever) or ``any`` of the two.
+#: The plans a mission planner looks for: ``finite`` (ending at rest, the robot staying at
+#: its last state, or free, as the problem's ``end`` says), ``lasso`` (x_L = x_k: it
+#: repeats x_k..x_L forever) or ``any`` of the two.
 SEMANTICS = ("any", "finite", "lasso")
 
 
@@ -41,7 +42,7 @@ class _BoundedMission:
     max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
     semantics: str = option(
         "any",
-        "the plans looked for: any (finite or lasso, finite first), finite (ending at rest) or lasso",
+        "the plans looked for: any (finite or lasso, finite first), finite (ending as the problem's end says: at rest or free) or lasso",
         choices=SEMANTICS,
     )
     lower_bound: bool = option(

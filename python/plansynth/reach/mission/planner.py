@@ -46,7 +46,7 @@ problem and the shortest horizon found is minimal (``minimal_relative_to: proble
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = plan_mission(mission_problem("maze-1", "avoid-until"))
 >>> r.status.value, r.horizon, r.mission["semantics"]
-('found', 31, 'finite')
+('found', 30, 'finite')
 """
 
 from __future__ import annotations
