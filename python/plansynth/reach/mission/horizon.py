@@ -46,7 +46,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Sequence
 
-from plansynth.budget import Clock
+from plansynth.budget import BudgetExhausted, Clock
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.mission.ltl import Formula, nnf, props, unroll
 from plansynth.reach.mission.proof import MAX_NODES, TooLarge, _components, _expand
@@ -158,8 +158,12 @@ def horizon_lower_bound(
     ``labels_of``: see :func:`region_letters`; ``end``: with a free end a plan's word
     may also end at L, in a state where no strong obligation is left."""
     try:
-        edges, final = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
-    except TooLarge:
+        if clock is None:
+            edges, final = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
+        else:
+            with clock.phase("the product graph of the horizon bound"):
+                edges, final = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
+    except (TooLarge, BudgetExhausted):
         return 0
     early = list(earliest) if earliest is not None else [0] * graph.n_regions
     evs = _eventualities(edges)

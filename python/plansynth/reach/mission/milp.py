@@ -776,7 +776,8 @@ def plan_milp_ltl(
                     )
                 return finish(ReachStatus.FOUND, L, f"found at horizon {L}", traj, loop_start, minimal=exact)
     except BudgetExhausted as exc:
-        return finish(ReachStatus.UNKNOWN, L, str(exc) if exc.phase.startswith("before") else f"{exc} at horizon {L}")
+        said = str(exc) if exc.phase.startswith("before") or "horizon" in exc.phase else f"{exc} at horizon {L}"
+        return finish(ReachStatus.UNKNOWN, L, said)
     if one_shot:
         return finish(
             ReachStatus.UNKNOWN,

@@ -104,10 +104,14 @@ def _expand(
     pos, neg = letter
     out: dict[tuple[frozenset[Formula], frozenset[Formula]], bool] = {}
     work: list[tuple[list[Formula], set, set, set, bool]] = [(list(obligations), set(), set(), set(), False)]
+    steps = 0
     while work:
         todo, done, nxt, pending, strong = work.pop()
         ok = True
         while todo:
+            steps += 1
+            if steps % 256 == 0:
+                checkpoint()  # one node of a deep formula may expand in many ways
             f = todo.pop()
             if f in done:  # each is met once: a second copy could only carry what the first meets
                 continue
