@@ -13,7 +13,6 @@ from __future__ import annotations
 import copy
 import json
 import os
-import time
 from pathlib import Path
 from typing import Any
 
@@ -22,10 +21,9 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from hostile import ROOT, check_contract, invoke
-from test_fuzz import mutated_documents, problem_bytes
+from hostile import ROOT, invoke
+from test_fuzz import _run, mutated_documents, problem_bytes
 
-SECONDS = 30.0
 SCALE = max(1, int(os.environ.get("PLANSYNTH_FUZZ_SCALE", "1")))
 FUZZ = settings(max_examples=30 * SCALE, deadline=None, suppress_health_check=list(HealthCheck))
 
@@ -43,16 +41,6 @@ FULL["mission"] = {
 FULL["labels"]["lab"] = {"polygon": [[7, 7], [9, 7], [9, 9], [7, 9]], "margin": 0.2}
 FULL["robot"]["radius"] = 0.2
 MISSION_DOCS.append(FULL)
-
-
-def _run(args: list[Any]) -> Any:
-    args = [str(a) for a in args]
-    t0 = time.perf_counter()
-    r = invoke(args)
-    seconds = time.perf_counter() - t0
-    check_contract(r, args)
-    assert seconds < SECONDS, f"plansynth {' '.join(args)[:300]}: {seconds:.1f} s"
-    return r
 
 
 @pytest.fixture(scope="module")

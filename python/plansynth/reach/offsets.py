@@ -27,7 +27,7 @@ import shapely
 
 from plansynth.reach.geometry import Box, Polygon, Shape, halfspaces, is_convex, shape_to_shapely
 
-__all__ = ["grown", "shrunk", "offset_rows", "clip"]
+__all__ = ["grown", "shrunk", "offset_rows", "clip", "area"]
 
 Pt = tuple[float, float]
 
@@ -59,7 +59,10 @@ def offset_rows(shape: Shape, r: float) -> tuple[np.ndarray, np.ndarray]:
     return H, h + r
 
 
-def _area(poly: Sequence[Pt]) -> float:
+def area(poly: Sequence[Pt]) -> float:
+    """The area of the polygon ``poly`` (0 for fewer than three vertices)."""
+    if len(poly) < 3:
+        return 0.0
     s = 0.0
     for i in range(len(poly)):
         x0, y0 = poly[i]
@@ -89,7 +92,7 @@ def _convex_offset(shape: Shape, r: float) -> Shape | None:
         if len(poly) < 3:
             return None
     scale = max(max(xs) - min(xs), max(ys) - min(ys))
-    if _area(poly) <= 1e-12 * scale * scale:
+    if area(poly) <= 1e-12 * scale * scale:
         return None
     return Polygon(tuple((float(x), float(y)) for x, y in poly))
 

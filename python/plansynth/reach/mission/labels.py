@@ -34,14 +34,13 @@ labels end within ``--timeout``.
 >>> from dataclasses import replace
 >>> la = label_abstraction(replace(p, margin=0.25))   # a band of 0.25 around a's edges
 >>> la.n_regions, sum("a" in s for s in la.labels_of), sum("a" not in s for s in la.negs_of)
-(13, 1, 9)
+(13, 1, 5)
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -54,6 +53,7 @@ from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.abstraction.hertel_mehlhorn import hertel_mehlhorn
 from plansynth.reach.abstraction.regions import region_from_cycle
 from plansynth.reach.geometry import Box, Shape, halfspaces, is_convex, shape_to_shapely
+from plansynth.reach.offsets import area as _area
 from plansynth.reach.offsets import clip, grown, shrunk
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.robot import configuration_space
@@ -115,17 +115,6 @@ class LabelledAbstraction:
     def letters(self) -> tuple[tuple[frozenset[str], frozenset[str]], ...]:
         """Per region, (the labels that hold, the labels whose negation holds)."""
         return tuple(zip(self.labels_of, self.negs_of))
-
-
-def _area(poly: Sequence[Pt]) -> float:
-    if len(poly) < 3:
-        return 0.0
-    s = 0.0
-    for i in range(len(poly)):
-        x0, y0 = poly[i]
-        x1, y1 = poly[(i + 1) % len(poly)]
-        s += x0 * y1 - x1 * y0
-    return abs(0.5 * s)
 
 
 def _split_convex(piece: list[Pt], H: np.ndarray, h: np.ndarray, tiny: float) -> list[list[Pt]]:

@@ -483,14 +483,15 @@ def mission_milp(
     def P(g: Formula, t: int) -> int:
         return int(P0[index[g] * (L + 2) + t])
 
-    def le(v: int, terms: list, t: int, rhs: float = 0.0) -> None:
-        """v - sum(terms) <= rhs; a formula term is P[., t], a Const moves to the rhs."""
+    def le(v: int, terms: list, t: int, rhs: float = 0.0, later: tuple = ()) -> None:
+        """v - sum(terms) <= rhs; a formula term is P[., t] (P[., t + 1] for those in
+        ``later``), a Const moves to the rhs."""
         cs, vs = [v], [1.0]
-        for g in terms:
+        for g, at in [(g, t) for g in terms] + [(g, t + 1) for g in later]:
             if isinstance(g, Const):
                 rhs += 1.0 if g.value else 0.0
             else:
-                cs.append(P(g, t))
+                cs.append(P(g, at))
                 vs.append(-1.0)
         mdl.row(cs, vs, -INF, rhs)
 
@@ -520,26 +521,16 @@ def mission_milp(
                 le(v, [g.left, g.right], t)
             elif isinstance(g, (Next, WeakNext)):
                 le(v, [g.arg], t + 1)
-            elif isinstance(g, (Finally, Until)):
+            elif isinstance(g, (Finally, Until)):  # b now, or a now and g next
                 a = Const(True) if isinstance(g, Finally) else g.left
                 b = g.arg if isinstance(g, Finally) else g.right
                 le(v, [b, a], t)
-                cs, vs, rhs = [v, P(g, t + 1)], [1.0, -1.0], 0.0
-                if isinstance(b, Const):
-                    rhs += float(b.value)
-                else:
-                    cs.append(P(b, t)), vs.append(-1.0)
-                mdl.row(cs, vs, -INF, rhs)
-            elif isinstance(g, (Globally, Release)):
+                le(v, [b], t, later=(g,))
+            elif isinstance(g, (Globally, Release)):  # b now, and a now or g next
                 a = Const(False) if isinstance(g, Globally) else g.left
                 b = g.arg if isinstance(g, Globally) else g.right
                 le(v, [b], t)
-                cs, vs, rhs = [v, P(g, t + 1)], [1.0, -1.0], 0.0
-                if isinstance(a, Const):
-                    rhs += float(a.value)
-                else:
-                    cs.append(P(a, t)), vs.append(-1.0)
-                mdl.row(cs, vs, -INF, rhs)
+                le(v, [a], t, later=(g,))
     for s, j, is_loop in sels:
         if not is_loop and free:  # the word ends at L: X fails there, eventualities are met by L
             for g in subs:
