@@ -45,6 +45,7 @@ True
 
 from __future__ import annotations
 
+import functools
 import itertools
 import re
 import weakref
@@ -396,6 +397,8 @@ def _show(tok: str) -> str:
 def parse(text: str) -> Formula:
     """Parse a mission string into a :data:`Formula` (syntax in the module doc), in one
     pass with explicit stacks (operator precedence), so nesting depth costs no recursion.
+    The last few texts' formulas are kept (a problem value checks its mission each time it
+    is made, and the planners and the checker read it again).
 
     >>> parse("!a U (b R c)")
     Until(left=Not(arg=Prop(name='a')), right=Release(left=Prop(name='b'), right=Prop(name='c')))
@@ -410,6 +413,11 @@ def parse(text: str) -> Formula:
     ...
     plansynth.reach.ltl.syntax.LtlSyntaxError: bounds [5,2]: expected 0 <= a <= b <= 10000 at position 1 of 'F[5,2] a'
     """
+    return _parse(text)
+
+
+@functools.lru_cache(maxsize=32)
+def _parse(text: str) -> Formula:
     toks = _tokens(text)
     i = 0
     operands: list[Formula] = []
