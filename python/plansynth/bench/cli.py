@@ -45,9 +45,13 @@ Examples:
 
   plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,50 --planners lazy-smt
 
+  plansynth bench reach --family robust --values 3,4 --planners lazy-smt,milp-bigm,nominal-check --timeout 300
+
 Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
 (Figure 4 with random controllable A, B of n states), random, missions (LTL missions on
-the mazes: use --planners lazy-smt,milp-ltl,milp-ltl-oneshot), or all.
+the mazes: use --planners lazy-smt,milp-ltl,milp-ltl-oneshot), robust (the mazes under
+bounded disturbances: lazy-smt, milp-bigm on the same tightened problem, nominal-check,
+and milp-ltl for its mission), or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
@@ -272,7 +276,7 @@ def reach_cmd(
         ["maze"],
         "--family",
         "-f",
-        help="maze, chain, random, random-dynamics, missions, gcs-maze (repeatable or comma-separated), or all.",
+        help="maze, chain, random, random-dynamics, missions, gcs-maze, robust (repeatable or comma-separated), or all.",
     ),
     values: str | None = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
