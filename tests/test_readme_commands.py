@@ -277,6 +277,11 @@ CASES: dict[str, Case] = {
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
         files=("bench-report/",), before=(TINY_BENCH,)
     ),
+    "plansynth bench merge other-results.db --db benchmarks/results.db": Case(
+        out=("runs merged into",),
+        files=("benchmarks/results.db",),
+        before=(TINY_BENCH.replace("bench-results.db", "other-results.db"),),
+    ),
     "plansynth bench publish '[--report-only]'": Case(
         files=("published/RESULTS.md",), slow=False, fast="plansynth bench publish --report-only --out published"
     ),

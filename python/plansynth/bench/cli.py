@@ -387,6 +387,30 @@ def report_cmd(
     console.print(f"wrote {_written(path, html)} and {len(list(out.glob('*.png')))} plots")
 
 
+@app.command("merge")
+def merge_cmd(
+    sources: list[Path] = typer.Argument(..., help="Results databases whose runs are copied."),
+    db: Path = typer.Option(..., "--db", help="The results database they are merged into (created if absent)."),
+) -> None:
+    """Merge the runs of other results databases into one (sweeps run on other machines
+    or checkouts): a run both hold is kept from the newer one.
+
+    Example: plansynth bench merge other-results.db --db benchmarks/results.db
+    """
+    from plansynth.bench.db import ResultsDB
+    from plansynth.bench.errors import NoDatabase
+    from plansynth.errors import OutputUnwritable
+
+    try:
+        with ResultsDB(db) as d:
+            for src in sources:
+                n = d.merge(src)
+                console.print(f"{src}: {n} runs merged into {db}")
+    except (OutputUnwritable, NoDatabase) as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+
+
 @app.command("families")
 def families_cmd(
     out: Path = typer.Option(Path("benchmarks/families"), "--out", "-o"),

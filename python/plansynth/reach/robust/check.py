@@ -67,7 +67,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from plansynth.reach.geometry import halfspaces, shape_to_shapely
+from plansynth.reach.geometry import convex_hull, halfspaces, shape_to_shapely
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import Violation
@@ -393,7 +393,7 @@ def _bodies(problem: ReachProblem, point_sets: list[np.ndarray]) -> np.ndarray:
         hx, hy = robot.half_extent[:2]
         corners = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
         point_sets = [(pts[:, None, :] + corners[None, :, :]).reshape(-1, 2) for pts in point_sets]
-    return shapely.convex_hull(np.array([shapely.multipoints(pts) for pts in point_sets], dtype=object))
+    return np.array([convex_hull(pts) for pts in point_sets], dtype=object)
 
 
 def check_robust(

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from plansynth.reach.geometry import shape_to_shapely
+from plansynth.reach.geometry import convex_hull, shape_to_shapely
 from plansynth.reach.ltl.semantics import Lasso, finite_word, holds
 from plansynth.reach.ltl.syntax import Formula, Not, Prop, children, nnf, parse
 from plansynth.reach.problem import ReachProblem
@@ -77,7 +77,7 @@ def robust_letters(
         pts = P[t][None, :] + polys[t]
         if t < N:
             pts = np.vstack([pts, P[t + 1][None, :] + polys[t + 1]])
-        bodies.append(shapely.convex_hull(shapely.multipoints(pts)))
+        bodies.append(convex_hull(pts))
     letters: list[set[str]] = [set() for _ in range(N + 1)]
     for a in labels:
         ins = shapely.covers(outer[a], np.array(bodies, dtype=object))
