@@ -337,6 +337,14 @@ CASES: dict[str, Case] = {
         fast="plansynth bench reach --family robust --values 1 --planners lazy-smt --timeout 60 --db b.db",
     ),
     "plansynth reach solve examples/reach/mission-unsat.yaml": Case(exit=(1,), out=("infeasible",)),
+    # docs/how-to/missions.md: margins, readings
+    "plansynth reach solve examples/reach/mission-visit.yaml --reading sample --margin 0.3": Case(
+        out=("found", "achieved margin: 0.3")
+    ),
+    "plansynth reach solve examples/reach/mission-readings.yaml": Case(out=("found", "horizon", "18")),
+    "plansynth reach solve examples/reach/mission-readings.yaml --reading sample": Case(
+        out=("found", "9 (proved minimal)")
+    ),
     "plansynth --version": Case(out=("plansynth 0.", "core")),
     SOLVED_FIGURE1: Case(
         out=("realizable",), json=(("result.json", "status", "realizable"), ("result.json", "verified", True))

@@ -221,7 +221,7 @@ def test_bench_runs_a_mission_and_records_it_solved(planner: str) -> None:
         {"instance": inst.to_dict(), "solver": planner, "repeat": 0, "timeout": 120, "seed": 0, "options": {}}
     )
     assert attrs["status"] == "solved" and attrs["valid"] == 1, attrs.get("message")
-    assert attrs["horizon"] == 31 and attrs["attributes"]["oracle_lp"] is None  # (a finite plan ends at rest)
+    assert attrs["horizon"] == 30 and attrs["attributes"]["oracle_lp"] is None  # (a finite plan ends at rest)
     # milp-ltl solves with HiGHS (its version was guessed as plansynth's from the name)
     assert attrs["solver_version"].split()[0] == {"lazy-smt": "python-sat", "milp-ltl": "highspy"}[planner]
 

@@ -173,7 +173,7 @@ def test_missions_run_through_the_lazy_planner_object_and_the_one_loop(monkeypat
 
     monkeypatch.setattr(mission_planner, "lazy_loop", counted)
     r = solve(p, "lazy-smt-minimal", Budget(seconds=60))
-    assert r.status is ReachStatus.FOUND and r.horizon == 31 and r.mission["ok"] is True
+    assert r.status is ReachStatus.FOUND and r.horizon == 30 and r.mission["ok"] is True
     assert r.solver == "lazy-smt-minimal" and calls == ["MissionDisPlan"]
     with pytest.raises(
         InvalidOption,

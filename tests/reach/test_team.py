@@ -172,6 +172,7 @@ def load_problem_from(doc: dict) -> TeamProblem:
             "moving obstacle m0",
         ),
         ({"goal": {"min": [1, 1], "max": [2, 2]}}, "goal", "each robot has its own"),
+        ({"labels": {"dock": {"min": [1, 1], "max": [2, 2], "margin": 0.1}}}, "labels.dock.margin", "one robot"),
     ],
 )
 def test_bad_team_files_name_the_field(change: dict, field: str, reason: str) -> None:

@@ -127,6 +127,25 @@ def _check_arguments(
         _refuse("--orders", f"chain orders must be at least 1, got {','.join(map(str, orders))}")
 
 
+def _check_mission_planners(families: list[str], solvers: list[str]) -> None:
+    """A family with LTL missions needs mission planners, the others reach-avoid
+    planners: a planner that cannot plan a family's problems is refused at the door."""
+    from plansynth.bench.execute import DEBUG_SOLVERS
+    from plansynth.bench.families.reach import MISSION_FAMILIES
+    from plansynth.reach.planners import get_planner
+
+    for name in solvers:
+        if name in DEBUG_SOLVERS:
+            continue
+        planner = get_planner(name)
+        for f in families:
+            mission = f in MISSION_FAMILIES
+            takes = getattr(planner, "mission_defaults" if mission else "defaults", None) is not None
+            if not takes:
+                what = "plans no LTL missions" if mission else "plans LTL missions only"
+                _refuse("--planners", f"{name} {what}, and family {f!r} {'has' if mission else 'has no'} missions")
+
+
 def _sweep(
     kind: str,
     families: list[str],
@@ -173,9 +192,12 @@ def _sweep(
         except (ValueError, TypeError, KeyError):  # a value the family cannot use (a name, a value it lacks)
             _refuse(
                 "--values",
-                f"expected comma-separated integers (or, for reactive-suite, instance names) "
+                f"expected comma-separated integers (or, for reactive-suite, instance names; for "
+                f"missions-literature, scenario names) "
                 f"that family {f!r} has, got {values!r}",
             )
+    if kind == "reach":
+        _check_mission_planners(families, solvers)
     if kind == "reach" and "milp" in solvers:
         console.print(
             "[dim]note: `milp` is the region-graph MILP planner; `milp-bigm` is the one-shot big-M MILP (LTL OPT stand-in)"

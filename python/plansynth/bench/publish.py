@@ -93,6 +93,13 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
             ["lazy-smt", "milp-ltl", "milp-ltl-oneshot"],
             timeout=max(reach_timeout, MISSIONS_TIMEOUT),
         )
+        # the planning literature's scenarios (keys and doors, target groups, dwell, stepping
+        # stones, obstacles as labels; the sample reading): lazy-smt and milp-ltl side by side
+        tasks += make_tasks(
+            family("reach", "missions-literature"),
+            ["lazy-smt", "milp-ltl"],
+            timeout=max(reach_timeout, MISSIONS_TIMEOUT),
+        )
         tasks += make_tasks(
             family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"], timeout=reach_timeout
         )

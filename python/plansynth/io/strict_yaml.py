@@ -84,9 +84,14 @@ def _check_event_nesting(parser: Any) -> None:
         parser.dispose()
 
 
+_BOOL_TAG, _STR_TAG = "tag:yaml.org,2002:bool", "tag:yaml.org,2002:str"
+
+
 class _NoDuplicateKeys:
     """Mapping construction that refuses a key written twice, or a key that is not a
-    plain value (mixed in before PyYAML's SafeConstructor)."""
+    plain value (mixed in before PyYAML's SafeConstructor); a key YAML 1.1 would read as
+    a boolean from ``yes``/``no``/``on``/``off`` is kept as the word (a label named
+    ``on``), while ``true``/``false`` keys stay booleans."""
 
     def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
         seen: set[Any] = set()
@@ -94,6 +99,8 @@ class _NoDuplicateKeys:
             if not isinstance(key_node, yaml.ScalarNode):
                 kind = "list" if isinstance(key_node, yaml.SequenceNode) else "mapping"
                 raise Refused(f"a mapping key must be a plain value, not a {kind} ({_where(key_node)})")
+            if key_node.tag == _BOOL_TAG and key_node.value.lower() not in ("true", "false"):
+                key_node.tag = _STR_TAG  # a key "on", "off", "yes", "no" is a name, as written
             key = self.construct_object(key_node, deep=deep)  # type: ignore[attr-defined]
             if key in seen:
                 raise DuplicateKey(key_text(key), f" (line {key_node.start_mark.line + 1})")
@@ -106,7 +113,8 @@ class StrictLoader(_NoDuplicateKeys, yaml.SafeLoader):
 
     - a key written twice in one mapping is an error (plain PyYAML silently keeps the
       last one, hiding a typo in a problem file), and so is a key that is not a scalar
-      (``? [1, 2] : 3``);
+      (``? [1, 2] : 3``); a key ``on``, ``off``, ``yes`` or ``no`` is the word, not a
+      boolean;
     - numbers with an exponent and no dot (``5e-1``, ``1e3``, ``1.0e5``) are floats, as a
       user means them (YAML 1.1 reads them as strings).
     """

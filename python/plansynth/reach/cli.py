@@ -44,6 +44,8 @@ Examples:
 
   plansynth reach solve examples/reach/mission-patrol.yaml -O semantics=lasso
 
+  plansynth reach solve examples/reach/mission-visit.yaml --reading sample --margin 0.2 --end free
+
   plansynth reach solve examples/reach/maze-3-windy.yaml --out plan.json --plot plan.png   # under a disturbance
 
   plansynth reach solve p.yaml --no-segment-safe        # the paper's guarantee: samples only
@@ -198,7 +200,18 @@ def _result_table(result: Any) -> Table:
     if mission and mission.get("semantics"):  # LTL missions
         loop = "" if mission.get("loop_start") is None else f", loop from step {mission['loop_start']} (x_N = x_k)"
         verdict = {True: ", mission checked", False: ", mission check FAILED"}.get(mission.get("ok"), "")
-        table.add_row("mission", escape(f"{mission['formula']}: {mission['semantics']} plan{loop}{verdict}"))
+        end = ", free end" if mission.get("semantics") == "finite" and mission.get("end") == "free" else ""
+        table.add_row("mission", escape(f"{mission['formula']}: {mission['semantics']} plan{end}{loop}{verdict}"))
+        margins = {n: r for n, r in (mission.get("margins") or {}).items() if r}
+        asked = ", ".join(f"{n} {r:g}" for n, r in margins.items()) or "none"
+        achieved = mission.get("robustness")
+        table.add_row(
+            "reading",
+            escape(
+                f"{mission.get('reading', 'segment')}; margins asked: {asked}; achieved margin: "
+                + ("-" if achieved is None else f"{achieved:.4g}")
+            ),
+        )
     robust = getattr(result, "robust", None)
     if robust:  # under a disturbance (plansynth.reach.robust)
         for key, value in _robust_rows(robust, result.status.value == "found"):
@@ -244,16 +257,48 @@ def _given(ctx: typer.Context, name: str) -> bool:
     return source is not None and source.name not in ("DEFAULT", "DEFAULT_MAP")
 
 
+def _mission_readings(
+    ctx: typer.Context | None,
+    problem: Any,
+    reading: str | None,
+    end: str | None,
+    margin: float | None,
+    obstacle_margin: float | None,
+) -> Any:
+    """The problem with the mission's reading, end and margins the command line sets
+    (checked like the file's: an :class:`~plansynth.errors.InvalidProblem` naming the
+    field). For a mission, ``--no-segment-safe`` is the sample reading (and
+    ``--segment-safe`` the segment one): the one choice planners and checker share."""
+    from dataclasses import replace
+
+    values: dict[str, Any] = {}
+    if ctx is not None and _given(ctx, "segment_safe") and problem.mission is not None:
+        implied = "segment" if ctx.params["segment_safe"] else "sample"
+        if reading is not None and reading != implied:
+            raise typer.BadParameter(
+                f"--reading {reading} and --{'no-' if implied == 'sample' else ''}segment-safe disagree "
+                "(for a mission, --no-segment-safe is the sample reading)",
+                param_hint="--reading",
+            )
+        values["reading"] = implied
+    for key, value in (("reading", reading), ("end", end), ("margin", margin), ("obstacle_margin", obstacle_margin)):
+        if value is not None:
+            values[key] = value
+    return replace(problem, **values) if values else problem
+
+
 def _planner_options(ctx: typer.Context, planner: str, items: list[str], paper: bool, mission: bool) -> Any:
     """The planner's options value, built once from ``-O KEY=VALUE`` and the shared flags
     given (the flags win); an option the planner does not take is
     :class:`~plansynth.errors.InvalidOption` (exit 2, one line naming the planner and its
-    options), never dropped."""
+    options), never dropped. (For a mission ``--segment-safe`` is its reading: see
+    :func:`_mission_readings`.)"""
     from plansynth.options import parse_assignments
     from plansynth.reach.solve import configure
 
     values = parse_assignments(items, planner)
-    values.update({name: ctx.params[name] for name in _SHARED_FLAGS if _given(ctx, name)})
+    flags = [n for n in _SHARED_FLAGS if not (mission and n == "segment_safe")]
+    values.update({name: ctx.params[name] for name in flags if _given(ctx, name)})
     base = None
     if paper:
         if planner != "lazy-smt" or mission:
@@ -305,6 +350,26 @@ def solve_command(
         "--paper",
         help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options given apply on top.",
     ),
+    reading: str | None = typer.Option(
+        None,
+        "--reading",
+        help="Missions: read labels and obstacles along whole segments (segment, the default) or at the samples only (sample, as the discrete-time literature; --no-segment-safe selects it too). Overrides the file's mission.reading.",
+    ),
+    end: str | None = typer.Option(
+        None,
+        "--end",
+        help="Missions: a finite plan ends at rest (rest, the default: its last labels hold forever) or free (the mission read on the finite word). Overrides the file's mission.end.",
+    ),
+    margin: float | None = typer.Option(
+        None,
+        "--margin",
+        help="Missions: the label margin r: a label is visited at depth >= r and avoided at distance >= r (labels with their own margin in the file keep it). Overrides the file's mission.margin.",
+    ),
+    obstacle_margin: float | None = typer.Option(
+        None,
+        "--obstacle-margin",
+        help="Missions: keep every obstacle at distance >= r too (each edge pushed out by r). Overrides the file's mission.obstacle_margin.",
+    ),
 ) -> None:
     """Plan a trajectory: abstraction, then horizons in increasing order (SAT + LP)."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
@@ -329,6 +394,8 @@ def solve_command(
             if paper:
                 raise typer.BadParameter("applies to one robot, not a team", param_hint="--paper")
             planner = team_planner(planner)  # lazy-smt means lazy-smt-team on a team
+        else:
+            problem = _mission_readings(ctx, problem, reading, end, margin, obstacle_margin)
         # an option the planner does not take, a planner this problem cannot use
         options = _planner_options(ctx, planner, option, paper, problem.mission is not None)
     except PlansynthError as exc:
@@ -419,7 +486,17 @@ def validate_command(
     dynamics: str | None = typer.Option(
         None,
         "--dynamics",
-        help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact.",
+        help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact. A mission's plan is checked exactly.",
+    ),
+    reading: str | None = typer.Option(
+        None, "--reading", help="Missions: check in this reading (segment or sample) instead of the file's."
+    ),
+    end: str | None = typer.Option(
+        None, "--end", help="Missions: a finite plan's end (rest or free) instead of the file's."
+    ),
+    margin: float | None = typer.Option(None, "--margin", help="Missions: the label margin instead of the file's."),
+    obstacle_margin: float | None = typer.Option(
+        None, "--obstacle-margin", help="Missions: the obstacle margin instead of the file's."
     ),
     disturbances: int = typer.Option(
         0,
@@ -435,15 +512,21 @@ def validate_command(
         help="With --disturbances: also plan the problem without its disturbance (lazy-smt) and run that plan, with the same gain, under the same sequences.",
     ),
 ) -> None:
-    """Check a trajectory against a problem with the independent validator."""
+    """Check a trajectory against a problem with the independent validator (and a
+    mission's plan with the mission checker, which reports the achieved margin; a team's
+    plan with the team validator)."""
     from plansynth.reach.team.fileformat import load_problem
     from plansynth.reach.trajectory import trajectory_from_dict
     from plansynth.reach.validate import tolerance_problem, validate
 
     console = Console(soft_wrap=True)
     err = Console(stderr=True, soft_wrap=True)
+    if dynamics is not None and dynamics not in ("exact", "curve"):
+        raise typer.BadParameter("must be exact or curve", param_hint="--dynamics")
     try:
         problem = load_problem(file)
+        if getattr(problem, "robots", None) is None:
+            problem = _mission_readings(None, problem, reading, end, margin, obstacle_margin)
         doc = _read_result(result_file)
         if getattr(problem, "robots", None) is not None:  # a team: the team validator
             from plansynth.reach.team.commands import validate_file
@@ -459,8 +542,17 @@ def validate_command(
         claim = doc.get("segment_safe")
         if claim is not None and not isinstance(claim, bool):
             raise InvalidProblem(str(result_file), "segment_safe", f"expected true or false, got {claim!r}")
+        if problem.mission is not None:
+            from plansynth.reach.mission.check import check_result_mission
+
+            check_result_mission(doc, trajectory.horizon, str(result_file))
     except PlansynthError as exc:
         raise fail(err, exc) from None
+    if problem.mission is not None and dynamics == "curve":
+        raise typer.BadParameter(
+            "a mission's plan is a trajectory of the exact dynamics (curve: reach-avoid results only)",
+            param_hint="--dynamics",
+        )
     why = tolerance_problem(problem, tol)
     if why is not None:
         raise typer.BadParameter(why, param_hint="--tol")
@@ -475,6 +567,15 @@ def validate_command(
     if problem.mission is not None:  # LTL missions: validator + mission checker
         from plansynth.reach.mission.check import validate_mission_file
 
+        planned = doc.get("mission") or {}
+        for key in ("reading", "end"):
+            if planned.get(key) not in (None, getattr(problem, key)):
+                console.print(
+                    f"the plan was made with {key} {planned[key]!s}; it is checked with {key} "
+                    f"{getattr(problem, key)} (--{key} {planned[key]!s} checks it as it was made)",
+                    highlight=False,
+                    markup=False,
+                )
         ok, lines = validate_mission_file(problem, trajectory, doc, segment_safe=segment_safe or claimed, tol=tol)
         for line in lines:
             console.print(line, highlight=False)
@@ -486,8 +587,6 @@ def validate_command(
         raise typer.Exit(0 if ok else 1)
     if dynamics is None:
         dynamics = "curve" if doc.get("guarantee") == "curve" else "exact"
-    if dynamics not in ("exact", "curve"):
-        raise typer.BadParameter("must be exact or curve", param_hint="--dynamics")
     report = validate(problem, trajectory, require_segment_safe=segment_safe or claimed, tol=tol, dynamics=dynamics)
     if dynamics == "curve":
         console.print(

@@ -45,6 +45,7 @@ from plansynth.reach.problem import (
     MAX_COORDINATE,
     MAX_DT,
     MAX_HORIZON,
+    MAX_LABELS,
     MAX_OBSTACLES,
     MAX_ORDER,
     MAX_STATES,
@@ -75,10 +76,11 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
     top.reject_unknown(_TOP_KEYS)
     workspace, obstacles = _parse_world(top, source)
     d = workspace.dim
-    mission = top.optional("mission")
-    goal_raw = top.optional("goal") if mission is not None else top.require("goal")
+    mission_raw = top.optional("mission")
+    mission, how = _parse_mission(mission_raw, source)
+    goal_raw = top.optional("goal") if mission_raw is not None else top.require("goal")
     goal = None if goal_raw is None else _parse_shape(goal_raw, source, "goal", d)
-    labels = _parse_labels(top.optional("labels", {}), source, d)
+    labels, label_margins = _parse_labels(top.optional("labels", {}), source, d)
 
     robot = Fields(top.require("robot"), source, "robot")
     robot.reject_unknown(_ROBOT_KEYS)
@@ -125,8 +127,36 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
         robot_shape=robot_shape,
         labels=labels,
         mission=mission,
+        label_margins=label_margins,
         disturbance=disturbance,
+        **how,
     )
+
+
+#: The keys of ``mission:`` written as a mapping (a string is the formula alone).
+_MISSION_KEYS = {"formula", "reading", "end", "margin", "obstacle_margin"}
+
+
+def _parse_mission(value: Any, src: str | None) -> tuple[Any, dict[str, Any]]:
+    """``mission:`` as the formula text, or a mapping ``{formula, reading, end, margin,
+    obstacle_margin}`` (the last four optional): (the formula, the problem's other mission
+    fields). The values are checked by the problem value."""
+    if not isinstance(value, Mapping):
+        return value, {}
+    f = Fields(value, src, "mission")
+    f.reject_unknown(_MISSION_KEYS)
+    how: dict[str, Any] = {}
+    for key in ("reading", "end"):
+        raw = f.optional(key)
+        if raw is not None:
+            if not isinstance(raw, str):
+                raise InvalidProblem(src, f"mission.{key}", f"expected a word, got {show(raw)}")
+            how[key] = raw
+    for key in ("margin", "obstacle_margin"):
+        raw = f.optional(key)
+        if raw is not None:
+            how[key] = as_float(raw, src, f"mission.{key}", max_abs=MAX_COORDINATE)
+    return f.require("formula"), how
 
 
 def _parse_disturbance(value: Any, src: str | None, n: int, m: int) -> Disturbance:
@@ -190,22 +220,32 @@ def _parse_feedback(value: Any, src: str | None, where: str, n: int, m: int) -> 
     return "lqr", q, r, None
 
 
-def _parse_labels(value: Any, src: str | None, d: int) -> tuple[tuple[str, Shape], ...]:
+def _parse_labels(
+    value: Any, src: str | None, d: int
+) -> tuple[tuple[tuple[str, Shape], ...], tuple[tuple[str, float], ...]]:
     """``labels:`` maps names to boxes ``{min, max}``, polygons ``{polygon: [...]}`` (or
-    ``{vertices: [...]}``, or a bare vertex list)."""
+    ``{vertices: [...]}``, or a bare vertex list), each mapping optionally with its own
+    ``margin``: (the labels, their margins)."""
     if not isinstance(value, Mapping):
         raise InvalidProblem(
             src, "labels", f"expected a mapping from names to boxes or polygons, got {type_name(value)}"
         )
-    out = []
+    if len(value) > MAX_LABELS:
+        raise InvalidProblem(src, "labels", f"at most {MAX_LABELS} labels, got {len(value)}")
+    out, margins = [], []
     for name, shape in value.items():
+        if not isinstance(name, str):  # a number or a boolean key: the name as written
+            raise InvalidProblem(src, f"labels.{name}", f"a label name must be text, got {type_name(name)} {name!r}")
         where = f"labels.{name}"
+        if isinstance(shape, Mapping) and "margin" in shape:
+            margins.append((name, as_float(shape["margin"], src, f"{where}.margin", max_abs=MAX_COORDINATE)))
+            shape = {k: v for k, v in shape.items() if k != "margin"}
         if isinstance(shape, Mapping) and "polygon" in shape:
             Fields(shape, src, where).reject_unknown({"polygon"})
-            out.append((str(name), _parse_polygon(shape["polygon"], src, f"{where}.polygon", d)))
+            out.append((name, _parse_polygon(shape["polygon"], src, f"{where}.polygon", d)))
         else:
-            out.append((str(name), _parse_shape(shape, src, where, d)))
-    return tuple(out)
+            out.append((name, _parse_shape(shape, src, where, d)))
+    return tuple(out), tuple(margins)
 
 
 def _parse_world(top: Fields, source: str | None) -> tuple[Box, tuple[Shape, ...]]:
@@ -406,9 +446,22 @@ def reach_problem_to_dict(problem: ReachProblem) -> dict:
     if problem.goal is None:
         del out["goal"]
     if problem.labels:
-        out["labels"] = {
-            k: (_box_to_dict(v) if isinstance(v, Box) else {"polygon": _shape_to_dict(v)}) for k, v in problem.labels
-        }
+        own = dict(problem.label_margins)
+        out["labels"] = {}
+        for k, v in problem.labels:
+            entry = _box_to_dict(v) if isinstance(v, Box) else {"polygon": _shape_to_dict(v)}
+            if k in own:
+                entry["margin"] = _num(own[k])
+            out["labels"][k] = entry
     if problem.mission is not None:
-        out["mission"] = problem.mission
+        how = {
+            k: getattr(problem, k)
+            for k, default in (("reading", "segment"), ("end", "rest"), ("margin", 0.0), ("obstacle_margin", 0.0))
+            if getattr(problem, k) != default
+        }
+        out["mission"] = (
+            {"formula": problem.mission, **{k: _num(v) if isinstance(v, float) else v for k, v in how.items()}}
+            if how
+            else problem.mission
+        )
     return out

@@ -62,6 +62,8 @@ __all__ = [
     "shape_to_shapely",
     "DEFAULT_MAX_HORIZON",
     "NAMED_MODELS",
+    "MISSION_READINGS",
+    "MISSION_ENDS",
 ]
 
 DEFAULT_MAX_HORIZON = 200
@@ -83,6 +85,17 @@ MAX_HORIZON = 10_000
 #: Most obstacles, and most vertices of one polygon.
 MAX_OBSTACLES = 10_000
 MAX_VERTICES = 100_000
+#: Most labels of a mission, and most vertices of one polygon label (the labels cut
+#: the decomposition: every label edge may split every region it crosses).
+MAX_LABELS = 1_000
+MAX_LABEL_VERTICES = 1_000
+
+#: How a mission reads labels and obstacles: along whole segments [p_t, p_t+1]
+#: (``segment``) or at the samples p_t only (``sample``, the discrete-time literature's).
+MISSION_READINGS = ("segment", "sample")
+#: How a finite plan ends: at rest, its last letter held forever (``rest``), or ``free``
+#: (the formula read on the finite word, as LTL on finite traces).
+MISSION_ENDS = ("rest", "free")
 
 
 # --------------------------------------------------------------------------- problem
@@ -113,6 +126,15 @@ class ReachProblem:
     # only the label "goal", and the mission alone says what a plan must do.
     labels: tuple[tuple[str, Shape], ...] = ()
     mission: str | None = None
+    # how a mission reads its plan (MISSION_READINGS, MISSION_ENDS; the margins in the
+    # same units as the workspace): labels along whole segments or at the samples only;
+    # a finite plan ending at rest or free; each label's margin (``margin`` for those
+    # not in ``label_margins``) and the obstacles' (0: none)
+    reading: str = "segment"
+    end: str = "rest"
+    margin: float = 0.0
+    label_margins: tuple[tuple[str, float], ...] = ()
+    obstacle_margin: float = 0.0
     # Bounded disturbances (plansynth.reach.robust): the set W of x' = A x + B u + w and
     # the feedback design of the file's robot.disturbance. A problem with one is planned
     # robustly: solve() plans its tightened problem, which carries the tube instead.
@@ -128,6 +150,16 @@ class ReachProblem:
             self,
             "labels",
             tuple((str(k), v) for k, v in (self.labels.items() if isinstance(self.labels, Mapping) else self.labels)),
+        )
+        object.__setattr__(
+            self,
+            "label_margins",
+            tuple(
+                (str(k), v)
+                for k, v in (
+                    self.label_margins.items() if isinstance(self.label_margins, Mapping) else self.label_margins
+                )
+            ),
         )
         object.__setattr__(self, "start", _frozen_array(np.asarray(self.start, dtype=float).reshape(-1)))
         object.__setattr__(self, "input_bound", float(self.input_bound))
@@ -145,6 +177,29 @@ class ReachProblem:
         if self.goal is not None:
             out.setdefault("goal", self.goal)
         return out
+
+    def reach_view(self) -> ReachProblem:
+        """The reach-avoid problem under a mission: the goal the whole workspace (so "p_N
+        in the goal" holds for every position) and no mission (its labels and readings are
+        the mission planners' and checker's business): what the validator and the
+        reach-avoid machinery see of a mission problem."""
+        from dataclasses import replace
+
+        return replace(
+            self,
+            goal=self.workspace,
+            labels=(),
+            mission=None,
+            reading="segment",
+            end="rest",
+            margin=0.0,
+            label_margins=(),
+            obstacle_margin=0.0,
+        )
+
+    def label_margin(self, name: str) -> float:
+        """The margin of label ``name``: its own, else the mission's ``margin``."""
+        return float(dict(self.label_margins).get(name, self.margin))
 
     @property
     def start_position(self) -> np.ndarray:
@@ -200,6 +255,11 @@ class ReachProblem:
             None if self.robot_shape is None or self.robot_shape.is_point else self.robot_shape,
             self.labels,
             self.mission,
+            self.reading,
+            self.end,
+            self.margin,
+            self.label_margins,
+            self.obstacle_margin,
             self.disturbance,
             self.tube,
         )
@@ -395,13 +455,34 @@ def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:
 
 
 def _check_mission(p: ReachProblem, d: int) -> None:
-    """Labels and mission at the door: names, shapes, the formula's syntax and names."""
+    """Labels and mission at the door: names, shapes, margins, the reading and the end,
+    the formula's syntax, size and names (the limits of :mod:`plansynth.reach.ltl.syntax`
+    and :data:`MAX_LABELS`)."""
+    src = p.source
+    if p.mission is None:
+        for name, value, default in (
+            ("reading", p.reading, "segment"),
+            ("end", p.end, "rest"),
+            ("margin", p.margin, 0.0),
+            ("obstacle_margin", p.obstacle_margin, 0.0),
+        ):
+            if value != default:
+                raise InvalidProblem(src, f"mission.{name}", "only a problem with a mission reads it")
     if not p.labels and p.mission is None:
         return
     # imported here: a problem without a mission needs no parser
-    from plansynth.reach.ltl.syntax import KEYWORDS, LtlSyntaxError, parse, props
+    from plansynth.reach.ltl.syntax import (
+        KEYWORDS,
+        MAX_FORMULA_SIZE,
+        MAX_MISSION_CHARS,
+        LtlSyntaxError,
+        parse,
+        props,
+        unrolled_size,
+    )
 
-    src = p.source
+    if len(p.labels) > MAX_LABELS:
+        raise InvalidProblem(src, "labels", f"at most {MAX_LABELS} labels, got {len(p.labels)}")
     seen: set[str] = set()
     for name, shape in p.labels:
         where = f"labels.{name}"
@@ -419,21 +500,63 @@ def _check_mission(p: ReachProblem, d: int) -> None:
         if d != 2:
             raise InvalidProblem(src, where, "labels need a 2-D workspace (3-D missions are not supported)")
         _check_shape(shape, d, src, where)
+        if isinstance(shape, Polygon) and len(shape.vertices) > MAX_LABEL_VERTICES:
+            raise InvalidProblem(
+                src, where, f"at most {MAX_LABEL_VERTICES} vertices in a label, got {len(shape.vertices)}"
+            )
+    if p.reading not in MISSION_READINGS:
+        raise InvalidProblem(
+            src, "mission.reading", f"unknown reading {p.reading!r} (known: {', '.join(MISSION_READINGS)})"
+        )
+    if p.end not in MISSION_ENDS:
+        raise InvalidProblem(src, "mission.end", f"unknown end {p.end!r} (known: {', '.join(MISSION_ENDS)})")
+    for where, value in (("mission.margin", p.margin), ("mission.obstacle_margin", p.obstacle_margin)):
+        _check_margin(value, src, where)
+    known_labels = dict(p.labels)
+    for name, value in p.label_margins:
+        if name not in known_labels:
+            raise InvalidProblem(src, f"labels.{name}.margin", "a margin for a label that does not exist")
+        _check_margin(value, src, f"labels.{name}.margin")
+    for name, shape in p.mission_labels.items():
+        if p.label_margin(name) > 0 and not is_convex(shape):
+            field = f"labels.{name}.margin" if name in dict(p.label_margins) else "mission.margin"
+            raise InvalidProblem(
+                src,
+                field,
+                f"a margin needs a convex label, and {name} is not: write it as several convex labels "
+                "(a margin is the depth below, or the distance beyond, the label's edges)",
+            )
     if p.mission is None:
         return
     if not isinstance(p.mission, str):
         raise InvalidProblem(src, "mission", f"expected an LTL formula as a string, got {type_name(p.mission)}")
     if d != 2:
         raise InvalidProblem(src, "mission", "missions need a 2-D workspace (3-D missions are not supported)")
+    if len(p.mission) > MAX_MISSION_CHARS:
+        raise InvalidProblem(src, "mission", f"at most {MAX_MISSION_CHARS:,} characters, got {len(p.mission):,}")
     try:
         formula = parse(p.mission)
     except LtlSyntaxError as exc:
         raise InvalidProblem(src, "mission", str(exc)) from None
+    size = unrolled_size(formula)
+    if size > MAX_FORMULA_SIZE:
+        raise InvalidProblem(
+            src,
+            "mission",
+            f"at most {MAX_FORMULA_SIZE:,} distinct subformulas (bounded operators unrolled), got about {size:,}",
+        )
     known = p.mission_labels
     unknown = sorted(props(formula) - set(known))
     if unknown:
         have = ", ".join(sorted(known)) or "none"
         raise InvalidProblem(src, "mission", f"unknown label {unknown[0]!r} (labels: {have})")
+
+
+def _check_margin(value: Any, src: str | None, where: str) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InvalidProblem(src, where, f"expected a finite number, got {value!r}")
+    if value < 0 or value > MAX_COORDINATE:
+        raise InvalidProblem(src, where, f"must lie in [0, {MAX_COORDINATE:g}], got {value!r}")
 
 
 def _fmt(v: np.ndarray) -> str:

@@ -123,12 +123,14 @@ def _validate_trajectory(problem: ReachProblem, result: ReachResult, *, tol: flo
 
 def _validate_mission(problem: ReachProblem, result: ReachResult, *, tol: float) -> ReachResult:
     """The validator on the problem with the workspace as its goal (a mission has no goal
-    constraint), then the independent mission checker on the trajectory and its loop;
-    a failure of either turns the result into ``unknown``."""
+    constraint) and its obstacles grown by the mission's obstacle margin (the robot's
+    size checked by the validator itself), then the independent mission checker on the
+    trajectory and its loop, in the problem's reading; a failure of either turns the
+    result into ``unknown``."""
     from plansynth.reach.mission.check import check_mission
-    from plansynth.reach.mission.labels import planning_problem
+    from plansynth.reach.mission.labels import margin_problem
 
-    checked = _validate_trajectory(planning_problem(problem), result, tol=tol)
+    checked = _validate_trajectory(margin_problem(problem).reach_view(), result, tol=tol)
     if checked.status is not ReachStatus.FOUND:
         return checked
     t0 = time.perf_counter()
@@ -257,7 +259,7 @@ def solve(
         from plansynth.reach.robust.planning import annotated
 
         result = annotated(result, tight, tightening)
-    elif planned is not problem:
+    elif robot is not None and not robot.is_point:  # (a mission plans in the configuration space itself)
         from plansynth.reach.robot import robot_note
 
         note = robot_note(robot)

@@ -135,6 +135,10 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
             "seed": seed,
             "oracle_lp": oracle,
             "guarantee": getattr(res, "guarantee", None),
+            # a mission's plan: the reading, the end and the achieved margin the checker reports
+            "mission": None
+            if not getattr(res, "mission", None)
+            else {k: res.mission.get(k) for k in ("semantics", "reading", "end", "robustness", "ok")},
             "duration": None
             if res.trajectory is None or res.horizon is None or not problem.dynamics.dt
             else res.horizon * float(problem.dynamics.dt),

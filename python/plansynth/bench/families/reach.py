@@ -8,12 +8,14 @@ controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
 boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
 ``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
 sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
-``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`).
+``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`);
+``missions-literature`` the temporal-logic planning literature's scenarios (keys and
+doors, target groups, dwell, stepping stones, obstacles as labels:
+:mod:`plansynth.reach.mission.literature`).
 ``team`` holds the teams of robots and moving obstacles of
 :data:`plansynth.reach.team.families.TEAM_CASES` (SMC-LTL's crossing, the corridor swap,
 the room's corners, the mazes with 2 and 4 robots, antipodal crossings, the patrolled
 gap, the narrow corridor).
-
 ``robust`` holds the mazes under bounded disturbances (:func:`plansynth.reach.families.windy_maze`):
 each maze at growing disturbance boxes, a mission under the same disturbance, and a
 disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`).
@@ -30,7 +32,14 @@ from typing import Any
 
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["REACH_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "ROBUST_SCALES", "reach_family"]
+__all__ = [
+    "REACH_FAMILIES",
+    "MISSION_FAMILIES",
+    "PAPER_TABLE_I",
+    "RANDOM_DYNAMICS_STATES",
+    "ROBUST_SCALES",
+    "reach_family",
+]
 
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
@@ -41,7 +50,19 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze", "robust", "team")
+REACH_FAMILIES = (
+    "maze",
+    "chain",
+    "random",
+    "random-dynamics",
+    "missions",
+    "missions-literature",
+    "gcs-maze",
+    "robust",
+    "team",
+)
+#: The families whose problems have an LTL mission (planned by the mission planners only).
+MISSION_FAMILIES = ("missions", "missions-literature")
 #: the robust family's disturbance scales (times WINDY_BOX: 2 cm and 5 cm/s per step at 1)
 ROBUST_SCALES = (1.0, 2.0, 4.0)
 #: its mission under disturbance
@@ -108,8 +129,18 @@ def reach_family(
         from plansynth.reach.mission.families import MISSIONS
 
         for n in values or [1, 2, 3, 4]:
+            if isinstance(n, bool) or not isinstance(n, int) or n not in (1, 2, 3, 4):
+                raise ValueError(f"the mission mazes are maze-1..4, got {n!r}")
             for m in MISSIONS:
                 out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
+    elif name == "missions-literature":  # the temporal-logic planning literature's scenarios
+        from plansynth.reach.mission.literature import SCENARIOS, scenario_names
+
+        for key in values or list(SCENARIOS):
+            if key not in SCENARIOS:
+                raise ValueError(f"unknown scenario {key!r} (known: {', '.join(SCENARIOS)})")
+            for inst in scenario_names(key):
+                out.append(Instance("reach", "missions-literature", inst, {"name": inst}, None))
     elif name == "robust":  # values are passage counts
         from plansynth.reach.families import windy_name
 

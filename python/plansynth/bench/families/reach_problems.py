@@ -60,6 +60,12 @@ def _team(case: str) -> Any:
     return team_case(case)
 
 
+def _missions_literature(name: str) -> Any:
+    from plansynth.reach.mission.literature import literature_problem
+
+    return literature_problem(name)
+
+
 def _robust(n: int, scale: float, mission: str | None = None, narrow: bool = False) -> Any:
     from dataclasses import replace
 
@@ -76,6 +82,7 @@ def _robust(n: int, scale: float, mission: str | None = None, narrow: bool = Fal
 
 
 REACH_PROBLEMS: dict[str, Any] = {
+    "missions-literature": _missions_literature,
     "maze": _maze,
     "chain": _chain,
     "random": _random,

@@ -136,6 +136,7 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
                 "expected": (rs[0]["setup"] or {}).get("expected"),
                 "samples_only": any(r.get("segment_safe") == 0 for r in solved),
                 "program": (first.get("attributes") or {}).get("program"),
+                "mission": (first.get("attributes") or {}).get("mission"),
                 # the limit beside the time: one cold LP over the final region sequence (median)
                 "oracle_lp": _median_attr(solved, "oracle_lp", "seconds"),
                 "duration": _median_attr(solved, "duration"),

@@ -16,7 +16,7 @@ from plansynth.bench.report.counterexamples import CX_VARIANTS, counterexample_t
 from plansynth.bench.report.gcs import gcs_maze_table, gcs_table
 from plansynth.bench.report.horizons import minimal_table
 from plansynth.bench.report.mazes import table_one
-from plansynth.bench.report.missions import missions_table
+from plansynth.bench.report.missions import missions_literature_table, missions_table
 from plansynth.bench.report.robust import robust_section
 from plansynth.bench.report.team import TEAM_COLUMNS, team_table
 from plansynth.bench.solvers import REACH_ORDER
@@ -46,6 +46,7 @@ def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix
     L += chains_section(cells, reach_planners, out, image_prefix)
     L += random_dynamics_section(cells, reach_planners)
     L += missions_table(cells)
+    L += missions_literature_table(cells)
     L += robust_section(cells)
     L += gcs_maze_table(cells)
     L += _random_workspaces(cells, reach_planners)

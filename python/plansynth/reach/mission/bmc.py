@@ -10,13 +10,19 @@ position* s in 1..L, chosen by exactly one loop selector:
 
 * ``loop[L, j]`` (a lasso, j = k + 1): x_L = x_k, so the robot repeats x_k..x_L
   forever; DIS-PLAN asks r_L = r_k, CON-PLAN asks x_L = x_k;
-* ``stay[L]`` (a finite plan): s = L, the last position repeats (the robot stays in its
-  last region: the finite reading of :mod:`plansynth.reach.mission.ltl`).
+* ``stay[L]`` (a finite plan): with the end at rest, s = L, the last position repeats
+  (the robot stays in its last region: the reading of :mod:`plansynth.reach.mission.ltl`);
+  with a free end the word ends at L (LTL on finite traces): ``X f`` is false at L,
+  ``F``/``U`` must be met by L, ``G``/``R`` and the weak next ask nothing past L (the
+  virtual position L + 1 is left free, and the eventualities need no loop).
 
 For every subformula psi of the mission in negation normal form and every position
 i there is a variable [[psi]]_i, with the one-sided (polarity) clauses
 ``[[psi]]_i -> <psi's expansion at i>`` (``a U b`` at i: b_i, or a_i and [[a U b]]_{i+1};
-``X a``: [[a]]_{i+1}; labels: the region at i lies in the label, or outside it). These
+``X a``: [[a]]_{i+1}; labels: the region at i lies in the label, or outside it, at the
+label's margin: ``labels_of`` and ``negs_of`` of the label reading). Bounded operators are
+encoded as their unrolling (:func:`~plansynth.reach.ltl.syntax.unroll`: chains of ``X``
+whose copies share their subformula, about 2 (b + 1) nodes for ``F[a,b] f``). These
 clauses never change with L: position i's clauses mention position i + 1, which at
 horizon L is the virtual position L + 1 whose values are those of position s
 (``selector -> ([[psi]]_{L+1} -> [[psi]]_s)``, guarded by the horizon's activation
@@ -59,7 +65,7 @@ from pysat.card import CardEnc, EncType
 from pysat.formula import IDPool
 from pysat.solvers import Solver
 
-from plansynth.budget import Clock
+from plansynth.budget import Clock, checkpoint
 from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.lazy.displan import PAIRWISE_MAX_REGIONS
 from plansynth.reach.lazy.regiongraph import RegionGraph
@@ -76,9 +82,11 @@ from plansynth.reach.mission.ltl import (
     Prop,
     Release,
     Until,
+    WeakNext,
     children,
     nnf,
     subformulas,
+    unroll,
 )
 from plansynth.reach.mission.options import SEMANTICS
 from plansynth.reach.mission.plans import LoopConflict, MissionPlan, StayConflict
@@ -89,7 +97,10 @@ __all__ = ["MissionDisPlan", "MissionPlan", "SEMANTICS"]
 class MissionDisPlan(LearnedClauses):
     """One incremental SAT instance for the mission over growing horizons.
 
-    ``labels_of[i]``: the labels region i lies in (it is outside every other one).
+    ``labels_of[i]``: the labels that hold in region i; ``negs_of[i]``: those whose
+    negation holds there (default: every other label; with margins a region in a label's
+    band holds neither). ``end``: how a finite plan ends, ``rest`` or ``free`` (the
+    problem's; see the module doc).
     ``semantics``: which plans to look for: ``finite`` (stay selectors only),
     ``lasso`` (loop selectors only) or ``any`` (both; finite plans are tried first by
     the decision phases). ``earliest[i]``: region i is impossible before that step (a
@@ -108,14 +119,24 @@ class MissionDisPlan(LearnedClauses):
         semantics: str = "any",
         earliest: Sequence[float] | None = None,
         waits_at_start: bool = False,
+        negs_of: Sequence[frozenset[str]] | None = None,
+        end: str = "rest",
     ) -> None:
+        if end not in ("rest", "free"):
+            raise ValueError(f"unknown end {end!r} (known: rest, free)")
         if semantics not in SEMANTICS:
             raise ValueError(f"unknown semantics {semantics!r} (known: {', '.join(SEMANTICS)})")
         if len(labels_of) != graph.n_regions:
             raise ValueError(f"labels for {len(labels_of)} regions, the graph has {graph.n_regions}")
         self.graph = graph
         self.labels_of = [frozenset(s) for s in labels_of]
-        self.formula = nnf(formula)
+        if negs_of is None:
+            names = frozenset().union(*self.labels_of) if self.labels_of else frozenset()
+            names |= {g.name for g in subformulas(formula) if isinstance(g, Prop)}
+            negs_of = [names - s for s in self.labels_of]
+        self.negs_of = [frozenset(s) for s in negs_of]
+        self.end = end
+        self.formula = unroll(nnf(formula))
         self.semantics = semantics
         self.subs = [s for s in subformulas(self.formula) if not isinstance(s, Const)]
         self.index = {s: k for k, s in enumerate(self.subs)}
@@ -134,7 +155,7 @@ class MissionDisPlan(LearnedClauses):
         # the subformulas whose value at position i + 1 the clauses of position i use
         nxt: list[Formula] = []
         for s in self.subs:
-            if isinstance(s, Next) and not isinstance(s.arg, Const):
+            if isinstance(s, (Next, WeakNext)) and not isinstance(s.arg, Const):
                 nxt.append(s.arg)
             if isinstance(s, (Finally, Globally, Until, Release)):
                 nxt.append(s)
@@ -215,7 +236,9 @@ class MissionDisPlan(LearnedClauses):
             before, now = self.row(t - 1), self.row(t)
             for i in range(g.n_regions):
                 self._add([-before[i], now[i]] + [now[j] for j in g.adjacency[i]])
-        for f in self.subs:
+        for k, f in enumerate(self.subs):
+            if k % 1024 == 0:
+                checkpoint()  # a long mission: its encoding keeps the budget too
             self._expand(f, t)
 
     def _expand(self, f: Formula, i: int) -> None:
@@ -228,13 +251,13 @@ class MissionDisPlan(LearnedClauses):
         elif isinstance(f, Not):
             assert isinstance(f.arg, Prop), "negation normal form"
             row = self.row(i)
-            self._add([-v] + [row[r] for r in range(n) if f.arg.name not in self.labels_of[r]])
+            self._add([-v] + [row[r] for r in range(n) if f.arg.name in self.negs_of[r]])
         elif isinstance(f, And):
             self._add([-v, self.v(f.left, i)])
             self._add([-v, self.v(f.right, i)])
         elif isinstance(f, Or):
             self._add([-v, self.v(f.left, i), self.v(f.right, i)])
-        elif isinstance(f, Next):
+        elif isinstance(f, (Next, WeakNext)):
             self._add([-v, self.v(f.arg, i + 1)])
         elif isinstance(f, Finally):
             self._add([-v, self.v(f.arg, i), self.v(f, i + 1)])
@@ -284,17 +307,21 @@ class MissionDisPlan(LearnedClauses):
                 lits=[s for s, _ in sels], bound=1, vpool=self.pool, encoding=EncType.seqcounter
             ).clauses:
                 self._add(c)
+        free = self.end == "free"
         for s, j in sels:
             if s != self.stay(L):  # x_L = x_{j-1}: the same region
                 last, back = self.row(L), self.row(j - 1)
                 for i in range(self.graph.n_regions):
                     self._add([-s, -last[i], back[i]])
+            elif free:  # the word ends at L: no position L + 1 to map
+                self._end_at(s, L)
+                continue
             for f in self.next_subs:
                 self._add([-s, -self.v(f, L + 1), self.v(f, j)])
         # in[L, i]: position i is in the loop (the successor of L is at or before i)
         inl = [self.pool.id(("in", L, i)) for i in range(L + 1)]
         for i in range(L + 1):
-            here = [s for s, j in sels if j == i]
+            here = [s for s, j in sels if j == i and not (free and s == self.stay(L))]
             self._add([-inl[i]] + ([inl[i - 1]] if i > 0 else []) + here)
         for f in self.subs:
             if not isinstance(f, (Finally, Until)):
@@ -307,13 +334,25 @@ class MissionDisPlan(LearnedClauses):
                 self._add([-ev[i]] + ([ev[i - 1]] if i > 0 else []) + [c])
                 self._add([-c, inl[i]])
                 self._add([-c, self.v(b, i)])
-            self._add([-act, -self.v(f, L), ev[L]])
+            # a word that ends at L (free end) meets its eventualities by L (_end_at)
+            self._add([-act, -self.v(f, L), ev[L]] + ([self.stay(L)] if free else []))
         for c in self.conflicts:
             if c.anchored_goal and not c.anchored_start:
                 self._shift(c, L - c.horizon, L)
         for lits, k, h, shifted in self.loop_conflicts:
             if shifted and h != L:
                 self._loop_clause(lits, k, h, L - h)
+
+    def _end_at(self, s: int, L: int) -> None:
+        """The word ends at L (selector ``s``, free end): the strong next fails there and
+        every eventuality at L is met at L; the virtual position L + 1 stays free, so the
+        weak next, ``G`` and ``R`` ask nothing past L."""
+        for f in self.subs:
+            if isinstance(f, Next):
+                self._add([-s, -self.v(f, L)])
+            elif isinstance(f, (Finally, Until)):
+                b = f.arg if isinstance(f, Finally) else f.right
+                self._add([-s, -self.v(f, L), self.v(b, L)])
 
     def _shift(self, c: Conflict, shift: int, horizon: int | None) -> None:
         if c.first_time + shift < 0 or c.last_time + shift > self.built:
@@ -373,7 +412,7 @@ class MissionDisPlan(LearnedClauses):
         """A finite plan of horizon L with these (time, region) literals cannot end at
         rest (no admissible input keeps x_L where it is, which the finite reading needs):
         block them with the stay selector, at this horizon only."""
-        if self.semantics == "lasso":
+        if self.semantics == "lasso" or self.end == "free":
             return
         L = int(horizon)
         lits = sorted({(int(t), int(r)) for t, r in literals})

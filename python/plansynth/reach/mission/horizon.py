@@ -46,28 +46,45 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Sequence
 
-from plansynth.budget import Clock
+from plansynth.budget import BudgetExhausted, Clock
 from plansynth.reach.lazy.displan import RegionGraph
-from plansynth.reach.mission.ltl import Formula, nnf, props
+from plansynth.reach.mission.ltl import Formula, nnf, props, unroll
 from plansynth.reach.mission.proof import MAX_NODES, TooLarge, _components, _expand
 
-__all__ = ["horizon_lower_bound", "timed_horizon_bound", "product_graph", "live_states"]
+__all__ = ["horizon_lower_bound", "timed_horizon_bound", "product_graph", "live_states", "region_letters"]
 
 State = tuple[int, frozenset]  # (region, tableau node)
 
 
+def region_letters(labels_of, names: frozenset[str]) -> list[tuple[frozenset[str], frozenset[str]]]:
+    """Per region, (the labels that hold, those whose negation holds), restricted to
+    ``names``: from a :class:`~plansynth.reach.mission.labels.LabelledAbstraction`'s
+    letters, from such pairs, or from plain label sets (every other label's negation
+    holds)."""
+    letters = getattr(labels_of, "letters", labels_of)
+    out = []
+    for x in letters:
+        if isinstance(x, tuple):
+            out.append((frozenset(x[0]) & names, frozenset(x[1]) & names))
+        else:
+            out.append((frozenset(x) & names, names - frozenset(x)))
+    return out
+
+
 def product_graph(
-    graph: RegionGraph, labels_of: Sequence[frozenset[str]], formula: Formula, *, max_nodes: int = MAX_NODES
-) -> dict[State, list[tuple[State, frozenset]]]:
+    graph: RegionGraph, labels_of, formula: Formula, *, max_nodes: int = MAX_NODES
+) -> tuple[dict[State, list[tuple[State, frozenset]]], set[State]]:
     """The product of the region graph and the mission's tableau, from the start
     regions: ``edges[s]``, the successors of state s as (state, eventualities carried
-    on). Raises :class:`~plansynth.reach.mission.proof.TooLarge` past ``max_nodes``
-    states."""
-    f = nnf(formula)
+    on), and the states where a finite word may end (an expansion that carries no
+    strong obligation). ``labels_of``: see :func:`region_letters`. Raises
+    :class:`~plansynth.reach.mission.proof.TooLarge` past ``max_nodes`` states."""
+    f = unroll(nnf(formula))
     names = props(f)
-    letters = [(frozenset(labels_of[r]) & names, names - frozenset(labels_of[r])) for r in range(graph.n_regions)]
-    expand_cache: dict[tuple[frozenset, tuple], list[tuple[frozenset, frozenset]]] = {}
+    letters = region_letters(labels_of, names)
+    expand_cache: dict[tuple[frozenset, tuple], list[tuple[frozenset, frozenset, bool]]] = {}
     edges: dict[State, list[tuple[State, frozenset]]] = {}
+    final: set[State] = set()
     todo = [(r, frozenset({f})) for r in graph.start_regions]
     while todo:
         s = todo.pop()
@@ -79,10 +96,12 @@ def product_graph(
         key = (node, letters[r])  # regions with the same letter expand alike
         if key not in expand_cache:
             expand_cache[key] = _expand(node, letters[r])
-        out = [((r2, nxt), pend) for nxt, pend in expand_cache[key] for r2 in (r, *graph.adjacency[r])]
+        out = [((r2, nxt), pend) for nxt, pend, _ in expand_cache[key] for r2 in (r, *graph.adjacency[r])]
+        if any(not strong for _, _, strong in expand_cache[key]):
+            final.add(s)
         edges[s] = out
         todo += [v for v, _ in out if v not in edges]
-    return edges
+    return edges, final
 
 
 def live_states(
@@ -124,24 +143,31 @@ def _eventualities(edges: dict[State, list[tuple[State, frozenset]]]) -> frozens
 
 def horizon_lower_bound(
     graph: RegionGraph,
-    labels_of: Sequence[frozenset[str]],
+    labels_of,
     formula: Formula,
     earliest: Sequence[float] | None,
     max_horizon: int,
     *,
     max_nodes: int = MAX_NODES,
     clock: Clock | None = None,
+    end: str = "rest",
 ) -> int:
     """The smallest horizon L <= ``max_horizon`` at which DIS-PLAN may have a plan (see
     the module doc), ``max_horizon + 1`` when none has one, 0 when the product graph
-    is past ``max_nodes`` states or the ``clock`` runs out (no bound: 0 is always one)."""
+    is past ``max_nodes`` states or the ``clock`` runs out (no bound: 0 is always one).
+    ``labels_of``: see :func:`region_letters`; ``end``: with a free end a plan's word
+    may also end at L, in a state where no strong obligation is left."""
     try:
-        edges = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
-    except TooLarge:
+        if clock is None:
+            edges, final = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
+        else:
+            with clock.phase("the product graph of the horizon bound"):
+                edges, final = product_graph(graph, labels_of, formula, max_nodes=max_nodes)
+    except (TooLarge, BudgetExhausted):
         return 0
     early = list(earliest) if earliest is not None else [0] * graph.n_regions
     evs = _eventualities(edges)
-    f = nnf(formula)
+    f = unroll(nnf(formula))
     frontier = {(r, frozenset({f})) for r in graph.start_regions if early[r] <= 0}
     live: dict[frozenset[int], set[State]] = {}
     seen: set[int] = set()  # the regions a plan may visit at steps 0..t
@@ -154,7 +180,7 @@ def horizon_lower_bound(
         allowed = frozenset(seen)
         if allowed not in live:
             live[allowed] = live_states(edges, allowed, evs)
-        if frontier & live[allowed]:
+        if frontier & live[allowed] or (end == "free" and frontier & final):
             return t
         frontier = {v for s in frontier for v, _ in edges[s] if early[v[0]] <= t + 1}
     return max_horizon + 1
@@ -162,20 +188,22 @@ def horizon_lower_bound(
 
 def timed_horizon_bound(
     graph: RegionGraph,
-    labels_of: Sequence[frozenset[str]],
+    labels_of,
     formula: Formula,
     earliest: Sequence[float] | None,
     max_horizon: int,
     timings: dict,
     counters: dict,
     clock: Clock | None = None,
+    *,
+    end: str = "rest",
 ) -> int:
     """:func:`horizon_lower_bound` as both mission planners run it: its time goes to
     ``timings["horizon_bound"]``, the bound to ``counters["horizon_bound"]``."""
     import time
 
     t0 = time.perf_counter()
-    bound = horizon_lower_bound(graph, labels_of, formula, earliest, max_horizon, clock=clock)
+    bound = horizon_lower_bound(graph, labels_of, formula, earliest, max_horizon, clock=clock, end=end)
     timings["horizon_bound"] = time.perf_counter() - t0
     counters["horizon_bound"] = bound
     return bound

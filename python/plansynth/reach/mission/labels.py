@@ -1,18 +1,27 @@
-"""The abstraction that respects labels.
+"""The abstraction that respects labels, in the reading a mission asks for.
 
 The convex decomposition of the free space (:func:`plansynth.reach.abstraction.abstract`,
-Shoukry et al., CDC 2016, Section III) is refined by the label boundaries so that every
-region lies inside or outside each label (interiors disjoint). A region sequence then
-fixes which labels hold at every sample, and, with segment safety (the segment
-[p_t, p_{t+1}] lies in region r_t), along every segment too.
+Shoukry et al., CDC 2016, Section III) of the problem the planners plan in
+(:func:`planning_problem`: obstacles grown by the obstacle margin, the configuration
+space of a sized robot) is refined by the label boundaries so that every region lies
+inside or outside each label (interiors disjoint). With a margin r > 0 a label a is cut
+twice, along its shrunk and its grown shape (:mod:`plansynth.reach.offsets`): a region
+then lies at depth >= r in a (``a`` holds there), at distance >= r from it (``!a``
+holds), or in the band between (neither). :class:`LabelledAbstraction` says which
+literals hold in each region: ``labels_of`` and ``negs_of``, the mission's **label
+reading per region**, which the encodings take as given (a region's letter at a sample
+in it and, with segment safety, along a segment in it).
 
-Refinement, per region and label: a convex label splits a region into the part inside
-it and at most one convex piece outside per label edge (cut off one supporting
-half-plane at a time); a non-convex polygon label cuts the region along the supporting
-line of every edge that crosses it, after which no piece crosses the label's boundary,
-so each lies inside or outside it. Adjacency is inherited: two pieces are adjacent
-when they come from the same or from adjacent regions and share an edge of positive
-length (collinear, overlapping edges, within a tolerance relative to the workspace).
+Refinement, per region and cut: a convex cut splits a region into the part inside it and
+at most one convex piece outside per edge (cut off one supporting half-plane at a time);
+a non-convex polygon label is cut by shapely's intersection and difference, each
+decomposed into convex pieces (Hertel-Mehlhorn). Only the cuts whose bounding boxes meet
+a region's are tried. Adjacency is inherited: two pieces are adjacent when they come
+from the same or from adjacent regions and share an edge of positive length (collinear,
+overlapping edges, within a tolerance relative to the workspace; candidate pairs from a
+spatial index). The work checks the budget of the enclosing phase
+(:func:`plansynth.budget.checkpoint`), so a label of a thousand vertices or a thousand
+labels end within ``--timeout``.
 
 >>> from plansynth.reach.problem import Box, ReachProblem
 >>> from plansynth.reach.dynamics import single_integrator
@@ -22,32 +31,54 @@ length (collinear, overlapping edges, within a tolerance relative to the workspa
 >>> la = label_abstraction(p)
 >>> la.n_regions, sorted(sum((list(s) for s in la.labels_of), []))
 (5, ['a'])
+>>> from dataclasses import replace
+>>> la = label_abstraction(replace(p, margin=0.25))   # a band of 0.25 around a's edges
+>>> la.n_regions, sum("a" in s for s in la.labels_of), sum("a" not in s for s in la.negs_of)
+(13, 1, 5)
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
+import shapely
 from shapely.geometry import Point
 from shapely.geometry import Polygon as ShPolygon
 
+from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction, abstract
+from plansynth.reach.abstraction.hertel_mehlhorn import hertel_mehlhorn
 from plansynth.reach.abstraction.regions import region_from_cycle
-from plansynth.reach.geometry import Box, Polygon, Shape, halfspaces, is_convex, polygon_halfspaces
+from plansynth.reach.geometry import Box, Shape, halfspaces, is_convex, shape_to_shapely
+from plansynth.reach.offsets import area as _area
+from plansynth.reach.offsets import clip, grown, shrunk
 from plansynth.reach.problem import ReachProblem
+from plansynth.reach.robot import configuration_space
 
-__all__ = ["LabelledAbstraction", "label_abstraction", "clip", "planning_problem"]
+__all__ = ["LabelledAbstraction", "label_abstraction", "clip", "planning_problem", "margin_problem"]
+
+
+def margin_problem(problem: ReachProblem) -> ReachProblem:
+    """The problem with every obstacle grown by the mission's obstacle margin
+    (:func:`plansynth.reach.offsets.grown`): the problem a trajectory is validated
+    against (the robot's size included, checked by the validator itself)."""
+    if problem.obstacle_margin <= 0:
+        return problem
+    r = problem.obstacle_margin
+    return replace(problem, obstacles=tuple(grown(o, r) for o in problem.obstacles))
 
 
 def planning_problem(problem: ReachProblem) -> ReachProblem:
     """The problem the reach-avoid machinery (decomposition, CON-PLAN) plans in for a
-    mission: the goal replaced by the whole workspace, so that "p_N in the goal" holds
-    for every position and the mission alone constrains the plan."""
-    return replace(problem, goal=problem.workspace)
+    mission: obstacles grown by the obstacle margin (:func:`margin_problem`), a sized
+    robot's configuration space (:func:`plansynth.reach.robot.configuration_space`: the
+    labels are read at the robot's reference point), and the goal replaced by the whole
+    workspace, so that "p_N in the goal" holds for every position and the mission alone
+    constrains the plan (the problem has no mission itself)."""
+    return configuration_space(margin_problem(problem)).reach_view()
 
 
 Pt = tuple[float, float]
@@ -56,13 +87,22 @@ Pt = tuple[float, float]
 @dataclass(frozen=True, eq=False)
 class LabelledAbstraction:
     """Regions refined by the labels: ``abstraction`` (its ``goal_regions`` are all
-    regions: a mission has no fixed goal), ``labels_of[i]`` the labels region i lies
-    in, ``parent[i]`` the region of the unrefined decomposition it came from."""
+    regions: a mission has no fixed goal); ``labels_of[i]``, the labels a holds in region
+    i (it lies in a, at depth >= a's margin); ``negs_of[i]``, the labels whose negation
+    holds there (it lies outside a, at distance >= a's margin; without margins, every
+    label not in ``labels_of[i]``); ``parent[i]``, the region of the unrefined
+    decomposition it came from."""
 
     abstraction: Abstraction
     names: tuple[str, ...]
     labels_of: tuple[frozenset[str], ...]
     parent: tuple[int, ...]
+    negs_of: tuple[frozenset[str], ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.negs_of:
+            names = frozenset(self.names)
+            object.__setattr__(self, "negs_of", tuple(names - s for s in self.labels_of))
 
     @property
     def n_regions(self) -> int:
@@ -71,36 +111,10 @@ class LabelledAbstraction:
     def regions_with(self, name: str) -> tuple[int, ...]:
         return tuple(i for i, s in enumerate(self.labels_of) if name in s)
 
-
-def clip(poly: Sequence[Pt], n: np.ndarray, c: float) -> list[Pt]:
-    """Sutherland-Hodgman: the part of the convex polygon ``poly`` with ``n . p <= c``.
-
-    >>> clip([(0, 0), (2, 0), (2, 2), (0, 2)], np.array([1.0, 0.0]), 1.0)
-    [(0, 0), (1.0, 0.0), (1.0, 2.0), (0, 2)]
-    """
-    out: list[Pt] = []
-    k = len(poly)
-    for i in range(k):
-        p, q = poly[i], poly[(i + 1) % k]
-        fp = n[0] * p[0] + n[1] * p[1] - c
-        fq = n[0] * q[0] + n[1] * q[1] - c
-        if fp <= 0:
-            out.append(p)
-        if (fp < 0 < fq) or (fq < 0 < fp):
-            t = float(fp / (fp - fq))
-            out.append((float(p[0] + t * (q[0] - p[0])), float(p[1] + t * (q[1] - p[1]))))
-    return out
-
-
-def _area(poly: Sequence[Pt]) -> float:
-    if len(poly) < 3:
-        return 0.0
-    s = 0.0
-    for i in range(len(poly)):
-        x0, y0 = poly[i]
-        x1, y1 = poly[(i + 1) % len(poly)]
-        s += x0 * y1 - x1 * y0
-    return abs(0.5 * s)
+    @property
+    def letters(self) -> tuple[tuple[frozenset[str], frozenset[str]], ...]:
+        """Per region, (the labels that hold, the labels whose negation holds)."""
+        return tuple(zip(self.labels_of, self.negs_of))
 
 
 def _split_convex(piece: list[Pt], H: np.ndarray, h: np.ndarray, tiny: float) -> list[list[Pt]]:
@@ -119,27 +133,63 @@ def _split_convex(piece: list[Pt], H: np.ndarray, h: np.ndarray, tiny: float) ->
     return out
 
 
-def _split_lines(piece: list[Pt], H: np.ndarray, h: np.ndarray, tiny: float) -> list[list[Pt]]:
-    pieces = [piece]
-    for n, c in zip(H, h):
-        nxt = []
-        for pc in pieces:
-            a, b = clip(pc, n, c), clip(pc, -n, -c)
-            if _area(a) > tiny and _area(b) > tiny:
-                nxt += [a, b]
-            else:
-                nxt.append(pc)
-        pieces = nxt
-    return pieces
+def _split_polygon(piece: list[Pt], label: ShPolygon, tiny: float) -> list[list[Pt]]:
+    """``piece`` cut along the non-convex ``label``: its parts inside and outside, each
+    decomposed into convex pieces (Hertel-Mehlhorn over a constrained triangulation)."""
+    g = ShPolygon(piece)
+    inside = g.intersection(label)
+    if inside.area <= tiny:
+        return [piece]
+    if g.area - inside.area <= tiny:
+        return [piece]
+    out: list[list[Pt]] = []
+    for part in (inside, g.difference(label)):
+        polys = [q for q in shapely.get_parts(part) if isinstance(q, ShPolygon) and q.area > tiny]
+        if not polys:
+            continue
+        cycles, _ = hertel_mehlhorn(polys)
+        out += [[(float(x), float(y)) for x, y in c] for c in cycles if _area(c) > tiny]
+    return out
 
 
-def _label_rows(shape: Shape) -> tuple[np.ndarray, np.ndarray, bool]:
-    if is_convex(shape):
-        H, h = halfspaces(shape)
-        return H, h, True
-    assert isinstance(shape, Polygon)
-    H, h = polygon_halfspaces(np.array(shape.vertices))
-    return H, h, False
+@dataclass(frozen=True)
+class _Cut:
+    """One shape the regions are cut along: a convex one by its rows, a non-convex
+    polygon by its shapely geometry; ``box`` its bounding box."""
+
+    shape: Shape
+    rows: tuple[np.ndarray, np.ndarray] | None
+    geom: ShPolygon | None
+    box: tuple[float, float, float, float]
+
+    @classmethod
+    def of(cls, shape: Shape) -> _Cut:
+        g = shape_to_shapely(shape)
+        rows = halfspaces(shape) if is_convex(shape) else None
+        return cls(shape, rows, None if rows is not None else g, tuple(g.bounds))  # type: ignore[arg-type]
+
+    def contains(self, c: np.ndarray) -> bool:
+        """Is the interior point c of a region inside the cut (the region then is)?"""
+        if isinstance(self.shape, Box):
+            return all(l < x < hh for l, hh, x in zip(self.shape.lo, self.shape.hi, c))
+        if self.rows is not None:
+            H, h = self.rows
+            return bool(np.all(H @ c < h))
+        assert self.geom is not None
+        return bool(self.geom.contains(Point(float(c[0]), float(c[1]))))
+
+
+def _cuts(problem: ReachProblem, names: tuple[str, ...]) -> dict[str, tuple[_Cut | None, _Cut]]:
+    """Per label: (the shape where it holds, the shape outside of which its negation
+    holds): the label itself twice without a margin, its shrunk and grown shapes with one
+    (the first None when no point lies that deep)."""
+    labels = problem.mission_labels
+    out = {}
+    for n in names:
+        r = problem.label_margin(n)
+        inner = shrunk(labels[n], r)
+        out[n] = (None if inner is None else _Cut.of(inner), _Cut.of(grown(labels[n], r)))
+    return out
 
 
 def _adjacent(a: list[Pt], b: list[Pt], tol: float) -> bool:
@@ -170,62 +220,57 @@ def _adjacent(a: list[Pt], b: list[Pt], tol: float) -> bool:
 
 
 def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) -> LabelledAbstraction:
-    """Refine ``base`` (default: :func:`abstract` of the problem) by the problem's
-    mission labels (``problem.mission_labels``: the labels and the goal). 2-D only."""
+    """Refine ``base`` (default: :func:`abstract` of the :func:`planning_problem`) by the
+    problem's mission labels (``problem.mission_labels``: the labels and the goal), at
+    their margins. 2-D only. Checks the enclosing phase's budget as it goes."""
     t0 = time.perf_counter()
     if base is None:
         base = abstract(planning_problem(problem))
-    labels = problem.mission_labels
-    names = tuple(labels)
+    names = tuple(problem.mission_labels)
     ws = problem.workspace
     scale = max(h - l for l, h in zip(ws.lo, ws.hi))
     tiny = 1e-10 * scale * scale
     tol = 1e-7 * scale
+    cut_of = _cuts(problem, names)
+    cuts = [c for n in names for c in cut_of[n] if c is not None]
+    cuts = list({c.shape: c for c in cuts}.values())  # without a margin a label is one cut
     pieces: list[list[Pt]] = []
     parent: list[int] = []
     for reg in base.regions:
+        checkpoint()
         cur = [[(float(x), float(y)) for x, y in reg.vertices]]
-        for name in names:
-            H, h, convex = _label_rows(labels[name])
+        V = np.asarray(reg.vertices, float)
+        rx0, ry0 = V.min(axis=0)
+        rx1, ry1 = V.max(axis=0)
+        for cut in cuts:
+            x0, y0, x1, y1 = cut.box
+            if x1 <= rx0 or x0 >= rx1 or y1 <= ry0 or y0 >= ry1:
+                continue  # the cut does not meet the region's box: nothing to split
             nxt = []
             for pc in cur:
-                nxt += _split_convex(pc, H, h, tiny) if convex else _split_lines(pc, H, h, tiny)
+                if cut.rows is not None:
+                    nxt += _split_convex(pc, cut.rows[0], cut.rows[1], tiny)
+                else:
+                    nxt += _split_polygon(pc, cut.geom, tiny)
             cur = nxt
+            checkpoint()
         for pc in cur:
             pieces.append(pc)
             parent.append(reg.index)
     regions = [region_from_cycle(i, pc) for i, pc in enumerate(pieces)]
-    geoms = {n: (ShPolygon(labels[n].vertices) if isinstance(labels[n], Polygon) else None) for n in names}
-    labels_of = []
+    labels_of, negs_of = [], []
     for r in regions:
         c = r.center
-        inside = set()
+        holds, fails = set(), set()
         for n in names:
-            s = labels[n]
-            if isinstance(s, Box):
-                if all(l < x < hh for l, hh, x in zip(s.lo, s.hi, c)):
-                    inside.add(n)
-            elif geoms[n].contains(Point(float(c[0]), float(c[1]))):
-                inside.add(n)
-        labels_of.append(frozenset(inside))
-    near = {(i, j) for i in range(base.n_regions) for j in (i, *base.adjacency[i])}
-    nbrs: list[list[int]] = [[] for _ in regions]
-    verts = [[(float(x), float(y)) for x, y in r.vertices.tolist()] for r in regions]
-    boxes = [
-        (min(x for x, _ in v) - tol, min(y for _, y in v) - tol, max(x for x, _ in v) + tol, max(y for _, y in v) + tol)
-        for v in verts
-    ]
-    for i in range(len(regions)):
-        bi = boxes[i]
-        for j in range(i + 1, len(regions)):
-            if (parent[i], parent[j]) not in near:
-                continue
-            bj = boxes[j]
-            if bi[2] < bj[0] or bi[3] < bj[1] or bj[2] < bi[0] or bj[3] < bi[1]:
-                continue
-            if _adjacent(verts[i], verts[j], tol):
-                nbrs[i].append(j)
-                nbrs[j].append(i)
+            inner, outer = cut_of[n]
+            if inner is not None and inner.contains(c):
+                holds.add(n)
+            if not outer.contains(c):
+                fails.add(n)
+        labels_of.append(frozenset(holds))
+        negs_of.append(frozenset(fails))
+    nbrs = _adjacency(regions, parent, base, tol)
     start = problem.start_position
     start_regions = tuple(r.index for r in regions if r.contains(start, 1e-9 * scale))
     abstraction = Abstraction(
@@ -238,4 +283,32 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
         candidates=base.candidates,
         exact=base.exact,  # the pieces tile the base regions: they cover what those cover
     )
-    return LabelledAbstraction(abstraction, names, tuple(labels_of), tuple(parent))
+    return LabelledAbstraction(abstraction, names, tuple(labels_of), tuple(parent), tuple(negs_of))
+
+
+def _adjacency(regions, parent: list[int], base: Abstraction, tol: float) -> list[list[int]]:
+    """Pieces that share an edge of positive length, among pairs from the same or from
+    adjacent base regions whose boxes (grown by ``tol``) meet (an R-tree query)."""
+    near = {(i, j) for i in range(base.n_regions) for j in (i, *base.adjacency[i])}
+    verts = [[(float(x), float(y)) for x, y in r.vertices.tolist()] for r in regions]
+    boxes = [
+        shapely.box(
+            min(x for x, _ in v) - tol,
+            min(y for _, y in v) - tol,
+            max(x for x, _ in v) + tol,
+            max(y for _, y in v) + tol,
+        )
+        for v in verts
+    ]
+    nbrs: list[list[int]] = [[] for _ in regions]
+    if not regions:
+        return nbrs
+    tree = shapely.STRtree(boxes)
+    left, right = tree.query(boxes, predicate="intersects")
+    for i, j in zip(left.tolist(), right.tolist()):
+        if j <= i or (parent[i], parent[j]) not in near:
+            continue
+        if _adjacent(verts[i], verts[j], tol):
+            nbrs[i].append(j)
+            nbrs[j].append(i)
+    return nbrs

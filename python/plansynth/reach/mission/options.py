@@ -7,6 +7,11 @@ MILP baselines ``milp-ltl`` and ``milp-ltl-oneshot`` take
 (:mod:`plansynth.reach.mission.milp`). Each field's help line is what ``plansynth reach
 solve --help`` lists for ``-O KEY=VALUE``. Nothing heavy is imported here.
 
+How the mission reads a plan is the problem's, not a planner's option: its reading
+(segment or sample: ``--reading``, which ``--no-segment-safe`` selects too), the end of
+a finite plan (``--end``) and the margins (``--margin``, ``--obstacle-margin``), so that
+every planner and the checker read it alike.
+
 >>> MissionOptions().semantics, MilpLtlOptions(one_shot=True).one_shot
 ('any', True)
 >>> MissionOptions(semantics="periodic")
@@ -20,12 +25,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from plansynth.options import check_fields, option
-from plansynth.reach.lazy.options import MAX_HORIZON_DOC, SEGMENT_SAFE_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
+from plansynth.reach.lazy.options import MAX_HORIZON_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
 
 __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 
-#: The plans a mission planner looks for: ``finite`` (the robot stays at its last state
-#: forever), ``lasso`` (x_L = x_k: it repeats x_k..x_L forever) or ``any`` of the two.
+#: The plans a mission planner looks for: ``finite`` (ending at rest, the robot staying at
+#: its last state, or free, as the problem's ``end`` says), ``lasso`` (x_L = x_k: it
+#: repeats x_k..x_L forever) or ``any`` of the two.
 SEMANTICS = ("any", "finite", "lasso")
 
 
@@ -36,10 +42,9 @@ class _BoundedMission:
     max_horizon: int | None = option(None, MAX_HORIZON_DOC, minimum=0)
     semantics: str = option(
         "any",
-        "the plans looked for: any (finite or lasso, finite first), finite (ending at rest) or lasso",
+        "the plans looked for: any (finite or lasso, finite first), finite (ending as the problem's end says: at rest or free) or lasso",
         choices=SEMANTICS,
     )
-    segment_safe: bool = option(True, SEGMENT_SAFE_DOC)
     lower_bound: bool = option(
         True, "each region impossible before its earliest step from the displacement-box relaxation"
     )

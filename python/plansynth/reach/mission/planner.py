@@ -20,20 +20,33 @@ theory :class:`~plansynth.reach.mission.theory.MissionTheory`. Every plan goes t
 the validator and the independent mission checker (:mod:`plansynth.reach.mission.check`)
 in :func:`plansynth.reach.solve` before it is reported.
 
-**What ``infeasible`` means** (as in :mod:`plansynth.reach.lazy.claims`). DIS-PLAN moves
-one region per step, so refuting every horizon proves only that no plan *through the
-label-refined decomposition* exists; a real trajectory may cross several regions in one
-step. The answer is ``infeasible`` only when :func:`~plansynth.reach.mission.proof.label_proof`
-holds: no infinite word over the letters the labels' geometry allows satisfies the
-mission, so no trajectory does at any horizon (``counters["label_proof"]``). When the loop
-refutes every horizon without it, the answer is ``unknown`` and says "not a proof"
-(``counters["abstraction_refuted"]``). For the same reason the shortest horizon found is
-minimal through the decomposition only (``counters["minimal_relative_to"]``).
+**The reading** is the problem's (``problem.reading``): in the **segment** reading
+CON-PLAN keeps every segment in its region (segment safety), so a region's letter holds
+along the segment, and DIS-PLAN moves to adjacent regions; in the **sample** reading
+CON-PLAN constrains the samples only and DIS-PLAN's steps go between any two regions one
+step can connect (:func:`~plansynth.reach.lazy.bounds.step_adjacency`, as the reach-avoid
+planner's samples mode). A finite plan ends at rest or freely (``problem.end``); the
+labels are read at their margins (:mod:`plansynth.reach.mission.labels`), the obstacles
+at theirs, a sized robot in its configuration space.
+
+**What ``infeasible`` means** (as in :mod:`plansynth.reach.lazy.claims`). In the segment
+reading DIS-PLAN moves one region per step, so refuting every horizon proves only that
+no plan *through the label-refined decomposition* exists; a real trajectory may cross
+several regions in one step. The answer is then ``infeasible`` only when
+:func:`~plansynth.reach.mission.proof.label_proof` holds: no word over the letters the
+labels' geometry allows satisfies the mission, so no trajectory does at any horizon
+(``counters["label_proof"]``). When the loop refutes every horizon without it, the answer
+is ``unknown`` and says "not a proof" (``counters["abstraction_refuted"]``), and the
+shortest horizon found is minimal through the decomposition only
+(``counters["minimal_relative_to"]``). In the sample reading, over regions that cover the
+free space, the search is exact: every trajectory's samples lie in regions one step
+apart, each read as the checker reads its sample, so a refuted horizon is refuted for the
+problem and the shortest horizon found is minimal (``minimal_relative_to: problem``).
 
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = plan_mission(mission_problem("maze-1", "avoid-until"))
 >>> r.status.value, r.horizon, r.mission["semantics"]
-('found', 31, 'finite')
+('found', 30, 'finite')
 """
 
 from __future__ import annotations
@@ -42,9 +55,10 @@ import time
 from dataclasses import asdict, replace
 from typing import Any
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
-from plansynth.reach.lazy.bounds import time_windows
+from plansynth.reach.lazy.bounds import step_adjacency, time_windows
+from plansynth.reach.lazy.claims import EXACT_SAMPLES
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import RegionGraph
 from plansynth.reach.lazy.loop import LoopOutcome, ProgressFn, lazy_loop
@@ -54,6 +68,7 @@ from plansynth.reach.mission.labels import LabelledAbstraction, label_abstractio
 from plansynth.reach.mission.looplp import LoopLP
 from plansynth.reach.mission.ltl import parse
 from plansynth.reach.mission.options import MissionOptions
+from plansynth.reach.mission.plans import MissionPlan
 from plansynth.reach.mission.proof import NOT_A_PROOF, timed_label_proof
 from plansynth.reach.mission.theory import MissionTheory, MissionTransit
 from plansynth.reach.problem import ReachProblem
@@ -87,17 +102,18 @@ def plan_mission(
     clock = budget.clock()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
-    pp = planning_problem(problem)
-    if labelled is None:
-        t0 = time.perf_counter()
-        labelled = label_abstraction(problem)
-        timings["abstraction"] = time.perf_counter() - t0
-    ab = labelled.abstraction
-    graph = RegionGraph.from_abstraction(ab)
-    t0 = time.perf_counter()
-    earliest = time_windows(pp, ab, L_max).earliest if opts.lower_bound else None
-    timings["bounds"] = time.perf_counter() - t0
+    counters: dict[str, Any] = {}
+    segment = problem.reading == "segment"
     formula = parse(problem.mission)
+    try:
+        setup = mission_setup(problem, clock, timings, L_max, labelled=labelled, lower_bound=opts.lower_bound)
+    except BudgetExhausted as exc:  # in the label refinement or the bounds
+        timings["total"] = time.perf_counter() - t_start
+        return _result(
+            problem, opts, L_max, budget, timings, counters, LoopOutcome(ReachStatus.UNKNOWN, None, str(exc))
+        )
+    pp, labelled, graph, earliest = setup
+    ab = labelled.abstraction
     displan = MissionDisPlan(
         graph,
         labelled.labels_of,
@@ -105,17 +121,24 @@ def plan_mission(
         semantics=opts.semantics,
         earliest=earliest,
         waits_at_start=opts.wait_shifts and problem.starts_at_rest,
+        negs_of=labelled.negs_of,
+        end=problem.end,
     )
     conplan = ConPlan(
-        pp, ab, segment_safe=opts.segment_safe, counterexample="trivial", generalize=True, minimize=True, clock=clock
+        pp, ab, segment_safe=segment, counterexample="trivial", generalize=True, minimize=True, clock=clock
     )
-    loop_lp = LoopLP(pp, ab, segment_safe=opts.segment_safe)
+    loop_lp = LoopLP(pp, ab, segment_safe=segment)
     theory = MissionTheory(
-        MissionTransit(conplan, ab) if opts.transit else conplan, loop_lp, clock, loop_first=opts.loop_first
+        MissionTransit(conplan, ab) if opts.transit else conplan,
+        loop_lp,
+        clock,
+        loop_first=opts.loop_first,
+        end=problem.end,
     )
-    counters: dict[str, Any] = {"regions": graph.n_regions, "edges": ab.n_edges}
+    counters.update(regions=graph.n_regions, edges=ab.n_edges, step_edges=sum(map(len, graph.adjacency)) // 2)
+    exact = not segment and ab.exact  # samples, steps between any regions one step connects
 
-    proved, why = timed_label_proof(problem, labelled, timings, counters)
+    proved, why = timed_label_proof(problem, labelled, timings, counters, clock)
     if proved:
         out = LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     elif not ab.start_regions:
@@ -123,7 +146,7 @@ def plan_mission(
         out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"the start lies in no region; {NOT_A_PROOF}")
     else:
         L0 = (
-            timed_horizon_bound(graph, labelled.labels_of, formula, earliest, L_max, timings, counters, clock)
+            timed_horizon_bound(graph, labelled, formula, earliest, L_max, timings, counters, clock, end=problem.end)
             if opts.horizon_bound
             else 0
         )
@@ -145,6 +168,8 @@ def plan_mission(
             kind = "a finite plan" if plan.loop_start is None else "a lasso"
             loop = "" if plan.loop_start is None else f" (loop from step {plan.loop_start})"
             out = replace(out, message=f"found {kind} at horizon {out.horizon}{loop}", minimal=True)
+        elif out.status is ReachStatus.INFEASIBLE and exact:
+            out = replace(out, message=f"infeasible up to horizon {L_max}: every horizon refuted ({EXACT_SAMPLES})")
         elif out.status is ReachStatus.INFEASIBLE:
             # refuted through the label-refined decomposition only (one region per step):
             # a real trajectory may cross several regions in one step, so this is no
@@ -165,9 +190,10 @@ def plan_mission(
         loop_lp_rest_answers=loop_lp.rest_answers,
         horizon=out.horizon,
         minimal=out.status is ReachStatus.FOUND,
-        # DIS-PLAN moves one region per step, and a real step may cross several: the
-        # shortest horizon is the shortest through the label-refined decomposition only
-        minimal_relative_to="decomposition" if out.status is ReachStatus.FOUND else None,
+        # in the segment reading DIS-PLAN moves one region per step, and a real step may
+        # cross several: the shortest horizon is the shortest through the label-refined
+        # decomposition only; the sample reading's search is exact
+        minimal_relative_to=(("problem" if exact else "decomposition") if out.status is ReachStatus.FOUND else None),
     )
     if theory.wrap_conflicts:
         counters["wrap_conflicts"] = theory.wrap_conflicts
@@ -176,11 +202,68 @@ def plan_mission(
     timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
     timings["total"] = time.perf_counter() - t_start
     displan.delete()
-    mission = {
+    return _result(problem, opts, L_max, budget, timings, counters, out, plan)
+
+
+def mission_setup(
+    problem: ReachProblem,
+    clock: Clock,
+    timings: dict,
+    max_horizon: int,
+    *,
+    labelled: LabelledAbstraction | None = None,
+    lower_bound: bool = True,
+    steps: bool = False,
+) -> tuple[ReachProblem, LabelledAbstraction, RegionGraph, list | None]:
+    """What both mission planners plan over, each step within the budget (raises
+    :class:`~plansynth.budget.BudgetExhausted`): the planning problem, the label-refined
+    decomposition, its region graph (in the sample reading, or with ``steps``: every pair
+    of regions one step can connect) and each region's earliest step (``lower_bound``)."""
+    pp = planning_problem(problem)
+    if labelled is None:
+        t0 = time.perf_counter()
+        try:
+            with clock.phase("splitting the regions along the labels"):
+                labelled = label_abstraction(problem)
+        finally:
+            timings["abstraction"] = time.perf_counter() - t0
+    ab = labelled.abstraction
+    graph = RegionGraph.from_abstraction(ab)
+    t0 = time.perf_counter()
+    try:
+        with clock.phase("the one-step region pairs and time windows"):
+            if steps or problem.reading == "sample":  # every pair of regions one step can connect
+                graph = replace(graph, adjacency=step_adjacency(pp, ab))
+            earliest = time_windows(pp, ab, max_horizon, adjacency=graph.adjacency).earliest if lower_bound else None
+    finally:
+        timings["bounds"] = time.perf_counter() - t0
+    return pp, labelled, graph, earliest
+
+
+def mission_record(problem: ReachProblem, plan: MissionPlan | None) -> dict[str, Any]:
+    """The result's ``mission`` record before the checker fills in its verdict."""
+    return {
         "formula": problem.mission,
         "semantics": None if plan is None else plan.semantics,
         "loop_start": None if plan is None else plan.loop_start,
+        "reading": problem.reading,
+        "end": problem.end,
+        "margins": {n: problem.label_margin(n) for n in problem.mission_labels},
+        "obstacle_margin": problem.obstacle_margin,
     }
+
+
+def _result(
+    problem: ReachProblem,
+    opts: MissionOptions,
+    L_max: int,
+    budget: Budget,
+    timings: dict,
+    counters: dict,
+    out: LoopOutcome,
+    plan: MissionPlan | None = None,
+) -> ReachResult:
+    timings.setdefault("total", sum(v for k, v in timings.items() if k in ("abstraction", "bounds", "sat", "lp")))
     return ReachResult(
         status=out.status,
         solver="lazy-smt",
@@ -192,8 +275,8 @@ def plan_mission(
         timings=timings,
         options=_record(opts, L_max, budget),
         message=out.message,
-        guarantee="segments" if opts.segment_safe else "samples",
-        mission=mission,
+        guarantee="segments" if problem.reading == "segment" else "samples",
+        mission=mission_record(problem, plan),
     )
 
 

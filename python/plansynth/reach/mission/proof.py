@@ -8,17 +8,20 @@ every trajectory of the problem: **no infinite word over the letters the labels'
 geometry allows satisfies the mission.**
 
 *Letters* (:func:`geometry_letters`). The independent checker
-(:mod:`plansynth.reach.mission.check`) reads, at each step, the literals that *may*
-hold there: ``a`` when the sample (segment) lies in the closed label a, ``!a`` when it
-avoids a's interior. Every free position lies in the closure of a region of an exact
-decomposition, and a region lies inside or outside each label; so the letter of any
-sample or segment is contained in the letter of its first point, which is one of its
-region's letters: ``a`` for the labels the region lies in, ``!a`` for the others, and,
-at a point where the boundaries of a set B of labels meet, both literals of each label
-of B (a point on a boundary may read either way). The mission in negation
-normal form is monotone in the letters, so if no word over these letters satisfies it,
-no trajectory's word does (finite plans are read as words that repeat their last letter,
-lassos as lassos: both are infinite words).
+(:mod:`plansynth.reach.mission.check`) reads, at each step, the literals that hold
+there: ``a`` when the sample (segment) lies in label a at depth >= a's margin, ``!a`` when
+it lies outside at distance >= the margin; with margin 0, a point on a's boundary may be
+read as in or as out, one of the two per step. Every free position lies in the closure
+of a region of an exact decomposition, and a region lies inside, outside or in the band
+of each label; so the letter of any sample or segment is contained in one of the letters
+of the points of its region's closure: the region's own (``a`` for the labels it holds,
+``!a`` for those whose negation it holds) and, where the cuts of a set B of labels meet,
+the region's letter with each label of B read the way that point allows (either way on a
+label's own edge, ``a`` added on the edge of its shrunk shape, ``!a`` on that of its grown
+shape). The mission in negation normal form is monotone in the letters, so if no word over
+these letters satisfies it, no trajectory's word does (finite plans ending at rest are
+read as words that repeat their last letter, lassos as lassos: both are infinite words;
+with a free end, finite words are tried too).
 
 *Satisfiability over an alphabet* (:func:`satisfiable`): the tableau construction of
 LTL (Wolper, "Temporal logic can be more expressive", 1983; Vardi and Wolper, LICS
@@ -46,6 +49,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from plansynth.budget import checkpoint
 from plansynth.reach.mission.ltl import (
     And,
     Const,
@@ -58,7 +62,9 @@ from plansynth.reach.mission.ltl import (
     Prop,
     Release,
     Until,
+    WeakNext,
     nnf,
+    unroll,
 )
 
 __all__ = [
@@ -70,6 +76,7 @@ __all__ = [
     "label_proof",
     "timed_label_proof",
     "NOT_A_PROOF",
+    "MAX_LETTERS",
 ]
 
 #: What a refutation through the label-refined decomposition is not (DIS-PLAN moves one
@@ -85,75 +92,92 @@ class TooLarge(Exception):
     """The tableau outgrew :data:`MAX_NODES`: satisfiability is not decided."""
 
 
-def _expand(obligations: frozenset[Formula], letter: Letter) -> list[tuple[frozenset[Formula], frozenset[Formula]]]:
-    """Every way to meet ``obligations`` at a position reading ``letter``: pairs
-    (formulas carried to the next position, until/finally formulas carried on)."""
+def _expand(
+    obligations: frozenset[Formula], letter: Letter
+) -> list[tuple[frozenset[Formula], frozenset[Formula], bool]]:
+    """Every way to meet ``obligations`` (negation normal form, bounded operators
+    unrolled) at a position reading ``letter``: triples (formulas carried to the next
+    position, until/finally formulas carried on, whether a *strong* obligation is
+    carried: an ``X``, ``F`` or ``U`` that a finite word's last position cannot meet).
+    Iterative: the deterministic parts in one loop, a branch copied only at ``|``, ``F``,
+    ``U``, ``R``."""
     pos, neg = letter
-    out: list[tuple[frozenset[Formula], frozenset[Formula]]] = []
+    out: dict[tuple[frozenset[Formula], frozenset[Formula]], bool] = {}
+    work: list[tuple[list[Formula], set, set, set, bool]] = [(list(obligations), set(), set(), set(), False)]
+    steps = 0
+    while work:
+        todo, done, nxt, pending, strong = work.pop()
+        ok = True
+        while todo:
+            steps += 1
+            if steps % 256 == 0:
+                checkpoint()  # one node of a deep formula may expand in many ways
+            f = todo.pop()
+            if f in done:  # each is met once: a second copy could only carry what the first meets
+                continue
+            done.add(f)
+            if isinstance(f, Const):
+                ok = f.value
+            elif isinstance(f, Prop):
+                ok = f.name in pos
+            elif isinstance(f, Not):
+                ok = f.arg.name in neg  # negation normal form: the argument is a label
+            elif isinstance(f, And):
+                todo += [f.right, f.left]
+            elif isinstance(f, Or):
+                work.append((todo + [f.right], set(done), set(nxt), set(pending), strong))
+                todo.append(f.left)
+            elif isinstance(f, Next):
+                nxt.add(f.arg)
+                strong = True
+            elif isinstance(f, WeakNext):
+                nxt.add(f.arg)
+            elif isinstance(f, Finally):
+                work.append((list(todo), set(done), nxt | {f}, pending | {f}, True))
+                todo.append(f.arg)
+            elif isinstance(f, Until):
+                work.append((todo + [f.left], set(done), nxt | {f}, pending | {f}, True))
+                todo.append(f.right)
+            elif isinstance(f, Globally):
+                todo.append(f.arg)
+                nxt.add(f)
+            elif isinstance(f, Release):
+                work.append((todo + [f.right], set(done), nxt | {f}, set(pending), strong))
+                todo += [f.left, f.right]
+            else:  # pragma: no cover - nnf() and unroll() leave no other node
+                raise TypeError(f"not in negation normal form: {type(f).__name__}")
+            if not ok:
+                break
+        if ok:
+            key = (frozenset(nxt), frozenset(pending))
+            out[key] = out.get(key, True) and strong
+    return [(v, p, st) for (v, p), st in out.items()]
 
-    def go(todo: list[Formula], done: frozenset[Formula], nxt: frozenset[Formula], pending: frozenset[Formula]) -> None:
-        # ``done``: formulas already met at this position (each is expanded once: a second
-        # copy could only carry an eventuality the first one meets)
-        while todo and todo[0] in done:
-            todo = todo[1:]
-        if not todo:
-            out.append((nxt, pending))
-            return
-        f, rest = todo[0], todo[1:]
-        done = done | {f}
-        if isinstance(f, Const):
-            if f.value:
-                go(rest, done, nxt, pending)
-        elif isinstance(f, Prop):
-            if f.name in pos:
-                go(rest, done, nxt, pending)
-        elif isinstance(f, Not):
-            if f.arg.name in neg:  # negation normal form: the argument is a label
-                go(rest, done, nxt, pending)
-        elif isinstance(f, And):
-            go([f.left, f.right] + rest, done, nxt, pending)
-        elif isinstance(f, Or):
-            go([f.left] + rest, done, nxt, pending)
-            go([f.right] + rest, done, nxt, pending)
-        elif isinstance(f, Next):
-            go(rest, done, nxt | {f.arg}, pending)
-        elif isinstance(f, Finally):
-            go([f.arg] + rest, done, nxt, pending)
-            go(rest, done, nxt | {f}, pending | {f})
-        elif isinstance(f, Until):
-            go([f.right] + rest, done, nxt, pending)
-            go([f.left] + rest, done, nxt | {f}, pending | {f})
-        elif isinstance(f, Globally):
-            go([f.arg] + rest, done, nxt | {f}, pending)
-        elif isinstance(f, Release):
-            go([f.right, f.left] + rest, done, nxt, pending)
-            go([f.right] + rest, done, nxt | {f}, pending)
-        else:  # pragma: no cover - nnf() leaves no other node
-            raise TypeError(f"not in negation normal form: {f!r}")
 
-    go(sorted(obligations, key=repr), frozenset(), frozenset(), frozenset())
-    return out
-
-
-def satisfiable(formula: Formula, letters: Iterable[Letter], *, max_nodes: int = MAX_NODES) -> bool:
+def satisfiable(
+    formula: Formula, letters: Iterable[Letter], *, max_nodes: int = MAX_NODES, finite: bool = False
+) -> bool:
     """Is there an infinite word over ``letters`` (pairs: the labels that may hold, the
     labels whose negation may hold) satisfying ``formula`` (read with every literal as
-    "may hold")? Raises :class:`TooLarge` past ``max_nodes`` tableau nodes."""
-    return witness(formula, letters, max_nodes=max_nodes) is not None
+    "may hold"), or, with ``finite``, a finite one (LTL on finite traces)? Raises
+    :class:`TooLarge` past ``max_nodes`` tableau nodes."""
+    return witness(formula, letters, max_nodes=max_nodes, finite=finite) is not None
 
 
 def witness(
-    formula: Formula, letters: Iterable[Letter], *, max_nodes: int = MAX_NODES
+    formula: Formula, letters: Iterable[Letter], *, max_nodes: int = MAX_NODES, finite: bool = False
 ) -> tuple[list[int], list[int]] | None:
     """A lasso satisfying ``formula`` as (prefix, loop) of indices into ``letters``, or
-    None when no infinite word over them does (see :func:`satisfiable`)."""
-    f = nnf(formula)
+    None when no infinite word over them does (see :func:`satisfiable`); with ``finite``
+    also a finite word, returned as (the word, []), when no lasso satisfies it."""
+    f = unroll(nnf(formula))
     alphabet = [(frozenset(p), frozenset(n)) for p, n in letters]
     distinct = list(dict.fromkeys((frozenset(p), frozenset(n)) for p, n in alphabet))
     first = {a: alphabet.index(a) for a in distinct}
     start = frozenset({f})
     Edge = tuple[frozenset[Formula], frozenset[Formula], int]
     edges: dict[frozenset[Formula], list[Edge]] = {}
+    final: dict[frozenset[Formula], int] = {}  # nodes a finite word may end in, with the last letter
     stack = [start]
     while stack:
         node = stack.pop()
@@ -161,10 +185,13 @@ def witness(
             continue
         if len(edges) >= max_nodes:
             raise TooLarge(f"more than {max_nodes} tableau nodes")
+        checkpoint()
         succ: dict[tuple[frozenset[Formula], frozenset[Formula]], int] = {}
         for a in distinct:
-            for e in _expand(node, a):
-                succ.setdefault(e, first.get(a, 0))
+            for nxt, pend, strong in _expand(node, a):
+                succ.setdefault((nxt, pend), first.get(a, 0))
+                if not strong:
+                    final.setdefault(node, first.get(a, 0))
         edges[node] = [(v, pend, k) for (v, pend), k in succ.items()]
         stack += [v for v, _, _ in edges[node] if v not in edges]
     eventualities = {g for node in edges for _, pend, _ in edges[node] for g in pend}
@@ -173,13 +200,13 @@ def witness(
         if not inner:
             continue  # a single node without a self-loop: no cycle
         accepting = []
-        for g in sorted(eventualities, key=repr):
+        for g in sorted(eventualities, key=lambda x: x.order):
             hit = next((ue for ue in inner if g not in ue[1][1]), None)
             if hit is None:
                 break
             accepting.append(hit)
         else:
-            entry = next(iter(sorted(comp, key=lambda n: sorted(map(repr, n)))))
+            entry = min(comp, key=lambda n: sorted(x.order for x in n))
             prefix = _path(edges, start, entry, None)
             loop: list[int] = []
             here = entry
@@ -189,6 +216,9 @@ def witness(
             loop += _path(edges, here, entry, comp)
             assert prefix is not None and loop
             return prefix, loop
+    if finite and final:
+        node = min(final, key=lambda n: len(_path(edges, start, n, None)))
+        return _path(edges, start, node, None) + [final[node]], []
     return None
 
 
@@ -261,56 +291,97 @@ def _components(edges: dict) -> list[set[frozenset[Formula]]]:
     return comps
 
 
-def geometry_letters(labelled, shapes: dict, *, margin: float) -> list[Letter] | None:
+#: Most letters :func:`geometry_letters` builds before it gives up (no proof).
+MAX_LETTERS = 20_000
+
+
+def geometry_letters(
+    labelled, shapes: dict, *, margin: float, margins: dict[str, float] | None = None
+) -> list[Letter] | None:
     """Every letter a point of the free space may read (see the module doc), from the
     label-refined decomposition ``labelled``
     (:class:`~plansynth.reach.mission.labels.LabelledAbstraction`): in region r, away
-    from label boundaries, ``a`` for the labels r lies in and ``!a`` for the others;
-    where the boundaries of a set B of labels meet (within ``margin``) in r's closure,
-    both literals of each label of B. None when the decomposition does not cover the
-    free space exactly (then the letters prove nothing)."""
+    from the cuts, its letter (``labels_of``, ``negs_of``); where the cuts of a set B of
+    labels meet (within ``margin``) in r's closure, the letters a point there reads: a
+    label's own edge (margin 0) is read as in or as out, one of the two (a touch, as
+    the checker reads it); the edge of its shrunk shape (margin > 0) adds ``a``, that of
+    its grown shape ``!a`` (closed sets). ``margins``: each label's margin (default 0).
+    None when the decomposition does not cover the free space exactly (then the letters
+    prove nothing) or past :data:`MAX_LETTERS`."""
     import shapely
-    from shapely.geometry import Polygon as ShPolygon
 
-    from plansynth.reach.geometry import Box
+    from plansynth.reach.geometry import shape_to_shapely
+    from plansynth.reach.offsets import grown, shrunk
 
     ab = labelled.abstraction
     if not ab.exact or not ab.regions:
         return None
-    near_boundary = {}
+    margins = margins or {}
+    cuts: list[tuple[str, str, object]] = []  # (label, kind, the cut's edges grown by margin)
     for name in labelled.names:
-        s = shapes[name]
-        g = shapely.box(s.lo[0], s.lo[1], s.hi[0], s.hi[1]) if isinstance(s, Box) else ShPolygon(s.vertices)
-        near_boundary[name] = g.boundary.buffer(margin)
+        r = margins.get(name, 0.0)
+        kinds = (
+            [("edge", shapes[name])] if r <= 0 else [("in", shrunk(shapes[name], r)), ("out", grown(shapes[name], r))]
+        )
+        for kind, shape in kinds:
+            if shape is not None:
+                cuts.append((name, kind, shape_to_shapely(shape).boundary.buffer(margin)))
     out: list[Letter] = []
-    for reg, inside in zip(ab.regions, labelled.labels_of):
-        area = ShPolygon(reg.vertices).buffer(margin)
-        pos, neg = frozenset(inside), frozenset(labelled.names) - frozenset(inside)
-        out.append((pos, neg))
-        close = [n for n in labelled.names if near_boundary[n].intersects(area)]
-        # the sets of labels whose boundaries meet at one point near the region (grown one
-        # label at a time: a set meets only if its subsets do)
-        level = [(frozenset(), area)]
+    for reg, pos, neg in zip(ab.regions, labelled.labels_of, labelled.negs_of):
+        checkpoint()
+        area = shapely.Polygon(reg.vertices).buffer(margin)
+        out.append((frozenset(pos), frozenset(neg)))
+        close = [k for k, c in enumerate(cuts) if c[2].intersects(area)]
+        # the sets of cuts that meet at one point near the region (grown one cut at a
+        # time: a set meets only if its subsets do)
+        level = [((), area)]
         while level:
             nxt = []
             for B, where in level:
-                for n in close:
-                    if B and n <= max(B):
+                for k in close:
+                    if B and k <= B[-1]:
                         continue
-                    meet = where.intersection(near_boundary[n])
+                    meet = where.intersection(cuts[k][2])
                     if not meet.is_empty:
-                        nxt.append((B | {n}, meet))
-                        out.append((pos | B | {n}, neg | B | {n}))
+                        nxt.append((B + (k,), meet))
+                        out += _boundary_letters(pos, neg, [cuts[j][:2] for j in B + (k,)])
+                if len(out) > MAX_LETTERS:
+                    return None
             level = nxt
     return list(dict.fromkeys(out))
 
 
+def _boundary_letters(pos, neg, cuts: list[tuple[str, str]]) -> list[Letter]:
+    """The letters of a point on these cuts in the closure of a region (pos, neg)."""
+    p, n = set(pos), set(neg)
+    edges = []
+    for name, kind in cuts:
+        if kind == "in":
+            p.add(name)
+        elif kind == "out":
+            n.add(name)
+        else:
+            edges.append(name)
+    out = []
+    for bits in range(1 << len(edges)):
+        pp, nn = set(p), set(n)
+        for k, name in enumerate(edges):
+            if bits >> k & 1:
+                pp.add(name)
+                nn.discard(name)
+            else:
+                nn.add(name)
+                pp.discard(name)
+        out.append((frozenset(pp), frozenset(nn)))
+    return out
+
+
 def label_proof(problem, labelled) -> tuple[bool | None, str]:
     """``(True, why)`` when no trajectory of ``problem`` satisfies its mission, at any
-    horizon (no word over :func:`geometry_letters` satisfies it); ``(False, why)`` when
-    some word over the letters does (the geometry alone proves nothing); ``(None, why)``
-    when undecided (a decomposition that does not cover the free space, or a tableau
-    past :data:`MAX_NODES`)."""
+    horizon (no word over :func:`geometry_letters` satisfies it: no infinite word, nor,
+    with a free end, a finite one); ``(False, why)`` when some word over the letters does
+    (the geometry alone proves nothing); ``(None, why)`` when undecided (a decomposition
+    that does not cover the free space, or a tableau past :data:`MAX_NODES`)."""
     from plansynth.reach.mission.ltl import parse
 
     ws = problem.workspace
@@ -319,25 +390,26 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
     if not ab.exact or not ab.regions:
         return None, "the decomposition does not cover the free space exactly"
     mission = parse(problem.mission)
+    finite = problem.end == "free"
     # the regions' own letters first, without the boundary letters (the shapely
     # buffers and intersections of geometry_letters, most of its time): they are a
     # subset of the letters, so a word over them is a word over the letters, and the
     # mission, satisfiable over the subset, is over the whole set (the same verdict)
-    names = frozenset(labelled.names)
-    interior = list(dict.fromkeys((frozenset(s), names - frozenset(s)) for s in labelled.labels_of))
+    interior = list(dict.fromkeys(labelled.letters))
     try:
-        if satisfiable(mission, interior):
+        if satisfiable(mission, interior, finite=finite):
             return False, (
                 f"some word over the {len(interior)} letters of the regions' interiors (a subset of the "
                 "labels' geometry's letters) satisfies the mission"
             )
     except TooLarge:
         pass  # decided on the whole set below
-    letters = geometry_letters(labelled, problem.mission_labels, margin=margin)
+    margins = {n: problem.label_margin(n) for n in labelled.names}
+    letters = geometry_letters(labelled, problem.mission_labels, margin=margin, margins=margins)
     if letters is None:
-        return None, "the decomposition does not cover the free space exactly"
+        return None, "the decomposition does not cover the free space exactly, or its letters are too many"
     try:
-        if satisfiable(mission, letters):
+        if satisfiable(mission, letters, finite=finite):
             return False, f"some word over the {len(letters)} letters of the labels' geometry satisfies the mission"
     except TooLarge as exc:
         return None, f"the LTL tableau is too large ({exc})"
@@ -347,13 +419,23 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
     )
 
 
-def timed_label_proof(problem, labelled, timings: dict, counters: dict) -> tuple[bool | None, str]:
+def timed_label_proof(problem, labelled, timings: dict, counters: dict, clock=None) -> tuple[bool | None, str]:
     """:func:`label_proof` as both mission planners run it first: its time goes to
-    ``timings["proof"]``, its verdict to ``counters["label_proof"]``."""
+    ``timings["proof"]``, its verdict to ``counters["label_proof"]``; within ``clock``'s
+    budget (run out: undecided)."""
     import time
 
+    from plansynth.budget import BudgetExhausted
+
     t0 = time.perf_counter()
-    proved, why = label_proof(problem, labelled)
+    try:
+        if clock is None:
+            proved, why = label_proof(problem, labelled)
+        else:
+            with clock.phase("the labels' geometry's proof"):
+                proved, why = label_proof(problem, labelled)
+    except BudgetExhausted as exc:
+        proved, why = None, f"the labels' geometry's proof ran out of budget ({exc})"
     timings["proof"] = time.perf_counter() - t0
     counters["label_proof"] = proved
     return proved, why

@@ -11,7 +11,8 @@ one lazy loop (:func:`~plansynth.reach.lazy.loop.lazy_loop`) asks about a
         wrap-around legs; the loop alone (any x_k, x_L = x_k) -> LoopConflict
     CON-PLAN(r_0..r_L) (with the goal the whole workspace) -> Conflict
     lasso: the LP with x_L = x_k (LoopLP)       -> trajectory, or LoopConflict
-    finite plan: the LP that also keeps x_L at rest -> trajectory, or StayConflict
+    finite plan ending at rest: the LP that also keeps x_L at rest -> trajectory, or StayConflict
+    finite plan with a free end: CON-PLAN's trajectory as it is
 
 CON-PLAN runs unchanged on the problem with the whole workspace as its goal
 (:func:`~plansynth.reach.mission.labels.planning_problem`); its conflicts are sound
@@ -45,11 +46,15 @@ class MissionTheory:
     :class:`~plansynth.reach.mission.plans.StayConflict`).
 
     ``inner`` is CON-PLAN, or the transit layer in front of it; ``loop_lp`` the LP with
-    the loop closure; every LP gets what is left of ``clock``. Counters:
+    the loop closure; every LP gets what is left of ``clock``; ``end``: how a finite
+    plan ends (``rest``: its last state must be one the robot can hold). Counters:
     ``wrap_conflicts`` (loops refuted by their wrap-around legs' transit times)."""
 
-    def __init__(self, inner: TransitCheck | object, loop_lp: LoopLP, clock: Clock, *, loop_first: bool = True) -> None:
+    def __init__(
+        self, inner: TransitCheck | object, loop_lp: LoopLP, clock: Clock, *, loop_first: bool = True, end: str = "rest"
+    ) -> None:
         self.inner = inner
+        self.end = end
         self.loop_lp = loop_lp
         self.clock = clock
         self.loop_first = loop_first
@@ -71,7 +76,9 @@ class MissionTheory:
                 lits, shifted = lp.conflict(regions, k, self.clock.remaining())
                 return LoopConflict(lits, k, L, shifted)
             return Feasible(traj)
-        # a finite plan: it must also end at rest
+        if self.end == "free":  # a finite plan with a free end: CON-PLAN's trajectory
+            return answer
+        # a finite plan ending at rest: its last state must be one the robot can hold
         traj = (
             answer.trajectory
             if lp.ends_at_rest(answer.trajectory)

@@ -102,7 +102,9 @@ def team_problem_from_dict(doc: Any, source: str | None = None, *, default_name:
     top.reject_unknown(_TOP_KEYS)
     workspace, obstacles = _parse_world(top, source)
     d = workspace.dim
-    labels = _parse_labels(top.optional("labels", {}), source, d)
+    labels, margins = _parse_labels(top.optional("labels", {}), source, d)
+    if margins:  # (a team's robots read their missions as a string: segment reading, no margins)
+        raise InvalidProblem(source, f"labels.{margins[0][0]}.margin", "label margins are for one robot's mission")
     defaults = top.optional("robot", {})
     if "robots" in doc:
         for key in ("goal", "mission"):
