@@ -120,3 +120,28 @@ def test_the_exact_reference_reads_the_sample_reading():
     assert shortest_horizon(replace(room, margin=1.0), 8) == 3  # its centre (5, 1): 0.5 -> 2 -> 3.5 -> 5
     assert shortest_horizon(replace(room, margin=1.01), 8) is None  # no point of a that deep
     assert shortest_horizon(replace(room, end="free", mission="F[4,4] a"), 8) == 4
+
+
+def test_an_eventuality_of_false_is_never_met_at_a_free_end() -> None:
+    """``a -> F false`` is ``!a`` at step 0; the start lies in ``a``. At a free end the
+    MILP once let ``F false`` hold at the last step (its right side a constant), planned
+    horizon 0, and the mission checker refused the plan."""
+    import numpy as np
+
+    from plansynth.reach.families import random_workspace
+    from plansynth.reach.geometry import Box
+
+    p = replace(
+        random_workspace(617496, 1),
+        obstacles=(),
+        goal=None,
+        start=np.array([2.905, 7.906]),
+        input_bound=1.5,
+        max_horizon=2,
+        labels=(("a", Box((1.0, 6.0), (3.0, 8.0))),),
+        mission="(a -> F false)",
+        end="free",
+    )
+    for reading in ("segment", "sample"):
+        r = solve(replace(p, reading=reading), "milp-ltl", horizon_bound=False)
+        assert r.status is not ReachStatus.FOUND and "fails the mission checker" not in r.message, r.message

@@ -540,6 +540,8 @@ def mission_milp(
                     b = g.arg if isinstance(g, Finally) else g.right
                     if not isinstance(b, Const):
                         mdl.row([P(g, L), P(b, L), s], [1.0, -1.0, 1.0], -INF, 1.0)
+                    elif not b.value:  # F false, a U false: never met by L
+                        mdl.row([P(g, L), s], [1.0, 1.0], -INF, 1.0)
             continue
         for g in subs:  # position L + 1 takes the values of the selected successor
             mdl.row([P(g, L + 1), P(g, j), s], [1.0, -1.0, 1.0], -INF, 1.0)
