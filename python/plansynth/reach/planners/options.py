@@ -23,10 +23,14 @@ from plansynth.options import check_fields, option
 from plansynth.reach.lazy.options import MAX_HORIZON_DOC as _MAX_HORIZON
 from plansynth.reach.lazy.options import SEGMENT_SAFE_DOC as _SEGMENT_SAFE
 
-__all__ = ["MilpOptions", "BigMOptions", "OmplOptions", "GcsOptions", "GCS_VARIANTS", "BIGM_OBJECTIVES"]
+__all__ = ["MilpOptions", "BigMOptions", "OmplOptions", "GcsOptions", "GCS_VARIANTS", "GCS_SETS", "BIGM_OBJECTIVES"]
 
 #: The GCS formulations (see :mod:`plansynth.reach.planners.gcs`).
 GCS_VARIANTS = ("like-for-like", "surrogate", "convex")
+#: The convex sets GCS plans through (see :mod:`plansynth.reach.planners.gcs`): overlapping
+#: ones (auto: boxes for box worlds, IRIS regions for polygons), or the lazy planner's
+#: disjoint decomposition.
+GCS_SETS = ("auto", "boxes", "iris", "decomposition")
 #: The big-M MILP's objectives.
 BIGM_OBJECTIVES = ("feasibility", "l1")
 
@@ -95,6 +99,12 @@ class GcsOptions:
     time_unit: float = option(10.0, "seconds per unit of Drake's curve time", positive=True)
     max_rounded_paths: int | None = option(
         None, "paths the rounding tries (none: 5, or 1 beyond 200 regions)", minimum=1
+    )
+    sets: str = option(
+        "auto",
+        "the convex sets: auto (maximal free boxes for box obstacles, IRIS regions for polygons; "
+        "overlapping), boxes, iris, or decomposition (the lazy planner's disjoint regions)",
+        choices=GCS_SETS,
     )
     segment_safe: bool = option(True, "(the whole curve is kept in the regions whatever this says)")
     max_horizon: int | None = option(None, "(GCS has no horizon; taken as every planner's)", minimum=0)
