@@ -35,7 +35,7 @@ form, and the pairs of sets whose intersection has nonempty interior.
 >>> from plansynth.reach.families import maze
 >>> s = overlapping_sets(maze(1))
 >>> s.kind, len(s.sets), s.edges
-('boxes', 3, ((0, 2), (1, 2)))
+('boxes', 3, ((0, 1), (1, 2)))
 """
 
 from __future__ import annotations
