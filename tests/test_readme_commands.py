@@ -221,6 +221,7 @@ CASES: dict[str, Case] = {
     "plansynth grid solve examples/grid/corridor.yaml --timeout 30": Case(out=("realizable",)),
     "plansynth grid solve examples/grid/corridor.yaml --effort 0": Case(out=("realizable", "not proved")),
     "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --timeout 120": Case(out=FOUND),
+    "plansynth reach solve examples/reach/maze-1.yaml --planner fpp --timeout 120": Case(out=FOUND),
     "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json --plot plan.png --animate plan.gif": Case(
         out=FOUND,
         files=("plan.png", "plan.gif"),

@@ -55,7 +55,7 @@ def test_every_planner_has_a_name_a_version_and_options() -> None:
     for name in planners():
         p = get_planner(name)
         assert p.name == name
-        assert p.version().split()[0] in {"python-sat", "highspy", "ompl", "drake"}
+        assert p.version().split()[0] in {"python-sat", "highspy", "ompl", "drake", "fastpathplanning"}
         assert p.defaults is not None or p.mission_defaults is not None
         for mission, value in ((False, p.defaults), (True, p.mission_defaults)):
             if value is not None:

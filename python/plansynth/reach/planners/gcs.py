@@ -72,7 +72,6 @@ without a curve is ``unknown``.
 from __future__ import annotations
 
 import logging
-import math
 import time
 from typing import Any
 
@@ -81,14 +80,21 @@ import numpy as np
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
-from plansynth.reach.geometry import Box, halfspaces
+from plansynth.reach.geometry import halfspaces
 from plansynth.reach.planners.convex_sets import ConvexSets, overlapping_sets
+from plansynth.reach.planners.curves import (
+    CURVE_SUBSTEPS,
+    PiecewiseBezier,
+    derivative_bounds,
+    integrator_order,
+    position_box,
+    sampled_curve,
+)
 from plansynth.reach.planners.options import GCS_SETS as SETS
 from plansynth.reach.planners.options import GCS_VARIANTS as VARIANTS
 from plansynth.reach.planners.options import GcsOptions
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
-from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["plan_gcs", "VARIANTS", "SETS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
 
@@ -107,7 +113,6 @@ PREPROCESS_MAX_REGIONS = 200
 #: 10 s, with one it finds the curve.
 LARGE_MAX_ROUNDED_PATHS = 1
 DEFAULT_MAX_ROUNDED_PATHS = 5
-CURVE_SUBSTEPS = 10
 
 #: What a ``gcs`` result guarantees, and how that differs from the discrete planners.
 GUARANTEE = (
@@ -147,46 +152,6 @@ def _import_drake() -> dict[str, Any]:
         "Ipopt": IpoptSolver,
         "SolverOptions": SolverOptions,
     }
-
-
-def _order(problem: ReachProblem) -> int:
-    """The derivative order of the robot (1: single, 2: double integrator)."""
-    dyn = problem.dynamics
-    order = {"single-integrator": 1, "double-integrator": 2}.get(
-        dyn.model, dyn.order if dyn.model == "integrator-chain" else None
-    )
-    if order not in (1, 2) or dyn.dt is None:
-        raise SolverUnavailable(
-            "gcs",
-            f"GCS plans for single- and double-integrator robots only (named models of order 1 or 2); "
-            f"this problem's dynamics are {dyn.model}"
-            + (f" of order {dyn.order}" if dyn.order else "")
-            + ": use lazy-smt",
-        )
-    return int(order)
-
-
-def _derivative_bounds(problem: ReachProblem, k: int) -> tuple[np.ndarray, np.ndarray] | None:
-    """Per-axis bounds of the k-th derivative block of a named integrator model (state
-    ordered by derivative, then axis), from the state bounds; None when unbounded."""
-    if problem.state_bounds is None:
-        return None
-    d = problem.dim
-    lo = np.array(problem.state_bounds.lo[k * d : (k + 1) * d])
-    hi = np.array(problem.state_bounds.hi[k * d : (k + 1) * d])
-    if lo.size != d:
-        return None
-    return lo, hi
-
-
-def _position_box(problem: ReachProblem) -> Box:
-    """The workspace intersected with the state bounds of the position components."""
-    lo, hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
-    if problem.state_bounds is not None:
-        pos = list(problem.dynamics.position)
-        lo = np.maximum(lo, np.array(problem.state_bounds.lo)[pos])
-        hi = np.minimum(hi, np.array(problem.state_bounds.hi)[pos])
-    return Box(tuple(lo), tuple(hi))
 
 
 def rounded_paths(n_regions: int, requested: int | None = None) -> int:
@@ -255,7 +220,7 @@ def plan_gcs(
         raise ValueError(f"unknown gcs sets {sets!r} (known: {', '.join(SETS)})")
     if not time_unit > 0:
         raise ValueError(f"time_unit must be positive, got {time_unit}")
-    k = _order(problem)
+    k = integrator_order(problem, "gcs")
     D = _import_drake()
     t0 = time.perf_counter()
     T = float(time_unit)
@@ -299,7 +264,7 @@ def plan_gcs(
     counters["set_edges"] = len(graph.edges)
     max_rounded_paths = rounded_paths(len(graph.H), max_rounded_paths)
     options["max_rounded_paths"] = max_rounded_paths
-    pbox = _position_box(problem)
+    pbox = position_box(problem)
     Hb, hb = halfspaces(pbox)
     hpolys = [D["HPolyhedron"](np.vstack([H, Hb]), np.concatenate([h, hb])) for H, h in zip(graph.H, graph.h)]
     edges = [e for i, j in graph.edges for e in ((i, j), (j, i))]
@@ -320,7 +285,7 @@ def plan_gcs(
         ub = problem.input_bound * T * np.ones(d)
         gcs.AddVelocityBounds(-ub, ub)
     else:
-        vb = _derivative_bounds(problem, 1)
+        vb = derivative_bounds(problem, 1)
         if vb is not None:
             gcs.AddVelocityBounds(vb[0] * T, vb[1] * T)
         if variant in ("like-for-like", "surrogate"):
@@ -391,39 +356,12 @@ def plan_gcs(
     pieces = [p for p in pieces if p.order() > 0 and p.end_time() - p.start_time() > 1e-12]
     t_start, t_end = pieces[0].start_time(), pieces[-1].end_time()
     duration = (t_end - t_start) * T
-    N = max(1, math.ceil(duration / dt - 1e-9))
-    stretch = N * dt / duration if duration > 0 else 1.0  # >= 1: keeps every bound
-
-    def sample(times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position, velocity, acceleration (seconds) at re-timed times ``times_s``."""
-        tau = t_start + np.clip(times_s / (stretch * T), 0.0, t_end - t_start)
-        # evaluate on the Bezier pieces of the regions only: the source and target
-        # pieces have zero duration and order 0 (their derivatives read as zero)
-        ends = np.array([p.end_time() for p in pieces])
-        which = np.minimum(np.searchsorted(ends, tau, side="left"), len(pieces) - 1)
-        P = np.array([pieces[i].value(t).ravel() for i, t in zip(which, tau)])
-        V = np.array([pieces[i].EvalDerivative(t, 1).ravel() for i, t in zip(which, tau)]) / (T * stretch)
-        A = np.array([pieces[i].EvalDerivative(t, 2).ravel() for i, t in zip(which, tau)]) / (T * stretch) ** 2
-        return P, V, A
-
-    def states_inputs(times_s: np.ndarray) -> Trajectory:
-        P, V, A = sample(times_s)
-        n = problem.dynamics.n_states
-        X = np.zeros((len(times_s), n))
-        X[:, list(problem.dynamics.position)] = P
-        if k == 2:
-            X[:, d : 2 * d] = V
-            U = A[:-1]
-        else:
-            U = V[:-1]
-        X[0] = problem.start  # the curve starts exactly there; drop round-off
-        return Trajectory(states=X, inputs=U)
-
-    times = np.arange(N + 1) * dt
-    traj_dt = states_inputs(times)
-    breaks = np.array([(p.start_time() - t_start) * T * stretch for p in pieces] + [N * dt])
-    dense = np.union1d(np.linspace(0.0, N * dt, N * CURVE_SUBSTEPS + 1), breaks)
-    curve = states_inputs(dense)
+    # the pieces in seconds (Drake's time in units of T), from t = 0
+    bezier = PiecewiseBezier(
+        tuple(np.asarray(p.control_points(), float).T for p in pieces),
+        np.array([(p.start_time() - t_start) * T for p in pieces] + [duration]),
+    )
+    traj_dt, curve, dense_times, N, stretch = sampled_curve(problem, bezier, k)
     visited = []
     for p in pieces:
         mid = p.value(0.5 * (p.start_time() + p.end_time())).ravel()
@@ -437,7 +375,7 @@ def plan_gcs(
             "curve_seconds": float(N * dt),
             "gcs_duration": float(duration),
             "stretch": float(stretch),
-            "curve_samples": int(len(dense)),
+            "curve_samples": len(dense_times),
             "set_sequence": [int(r) for r in visited],
         }
     )
@@ -454,7 +392,7 @@ def plan_gcs(
         guarantee="curve",
         message=GUARANTEE,
         curve=curve,
-        curve_times=tuple(float(t) for t in dense),
+        curve_times=dense_times,
     )
 
 
