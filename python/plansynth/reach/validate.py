@@ -432,28 +432,26 @@ def validate(
         margin = np.array(problem.robot_shape.margins(problem.dim))
         ws_lo, ws_hi = ws_lo + margin, ws_hi - margin
     obstacles = _obstacle_checks(problem, tol)
-    inside = [_hits_all(ob, P) for ob in obstacles]
-    for t in range(N + 1):
+    # (obstacle, time) tables; only the times with a violation are visited, in the order
+    # of the plain double loop over times and obstacles
+    inside = np.array([_hits_all(ob, P) for ob in obstacles], dtype=bool).reshape(len(obstacles), N + 1)
+    outside = np.any(P < ws_lo - tol, axis=1) | np.any(P > ws_hi + tol, axis=1)
+    for t in np.flatnonzero(outside | inside.any(axis=0)).tolist():
         p = P[t]
-        if np.any(p < ws_lo - tol) or np.any(p > ws_hi + tol):
+        if outside[t]:
             viol.append(Violation("workspace", t, f"position {_fmt(p)} outside the workspace"))
-        for i, _ob in enumerate(obstacles):
-            if inside[i][t]:
-                viol.append(Violation("obstacle", t, f"position {_fmt(p)} inside obstacles[{i}]"))
+        for i in np.flatnonzero(inside[:, t]).tolist():
+            viol.append(Violation("obstacle", t, f"position {_fmt(p)} inside obstacles[{i}]"))
     if not _in_shape(problem.goal, P[N], tol):
         viol.append(Violation("goal", N, f"final position {_fmt(P[N])} is not in the goal"))
 
     # segments
-    segment_safe = True
-    crosses = [_hits_all(ob, P[:-1], P[1:]) for ob in obstacles]
-    for t in range(N):
-        for i, _ob in enumerate(obstacles):
-            if crosses[i][t]:
-                segment_safe = False
-                if require_segment_safe:
-                    viol.append(
-                        Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]")
-                    )
+    crosses = np.array([_hits_all(ob, P[:-1], P[1:]) for ob in obstacles], dtype=bool).reshape(len(obstacles), N)
+    segment_safe = not crosses.any()
+    if require_segment_safe:
+        for t in np.flatnonzero(crosses.any(axis=0)).tolist():
+            for i in np.flatnonzero(crosses[:, t]).tolist():
+                viol.append(Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]"))
     return report(not viol, segment_safe, max_err, max_u)
 
 

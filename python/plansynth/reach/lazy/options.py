@@ -130,6 +130,11 @@ class LazyOptions:
     )
     transit: bool = option(True, TRANSIT_DOC)
     guided: bool = option(True, "make DIS-PLAN's decisions follow an evenly timed route")
+    timed_route: bool = option(
+        True,
+        "window and minimal searches: first check the shortest route timed by an LP and repaired where "
+        "CON-PLAN finds it too tight, before DIS-PLAN is built",
+    )
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")
     wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
     prove: bool = option(
@@ -158,6 +163,7 @@ class LazyOptions:
             horizon_search="linear",
             transit=False,
             guided=False,
+            timed_route=False,
             widen=False,
             wait_shifts=False,
             **values,
@@ -182,6 +188,7 @@ class LazyOptions:
             "horizon_search": self.horizon_search,
             "transit": self.transit,
             "guided": self.guided,
+            "timed_route": self.timed_route,
             "widen": self.widen,
             "wait_shifts": self.wait_shifts,
             "window_growth": self.window_growth,
