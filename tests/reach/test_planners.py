@@ -31,10 +31,12 @@ def test_the_paper_configuration_is_the_published_loop() -> None:
         "uniform",
         "linear",
     )
-    assert not (p.transit or p.guided or p.widen or p.wait_shifts)
+    assert not (p.transit or p.guided or p.timed_route or p.widen or p.wait_shifts)
     assert p.segment_safe and p.lower_bound  # what both modes share
     assert CONFIGURATIONS["lazy-smt-paper-trivial"] == dataclasses.replace(p, counterexample="trivial")
-    assert CONFIGURATIONS["lazy-smt-zeroprefix"] == LazyOptions(counterexample="zeroprefix")
+    # our loops: the counterexample comparison's and the window search alone, without the timed route
+    assert CONFIGURATIONS["lazy-smt-zeroprefix"] == LazyOptions(counterexample="zeroprefix", timed_route=False)
+    assert CONFIGURATIONS["lazy-smt-window"] == LazyOptions(timed_route=False)
     assert CONFIGURATIONS["lazy-smt-minimal"] == LazyOptions(horizon_search="minimal")
 
 

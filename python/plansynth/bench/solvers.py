@@ -13,4 +13,15 @@ from __future__ import annotations
 __all__ = ["GRID_ORDER", "REACH_ORDER"]
 
 GRID_ORDER = ("native", "cvc5", "external")
-REACH_ORDER = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
+REACH_ORDER = (
+    "lazy-smt",
+    "lazy-smt-window",
+    "milp",
+    "milp-bigm",
+    "rrt",
+    "est",
+    "kpiece",
+    "gcs",
+    "gcs-decomposition",
+    "fpp",
+)

@@ -7,7 +7,8 @@ controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
 :func:`plansynth.reach.families.random_dynamics`), and ``random`` workspaces (random
 boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
 ``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
-sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
+sizes :data:`GCS_MAZE_SIZES`), from :func:`plansynth.reach.families.gcs_maze`: the scale
+family.
 ``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`).
 The problems themselves are built by :mod:`plansynth.bench.families.reach_problems`.
 
@@ -22,7 +23,7 @@ from typing import Any
 
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["REACH_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "reach_family"]
+__all__ = ["REACH_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "GCS_MAZE_SIZES", "reach_family"]
 
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
@@ -35,6 +36,8 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
 
 REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze")
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
+#: The scale family's maze sides (cells): the GCS paper's 50 x 50 and sizes around it.
+GCS_MAZE_SIZES = (10, 20, 30, 50, 70, 100)
 
 
 def reach_family(
@@ -54,7 +57,7 @@ def reach_family(
     ``seed`` (:func:`plansynth.reach.families.random_dynamics` says how).
     ``missions``: values are passage counts, each with the
     three missions of :mod:`plansynth.reach.mission.families`. ``gcs-maze``: values are
-    maze sizes n (default 10, 20, 50), the n x n mazes of the GCS paper
+    maze sizes n (default :data:`GCS_MAZE_SIZES`), the n x n mazes of the GCS paper
     (:func:`plansynth.reach.families.gcs_maze`: seed 4, walls 0.1 thick, 100 extra
     knock-downs at n = 50 as in its notebook; the double integrator with dt 0.5 s,
     |u| <= 1, |v| <= 1 per axis, from the centre of cell (0, 0) at rest to a 0.4 box at
@@ -95,7 +98,7 @@ def reach_family(
             for m in MISSIONS:
                 out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
     elif name == "gcs-maze":
-        for n in values or [10, 20, 50]:
+        for n in values or GCS_MAZE_SIZES:
             out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))
     else:
         raise KeyError(f"unknown reach family {name!r}; choose one of {', '.join(REACH_FAMILIES)}")

@@ -24,7 +24,7 @@ only when it plans. The planners and their modules:
 ``milp``              the region MILP, one per horizon (the cross-check oracle);
 ``milp-bigm``         the one-shot big-M MILP over the obstacles (LTL OPT stand-in);
 ``rrt``, ``est``, ``kpiece``  OMPL's kinodynamic planners;
-``gcs``               Drake's Graphs of Convex Sets;
+``gcs``               Drake's Graphs of Convex Sets (``gcs-decomposition``: over our regions);
 ``fpp``               fast path planning through safe boxes (``fastpathplanning``);
 ``milp-ltl``, ``milp-ltl-oneshot``  the mission MILP baseline
                       (:mod:`plansynth.reach.mission.milp`).
@@ -227,6 +227,7 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
     "planner",
     {
         "lazy-smt": "plansynth.reach.planners.lazy_smt:LAZY_SMT",
+        "lazy-smt-window": "plansynth.reach.planners.lazy_smt:LAZY_SMT_WINDOW",  # without the timed route
         "milp": "plansynth.reach.planners.baselines:MILP",
         "lazy-smt-paper": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER",
         "lazy-smt-paper-trivial": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER_TRIVIAL",
@@ -237,11 +238,12 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
         "est": "plansynth.reach.planners.baselines:EST",
         "kpiece": "plansynth.reach.planners.baselines:KPIECE",
         "gcs": "plansynth.reach.planners.baselines:GCS",  # Drake's Graphs of Convex Sets
+        "gcs-decomposition": "plansynth.reach.planners.baselines:GCS_DECOMPOSITION",  # over our regions
         "fpp": "plansynth.reach.planners.baselines:FPP",  # fast path planning through safe boxes
         "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
         "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
     },
-    extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs", "fpp")},
+    extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs", "gcs-decomposition", "fpp")},
 )
 
 
@@ -254,7 +256,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'fpp', 'milp-ltl', 'milp-ltl-oneshot')
+    ('lazy-smt', 'lazy-smt-window', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'gcs-decomposition', 'fpp', 'milp-ltl', 'milp-ltl-oneshot')
     """
     return PLANNERS.names()
 
@@ -281,6 +283,6 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, fpp, milp-ltl, milp-ltl-oneshot
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, lazy-smt-window, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, gcs-decomposition, fpp, milp-ltl, milp-ltl-oneshot
     """
     return PLANNERS.get(name)
