@@ -70,24 +70,21 @@ def test_fpp_budget_is_honoured():
 def test_fpp_refuses_what_it_cannot_plan():
     with pytest.raises(SolverUnavailable, match="single- and double-integrator"):
         solve(maze(1, order=3), "fpp", Budget(seconds=10))
-    poly = ReachProblem(
-        workspace=Box((0, 0), (10, 10)),
-        obstacles=(Polygon(((3, 0), (5, 0), (4, 7))),),
-        goal=Box((8, 1), (9, 2)),
-        dynamics=double_integrator(2, 0.5),
-        start=[1, 1, 0, 0],
-        input_bound=1.0,
-    )
+
+    def world(obstacles: tuple, start: list[float]) -> ReachProblem:
+        return ReachProblem(
+            workspace=Box((0, 0), (10, 10)),
+            obstacles=obstacles,
+            goal=Box((8, 1), (9, 2)),
+            dynamics=double_integrator(2, 0.5),
+            start=start,
+            input_bound=1.0,
+        )
+
+    poly = world((Polygon(((3, 0), (5, 0), (4, 7))),), [1, 1, 0, 0])
     with pytest.raises(SolverUnavailable, match="every obstacle must be a box"):
         solve(poly, "fpp", Budget(seconds=10))
-    moving = ReachProblem(
-        workspace=Box((0, 0), (10, 10)),
-        obstacles=(),
-        goal=Box((8, 1), (9, 2)),
-        dynamics=double_integrator(2, 0.5),
-        start=[1, 1, 0.5, 0],
-        input_bound=1.0,
-    )
+    moving = world((), [1, 1, 0.5, 0])
     with pytest.raises(SolverUnavailable, match="starts at rest"):
         solve(moving, "fpp", Budget(seconds=10))
 

@@ -49,6 +49,7 @@ import numpy as np
 
 from plansynth.budget import checkpoint
 from plansynth.errors import SolverUnavailable
+from plansynth.reach.abstraction.boxes import obstacle_grid
 from plansynth.reach.geometry import Box, convex_pieces, halfspaces
 from plansynth.reach.problem import ReachProblem
 
@@ -93,31 +94,6 @@ class ConvexSets:
         """The sets that contain point ``p`` (closed, within ``tol``)."""
         q = np.asarray(p, float)
         return tuple(i for i, (H, h) in enumerate(zip(self.H, self.h)) if np.all(H @ q <= h + tol))
-
-
-def obstacle_grid(problem: ReachProblem) -> tuple[list[np.ndarray], np.ndarray]:
-    """The grid of all obstacle coordinates inside the workspace (every obstacle a box):
-    the cut coordinates per axis and the boolean array of free cells."""
-    ws = problem.workspace
-    d = ws.dim
-    cuts = []
-    for k in range(d):
-        vals = {ws.lo[k], ws.hi[k]}
-        for ob in problem.obstacles:
-            if not isinstance(ob, Box):
-                raise ValueError("the obstacle grid needs every obstacle to be a box")
-            vals.update(v for v in (ob.lo[k], ob.hi[k]) if ws.lo[k] < v < ws.hi[k])
-        cuts.append(np.array(sorted(vals)))
-    free = np.ones(tuple(len(c) - 1 for c in cuts), dtype=bool)
-    for ob in problem.obstacles:
-        assert isinstance(ob, Box)
-        sl = []
-        for k in range(d):
-            i0 = int(np.searchsorted(cuts[k], max(ob.lo[k], ws.lo[k]), side="left"))
-            i1 = int(np.searchsorted(cuts[k], min(ob.hi[k], ws.hi[k]), side="left"))
-            sl.append(slice(i0, max(i0, i1)))
-        free[tuple(sl)] = False
-    return cuts, free
 
 
 def _runs(free: np.ndarray, axis: int) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:

@@ -26,17 +26,21 @@ and densely (:data:`CURVE_SUBSTEPS` per dt, plus every piece's ends), as
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import time
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
+from plansynth.reach.result import ReachResult, ReachStatus
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = [
     "PiecewiseBezier",
+    "CurveRun",
     "sampled_curve",
     "CURVE_SUBSTEPS",
     "integrator_order",
@@ -180,3 +184,58 @@ def position_box(problem: ReachProblem) -> Box:
         lo = np.maximum(lo, np.array(problem.state_bounds.lo)[pos])
         hi = np.minimum(hi, np.array(problem.state_bounds.hi)[pos])
     return Box(tuple(lo), tuple(hi))
+
+
+@dataclass
+class CurveRun:
+    """What a curve planner records while it runs (its name, start time, counters,
+    timings, options) and the two results it ends with: :meth:`unknown` and :meth:`found`
+    (``guarantee="curve"``). Its ``seconds`` are the wall time since ``t0`` less
+    ``timings["isolation"]`` (a child process's start and imports, when the planner runs
+    its library in one)."""
+
+    solver: str
+    t0: float = field(default_factory=time.perf_counter)
+    counters: dict[str, Any] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    options: dict[str, Any] = field(default_factory=dict)
+
+    def _seconds(self) -> float:
+        self.timings["total"] = time.perf_counter() - self.t0
+        return self.timings["total"] - self.timings.get("isolation", 0.0)
+
+    def unknown(self, message: str) -> ReachResult:
+        return ReachResult(
+            status=ReachStatus.UNKNOWN,
+            solver=self.solver,
+            seconds=self._seconds(),
+            counters=self.counters,
+            timings=self.timings,
+            options=self.options,
+            message=message,
+            guarantee="curve",
+        )
+
+    def found(
+        self,
+        sampled: tuple[Trajectory, Trajectory, tuple[float, ...], int, float],
+        message: str,
+        regions: tuple[int, ...] | None = None,
+    ) -> ReachResult:
+        """``found`` with the samples of :func:`sampled_curve` (``message``: the guarantee)."""
+        traj, dense, times, N, _ = sampled
+        return ReachResult(
+            status=ReachStatus.FOUND,
+            solver=self.solver,
+            seconds=self._seconds(),
+            trajectory=traj,
+            regions=regions,
+            horizon=N,
+            counters=self.counters,
+            timings=self.timings,
+            options=self.options,
+            guarantee="curve",
+            message=message,
+            curve=dense,
+            curve_times=times,
+        )

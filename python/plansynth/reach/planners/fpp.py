@@ -65,6 +65,7 @@ from plansynth.errors import SolverUnavailable
 from plansynth.reach.geometry import Box, halfspaces
 from plansynth.reach.planners.convex_sets import maximal_free_boxes
 from plansynth.reach.planners.curves import (
+    CurveRun,
     PiecewiseBezier,
     derivative_bounds,
     integrator_order,
@@ -72,7 +73,7 @@ from plansynth.reach.planners.curves import (
     sampled_curve,
 )
 from plansynth.reach.problem import ReachProblem
-from plansynth.reach.result import ReachResult, ReachStatus
+from plansynth.reach.result import ReachResult
 
 __all__ = ["plan_fpp", "run", "GUARANTEE", "fpp_version"]
 
@@ -174,22 +175,8 @@ def plan_fpp(
     if not problem.starts_at_rest:
         raise SolverUnavailable("fpp", "the fpp baseline starts at rest; this problem's start moves (use lazy-smt)")
     t0 = time.perf_counter()
-    options: dict[str, Any] = {"alpha": list(alpha), "fastpathplanning": fpp_version(), "sets": "boxes"}
-    counters: dict[str, Any] = {}
-    timings: dict[str, float] = {}
-
-    def unknown(message: str) -> ReachResult:
-        timings["total"] = time.perf_counter() - t0
-        return ReachResult(
-            status=ReachStatus.UNKNOWN,
-            solver="fpp",
-            seconds=timings["total"] - timings.get("isolation", 0.0),
-            counters=counters,
-            timings=timings,
-            options=options,
-            message=message,
-            guarantee="curve",
-        )
+    rec = CurveRun("fpp", t0, options={"alpha": list(alpha), "fastpathplanning": fpp_version(), "sets": "boxes"})
+    counters, timings, unknown = rec.counters, rec.timings, rec.unknown
 
     clock = budget.clock()
     ts = time.perf_counter()
@@ -251,7 +238,8 @@ def plan_fpp(
     accel = _ratio(a, _input_box(problem)) if k == 2 else 0.0
     stretch = max(speed, math.sqrt(accel), 1e-12)
     curve = curve.stretched(stretch)
-    traj_dt, dense, dense_times, N, extra = sampled_curve(problem, curve, k)
+    sampled = sampled_curve(problem, curve, k)
+    N, extra, dense_times = sampled[3], sampled[4], sampled[2]
     counters.update(
         {
             "pieces": len(curve.points),
@@ -265,22 +253,7 @@ def plan_fpp(
         }
     )
     timings["sample"] = time.perf_counter() - tr
-    timings["total"] = time.perf_counter() - t0
-    return ReachResult(
-        status=ReachStatus.FOUND,
-        solver="fpp",
-        seconds=timings["total"] - timings["isolation"],
-        trajectory=traj_dt,
-        regions=None,
-        horizon=N,
-        counters=counters,
-        timings=timings,
-        options=options,
-        guarantee="curve",
-        message=GUARANTEE,
-        curve=dense,
-        curve_times=dense_times,
-    )
+    return rec.found(sampled, GUARANTEE)
 
 
 def _input_box(problem: ReachProblem) -> tuple[np.ndarray, np.ndarray]:

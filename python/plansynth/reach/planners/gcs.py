@@ -84,6 +84,7 @@ from plansynth.reach.geometry import halfspaces
 from plansynth.reach.planners.convex_sets import ConvexSets, overlapping_sets
 from plansynth.reach.planners.curves import (
     CURVE_SUBSTEPS,
+    CurveRun,
     PiecewiseBezier,
     derivative_bounds,
     integrator_order,
@@ -94,7 +95,7 @@ from plansynth.reach.planners.options import GCS_SETS as SETS
 from plansynth.reach.planners.options import GCS_VARIANTS as VARIANTS
 from plansynth.reach.planners.options import GcsOptions
 from plansynth.reach.problem import ReachProblem
-from plansynth.reach.result import ReachResult, ReachStatus
+from plansynth.reach.result import ReachResult
 
 __all__ = ["plan_gcs", "VARIANTS", "SETS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
 
@@ -235,21 +236,8 @@ def plan_gcs(
         "relaxation_solver": "Clarabel",
         "restriction_solver": "IPOPT" if variant != "convex" and k == 2 else "Clarabel",
     }
-    counters: dict[str, Any] = {}
-    timings: dict[str, float] = {}
-
-    def unknown(message: str) -> ReachResult:
-        timings["total"] = time.perf_counter() - t0
-        return ReachResult(
-            status=ReachStatus.UNKNOWN,
-            solver="gcs",
-            seconds=timings["total"],
-            counters=counters,
-            timings=timings,
-            options=options,
-            message=message,
-            guarantee="curve",
-        )
+    rec = CurveRun("gcs", t0, options=options)
+    counters, timings, unknown = rec.counters, rec.timings, rec.unknown
 
     ta = time.perf_counter()
     try:
@@ -361,14 +349,14 @@ def plan_gcs(
         tuple(np.asarray(p.control_points(), float).T for p in pieces),
         np.array([(p.start_time() - t_start) * T for p in pieces] + [duration]),
     )
-    traj_dt, curve, dense_times, N, stretch = sampled_curve(problem, bezier, k)
+    sampled = sampled_curve(problem, bezier, k)
+    N, stretch, dense_times = sampled[3], sampled[4], sampled[2]
     visited = []
     for p in pieces:
         mid = p.value(0.5 * (p.start_time() + p.end_time())).ravel()
         inside = graph.containing(mid)
         visited.append(inside[0] if inside else -1)
     timings["sample"] = time.perf_counter() - tr
-    timings["total"] = time.perf_counter() - t0
     counters.update(
         {
             "pieces": len(pieces),
@@ -379,21 +367,7 @@ def plan_gcs(
             "set_sequence": [int(r) for r in visited],
         }
     )
-    return ReachResult(
-        status=ReachStatus.FOUND,
-        solver="gcs",
-        seconds=timings["total"],
-        trajectory=traj_dt,
-        regions=tuple(int(r) for r in visited) if graph.kind == "decomposition" else None,
-        horizon=N,
-        counters=counters,
-        timings=timings,
-        options=options,
-        guarantee="curve",
-        message=GUARANTEE,
-        curve=curve,
-        curve_times=dense_times,
-    )
+    return rec.found(sampled, GUARANTEE, tuple(int(r) for r in visited) if graph.kind == "decomposition" else None)
 
 
 def run(
