@@ -213,9 +213,12 @@ def plan_lazy(
         quick = None
         if opts.timed_route and search != "linear" and not conplan.dear:
             with clock.phase("the timed route"):
-                first_leg = (
+                first_leg = (  # (exact and a few LPs from rest; else a scan of up to REFINE_SPAN LPs)
                     theory.first_gap(START, path[1])
-                    if isinstance(theory, TransitCheck) and path is not None and len(path) > 1
+                    if isinstance(theory, TransitCheck)
+                    and problem.starts_at_rest
+                    and path is not None
+                    and len(path) > 1
                     else None
                 )
                 quick = timed_route(
