@@ -198,3 +198,21 @@ def test_an_unknown_grid_backend_lists_the_names() -> None:
 
     with pytest.raises(UnknownSolver, match="unknown grid solver; choose one of: native, cvc5, external"):
         get_backend("nosuch")
+
+
+@pytest.mark.parametrize(("planner", "hidden"), [("gcs", "pydrake"), ("rrt", "ompl"), ("kpiece", "ompl")])
+def test_a_baseline_without_its_extra_names_the_extra(planner: str, hidden: str) -> None:
+    """Without the ``baselines`` extra (its module made unimportable here), asking for a
+    baseline is one line naming the extra to install, exit 2; lazy-smt still plans."""
+    code = (
+        "import sys\n"
+        f"sys.modules[{hidden!r}] = None  # as if the package were not installed\n"
+        "from plansynth.cli import main\n"
+        f"main(['reach', 'solve', 'examples/reach/maze-1.yaml', '--planner', {planner!r}])\n"
+    )
+    run = _python(code)
+    assert run.returncode == 2, run.stdout + run.stderr
+    assert "pip install 'plansynth[baselines]'" in run.stdout + run.stderr
+    assert "Traceback" not in run.stdout + run.stderr
+    ok = _python(code.replace(f"'--planner', {planner!r}", "'--planner', 'lazy-smt'"))
+    assert ok.returncode == 0 and "found" in ok.stdout, ok.stdout + ok.stderr

@@ -30,7 +30,7 @@ from typing import Generic, TypeVar
 
 from plansynth.errors import SolverUnavailable, UnknownSolver
 
-__all__ = ["Registry", "package_version"]
+__all__ = ["Registry", "distribution_version", "extra_remedy", "package_version"]
 
 T = TypeVar("T")
 
@@ -97,15 +97,58 @@ class Registry(Generic[T]):
         return self._extras.get(name)
 
 
+def extra_remedy(module: str | None, extra: str) -> str:
+    """What to install when ``module`` of the optional dependency group ``extra`` is missing.
+
+    >>> extra_remedy("pydrake", "baselines")
+    "it needs the Python module 'pydrake', which comes with plansynth's 'baselines' extra: pip install 'plansynth[baselines]'"
+    """
+    return (
+        f"it needs the Python module {module!r}, which comes with plansynth's {extra!r} extra: "
+        f"pip install 'plansynth[{extra}]'"
+    )
+
+
+def distribution_version(package: str) -> str | None:
+    """The installed version of the distribution ``package``, or None.
+
+    Read from the name of its ``.dist-info`` folder on ``sys.path`` (the standard's
+    ``{name}-{version}.dist-info``, the name normalised with underscores), which costs a
+    few directory reads; :mod:`importlib.metadata` (tens of milliseconds to import) is
+    the fallback for other layouts. Every solve records its solvers' versions, so this
+    is on the start-up path of every command.
+
+    >>> distribution_version("plansynth") is not None, distribution_version("plansynth-no-such-package")
+    (True, None)
+    """
+    import os
+    import re
+    import sys
+
+    wanted = re.sub(r"[-_.]+", "_", package).lower()
+    for folder in sys.path:
+        try:
+            names = os.listdir(folder or ".")
+        except OSError:
+            continue
+        for name in names:
+            if name.endswith(".dist-info"):
+                dist, _, version = name[: -len(".dist-info")].partition("-")
+                if version and re.sub(r"[-_.]+", "_", dist).lower() == wanted:
+                    return version
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(package)
+    except PackageNotFoundError:
+        return None
+
+
 def package_version(package: str) -> str:
     """``"package version"``, or the package name alone when it is not installed.
 
     >>> package_version("plansynth-no-such-package")
     'plansynth-no-such-package'
     """
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return f"{package} {version(package)}"
-    except PackageNotFoundError:
-        return package
+    found = distribution_version(package)
+    return package if found is None else f"{package} {found}"

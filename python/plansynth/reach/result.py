@@ -50,15 +50,10 @@ class ReachStatus(str, enum.Enum):
 
 def solver_versions() -> dict[str, str]:
     """Versions of plansynth and of the solvers the reach planners call."""
-    from importlib.metadata import PackageNotFoundError, version
+    from plansynth.registry import distribution_version
 
-    out = {}
-    for dist in ("plansynth", "highspy", "python-sat", "numpy", "shapely", "drake"):
-        try:
-            out[dist] = version(dist)
-        except PackageNotFoundError:  # pragma: no cover - depends on the install
-            out[dist] = "not installed"
-    return out
+    dists = ("plansynth", "highspy", "python-sat", "numpy", "shapely", "drake")
+    return {dist: distribution_version(dist) or "not installed" for dist in dists}
 
 
 @dataclass(frozen=True, eq=False)

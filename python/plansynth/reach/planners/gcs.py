@@ -96,6 +96,7 @@ from plansynth.reach.planners.options import GCS_VARIANTS as VARIANTS
 from plansynth.reach.planners.options import GcsOptions
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult
+from plansynth.registry import extra_remedy
 
 __all__ = ["plan_gcs", "VARIANTS", "SETS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
 
@@ -142,8 +143,8 @@ def _import_drake() -> dict[str, Any]:
         from pydrake.geometry.optimization import GraphOfConvexSetsOptions, HPolyhedron, Point
         from pydrake.planning import GcsTrajectoryOptimization
         from pydrake.solvers import ClarabelSolver, IpoptSolver, SolverOptions
-    except ImportError as exc:  # pragma: no cover - drake is a dependency
-        raise SolverUnavailable("gcs", "install Drake (pip install drake)") from exc
+    except ImportError as exc:  # drake comes with the baselines extra
+        raise SolverUnavailable("gcs", extra_remedy("pydrake", "baselines")) from exc
     return {
         "Gcs": GcsTrajectoryOptimization,
         "Options": GraphOfConvexSetsOptions,

@@ -39,6 +39,7 @@ from plansynth.reach.geometry import Box, Polygon, shape_to_shapely
 from plansynth.reach.planners.options import OmplOptions
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
+from plansynth.registry import extra_remedy
 
 __all__ = ["PLANNERS", "plan_rrt", "ompl_version", "DEFAULT_STATE_SPAN", "run_rrt", "run_est", "run_kpiece"]
 
@@ -65,8 +66,8 @@ def _import_ompl() -> tuple[Any, Any, Any]:
         import ompl.base as ob
         import ompl.control as oc
         import ompl.util as ou
-    except ImportError as exc:  # pragma: no cover - ompl is a dependency
-        raise SolverUnavailable("rrt", "install the `ompl` Python package (pip install ompl)") from exc
+    except ImportError as exc:  # ompl comes with the baselines extra
+        raise SolverUnavailable("ompl", extra_remedy("ompl", "baselines")) from exc
     return ob, oc, ou
 
 
