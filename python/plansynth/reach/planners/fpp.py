@@ -74,6 +74,7 @@ from plansynth.reach.planners.curves import (
 )
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult
+from plansynth.registry import extra_remedy
 
 __all__ = ["plan_fpp", "run", "GUARANTEE", "fpp_version"]
 
@@ -101,6 +102,18 @@ def fpp_version() -> str:
         return version("fastpathplanning")
     except Exception:  # pragma: no cover - metadata missing
         return "unknown"
+
+
+def _require_fpp() -> None:
+    """FPP runs in a child process: say here, in this one, when it is not installed."""
+    import importlib.util
+
+    try:
+        found = importlib.util.find_spec("fastpathplanning") is not None
+    except ValueError:  # a module set to None in sys.modules: as if not installed
+        found = False
+    if not found:
+        raise SolverUnavailable("fpp", extra_remedy("fastpathplanning", "baselines"))
 
 
 def _fpp_in_child(
@@ -174,6 +187,7 @@ def plan_fpp(
         raise SolverUnavailable("fpp", "FPP plans through boxes: every obstacle must be a box (use gcs or lazy-smt)")
     if not problem.starts_at_rest:
         raise SolverUnavailable("fpp", "the fpp baseline starts at rest; this problem's start moves (use lazy-smt)")
+    _require_fpp()
     t0 = time.perf_counter()
     rec = CurveRun("fpp", t0, options={"alpha": list(alpha), "fastpathplanning": fpp_version(), "sets": "boxes"})
     counters, timings, unknown = rec.counters, rec.timings, rec.unknown
