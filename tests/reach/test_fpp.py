@@ -106,3 +106,12 @@ def test_piecewise_bezier_derivatives_and_bounds():
     s = c.stretched(2.0)
     assert s.duration == pytest.approx(6.0)
     assert np.allclose(s.derivative()(2 * t), v(t) / 2)
+
+
+def test_fpp_out_of_budget_is_unknown_and_took_its_budget():
+    """A budget too short for FPP (its child process alone imports cvxpy): ``unknown``,
+    and the seconds reported are the time it ran, not 0 (a child killed at the budget
+    spent it on FPP's work, not on start-up overhead)."""
+    r = solve(maze(1), "fpp", Budget(seconds=0.3))
+    assert r.status is ReachStatus.UNKNOWN, r.message
+    assert r.seconds >= 0.3, (r.seconds, r.timings)

@@ -230,7 +230,9 @@ def plan_fpp(
     )
     wall = time.perf_counter() - tc
     if not isinstance(out, Finished):
-        timings["isolation"] = wall
+        # the child's start-up is not known apart from FPP's work here: the run's seconds
+        # are all of it (a run killed at the budget took the budget, not 0 s)
+        timings["child"] = wall
         if isinstance(out, Crash):
             last = out.describe()
             return unknown(f"FPP found no curve ({last})")
