@@ -118,6 +118,7 @@ FIGURE1_CVC5 = Case(
 SOLVED_P = "plansynth grid solve p.yaml -o door.json"
 SOLVED_FIGURE1 = "plansynth grid solve examples/grid/figure1.yaml --out result.json"
 SOLVED_DOOR = "plansynth grid solve examples/grid/door.yaml -o door.json"
+SOLVED_WINDY = "plansynth reach solve examples/reach/maze-3-windy.yaml --out plan.json --plot plan.png"
 SOLVED_CROSSING = "plansynth grid solve examples/grid/crossing.yaml -o crossing.json"
 SOLVED_MAZE3 = "plansynth reach solve examples/reach/maze-3.yaml --out traj.json"
 SOLVED_PATROL = "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json"
@@ -277,10 +278,34 @@ CASES: dict[str, Case] = {
     "plansynth bench report --db bench-results.db --out bench-report/": Case(
         files=("bench-report/",), before=(TINY_BENCH,)
     ),
+    "plansynth bench merge other-results.db --db benchmarks/results.db": Case(
+        out=("runs merged into",),
+        files=("benchmarks/results.db",),
+        before=(TINY_BENCH.replace("bench-results.db", "other-results.db"),),
+    ),
     "plansynth bench publish '[--report-only]'": Case(
         files=("published/RESULTS.md",), slow=False, fast="plansynth bench publish --report-only --out published"
     ),
     "plansynth reach solve examples/reach/mission-visit.yaml -p milp-ltl": Case(out=("found", "milp-ltl")),
+    # under a bounded disturbance (README, docs/how-to/robust.md)
+    "plansynth reach solve examples/reach/maze-3-windy.yaml --out plan.json --plot plan.png": Case(
+        out=FOUND + ("keeps the closed loop safe and reaching", "K = ["),
+        files=("plan.json", "plan.png"),
+        json=(("plan.json", "status", "found"), ("plan.json", "validated", True)),
+    ),
+    "plansynth reach validate examples/reach/maze-3-windy.yaml plan.json --disturbances 1000": Case(
+        out=("valid", "robust: worst case at every step", "0 of 1", " random, 0 of 1", " vertex runs violated"),
+        before=(SOLVED_WINDY,),
+        fast=(SOLVED_WINDY, "plansynth reach validate examples/reach/maze-3-windy.yaml plan.json --disturbances 100"),
+    ),
+    "plansynth reach solve examples/reach/maze-3-windy.yaml --planner nominal-check": Case(
+        exit=(3,), out=("unknown", "fails the robust check")
+    ),
+    "plansynth bench reach --family robust --planners lazy-smt --timeout 300": Case(
+        files=("b.db",),
+        slow=False,
+        fast="plansynth bench reach --family robust --values 1 --planners lazy-smt --timeout 60 --db b.db",
+    ),
     "plansynth reach solve examples/reach/mission-unsat.yaml": Case(exit=(1,), out=("infeasible",)),
     "plansynth --version": Case(out=("plansynth 0.", "core")),
     SOLVED_FIGURE1: Case(

@@ -41,6 +41,7 @@ EXIT_STATUS = {
     "plansynth bench report": "0 written, 2 no such database or an output that cannot be written.",
     "plansynth bench families": "0 written, 2 an output that cannot be written.",
     "plansynth bench publish": "0 written, 2 an output that cannot be written.",
+    "plansynth bench merge": "0 merged, 2 a source that does not exist or a database that cannot be written.",
     "plansynth version": "0.",
 }
 

@@ -132,3 +132,21 @@ def test_a_report_of_a_database_without_runs_is_refused_and_writes_nothing(tmp_p
     with pytest.raises(NoRuns, match="empty.db: the results database holds no runs"):
         write_report(db, tmp_path / "api")
     assert not (tmp_path / "api").exists()
+
+
+def test_merge_copies_a_sweep_into_another_database(tmp_path):
+    db = tmp_path / "b.db"
+    r = runner.invoke(
+        app, ["bench", "grid", "--family", "depth", "--values", "1", "--solvers", "native", "--db", str(db)]
+    )
+    assert r.exit_code == 0, r.output
+    merged = tmp_path / "merged.db"
+    r = runner.invoke(app, ["bench", "merge", str(db), "--db", str(merged)])
+    assert r.exit_code == 0, r.output
+    assert f"{db}: 1 runs merged into {merged}" in " ".join(r.output.split())
+    with ResultsDB(db) as a, ResultsDB(merged) as b:
+        assert [(x["experiment"], x["planner"], x["status"]) for x in a.runs()] == [
+            (x["experiment"], x["planner"], x["status"]) for x in b.runs()
+        ]
+    r = runner.invoke(app, ["bench", "merge", str(tmp_path / "none.db"), "--db", str(merged)])
+    assert r.exit_code == 2 and "none.db: no such results database" in " ".join(r.output.split())

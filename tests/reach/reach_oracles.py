@@ -28,6 +28,49 @@ def problems(draw, max_obstacles: int = 5) -> ReachProblem:
         return random_workspace(seed % 97, 2, dim=dim, order=order)
 
 
+@st.composite
+def disturbed(draw, max_obstacles: int = 4, scales: tuple[float, float] = (0.002, 0.05)) -> ReachProblem:
+    """A random 2-D room (single or double integrator) under a random disturbance
+    (``robot.disturbance``) of size within ``scales``: a box (some half-widths zero) or
+    a polytope around 0."""
+    from dataclasses import replace
+
+    from plansynth.reach.disturbance import Disturbance
+
+    seed = draw(st.integers(0, 10**6))
+    order = draw(st.sampled_from([1, 2]))
+    dt = 1.0 if order == 1 else 0.5
+    try:
+        p = random_workspace(seed, draw(st.integers(1, max_obstacles)), order=order, dt=dt)
+    except RuntimeError:
+        p = random_workspace(seed % 97, 2, order=order, dt=dt)
+    n = p.dynamics.n_states
+    scale = draw(st.floats(*scales))
+    if draw(st.booleans()):
+        w = Disturbance(box=tuple(scale * draw(st.sampled_from([0.0, 0.5, 1.0])) for _ in range(n)))
+    else:
+        rng = np.random.default_rng(seed)
+        V = rng.normal(size=(draw(st.integers(2, 5)), n))
+        V = np.vstack([V, -V.sum(axis=0, keepdims=True)])  # the vertices add up to 0: 0 is inside
+        w = Disturbance(vertices=scale * V / np.abs(V).max())
+    return replace(p, disturbance=w)
+
+
+def tube_margins(problem: ReachProblem, directions: np.ndarray, steps: int) -> np.ndarray:
+    """``h_{E_t}(c)`` for t = 0..steps and the rows c of ``directions``, for the tube a
+    tightened problem carries (``problem.tube``), summed term by term here from its
+    closed loop and its W: the oracle's own, not the planner's."""
+    tube = problem.tube
+    A_K, w = np.asarray(tube.A_K, float), tube.W
+    out = np.zeros((steps + 1, len(directions)))
+    C = np.asarray(directions, float).copy()
+    for t in range(steps):
+        term = np.abs(C) @ np.asarray(w.box) if w.box is not None else np.max(C @ np.asarray(w.vertices).T, axis=1)
+        out[t + 1] = out[t] + term
+        C = C @ A_K
+    return out
+
+
 def add_rows(h: highspy.Highs, rows: list[Row]) -> None:
     """Add sparse ``rows`` (coefficients by column, lower, upper) to ``h`` in one call."""
     starts, index, value = [], [], []

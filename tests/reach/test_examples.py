@@ -19,7 +19,7 @@ from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import validate
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "reach"
-NAMES = ["maze-1", "maze-2", "maze-3", "maze-4", "chain-maze-2", "dubins", "cluttered"]
+NAMES = ["maze-1", "maze-2", "maze-3", "maze-4", "chain-maze-2", "dubins", "cluttered", "maze-3-windy"]
 
 
 def test_every_example_is_there() -> None:

@@ -4,7 +4,10 @@
 * the lazy planner and the region MILP agree: same status, same (shortest) horizon;
 * counterexample soundness: every clause CON-PLAN hands to DIS-PLAN excludes only
   region sequences that have no trajectory, checked by brute force -- all excluded
-  walks are enumerated and each is refuted by an LP written here from scratch.
+  walks are enumerated and each is refuted by an LP written here from scratch; also on
+  problems tightened by a disturbance's tube, whose bounds tighten at every step (a
+  clause that holds at one time need not hold earlier), by the same LP with the tube's
+  margins at every step.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from reach_oracles import feasible, problems
+from reach_oracles import disturbed, feasible, problems, tube_margins
 
 from plansynth.reach import ReachStatus, solve
 from plansynth.reach.abstraction import Abstraction, abstract
@@ -91,6 +94,26 @@ def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], seg
                     coef[u(t, j)] = -float(B[i, j])
             rows.append((coef, 0.0, 0.0))
 
+    col_lo = np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)])
+    col_hi = np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)])
+    goal_margin = np.zeros(len(halfspaces(p.goal)[0]))
+    if p.tube is not None:  # a tightened problem: every bound tightened by the tube at its step
+        ws_lo, ws_hi = np.array(p.workspace.lo, float), np.array(p.workspace.hi, float)
+        pos = list(dyn.position)
+        lo, hi = lo.copy(), hi.copy()
+        lo[pos], hi[pos] = np.maximum(lo[pos], ws_lo), np.minimum(hi[pos], ws_hi)
+        S = tube_margins(p, np.vstack([np.eye(n), -np.eye(n)]), N)
+        col_lo[: (N + 1) * n] = (lo[None, :] + S[:, n:]).ravel()
+        col_hi[: (N + 1) * n] = (hi[None, :] - S[:, :n]).ravel()
+        K = np.asarray(p.tube.K, float)
+        Su = tube_margins(p, np.vstack([K, -K]), N)
+        col_lo[(N + 1) * n :] = (-p.input_bound + Su[:N, m:]).ravel()
+        col_hi[(N + 1) * n :] = (p.input_bound - Su[:N, :m]).ravel()
+        Hg = halfspaces(p.goal)[0]
+        Dg = np.zeros((len(Hg), n))
+        Dg[:, pos] = Hg
+        goal_margin = tube_margins(p, Dg, N)[N]
+
     def inside(H: np.ndarray, hh: np.ndarray, t: int) -> None:
         for row, b in zip(H, hh):
             coef: dict[int, float] = {}
@@ -104,14 +127,81 @@ def oracle_feasible(p: ReachProblem, ab: Abstraction, walk: tuple[int, ...], seg
         inside(reg.H, reg.h, t)
         if segment_safe and t < N:
             inside(reg.H, reg.h, t + 1)
-    inside(*halfspaces(p.goal), N)
+    Hg, hg = halfspaces(p.goal)
+    inside(Hg, hg - goal_margin, N)
     h = new_highs()  # the package's constructor: one HiGHS scheduler setting per process
-    h.addVars(
-        (N + 1) * n + N * m,
-        np.concatenate([np.tile(lo, N + 1), np.full(N * m, -p.input_bound)]),
-        np.concatenate([np.tile(hi, N + 1), np.full(N * m, p.input_bound)]),
-    )
+    if np.any(col_lo > col_hi):  # a bound the tube leaves empty
+        return False
+    h.addVars((N + 1) * n + N * m, col_lo, col_hi)
     return feasible(h, rows)
+
+
+def oracle_refutes(p: ReachProblem, ab: Abstraction, c: Conflict, segment_safe: bool) -> bool:
+    """Is what ``c`` claims impossible wherever DIS-PLAN may use it? An LP over the
+    states ``c.first_time..c.last_time`` with its literals' region rows (and segment
+    rows within the span), x_0 = start when it is anchored at the start (absolute
+    times), the goal at its last state when anchored at the goal; a tube's margins (the
+    problem's, at each step) put E_0 at the start, or, without the start, at the span's
+    first state: the earliest placement, the loosest (a conflict without the start is
+    reused at every time shift)."""
+    dyn = p.dynamics
+    n, m = dyn.n_states, dyn.n_inputs
+    first = 0 if c.anchored_start else c.first_time
+    T = c.last_time - first  # the span's steps
+    A, B = np.asarray(dyn.A, float), np.asarray(dyn.B, float)
+    pos = list(dyn.position)
+    inf = highspy.kHighsInf
+    lo = np.full(n, -inf) if p.state_bounds is None else np.array(p.state_bounds.lo, float)
+    hi = np.full(n, inf) if p.state_bounds is None else np.array(p.state_bounds.hi, float)
+    lo[pos] = np.maximum(lo[pos], p.workspace.lo)
+    hi[pos] = np.minimum(hi[pos], p.workspace.hi)
+    col_lo = np.concatenate([np.tile(lo, T + 1), np.full(T * m, -p.input_bound)])
+    col_hi = np.concatenate([np.tile(hi, T + 1), np.full(T * m, p.input_bound)])
+    Hg, hg = halfspaces(p.goal)
+    if p.tube is not None:
+        S = tube_margins(p, np.vstack([np.eye(n), -np.eye(n)]), T)
+        col_lo[: (T + 1) * n] += S[:, n:].ravel()
+        col_hi[: (T + 1) * n] -= S[:, :n].ravel()
+        K = np.asarray(p.tube.K, float)
+        Su = tube_margins(p, np.vstack([K, -K]), T)
+        col_lo[(T + 1) * n :] += Su[:T, m:].ravel()
+        col_hi[(T + 1) * n :] -= Su[:T, :m].ravel()
+        Dg = np.zeros((len(Hg), n))
+        Dg[:, pos] = Hg
+        hg = hg - tube_margins(p, Dg, T)[T]
+    if np.any(col_lo > col_hi):
+        return True
+    x = lambda t, i: (t - first) * n + i  # noqa: E731
+    u = lambda t, j: (T + 1) * n + (t - first) * m + j  # noqa: E731
+    rows: list[tuple[dict[int, float], float, float]] = []
+    if c.anchored_start:
+        for i in range(n):
+            rows.append(({x(0, i): 1.0}, float(p.start[i]), float(p.start[i])))
+    for t in range(first, c.last_time):
+        for i in range(n):
+            coef = {x(t + 1, i): 1.0}
+            for k in range(n):
+                if A[i, k] != 0:
+                    coef[x(t, k)] = coef.get(x(t, k), 0.0) - float(A[i, k])
+            for j in range(m):
+                if B[i, j] != 0:
+                    coef[u(t, j)] = -float(B[i, j])
+            rows.append((coef, 0.0, 0.0))
+
+    def inside(H: np.ndarray, hh: np.ndarray, t: int) -> None:
+        for row, b in zip(H, hh):
+            rows.append(({x(t, k): float(v) for v, k in zip(row, pos) if v}, -inf, float(b)))
+
+    for t, r in c.literals:
+        reg = ab.regions[r]
+        inside(reg.H, reg.h, t)
+        if segment_safe and t < c.last_time:
+            inside(reg.H, reg.h, t + 1)
+    if c.anchored_goal:
+        inside(Hg, hg, c.last_time)
+    h = new_highs()
+    h.addVars((T + 1) * n + T * m, col_lo, col_hi)
+    return not feasible(h, rows)
 
 
 def walks(ab: Abstraction, N: int) -> Iterator[tuple[int, ...]]:
@@ -148,12 +238,19 @@ def excludes(c: Conflict, walk: tuple[int, ...], waits: bool = False) -> bool:
 
 
 def soundness_checked(
-    p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, top: int = 4, search: str = "linear"
+    p: ReachProblem,
+    strategy: str,
+    generalize: bool,
+    segment_safe: bool,
+    top: int = 4,
+    search: str = "linear",
+    claims: list[Conflict] | None = None,
 ) -> int:
     """Run the lazy planner up to horizon ``top`` from horizon 0, record every clause it
     learns, and refute every walk (up to ``top``) a clause excludes by the oracle LP
     (at most 12 per clause and horizon). Returns the number of excluded walks refuted:
-    0 when no clause was learned or none excluded a walk, so that nothing was checked."""
+    0 when no clause was learned or none excluded a walk, so that nothing was checked.
+    ``claims``: the learned clauses are appended to it."""
     ab = abstract(p)
     learned: list[Conflict] = []
     original = DisPlan.learn
@@ -179,6 +276,8 @@ def soundness_checked(
         )
     finally:
         DisPlan.learn = original  # type: ignore[method-assign]
+    if claims is not None:
+        claims.extend(learned)
     checked = 0
     walks_of = {H: list(itertools.islice(walks(ab, H), 3000)) for H in range(0, top + 1)}
     feasible: dict[tuple[int, ...], bool] = {}  # the oracle's answer per walk (clauses share walks)
@@ -198,6 +297,21 @@ def soundness_checked(
 #: oracle must refute over all of them (random rooms give about 50 per example).
 SOUNDNESS_EXAMPLES = 30
 SOUNDNESS_FLOOR = 200
+#: the loop's configurations the soundness properties draw: counterexample strategy,
+#: generalisation, segment safety, horizon search
+LOOP_CONFIGURATIONS = (
+    st.sampled_from(["zeroprefix", "trivial", "iis"]),
+    st.booleans(),
+    st.booleans(),
+    st.sampled_from(["linear", "window"]),
+)
+
+
+def soundness_examples(n: int):
+    """The settings of a soundness property: ``n`` examples, slow and filtered ones allowed."""
+    return settings(
+        max_examples=n, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
+    )
 
 
 def test_every_learned_clause_excludes_only_infeasible_sequences() -> None:
@@ -207,18 +321,8 @@ def test_every_learned_clause_excludes_only_infeasible_sequences() -> None:
     whole must refute at least :data:`SOUNDNESS_FLOOR` excluded walks."""
     checked: list[int] = []
 
-    @settings(
-        max_examples=SOUNDNESS_EXAMPLES,
-        deadline=None,
-        suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
-    )
-    @given(
-        problems(max_obstacles=4),
-        st.sampled_from(["zeroprefix", "trivial", "iis"]),
-        st.booleans(),
-        st.booleans(),
-        st.sampled_from(["linear", "window"]),
-    )
+    @soundness_examples(SOUNDNESS_EXAMPLES)
+    @given(problems(max_obstacles=4), *LOOP_CONFIGURATIONS)
     def every_clause_is_sound(
         p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, search: str
     ) -> None:
@@ -228,6 +332,76 @@ def test_every_learned_clause_excludes_only_infeasible_sequences() -> None:
 
     every_clause_is_sound()
     assert len(checked) >= SOUNDNESS_EXAMPLES and sum(checked) >= SOUNDNESS_FLOOR, checked
+
+
+#: examples of the soundness property under a tube (each with some excluded walk)
+TUBE_SOUNDNESS_EXAMPLES = 15
+
+
+def test_every_learned_clause_is_sound_under_a_tube() -> None:
+    """The same property on random rooms tightened by a disturbance's tube
+    (plansynth.reach.robust): the state bounds, the workspace, the input bound and the
+    goal tighten at every step, so a conflict without the start may be reused only
+    where it was proved at its earliest placement; every clause learned there excludes
+    only walks the oracle, with the tube's margins at each step, refutes."""
+    from plansynth.reach.robust.tighten import tightened
+
+    checked: list[int] = []
+
+    # tubes that grow by tenths of a metre in the first steps
+    @soundness_examples(TUBE_SOUNDNESS_EXAMPLES)
+    @given(disturbed(scales=(0.05, 0.3)), *LOOP_CONFIGURATIONS)
+    def every_clause_is_sound(
+        p: ReachProblem, strategy: str, generalize: bool, segment_safe: bool, search: str
+    ) -> None:
+        q = tightened(p).problem
+        assume(q is not None and q.tube.varies)
+        assert not q.starts_at_rest  # no clause is shifted earlier by waiting at the start
+        claims: list[Conflict] = []
+        n = soundness_checked(q, strategy, generalize, segment_safe, search=search, claims=claims)
+        ab = abstract(q)
+        for c in claims:  # each claim refuted where DIS-PLAN may use it first
+            assert oracle_refutes(q, ab, c, segment_safe), f"clause {c} is not refuted at its earliest placement"
+        shifted[0] += sum(1 for c in claims if not c.anchored_start and c.first_time > 0)
+        assume(n > 0)
+        checked.append(n)
+
+    shifted = [0]
+    every_clause_is_sound()
+    assert len(checked) >= TUBE_SOUNDNESS_EXAMPLES and sum(checked) >= 50, checked
+    assert shifted[0] > 0  # clauses without the start, found after step 0: the case the tube makes delicate
+
+
+@pytest.mark.parametrize(
+    ("seed", "order", "scale", "strategy"),
+    [
+        (10, 1, 0.3, "trivial"),
+        (10, 1, 0.3, "zeroprefix"),
+        (10, 1, 0.3, "iis"),
+        (3, 2, 0.15, "iis"),
+        (12, 2, 0.15, "iis"),
+    ],
+)
+def test_clauses_under_a_tube_are_refuted_where_they_are_reused(
+    seed: int, order: int, scale: float, strategy: str
+) -> None:
+    """Rooms where a conflict, shrunk by its certificate to a later first step, is not
+    refuted at its earliest placement (each failed here when such a certificate was
+    trusted): every clause learned must be refuted by the oracle where DIS-PLAN may use
+    it, and every walk it excludes must be infeasible."""
+    from dataclasses import replace
+
+    from plansynth.reach.disturbance import Disturbance
+    from plansynth.reach.families import random_workspace
+    from plansynth.reach.robust.tighten import tightened
+
+    p = random_workspace(seed, 3, order=order, dt=1.0 if order == 1 else 0.5)
+    q = tightened(replace(p, disturbance=Disturbance(box=(scale,) * p.dynamics.n_states))).problem
+    claims: list[Conflict] = []
+    assert soundness_checked(q, strategy, True, True, claims=claims) > 0
+    ab = abstract(q)
+    for c in claims:
+        assert oracle_refutes(q, ab, c, True), f"clause {c} is not refuted at its earliest placement"
 
 
 def detour() -> ReachProblem:

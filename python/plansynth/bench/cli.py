@@ -45,9 +45,13 @@ Examples:
 
   plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,50 --planners lazy-smt
 
+  plansynth bench reach --family robust --values 3,4 --planners lazy-smt,milp-bigm,nominal-check --timeout 300
+
 Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random-dynamics
 (Figure 4 with random controllable A, B of n states), random, missions (LTL missions on
-the mazes: use --planners lazy-smt,milp-ltl,milp-ltl-oneshot), or all.
+the mazes: use --planners lazy-smt,milp-ltl,milp-ltl-oneshot), robust (the mazes under
+bounded disturbances: lazy-smt, milp-bigm on the same tightened problem, nominal-check,
+and milp-ltl for its mission), or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).
 """
 
@@ -250,7 +254,7 @@ def reach_cmd(
         ["maze"],
         "--family",
         "-f",
-        help="maze, chain, random, random-dynamics, missions, gcs-maze (repeatable or comma-separated), or all.",
+        help="maze, chain, random, random-dynamics, missions, gcs-maze, robust (repeatable or comma-separated), or all.",
     ),
     values: str | None = typer.Option(None, "--values", help="Passages (maze, chain) or seeds (random), e.g. 1,2."),
     orders: str = typer.Option("1,2,3,5", "--orders", help="Chain orders k for the chain family (2k states)."),
@@ -359,6 +363,30 @@ def report_cmd(
     with _outputs_checked(out):
         path = write_report(db, out, html=html)
     console.print(f"wrote {_written(path, html)} and {len(list(out.glob('*.png')))} plots")
+
+
+@app.command("merge")
+def merge_cmd(
+    sources: list[Path] = typer.Argument(..., help="Results databases whose runs are copied."),
+    db: Path = typer.Option(..., "--db", help="The results database they are merged into (created if absent)."),
+) -> None:
+    """Merge the runs of other results databases into one (sweeps run on other machines
+    or checkouts): a run both hold is kept from the newer one.
+
+    Example: plansynth bench merge other-results.db --db benchmarks/results.db
+    """
+    from plansynth.bench.db import ResultsDB
+    from plansynth.bench.errors import NoDatabase
+    from plansynth.errors import OutputUnwritable
+
+    try:
+        with ResultsDB(db) as d:
+            for src in sources:
+                n = d.merge(src)
+                console.print(f"{src}: {n} runs merged into {db}")
+    except (OutputUnwritable, NoDatabase) as exc:
+        console.print(f"[red]error:[/red] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
 
 
 @app.command("families")

@@ -230,6 +230,67 @@ class ResultsDB:
         )
         self.conn.commit()
 
+    def merge(self, other: str | Path) -> int:
+        """Copy every run of the database file ``other`` into this one; returns how many
+        runs were copied.
+
+        Runs are matched by the resume key (experiment name, planner name, repeat); a run
+        present in both is replaced only when ``other``'s is newer (its ``date``), so two
+        sweeps run on separate machines or branches merge into one file in either order.
+        Experiments and planner configurations are created by name as needed.
+        """
+        if not Path(other).is_file():
+            from plansynth.bench.errors import NoDatabase
+
+            raise NoDatabase(str(other))
+        src = ResultsDB(other)
+        try:
+            exps = {r["name"]: dict(r) for r in src.conn.execute("SELECT * FROM experiments")}
+            planners = {
+                r["id"]: (r["name"], json.loads(r["settings"] or "{}"))
+                for r in src.conn.execute("SELECT * FROM plannerConfigs")
+            }
+            mine = {
+                (a, b, int(c)): d
+                for a, b, c, d in self.conn.execute(
+                    'SELECT e.name, p.name, r."repeat", r.date FROM runs r JOIN experiments e'
+                    " ON r.experimentid = e.id JOIN plannerConfigs p ON r.plannerid = p.id"
+                )
+            }
+            ids = {r["id"]: r["name"] for r in exps.values()}
+            copied = 0
+            for row in src.conn.execute("SELECT * FROM runs ORDER BY id"):
+                run = dict(row)
+                name, (planner, settings) = ids[run["experimentid"]], planners[run["plannerid"]]
+                key = (name, planner, int(run["repeat"]))
+                if key in mine and (mine[key] or "") >= (run["date"] or ""):
+                    continue
+                eid = self._experiment_row(exps[name])
+                pid = self.planner(planner, settings)
+                names = ", ".join(f'"{c}"' for c in RUN_COLUMNS)
+                marks = ", ".join("?" for _ in RUN_COLUMNS)
+                self.conn.execute(
+                    f"INSERT OR REPLACE INTO runs (experimentid, plannerid, {names}) VALUES (?, ?, {marks})",
+                    (eid, pid, *(run[c] for c in RUN_COLUMNS)),
+                )
+                copied += 1
+            self.conn.commit()
+            return copied
+        finally:
+            src.close()
+
+    def _experiment_row(self, e: Mapping[str, Any]) -> int:
+        """The id of the experiment named ``e["name"]``, copied from row ``e`` when absent."""
+        row = self.conn.execute("SELECT id FROM experiments WHERE name = ?", (e["name"],)).fetchone()
+        if row is not None:
+            return int(row["id"])
+        cols = [c for c in e if c != "id"]
+        cur = self.conn.execute(
+            f"INSERT INTO experiments ({', '.join(cols)}) VALUES ({', '.join('?' for _ in cols)})",
+            tuple(e[c] for c in cols),
+        )
+        return int(cur.lastrowid)
+
     # ------------------------------------------------------------------ reading
 
     def done_keys(self, retry: Iterable[str] = ()) -> set[tuple[str, str, int]]:

@@ -7,13 +7,15 @@ naming what is wrong; the ``plansynth bench`` commands print it and exit with st
 'cannot reach the Dask scheduler at tcp://127.0.0.1:1: Connection refused (gave up after 5 s)'
 >>> str(NoRuns("empty.db"))
 'empty.db: the results database holds no runs (nothing to report)'
+>>> str(NoDatabase("other.db"))
+'other.db: no such results database'
 """
 
 from __future__ import annotations
 
 from plansynth.errors import PlansynthError
 
-__all__ = ["ClusterUnreachable", "NoRuns"]
+__all__ = ["ClusterUnreachable", "NoDatabase", "NoRuns"]
 
 
 class ClusterUnreachable(PlansynthError):
@@ -34,3 +36,11 @@ class NoRuns(PlansynthError):
     def __init__(self, path: str) -> None:
         self.path = path
         super().__init__(f"{path}: the results database holds no runs (nothing to report)")
+
+
+class NoDatabase(PlansynthError):
+    """A results database to read (a merge's source) that does not exist."""
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        super().__init__(f"{path}: no such results database")

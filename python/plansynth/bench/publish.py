@@ -18,7 +18,7 @@ columns) and ``lazy-smt-window`` (the window search alone), and with the counter
 :data:`~plansynth.bench.report.CX_VARIANTS`; the integrator-chain scaling (Figure 4) up
 to order 25 (n = 50 states) with ``lazy-smt``; random workspaces with every reach planner;
 the GCS paper's mazes (the scale family, :data:`~plansynth.bench.families.GCS_MAZE_SIZES`)
-with :data:`SCALE_PLANNERS`.
+with :data:`SCALE_PLANNERS`; the mazes under bounded disturbances (``robust``: :func:`robust_tasks`).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from plansynth.bench.runner import run_sweep
 from plansynth.bench.tasks import make_tasks
 from plansynth.io import write_output
 
-__all__ = ["published_tasks", "publish"]
+__all__ = ["published_tasks", "publish", "robust_tasks"]
 
 GRID_SOLVERS = ["native", "cvc5"]
 MAZE_PLANNERS = ["lazy-smt", "rrt", "milp-bigm", "milp"]
@@ -69,11 +69,17 @@ CLI_TIMED_TIMEOUT = 10.0
 #: the missions family: a limit the milp-ltl baseline finishes within (patrol, its
 #: slowest, about 13 s on a quiet machine), so that the speed-up is a measured ratio, not a bound
 MISSIONS_TIMEOUT = 300.0
+#: the robust family (plans under bounded disturbances): the robust MILP on maze-4 needs
+#: minutes, and a lazy-smt run at scale 1 also simulates 2,000 runs and bisects the scale
+ROBUST_TIMEOUT = 300.0
 
 
 def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, part: str = "all") -> list[dict[str, Any]]:
-    """The tasks of the published sweep (``part``: all, grid or reach)."""
+    """The tasks of the published sweep (``part``: all, grid, reach, or robust: the
+    robust family alone, which the reach part includes)."""
     tasks: list[dict[str, Any]] = []
+    if part == "robust":
+        return robust_tasks(max(reach_timeout, ROBUST_TIMEOUT))
     if part in ("all", "reach"):
         tasks += make_tasks(family("reach", "maze"), MAZE_PLANNERS, timeout=reach_timeout)
         # the sampling planners vary with the seed: more repeats (seed + repeat)
@@ -97,6 +103,7 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         tasks += make_tasks(
             family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"], timeout=reach_timeout
         )
+        tasks += robust_tasks(max(reach_timeout, ROBUST_TIMEOUT))
         # the curve baselines (Drake's GCS over overlapping sets and over our regions, fpp) and the
         # window search alone beside lazy-smt on the mazes, interleaved, medians of 3
         tasks += make_tasks(
@@ -139,6 +146,25 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         ]
         # through the CLI, one sweep with native and cvc5 side by side (the CLI timing targets)
         tasks += make_tasks(timed, GRID_SOLVERS, timeout=CLI_TIMED_TIMEOUT)
+    return tasks
+
+
+def robust_tasks(timeout: float = ROBUST_TIMEOUT) -> list[dict[str, Any]]:
+    """The robust family's runs: lazy-smt everywhere; on the mazes at scale 1 also the
+    robust MILP (milp-bigm on the tightened problem) and the nominal plan followed by the
+    check; on the mission also milp-ltl; an instance's runs one after the other.
+
+    >>> sorted({t["solver"] for t in robust_tasks()})
+    ['lazy-smt', 'milp-bigm', 'milp-ltl', 'nominal-check']
+    """
+    tasks: list[dict[str, Any]] = []
+    for inst in family("reach", "robust"):  # each instance's planners one after the other (interleaved)
+        solvers = ["lazy-smt"]
+        if "mission" in inst.params:
+            solvers.append("milp-ltl")
+        elif inst.params.get("scale") == 1.0 and "narrow" not in inst.params:
+            solvers += ["milp-bigm", "nominal-check"]
+        tasks += make_tasks([inst], solvers, timeout=timeout)
     return tasks
 
 
@@ -212,7 +238,7 @@ def main() -> None:  # pragma: no cover - used to run one part in the background
 
     ap = argparse.ArgumentParser(description="run one part of the published sweep")
     ap.add_argument("--db", required=True)
-    ap.add_argument("--part", choices=["all", "grid", "reach"], default="all")
+    ap.add_argument("--part", choices=["all", "grid", "reach", "robust"], default="all")
     ap.add_argument("--grid-timeout", type=float, default=60.0)
     ap.add_argument("--reach-timeout", type=float, default=60.0)
     ap.add_argument("--retry", default="", help="comma-separated statuses to rerun, e.g. crash")

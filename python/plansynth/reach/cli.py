@@ -44,6 +44,8 @@ Examples:
 
   plansynth reach solve examples/reach/mission-patrol.yaml -O semantics=lasso
 
+  plansynth reach solve examples/reach/maze-3-windy.yaml --out plan.json --plot plan.png   # under a disturbance
+
   plansynth reach solve p.yaml --no-segment-safe        # the paper's guarantee: samples only
 
 Exit status: 0 found (validated), 1 infeasible up to the max horizon, 2 bad input, 3 unknown (budget ran out).
@@ -103,6 +105,13 @@ Examples:
 
   plansynth reach validate examples/reach/maze-3.yaml traj.json --segment-safe
 
+  plansynth reach validate examples/reach/maze-3-windy.yaml plan.json --disturbances 1000 --nominal
+
+A problem with a disturbance (robot.disturbance): the plan is also checked against the
+worst case at every step, with the gain K the result records (else the problem's
+design); --disturbances N simulates the closed loop under N random and N vertex
+disturbance sequences; --nominal runs a nominal plan under the same sequences.
+
 Exit status: 0 valid, 1 invalid, 2 bad input.
 """
 
@@ -158,7 +167,22 @@ def _result_table(result: Any) -> Table:
             table.add_row(key.replace("_", " "), str(c[key]))
     if c.get("lp_calls_by_kind"):
         table.add_row("LP calls by kind", ", ".join(f"{k} {v}" for k, v in c["lp_calls_by_kind"].items()))
-    phases = [k for k in ("abstraction", "bounds", "guide", "sat", "lp", "milp", "validate", "mission_check") if k in t]
+    phases = [
+        k
+        for k in (
+            "tighten",
+            "abstraction",
+            "bounds",
+            "guide",
+            "sat",
+            "lp",
+            "milp",
+            "validate",
+            "mission_check",
+            "robust_check",
+        )
+        if k in t
+    ]
     table.add_row("time per phase", ", ".join(f"{k} {t[k]:.3f} s" for k in phases))
     table.add_row("total time", f"{result.seconds:.3f} s")
     if result.solver_version:
@@ -175,9 +199,39 @@ def _result_table(result: Any) -> Table:
         loop = "" if mission.get("loop_start") is None else f", loop from step {mission['loop_start']} (x_N = x_k)"
         verdict = {True: ", mission checked", False: ", mission check FAILED"}.get(mission.get("ok"), "")
         table.add_row("mission", escape(f"{mission['formula']}: {mission['semantics']} plan{loop}{verdict}"))
+    robust = getattr(result, "robust", None)
+    if robust:  # under a disturbance (plansynth.reach.robust)
+        for key, value in _robust_rows(robust, result.status.value == "found"):
+            table.add_row(key, escape(value))
     if result.message:
         table.add_row("message", escape(result.message))
     return table
+
+
+def _robust_rows(robust: dict[str, Any], found: bool) -> list[tuple[str, str]]:
+    """The lines of a robust result: what it guarantees (or what a missing plan is
+    relative to), the feedback law and gain, the margins, the worst-case check."""
+    fb, mg = robust["feedback"], robust["margins"]
+    gain = "; ".join(", ".join(f"{v + 0.0:.4g}" for v in row) for row in fb["gain"])
+    grown = [max(a, b) for a, b in zip(mg["obstacles_grown_by"]["lo"], mg["obstacles_grown_by"]["hi"])]
+    u = max([*mg["input_bound_at_most"]["lo"], *mg["input_bound_at_most"]["hi"]], default=0.0)
+    rows = [
+        ("robust", robust["guarantee"] if found else robust["relative_to"]),
+        ("feedback", f"{robust['law']}, K = [{gain}]: {fb['how']}"),
+        (
+            "margins",
+            "obstacles grown by "
+            + ", ".join(f"{v:.4g}" for v in grown)
+            + f" (the tube's largest cross-section); state bounds, workspace, input bound (by up to {u:.4g}) "
+            f"and goal tightened by E_t at every step (exact for {mg['exact_steps']} steps, then bounded)",
+        ),
+    ]
+    check = robust.get("check")
+    if check is not None:
+        verdict = "passed" if check["ok"] else "FAILED"
+        room = "" if check.get("clearance") is None else f", worst-case clearance {check['clearance']:.3g}"
+        rows.append(("robust check", f"{verdict}: the worst case at every step{room}"))
+    return rows
 
 
 #: ``reach solve`` flags that set an option every planner takes (parameter name -> flag)
@@ -223,7 +277,7 @@ def solve_command(
         "lazy-smt",
         "--planner",
         "-p",
-        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-window (without the timed route), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets; gcs-decomposition over our regions) and fpp (fast path planning through safe boxes): continuous-time curves; missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot.",
+        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-window (without the timed route), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets; gcs-decomposition over our regions) and fpp (fast path planning through safe boxes): continuous-time curves; missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot; under a disturbance (robot.disturbance) the lazy-smt planners, milp, milp-bigm, the mission MILPs, and nominal-check (the nominal plan, then the robust check).",
     ),
     option: list[str] = typer.Option(
         [], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."
@@ -309,7 +363,15 @@ def _write_outputs(
         from plansynth.reach.plot import animate as make_gif
         from plansynth.reach.plot import plot_problem
 
-        if problem.mission is not None:  # missions plan in the label-refined regions
+        if problem.disturbance is not None:  # the regions of the tightened problem (plansynth.reach.robust)
+            from plansynth.reach.robust.picture import plot_robust, robust_abstraction
+
+            abstraction = robust_abstraction(problem)
+            if plot is not None and getattr(result, "robust", None):
+                plot_robust(problem, result, path=plot)
+                console.print(f"picture written to {escape(str(plot))}", highlight=False)
+                plot = None
+        elif problem.mission is not None:  # missions plan in the label-refined regions
             from plansynth.reach.mission.labels import label_abstraction
 
             abstraction = label_abstraction(problem).abstraction
@@ -347,6 +409,19 @@ def validate_command(
         "--dynamics",
         help="exact (x' = A x + B u required) or curve (samples of a continuous-time curve: the dynamics residual is reported, not required); default: curve for a result whose guarantee is curve (gcs), else exact.",
     ),
+    disturbances: int = typer.Option(
+        0,
+        "--disturbances",
+        min=0,
+        max=1_000_000,
+        help="A problem with a disturbance: also simulate the closed loop under this many random and this many vertex disturbance sequences.",
+    ),
+    seed: int = typer.Option(0, "--seed", min=0, help="The disturbance sequences' random seed."),
+    nominal: bool = typer.Option(
+        False,
+        "--nominal",
+        help="With --disturbances: also plan the problem without its disturbance (lazy-smt) and run that plan, with the same gain, under the same sequences.",
+    ),
 ) -> None:
     """Check a trajectory against a problem with the independent validator."""
     from plansynth.reach.fileformat import load_reach_problem
@@ -371,12 +446,21 @@ def validate_command(
     claimed = claim is True or doc.get("guarantee") == "segments"
     if claimed and not segment_safe:
         console.print("the result claims segment safety: segments are checked too", highlight=False)
+    if disturbances and problem.disturbance is None:
+        raise typer.BadParameter("the problem has no disturbance (robot.disturbance)", param_hint="--disturbances")
+    if nominal and not disturbances:
+        raise typer.BadParameter("needs --disturbances", param_hint="--nominal")
     if problem.mission is not None:  # LTL missions: validator + mission checker
         from plansynth.reach.mission.check import validate_mission_file
 
         ok, lines = validate_mission_file(problem, trajectory, doc, segment_safe=segment_safe or claimed, tol=tol)
         for line in lines:
             console.print(line, highlight=False)
+        if problem.disturbance is not None:
+            ok = (
+                _validate_robust(console, err, problem, trajectory, doc, result_file, tol, disturbances, seed, nominal)
+                and ok
+            )
         raise typer.Exit(0 if ok else 1)
     if dynamics is None:
         dynamics = "curve" if doc.get("guarantee") == "curve" else "exact"
@@ -395,7 +479,120 @@ def validate_command(
         console.print(f"  {escape(str(v))}", highlight=False)
     if len(report.violations) > 50:
         console.print(f"  ... and {len(report.violations) - 50} more", highlight=False)
-    raise typer.Exit(0 if report.ok else 1)
+    ok = report.ok
+    if problem.disturbance is not None:
+        ok = (
+            _validate_robust(console, err, problem, trajectory, doc, result_file, tol, disturbances, seed, nominal)
+            and ok
+        )
+    raise typer.Exit(0 if ok else 1)
+
+
+def _validate_robust(
+    console: Console,
+    err: Console,
+    problem: Any,
+    trajectory: Any,
+    doc: dict[str, Any],
+    result_file: Path,
+    tol: float,
+    disturbances: int,
+    seed: int,
+    nominal: bool,
+) -> bool:
+    """``reach validate`` on a problem with a disturbance: the worst case at every step
+    with the result's gain (else the problem's design), then the sampled runs."""
+    import numpy as np
+
+    from plansynth.reach.robust.check import check_robust
+    from plansynth.reach.robust.simulate import simulate
+    from plansynth.reach.robust.tighten import robust_design
+
+    try:
+        K, source = _result_gain(doc, str(result_file), problem)
+        if K is None:
+            K, source = robust_design(problem).K, "the problem's feedback design"
+    except PlansynthError as exc:
+        raise fail(err, exc) from None
+    mission = doc.get("mission") if isinstance(doc.get("mission"), dict) else {}
+    loop = mission.get("loop_start")
+    if loop is None and mission.get("semantics") == "finite":
+        loop = trajectory.horizon
+    segments = doc.get("guarantee", "segments") != "samples"
+    report = check_robust(problem, trajectory, K, tol=tol, loop_start=loop, segments=segments)
+    gain = "; ".join(", ".join(f"{v + 0.0:.4g}" for v in row) for row in np.asarray(K))
+    console.print(f"feedback: u = v + K (x - x_nom), K = [{gain}] ({source})", highlight=False)
+    style = "bold green" if report.ok else "bold red"
+    console.print(
+        f"[{style}]{'robust' if report.ok else 'NOT robust'}[/{style}]: {escape(report.summary())}", highlight=False
+    )
+    for v in report.violations[:20]:
+        console.print(f"  {escape(str(v))}", highlight=False)
+    for note in report.notes:
+        console.print(f"  note: {escape(note)}", highlight=False)
+    ok = report.ok
+    if disturbances:
+        runs = simulate(problem, trajectory, K, sequences=disturbances, seed=seed, tol=tol, loop_start=loop)
+        style = "bold green" if runs.violated == 0 else "bold red"
+        console.print(f"[{style}]simulated[/{style}]: {escape(runs.summary())}", highlight=False)
+        ok = ok and runs.violated == 0
+        if nominal:
+            _nominal_runs(console, problem, K, disturbances, seed, tol)
+    return ok
+
+
+def _result_gain(doc: dict[str, Any], name: str, problem: Any) -> tuple[Any, str]:
+    """The gain K a result file records (``robust.feedback.gain``), checked; (None, "")
+    when it records none."""
+    import numpy as np
+
+    robust = doc.get("robust")
+    if robust is None:
+        return None, ""
+    try:
+        K = np.array(robust["feedback"]["gain"], dtype=float)
+    except (KeyError, TypeError, ValueError):
+        raise InvalidProblem(name, "robust.feedback.gain", "expected the gain K as a list of rows of numbers") from None
+    m, n = problem.dynamics.n_inputs, problem.dynamics.n_states
+    if K.shape != (m, n) or not np.all(np.isfinite(K)):
+        raise InvalidProblem(name, "robust.feedback.gain", f"expected an {m} x {n} matrix of finite numbers")
+    return K, "the result's"
+
+
+def _nominal_runs(console: Console, problem: Any, K: Any, disturbances: int, seed: int, tol: float) -> None:
+    """A nominal plan (lazy-smt, the disturbance ignored) under the same sequences."""
+    from dataclasses import replace
+
+    from plansynth.reach.robust.simulate import simulate
+    from plansynth.reach.solve import solve
+
+    plain = replace(problem, disturbance=None)
+    result = solve(plain, "lazy-smt", Budget(seconds=60.0))
+    if result.trajectory is None:
+        console.print(f"nominal plan: none ({escape(result.message)})", highlight=False)
+        return
+    runs = simulate(
+        problem,
+        result.trajectory,
+        K,
+        sequences=disturbances,
+        seed=seed,
+        tol=tol,
+        loop_start=(result.mission or {}).get("loop_start"),
+    )
+    kinds = ", ".join(f"{k} in {v}" for k, v in runs.kinds_violated.items())
+    console.print(
+        f"nominal plan (horizon {result.horizon}, the disturbance ignored), same gain and sequences: "
+        f"{escape(runs.summary())}" + (f"; runs with each violation: {escape(kinds)}" if kinds else ""),
+        highlight=False,
+    )
+
+
+def configuration_space_of(problem: Any) -> Any:
+    """The point-robot problem of ``problem`` (:func:`plansynth.reach.robot.configuration_space`)."""
+    from plansynth.reach.robot import configuration_space
+
+    return configuration_space(problem)
 
 
 @app.command("plot", epilog=PLOT_EPILOG)
@@ -426,14 +623,18 @@ def plot_command(
                 regions = tuple(raw)
     except PlansynthError as exc:
         raise fail(err, exc) from None
-    if problem.mission is not None:  # missions plan in the label-refined regions
+    if problem.disturbance is not None:  # the regions of the tightened problem (plansynth.reach.robust)
+        from plansynth.reach.robust.picture import robust_abstraction
+
+        abstraction = robust_abstraction(problem)
+        if abstraction is None:
+            abstraction = abstract(configuration_space_of(problem))
+    elif problem.mission is not None:  # missions plan in the label-refined regions
         from plansynth.reach.mission.labels import label_abstraction
 
         abstraction = label_abstraction(problem).abstraction
     else:
-        from plansynth.reach.robot import configuration_space
-
-        abstraction = abstract(configuration_space(problem))  # the regions the planners see
+        abstraction = abstract(configuration_space_of(problem))  # the regions the planners see
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(
             f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}"

@@ -36,6 +36,8 @@ from plansynth.io import (
     show,
     type_name,
 )
+from plansynth.reach.disturbance import MAX_VERTICES as MAX_DISTURBANCE_VERTICES
+from plansynth.reach.disturbance import Disturbance
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics, named_model
 from plansynth.reach.geometry import Box, Polygon, Shape, polygon_problem
 from plansynth.reach.problem import (
@@ -55,7 +57,7 @@ __all__ = ["load_reach_problem", "reach_problem_from_dict", "reach_problem_to_di
 
 
 _TOP_KEYS = {"workspace", "obstacles", "goal", "robot", "max_horizon", "name", "labels", "mission"}
-_ROBOT_KEYS = {"dynamics", "start", "input_bound", "state_bounds", "radius", "half_extent"}
+_ROBOT_KEYS = {"dynamics", "start", "input_bound", "state_bounds", "radius", "half_extent", "disturbance"}
 
 
 def load_reach_problem(path: str | Path) -> ReachProblem:
@@ -111,6 +113,8 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
         robot_shape = RobotShape(radius=r)
     elif half_raw is not None:
         robot_shape = RobotShape(half_extent=tuple(as_float_vector(half_raw, source, "robot.half_extent", d)))
+    dist_raw = robot.optional("disturbance")
+    disturbance = None if dist_raw is None else _parse_disturbance(dist_raw, source, n, dynamics.n_inputs)
     max_horizon = as_int(top.optional("max_horizon", DEFAULT_MAX_HORIZON), source, "max_horizon", hi=MAX_HORIZON)
     if max_horizon <= 0:
         raise InvalidProblem(source, "max_horizon", f"must be positive, got {max_horizon}")
@@ -129,7 +133,69 @@ def reach_problem_from_dict(doc: Any, source: str | None = None, *, default_name
         robot_shape=robot_shape,
         labels=labels,
         mission=mission,
+        disturbance=disturbance,
     )
+
+
+def _parse_disturbance(value: Any, src: str | None, n: int, m: int) -> Disturbance:
+    """``robot.disturbance``: ``{box: [n half-widths]}`` or ``{polytope: [[n numbers],
+    ...]}`` (W's vertices), and ``feedback``: ``lqr`` (default), ``deadbeat``,
+    ``{lqr: {q: [n], r: [m]}}`` or ``{gain: [[n numbers] x m]}``."""
+    where = "robot.disturbance"
+    f = Fields(value, src, where)
+    f.reject_unknown({"box", "polytope", "feedback"})
+    box_raw, poly_raw = f.optional("box"), f.optional("polytope")
+    if (box_raw is None) == (poly_raw is None):
+        raise InvalidProblem(src, where, "give either box (half-widths) or polytope (vertices of W), exactly one")
+    box, vertices = None, None
+    if box_raw is not None:
+        box = as_float_vector(box_raw, src, f"{where}.box", n, max_abs=MAX_COORDINATE)
+        if any(not v >= 0 for v in box):
+            raise InvalidProblem(src, f"{where}.box", f"half-widths must be >= 0, got {list(box)}")
+    else:
+        if not isinstance(poly_raw, Sequence) or isinstance(poly_raw, (str, bytes)) or not poly_raw:
+            raise InvalidProblem(src, f"{where}.polytope", f"expected a list of vertices, got {show(poly_raw)}")
+        if len(poly_raw) > MAX_DISTURBANCE_VERTICES:
+            raise InvalidProblem(
+                src, f"{where}.polytope", f"at most {MAX_DISTURBANCE_VERTICES} vertices, got {len(poly_raw)}"
+            )
+        vertices = np.array(
+            [
+                as_float_vector(v, src, f"{where}.polytope[{i}]", n, max_abs=MAX_COORDINATE)
+                for i, v in enumerate(poly_raw)
+            ]
+        )
+    design, q, r, gain = _parse_feedback(f.optional("feedback", "lqr"), src, f"{where}.feedback", n, m)
+    return Disturbance(box=box, vertices=vertices, feedback=design, q=q, r=r, gain=gain)
+
+
+def _parse_feedback(value: Any, src: str | None, where: str, n: int, m: int) -> tuple[str, Any, Any, Any]:
+    if isinstance(value, str):
+        if value not in ("lqr", "deadbeat"):
+            raise InvalidProblem(
+                src, where, f"unknown design {show(value)} (known: lqr, deadbeat, {{lqr: {{q, r}}}}, {{gain: K}})"
+            )
+        return value, None, None, None
+    f = Fields(value, src, where)
+    f.reject_unknown({"lqr", "gain"})
+    if ("lqr" in value) == ("gain" in value):
+        raise InvalidProblem(src, where, "give either lqr (its weights) or gain (the matrix K), exactly one")
+    if "gain" in value:
+        K = _parse_matrix(value["gain"], src, f"{where}.gain")
+        if K.shape != (m, n):
+            raise InvalidProblem(
+                src, f"{where}.gain", f"must be {m} x {n} (inputs x states), got {K.shape[0]} x {K.shape[1]}"
+            )
+        return "gain", None, None, K
+    w = Fields(value["lqr"], src, f"{where}.lqr")
+    w.reject_unknown({"q", "r"})
+    q_raw, r_raw = w.optional("q"), w.optional("r")
+    q = None if q_raw is None else as_float_vector(q_raw, src, f"{where}.lqr.q", n, max_abs=MAX_COORDINATE)
+    r = None if r_raw is None else as_float_vector(r_raw, src, f"{where}.lqr.r", m, max_abs=MAX_COORDINATE)
+    for key, vec in (("q", q), ("r", r)):
+        if vec is not None and any(not v > 0 for v in vec):
+            raise InvalidProblem(src, f"{where}.lqr.{key}", f"weights must be positive, got {list(vec)}")
+    return "lqr", q, r, None
 
 
 def _parse_labels(value: Any, src: str | None, d: int) -> tuple[tuple[str, Shape], ...]:
@@ -270,6 +336,22 @@ def _shape_to_dict(s: Shape) -> Any:
     return [[_num(x), _num(y)] for x, y in s.vertices]
 
 
+def _disturbance_to_dict(w: Disturbance) -> dict:
+    out: dict[str, Any] = (
+        {"box": [_num(v) for v in w.box]}
+        if w.box is not None
+        else {"polytope": [[_num(v) for v in row] for row in np.asarray(w.vertices).tolist()]}
+    )
+    if w.feedback == "gain":
+        out["feedback"] = {"gain": [[_num(v) for v in row] for row in np.asarray(w.gain).tolist()]}
+    elif w.feedback == "lqr" and (w.q is not None or w.r is not None):
+        weights = {k: [_num(v) for v in getattr(w, k)] for k in ("q", "r") if getattr(w, k) is not None}
+        out["feedback"] = {"lqr": weights}
+    elif w.feedback != "lqr":
+        out["feedback"] = w.feedback
+    return out
+
+
 def reach_problem_to_dict(problem: ReachProblem) -> dict:
     """The spec document of a problem; ``reach_problem_from_dict`` reads it back equal.
 
@@ -298,6 +380,9 @@ def reach_problem_to_dict(problem: ReachProblem) -> dict:
     }
     if problem.state_bounds is not None:
         robot["state_bounds"] = _box_to_dict(problem.state_bounds)
+    w = problem.disturbance
+    if w is not None:
+        robot["disturbance"] = _disturbance_to_dict(w)
     rs = problem.robot_shape
     if rs is not None and not rs.is_point:
         if rs.radius is not None:

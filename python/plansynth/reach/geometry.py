@@ -230,6 +230,23 @@ def convex_pieces(shape: Shape) -> list[tuple[np.ndarray, np.ndarray]]:
     return pieces
 
 
+def convex_hull(points: np.ndarray) -> shapely.Geometry:
+    """The convex hull of 2-D points (rows) as a shapely geometry (a point, a segment or
+    a polygon).
+
+    The points go to GEOS once each: its hull of repeated points can keep an inner
+    point as a vertex when three are nearly collinear (a polygon that is not convex and
+    misses part of the hull; shapely issue 1593), seen with GEOS 3.14 on the Minkowski
+    sums that the robust checks build.
+
+    >>> P = np.array([[0.0096664, -0.01626655], [0.00681996, -0.00992106],
+    ...               [0.00609915, -0.0050624], [-0.02258551, 0.03125]]) + [5.68292337, 6.09557343]
+    >>> len(convex_hull(np.repeat(P, 16, axis=0)).exterior.coords)  # a triangle, closed
+    4
+    """
+    return shapely.convex_hull(shapely.multipoints(np.unique(np.asarray(points, float), axis=0)))
+
+
 def shape_to_shapely(shape: Shape) -> shapely.Geometry:
     """The 2-D shapely geometry of a shape (boxes must be 2-D)."""
     if isinstance(shape, Box):

@@ -30,6 +30,8 @@ from shapely.geometry import box as _sh_box
 
 from plansynth.errors import InvalidProblem
 from plansynth.io import MAX_NAME_LENGTH, type_name  # noqa: F401 - MAX_NAME_LENGTH: a documented limit, with the others
+from plansynth.reach.disturbance import MAX_VERTICES as MAX_DISTURBANCE_VERTICES
+from plansynth.reach.disturbance import Disturbance, origin_inside
 from plansynth.reach.dynamics import NAMED_MODELS, LinearDynamics
 from plansynth.reach.geometry import (
     Box,
@@ -46,6 +48,7 @@ from plansynth.reach.geometry import (
     shape_to_shapely,
 )
 from plansynth.reach.robot import RobotShape, configuration_space
+from plansynth.reach.tube import Tube
 
 __all__ = [
     "Box",
@@ -110,6 +113,14 @@ class ReachProblem:
     # only the label "goal", and the mission alone says what a plan must do.
     labels: tuple[tuple[str, Shape], ...] = ()
     mission: str | None = None
+    # Bounded disturbances (plansynth.reach.robust): the set W of x' = A x + B u + w and
+    # the feedback design of the file's robot.disturbance. A problem with one is planned
+    # robustly: solve() plans its tightened problem, which carries the tube instead.
+    disturbance: Disturbance | None = None
+    # The tube of a tightened problem (set by plansynth.reach.robust.tighten, never read
+    # from a file): the planners that plan under disturbances tighten the state bounds,
+    # the workspace, the input bound and the goal by its error sets at every step.
+    tube: Tube | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
@@ -144,6 +155,10 @@ class ReachProblem:
         """Is the start an equilibrium (``A x_0 = x_0``, so that u = 0 keeps the robot
         there)? Then whatever the robot can do from the start it can also do later, after
         waiting: start-anchored facts hold shifted earlier."""
+        if self.tube is not None and self.tube.varies:
+            # the constraints tighten as the tube grows: what the robot can do from the
+            # start it need not be able to do later, after waiting
+            return False
         A = np.asarray(self.dynamics.A, float)
         return bool(np.allclose(A @ self.start, self.start, rtol=0.0, atol=1e-12))
 
@@ -185,6 +200,8 @@ class ReachProblem:
             None if self.robot_shape is None or self.robot_shape.is_point else self.robot_shape,
             self.labels,
             self.mission,
+            self.disturbance,
+            self.tube,
         )
 
     def __eq__(self, other: object) -> bool:
@@ -254,6 +271,8 @@ def _check_problem(p: ReachProblem) -> None:
             raise InvalidProblem(src, "robot.state_bounds", f"min {sb.lo} exceeds max {sb.hi}")
     if isinstance(p.max_horizon, bool) or not isinstance(p.max_horizon, int) or p.max_horizon <= 0:
         raise InvalidProblem(src, "max_horizon", f"must be a positive integer, got {p.max_horizon!r}")
+    if p.disturbance is not None:
+        _check_disturbance(p, n)
 
     pos = p.start[list(dyn.position)]
     if p.robot_shape is not None and not p.robot_shape.is_point:
@@ -269,6 +288,51 @@ def _check_problem(p: ReachProblem) -> None:
     if p.goal is not None and free_measure(ws, p.obstacles, p.goal) <= 0.0:
         reason = "lies outside the workspace" if _measure_in_workspace(ws, p.goal) <= 0.0 else "lies inside obstacles"
         raise InvalidProblem(src, "goal", f"unreachable: it {reason} (no free area/volume)")
+
+
+def _check_disturbance(p: ReachProblem, n: int) -> None:
+    """``robot.disturbance`` at the door: W of the state's dimension, finite, containing
+    0; the feedback design's weights or gain of the right sizes."""
+    src, w = p.source, p.disturbance
+    where = "robot.disturbance"
+    if not isinstance(w, Disturbance):
+        raise InvalidProblem(src, where, f"expected a Disturbance, got {type_name(w)}")
+    if w.dim != n:
+        raise InvalidProblem(src, where, f"must have {n} components like the state, got {w.dim}")
+    if p.dim != 2:
+        raise InvalidProblem(src, where, "disturbances need a 2-D workspace (3-D is not supported)")
+    if w.box is not None:
+        if any(not math.isfinite(v) or v < 0 or v > MAX_COORDINATE for v in w.box):
+            raise InvalidProblem(src, f"{where}.box", f"half-widths must be numbers in [0, {MAX_COORDINATE:g}]")
+    else:
+        V = np.asarray(w.vertices)
+        if len(V) > MAX_DISTURBANCE_VERTICES:
+            raise InvalidProblem(src, f"{where}.polytope", f"at most {MAX_DISTURBANCE_VERTICES} vertices, got {len(V)}")
+        if not np.all(np.isfinite(V)) or np.any(np.abs(V) > MAX_COORDINATE):
+            raise InvalidProblem(src, f"{where}.polytope", f"vertices must be numbers within +-{MAX_COORDINATE:g}")
+        if not origin_inside(V):
+            raise InvalidProblem(
+                src,
+                f"{where}.polytope",
+                "must contain 0 (a disturbance that can be absent; a constant drift belongs in the dynamics)",
+            )
+    m = p.dynamics.n_inputs
+    for key, size in (("q", n), ("r", m)):
+        value = getattr(w, key)
+        if value is not None and (len(value) != size or any(not (math.isfinite(v) and v > 0) for v in value)):
+            raise InvalidProblem(
+                src, f"{where}.feedback.lqr.{key}", f"must be {size} positive numbers (a diagonal weight), got {value}"
+            )
+    if w.gain is not None and (w.gain.shape != (m, n) or not np.all(np.isfinite(w.gain))):
+        raise InvalidProblem(
+            src, f"{where}.feedback.gain", f"must be an {m} x {n} matrix of finite numbers, got shape {w.gain.shape}"
+        )
+    if p.mission is not None:
+        for name, shape in p.labels:
+            if not is_convex(shape):
+                raise InvalidProblem(
+                    src, f"labels.{name}", "a mission under disturbances needs convex labels (boxes or convex polygons)"
+                )
 
 
 def _check_robot(p: ReachProblem, pos: np.ndarray) -> None:

@@ -94,6 +94,9 @@ class ReachResult:
     curve_times: tuple[float, ...] | None = None
     curve_validation: ValidationReport | None = None
     mission: dict[str, Any] | None = None  # LTL missions: semantics, loop_start, the checker's verdict
+    # under a disturbance (plansynth.reach.robust): the feedback law and its gain, what a
+    # found plan guarantees, the margins used and the robust check's report
+    robust: dict[str, Any] | None = None
     solver_version: str = ""  # the planner's solvers and their versions (Planner.version())
 
     @property
@@ -127,6 +130,7 @@ class ReachResult:
             "curve_validation": None if self.curve_validation is None else self.curve_validation.to_json_dict(),
             "versions": solver_versions(),
             **({} if self.mission is None else {"mission": _jsonable(self.mission)}),
+            **({} if self.robust is None else {"robust": _jsonable(self.robust)}),
         }
 
     def write(self, path: str | Path) -> Path:

@@ -51,7 +51,16 @@ from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach.geometry import Box, Polygon, Shape, shape_to_shapely
 
-__all__ = ["RobotShape", "configuration_space", "with_robot", "disc_polygon", "DISC_SIDES", "robot_note"]
+__all__ = [
+    "RobotShape",
+    "configuration_space",
+    "with_robot",
+    "disc_polygon",
+    "DISC_SIDES",
+    "robot_note",
+    "grown_by_box",
+    "clipped",
+]
 
 #: sides of the polygon circumscribing a disc robot
 DISC_SIDES = 16
@@ -134,7 +143,26 @@ def _inflate(shape: Shape, robot: RobotShape) -> Shape:
     if isinstance(shape, Box) and robot.half_extent is not None:
         h = robot.half_extent
         return Box(tuple(l - e for l, e in zip(shape.lo, h)), tuple(u + e for u, e in zip(shape.hi, h)))
-    K = _kernel(robot)
+    return _sum_with(shape, _kernel(robot))
+
+
+def grown_by_box(shape: Shape, lo: tuple[float, ...], hi: tuple[float, ...]) -> Shape:
+    """``shape + [lo, hi]``: the Minkowski sum of a shape and a box that contains 0
+    (``lo <= 0 <= hi``), exact (a box grows to a box; a polygon to the union of itself
+    with the convex hull of each edge and the box's corners, its pockets filled as in
+    :func:`configuration_space`: a superset, conservative).
+
+    >>> grown_by_box(Box((0, 0), (1, 1)), (-0.5, 0.0), (0.25, 0.0))
+    Box(lo=(-0.5, 0.0), hi=(1.25, 1.0))
+    """
+    if isinstance(shape, Box):
+        return Box(tuple(l + a for l, a in zip(shape.lo, lo)), tuple(h + b for h, b in zip(shape.hi, hi)))
+    corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]], dtype=float)
+    return _sum_with(shape, corners)
+
+
+def _sum_with(shape: Shape, K: np.ndarray) -> Polygon:
+    """A polygon plus the convex set with vertices ``K`` (see :func:`_inflate`)."""
     geom = shape_to_shapely(shape)
     verts = np.array(geom.exterior.coords[:-1])
     pieces = [geom]
@@ -152,7 +180,7 @@ def _inflate(shape: Shape, robot: RobotShape) -> Shape:
     return Polygon(tuple((round(float(x), 10), round(float(y), 10)) for x, y in outer.exterior.coords[:-1]))
 
 
-def _clip(shape: Shape, ws: Box) -> list[Shape]:
+def clipped(shape: Shape, ws: Box) -> list[Shape]:
     """``shape`` within the (shrunk) workspace: the decomposition's free-space polygon is
     cleaner without slivers of grown obstacles outside it (nothing outside is free)."""
     if isinstance(shape, Box):
@@ -181,7 +209,7 @@ def configuration_space(problem: Problem) -> Problem:
     if robot is None or robot.is_point:
         return problem
     ws = _shrink(problem.workspace, robot)
-    obstacles = tuple(c for o in problem.obstacles for c in _clip(_inflate(o, robot), ws))
+    obstacles = tuple(c for o in problem.obstacles for c in clipped(_inflate(o, robot), ws))
     sb = problem.state_bounds
     if sb is not None:
         lo, hi = list(sb.lo), list(sb.hi)

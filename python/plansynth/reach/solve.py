@@ -62,10 +62,17 @@ def configure(planner: str, base: Any = None, *, mission: bool | None = None, **
 
 def validate_result(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) -> ReachResult:
     """Run the validator on a ``found`` result and record the verdict, then, for a
-    problem with a mission, the mission checker; a failed trajectory turns the status
-    into ``unknown``."""
+    problem with a mission, the mission checker, and for a problem with a disturbance the
+    robust check (:mod:`plansynth.reach.robust.check`); a failed trajectory turns the
+    status into ``unknown``."""
     if result.status is not ReachStatus.FOUND:
         return result
+    if problem.disturbance is not None:
+        # the plan as it stands (a mission's: against its tightened labels), then the worst
+        # case under every disturbance sequence
+        from plansynth.reach.robust.planning import checked, nominal_problem
+
+        return checked(problem, validate_result(nominal_problem(problem), result, tol=tol), tol=tol)
     if problem.mission is not None:
         return _validate_mission(problem, result, tol=tol)
     return _validate_trajectory(problem, result, tol=tol)
@@ -206,13 +213,26 @@ def solve(
     the planners that plan over one (lazy-smt, milp, gcs; not for a mission).
     """
     run = get_planner(planner)
+    if problem.disturbance is not None and not getattr(run, "disturbances", ""):
+        _robust_problem(problem, planner, run)  # (raises: this planner does not plan under disturbances)
     if not hasattr(run, "configure"):  # a plugin registered as a plain function
         extra = {k: v for k, v in (("progress", progress), ("abstraction", abstraction)) if v is not None}
         return validate_result(problem, replace(run(problem, budget, **values, **extra), solver=planner))
     opts = run.configure(options, mission=problem.mission is not None, **values)
     robot = problem.robot_shape
     planned = problem
-    if problem.mission is None and robot is not None and not robot.is_point:
+    tight = None
+    if problem.disturbance is not None:
+        # under a disturbance: plan the problem tightened by the tube of the feedback
+        # design (plansynth.reach.robust), or the nominal one (the nominal-check baseline)
+        t0 = time.perf_counter()
+        tight, planned = _robust_problem(problem, planner, run)
+        tightening = time.perf_counter() - t0
+        if planned is None:
+            from plansynth.reach.robust.planning import no_plan
+
+            return replace(no_plan(tight, planner, tightening), solver_version=run.version(), options=_record(opts, {}))
+    elif problem.mission is None and robot is not None and not robot.is_point:
         # a sized robot: every planner plans for its reference point in the configuration
         # space (obstacles grown, workspace shrunk: plansynth.reach.robot); the validator
         # checks the answer against the original problem, clearance included
@@ -221,7 +241,11 @@ def solve(
         planned = configuration_space(problem)
     result = run.solve(planned, budget, opts, progress=progress, abstraction=abstraction)
     result = replace(result, solver=planner, solver_version=run.version(), options=_record(opts, result.options))
-    if planned is not problem:
+    if tight is not None:
+        from plansynth.reach.robust.planning import annotated
+
+        result = annotated(result, tight, tightening)
+    elif planned is not problem:
         from plansynth.reach.robot import robot_note
 
         note = robot_note(robot)
@@ -231,6 +255,27 @@ def solve(
             options={**result.options, "robot": {"radius": robot.radius, "half_extent": robot.half_extent}},
         )
     return validate_result(problem, result)
+
+
+def _robust_problem(problem: ReachProblem, planner: str, run: Any) -> tuple[Any, ReachProblem | None]:
+    """The tightening of a problem with a disturbance and the problem ``planner`` plans
+    (None: nothing to plan, the tightening says why); a planner that does not plan
+    under disturbances is an :class:`~plansynth.errors.InvalidOption`."""
+    from plansynth.errors import InvalidOption
+    from plansynth.reach.planners import robust_planners
+    from plansynth.reach.robust.planning import planned
+
+    how = getattr(run, "disturbances", "")
+    if not how:
+        raise InvalidOption(
+            planner,
+            "planner",
+            f"does not plan under disturbances (robot.disturbance); planners that do: {', '.join(robust_planners())}",
+        )
+    tight = planned(problem)
+    if how == "nominal":
+        return tight, problem
+    return tight, tight.problem
 
 
 def _record(options: Any, recorded: dict[str, Any]) -> dict[str, Any]:

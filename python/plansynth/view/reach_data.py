@@ -43,7 +43,14 @@ def shape_json(shape: Any) -> dict[str, Any]:
 
 def planner_abstraction(problem: ReachProblem) -> Any:
     """The regions the planner plans in, the abstraction a result's ``regions`` index:
-    the label-refined one for a mission, else that of the configuration space."""
+    the label-refined one for a mission, else that of the configuration space; under a
+    disturbance, the tightened problem's (plansynth.reach.robust)."""
+    if problem.disturbance is not None:
+        from plansynth.reach.robust.picture import robust_abstraction
+
+        robust = robust_abstraction(problem)
+        if robust is not None:
+            return robust
     if problem.mission is not None:
         from plansynth.reach.mission.labels import label_abstraction
 

@@ -6,7 +6,10 @@ configurations, ``milp``, ``milp-bigm``, ``rrt``, ``est``, ``kpiece``, ``gcs``,
 validator's ``dynamics="curve"`` mode; a mission also by the mission checker). For
 every solved run whose regions are one per time step, the run also records
 ``oracle_lp``: the time of one cold LP over its final region sequence
-(:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with.
+(:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with. A run
+of the ``robust`` family also records the closed loop under sampled disturbances and,
+for lazy-smt at scale 1, the largest disturbance with a plan
+(:mod:`plansynth.bench.execute.robust`).
 
 The run's ``solver_version`` is the one the result reports (its ``solver_version``
 key), else the registered planner's own :meth:`~plansynth.reach.planners.Planner.version`
@@ -107,6 +110,11 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
                 "solve": lim.solve_seconds,
                 "feasible": lim.feasible,
             }
+    extras = {}
+    if inst.family == "robust":  # (the closed loop under sampled disturbances, the largest box with a plan)
+        from plansynth.bench.execute.robust import robust_attributes
+
+        extras["robust"] = robust_attributes(inst, task, problem, res, started + wall_limit(task) - 5.0)
     return {
         "status": status,
         "solved": int(status == "solved"),
@@ -129,5 +137,6 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
             "duration": None
             if res.trajectory is None or res.horizon is None or not problem.dynamics.dt
             else res.horizon * float(problem.dynamics.dt),
+            **extras,
         },
     }

@@ -10,6 +10,9 @@ boxes and non-convex polygons, from :func:`plansynth.reach.families.random_works
 sizes :data:`GCS_MAZE_SIZES`), from :func:`plansynth.reach.families.gcs_maze`: the scale
 family.
 ``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`).
+``robust`` holds the mazes under bounded disturbances (:func:`plansynth.reach.families.windy_maze`):
+each maze at growing disturbance boxes, a mission under the same disturbance, and a
+disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`).
 The problems themselves are built by :mod:`plansynth.bench.families.reach_problems`.
 
 >>> [i.name for i in reach_family("chain", [1], orders=[1, 2])]
@@ -23,7 +26,14 @@ from typing import Any
 
 from plansynth.bench.families.instance import Instance
 
-__all__ = ["REACH_FAMILIES", "PAPER_TABLE_I", "RANDOM_DYNAMICS_STATES", "GCS_MAZE_SIZES", "reach_family"]
+__all__ = [
+    "REACH_FAMILIES",
+    "PAPER_TABLE_I",
+    "RANDOM_DYNAMICS_STATES",
+    "GCS_MAZE_SIZES",
+    "ROBUST_SCALES",
+    "reach_family",
+]
 
 
 # Table I of the paper (seconds): discrete abstraction, DIS-PLAN, CON-PLAN, RRT, LTL OPT.
@@ -34,7 +44,11 @@ PAPER_TABLE_I: dict[int, dict[str, float | str]] = {
     4: {"abstraction": 43.10, "dis-plan": 4.091, "con-plan": 1.920, "rrt": 1002, "ltl-opt": "time out"},
 }
 
-REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze")
+REACH_FAMILIES = ("maze", "chain", "random", "random-dynamics", "missions", "gcs-maze", "robust")
+#: the robust family's disturbance scales (times WINDY_BOX: 2 cm and 5 cm/s per step at 1)
+ROBUST_SCALES = (1.0, 2.0, 4.0)
+#: its mission under disturbance
+ROBUST_MISSION = (2, "patrol")
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 #: The scale family's maze sides (cells): the GCS paper's 50 x 50 and sizes around it.
 GCS_MAZE_SIZES = (10, 20, 30, 50, 70, 100)
@@ -61,7 +75,10 @@ def reach_family(
     (:func:`plansynth.reach.families.gcs_maze`: seed 4, walls 0.1 thick, 100 extra
     knock-downs at n = 50 as in its notebook; the double integrator with dt 0.5 s,
     |u| <= 1, |v| <= 1 per axis, from the centre of cell (0, 0) at rest to a 0.4 box at
-    the centre of cell (n-1, n-1)).
+    the centre of cell (n-1, n-1)). ``robust``: values are passage counts (default
+    1..4), each maze at the disturbance scales of :data:`ROBUST_SCALES`, with the mission
+    of :data:`ROBUST_MISSION` and maze-1 with a gap narrower than the disturbance's tube
+    (:func:`plansynth.reach.families.narrow_maze`: no robust plan, expected infeasible).
     """
     out = []
     if name == "maze":
@@ -97,6 +114,33 @@ def reach_family(
         for n in values or [1, 2, 3, 4]:
             for m in MISSIONS:
                 out.append(Instance("reach", "missions", f"maze-{n}-{m}", {"n": int(n), "mission": m}, "found"))
+    elif name == "robust":  # values are passage counts
+        from plansynth.reach.families import windy_name
+
+        for scale in ROBUST_SCALES:
+            for n in values or [1, 2, 3, 4]:
+                out.append(
+                    Instance(
+                        "reach",
+                        "robust",
+                        windy_name(f"maze-{n}", scale),
+                        {"n": int(n), "scale": float(scale)},
+                        "found" if scale == 1 else None,
+                    )
+                )
+        n, mission = ROBUST_MISSION
+        if not values or n in values:
+            out.append(
+                Instance(
+                    "reach", "robust", f"maze-{n}-{mission}-windy", {"n": n, "scale": 1.0, "mission": mission}, "found"
+                )
+            )
+        if not values or 1 in values:  # maze-1 with a 1 m gap: the disturbance is wider than the passage
+            out.append(
+                Instance(
+                    "reach", "robust", "maze-1-narrow-windy-x4", {"n": 1, "scale": 4.0, "narrow": True}, "infeasible"
+                )
+            )
     elif name == "gcs-maze":
         for n in values or GCS_MAZE_SIZES:
             out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))

@@ -2,7 +2,8 @@
 
 Thin builders over :mod:`plansynth.reach.families` (the mazes of Shoukry et al., CDC 2016,
 Section VI, their integrator chains and random dynamics, random workspaces, the GCS
-paper's mazes) and :mod:`plansynth.reach.mission.families` (LTL missions on the mazes);
+paper's mazes, the mazes under disturbances) and :mod:`plansynth.reach.mission.families`
+(LTL missions on the mazes);
 :data:`REACH_PROBLEMS` names them by family. Which instances a family has is
 :mod:`plansynth.bench.families.reach`.
 
@@ -53,6 +54,21 @@ def _missions(n: int, mission: str) -> Any:
     return mission_problem(f"maze-{n}", mission)
 
 
+def _robust(n: int, scale: float, mission: str | None = None, narrow: bool = False) -> Any:
+    from dataclasses import replace
+
+    from plansynth.reach.families import narrow_maze, windy_box, windy_maze, windy_name
+
+    if narrow:
+        return narrow_maze(scale)
+    if mission is None:
+        return windy_maze(n, scale)
+    from plansynth.reach.mission.families import mission_problem
+
+    p = mission_problem(f"maze-{n}", mission)
+    return replace(p, disturbance=windy_box(scale), name=windy_name(p.name, scale))
+
+
 REACH_PROBLEMS: dict[str, Any] = {
     "maze": _maze,
     "chain": _chain,
@@ -60,4 +76,5 @@ REACH_PROBLEMS: dict[str, Any] = {
     "random-dynamics": _random_dynamics,
     "missions": _missions,
     "gcs-maze": _gcs_maze,
+    "robust": _robust,
 }

@@ -27,7 +27,8 @@ The report's parts, one module each:
   :mod:`~plansynth.bench.report.mazes` (Table I), :mod:`~plansynth.bench.report.gcs`,
   :mod:`~plansynth.bench.report.horizons` (proved-minimal horizons),
   :mod:`~plansynth.bench.report.counterexamples`, :mod:`~plansynth.bench.report.chains`
-  (Figure 4) and :mod:`~plansynth.bench.report.missions`;
+  (Figure 4), :mod:`~plansynth.bench.report.missions` and
+  :mod:`~plansynth.bench.report.robust` (plans under bounded disturbances);
 - :mod:`~plansynth.bench.report.write` -- the file: header, then both halves;
   :mod:`~plansynth.bench.report.html` -- the same report as one self-contained HTML page.
 """

@@ -157,6 +157,8 @@ def summarise(runs: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], Cell]:
                 },
                 "regions": first.get("regions"),
                 "counters": (first.get("attributes") or {}).get("counters") or {},
+                # the robust family (bench.execute.robust): sampled runs, the largest box with a plan
+                "robust": (first.get("attributes") or {}).get("robust"),
             },
         )
     return out

@@ -1,7 +1,7 @@
 """The reach-avoid half of the report (Shoukry et al., CDC 2016): Table I on the mazes
 and the tables beside it (Graphs of Convex Sets, proved-minimal horizons,
-counterexamples), Figure 4 (integrator chains, random dynamics), the LTL missions, the
-GCS paper's mazes and the random workspaces.
+counterexamples), Figure 4 (integrator chains, random dynamics), the LTL missions, robust
+plans under bounded disturbances, the GCS paper's mazes and the random workspaces.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from plansynth.bench.report.gcs import gcs_maze_table, gcs_table
 from plansynth.bench.report.horizons import minimal_table
 from plansynth.bench.report.mazes import table_one
 from plansynth.bench.report.missions import missions_table
+from plansynth.bench.report.robust import robust_section
 from plansynth.bench.solvers import REACH_ORDER
 
 __all__ = ["reach_section"]
@@ -27,7 +28,7 @@ def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix
     reach_planners = [
         p
         for p in planners_of(cells, "reach/", REACH_ORDER)
-        if p not in CX_VARIANTS and p not in ("milp-ltl", "lazy-smt-minimal")
+        if p not in CX_VARIANTS and p not in ("milp-ltl", "lazy-smt-minimal", "nominal-check")
     ]  # (their own tables)
     if not reach_planners:
         return []
@@ -43,6 +44,7 @@ def reach_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix
     L += chains_section(cells, reach_planners, out, image_prefix)
     L += random_dynamics_section(cells, reach_planners)
     L += missions_table(cells)
+    L += robust_section(cells)
     L += gcs_maze_table(cells)
     L += _random_workspaces(cells, reach_planners)
     return L

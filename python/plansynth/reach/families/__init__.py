@@ -11,6 +11,9 @@ project spec "Benchmark families from the papers"), one module per family.
   n states (the paper's Figure 4 setting: random A and B at n = 50).
 * :func:`gcs_maze` (``gcs``) -- the n x n mazes of the GCS paper (Marcucci et al., Science
   Robotics 2023), generated as its code does.
+* :func:`windy_maze`, :func:`narrow_maze` (``windy``) -- the mazes under a bounded
+  disturbance (robust planning, :mod:`plansynth.reach.robust`), and one whose
+  disturbance is wider than its gap.
 
 ``python -m plansynth.reach.families DIR`` (re)writes the example files of
 ``examples/reach`` (``example_files``: :func:`examples`, :func:`write_examples`).
@@ -26,6 +29,15 @@ from plansynth.reach.families.paper_maze import DERIVATIVE_BOUND, LEFT_GAP, MAZE
 from plansynth.reach.families.random_robots import RANDOM_DYNAMICS_MAX_HORIZON, random_dynamics
 from plansynth.reach.families.random_rooms import random_workspace
 from plansynth.reach.families.rooms import cluttered, dubins_example
+from plansynth.reach.families.windy import (
+    NARROW_GAP,
+    STORM_SCALE,
+    WINDY_BOX,
+    narrow_maze,
+    windy_box,
+    windy_maze,
+    windy_name,
+)
 
 __all__ = [
     "maze",
@@ -34,6 +46,13 @@ __all__ = [
     "dubins_example",
     "random_workspace",
     "random_dynamics",
+    "windy_maze",
+    "windy_box",
+    "windy_name",
+    "narrow_maze",
+    "NARROW_GAP",
+    "WINDY_BOX",
+    "STORM_SCALE",
     "examples",
     "write_examples",
     "main",

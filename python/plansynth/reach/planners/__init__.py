@@ -27,7 +27,14 @@ only when it plans. The planners and their modules:
 ``gcs``               Drake's Graphs of Convex Sets (``gcs-decomposition``: over our regions);
 ``fpp``               fast path planning through safe boxes (``fastpathplanning``);
 ``milp-ltl``, ``milp-ltl-oneshot``  the mission MILP baseline
-                      (:mod:`plansynth.reach.mission.milp`).
+                      (:mod:`plansynth.reach.mission.milp`);
+``nominal-check``     under a disturbance, the nominal plan followed by the robust
+                      check (:mod:`plansynth.reach.robust.baseline`).
+
+Under a disturbance (``robot.disturbance``) :func:`plansynth.reach.solve` hands a
+planner the problem tightened by the feedback's tube (:mod:`plansynth.reach.robust`);
+the planners that plan it say so (``disturbances``, :func:`robust_planners`), the others
+refuse the problem.
 
 The baselines' entries are in :mod:`~plansynth.reach.planners.baselines`. Plugins
 register with :func:`register_planner` (a :class:`Planner`, or a plain function
@@ -53,6 +60,7 @@ __all__ = [
     "Planner",
     "OptionsPlanner",
     "planners",
+    "robust_planners",
     "get_planner",
     "register_planner",
     "package_version",
@@ -131,6 +139,11 @@ class OptionsPlanner:
     settable: tuple[str, ...] | None = None
     takes_abstraction: bool = False  # ``run`` takes ``abstraction=`` (the planners over the decomposition)
     mission_defaults: Any = None
+    # how it plans a problem with a disturbance (plansynth.reach.robust): "tightened" (the
+    # tightened problem, the tube's step-wise margins of ``problem.tube`` applied to its
+    # bounds), "nominal" (the problem without it: the robust check alone decides), or ""
+    # (it does not)
+    disturbances: str = ""
 
     def version(self) -> str:
         return ", ".join(package_version(p) for p in self.packages)
@@ -242,6 +255,8 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
         "fpp": "plansynth.reach.planners.baselines:FPP",  # fast path planning through safe boxes
         "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
         "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
+        # under disturbances: the nominal plan, then the robust check (plansynth.reach.robust.baseline)
+        "nominal-check": "plansynth.reach.planners.baselines:NOMINAL_CHECK",
     },
     extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs", "gcs-decomposition", "fpp")},
 )
@@ -256,7 +271,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'lazy-smt-window', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'gcs-decomposition', 'fpp', 'milp-ltl', 'milp-ltl-oneshot')
+    ('lazy-smt', 'lazy-smt-window', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'gcs-decomposition', 'fpp', 'milp-ltl', 'milp-ltl-oneshot', 'nominal-check')
     """
     return PLANNERS.names()
 
@@ -271,6 +286,16 @@ def mission_planners() -> tuple[str, ...]:
     return tuple(n for n in planners() if getattr(get_planner(n), "mission_defaults", None) is not None)
 
 
+def robust_planners() -> tuple[str, ...]:
+    """The names of the planners that plan under disturbances (a problem's
+    ``robot.disturbance``; loads every planner's entry, the built-in ones are light).
+
+    >>> robust_planners()
+    ('lazy-smt', 'lazy-smt-window', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'milp-ltl', 'milp-ltl-oneshot', 'nominal-check')
+    """
+    return tuple(n for n in planners() if getattr(get_planner(n), "disturbances", ""))
+
+
 def get_planner(name: str) -> Planner | Callable[..., Any]:
     """The planner called ``name``, importing its module on first use.
 
@@ -283,6 +308,6 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, lazy-smt-window, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, gcs-decomposition, fpp, milp-ltl, milp-ltl-oneshot
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, lazy-smt-window, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, gcs-decomposition, fpp, milp-ltl, milp-ltl-oneshot, nominal-check
     """
     return PLANNERS.get(name)

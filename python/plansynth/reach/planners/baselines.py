@@ -12,6 +12,7 @@ MilpOptions(max_horizon=60, start_horizon=None, segment_safe=True)
 
 from __future__ import annotations
 
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.mission.options import MilpLtlOptions
 from plansynth.reach.planners import OptionsPlanner
 from plansynth.reach.planners.options import BigMOptions, FppOptions, GcsOptions, MilpOptions, OmplOptions
@@ -27,14 +28,24 @@ __all__ = [
     "FPP",
     "MILP_LTL",
     "MILP_LTL_ONESHOT",
+    "NOMINAL_CHECK",
 ]
 
 _HIGHS = ("highspy",)
 
 #: ``milp``: the region MILP, one per horizon (:func:`plansynth.reach.planners.milp.plan_milp`)
-MILP = OptionsPlanner("milp", MilpOptions(), "plansynth.reach.planners.milp:plan_milp", _HIGHS, takes_abstraction=True)
+MILP = OptionsPlanner(
+    "milp",
+    MilpOptions(),
+    "plansynth.reach.planners.milp:plan_milp",
+    _HIGHS,
+    takes_abstraction=True,
+    disturbances="tightened",
+)
 #: ``milp-bigm``: the big-M MILP over the obstacles (:mod:`plansynth.reach.planners.milp_bigm`)
-MILP_BIGM = OptionsPlanner("milp-bigm", BigMOptions(), "plansynth.reach.planners.milp_bigm:run", _HIGHS)
+MILP_BIGM = OptionsPlanner(
+    "milp-bigm", BigMOptions(), "plansynth.reach.planners.milp_bigm:run", _HIGHS, disturbances="tightened"
+)
 #: OMPL's kinodynamic planners (:mod:`plansynth.reach.planners.ompl`)
 RRT = OptionsPlanner("rrt", OmplOptions(), "plansynth.reach.planners.ompl:run_rrt", ("ompl",))
 EST = OptionsPlanner("est", OmplOptions(), "plansynth.reach.planners.ompl:run_est", ("ompl",))
@@ -55,7 +66,12 @@ FPP = OptionsPlanner("fpp", FppOptions(), "plansynth.reach.planners.fpp:run", ("
 #: ``milp-ltl``: the bounded mission as one big-M MILP per horizon (missions only;
 #: :func:`plansynth.reach.mission.milp.plan_milp_ltl`)
 MILP_LTL = OptionsPlanner(
-    "milp-ltl", None, "plansynth.reach.mission.milp:plan_milp_ltl", _HIGHS, mission_defaults=MilpLtlOptions()
+    "milp-ltl",
+    None,
+    "plansynth.reach.mission.milp:plan_milp_ltl",
+    _HIGHS,
+    mission_defaults=MilpLtlOptions(),
+    disturbances="tightened",
 )
 #: ``milp-ltl-oneshot``: one MILP at the max horizon (Wolff et al.'s fixed horizon K)
 MILP_LTL_ONESHOT = OptionsPlanner(
@@ -64,4 +80,15 @@ MILP_LTL_ONESHOT = OptionsPlanner(
     "plansynth.reach.mission.milp:plan_milp_ltl",
     _HIGHS,
     mission_defaults=MilpLtlOptions(one_shot=True),
+    disturbances="tightened",
+)
+#: ``nominal-check``: under a disturbance, the nominal plan (lazy-smt on the problem
+#: without it) and then the robust check with the design's gain: the baseline that shows
+#: what planning for the tube buys (:mod:`plansynth.reach.robust.baseline`)
+NOMINAL_CHECK = OptionsPlanner(
+    "nominal-check",
+    LazyOptions(),
+    "plansynth.reach.robust.baseline:run",
+    ("python-sat", "highspy"),
+    disturbances="nominal",
 )

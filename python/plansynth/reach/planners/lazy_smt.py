@@ -76,6 +76,7 @@ def _planner(name: str) -> OptionsPlanner:
         settable=None if name == "lazy-smt" else SHARED_OPTIONS,
         takes_abstraction=True,
         mission_defaults=MissionOptions() if name in PLAN_MISSIONS else None,
+        disturbances="tightened",
     )
 
 

@@ -133,6 +133,8 @@ def solve_horizon(
     # goal
     Hg, hg = (np.asarray(a, float) for a in halfspaces(problem.goal))
     kg = Hg.shape[0]
+    if problem.tube is not None:  # a tightened problem (plansynth.reach.robust): the final tube in the goal
+        hg = hg - problem.tube.position_margins(Hg, problem.dynamics.position, N)[N]
     add(np.repeat(np.arange(kg), d), np.tile(x(N) + pos, kg), Hg.ravel(), np.full(kg, -np.inf), hg)
 
     col_lo = np.full(n_col, -np.inf)
@@ -143,6 +145,10 @@ def solve_horizon(
     col_lo[:n] = col_hi[:n] = problem.start
     col_lo[n_x : n_x + n_u] = -problem.input_bound
     col_hi[n_x : n_x + n_u] = problem.input_bound
+    if problem.tube is not None:  # the bounds tightened step by step (plansynth.reach.tube)
+        x_lo, x_hi, u_lo, u_hi = problem.tube.bounds(s_lo, s_hi, problem.input_bound, N)
+        col_lo[n:n_x], col_hi[n:n_x] = x_lo[1:].ravel(), x_hi[1:].ravel()
+        col_lo[n_x : n_x + n_u], col_hi[n_x : n_x + n_u] = u_lo.ravel(), u_hi.ravel()
     col_lo[n_x + n_u :] = 0.0
     col_hi[n_x + n_u :] = 1.0
     for i in range(R):

@@ -168,6 +168,10 @@ def _solve_horizon(
             for a, i in enumerate(pos):
                 lb[xi(t, i)] = max(lb[xi(t, i)], problem.workspace.lo[a])
                 ub[xi(t, i)] = min(ub[xi(t, i)], problem.workspace.hi[a])
+    if problem.tube is not None:  # a tightened problem (plansynth.reach.robust): bounds tightened step by step
+        x_lo, x_hi, u_lo, u_hi = problem.tube.bounds(*problem.state_box, problem.input_bound, N)
+        lb[n : (N + 1) * n], ub[n : (N + 1) * n] = x_lo[1:].ravel(), x_hi[1:].ravel()
+        lb[(N + 1) * n : n_cont], ub[(N + 1) * n : n_cont] = u_lo.ravel(), u_hi.ravel()
     rows = _Rows([], [], [], [], [])
     for t in range(N):
         for i in range(n):
@@ -181,6 +185,8 @@ def _solve_horizon(
             rows.add(0.0, 0.0, coefs)
     # goal
     Hg, hg = halfspaces(problem.goal)
+    if problem.tube is not None:  # the final tube in the goal
+        hg = hg - problem.tube.position_margins(Hg, problem.dynamics.position, N)[N]
     for r in range(Hg.shape[0]):
         rows.add(-inf, float(hg[r]), {xi(N, pos[a]): float(Hg[r, a]) for a in range(d)})
     # obstacles, big-M

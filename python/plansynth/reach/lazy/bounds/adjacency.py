@@ -11,6 +11,7 @@ import numpy as np
 
 from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction
+from plansynth.reach.geometry import convex_hull
 from plansynth.reach.lazy.bounds.step import step_reach
 from plansynth.reach.problem import ReachProblem
 
@@ -97,12 +98,7 @@ def step_adjacency(
 
         polys = [ShPolygon(g.vertices) for g in regions]
         corners = np.array([[-r[0], -r[1]], [r[0], -r[1]], [r[0], r[1]], [-r[0], r[1]]])
-        grown = [
-            shapely.convex_hull(
-                shapely.multipoints((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2))
-            )
-            for g in regions
-        ]
+        grown = [convex_hull((np.asarray(g.vertices)[:, None, :] + corners[None]).reshape(-1, 2)) for g in regions]
         tree = shapely.STRtree(polys)
         left, right = tree.query(grown, predicate="dwithin", distance=eps)
         pairs = zip(left.tolist(), right.tolist())

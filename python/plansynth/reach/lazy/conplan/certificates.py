@@ -222,11 +222,37 @@ class _Certificates:
         )
         if conflict == fallback:
             return conflict
+        if self.tube is not None and not uses_start and conflict.first_time != b.origin:
+            return self._placed(conflict, fallback, certified)
         if certified:
             self.stats.certified += 1
             return conflict
         if self.refutes(conflict):
             return conflict
+        self.stats.rejected += 1
+        return fallback
+
+    def _placed(self, conflict: Conflict, fallback: Conflict, certified: bool) -> Conflict:
+        """A problem with a tube, whose margins grow with time: a conflict without the
+        start, shrunk from an LP that placed E_0 earlier than its first step, holds where
+        that LP placed it, not necessarily at every time shift DIS-PLAN adds it at. It is
+        kept shift-free when an LP refutes it at its earliest placement (the loosest);
+        else anchored at the start, at its times (there the LP that proved it had
+        margins no larger than the plan's: sound with the certificate, or when an LP
+        refutes it); else the fallback."""
+        if self.refutes(conflict):
+            self.stats.certified += 1
+            return conflict
+        anchored = Conflict(
+            conflict.literals,
+            anchored_start=True,
+            anchored_goal=conflict.anchored_goal,
+            horizon=conflict.horizon,
+            last_time=conflict.last_time,
+        )
+        if anchored != fallback and (certified or self.refutes(anchored)):
+            self.stats.certified += 1
+            return anchored
         self.stats.rejected += 1
         return fallback
 

@@ -123,6 +123,12 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         self.hkey = np.array([keys.setdefault(self.Hpad[i].tobytes(), len(keys)) for i in range(len(Hs))])
         self.Hgoal, self.hgoal = (np.asarray(a, float) for a in halfspaces(problem.goal))
         self.state_lo, self.state_hi = problem.state_box
+        # a tightened problem (plansynth.reach.robust): the step-wise margins of its tube
+        self.tube = problem.tube if problem.tube is not None and problem.tube.varies else None
+        if self.tube is not None:
+            self.tube_state_lo, self.tube_state_hi = self.tube.state_margins()
+            self.tube_input_lo, self.tube_input_hi = self.tube.input_margins()
+            self.tube_goal = self.tube.position_margins(self.Hgoal, dyn.position)
         self.stats = LpStats()
         # persistent, warm-started models: the slack LPs of Problem 5.2 in one, the
         # feasibility LPs (plan, prefixes, unanchoring) in the other

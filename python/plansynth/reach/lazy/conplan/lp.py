@@ -186,6 +186,7 @@ class _Bounds:
     col_lo: np.ndarray
     col_hi: np.ndarray
     anchored_start: bool
+    origin: int = 0  # the state time whose tube is E_0 (a problem with a tube: see _LpEdits._tightened)
 
 
 class _LpEdits:
@@ -421,10 +422,38 @@ class _LpEdits:
             [np.tile(self.state_lo, lay.T), np.full(lay.n_u, -self.problem.input_bound), np.zeros(lay.T)]
         )
         col_hi = np.concatenate([np.tile(self.state_hi, lay.T), np.full(lay.n_u, self.problem.input_bound), slack_hi])
+        origin = 0 if anchored_start else lay.t0
+        if self.tube is not None:
+            self._tightened(lay, origin, goal, row_hi, col_lo, col_hi)
         if anchored_start:
             col_lo[w0 * n : (w0 + 1) * n] = self.start
             col_hi[w0 * n : (w0 + 1) * n] = self.start
-        return _Bounds(row_lo, row_hi, col_lo, col_hi, anchored_start)
+        return _Bounds(row_lo, row_hi, col_lo, col_hi, anchored_start, origin)
+
+    def _tightened(
+        self, lay: _Layout, origin: int, goal: bool, row_hi: np.ndarray, col_lo: np.ndarray, col_hi: np.ndarray
+    ) -> None:
+        """A problem with a tube (plansynth.reach.robust): tighten the bounds of the
+        window's states and inputs, and the goal rows, by the error sets E_t of the tube
+        at t = (state time - ``origin``) (the margins of :class:`~plansynth.reach.tube.Tube`,
+        constant from their cap on). An LP anchored at the start has ``origin`` 0 (its
+        times are absolute); one that is not puts E_0 at the window's first state: the
+        earliest placement, where every margin is smallest. The margins never decrease
+        in t, so a conflict proved there holds at every time shift DIS-PLAN adds it at
+        (later placements only tighten), and none is claimed where it was not proved
+        (:meth:`~plansynth.reach.lazy.conplan.certificates._Certificates._shrunk`)."""
+        n, m, first = lay.n, lay.m, lay.first
+        w0, w1 = lay.t0 - first, lay.t1 - first
+        cap = len(self.tube_state_lo) - 1
+        steps = np.minimum(np.arange(lay.t0, lay.t1 + 1) - origin, cap)
+        xs = slice(w0 * n, (w1 + 1) * n)
+        col_lo[xs] += self.tube_state_lo[steps].ravel()
+        col_hi[xs] -= self.tube_state_hi[steps].ravel()
+        us = slice(lay.n_x + w0 * m, lay.n_x + w1 * m)
+        col_lo[us] += self.tube_input_lo[steps[:-1]].ravel()
+        col_hi[us] -= self.tube_input_hi[steps[:-1]].ravel()
+        if goal:
+            row_hi[lay.goal0 : lay.ord0] -= self.tube_goal[steps[-1]]
 
     def _coef_for(self, lay: _Layout, assignment: Mapping[int, int], base: np.ndarray | None = None) -> np.ndarray:
         coef = np.zeros(lay.T, dtype=np.int64) if base is None else base.copy()
