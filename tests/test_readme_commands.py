@@ -240,6 +240,7 @@ CASES: dict[str, Case] = {
     "plansynth grid solve examples/grid/corridor.yaml --timeout 30": Case(out=("realizable",)),
     "plansynth grid solve examples/grid/corridor.yaml --effort 0": Case(out=("realizable", "not proved")),
     "plansynth reach solve examples/reach/maze-1.yaml --planner gcs --timeout 120": Case(out=FOUND),
+    "plansynth reach solve examples/reach/maze-1.yaml --planner fpp --timeout 120": Case(out=FOUND),
     "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json --plot plan.png --animate plan.gif": Case(
         out=FOUND,
         files=("plan.png", "plan.gif"),
@@ -285,20 +286,20 @@ CASES: dict[str, Case] = {
         slow=False,
         fast="plansynth bench grid --family doors --values 1 --solvers native --timeout 10 --db b.db",
     ),
-    "plansynth bench reach --family maze --planners lazy-smt,gcs --repeat 3": Case(
+    "plansynth bench reach --family maze --planners lazy-smt,gcs,gcs-decomposition,fpp --repeat 3": Case(
         files=("b.db",),
         slow=False,
-        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,gcs --timeout 120 --db b.db",
+        fast="plansynth bench reach --family maze --values 1 --planners lazy-smt,gcs,fpp --timeout 120 --db b.db",
     ),
     "plansynth bench reach --family random-dynamics --values 1,2,3,4 --states 4,10,20,50 --planners lazy-smt": Case(
         files=("b.db",),
         slow=False,
         fast="plansynth bench reach --family random-dynamics --values 1 --states 4 --planners lazy-smt --timeout 30 --db b.db",
     ),
-    "plansynth bench reach --family gcs-maze --planners lazy-smt,gcs --timeout 120": Case(
+    "plansynth bench reach --family gcs-maze --planners lazy-smt,lazy-smt-window,lazy-smt-minimal,gcs,gcs-decomposition,fpp --timeout 120": Case(
         files=("b.db",),
         slow=False,
-        fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt --timeout 60 --db b.db",
+        fast="plansynth bench reach --family gcs-maze --values 10 --planners lazy-smt,lazy-smt-window --timeout 60 --db b.db",
     ),
     "plansynth bench reach --family team --planners lazy-smt-team,milp-team,prioritized": Case(
         files=("b.db",),

@@ -200,7 +200,9 @@ def test_an_unknown_grid_backend_lists_the_names() -> None:
         get_backend("nosuch")
 
 
-@pytest.mark.parametrize(("planner", "hidden"), [("gcs", "pydrake"), ("rrt", "ompl"), ("kpiece", "ompl")])
+@pytest.mark.parametrize(
+    ("planner", "hidden"), [("gcs", "pydrake"), ("fpp", "fastpathplanning"), ("rrt", "ompl"), ("kpiece", "ompl")]
+)
 def test_a_baseline_without_its_extra_names_the_extra(planner: str, hidden: str) -> None:
     """Without the ``baselines`` extra (its module made unimportable here), asking for a
     baseline is one line naming the extra to install, exit 2; lazy-smt still plans."""

@@ -321,14 +321,15 @@ def render_options() -> str:
         out += [
             "### Named configurations",
             "",
-            "Values of the lazy planner's options under a name of their own; they take only the "
-            "options listed as settable, the others are what names them.",
+            "Values of a planner's options under a name of their own (the lazy planner's, and "
+            "`gcs-decomposition`, GCS's); they take only the options listed as settable, the others "
+            "are what names them.",
             "",
-            "| name | settable | fixed values (differing from `lazy-smt`'s defaults) |",
+            "| name | settable | fixed values (differing from the defaults of `lazy-smt`, or of `gcs`) |",
             "|---|---|---|",
         ]
-        base = get_planner("lazy-smt").defaults
         for name, defaults, settable in named:
+            base = type(defaults)()  # (the options' own defaults: lazy-smt's, gcs's)
             fixed = ", ".join(f"{_code(k)} = {_code(_shown(v))}" for k, v in changed(defaults, base).items()) or "none"
             out.append(f"| {_code(name)} | {', '.join(_code(s) for s in settable)} | {fixed} |")
         out.append("")

@@ -269,8 +269,8 @@ def test_the_published_missions_run_gives_the_baseline_time_to_finish():
 
 
 def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
-    """The GCS paper's mazes: regions, lazy-smt's time, horizon and
-    work, gcs's time and curve duration, and gcs with no answer shown as such."""
+    """The GCS paper's mazes: regions, lazy-smt's horizon, work and time, gcs's time and
+    curve duration, gcs with no answer shown as such, and the shortest plan of the run."""
     from plansynth.bench.report.gcs import gcs_maze_table
 
     with ResultsDB(tmp_path / "g.db") as db:
@@ -290,6 +290,8 @@ def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
                     "valid": 1,
                     "horizon": 60,
                     "regions": regions,
+                    "lp_calls": 12,
+                    "sat_calls": 3,
                     "attributes": {"duration": 30.0, "counters": {"lp_calls": 12, "clauses": 3400}},
                 },
             )
@@ -308,13 +310,16 @@ def test_the_gcs_maze_table_puts_both_planners_side_by_side(tmp_path):
                         "solved": 1,
                         "valid": 1,
                         "regions": regions,
-                        "attributes": {"duration": 20.0},
+                        "attributes": {"duration": 20.0, "counters": {"regions": 52}},
                     },
                 )
         cells = summarise(db.runs())
     text = "\n".join(gcs_maze_table(cells))
-    assert "| 10 | 55 | 0.5 | 60 x dt = 30 | 12 / 3400 | 4 | 20 | 8 |" in text
-    assert "| 50 | 1571 | 50 | 60 x dt = 30 | 12 / 3400 | > 120 (1 unknown) | - | > 2.4 |" in text
+    assert "| 10 | 55 / 52 | 60, 12 / 3 | 0.5 | 4 | 8 |" in text
+    assert "| 50 | 1571 / - | 60, 12 / 3 | 50 | > 120 (1 unknown) | > 2.4 |" in text
+    # the plans' durations: gcs's curve is the shortest at n = 10, lazy-smt's the only one at 50
+    assert "| 10 | 30 | 20 | 20 (gcs) | 1.5 |" in text
+    assert "| 50 | 30 | - | 30 (lazy-smt) | 1 |" in text
 
 
 def test_a_run_that_gave_up_early_bounds_no_ratio(tmp_path):
@@ -346,7 +351,7 @@ def test_a_run_that_gave_up_early_bounds_no_ratio(tmp_path):
         cells = summarise(db.runs())
     row = next(line for line in gcs_maze_table(cells) if line.startswith("| 20 |"))
     assert "no answer (1 unknown after 13.1 s of 120)" in row
-    assert row.endswith("| - | - |"), row
+    assert row.endswith("| - |"), row  # no gcs / lazy-smt ratio
 
 
 def test_every_published_grid_family_has_a_table(tmp_path):

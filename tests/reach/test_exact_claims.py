@@ -285,9 +285,18 @@ def test_relaxation_admits_every_face_oracle_solution(p: ReachProblem, h: int, k
 EXACT_PROPS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
+#: seconds per exact-segments solve: a random world may take the search long (the
+#: claims are checked when it answers; out of budget it says so)
+EXACT_BUDGET = 30.0
+
+
 def _exact(p: ReachProblem, L: int, search: str):
+    from plansynth import Budget
+
     try:
-        return solve(p, "lazy-smt", max_horizon=L, exact_segments=True, horizon_search=search)
+        return solve(
+            p, "lazy-smt", Budget(seconds=EXACT_BUDGET), max_horizon=L, exact_segments=True, horizon_search=search
+        )
     except Exception as exc:  # pragma: no cover - a planner crash is a failure with its problem
         raise AssertionError(f"the planner failed on {p!r}") from exc
 

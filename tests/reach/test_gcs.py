@@ -177,3 +177,36 @@ def test_large_graphs_round_to_one_path(maze1_gcs):
     assert gcs.rounded_paths(1571, 3) == 3
     with pytest.raises(ValueError, match="at least 1"):
         gcs.rounded_paths(10, 0)
+
+
+def test_gcs_plans_through_overlapping_boxes_by_default():
+    """GCS as its users set it up: the maximal free boxes (overlapping), not the lazy
+    planner's decomposition; the decomposition stays an option (sets=decomposition)."""
+    r = solve(maze(2), "gcs", Budget(seconds=120))
+    assert r.status is ReachStatus.FOUND and r.validated, r.message
+    assert r.options["sets"] == "boxes" and r.counters["regions"] == 5 and r.counters["set_edges"] == 4
+    assert r.regions is None and len(r.counters["set_sequence"]) == r.counters["pieces"]
+    d = solve(maze(2), "gcs", Budget(seconds=120), sets="decomposition")
+    assert d.status is ReachStatus.FOUND and d.validated, d.message
+    assert d.options["sets"] == "decomposition" and d.regions is not None and d.counters["regions"] == 5
+    with pytest.raises(Exception, match="sets"):
+        solve(maze(2), "gcs", Budget(seconds=10), sets="voronoi")
+
+
+def test_gcs_over_iris_regions_where_obstacles_are_polygons():
+    from plansynth.reach.dynamics import double_integrator
+    from plansynth.reach.geometry import Polygon
+
+    p = ReachProblem(
+        workspace=Box((0, 0), (10, 10)),
+        obstacles=(Polygon(((3, 0), (5, 0), (4, 7))), Polygon(((6, 10), (7, 3), (8, 10)))),
+        goal=Box((8.5, 1), (9.5, 2)),
+        dynamics=double_integrator(2, 0.5),
+        start=[1, 1, 0, 0],
+        input_bound=1.0,
+        state_bounds=Box((0, 0, -2, -2), (10, 10, 2, 2)),
+    )
+    r = solve(p, "gcs", Budget(seconds=120))
+    assert r.options["sets"] == "iris" and r.counters["regions"] >= 3
+    assert r.status is ReachStatus.FOUND and r.validated, r.message
+    assert r.curve_validation.ok and r.curve_validation.segment_safe

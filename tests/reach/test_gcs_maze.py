@@ -59,7 +59,7 @@ def test_gcs_maze_50_has_the_notebooks_knock_downs() -> None:
 def test_gcs_maze_bench_family() -> None:
     assert "gcs-maze" in REACH_FAMILIES
     insts = reach_family("gcs-maze")
-    assert [i.name for i in insts] == ["gcs-maze-10", "gcs-maze-20", "gcs-maze-50"]
+    assert [i.name for i in insts] == [f"gcs-maze-{n}" for n in (10, 20, 30, 50, 70, 100)]
     assert insts[0].build().obstacles == gcs_maze(10).obstacles
 
 

@@ -24,9 +24,11 @@ from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
 
-def test_maze1_end_to_end() -> None:
+@pytest.mark.parametrize("timed_route", [True, False])
+def test_maze1_end_to_end(timed_route: bool) -> None:
+    """The default (the timed route: no SAT call on maze-1) and the loop alone."""
     p = maze(1)
-    r = solve(p)
+    r = solve(p, timed_route=timed_route)
     assert r.status is ReachStatus.FOUND
     assert r.validated is True and r.validation is not None and r.validation.ok
     assert r.segment_safe is True and r.guarantee == "segments"
@@ -39,9 +41,13 @@ def test_maze1_end_to_end() -> None:
     for t, reg in enumerate(r.regions):
         assert ab.regions[reg].contains(r.trajectory.states[t][:2], tol=1e-6)
     c = r.counters
-    assert c["sat_calls"] >= 1 and c["lp_calls"] >= 1 and c["iterations"] >= 1
-    assert c["first_horizon"] <= r.horizon
-    assert set(r.timings) >= {"abstraction", "sat", "lp", "validate", "total"}
+    assert c["lp_calls"] >= 1 and c["iterations"] >= 1 and c["bfs_bound"] <= r.horizon
+    if timed_route:
+        assert c["sat_calls"] == 0 and c["timed_route_rounds"] >= 1 and "the timed route" in r.message
+        assert set(r.timings) >= {"abstraction", "timed_route", "validate", "total"}
+    else:
+        assert c["sat_calls"] >= 1 and c["first_horizon"] <= r.horizon
+        assert set(r.timings) >= {"abstraction", "sat", "lp", "validate", "total"}
 
 
 def test_maze1_horizon_is_minimal_by_the_milp() -> None:
@@ -99,10 +105,15 @@ def test_region_hop_bound_alone_gives_unknown() -> None:
 
 
 def test_iteration_budget_gives_unknown() -> None:
-    # unguided (the guided loop plans maze-1 in one iteration): 13 iterations, cut at 2
-    r = solve(maze(1), budget=Budget(iterations=2), guided=False)
+    # unguided and without the timed route (the guided loop plans maze-1 in one
+    # iteration): 13 iterations, cut at 2
+    r = solve(maze(1), budget=Budget(iterations=2), guided=False, timed_route=False)
     assert r.status is ReachStatus.UNKNOWN and "budget" in r.message
     assert r.counters["iterations"] == 2 and r.validated is None
+    # the timed route's repair rounds count as iterations too (maze-1 needs two)
+    t = solve(maze(1), budget=Budget(iterations=1))
+    assert t.status is ReachStatus.UNKNOWN and "budget" in t.message
+    assert t.counters["timed_route_rounds"] == 1 and t.counters["iterations"] == 1
 
 
 def test_time_budget_gives_unknown() -> None:
@@ -182,7 +193,9 @@ def test_loop_with_a_toy_theory_refutes_every_horizon() -> None:
 
 
 def test_bounds_are_recorded() -> None:
-    r = plan_lazy(maze(1))
+    quick = plan_lazy(maze(1)).counters  # the timed route: the bounds it needed only
+    assert quick["bfs_bound"] == 2 and quick["physical_bound"] == 26 and "first_horizon" not in quick
+    r = plan_lazy(maze(1), options=LazyOptions(timed_route=False))
     c = r.counters
     assert c["bfs_bound"] == 2 and c["physical_bound"] == 26
     assert c["first_horizon"] == max(c["bfs_bound"], c["physical_bound"], c["box_bound"])
@@ -260,9 +273,11 @@ def test_three_dimensional_boxes() -> None:
         state_bounds=Box((0, 0, 0, -1, -1, -1), (4, 4, 4, 1, 1, 1)),
     )
     r = solve(p)
+    m = solve(p, "lazy-smt-minimal")
     milp = solve(p, "milp", max_horizon=r.horizon)
     assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe
-    assert milp.status is ReachStatus.FOUND and milp.horizon == r.horizon
+    assert m.status is ReachStatus.FOUND and m.validated and m.counters["minimal"] is True
+    assert milp.status is ReachStatus.FOUND and milp.horizon == m.horizon <= r.horizon
     assert np.max(r.trajectory.states[:, 0]) >= 3 - 1e-6  # around the wall's end at x = 3
 
 
@@ -274,9 +289,9 @@ def test_a_plan_found_above_a_deferred_window_is_shortened_and_validated() -> No
     from plansynth.reach.families import gcs_maze
     from plansynth.reach.solve import solve
 
-    r = solve(gcs_maze(10))
+    r = solve(gcs_maze(10), timed_route=False)  # (the loop's plans; the timed route's are not shortened)
     assert r.status.value == "found" and r.validated and r.segment_safe
     assert "shortened from 70" in r.message and r.horizon < 70 and r.counters["shortened_checks"] >= 1
     assert r.counters["minimal"] is False and "not all" in r.message
-    plain = solve(maze(1))
+    plain = solve(maze(1), timed_route=False)
     assert "shortened" not in plain.message and "shortened_checks" not in plain.counters

@@ -62,8 +62,10 @@ def test_minimal_equals_the_linear_search(problem: ReachProblem, reach_sets: boo
     r = plan_lazy(problem, options=LazyOptions(horizon_search="minimal", reach_sets=reach_sets))
     assert linear.counters["minimal"] is True and r.counters["minimal"] is True
     assert r.horizon == linear.horizon
-    if reach_sets:  # the sets' bound is the minimum here: one probe, under the tube
-        assert r.counters["reach_sets_bound"] == r.horizon and r.counters["minimal_probes"] == 1
+    if reach_sets:  # the sets prove it: their bound is the minimum (one probe, under the tube), or,
+        # when the first plan (the timed route) is already minimal, no shorter horizon reaches the goal
+        bound, probes = r.counters["reach_sets_bound"], r.counters["minimal_probes"]
+        assert (bound == r.horizon and probes == 1) or (bound is None and probes == 0), (bound, probes)
         assert "per-axis reachable sets" in r.message
     else:
         assert ("monotonicity" in r.message) == problem.starts_at_rest

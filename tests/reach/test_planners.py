@@ -31,10 +31,12 @@ def test_the_paper_configuration_is_the_published_loop() -> None:
         "uniform",
         "linear",
     )
-    assert not (p.transit or p.guided or p.widen or p.wait_shifts)
+    assert not (p.transit or p.guided or p.timed_route or p.widen or p.wait_shifts)
     assert p.segment_safe and p.lower_bound  # what both modes share
     assert CONFIGURATIONS["lazy-smt-paper-trivial"] == dataclasses.replace(p, counterexample="trivial")
-    assert CONFIGURATIONS["lazy-smt-zeroprefix"] == LazyOptions(counterexample="zeroprefix")
+    # our loops: the counterexample comparison's and the window search alone, without the timed route
+    assert CONFIGURATIONS["lazy-smt-zeroprefix"] == LazyOptions(counterexample="zeroprefix", timed_route=False)
+    assert CONFIGURATIONS["lazy-smt-window"] == LazyOptions(timed_route=False)
     assert CONFIGURATIONS["lazy-smt-minimal"] == LazyOptions(horizon_search="minimal")
 
 
@@ -55,7 +57,7 @@ def test_every_planner_has_a_name_a_version_and_options() -> None:
     for name in planners():
         p = get_planner(name)
         assert p.name == name
-        assert p.version().split()[0] in {"python-sat", "highspy", "ompl", "drake"}
+        assert p.version().split()[0] in {"python-sat", "highspy", "ompl", "drake", "fastpathplanning"}
         assert p.defaults is not None or p.mission_defaults is not None
         for mission, value in ((False, p.defaults), (True, p.mission_defaults)):
             if value is not None:

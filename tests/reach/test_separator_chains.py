@@ -16,6 +16,7 @@ from plansynth.reach.lazy.bounds import GOAL_NODE, START_NODE, separator_bounds
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.lazy.loop import lazy_loop
+from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.lazy.planner import plan_lazy
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.trajectory import Trajectory
@@ -74,15 +75,19 @@ def test_separator_bounds_on_a_corridor() -> None:
 def test_chains_raise_the_horizon_bound_on_random_dynamics() -> None:
     """Maze-3 with n = 4 random dynamics: the sweep's bound is 17 (one-step displacement
     6 m); the chains of gap regions give 86 (the planner's plan: 135). The double
-    integrator's maze keeps its bounds (no multi-step table)."""
-    r = plan_lazy(random_dynamics(3, 4, seed=0), Budget(seconds=60))
+    integrator's maze keeps its bounds (no multi-step table). The bounds are the loop's
+    (the timed route plans before them, and its plan respects them too)."""
+    loop = LazyOptions(timed_route=False)
+    r = plan_lazy(random_dynamics(3, 4, seed=0), Budget(seconds=60), loop)
     c = r.counters
     assert c["box_bound"] == 17 and c["chain_bound"] == 86 and c["first_horizon"] == 86
     assert r.status is ReachStatus.FOUND and r.horizon >= 86
     regions = r.regions
     assert regions is not None
-    m = plan_lazy(maze(3))
+    m = plan_lazy(maze(3), options=loop)
     assert "chain_bound" not in m.counters and m.counters["first_horizon"] == 98
+    quick = plan_lazy(random_dynamics(3, 4, seed=0), Budget(seconds=60))
+    assert quick.status is ReachStatus.FOUND and quick.horizon >= 86
 
 
 # -- deferral ------------------------------------------------------------------

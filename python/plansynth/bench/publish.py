@@ -13,12 +13,14 @@ The sweep: every grid family with ``native`` and ``cvc5`` (the reactive suite an
 doors and patrols families once, through the CLI, at :data:`CLI_TIMED_TIMEOUT`; the
 SYNTCOMP families with ``native`` and the ``omega`` peer, moving obstacle at
 :data:`MOVING_OBSTACLE_TIMEOUT` and :data:`SYNTCOMP_MEMORY_MB`); the mazes with ``lazy-smt``,
-``rrt``, ``milp-bigm``, ``milp`` and ``gcs`` (Drake's Graphs of Convex Sets: a continuous-time
-curve, not a trajectory of the exact discrete dynamics; RESULTS.md says so beside its
-column), and with the counterexample configurations of
+``rrt``, ``milp-bigm``, ``milp``, the curve baselines :data:`CURVE_BASELINES` (Drake's Graphs
+of Convex Sets over overlapping sets and over our regions, fast path planning: continuous-time
+curves, not trajectories of the exact discrete dynamics; RESULTS.md says so beside their
+columns) and ``lazy-smt-window`` (the window search alone), and with the counterexample configurations of
 :data:`~plansynth.bench.report.CX_VARIANTS`; the integrator-chain scaling (Figure 4) up
 to order 25 (n = 50 states) with ``lazy-smt``; random workspaces with every reach planner;
-the mazes under bounded disturbances (``robust``: :func:`robust_tasks`).
+the GCS paper's mazes (the scale family, :data:`~plansynth.bench.families.GCS_MAZE_SIZES`)
+with :data:`SCALE_PLANNERS`; the mazes under bounded disturbances (``robust``: :func:`robust_tasks`).
 """
 
 from __future__ import annotations
@@ -45,7 +47,22 @@ N50_TIMEOUT = 300.0  # order-25 chains (n = 50 states)
 N50_REPEATS = 3  # the scalability target is on maze-4 at order 25: a median, not one run
 RRT_REPEATS = 3
 GCS_REPEATS = 3
-GCS_MAZE_TIMEOUT = 120.0  # the GCS paper's 50 x 50 maze: lazy-smt's target is 60 s, gcs gets longer
+GCS_MAZE_TIMEOUT = 120.0  # the scale family: lazy-smt's targets are 2 s (50 x 50) and 20 s (100 x 100)
+#: FPP on the 100 x 100 maze's 5,951 boxes takes over a minute on a quiet machine: it gets longer
+FPP_MAZE_TIMEOUT = 300.0
+#: lazy-smt-minimal on the scale family: re-timing and probes below the timed route's plan for this long
+MINIMAL_MAZE_TIMEOUT = 60.0
+#: the baselines that plan continuous-time curves (gcs over overlapping sets and over our regions, fpp)
+CURVE_BASELINES = ["gcs", "gcs-decomposition", "fpp"]
+#: every planner of the scale family (the GCS paper's mazes), with their limits
+SCALE_PLANNERS = {
+    "lazy-smt": GCS_MAZE_TIMEOUT,
+    "lazy-smt-window": GCS_MAZE_TIMEOUT,
+    "lazy-smt-minimal": MINIMAL_MAZE_TIMEOUT,
+    "gcs": GCS_MAZE_TIMEOUT,
+    "gcs-decomposition": GCS_MAZE_TIMEOUT,
+    "fpp": FPP_MAZE_TIMEOUT,
+}
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 NATIVE_REPEATS = 3
 #: ``--timeout`` of the families run through the CLI (reactive suite, doors): the targets
@@ -104,14 +121,18 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
             family("reach", "chain", [1, 2, 3, 4], orders=CHAIN_ORDERS[:-1]), ["lazy-smt"], timeout=reach_timeout
         )
         tasks += robust_tasks(max(reach_timeout, ROBUST_TIMEOUT))
-        # Graphs of Convex Sets (Drake) beside lazy-smt on the mazes, interleaved, medians of 3
-        tasks += make_tasks(family("reach", "maze"), ["gcs"], repeat=GCS_REPEATS, timeout=reach_timeout)
+        # the curve baselines (Drake's GCS over overlapping sets and over our regions, fpp) and the
+        # window search alone beside lazy-smt on the mazes, interleaved, medians of 3
+        tasks += make_tasks(
+            family("reach", "maze"), [*CURVE_BASELINES, "lazy-smt-window"], repeat=GCS_REPEATS, timeout=reach_timeout
+        )
         # the horizon proved minimal beside the window search, medians of 3
         tasks += make_tasks(family("reach", "maze"), ["lazy-smt-minimal"], repeat=GCS_REPEATS, timeout=reach_timeout)
-        # the GCS paper's n x n mazes: lazy-smt and gcs on the same instances
-        tasks += make_tasks(
-            family("reach", "gcs-maze"), ["lazy-smt", "gcs"], timeout=max(reach_timeout, GCS_MAZE_TIMEOUT)
-        )
+        # the GCS paper's n x n mazes (the scale family): every planner on the same instances,
+        # interleaved (instance by instance)
+        for inst in family("reach", "gcs-maze"):
+            for planner, limit in SCALE_PLANNERS.items():
+                tasks += make_tasks([inst], [planner], timeout=max(reach_timeout, limit))
         # Figure 4 with random dynamics (the paper's setting): seeded random controllable (A, B)
         tasks += make_tasks(
             family("reach", "random-dynamics", [1, 2, 3, 4], states=RANDOM_DYNAMICS_STATES),

@@ -16,4 +16,15 @@ GRID_ORDER = ("native", "omega", "cvc5", "external")
 #: Grid solvers of the bench only (not backends of ``plansynth grid solve``): peers run
 #: on the games they can be posed (:mod:`plansynth.bench.execute.omega`).
 GRID_PEERS = ("omega",)
-REACH_ORDER = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")
+REACH_ORDER = (
+    "lazy-smt",
+    "lazy-smt-window",
+    "milp",
+    "milp-bigm",
+    "rrt",
+    "est",
+    "kpiece",
+    "gcs",
+    "gcs-decomposition",
+    "fpp",
+)

@@ -4,7 +4,7 @@ Planning Using Lazy SMT-Based Solving", CDC 2016).
 >>> from plansynth.reach import load, solve
 >>> r = solve(load("examples/reach/maze-1.yaml"))
 >>> r.status.value, r.horizon, r.validated
-('found', 62, True)
+('found', 58, True)
 
 The same kinds of names as :mod:`plansynth.grid`:
 

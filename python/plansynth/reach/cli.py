@@ -322,7 +322,7 @@ def solve_command(
         "lazy-smt",
         "--planner",
         "-p",
-        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets: a continuous-time curve); missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot; under a disturbance (robot.disturbance) the lazy-smt planners, milp, milp-bigm, the mission MILPs, and nominal-check (the nominal plan, then the robust check).",
+        help="lazy-smt (Algorithm 1 with our refinements), lazy-smt-window (without the timed route), lazy-smt-paper (as published), lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal (horizon_search=minimal), milp, or a baseline: milp-bigm, rrt, est, kpiece, gcs (Drake's Graphs of Convex Sets; gcs-decomposition over our regions) and fpp (fast path planning through safe boxes): continuous-time curves; missions: lazy-smt, lazy-smt-minimal, milp-ltl, milp-ltl-oneshot; under a disturbance (robot.disturbance) the lazy-smt planners, milp, milp-bigm, the mission MILPs, and nominal-check (the nominal plan, then the robust check).",
     ),
     option: list[str] = typer.Option(
         [], "--option", "-O", help="A planner option KEY=VALUE, repeatable; each planner's options are listed below."

@@ -60,6 +60,7 @@ jump fails.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -196,6 +197,35 @@ def _hits_all(ob: Any, P: np.ndarray, Q: np.ndarray | None = None) -> np.ndarray
     if Q is None:
         return np.array([ob.hits(p) for p in P], dtype=bool)
     return np.array([ob.hits(p, q) for p, q in zip(P, Q)], dtype=bool)
+
+
+#: Box obstacles tested against all segments at once, this many at a time (a prefilter
+#: table of chunk x segments x axes booleans).
+BOX_CHUNK = 256
+
+
+def _hits_table(obstacles: Sequence[Any], P: np.ndarray, Q: np.ndarray | None = None) -> np.ndarray:
+    """``_hits_all(ob, P, Q)`` for every obstacle, as an (obstacles x segments) table. Box
+    obstacles go together: a segment can meet an open box only if its bounding box does
+    (strictly, on every axis), so the exact test of :func:`_segments_enter_open_box` runs
+    only on the (box, segment) pairs that pass that filter; the others one by one."""
+    Q = P if Q is None else Q
+    out = np.zeros((len(obstacles), len(P)), dtype=bool)
+    boxes = [i for i, ob in enumerate(obstacles) if isinstance(ob, _Obstacle) and ob.geom is None]
+    for i in set(range(len(obstacles))) - set(boxes):
+        out[i] = _hits_all(obstacles[i], P, Q)
+    if not boxes or len(P) == 0:
+        return out
+    smin, smax = np.minimum(P, Q), np.maximum(P, Q)
+    for c in range(0, len(boxes), BOX_CHUNK):
+        idx = np.array(boxes[c : c + BOX_CHUNK])
+        lo = np.array([obstacles[i].lo for i in idx])
+        hi = np.array([obstacles[i].hi for i in idx])
+        near = np.all((smax[None, :, :] > lo[:, None, :]) & (smin[None, :, :] < hi[:, None, :]), axis=2)
+        for b in np.flatnonzero(near.any(axis=1)):
+            seg = np.flatnonzero(near[b])
+            out[idx[b], seg] = _segments_enter_open_box(P[seg], Q[seg], lo[b], hi[b])
+    return out
 
 
 def row_tolerance(A: np.ndarray, B: np.ndarray, x: np.ndarray, u: np.ndarray, tol: float) -> np.ndarray:
@@ -432,28 +462,26 @@ def validate(
         margin = np.array(problem.robot_shape.margins(problem.dim))
         ws_lo, ws_hi = ws_lo + margin, ws_hi - margin
     obstacles = _obstacle_checks(problem, tol)
-    inside = [_hits_all(ob, P) for ob in obstacles]
-    for t in range(N + 1):
+    # (obstacle, time) tables; only the times with a violation are visited, in the order
+    # of the plain double loop over times and obstacles
+    inside = _hits_table(obstacles, P)
+    outside = np.any(P < ws_lo - tol, axis=1) | np.any(P > ws_hi + tol, axis=1)
+    for t in np.flatnonzero(outside | inside.any(axis=0)).tolist():
         p = P[t]
-        if np.any(p < ws_lo - tol) or np.any(p > ws_hi + tol):
+        if outside[t]:
             viol.append(Violation("workspace", t, f"position {_fmt(p)} outside the workspace"))
-        for i, _ob in enumerate(obstacles):
-            if inside[i][t]:
-                viol.append(Violation("obstacle", t, f"position {_fmt(p)} inside obstacles[{i}]"))
+        for i in np.flatnonzero(inside[:, t]).tolist():
+            viol.append(Violation("obstacle", t, f"position {_fmt(p)} inside obstacles[{i}]"))
     if not _in_shape(problem.goal, P[N], tol):
         viol.append(Violation("goal", N, f"final position {_fmt(P[N])} is not in the goal"))
 
     # segments
-    segment_safe = True
-    crosses = [_hits_all(ob, P[:-1], P[1:]) for ob in obstacles]
-    for t in range(N):
-        for i, _ob in enumerate(obstacles):
-            if crosses[i][t]:
-                segment_safe = False
-                if require_segment_safe:
-                    viol.append(
-                        Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]")
-                    )
+    crosses = _hits_table(obstacles, P[:-1], P[1:])
+    segment_safe = not crosses.any()
+    if require_segment_safe:
+        for t in np.flatnonzero(crosses.any(axis=0)).tolist():
+            for i in np.flatnonzero(crosses[:, t]).tolist():
+                viol.append(Violation("segment", t, f"segment {_fmt(P[t])} -> {_fmt(P[t + 1])} crosses obstacles[{i}]"))
     return report(not viol, segment_safe, max_err, max_u)
 
 

@@ -34,7 +34,13 @@ from plansynth.bench.families.grid import (
 )
 from plansynth.bench.families.grid_problems import REACTIVE_SUITE, SuiteMissing, reactive_suite_dir
 from plansynth.bench.families.instance import Instance, instance_from_task
-from plansynth.bench.families.reach import PAPER_TABLE_I, RANDOM_DYNAMICS_STATES, REACH_FAMILIES, reach_family
+from plansynth.bench.families.reach import (
+    GCS_MAZE_SIZES,
+    PAPER_TABLE_I,
+    RANDOM_DYNAMICS_STATES,
+    REACH_FAMILIES,
+    reach_family,
+)
 
 __all__ = [
     "Instance",
@@ -47,6 +53,7 @@ __all__ = [
     "PAPER_GRID_SECONDS",
     "PAPER_TABLE_I",
     "RANDOM_DYNAMICS_STATES",
+    "GCS_MAZE_SIZES",
     "CLI_TIMED_FAMILIES",
     "REACTIVE_SUITE",
     "SuiteMissing",

@@ -7,7 +7,8 @@ controllable (A, B) pairs of n states, the paper's own Figure 4 setting, from
 :func:`plansynth.reach.families.random_dynamics`), and ``random`` workspaces (random
 boxes and non-convex polygons, from :func:`plansynth.reach.families.random_workspace`).
 ``gcs-maze`` is the n x n maze of the GCS paper (Marcucci et al., Science Robotics 2023;
-sizes 10, 20, 50), from :func:`plansynth.reach.families.gcs_maze`.
+sizes :data:`GCS_MAZE_SIZES`), from :func:`plansynth.reach.families.gcs_maze`: the scale
+family.
 ``missions`` holds three LTL missions per maze (:mod:`plansynth.reach.mission.families`);
 ``missions-literature`` the temporal-logic planning literature's scenarios (keys and
 doors, target groups, dwell, stepping stones, obstacles as labels:
@@ -37,6 +38,7 @@ __all__ = [
     "MISSION_FAMILIES",
     "PAPER_TABLE_I",
     "RANDOM_DYNAMICS_STATES",
+    "GCS_MAZE_SIZES",
     "ROBUST_SCALES",
     "reach_family",
 ]
@@ -68,6 +70,8 @@ ROBUST_SCALES = (1.0, 2.0, 4.0)
 #: its mission under disturbance
 ROBUST_MISSION = (2, "patrol")
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
+#: The scale family's maze sides (cells): the GCS paper's 50 x 50 and sizes around it.
+GCS_MAZE_SIZES = (10, 20, 30, 50, 70, 100)
 
 
 def reach_family(
@@ -87,7 +91,7 @@ def reach_family(
     ``seed`` (:func:`plansynth.reach.families.random_dynamics` says how).
     ``missions``: values are passage counts, each with the
     three missions of :mod:`plansynth.reach.mission.families`. ``gcs-maze``: values are
-    maze sizes n (default 10, 20, 50), the n x n mazes of the GCS paper
+    maze sizes n (default :data:`GCS_MAZE_SIZES`), the n x n mazes of the GCS paper
     (:func:`plansynth.reach.families.gcs_maze`: seed 4, walls 0.1 thick, 100 extra
     knock-downs at n = 50 as in its notebook; the double integrator with dt 0.5 s,
     |u| <= 1, |v| <= 1 per axis, from the centre of cell (0, 0) at rest to a 0.4 box at
@@ -169,7 +173,7 @@ def reach_family(
                 )
             )
     elif name == "gcs-maze":
-        for n in values or [10, 20, 50]:
+        for n in values or GCS_MAZE_SIZES:
             out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))
     elif name == "team":  # teams of robots and moving obstacles: values are case names
         from plansynth.reach.team.families import INFEASIBLE_CASES, TEAM_CASES

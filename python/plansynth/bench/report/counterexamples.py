@@ -24,17 +24,21 @@ def counterexample_table(
     cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, dict[str, Any]]]
 ) -> list[str]:
     """LP calls and time per maze for each counterexample configuration (median run)."""
-    used = [p for p in ("lazy-smt", *CX_VARIANTS) if any((e, p) in cells for e, _ in mazes)]
+    # our loop with the default counterexample: the window search alone when it ran (the
+    # default plans the mazes by the timed route, before any counterexample)
+    ours = "lazy-smt-window" if any((e, "lazy-smt-window") in cells for e, _ in mazes) else "lazy-smt"
+    used = [p for p in (ours, *CX_VARIANTS) if any((e, p) in cells for e, _ in mazes)]
     if len(used) < 2:
         return []
-    names = {"lazy-smt": "our loop, Farkas (default)", **CX_VARIANTS}
+    names = {ours: "our loop, Farkas (default)", **CX_VARIANTS}
     L = [
         "### Counterexamples (Section V): LP calls per maze",
         "",
         "The paper's loop (one horizon at a time, counterexamples as published, no refinement beyond the paper "
         "except the shared abstraction, segment safety and horizon lower bound) with ZEROPREFIX and with the "
         "trivial counterexample (block the whole sequence), and our loop (horizon windows, transit layer, guided "
-        "DIS-PLAN) with ZEROPREFIX and with the default Farkas counterexample. Each cell: LP calls, then time "
+        "DIS-PLAN; `lazy-smt-window`, without the timed route, which plans the mazes before any counterexample) "
+        "with ZEROPREFIX and with the default Farkas counterexample. Each cell: LP calls, then time "
         "(an unfinished run shows the LP calls made until its limit and the horizon it had reached: every "
         "shorter one was refuted).",
         "",

@@ -1,5 +1,5 @@
-"""The proved-minimal horizons table: ``lazy-smt-minimal`` beside the default window
-search on the mazes, with what the minimality holds for.
+"""The proved-minimal horizons table: ``lazy-smt-minimal`` beside the default search (the
+timed route) on the mazes, with what the minimality holds for.
 """
 
 from __future__ import annotations
@@ -14,21 +14,22 @@ __all__ = ["minimal_table"]
 
 
 def minimal_table(cells: Mapping[tuple[str, str], Cell], mazes: Sequence[tuple[str, dict[str, Any]]]) -> list[str]:
-    """The proved-minimal horizon: ``lazy-smt-minimal`` (the window
+    """The proved-minimal horizon: ``lazy-smt-minimal`` (the timed route or the window
     search, then the re-timing and probes of ``horizon_search="minimal"``) beside the
-    default window search, with what the minimality holds for."""
+    default search, with what the minimality holds for."""
     if not any((e, "lazy-smt-minimal") in cells for e, _ in mazes):
         return []
     L = [
         "### Proved-minimal horizons",
         "",
-        "`lazy-smt-minimal`: the default window search, then its horizon proved minimal (the plan re-timed by LPs "
+        "`lazy-smt-minimal`: the default search (the timed route), then its horizon proved minimal (the per-axis "
+        "reachable sets where the dynamics separate, else the plan re-timed by LPs "
         "alone, then single-horizon probes, every shorter horizon refuted; from a start at rest a refuted horizon "
         "refutes every shorter one). *decomposition*: minimal among plans whose consecutive samples share a convex "
         "region (segment-safe mode; see the README on claims); *problem*: for the problem as the spec defines it.",
         "",
-        "| maze | lazy-smt (window) | its horizon | lazy-smt-minimal | proved minimal horizon | minimal for | probes | "
-        "LP calls | proof (s, first run) | minimal / window |",
+        "| maze | lazy-smt | its horizon | lazy-smt-minimal | proved minimal horizon | minimal for | probes | "
+        "LP calls | proof (s, first run) | minimal / lazy-smt |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for exp, setup in mazes:

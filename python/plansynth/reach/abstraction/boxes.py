@@ -14,27 +14,23 @@ from plansynth.budget import checkpoint
 from plansynth.reach.geometry import Box
 from plansynth.reach.problem import ReachProblem
 
-__all__ = ["grid_boxes"]
+__all__ = ["grid_boxes", "obstacle_grid"]
 
 
-def grid_boxes(problem: ReachProblem) -> tuple[list[tuple[np.ndarray, np.ndarray]], set[tuple[int, int]]]:
-    """Free grid cells of all obstacle coordinates, grown greedily into maximal boxes.
-
-    Every axis order is tried; the one giving fewest boxes wins.
-    """
+def obstacle_grid(problem: ReachProblem) -> tuple[list[np.ndarray], np.ndarray]:
+    """The grid of all obstacle coordinates inside the workspace (every obstacle a box):
+    the cut coordinates per axis and the boolean array of free cells."""
     ws = problem.workspace
     d = ws.dim
     cuts = []
     for k in range(d):
         vals = {ws.lo[k], ws.hi[k]}
         for ob in problem.obstacles:
-            assert isinstance(ob, Box)
-            for v in (ob.lo[k], ob.hi[k]):
-                if ws.lo[k] < v < ws.hi[k]:
-                    vals.add(v)
+            if not isinstance(ob, Box):
+                raise ValueError("the obstacle grid needs every obstacle to be a box")
+            vals.update(v for v in (ob.lo[k], ob.hi[k]) if ws.lo[k] < v < ws.hi[k])
         cuts.append(np.array(sorted(vals)))
-    shape = tuple(len(c) - 1 for c in cuts)
-    free = np.ones(shape, dtype=bool)
+    free = np.ones(tuple(len(c) - 1 for c in cuts), dtype=bool)
     for ob in problem.obstacles:
         assert isinstance(ob, Box)
         sl = []
@@ -43,6 +39,16 @@ def grid_boxes(problem: ReachProblem) -> tuple[list[tuple[np.ndarray, np.ndarray
             i1 = int(np.searchsorted(cuts[k], min(ob.hi[k], ws.hi[k]), side="left"))
             sl.append(slice(i0, max(i0, i1)))
         free[tuple(sl)] = False
+    return cuts, free
+
+
+def grid_boxes(problem: ReachProblem) -> tuple[list[tuple[np.ndarray, np.ndarray]], set[tuple[int, int]]]:
+    """Free grid cells of all obstacle coordinates, grown greedily into maximal boxes.
+
+    Every axis order is tried; the one giving fewest boxes wins.
+    """
+    cuts, free = obstacle_grid(problem)
+    d = free.ndim
 
     best = None
     for order in itertools.permutations(range(d)):

@@ -116,6 +116,14 @@ class HorizonGuards:
         self.window_clauses += added
         return added
 
+    def begin(self, lowest: int) -> None:
+        """Make ``lowest`` the first horizon tried (no plan is shorter: the horizons below it
+        are refuted by other means) before the first :meth:`solve`, whose first question may
+        then be about a higher horizon (a plan found without DIS-PLAN, proved minimal by
+        probes below it). No effect once a horizon was tried."""
+        if self.floor is None:
+            self.floor = self.open_from = int(lowest)
+
     def close(self, horizon: int) -> None:
         """Horizon L is refuted: fix its activation literal false for good."""
         self.closed.add(horizon)

@@ -12,6 +12,14 @@ loop (:func:`~plansynth.reach.lazy.loop.lazy_loop`), and the claims of its answe
             CON-PLAN(r_0..r_L) -> trajectory: done                     (Section V)
                                -> counterexample: add its clause, loop
 
+**The timed route** (``timed_route=True``, the default with the window and minimal
+searches; beyond the paper): before DIS-PLAN is built, the shortest route through the
+region graph, timed by an LP and repaired where CON-PLAN's slack LP finds it too tight
+(:mod:`~plansynth.reach.lazy.timed`), is the first plan checked; realised, it is the
+answer (the window search), or the plan the minimal search proves minimal from the
+horizon bounds up. Only no horizon below it is refuted, so it is not claimed minimal.
+When it gives up, the loop below runs as before.
+
 **Horizon search.** ``horizon_search="linear"`` is the paper's loop above: one horizon
 at a time, so the trajectory found has the smallest horizon any region sequence
 allows, and every shorter horizon is refuted on the way. That refutation is most of
@@ -109,6 +117,7 @@ from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
+from plansynth.reach.lazy.timed import timed_route
 from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -212,6 +221,45 @@ def plan_lazy(
             with _timed(clock, timings, "bounds", "the one-segment region pairs"):
                 graph = replace(graph, adjacency=segment_adjacency(problem, abstraction))
         counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
+        conplan = _conplan(problem, abstraction, opts, search, clock)
+        transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
+        theory: TheoryChecker = conplan if transit is None else transit
+        if crossing:  # CON-PLAN above has no segment rows: its transit legs hold for every segment-safe step
+            with _timed(clock, timings, "bounds", "the ends of steps between regions that do not touch"):
+                boxes = pair_boxes(problem, abstraction, graph.adjacency)
+            theory = SegmentTheory(problem, abstraction, transit=transit, clock=clock, boxes=boxes)
+        path = route(problem, abstraction) if (opts.guided or opts.timed_route) else None
+        quick = None
+        # (not with exact segments: the timed route's LP keeps the samples, not the segments, off the obstacles)
+        if opts.timed_route and search != "linear" and not conplan.dear and not crossing:
+            with clock.phase("the timed route"):
+                first_leg = (  # (exact and a few LPs from rest; else a scan of up to REFINE_SPAN LPs)
+                    transit.first_gap(START, path[1])
+                    if transit is not None and problem.starts_at_rest and path is not None and len(path) > 1
+                    else None
+                )
+                quick = timed_route(
+                    problem,
+                    abstraction,
+                    path,
+                    conplan,
+                    clock,
+                    timings,
+                    max_horizon=L_max,
+                    first_leg=first_leg,
+                    counters=counters,
+                )
+        if quick is not None and search == "window":  # no bounds needed: nothing below it is claimed
+            physical = physical_lower_bound(problem)
+            counters.update(
+                bfs_bound=_count(graph.horizon_lower_bound()),
+                physical_bound=physical,
+                exact_abstraction=abstraction.exact,
+            )
+            out = _claims(quick, conplan, physical, False, counters, theory)
+            _count_run(counters, clock, None, conplan, theory, out)
+            timings["highs"] = conplan.stats.seconds
+            return result(out)
         with _timed(clock, timings, "bounds", "the horizon bounds (time windows)"):
             bounds = _horizon_bounds(problem, abstraction, graph, opts, L_max)
         counters.update(
@@ -222,14 +270,6 @@ def plan_lazy(
             box_bound=_count(bounds.box),
             first_horizon=bounds.first,
         )
-        conplan = _conplan(problem, abstraction, opts, search, clock)
-        transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
-        theory: TheoryChecker = conplan if transit is None else transit
-        if crossing:  # CON-PLAN above has no segment rows: its transit legs hold for every segment-safe step
-            with _timed(clock, timings, "bounds", "the ends of steps between regions that do not touch"):
-                boxes = pair_boxes(problem, abstraction, graph.adjacency)
-            theory = SegmentTheory(problem, abstraction, transit=transit, clock=clock, boxes=boxes)
-        path = route(problem, abstraction) if opts.guided else None
         if bounds.earliest is not None and bounds.first <= L_max:
             with _timed(clock, timings, "bounds", "the separator chains (time windows)"):
                 bounds = _with_chains(
@@ -267,12 +307,16 @@ def plan_lazy(
         guide = reference_plans(problem, abstraction, path, first_leg) if opts.guided else None
         with clock.phase("the lazy SMT loop"):
             defer = (DEAR_DEFER_AFTER if conplan.dear else DEFER_AFTER) if search == "window" else None
-            out = lazy_loop(displan, theory, windows, clock, timings, progress, guide, defer)
+            if quick is not None and quick.horizon is not None and quick.horizon >= bounds.first:
+                out, bottom = quick, bounds.first  # (nothing between the bounds and it refuted)
+                displan.begin(bottom)
+            else:
+                out, bottom = lazy_loop(displan, theory, windows, clock, timings, progress, guide, defer), None
             if search == "window" and out.status is ReachStatus.FOUND and not out.minimal and not conplan.dear:
                 out = shortened(displan, theory, out, windows, clock, timings, counters)
             if search == "minimal" and out.status is ReachStatus.FOUND and not out.minimal:
                 out = _prove_minimal(
-                    problem, abstraction, graph, displan, theory, out, windows, clock, timings, counters, opts
+                    problem, abstraction, graph, displan, theory, out, windows, clock, timings, counters, opts, bottom
                 )
         if out.status is ReachStatus.INFEASIBLE and exact:
             why = EXACT_SEGMENTS if crossing else EXACT_SAMPLES
@@ -411,12 +455,15 @@ def _prove_minimal(
     timings: dict[str, float],
     counters: dict,
     opts: LazyOptions,
+    bottom: int | None = None,
 ) -> LoopOutcome:
     """``horizon_search="minimal"``: :func:`~plansynth.reach.lazy.minimal.prove_minimal`
-    from the window of the plan found (every horizon below it is refuted), with the
-    per-axis reachable sets when ``reach_sets``."""
+    from ``bottom`` (default: the bottom of the window of the plan found, every horizon
+    below it refuted; the timed route's plan gives the first horizon, nothing above it
+    refuted), with the per-axis reachable sets when ``reach_sets``."""
     t0 = time.perf_counter()
-    bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)
+    if bottom is None:
+        bottom = next(lo for lo, hi in windows if lo <= out.horizon <= hi)
     reach = (
         AxisReach.build(
             problem,
@@ -459,17 +506,17 @@ def _claims(
 
 
 def _count_run(
-    counters: dict, clock: Clock, displan: DisPlan, conplan: ConPlan, theory: TheoryChecker, out: LoopOutcome
+    counters: dict, clock: Clock, displan: DisPlan | None, conplan: ConPlan, theory: TheoryChecker, out: LoopOutcome
 ) -> None:
-    """What the run did, in ``counters``."""
+    """What the run did, in ``counters`` (``displan`` None: DIS-PLAN was never built)."""
     st = conplan.stats
     counters.update(
         iterations=clock.iterations,
-        sat_calls=displan.sat_calls,
-        sat_slices=displan.sat_slices,
-        clauses=displan.clauses,
-        window_clauses=displan.window_clauses,
-        conflicts=len(displan.conflicts),
+        sat_calls=0 if displan is None else displan.sat_calls,
+        sat_slices=0 if displan is None else displan.sat_slices,
+        clauses=0 if displan is None else displan.clauses,
+        window_clauses=0 if displan is None else displan.window_clauses,
+        conflicts=0 if displan is None else len(displan.conflicts),
         lp_calls=st.lp_calls,
         lp_calls_by_kind=dict(st.by_kind),
         iis_calls=st.iis_calls,

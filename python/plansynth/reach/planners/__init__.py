@@ -24,7 +24,8 @@ only when it plans. The planners and their modules:
 ``milp``              the region MILP, one per horizon (the cross-check oracle);
 ``milp-bigm``         the one-shot big-M MILP over the obstacles (LTL OPT stand-in);
 ``rrt``, ``est``, ``kpiece``  OMPL's kinodynamic planners;
-``gcs``               Drake's Graphs of Convex Sets;
+``gcs``               Drake's Graphs of Convex Sets (``gcs-decomposition``: over our regions);
+``fpp``               fast path planning through safe boxes (``fastpathplanning``);
 ``milp-ltl``, ``milp-ltl-oneshot``  the mission MILP baseline
                       (:mod:`plansynth.reach.mission.milp`);
 ``lazy-smt-team``, ``milp-team``, ``prioritized``  teams of robots
@@ -241,6 +242,7 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
     "planner",
     {
         "lazy-smt": "plansynth.reach.planners.lazy_smt:LAZY_SMT",
+        "lazy-smt-window": "plansynth.reach.planners.lazy_smt:LAZY_SMT_WINDOW",  # without the timed route
         "milp": "plansynth.reach.planners.baselines:MILP",
         "lazy-smt-paper": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER",
         "lazy-smt-paper-trivial": "plansynth.reach.planners.lazy_smt:LAZY_SMT_PAPER_TRIVIAL",
@@ -251,6 +253,8 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
         "est": "plansynth.reach.planners.baselines:EST",
         "kpiece": "plansynth.reach.planners.baselines:KPIECE",
         "gcs": "plansynth.reach.planners.baselines:GCS",  # Drake's Graphs of Convex Sets
+        "gcs-decomposition": "plansynth.reach.planners.baselines:GCS_DECOMPOSITION",  # over our regions
+        "fpp": "plansynth.reach.planners.baselines:FPP",  # fast path planning through safe boxes
         "milp-ltl": "plansynth.reach.planners.baselines:MILP_LTL",  # LTL missions: one big-M MILP per horizon
         "milp-ltl-oneshot": "plansynth.reach.planners.baselines:MILP_LTL_ONESHOT",  # one MILP at the max horizon
         "lazy-smt-team": "plansynth.reach.planners.team:LAZY_SMT_TEAM",  # teams: the joint lazy SMT planner
@@ -259,7 +263,7 @@ PLANNERS: Registry[Planner | Callable[..., Any]] = Registry(
         # under disturbances: the nominal plan, then the robust check (plansynth.reach.robust.baseline)
         "nominal-check": "plansynth.reach.planners.baselines:NOMINAL_CHECK",
     },
-    extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs")},
+    extras={name: "baselines" for name in ("rrt", "est", "kpiece", "gcs", "gcs-decomposition", "fpp")},
 )
 
 
@@ -272,7 +276,7 @@ def planners() -> tuple[str, ...]:
     """The names :func:`plansynth.reach.solve` accepts (nothing is imported to list them).
 
     >>> planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'milp-ltl', 'milp-ltl-oneshot', 'lazy-smt-team', 'milp-team', 'prioritized', 'nominal-check')
+    ('lazy-smt', 'lazy-smt-window', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'rrt', 'est', 'kpiece', 'gcs', 'gcs-decomposition', 'fpp', 'milp-ltl', 'milp-ltl-oneshot', 'lazy-smt-team', 'milp-team', 'prioritized', 'nominal-check')
     """
     return PLANNERS.names()
 
@@ -292,7 +296,7 @@ def robust_planners() -> tuple[str, ...]:
     ``robot.disturbance``; loads every planner's entry, the built-in ones are light).
 
     >>> robust_planners()
-    ('lazy-smt', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'milp-ltl', 'milp-ltl-oneshot', 'nominal-check')
+    ('lazy-smt', 'lazy-smt-window', 'milp', 'lazy-smt-paper', 'lazy-smt-paper-trivial', 'lazy-smt-zeroprefix', 'lazy-smt-minimal', 'milp-bigm', 'milp-ltl', 'milp-ltl-oneshot', 'nominal-check')
     """
     return tuple(n for n in planners() if getattr(get_planner(n), "disturbances", ""))
 
@@ -309,6 +313,6 @@ def get_planner(name: str) -> Planner | Callable[..., Any]:
     >>> get_planner("rrtx")
     Traceback (most recent call last):
     ...
-    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, milp-ltl, milp-ltl-oneshot, lazy-smt-team, milp-team, prioritized, nominal-check
+    plansynth.errors.UnknownSolver: solver 'rrtx' is unavailable: unknown planner; choose one of: lazy-smt, lazy-smt-window, milp, lazy-smt-paper, lazy-smt-paper-trivial, lazy-smt-zeroprefix, lazy-smt-minimal, milp-bigm, rrt, est, kpiece, gcs, gcs-decomposition, fpp, milp-ltl, milp-ltl-oneshot, lazy-smt-team, milp-team, prioritized, nominal-check
     """
     return PLANNERS.get(name)

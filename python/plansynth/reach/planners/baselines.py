@@ -15,9 +15,21 @@ from __future__ import annotations
 from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.mission.options import MilpLtlOptions
 from plansynth.reach.planners import OptionsPlanner
-from plansynth.reach.planners.options import BigMOptions, GcsOptions, MilpOptions, OmplOptions
+from plansynth.reach.planners.options import BigMOptions, FppOptions, GcsOptions, MilpOptions, OmplOptions
 
-__all__ = ["MILP", "MILP_BIGM", "RRT", "EST", "KPIECE", "GCS", "MILP_LTL", "MILP_LTL_ONESHOT", "NOMINAL_CHECK"]
+__all__ = [
+    "MILP",
+    "MILP_BIGM",
+    "RRT",
+    "EST",
+    "KPIECE",
+    "GCS",
+    "GCS_DECOMPOSITION",
+    "FPP",
+    "MILP_LTL",
+    "MILP_LTL_ONESHOT",
+    "NOMINAL_CHECK",
+]
 
 _HIGHS = ("highspy",)
 
@@ -40,6 +52,17 @@ EST = OptionsPlanner("est", OmplOptions(), "plansynth.reach.planners.ompl:run_es
 KPIECE = OptionsPlanner("kpiece", OmplOptions(), "plansynth.reach.planners.ompl:run_kpiece", ("ompl",))
 #: ``gcs``: Drake's Graphs of Convex Sets (:mod:`plansynth.reach.planners.gcs`)
 GCS = OptionsPlanner("gcs", GcsOptions(), "plansynth.reach.planners.gcs:run", ("drake",), takes_abstraction=True)
+#: ``gcs-decomposition``: GCS over the lazy planner's disjoint regions (``sets`` fixed)
+GCS_DECOMPOSITION = OptionsPlanner(
+    "gcs-decomposition",
+    GcsOptions(sets="decomposition"),
+    "plansynth.reach.planners.gcs:run",
+    ("drake",),
+    settable=("variant", "order", "time_unit", "max_rounded_paths", "segment_safe", "max_horizon"),
+    takes_abstraction=True,
+)
+#: ``fpp``: fast path planning through the free boxes (:mod:`plansynth.reach.planners.fpp`)
+FPP = OptionsPlanner("fpp", FppOptions(), "plansynth.reach.planners.fpp:run", ("fastpathplanning", "cvxpy"))
 #: ``milp-ltl``: the bounded mission as one big-M MILP per horizon (missions only;
 #: :func:`plansynth.reach.mission.milp.plan_milp_ltl`)
 MILP_LTL = OptionsPlanner(

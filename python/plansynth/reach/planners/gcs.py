@@ -4,10 +4,19 @@ The planner a robotics user would reach for today to plan through convex free sp
 Marcucci, Petersen, von Wrangel and Tedrake, "Motion planning around obstacles with
 convex optimization", Science Robotics 2023 (Section "Results": trajectory design with
 Bezier curves in a graph of convex sets), as implemented by Drake's
-``pydrake.planning.GcsTrajectoryOptimization``. The convex sets are *our* free-space
-regions, the ones the lazy SMT planner walks (:func:`plansynth.reach.abstraction.abstract`,
-with its adjacency as the graph's edges), not Drake's IRIS regions, so both planners
-see the same decomposition.
+``pydrake.planning.GcsTrajectoryOptimization``.
+
+**The convex sets** (``sets``). GCS is meant for sets that *overlap*: a curve passes
+from one set to the next inside their intersection. ``sets="auto"`` (the default) gives
+it the sets its users build (:mod:`plansynth.reach.planners.convex_sets`): the maximal
+free boxes grown from the obstacle grid when every obstacle is a box (``"boxes"``), and
+Drake's IRIS regions where obstacles are polygons (``"iris"``), with an edge between two
+sets whose intersection has nonempty interior, both ways. ``sets="decomposition"``
+gives it *our* free-space regions instead, the disjoint ones the lazy SMT planner walks
+(:func:`plansynth.reach.abstraction.abstract`, with its adjacency as the graph's
+edges), which touch only along faces: a weaker baseline (every junction of the curve
+on a shared face; maze-2: 0.44 s against 0.21 s over the boxes), kept to compare
+planners over the same decomposition.
 
 What is posed (one Bezier curve of ``order`` per visited region, a duration h per
 region, the sum of durations minimised: ``AddTimeCost``):
@@ -63,7 +72,6 @@ without a curve is ``unknown``.
 from __future__ import annotations
 
 import logging
-import math
 import time
 from typing import Any
 
@@ -72,15 +80,25 @@ import numpy as np
 from plansynth.budget import Budget, BudgetExhausted
 from plansynth.errors import SolverUnavailable
 from plansynth.reach.abstraction import Abstraction, abstract
-from plansynth.reach.geometry import Box, halfspaces
+from plansynth.reach.geometry import halfspaces
+from plansynth.reach.planners.convex_sets import ConvexSets, overlapping_sets
+from plansynth.reach.planners.curves import (
+    CURVE_SUBSTEPS,
+    CurveRun,
+    PiecewiseBezier,
+    derivative_bounds,
+    integrator_order,
+    position_box,
+    sampled_curve,
+)
+from plansynth.reach.planners.options import GCS_SETS as SETS
 from plansynth.reach.planners.options import GCS_VARIANTS as VARIANTS
 from plansynth.reach.planners.options import GcsOptions
 from plansynth.reach.problem import ReachProblem
-from plansynth.reach.result import ReachResult, ReachStatus
-from plansynth.reach.trajectory import Trajectory
+from plansynth.reach.result import ReachResult
 from plansynth.registry import extra_remedy
 
-__all__ = ["plan_gcs", "VARIANTS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
+__all__ = ["plan_gcs", "VARIANTS", "SETS", "GUARANTEE", "DEFAULT_TIME_UNIT", "CURVE_SUBSTEPS", "drake_version"]
 
 DEFAULT_TIME_UNIT = 10.0
 IPOPT_MAX_ITER = 100_000  # with a time budget: its share of the time ends IPOPT first
@@ -97,7 +115,6 @@ PREPROCESS_MAX_REGIONS = 200
 #: 10 s, with one it finds the curve.
 LARGE_MAX_ROUNDED_PATHS = 1
 DEFAULT_MAX_ROUNDED_PATHS = 5
-CURVE_SUBSTEPS = 10
 
 #: What a ``gcs`` result guarantees, and how that differs from the discrete planners.
 GUARANTEE = (
@@ -139,46 +156,6 @@ def _import_drake() -> dict[str, Any]:
     }
 
 
-def _order(problem: ReachProblem) -> int:
-    """The derivative order of the robot (1: single, 2: double integrator)."""
-    dyn = problem.dynamics
-    order = {"single-integrator": 1, "double-integrator": 2}.get(
-        dyn.model, dyn.order if dyn.model == "integrator-chain" else None
-    )
-    if order not in (1, 2) or dyn.dt is None:
-        raise SolverUnavailable(
-            "gcs",
-            f"GCS plans for single- and double-integrator robots only (named models of order 1 or 2); "
-            f"this problem's dynamics are {dyn.model}"
-            + (f" of order {dyn.order}" if dyn.order else "")
-            + ": use lazy-smt",
-        )
-    return int(order)
-
-
-def _derivative_bounds(problem: ReachProblem, k: int) -> tuple[np.ndarray, np.ndarray] | None:
-    """Per-axis bounds of the k-th derivative block of a named integrator model (state
-    ordered by derivative, then axis), from the state bounds; None when unbounded."""
-    if problem.state_bounds is None:
-        return None
-    d = problem.dim
-    lo = np.array(problem.state_bounds.lo[k * d : (k + 1) * d])
-    hi = np.array(problem.state_bounds.hi[k * d : (k + 1) * d])
-    if lo.size != d:
-        return None
-    return lo, hi
-
-
-def _position_box(problem: ReachProblem) -> Box:
-    """The workspace intersected with the state bounds of the position components."""
-    lo, hi = np.array(problem.workspace.lo), np.array(problem.workspace.hi)
-    if problem.state_bounds is not None:
-        pos = list(problem.dynamics.position)
-        lo = np.maximum(lo, np.array(problem.state_bounds.lo)[pos])
-        hi = np.minimum(hi, np.array(problem.state_bounds.hi)[pos])
-    return Box(tuple(lo), tuple(hi))
-
-
 def rounded_paths(n_regions: int, requested: int | None = None) -> int:
     """How many paths Drake rounds the relaxation to: ``requested``, else
     :data:`DEFAULT_MAX_ROUNDED_PATHS` up to :data:`PREPROCESS_MAX_REGIONS` regions and
@@ -190,6 +167,20 @@ def rounded_paths(n_regions: int, requested: int | None = None) -> int:
     return DEFAULT_MAX_ROUNDED_PATHS if n_regions <= PREPROCESS_MAX_REGIONS else LARGE_MAX_ROUNDED_PATHS
 
 
+def _sets(problem: ReachProblem, sets: str, abstraction: Abstraction | None) -> ConvexSets:
+    """The convex sets and their edges: overlapping ones, or the decomposition's regions
+    with its adjacency (``sets="decomposition"``)."""
+    if sets != "decomposition":
+        return overlapping_sets(problem, sets)
+    a = abstract(problem) if abstraction is None else abstraction
+    return ConvexSets(
+        "decomposition",
+        tuple(r.H for r in a.regions),
+        tuple(r.h for r in a.regions),
+        tuple((i, j) for i, nb in enumerate(a.adjacency) for j in nb if i < j),
+    )
+
+
 def plan_gcs(
     problem: ReachProblem,
     budget: Budget = Budget(seconds=60.0),
@@ -198,6 +189,7 @@ def plan_gcs(
     order: int = 5,
     time_unit: float = DEFAULT_TIME_UNIT,
     max_rounded_paths: int | None = None,
+    sets: str = "auto",
     abstraction: Abstraction | None = None,
     segment_safe: bool = True,
     max_horizon: int | None = None,
@@ -205,11 +197,16 @@ def plan_gcs(
 ) -> ReachResult:
     """Plan with Drake's GCS trajectory optimisation (see the module doc) within ``budget``.
 
+    ``sets``: ``"auto"``, ``"boxes"``, ``"iris"`` (overlapping sets,
+    :func:`~plansynth.reach.planners.convex_sets.overlapping_sets`) or
+    ``"decomposition"`` (the lazy planner's disjoint regions; ``abstraction``, when
+    given, is that decomposition).
+
     ``budget.seconds`` becomes the time limit of Drake's solvers (Clarabel's
     ``time_limit``, IPOPT's ``max_wall_time``) and is checked once more when Drake
     returns: past it the status is ``unknown`` (GCS cannot be interrupted between its
     solver calls, so it may overrun by one solver call). The relaxation gets 40% of
-    the time left after the abstraction (which runs within the budget too), each
+    the time left after the sets are built (within the budget too), each
     rounded path's restriction an equal share of another 40%; the graph's
     construction is not interruptible, nor is Drake's preprocessing, which is therefore
     off beyond :data:`PREPROCESS_MAX_REGIONS` regions, where ``max_rounded_paths``
@@ -221,9 +218,11 @@ def plan_gcs(
     """
     if variant not in VARIANTS:
         raise ValueError(f"unknown gcs variant {variant!r} (known: {', '.join(VARIANTS)})")
+    if sets not in SETS:
+        raise ValueError(f"unknown gcs sets {sets!r} (known: {', '.join(SETS)})")
     if not time_unit > 0:
         raise ValueError(f"time_unit must be positive, got {time_unit}")
-    k = _order(problem)
+    k = integrator_order(problem, "gcs")
     D = _import_drake()
     t0 = time.perf_counter()
     T = float(time_unit)
@@ -233,49 +232,37 @@ def plan_gcs(
         "variant": variant,
         "order": order,
         "time_unit": T,
+        "sets": sets,
         "drake": drake_version(),
         "relaxation_solver": "Clarabel",
         "restriction_solver": "IPOPT" if variant != "convex" and k == 2 else "Clarabel",
     }
-    counters: dict[str, Any] = {}
-    timings: dict[str, float] = {}
-
-    def unknown(message: str) -> ReachResult:
-        timings["total"] = time.perf_counter() - t0
-        return ReachResult(
-            status=ReachStatus.UNKNOWN,
-            solver="gcs",
-            seconds=timings["total"],
-            counters=counters,
-            timings=timings,
-            options=options,
-            message=message,
-            guarantee="curve",
-        )
+    rec = CurveRun("gcs", t0, options=options)
+    counters, timings, unknown = rec.counters, rec.timings, rec.unknown
 
     ta = time.perf_counter()
-    if abstraction is None:
-        try:
-            with budget.clock().phase("the convex decomposition (abstraction)"):
-                abstraction = abstract(problem)
-        except BudgetExhausted as exc:
-            timings["abstraction"] = time.perf_counter() - ta
-            return unknown(str(exc))
-    a = abstraction
-    timings["abstraction"] = time.perf_counter() - ta
-    counters["regions"] = a.n_regions
-    max_rounded_paths = rounded_paths(a.n_regions, max_rounded_paths)
+    try:
+        with budget.clock().phase("the convex sets"):
+            graph = _sets(problem, sets, abstraction)
+    except BudgetExhausted as exc:
+        timings["sets"] = time.perf_counter() - ta
+        return unknown(str(exc))
+    timings["sets"] = time.perf_counter() - ta
+    options["sets"] = graph.kind
+    counters["regions"] = len(graph.H)
+    counters["set_edges"] = len(graph.edges)
+    max_rounded_paths = rounded_paths(len(graph.H), max_rounded_paths)
     options["max_rounded_paths"] = max_rounded_paths
-    pbox = _position_box(problem)
+    pbox = position_box(problem)
     Hb, hb = halfspaces(pbox)
-    sets = [D["HPolyhedron"](np.vstack([r.H, Hb]), np.concatenate([r.h, hb])) for r in a.regions]
-    edges = [(i, j) for i, nb in enumerate(a.adjacency) for j in nb]
+    hpolys = [D["HPolyhedron"](np.vstack([H, Hb]), np.concatenate([h, hb])) for H, h in zip(graph.H, graph.h)]
+    edges = [e for i, j in graph.edges for e in ((i, j), (j, i))]
     Hg, hg = halfspaces(problem.goal)
     goal_set = D["HPolyhedron"](np.vstack([Hg, Hb]), np.concatenate([hg, hb]))
 
     tb = time.perf_counter()
     gcs = D["Gcs"](d)
-    main = gcs.AddRegions(sets, edges, order=order, h_min=1e-6, h_max=20.0, name="free")
+    main = gcs.AddRegions(hpolys, edges, order=order, h_min=1e-6, h_max=20.0, name="free")
     source = gcs.AddRegions([D["Point"](problem.start_position)], order=0, name="start")
     target = gcs.AddRegions([goal_set], order=0, name="goal")
     # the source and target connect to the regions that contain the start / meet the goal
@@ -287,7 +274,7 @@ def plan_gcs(
         ub = problem.input_bound * T * np.ones(d)
         gcs.AddVelocityBounds(-ub, ub)
     else:
-        vb = _derivative_bounds(problem, 1)
+        vb = derivative_bounds(problem, 1)
         if vb is not None:
             gcs.AddVelocityBounds(vb[0] * T, vb[1] * T)
         if variant in ("like-for-like", "surrogate"):
@@ -312,7 +299,7 @@ def plan_gcs(
 
     opts = D["Options"]()
     opts.convex_relaxation = True
-    opts.preprocessing = a.n_regions <= PREPROCESS_MAX_REGIONS
+    opts.preprocessing = len(graph.H) <= PREPROCESS_MAX_REGIONS
     counters["preprocessing"] = bool(opts.preprocessing)
     opts.max_rounded_paths = int(max_rounded_paths)
     opts.solver = D["Clarabel"]()
@@ -358,70 +345,30 @@ def plan_gcs(
     pieces = [p for p in pieces if p.order() > 0 and p.end_time() - p.start_time() > 1e-12]
     t_start, t_end = pieces[0].start_time(), pieces[-1].end_time()
     duration = (t_end - t_start) * T
-    N = max(1, math.ceil(duration / dt - 1e-9))
-    stretch = N * dt / duration if duration > 0 else 1.0  # >= 1: keeps every bound
-
-    def sample(times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position, velocity, acceleration (seconds) at re-timed times ``times_s``."""
-        tau = t_start + np.clip(times_s / (stretch * T), 0.0, t_end - t_start)
-        # evaluate on the Bezier pieces of the regions only: the source and target
-        # pieces have zero duration and order 0 (their derivatives read as zero)
-        ends = np.array([p.end_time() for p in pieces])
-        which = np.minimum(np.searchsorted(ends, tau, side="left"), len(pieces) - 1)
-        P = np.array([pieces[i].value(t).ravel() for i, t in zip(which, tau)])
-        V = np.array([pieces[i].EvalDerivative(t, 1).ravel() for i, t in zip(which, tau)]) / (T * stretch)
-        A = np.array([pieces[i].EvalDerivative(t, 2).ravel() for i, t in zip(which, tau)]) / (T * stretch) ** 2
-        return P, V, A
-
-    def states_inputs(times_s: np.ndarray) -> Trajectory:
-        P, V, A = sample(times_s)
-        n = problem.dynamics.n_states
-        X = np.zeros((len(times_s), n))
-        X[:, list(problem.dynamics.position)] = P
-        if k == 2:
-            X[:, d : 2 * d] = V
-            U = A[:-1]
-        else:
-            U = V[:-1]
-        X[0] = problem.start  # the curve starts exactly there; drop round-off
-        return Trajectory(states=X, inputs=U)
-
-    times = np.arange(N + 1) * dt
-    traj_dt = states_inputs(times)
-    breaks = np.array([(p.start_time() - t_start) * T * stretch for p in pieces] + [N * dt])
-    dense = np.union1d(np.linspace(0.0, N * dt, N * CURVE_SUBSTEPS + 1), breaks)
-    curve = states_inputs(dense)
-    regions = []
+    # the pieces in seconds (Drake's time in units of T), from t = 0
+    bezier = PiecewiseBezier(
+        tuple(np.asarray(p.control_points(), float).T for p in pieces),
+        np.array([(p.start_time() - t_start) * T for p in pieces] + [duration]),
+    )
+    sampled = sampled_curve(problem, bezier, k)
+    N, stretch, dense_times = sampled[3], sampled[4], sampled[2]
+    visited = []
     for p in pieces:
         mid = p.value(0.5 * (p.start_time() + p.end_time())).ravel()
-        inside = a.regions_containing(mid)
-        regions.append(inside[0] if inside else -1)
+        inside = graph.containing(mid)
+        visited.append(inside[0] if inside else -1)
     timings["sample"] = time.perf_counter() - tr
-    timings["total"] = time.perf_counter() - t0
     counters.update(
         {
             "pieces": len(pieces),
             "curve_seconds": float(N * dt),
             "gcs_duration": float(duration),
             "stretch": float(stretch),
-            "curve_samples": int(len(dense)),
+            "curve_samples": len(dense_times),
+            "set_sequence": [int(r) for r in visited],
         }
     )
-    return ReachResult(
-        status=ReachStatus.FOUND,
-        solver="gcs",
-        seconds=timings["total"],
-        trajectory=traj_dt,
-        regions=tuple(int(r) for r in regions),
-        horizon=N,
-        counters=counters,
-        timings=timings,
-        options=options,
-        guarantee="curve",
-        message=GUARANTEE,
-        curve=curve,
-        curve_times=tuple(float(t) for t in dense),
-    )
+    return rec.found(sampled, GUARANTEE, tuple(int(r) for r in visited) if graph.kind == "decomposition" else None)
 
 
 def run(
@@ -440,6 +387,7 @@ def run(
         order=options.order,
         time_unit=options.time_unit,
         max_rounded_paths=options.max_rounded_paths,
+        sets=options.sets,
         abstraction=abstraction,
         segment_safe=options.segment_safe,
         max_horizon=options.max_horizon,

@@ -6,6 +6,7 @@ configurations as :class:`~plansynth.reach.planners.Planner` values.
 problem with an LTL mission :func:`plansynth.reach.mission.planner.plan_mission` with
 :class:`~plansynth.reach.mission.options.MissionOptions`: the same lazy loop
 (:func:`plansynth.reach.lazy.loop.lazy_loop`) over the mission's BMC encoding.
+``lazy-smt-window`` (the window search alone, without the timed route),
 ``lazy-smt-paper``, ``lazy-smt-paper-trivial``, ``lazy-smt-zeroprefix`` and
 ``lazy-smt-minimal`` (its horizon proved minimal) are the values of
 :data:`~plansynth.reach.lazy.options.CONFIGURATIONS`, of which only the options every
@@ -37,6 +38,7 @@ from plansynth.reach.planners import SHARED_OPTIONS, OptionsPlanner
 
 __all__ = [
     "LAZY_SMT",
+    "LAZY_SMT_WINDOW",
     "LAZY_SMT_PAPER",
     "LAZY_SMT_PAPER_TRIVIAL",
     "LAZY_SMT_ZEROPREFIX",
@@ -79,11 +81,13 @@ def _planner(name: str) -> OptionsPlanner:
 
 
 LAZY_SMT = _planner("lazy-smt")
+LAZY_SMT_WINDOW = _planner("lazy-smt-window")
 LAZY_SMT_PAPER = _planner("lazy-smt-paper")
 LAZY_SMT_PAPER_TRIVIAL = _planner("lazy-smt-paper-trivial")
 LAZY_SMT_ZEROPREFIX = _planner("lazy-smt-zeroprefix")
 LAZY_SMT_MINIMAL = _planner("lazy-smt-minimal")
 #: every configuration of the lazy planner by name
 CONFIGURED = {
-    p.name: p for p in (LAZY_SMT, LAZY_SMT_PAPER, LAZY_SMT_PAPER_TRIVIAL, LAZY_SMT_ZEROPREFIX, LAZY_SMT_MINIMAL)
+    p.name: p
+    for p in (LAZY_SMT, LAZY_SMT_WINDOW, LAZY_SMT_PAPER, LAZY_SMT_PAPER_TRIVIAL, LAZY_SMT_ZEROPREFIX, LAZY_SMT_MINIMAL)
 }

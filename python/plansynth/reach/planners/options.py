@@ -5,8 +5,8 @@ line (``plansynth reach solve --help`` lists them for ``-O KEY=VALUE``) and its 
 Nothing heavy is imported here: the CLI reads these without loading a solver. The
 planners that take them: :mod:`plansynth.reach.planners.milp` (``milp``),
 :mod:`~plansynth.reach.planners.milp_bigm` (``milp-bigm``),
-:mod:`~plansynth.reach.planners.ompl` (``rrt``, ``est``, ``kpiece``) and
-:mod:`~plansynth.reach.planners.gcs` (``gcs``).
+:mod:`~plansynth.reach.planners.ompl` (``rrt``, ``est``, ``kpiece``),
+:mod:`~plansynth.reach.planners.gcs` (``gcs``) and :mod:`~plansynth.reach.planners.fpp` (``fpp``).
 
 >>> GcsOptions(variant="bogus")
 Traceback (most recent call last):
@@ -23,10 +23,23 @@ from plansynth.options import check_fields, option
 from plansynth.reach.lazy.options import MAX_HORIZON_DOC as _MAX_HORIZON
 from plansynth.reach.lazy.options import SEGMENT_SAFE_DOC as _SEGMENT_SAFE
 
-__all__ = ["MilpOptions", "BigMOptions", "OmplOptions", "GcsOptions", "GCS_VARIANTS", "BIGM_OBJECTIVES"]
+__all__ = [
+    "MilpOptions",
+    "BigMOptions",
+    "OmplOptions",
+    "GcsOptions",
+    "FppOptions",
+    "GCS_VARIANTS",
+    "GCS_SETS",
+    "BIGM_OBJECTIVES",
+]
 
 #: The GCS formulations (see :mod:`plansynth.reach.planners.gcs`).
 GCS_VARIANTS = ("like-for-like", "surrogate", "convex")
+#: The convex sets GCS plans through (see :mod:`plansynth.reach.planners.gcs`): overlapping
+#: ones (auto: boxes for box worlds, IRIS regions for polygons), or the lazy planner's
+#: disjoint decomposition.
+GCS_SETS = ("auto", "boxes", "iris", "decomposition")
 #: The big-M MILP's objectives.
 BIGM_OBJECTIVES = ("feasibility", "l1")
 
@@ -96,8 +109,28 @@ class GcsOptions:
     max_rounded_paths: int | None = option(
         None, "paths the rounding tries (none: 5, or 1 beyond 200 regions)", minimum=1
     )
+    sets: str = option(
+        "auto",
+        "the convex sets: auto (maximal free boxes for box obstacles, IRIS regions for polygons; "
+        "overlapping), boxes, iris, or decomposition (the lazy planner's disjoint regions)",
+        choices=GCS_SETS,
+    )
     segment_safe: bool = option(True, "(the whole curve is kept in the regions whatever this says)")
     max_horizon: int | None = option(None, "(GCS has no horizon; taken as every planner's)", minimum=0)
 
     def __post_init__(self) -> None:
         check_fields(self, "gcs")
+
+
+@dataclass(frozen=True)
+class FppOptions:
+    """The options of the FPP planner (see :func:`~plansynth.reach.planners.fpp.plan_fpp`)."""
+
+    derivative: int = option(
+        3, "the derivative whose squared L2 norm FPP minimises (its examples: 3, the jerk)", minimum=1
+    )
+    segment_safe: bool = option(True, "(the whole curve is kept in the boxes whatever this says)")
+    max_horizon: int | None = option(None, "(FPP has no horizon; taken as every planner's)", minimum=0)
+
+    def __post_init__(self) -> None:
+        check_fields(self, "fpp")

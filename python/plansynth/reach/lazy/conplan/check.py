@@ -136,6 +136,7 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         self.slot = _Slot(self._new_highs())
         self.span_slot = _Slot(self._new_highs())  # LPs over a conflict's time span
         self.cold = self._new_highs()  # one-off LPs (re-checks, IIS, fallbacks)
+        self.elastic_slot: _Slot | None = None  # violations(): made on first use
         # independent blocks of the feasibility LPs (None: one block); by default split
         # long chains only, where an LP per axis with a fraction of the rows each is
         # cheaper than the whole (the slack LP couples the axes and stays whole)
@@ -292,6 +293,42 @@ class ConPlan(_Certificates, _HighsRuns, _LpEdits):
         N = len(regions) - 1
         col = self._solve_model(N, dict(enumerate(int(r) for r in regions)), "plan", goal=True)
         return None if col is None else self._trajectory(self._held_layout(), col)
+
+    def violations(self, regions: Sequence[int], tol: float = 0.0) -> tuple[np.ndarray, Feasible | None] | None:
+        """Where ``regions`` (r_0..r_N) asks too much (beyond the paper; the timed route of
+        :mod:`plansynth.reach.lazy.timed` reads it): the plan's LP with a free slack
+        s_t >= 0 on every row on p_t (its region, the segment row of time t - 1 and, at
+        N, the goal) and the sum of the slacks minimised, unordered (ZEROPREFIX's slack
+        LP orders them). Returns s_0..s_N, zero exactly when the plan is realisable,
+        else nonzero around the steps it times too tightly, and when every slack is at
+        most ``tol`` the LP's trajectory (polished as :meth:`check` polishes), which then
+        realises the plan; None when even the slacks cannot make the LP feasible (the
+        dynamics and bounds alone refute it). Not a counterexample: no clause is drawn
+        from it."""
+        N = len(regions) - 1
+        plan = dict(enumerate(int(r) for r in regions))
+        if self.elastic_slot is None:
+            self.elastic_slot = _Slot(self._new_highs())
+        slot = self.elastic_slot
+        cur = slot.layout
+        if cur is not None and cur.first == 0 and N <= cur.last and 2 * (N + 1) >= cur.T:
+            lay = cur.window(0, N)
+        else:  # the repair lengthens plans round by round: a frame a quarter longer keeps them warm
+            lay = self.layout(0, N + max(4, N // 4)).window(0, N)
+        b = self.bounds(lay, plan, goal=True, anchored_start=True, slack=True)
+        b.row_hi[lay.ord0 : lay.ord0 + lay.steps] = INF  # (no order among the slacks)
+        self._load(slot, lay, plan, b)
+        cost = np.zeros(lay.n_col)
+        cost[lay.s(lay.t0) : lay.s(lay.t1) + 1] = 1.0
+        slot.highs.changeColsCost(lay.n_col, np.arange(lay.n_col, dtype=np.int32), cost)
+        col = self._run_slot(slot, "violations")
+        slot.held = ("violations", N, col is not None)
+        if col is None:
+            return None
+        slack = np.maximum(col[lay.s(lay.t0) : lay.s(lay.t1) + 1], 0.0)
+        if slack.max(initial=0.0) > tol:
+            return slack, None
+        return slack, self._polished(regions, Feasible(self._trajectory(lay, col)))
 
     def _whole(self, regions: Sequence[int]) -> Conflict:
         N = len(regions) - 1
