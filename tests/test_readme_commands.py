@@ -182,6 +182,23 @@ CASES: dict[str, Case] = {
     "plansynth grid compile examples/grid/figure1.yaml --steps 6 --depth-bound 4": Case(
         out=("(synth-fun", "(check-synth)")
     ),
+    "plansynth grid solve examples/grid/shuttle.yaml": Case(out=("realizable (recurrence objective)", "verified")),
+    "plansynth grid solve examples/grid/moving-obstacle-8x8.yaml --out mo.json": Case(
+        out=("realizable (safety objective)",),
+        json=(("mo.json", "status", "realizable"), ("mo.json", "verified", True), ("mo.json", "objective", "safety")),
+    ),
+    "plansynth grid verify examples/grid/moving-obstacle-8x8.yaml mo.json": Case(
+        out=("WINS at the safety objective",),
+        before=("plansynth grid solve examples/grid/moving-obstacle-8x8.yaml --out mo.json",),
+    ),
+    "plansynth grid explain examples/grid/robot-grid-2-fast.yaml": Case(
+        exit=(1,), out=("unrealizable", "the play repeats", "the robot loses")
+    ),
+    "plansynth bench grid --family moving-obstacle --values 8,16 --solvers native,omega --timeout 120 --db syntcomp.db": Case(
+        out=("finished",),
+        files=("syntcomp.db",),
+        fast="plansynth bench grid --family moving-obstacle --values 8 --solvers native,omega --timeout 60 --db syntcomp.db",
+    ),
     "plansynth grid verify examples/grid/figure1.yaml result.json": Case(out=("WINS",), before=(SOLVED_FIGURE1,)),
     "plansynth grid verify examples/grid/figure1.yaml '(ite (<= rx 3) 2 1)' --steps 6": Case(out=("WINS",)),
     "plansynth grid animate examples/grid/door.yaml door.json -o door.gif --obstacles adversarial": Case(

@@ -102,3 +102,61 @@ class Arena:
     def closure(
         self, allowed: Sequence[tuple[int, Sequence[int], int]], seconds: float | None = None
     ) -> _LayerRows: ...
+
+class ProductGame:
+    """The product game of robot cells and obstacle configurations (plansynth_core::product)."""
+
+    def __new__(
+        cls,
+        width: int,
+        height: int,
+        robot: Sequence[tuple[bytes, bytes, int, Sequence[int]]],
+        obstacles: Sequence[
+            tuple[
+                int, int, Sequence[tuple[tuple[int, int], Sequence[tuple[int, int]]]], int, bool, int, int, bytes, int
+            ]
+        ],
+        position: bool,
+        start: int,
+        standing: bytes,
+        seconds: float | None = None,
+        max_bytes: int | None = None,
+    ) -> ProductGame: ...
+    def n_configs(self) -> int: ...
+    def config(self, id: int) -> list[tuple[int, int, int]]: ...
+    def successors(self, id: int) -> list[int]: ...
+    def solve_safety(self, seconds: float | None = None, max_bytes: int | None = None) -> bool: ...
+    def rounds(self) -> int: ...
+    def winning(self, id: int) -> bytes: ...
+    def allowed(self, id: int, r: int) -> int: ...
+    def rank(self, id: int, r: int) -> int: ...
+    def closure(
+        self,
+        prog: _ProgramRows,
+        n_vars: int,
+        grow: bool = False,
+        seconds: float | None = None,
+        max_bytes: int | None = None,
+    ) -> tuple[int, list[tuple[int, int]], int]: ...
+    def reached_sets(self) -> list[tuple[int, bytes]]: ...
+    def sample(self) -> list[tuple[list[int], int]]: ...
+    def reset_sample(self) -> None: ...
+    def project_glitches(self) -> None: ...
+    def learn_round(
+        self,
+        cond_depth: int,
+        max_constant: int,
+        max_nodes: int,
+        enum_states: int,
+        seconds: float | None = None,
+        max_bytes: int | None = None,
+    ) -> tuple[
+        bool,
+        int,
+        int,
+        list[tuple[int, int, int, int]],
+        list[tuple[int, int, int, int]],
+        list[tuple[int, int]],
+    ]: ...
+    def certify_safety(self, seconds: float | None = None, max_bytes: int | None = None) -> tuple[bool, int, str]: ...
+    def bytes(self) -> int: ...

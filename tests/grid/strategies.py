@@ -217,3 +217,71 @@ def states_of(draw: st.DrawFn, problem: GridProblem):
 
     cell = _cells_of(problem.width, problem.height)
     return State(draw(cell), tuple(draw(cell) for _ in problem.obstacles))
+
+
+# -- objectives and obstacles with a block, a period, glitches ------------------------
+
+OBJECTIVES = ("exact", "reach", "safety", "recurrence")
+
+
+@st.composite
+def objective_documents(
+    draw: st.DrawFn, objective: str | None = None, *, max_side: int = 4, max_obstacles: int = 1, max_steps: int = 4
+) -> dict[str, Any]:
+    """A valid problem document with one of the :data:`OBJECTIVES` and plansynth's
+    obstacle extensions drawn at random: a block (``size``), a ``period`` with either
+    ``schedule`` and a ``phase``, ``glitches``, ``keep_out`` cells, and
+    ``collision: position``. Tiny on purpose: the oracle of :mod:`plansynth.grid.oracle`
+    enumerates every state."""
+    kind = objective or draw(st.sampled_from(OBJECTIVES))
+    doc = draw(
+        problem_documents(
+            max_side=max_side,
+            min_obstacles=0,
+            max_obstacles=max_obstacles,
+            max_obstacle_moves=3,
+            max_robot_moves=5,
+            max_steps=max_steps,
+        )
+    )
+    w, h = doc["grid"]
+    cell = _cells_of(w, h)
+    if kind != "exact":
+        doc["objective"] = kind
+    if kind in ("safety", "recurrence"):
+        del doc["steps"]
+        goal = doc["robot"].pop("goal")
+        if kind == "recurrence":
+            walls = {tuple(c) for c in doc.get("walls", [])}
+            others = draw(st.lists(cell.filter(lambda c: c not in walls), max_size=2))
+            doc["robot"]["goals"] = [goal] + [list(c) for c in others]
+            if doc["obstacles"] and draw(st.booleans()):
+                doc["fair"] = True
+    if draw(st.booleans()):
+        doc["collision"] = "position"
+    for o in doc["obstacles"]:
+        bw = draw(st.integers(1, min(2, w)))
+        bh = draw(st.integers(1, min(2, h)))
+        if (bw, bh) != (1, 1):
+            o["size"] = [bw, bh]
+            o["start"] = [min(o["start"][0], w - bw), min(o["start"][1], h - bh)]
+        period = draw(st.integers(1, 3))
+        if period > 1:
+            o["period"] = period
+            if "stay" not in o["moves"]:
+                o["moves"] = ["stay"] + [m for m in o["moves"] if not (isinstance(m, dict) and m["name"] == "stay")]
+            if draw(st.booleans()):
+                o["schedule"] = "fixed"
+            if draw(st.booleans()):
+                o["phase"] = draw(st.integers(0, period - 1))
+            glitches = draw(st.integers(0, 2))
+            if glitches:
+                o["glitches"] = glitches
+        if draw(st.integers(0, 3)) == 0:
+            o["keep_out"] = [list(draw(cell))]
+    return doc
+
+
+def objective_problems(objective: str | None = None, **kwargs: Any) -> st.SearchStrategy[GridProblem]:
+    """:func:`objective_documents` loaded through :func:`grid_problem_from_dict`."""
+    return objective_documents(objective, **kwargs).map(lambda d: grid_problem_from_dict(d, source="<hypothesis>"))

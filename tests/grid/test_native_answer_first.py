@@ -152,3 +152,63 @@ def test_minimize_proves_unrealizable_when_no_positional_strategy_exists():
         out = Engine(minimize=minimize).solve_length(problem, 2, Budget(seconds=20))
         assert out.status is GridStatus.UNREALIZABLE, (minimize, out.message)
         assert "sees only positions" in out.message
+
+
+def _plain_greedy_depth(problem, steps):
+    """The depth of a plain greedy tree over the engine's strategy, built here: every
+    condition to the default condition depth, the greedy tree, checked on the game."""
+    from plansynth.grid.native import fast
+    from plansynth.grid.native.check import program_checker
+    from plansynth.grid.native.conditions import condition_limit
+    from plansynth.grid.native.stationary import stationary_strategy
+    from plansynth.grid.programs import depth
+
+    read = tuple(range(len(problem.obstacles)))
+    cone = with_relevant(influence_cone(problem, steps), read)
+    arena = Arena.build(problem, steps, cone, read)
+    if not arena.layers[0] or not arena.solve_game():
+        return None
+    strategy = stationary_strategy(arena)
+    if strategy is None:
+        return None
+    states = sorted(strategy.allowed)
+    allowed = [strategy.allowed[s] for s in states]
+    inputs = [arena.inputs(r, oc) for r, oc in states]
+    plain = fast.greedy_from_enumeration(
+        inputs,
+        arena.variables(),
+        problem.max_constant,
+        4,
+        condition_limit(len(inputs)),
+        allowed,
+        len(problem.robot.moves),
+        10_000,
+    )
+    assert program_checker(arena).check(plain) is None
+    return depth(plain)
+
+
+SUITE = ROOT.parent / "shared" / "grid-reactive"
+
+
+def test_the_default_never_loses_to_a_plain_greedy_tree():
+    """On the shared suite's realizable problems where the engine reads obstacles (the
+    kind of problem the default was deeper than a plain greedy tree on), the default
+    answer is at most as deep as a plain greedy tree over the same strategy."""
+    import json
+
+    checked = 0
+    for path in sorted(SUITE.glob("*.yaml"))[:24]:
+        label = json.loads((SUITE / (path.stem + ".label.json")).read_text())
+        if label["expected"] != "realizable":
+            continue
+        problem = load_grid_problem(path)
+        out = Engine().solve_length(problem, problem.steps, Budget(seconds=30))
+        assert out.status is GridStatus.REALIZABLE
+        plain = out.counters.get("plain_greedy_depth")
+        if plain is None:
+            continue  # an obstacle-blind answer: no joint strategy to compare on
+        assert out.counters["program_depth"] <= plain, path.name
+        assert out.counters["program_depth"] <= _plain_greedy_depth(problem, problem.steps), path.name
+        checked += 1
+    assert checked >= 8

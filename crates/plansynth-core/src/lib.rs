@@ -8,6 +8,7 @@ pub mod bits;
 pub mod conditions;
 pub mod fx;
 pub mod game;
+pub mod product;
 pub mod tree;
 
 /// Version of the core, reported in results so a run can be traced to its build.

@@ -5,7 +5,7 @@ use pyo3::types::PyBytes;
 
 use crate::errors::bad_value;
 
-type TermRow = (u8, i64, i64, u32);
+pub type TermRow = (u8, i64, i64, u32);
 type CondRow<'py> = (Bound<'py, PyBytes>, u8, usize, usize, u32);
 
 /// Condition enumeration (see `plansynth_core::conditions`). Returns
@@ -30,8 +30,22 @@ fn enumerate_conditions<'py>(
     let e = py.detach(|| {
         conditions::enumerate_conditions(&states, n_vars, max_constant, max_depth, limit)
     });
-    let terms = e
-        .terms
+    let terms = term_rows(&e.terms);
+    let conds = e
+        .conds
+        .iter()
+        .map(|(mask, c, d)| {
+            let bytes: Vec<u8> = mask.iter().flat_map(|w| w.to_le_bytes()).collect();
+            let (op, a, b) = cond_op(c);
+            (PyBytes::new(py, &bytes), op, a, b, *d)
+        })
+        .collect();
+    Ok((terms, conds, e.complete_to))
+}
+
+/// Terms as rows `(kind, a, b, depth)`: kind 0 const a, 1 var a, 2 plus(a, b), 3 minus(a, b).
+pub fn term_rows(terms: &[(Arith, u32)]) -> Vec<TermRow> {
+    terms
         .iter()
         .map(|(t, d)| match *t {
             Arith::Const(c) => (0u8, c, 0i64, *d),
@@ -39,23 +53,18 @@ fn enumerate_conditions<'py>(
             Arith::Plus(a, b) => (2, a as i64, b as i64, *d),
             Arith::Minus(a, b) => (3, a as i64, b as i64, *d),
         })
-        .collect();
-    let conds = e
-        .conds
-        .iter()
-        .map(|(mask, c, d)| {
-            let bytes: Vec<u8> = mask.iter().flat_map(|w| w.to_le_bytes()).collect();
-            let (op, a, b) = match *c {
-                Cond::Le(a, b) => (0u8, a, b),
-                Cond::Eq(a, b) => (1, a, b),
-                Cond::Not(a) => (2, a, 0),
-                Cond::And(a, b) => (3, a, b),
-                Cond::Or(a, b) => (4, a, b),
-            };
-            (PyBytes::new(py, &bytes), op, a, b, *d)
-        })
-        .collect();
-    Ok((terms, conds, e.complete_to))
+        .collect()
+}
+
+/// A condition as `(op, a, b)`: op 0 `<=`, 1 `=`, 2 not a, 3 and, 4 or.
+pub fn cond_op(c: &Cond) -> (u8, usize, usize) {
+    match *c {
+        Cond::Le(a, b) => (0u8, a, b),
+        Cond::Eq(a, b) => (1, a, b),
+        Cond::Not(a) => (2, a, 0),
+        Cond::And(a, b) => (3, a, b),
+        Cond::Or(a, b) => (4, a, b),
+    }
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

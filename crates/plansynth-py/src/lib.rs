@@ -8,6 +8,7 @@ mod conditions;
 mod convert;
 mod errors;
 mod game;
+mod product;
 mod tree;
 
 /// The version of the compiled core.
@@ -23,5 +24,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     tree::register(m)?;
     game::register(m)?;
     arena::register(m)?;
+    product::register(m)?;
     Ok(())
 }

@@ -27,7 +27,10 @@ Examples:
 
   plansynth bench grid --family depth --solvers native,external -O "external:command=cvc5 --lang=sygus2 {file}"
 
-Families: figure1, depth, steps, obstacles, dimensions (the paper's), crossing, crossing-stall, patrol, patrol-walk, door, door-stall, lanes, lanes-rush, doors, doors-rush, doors-jam, patrols, patrols-walk (reactive, ours), reactive-suite (the shared suite; it, doors* and patrols* run through the CLI), or all.
+  plansynth bench grid --family moving-obstacle --values 8,16,24 --solvers native,omega --timeout 600
+
+Families: figure1, depth, steps, obstacles, dimensions (the paper's), crossing, crossing-stall, patrol, patrol-walk, door, door-stall, lanes, lanes-rush, doors, doors-rush, doors-jam, patrols, patrols-walk (reactive, ours), reactive-suite (the shared suite; it, doors* and patrols* run through the CLI), moving-obstacle, robot-grid, robot-grid-fast (SYNTCOMP's robot benchmarks; --values are grid sizes, map numbers), or all.
+Solvers: the grid backends (native, cvc5, external) and the peer omega (safety and recurrence games only).
 Rerunning the same command resumes: runs already in the database are skipped.
 """
 
@@ -85,9 +88,10 @@ def _refuse(option: str, reason: str) -> None:
 
 def _known_solvers(kind: str) -> list[str]:
     if kind == "grid":
+        from plansynth.bench.execute.omega import GRID_PEERS
         from plansynth.grid.result import backend_names
 
-        return list(backend_names())
+        return list(backend_names()) + list(GRID_PEERS)
     from plansynth.bench.solvers import REACH_ORDER
     from plansynth.reach.solve import planners
 

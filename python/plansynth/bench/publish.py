@@ -10,7 +10,9 @@ Beside RESULTS.md it writes RESULTS.html, the same report as one self-contained 
 with the figures embedded (unless ``html`` is False: ``--no-html``).
 
 The sweep: every grid family with ``native`` and ``cvc5`` (the reactive suite and the
-doors and patrols families once, through the CLI, at :data:`CLI_TIMED_TIMEOUT`); the mazes with ``lazy-smt``,
+doors and patrols families once, through the CLI, at :data:`CLI_TIMED_TIMEOUT`; the
+SYNTCOMP families with ``native`` and the ``omega`` peer, moving obstacle at
+:data:`MOVING_OBSTACLE_TIMEOUT` and :data:`SYNTCOMP_MEMORY_MB`); the mazes with ``lazy-smt``,
 ``rrt``, ``milp-bigm``, ``milp`` and ``gcs`` (Drake's Graphs of Convex Sets: a continuous-time
 curve, not a trajectory of the exact discrete dynamics; RESULTS.md says so beside its
 column), and with the counterexample configurations of
@@ -27,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from plansynth.bench.families import CLI_TIMED_FAMILIES, GRID_FAMILIES, family
+from plansynth.bench.families.grid_syntcomp import SYNTCOMP_FAMILIES
 from plansynth.bench.report import CX_VARIANTS
 from plansynth.bench.runner import run_sweep
 from plansynth.bench.tasks import make_tasks
@@ -49,6 +52,13 @@ NATIVE_REPEATS = 3
 #: ask for answers within 1 s, and with 10 s the 55 instances x 2 solvers finish in about
 #: 15 minutes on a shared 2-core machine (cvc5 answers few of them within any limit).
 CLI_TIMED_TIMEOUT = 10.0
+#: The SYNTCOMP families (plansynth.bench.families.grid_syntcomp): the native engine beside
+#: the omega peer. The moving-obstacle targets: 64 x 64 within 60 s, 96 x 96 and 128 x 128
+#: within 10 minutes and 16 GiB (else unknown saying which resource ran out).
+SYNTCOMP_SOLVERS = ["native", "omega"]
+MOVING_OBSTACLE_TIMEOUT = 600.0
+SYNTCOMP_MEMORY_MB = 16384
+ROBOT_GRID_TIMEOUT = 120.0
 #: the missions family: a limit the milp-ltl baseline finishes within (patrol, its
 #: slowest, about 13 s on a quiet machine), so that the speed-up is a measured ratio, not a bound
 MISSIONS_TIMEOUT = 300.0
@@ -110,7 +120,9 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         )
     if part in ("all", "grid"):
         # Small instances first, so that an interrupted sweep still covers every figure.
-        insts = [i for f in GRID_FAMILIES if f != "reactive-suite" for i in family("grid", f)]
+        insts = [
+            i for f in GRID_FAMILIES if f != "reactive-suite" and f not in SYNTCOMP_FAMILIES for i in family("grid", f)
+        ]
         try:  # the shared suite lives beside the repository; say so when it is not there
             insts += family("grid", "reactive-suite")
         except FileNotFoundError as exc:
@@ -125,6 +137,18 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
         ]
         # through the CLI, one sweep with native and cvc5 side by side (the CLI timing targets)
         tasks += make_tasks(timed, GRID_SOLVERS, timeout=CLI_TIMED_TIMEOUT)
+        # SYNTCOMP's robot benchmarks: native and the omega peer in one run, side by side
+        tasks += make_tasks(
+            family("grid", "moving-obstacle"),
+            SYNTCOMP_SOLVERS,
+            timeout=MOVING_OBSTACLE_TIMEOUT,
+            memory_mb=SYNTCOMP_MEMORY_MB,
+        )
+        tasks += make_tasks(
+            family("grid", "robot-grid") + family("grid", "robot-grid-fast"),
+            SYNTCOMP_SOLVERS,
+            timeout=ROBOT_GRID_TIMEOUT,
+        )
     return tasks
 
 

@@ -10,7 +10,10 @@ Which names exist is the registries' business (:data:`plansynth.grid.result.BACK
 
 from __future__ import annotations
 
-__all__ = ["GRID_ORDER", "REACH_ORDER"]
+__all__ = ["GRID_ORDER", "REACH_ORDER", "GRID_PEERS"]
 
-GRID_ORDER = ("native", "cvc5", "external")
+GRID_ORDER = ("native", "omega", "cvc5", "external")
+#: Grid solvers of the bench only (not backends of ``plansynth grid solve``): peers run
+#: on the games they can be posed (:mod:`plansynth.bench.execute.omega`).
+GRID_PEERS = ("omega",)
 REACH_ORDER = ("lazy-smt", "milp", "milp-bigm", "rrt", "est", "kpiece", "gcs")

@@ -137,7 +137,11 @@ class _BadInput(Exception):
     """Bad command-line input: reported and exit status 2."""
 
 
-def _steps(controller: Controller, problem: GridProblem, steps: int | None) -> int:
+def _steps(controller: Controller, problem: GridProblem, steps: int | None) -> int | None:
+    if not problem.objective.bounded:
+        if steps is not None:
+            raise _BadInput(f"--steps: objective {problem.objective.value} has no path length")
+        return None
     if steps is not None:
         return steps
     if controller.steps is not None:
@@ -188,17 +192,22 @@ def verify_command(
         raise _fail(err, str(exc)) from None
     stats = f"{verdict.states_explored} states explored in {verdict.seconds:.3f} s"
     program = escape(str(controller.program))
+    at = f"l = {l}" if l is not None else f"the {problem.objective.value} objective"
     if verdict.status is VerifyStatus.UNKNOWN:
-        console.print(f"[bold yellow]unknown[/bold yellow] at l = {l}: {program}  ({stats})", highlight=False)
+        console.print(f"[bold yellow]unknown[/bold yellow] at {at}: {program}  ({stats})", highlight=False)
         console.print(escape(verdict.message or "no answer"), highlight=False)
         raise typer.Exit(EXIT_UNKNOWN)
     if verdict.wins:
-        console.print(f"[bold green]WINS[/bold green] at l = {l}: {program}  ({stats})", highlight=False)
+        console.print(f"[bold green]WINS[/bold green] at {at}: {program}  ({stats})", highlight=False)
         raise typer.Exit(EXIT_WINS)
     cex = verdict.counterexample
     assert cex is not None
-    console.print(f"[bold red]LOSES[/bold red] at l = {l}: {program}  ({stats})", highlight=False)
+    console.print(f"[bold red]LOSES[/bold red] at {at}: {program}  ({stats})", highlight=False)
     console.print(f"counterexample: {escape(cex.reason)}", highlight=False)
+    if cex.loop is not None:
+        console.print(
+            f"the run ends in the state of step {cex.loop}: the steps from there repeat forever", highlight=False
+        )
     table = Table(show_edge=False, header_style="bold")
     table.add_column("step", justify="right")
     table.add_column("robot")
@@ -251,6 +260,8 @@ def animate_command(
         problem = load_grid_problem(file)
         controller = read_controller(result_or_program)
         l = _steps(controller, problem, steps)
+        if l is None:
+            raise _BadInput(f"animate shows runs of a path length; objective {problem.objective.value} has none")
         run = simulate(problem, controller.program, l, obstacles=obstacles, seed=seed)
         last = len(run.states) - 1
         if step is not None and step > last:

@@ -45,15 +45,20 @@ def explain_command(
     try:
         problem = load_grid_problem(file)
         l = steps if steps is not None else problem.steps
-        if l is None:
+        if l is None and problem.objective.bounded:
             raise typer.BadParameter("the file gives no steps: pass --steps", param_hint="--steps")
+        if l is not None and not problem.objective.bounded:
+            raise typer.BadParameter(f"objective {problem.objective.value} has no path length", param_hint="--steps")
         if gif is not None:
             check_output_path(gif)
         e = explain(problem, l, Budget(seconds=timeout))
     except PlansynthError as exc:
         err.print(f"[bold red]error:[/bold red] {escape(str(exc))}", highlight=False)
         raise typer.Exit(EXIT_BAD_INPUT) from None
-    console.print(f"l = {l}: {escape(relevant_summary(problem, l))}", highlight=False)
+    if problem.paper_model:
+        console.print(f"l = {l}: {escape(relevant_summary(problem, l))}", highlight=False)
+    else:
+        console.print(f"objective {problem.objective.value}" + (f", l = {l}" if l is not None else ""), highlight=False)
     if e.kind == "realizable":
         console.print(f"[green]realizable[/green]: {escape(e.summary)}", highlight=False)
         raise typer.Exit(EXIT_REALIZABLE)
@@ -72,7 +77,12 @@ def explain_command(
             table.add_row(str(turn.t), str(turn.state.robot), obs, names[turn.robot_move], omv)
         console.print(table)
         console.print(escape(e.play[-1].reason), highlight=False)
-        ok = check_witness_play(problem, e.play, l)
+        if problem.paper_model:
+            ok = check_witness_play(problem, e.play, l)
+        else:
+            from plansynth.grid.native.product.witness import check_product_play
+
+            ok = check_product_play(problem, e.play, e.loop, l)
         console.print(f"witness replayed with the spec's semantics: {'the robot loses' if ok else 'FAILED'}")
         if gif is not None:
             _animate(problem, e, gif, console)

@@ -140,7 +140,12 @@ def _solver_options(
 
 def _print_result(problem: GridProblem, r: GridResult) -> None:
     echo = typer.echo
-    where = f" at l = {r.steps}" if r.status is GridStatus.REALIZABLE else ""
+    if r.status is not GridStatus.REALIZABLE:
+        where = ""
+    elif r.steps is None:
+        where = f" ({problem.objective.value} objective)"
+    else:
+        where = f" at l = {r.steps}" + (" (within)" if problem.objective.value == "reach" else "")
     echo(f"{_status(r.status)}{where} ({r.solver} {r.solver_version}, {r.seconds:.2f} s)")
     if r.status is GridStatus.REALIZABLE and r.program is not None:
         echo(f"controller (depth {r.depth}, size {size(r.program)}):")
@@ -154,6 +159,9 @@ def _print_result(problem: GridProblem, r: GridResult) -> None:
         echo(r.message)
     if r.status is GridStatus.UNREALIZABLE and r.certified_by:
         echo(f"certified by the {r.certified_by} engine (it decides realizability exactly)")
+        why = [a.message for a in r.attempts if a.message and not problem.paper_model]
+        if why and len(r.attempts) == 1:
+            echo(why[0])
 
 
 class _Lines:
@@ -188,14 +196,18 @@ class _Lines:
     def _description(self, i: int) -> str:
         from rich.markup import escape
 
-        nxt = f"l = {self.lengths[i]} ({i + 1}/{len(self.lengths)})" if i < len(self.lengths) else "done"
+        if self.lengths == [None]:
+            nxt = "the objective" if i == 0 else "done"
+        else:
+            nxt = f"l = {self.lengths[i]} ({i + 1}/{len(self.lengths)})" if i < len(self.lengths) else "done"
         return escape(f"{self.solver}: {nxt}")
 
-    def __call__(self, l: int, o: LengthOutcome) -> None:
+    def __call__(self, l: int | None, o: LengthOutcome) -> None:
         note = f"  {o.message}" if o.message and o.status is not GridStatus.UNREALIZABLE else ""
         cpu = o.counters.get("solver_cpu_seconds")
         cpu_note = f" (solver cpu {cpu:.2f} s)" if isinstance(cpu, (int, float)) else ""
-        line = f"l = {l:>3}  {_status(o.status, 12)} {o.seconds:8.2f} s{cpu_note}{note}"
+        head = "objective" if l is None else f"l = {l:>3}"
+        line = f"{head}  {_status(o.status, 12)} {o.seconds:8.2f} s{cpu_note}{note}"
         if self.bar is None:
             typer.echo(line, err=True)
             return
@@ -274,7 +286,7 @@ def solve_command(
         # of running the command, start-up and loading included
         left = None if timeout is None else max(timeout - seconds_since_start() - EXIT_RESERVE, 0.01)
         budget = Budget(seconds=left, memory_mb=memory_mb)
-        with _Lines(solver, list(problem.path_lengths())) as progress:
+        with _Lines(solver, list(problem.path_lengths()) or [None]) as progress:
             result = solve(problem, solver, budget, depth_bound=depth_bound, progress=progress, **kwargs)
     except typer.BadParameter:
         raise

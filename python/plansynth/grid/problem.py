@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from plansynth.errors import InvalidProblem
+from plansynth.grid.objective import CollisionRule, ObjectiveKind, Schedule
 from plansynth.io import MAX_NAME_LENGTH, Fields, as_int, as_int_vector, as_name, load_document, show, type_name
 
 Cell = tuple[int, int]
@@ -41,6 +42,12 @@ MAX_STEPS = 1000
 MAX_OBSTACLES = 100
 MAX_MOVES = 100
 MAX_VIA = 100
+#: Limits of the plansynth extensions: an obstacle's ``period`` and ``glitches``, the
+#: number of ``goals`` of a recurrence objective, cells in an obstacle's ``keep_out``.
+MAX_PERIOD = 100
+MAX_GLITCHES = 1000
+MAX_GOALS = 100
+MAX_KEEP_OUT = 100_000
 
 
 @dataclass(frozen=True)
@@ -91,15 +98,57 @@ BUILTIN_MOVES: dict[str, Move] = {
 
 @dataclass(frozen=True)
 class Robot:
+    """The robot: ``goal`` for the objectives ``exact`` and ``reach``, ``goals`` (visited
+    in this order, forever) for ``recurrence``, neither for ``safety``."""
+
     start: Cell
-    goal: Cell
+    goal: Cell | None
     moves: tuple[Move, ...]
+    goals: tuple[Cell, ...] = ()
 
 
 @dataclass(frozen=True)
 class Obstacle:
+    """An obstacle (spec: grid-problem.md; the fields after ``moves`` are plansynth's).
+
+    ``size`` (w, h): it covers the block of cells ``(x + a, y + b)``, 0 <= a < w,
+    0 <= b < h, of its position (x, y). ``period``, ``schedule``, ``phase`` and
+    ``glitches``: when it may change its cell (:class:`~plansynth.grid.objective.Schedule`;
+    ``phase`` None means ``period - 1``). ``keep_out``: cells its block never covers (a
+    move onto one leaves it where it is, as a wall does)."""
+
     start: Cell
     moves: tuple[Move, ...]
+    size: Cell = (1, 1)
+    period: int = 1
+    schedule: Schedule = Schedule.REST
+    phase: int | None = None
+    glitches: int = 0
+    keep_out: frozenset[Cell] = frozenset()
+
+    @property
+    def initial_phase(self) -> int:
+        return self.period - 1 if self.phase is None else self.phase
+
+    @property
+    def periodic(self) -> bool:
+        """Whether the controller reads its wait counter ``o<i>p`` (period > 1)."""
+        return self.period > 1
+
+    @property
+    def glitching(self) -> bool:
+        """Whether the controller reads its glitches left ``o<i>g`` (glitches > 0)."""
+        return self.glitches > 0
+
+    @property
+    def plain(self) -> bool:
+        """The paper's obstacle: one cell, moving every step, no cells kept out."""
+        return self.size == (1, 1) and self.period == 1 and not self.keep_out
+
+    def block(self, p: Cell) -> tuple[Cell, ...]:
+        """The cells it covers at position ``p``."""
+        w, h = self.size
+        return tuple((p[0] + a, p[1] + b) for b in range(h) for a in range(w))
 
 
 @dataclass(frozen=True)
@@ -119,6 +168,9 @@ class GridProblem:
     max_steps: int | None = None
     name: str = "problem"
     source: str | None = field(default=None, compare=False)
+    objective: ObjectiveKind = ObjectiveKind.EXACT
+    fair: bool = False
+    collision: CollisionRule = CollisionRule.SWEEP
 
     def __post_init__(self) -> None:
         _validate(self)
@@ -126,19 +178,61 @@ class GridProblem:
     # -- derived views -------------------------------------------------------------
     @property
     def variables(self) -> tuple[str, ...]:
-        """Controller inputs in order: ``rx ry o0x o0y o1x o1y ...`` (spec)."""
+        """Controller inputs in order: ``rx ry``, then per obstacle ``o<i>x o<i>y`` and,
+        where the game depends on them, its wait counter ``o<i>p`` (period > 1) and its
+        glitches left ``o<i>g``; then the mode ``m`` (recurrence with two or more goals)
+        and the fairness counter ``f`` (``fair`` with two or more obstacles). A paper
+        problem has ``rx ry o0x o0y o1x o1y ...`` (spec)."""
         names = ["rx", "ry"]
-        for i in range(len(self.obstacles)):
+        for i, o in enumerate(self.obstacles):
             names += [f"o{i}x", f"o{i}y"]
+            if o.periodic:
+                names.append(f"o{i}p")
+            if o.glitching:
+                names.append(f"o{i}g")
+        if self.mode_count > 1:
+            names.append("m")
+        if self.fair_count > 1:
+            names.append("f")
         return tuple(names)
 
     @property
+    def mode_count(self) -> int:
+        """Values of the mode m: the number of goals of a recurrence objective, else 1."""
+        return len(self.robot.goals) if self.objective is ObjectiveKind.RECURRENCE else 1
+
+    @property
+    def fair_count(self) -> int:
+        """Values of the fairness counter f: the number of obstacles under ``fair``, else 1."""
+        return len(self.obstacles) if self.fair and len(self.obstacles) > 1 else 1
+
+    @property
+    def stateful(self) -> bool:
+        """Whether some obstacle has a wait counter or glitches (a state beyond its cell)."""
+        return any(o.periodic or o.glitching for o in self.obstacles)
+
+    @property
+    def paper_model(self) -> bool:
+        """The paper's model (Chasins & Newcomb, SYNT 2016, Section 3.1): the exact-l
+        objective, swept-cell collisions and plain obstacles. Everything plansynth added
+        before the objectives (walls, custom moves) is inside it."""
+        return (
+            self.objective is ObjectiveKind.EXACT
+            and self.collision is CollisionRule.SWEEP
+            and all(o.plain and not o.glitching for o in self.obstacles)
+        )
+
+    @property
     def max_constant(self) -> int:
-        """d - 1 where d = max(width, height): the largest constant of the grammar."""
-        return max(self.width, self.height) - 1
+        """d - 1, the largest constant of the grammar: d = max(width, height), or the
+        range of an extra input (a period, glitches + 1, the number of goals) if larger."""
+        extra = [o.period for o in self.obstacles] + [o.glitches + 1 for o in self.obstacles]
+        return max([self.width, self.height, self.mode_count, self.fair_count, *extra]) - 1
 
     def path_lengths(self) -> range:
-        """The path lengths l to try, in order."""
+        """The path lengths l to try, in order (none for safety and recurrence)."""
+        if not self.objective.bounded:
+            return range(0)
         if self.steps is not None:
             return range(self.steps, self.steps + 1)
         return range(1, (self.max_steps or DEFAULT_MAX_STEPS) + 1)
@@ -153,17 +247,27 @@ class GridProblem:
         return replace(self, steps=steps)
 
     def to_dict(self) -> dict[str, Any]:
-        """The problem as a spec document; ``grid_problem_from_dict`` reads it back."""
+        """The problem as a spec document; ``grid_problem_from_dict`` reads it back.
+        plansynth's keys are written only where they differ from their defaults, so a
+        paper problem's document is the shared format's."""
+        robot: dict[str, Any] = {"start": list(self.robot.start)}
+        if self.robot.goal is not None:
+            robot["goal"] = list(self.robot.goal)
+        if self.robot.goals:
+            robot["goals"] = [list(g) for g in self.robot.goals]
+        robot["moves"] = [m.to_spec() for m in self.robot.moves]
         d: dict[str, Any] = {
             "grid": [self.width, self.height],
-            "robot": {
-                "start": list(self.robot.start),
-                "goal": list(self.robot.goal),
-                "moves": [m.to_spec() for m in self.robot.moves],
-            },
-            "obstacles": [{"start": list(o.start), "moves": [m.to_spec() for m in o.moves]} for o in self.obstacles],
+            "robot": robot,
+            "obstacles": [_obstacle_doc(o) for o in self.obstacles],
             "walls": [list(w) for w in sorted(self.walls)],
         }
+        if self.objective is not ObjectiveKind.EXACT:
+            d["objective"] = self.objective.value
+        if self.fair:
+            d["fair"] = True
+        if self.collision is not CollisionRule.SWEEP:
+            d["collision"] = self.collision.value
         if self.steps is not None:
             d["steps"] = self.steps
         if self.max_steps is not None:
@@ -171,6 +275,23 @@ class GridProblem:
         if self.name != "problem":  # the default label; any other one survives a round trip
             d["name"] = self.name
         return d
+
+
+def _obstacle_doc(o: Obstacle) -> dict[str, Any]:
+    d: dict[str, Any] = {"start": list(o.start), "moves": [m.to_spec() for m in o.moves]}
+    if o.size != (1, 1):
+        d["size"] = list(o.size)
+    if o.period != 1:
+        d["period"] = o.period
+        if o.schedule is not Schedule.REST:
+            d["schedule"] = o.schedule.value
+        if o.phase is not None:
+            d["phase"] = o.phase
+    if o.glitches:
+        d["glitches"] = o.glitches
+    if o.keep_out:
+        d["keep_out"] = [list(c) for c in sorted(o.keep_out)]
+    return d
 
 
 def _validate(p: GridProblem) -> None:
@@ -185,16 +306,18 @@ def _validate(p: GridProblem) -> None:
     size = f"the {p.width}x{p.height} grid"
     if not p.robot.moves:
         raise InvalidProblem(f, "robot.moves", "the robot has no moves")
-    for name, c in (("robot.start", p.robot.start), ("robot.goal", p.robot.goal)):
+    _validate_objective(p)
+    cells = [("robot.start", p.robot.start)]
+    if p.robot.goal is not None:
+        cells.append(("robot.goal", p.robot.goal))
+    cells += [(f"robot.goals[{j}]", g) for j, g in enumerate(p.robot.goals)]
+    for name, c in cells:
         if not p.in_grid(c):
             raise InvalidProblem(f, name, f"{list(c)} is outside {size}")
         if c in p.walls:
             raise InvalidProblem(f, name, f"{list(c)} is on a wall")
     for i, o in enumerate(p.obstacles):
-        if not p.in_grid(o.start):
-            raise InvalidProblem(f, f"obstacles[{i}].start", f"{list(o.start)} is outside {size}")
-        if not o.moves:
-            raise InvalidProblem(f, f"obstacles[{i}].moves", "the obstacle has no moves")
+        _validate_obstacle(p, i, o, size)
     for w in sorted(p.walls):
         if not p.in_grid(w):
             raise InvalidProblem(f, "walls", f"{list(w)} is outside {size}")
@@ -215,9 +338,67 @@ def _validate(p: GridProblem) -> None:
         raise InvalidProblem(f, "name", f"at most {MAX_NAME_LENGTH} characters, got {len(p.name)}")
 
 
+def _validate_objective(p: GridProblem) -> None:
+    """The objective's own fields: which goal keys it needs, path lengths, fairness."""
+    f, kind = p.source, p.objective
+    if kind.has_goal and p.robot.goal is None:
+        raise InvalidProblem(f, "robot.goal", f"objective {kind.value} needs a goal")
+    if not kind.has_goal and p.robot.goal is not None:
+        hint = "goals (a list)" if kind is ObjectiveKind.RECURRENCE else "no goal"
+        raise InvalidProblem(f, "robot.goal", f"objective {kind.value} takes {hint}, not goal")
+    if kind is ObjectiveKind.RECURRENCE:
+        if not p.robot.goals:
+            raise InvalidProblem(f, "robot.goals", "objective recurrence needs at least one goal")
+        if len(p.robot.goals) > MAX_GOALS:
+            raise InvalidProblem(f, "robot.goals", f"at most {MAX_GOALS} goals, got {len(p.robot.goals)}")
+    elif p.robot.goals:
+        raise InvalidProblem(f, "robot.goals", f"objective {kind.value} takes no goals (recurrence does)")
+    if not kind.bounded:
+        for key, value in (("steps", p.steps), ("max_steps", p.max_steps)):
+            if value is not None:
+                raise InvalidProblem(f, key, f"objective {kind.value} has no path length")
+    if p.fair and kind is not ObjectiveKind.RECURRENCE:
+        raise InvalidProblem(f, "fair", f"fairness is an assumption of the recurrence objective, not of {kind.value}")
+
+
+def _validate_obstacle(p: GridProblem, i: int, o: Obstacle, size: str) -> None:
+    f = p.source
+    where = f"obstacles[{i}]"
+    w, h = o.size
+    if not (1 <= w <= p.width and 1 <= h <= p.height):
+        raise InvalidProblem(f, f"{where}.size", f"{[w, h]} does not fit {size}")
+    if not all(p.in_grid(c) for c in o.block(o.start)):
+        what = "" if o.size == (1, 1) else f"the {w}x{h} block at "
+        raise InvalidProblem(f, f"{where}.start", f"{what}{list(o.start)} is outside {size}")
+    if not o.moves:
+        raise InvalidProblem(f, f"{where}.moves", "the obstacle has no moves")
+    if not 1 <= o.period <= MAX_PERIOD:
+        raise InvalidProblem(f, f"{where}.period", f"must be in 1..{MAX_PERIOD}, got {o.period}")
+    if o.period > 1 and not any(m.to == (0, 0) for m in o.moves):
+        raise InvalidProblem(
+            f,
+            f"{where}.moves",
+            "an obstacle with a period must be able to wait: give it a move that ends where it starts (stay)",
+        )
+    if o.phase is not None and not 0 <= o.phase < o.period:
+        raise InvalidProblem(f, f"{where}.phase", f"must be in 0..{o.period - 1} (the period less one), got {o.phase}")
+    if not 0 <= o.glitches <= MAX_GLITCHES:
+        raise InvalidProblem(f, f"{where}.glitches", f"must be in 0..{MAX_GLITCHES}, got {o.glitches}")
+    if o.glitches and o.period == 1:
+        raise InvalidProblem(
+            f, f"{where}.glitches", "an obstacle that may move every step has nothing to glitch (give it a period > 1)"
+        )
+    if len(o.keep_out) > MAX_KEEP_OUT:
+        raise InvalidProblem(f, f"{where}.keep_out", f"at most {MAX_KEEP_OUT} cells, got {len(o.keep_out)}")
+    for c in sorted(o.keep_out):
+        if not p.in_grid(c):
+            raise InvalidProblem(f, f"{where}.keep_out", f"{list(c)} is outside {size}")
+
+
 # -- loading ---------------------------------------------------------------------------
 
-_TOP_KEYS = {"grid", "robot", "obstacles", "walls", "steps", "max_steps", "name"}
+_TOP_KEYS = {"grid", "robot", "obstacles", "walls", "steps", "max_steps", "name", "objective", "fair", "collision"}
+_OBSTACLE_KEYS = {"start", "moves", "size", "period", "schedule", "phase", "glitches", "keep_out"}
 
 
 def load_grid_problem(path: str | Path) -> GridProblem:
@@ -232,12 +413,20 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
     top.reject_unknown(_TOP_KEYS)
     width, height = as_int_vector(top.require("grid"), source, "grid", 2, hi=MAX_GRID_SIDE)
 
+    objective = _choice(top.optional("objective", "exact"), ObjectiveKind, source, "objective")
+    collision = _choice(top.optional("collision", "sweep"), CollisionRule, source, "collision")
+    fair = top.optional("fair", False)
+    if not isinstance(fair, bool):
+        raise InvalidProblem(source, "fair", f"expected true or false, got {show(fair)}")
     r = Fields(top.require("robot"), source, "robot")
-    r.reject_unknown({"start", "goal", "moves"})
+    r.reject_unknown({"start", "goal", "goals", "moves"})
+    raw_goal = r.require("goal") if objective.has_goal else r.optional("goal")
+    raw_goals = r.require("goals") if objective is ObjectiveKind.RECURRENCE else r.optional("goals")
     robot = Robot(
         start=_cell(r.require("start"), source, "robot.start"),
-        goal=_cell(r.require("goal"), source, "robot.goal"),
+        goal=None if raw_goal is None else _cell(raw_goal, source, "robot.goal"),
         moves=_moves(r.require("moves"), source, "robot.moves"),
+        goals=() if raw_goals is None else _cells(raw_goals, source, "robot.goals", MAX_GOALS),
     )
 
     obstacles = []
@@ -247,14 +436,7 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
     if len(raw_obstacles) > MAX_OBSTACLES:
         raise InvalidProblem(source, "obstacles", f"at most {MAX_OBSTACLES} obstacles, got {len(raw_obstacles)}")
     for i, raw in enumerate(raw_obstacles):
-        o = Fields(raw, source, f"obstacles[{i}]")
-        o.reject_unknown({"start", "moves"})
-        obstacles.append(
-            Obstacle(
-                start=_cell(o.require("start"), source, f"obstacles[{i}].start"),
-                moves=_moves(o.require("moves"), source, f"obstacles[{i}].moves"),
-            )
-        )
+        obstacles.append(_obstacle(raw, source, f"obstacles[{i}]"))
 
     raw_walls = top.optional("walls", [])
     if not isinstance(raw_walls, Sequence) or isinstance(raw_walls, (str, bytes)):
@@ -274,7 +456,44 @@ def grid_problem_from_dict(doc: Any, source: str | None = None, name: str | None
         max_steps=None if max_steps is None else as_int(max_steps, source, "max_steps", lo=1, hi=MAX_STEPS),
         name=label,
         source=source,
+        objective=objective,
+        fair=fair,
+        collision=collision,
     )
+
+
+def _obstacle(raw: Any, source: str | None, where: str) -> Obstacle:
+    o = Fields(raw, source, where)
+    o.reject_unknown(_OBSTACLE_KEYS)
+    w, h = as_int_vector(o.optional("size", [1, 1]), source, f"{where}.size", 2, lo=1, hi=MAX_GRID_SIDE)
+    period = as_int(o.optional("period", 1), source, f"{where}.period", lo=1, hi=MAX_PERIOD)
+    phase = o.optional("phase")
+    return Obstacle(
+        start=_cell(o.require("start"), source, f"{where}.start"),
+        moves=_moves(o.require("moves"), source, f"{where}.moves"),
+        size=(w, h),
+        period=period,
+        schedule=_choice(o.optional("schedule", "rest"), Schedule, source, f"{where}.schedule"),
+        phase=None if phase is None else as_int(phase, source, f"{where}.phase", lo=0, hi=MAX_PERIOD),
+        glitches=as_int(o.optional("glitches", 0), source, f"{where}.glitches", lo=0, hi=MAX_GLITCHES),
+        keep_out=frozenset(_cells(o.optional("keep_out", []), source, f"{where}.keep_out", MAX_KEEP_OUT)),
+    )
+
+
+def _choice(value: Any, kind: type, file: str | None, field_: str) -> Any:
+    """A value of the str enum ``kind`` (one of its values, written as text)."""
+    names = [e.value for e in kind]
+    if not isinstance(value, str) or value not in names:
+        raise InvalidProblem(file, field_, f"expected one of {', '.join(names)}, got {show(value)}")
+    return kind(value)
+
+
+def _cells(value: Any, file: str | None, field_: str, limit: int) -> tuple[Cell, ...]:
+    if not isinstance(value, Sequence) or isinstance(value, (str, bytes)):
+        raise InvalidProblem(file, field_, f"expected a list of cells, got {type_name(value)}")
+    if len(value) > limit:
+        raise InvalidProblem(file, field_, f"at most {limit} cells, got {len(value)}")
+    return tuple(_cell(c, file, f"{field_}[{i}]") for i, c in enumerate(value))
 
 
 def _cell(value: Any, file: str | None, field_: str) -> Cell:

@@ -43,7 +43,7 @@ class LengthOutcome:
     """
 
     status: GridStatus
-    steps: int
+    steps: int | None
     program: Term | None = None
     seconds: float = 0.0
     counters: dict[str, Any] = field(default_factory=dict)
@@ -60,10 +60,12 @@ class GridBackend(Protocol):
     def version(self) -> str: ...
 
     def solve_length(
-        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+        self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None
     ) -> LengthOutcome:
         """Decide whether a controller of the grammar (bounded by ``depth_bound``, if
-        given) wins ``problem`` at exactly ``steps`` steps, within ``budget``."""
+        given) achieves ``problem``'s objective (at path length ``steps`` for ``exact``
+        and ``reach``; ``steps`` is None for ``safety`` and ``recurrence``), within
+        ``budget``."""
         ...
 
 
@@ -131,6 +133,8 @@ class GridResult:
     #: for ``unrealizable``: the backend that decided every length exactly ("native",
     #: which certifies the claims of the SyGuS backends, see :mod:`plansynth.grid.solve`)
     certified_by: str | None = None
+    #: the problem's objective (written to the file when it is not the paper's ``exact``)
+    objective: str = "exact"
 
     @property
     def depth(self) -> int | None:
@@ -159,6 +163,7 @@ class GridResult:
             "problem": self.problem,
             "message": self.message,
             "certified_by": self.certified_by,
+            **({"objective": self.objective} if self.objective != "exact" else {}),
             "attempts": [
                 {
                     "steps": a.steps,

@@ -81,7 +81,8 @@ def solve(
 
     clock = budget.clock()  # the budget covers starting the backend too
     backend = get_backend(solver, **solver_options)
-    lengths = list(problem.path_lengths())
+    # safety and recurrence have no path length: one attempt, with steps None
+    lengths: list[int | None] = list(problem.path_lengths()) or [None]
     attempts: list[LengthOutcome] = []
     notes: list[str] = []
 
@@ -98,6 +99,7 @@ def solve(
             solver_version=backend.version(),
             options=_jsonable(solver_options),
             problem=problem.source or problem.name,
+            objective=problem.objective.value,
             **kw,
         )
 
@@ -112,7 +114,9 @@ def solve(
         if outcome.status is GridStatus.REALIZABLE:
             assert outcome.program is not None, f"backend {backend.name} said realizable without a program"
             started = time.perf_counter()
-            verdict = verify(problem, outcome.program, l, budget=clock.left())
+            # an engine may hand over the states its program keeps (a safety invariant)
+            invariant = outcome.witness if isinstance(outcome.witness, dict) else None
+            verdict = verify(problem, outcome.program, l, budget=clock.left(), invariant=invariant)
             counters = {
                 **outcome.counters,
                 "verify_seconds": round(time.perf_counter() - started, 6),
@@ -124,7 +128,9 @@ def solve(
                     status=GridStatus.UNKNOWN,
                     program=None,
                     counters=counters,
-                    message=(f"{backend.name} returned {outcome.program} for l = {l}, not verified: {verdict.message}"),
+                    message=(
+                        f"{backend.name} returned {outcome.program} for {_at(l)}, not verified: {verdict.message}"
+                    ),
                 )
                 attempts.append(outcome)
                 if progress is not None:
@@ -150,7 +156,7 @@ def solve(
                 status=GridStatus.UNKNOWN,
                 counters={**counters, "refuted_by_verifier": 1},  # (bench records the run invalid)
                 message=(
-                    f"BACKEND BUG: {backend.name} returned {outcome.program} for l = {l}, but the independent "
+                    f"BACKEND BUG: {backend.name} returned {outcome.program} for {_at(l)}, but the independent "
                     f"verifier refutes it: {reason}{moves}. The program is not reported."
                 ),
                 witness=cex,
@@ -160,13 +166,21 @@ def solve(
             progress(l, outcome)
 
     bound = "" if depth_bound is None else f" (programs of depth <= {depth_bound})"
-    searched = f"l = {lengths[0]}" if len(lengths) == 1 else f"every l in {lengths[0]}..{lengths[-1]}"
+    if lengths == [None]:
+        searched = f"the {problem.objective.value} objective"
+    else:
+        searched = f"l = {lengths[0]}" if len(lengths) == 1 else f"every l in {lengths[0]}..{lengths[-1]}"
     if len(attempts) == len(lengths) and all(a.status is GridStatus.UNREALIZABLE for a in attempts):
         return result(
             GridStatus.UNREALIZABLE, message=f"no controller{bound} wins at {searched}", certified_by=CERTIFIER
         )
-    unknown = [f"l = {a.steps}: {a.message or 'no answer'}" for a in attempts if a.status is GridStatus.UNKNOWN]
+    unknown = [f"{_at(a.steps)}: {a.message or 'no answer'}" for a in attempts if a.status is GridStatus.UNKNOWN]
     return result(GridStatus.UNKNOWN, message="; ".join(unknown + notes) or "no answer")
+
+
+def _at(l: int | None) -> str:
+    """A path length in a message ("l = 3"), or "the objective" for those without one."""
+    return "the objective" if l is None else f"l = {l}"
 
 
 def _certified(
@@ -185,7 +199,7 @@ def _certified(
         return replace(
             outcome,
             status=GridStatus.UNKNOWN,
-            message=f"{claimant} claims unrealizable at l = {l}, not certified: the budget ran out",
+            message=f"{claimant} claims unrealizable at {_at(l)}, not certified: the budget ran out",
         )
     started = time.perf_counter()
     check = get_backend(CERTIFIER).solve_length(problem, l, clock.left(), depth_bound=depth_bound)
@@ -201,7 +215,7 @@ def _certified(
                 status=GridStatus.UNKNOWN,
                 counters=counters,
                 message=(
-                    f"BACKEND ERROR: {claimant} claims unrealizable at l = {l}, but the native engine finds the "
+                    f"BACKEND ERROR: {claimant} claims unrealizable at {_at(l)}, but the native engine finds the "
                     f"controller {check.program}, verified by the independent verifier. The claim is not reported."
                 ),
             )
@@ -210,5 +224,5 @@ def _certified(
         outcome,
         status=GridStatus.UNKNOWN,
         counters=counters,
-        message=f"{claimant} claims unrealizable at l = {l}, not certified by the native engine: {why}",
+        message=f"{claimant} claims unrealizable at {_at(l)}, not certified by the native engine: {why}",
     )

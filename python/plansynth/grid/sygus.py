@@ -355,6 +355,41 @@ def _header(problem: GridProblem, steps: int, what: str) -> list[str]:
     ]
 
 
+def sygus_limitation(problem: GridProblem) -> tuple[str, str] | None:
+    """(field, reason) when ``problem`` is outside what the SyGuS encoding covers (the
+    paper's model: the exact-l objective, swept-cell collisions, one-cell obstacles that
+    move every step), else None.
+
+    >>> from plansynth.grid.problem import grid_problem_from_dict
+    >>> sygus_limitation(grid_problem_from_dict({"grid": [2, 2], "objective": "safety",
+    ...     "robot": {"start": [0, 0], "moves": ["stay"]}}))
+    ('objective', 'the SyGuS encoding covers the objective exact only, not safety (use --solver native)')
+    """
+    if problem.paper_model:
+        return None
+    if problem.objective.value != "exact":
+        return (
+            "objective",
+            f"the SyGuS encoding covers the objective exact only, not {problem.objective.value} (use --solver native)",
+        )
+    if problem.collision.value != "sweep":
+        return "collision", "the SyGuS encoding covers swept-cell collisions only (use --solver native)"
+    i = next(i for i, o in enumerate(problem.obstacles) if not (o.plain and not o.glitching))
+    return f"obstacles[{i}]", (
+        "the SyGuS encoding covers one-cell obstacles that move every step (no size, period, "
+        "glitches or keep_out; use --solver native)"
+    )
+
+
+def check_encodable(problem: GridProblem) -> None:
+    """Raise :class:`~plansynth.errors.InvalidProblem` unless :func:`sygus_limitation` is None."""
+    got = sygus_limitation(problem)
+    if got is not None:
+        from plansynth.errors import InvalidProblem
+
+        raise InvalidProblem(problem.source, got[0], got[1])
+
+
 def compile_sygus(problem: GridProblem, steps: int, depth_bound: int | None = None) -> str:
     """The SyGuS-IF v2 specification of ``problem`` at path length exactly ``steps``.
 
@@ -362,7 +397,12 @@ def compile_sygus(problem: GridProblem, steps: int, depth_bound: int | None = No
     ``depth_bound`` D the grammar only derives programs of depth <= D, so a solver's
     ``infeasible`` means no controller of depth <= D wins. Pure: the same problem gives
     the same text.
+
+    Only problems of the paper's model are encoded (:attr:`GridProblem.paper_model`);
+    another objective or an obstacle with a block, a period or glitches is
+    :class:`~plansynth.errors.InvalidProblem` naming the field.
     """
+    check_encodable(problem)
     bound = "unbounded grammar (Listing 1)" if depth_bound is None else f"grammar bounded to depth <= {depth_bound}"
     lines = _header(problem, steps, f"synthesize a controller ({bound})")
     lines.append("(set-logic LIA)\n")

@@ -11,6 +11,8 @@ if it passes. The runs themselves:
 - :mod:`~plansynth.bench.execute.grid` -- a grid backend (``native``, ``cvc5``,
   ``external``), in this process or, for the families timed through the command line,
   as ``plansynth grid solve FILE --timeout T`` in a fresh one;
+- :mod:`~plansynth.bench.execute.omega` -- the bench-only peer ``omega`` on the grid
+  games it can be posed (safety and recurrence, the SYNTCOMP families);
 - :mod:`~plansynth.bench.execute.reach` -- a reach planner through
   :func:`plansynth.reach.solve`, with the version the result reports;
 - :mod:`~plansynth.bench.execute.debug` -- ``debug-*`` runs that exercise the runner.
@@ -30,10 +32,11 @@ from typing import Any
 
 from plansynth.bench.execute.debug import DEBUG_SOLVERS, run_debug
 from plansynth.bench.execute.grid import run_grid
+from plansynth.bench.execute.omega import GRID_PEERS, run_omega
 from plansynth.bench.execute.reach import run_reach
 from plansynth.bench.families.instance import instance_from_task
 
-__all__ = ["execute", "DEBUG_SOLVERS"]
+__all__ = ["execute", "DEBUG_SOLVERS", "GRID_PEERS"]
 
 
 def _peak_memory_mb() -> float:
@@ -55,7 +58,10 @@ def execute(task: Mapping[str, Any]) -> dict[str, Any]:
             attrs = run_debug(solver)
         else:
             inst = instance_from_task(task)
-            attrs = run_grid(inst, task) if inst.kind == "grid" else run_reach(inst, task)
+            if inst.kind == "grid" and solver in GRID_PEERS:
+                attrs = run_omega(inst, task)
+            else:
+                attrs = run_grid(inst, task) if inst.kind == "grid" else run_reach(inst, task)
     except SolverUnavailable as exc:
         attrs = {"status": "unavailable", "solved": 0, "message": str(exc)}
     attrs.setdefault("wall", time.perf_counter() - t0)

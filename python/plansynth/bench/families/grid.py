@@ -32,6 +32,10 @@ own complement them, with answers known by construction:
 - ``patrols`` (realizable) and ``patrols-walk`` (unrealizable): guards walking back and
   forth along 1-3 roads that the robot crosses at one of two zebras (see
   :func:`~plansynth.bench.families.grid_problems._patrols`); timed through the command line too.
+- ``moving-obstacle``, ``robot-grid``, ``robot-grid-fast``: the reactive synthesis
+  competition's robot benchmarks in the grid format (safety and recurrence objectives,
+  slow and glitching obstacles), run with ``native`` and the ``omega`` peer; see
+  :mod:`plansynth.bench.families.grid_syntcomp`.
 - ``reactive-suite``: the 40 shared problems with certified labels
   (``../shared/grid-reactive/`` from the repository root, see :func:`reactive_suite`);
   the sweep says clearly when that folder is missing.
@@ -141,6 +145,11 @@ GRID_FAMILIES: dict[str, tuple[str, list[int], str | None]] = {
     "roads30": ("L", [32, 36], None),  # 30x30, 3 lanes of fast cars (answers per value: _KNOWN)
     "roads30-stall": ("lanes", [2, 3], None),  # 30x30, cars that may stop
     "guards30": ("guards", [3, 4], None),  # 30x30, guards that walk every step
+    # SYNTCOMP's robot benchmarks (plansynth.bench.families.grid_syntcomp): values are grid
+    # sizes m, each with both published glitch counts
+    "moving-obstacle": ("m", [8, 16, 24, 32, 48, 64, 96, 128], None),
+    "robot-grid": ("map", [1, 2, 3, 4, 5, 6, 7, 8], "realizable"),
+    "robot-grid-fast": ("map", [1, 2, 3, 4, 5, 6, 7, 8], "unrealizable"),
 }
 
 #: Answers of the 30x30 families, found by the native engine (the realizable ones'
@@ -164,6 +173,14 @@ def grid_family(name: str, values: Sequence[int] | None = None) -> list[Instance
     if name == "reactive-suite":
         suite = reactive_suite()
         return suite if values is None else [i for i in suite if i.name in {str(v) for v in values}]
+    if name == "moving-obstacle":
+        from plansynth.bench.families.grid_syntcomp import moving_obstacle_family
+
+        return moving_obstacle_family(values)
+    if name in ("robot-grid", "robot-grid-fast"):
+        from plansynth.bench.families.grid_syntcomp import robot_grid_family
+
+        return robot_grid_family(values, fast=name == "robot-grid-fast")
     out = []
     for v in values if values is not None else defaults:
         if name == "figure1":

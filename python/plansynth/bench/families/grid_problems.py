@@ -337,3 +337,25 @@ GRID_PROBLEMS: dict[str, Any] = {
     "door-stall": lambda l: _door(l, stall=True),
     "scale": lambda size: _scale(size),
 }
+
+
+def _robot_grid(map: int, period: int) -> dict[str, Any]:  # noqa: A002 - the family's parameter name
+    from plansynth.grid.syntcomp.robot_grid_maps import map_document
+
+    return map_document(f"gr_{map}", period=period)
+
+
+def _moving_obstacle(m: int, c: int) -> dict[str, Any]:
+    from plansynth.grid.syntcomp.moving_obstacle import grid_document
+
+    return grid_document(m, c)
+
+
+#: The SYNTCOMP families (their instances: plansynth.bench.families.grid_syntcomp); the
+#: documents are built by plansynth.grid.syntcomp on first use.
+SYNTCOMP_PROBLEMS: dict[str, Any] = {
+    "moving-obstacle": _moving_obstacle,
+    "robot-grid": lambda map: _robot_grid(map, 2),  # noqa: A006
+    "robot-grid-fast": lambda map: _robot_grid(map, 1),  # noqa: A006
+}
+GRID_PROBLEMS.update(SYNTCOMP_PROBLEMS)

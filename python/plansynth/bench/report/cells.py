@@ -187,7 +187,7 @@ def _median_planner(runs: Sequence[Mapping[str, Any]]) -> float | None:
 
 def param_value(cell_or_setup: Mapping[str, Any]) -> float:
     params = cell_or_setup.get("params") or {}
-    for k in ("d", "L", "N", "S", "cars", "height", "n", "seed"):
+    for k in ("d", "L", "N", "S", "cars", "height", "n", "seed", "m", "map"):
         if k in params:
             return float(params[k])
     return 0.0
@@ -198,7 +198,10 @@ def instances_of(cells: Mapping[tuple[str, str], Cell], family: str) -> list[tup
     for (exp, _), c in cells.items():
         if c.extra and c.extra["family"] == family:
             seen.setdefault(exp, c.extra["setup"])
-    return sorted(seen.items(), key=lambda kv: (param_value(kv[1]), kv[1].get("params", {}).get("k", 0)))
+    return sorted(
+        seen.items(),
+        key=lambda kv: (param_value(kv[1]), kv[1].get("params", {}).get("k", 0), kv[1].get("params", {}).get("c", 0)),
+    )
 
 
 def planners_of(cells: Mapping[tuple[str, str], Cell], kind_prefix: str, order: Sequence[str]) -> list[str]:

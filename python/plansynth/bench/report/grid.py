@@ -16,7 +16,8 @@ from plansynth.bench.report.cells import Cell, fmt, instances_of, planners_of
 from plansynth.bench.report.plots import plot_bars, plot_family
 from plansynth.bench.report.ratios import headline, ratio
 from plansynth.bench.report.suite import cli_timed_sections
-from plansynth.bench.solvers import GRID_ORDER
+from plansynth.bench.report.syntcomp import syntcomp_sections
+from plansynth.bench.solvers import GRID_ORDER, GRID_PEERS
 
 __all__ = ["grid_section", "grid_table", "paper_regression", "GRID_FIGURES", "REACTIVE", "PAPER_FIG6"]
 
@@ -47,14 +48,15 @@ PAPER_FIG6 = {"Stochastic 2014": "> 1800 (time out)", "Enumerative 2014": 1003.0
 def grid_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix: str) -> list[str]:
     """The grid half's Markdown lines (figures written under ``out``, referred to as
     ``image_prefix + name``); none without a grid run."""
-    grid_planners = planners_of(cells, "grid/", GRID_ORDER)
-    if not grid_planners:
+    every = planners_of(cells, "grid/", GRID_ORDER)
+    if not every:
         return []
+    grid_planners = [p for p in every if p not in GRID_PEERS]  # the peers have their own tables
     L: list[str] = []
     L.append("## Grid: reactive controllers (Chasins & Newcomb, SYNT 2016)")
     L.append("")
     if "native" in grid_planners and "cvc5" in grid_planners:
-        h = headline(cells, "cvc5", "native", "grid/")
+        h = headline(cells, "cvc5", "native", "grid/")  # (cvc5 refuses the SYNTCOMP families: never both decided)
         if h["n"]:
             L.append(
                 f"**Headline: native vs cvc5** (time ratio cvc5 / native on the same instance, {h['n']} "
@@ -98,6 +100,7 @@ def grid_section(cells: Mapping[tuple[str, str], Cell], out: Path, image_prefix:
             L.extend(grid_table(cells, instances_of(cells, fam), grid_planners, paper=False, expected=True))
             L.append("")
     L += cli_timed_sections(cells, grid_planners)
+    L += syntcomp_sections(cells, every)
     return L
 
 

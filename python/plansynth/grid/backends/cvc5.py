@@ -27,7 +27,7 @@ from plansynth.errors import InvalidProblem
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus, LengthOutcome
-from plansynth.grid.sygus import compile_sygus
+from plansynth.grid.sygus import compile_sygus, sygus_limitation
 from plansynth.isolate import Crash, Finished, preload, run_isolated
 
 __all__ = ["Cvc5Backend", "run_sygus_text", "run_smt_text", "cvc5_version", "parse_options", "check_options"]
@@ -150,6 +150,9 @@ class Cvc5Backend:
     def solve_length(
         self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
     ) -> LengthOutcome:
+        limited = sygus_limitation(problem)
+        if limited is not None:
+            return LengthOutcome(GridStatus.UNKNOWN, steps, message=f"{self.name}: {limited[1]}")
         start = time.perf_counter()
         text = compile_sygus(problem, steps, depth_bound)
         artefact = keep_file(self.keep_sl, problem, steps, depth_bound, text)

@@ -32,7 +32,7 @@ from plansynth.errors import SolverUnavailable
 from plansynth.grid.backends._common import keep_file, outcome_from_answer, sl_file_name
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus, LengthOutcome
-from plansynth.grid.sygus import compile_sygus
+from plansynth.grid.sygus import compile_sygus, sygus_limitation
 from plansynth.io import write_output
 
 __all__ = ["ExternalBackend", "command_argv"]
@@ -83,6 +83,9 @@ class ExternalBackend:
     def solve_length(
         self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
     ) -> LengthOutcome:
+        limited = sygus_limitation(problem)
+        if limited is not None:
+            return LengthOutcome(GridStatus.UNKNOWN, steps, message=f"{self.name}: {limited[1]}")
         start = time.perf_counter()
         text = compile_sygus(problem, steps, depth_bound)
         kept = keep_file(self.keep_sl, problem, steps, depth_bound, text)

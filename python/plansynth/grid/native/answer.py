@@ -12,9 +12,10 @@ from __future__ import annotations
 import time
 
 from plansynth.budget import BudgetExhausted, Clock
+from plansynth.grid.native import fast
 from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.check import ArenaCheck, GameGraph, program_checker, simplify
-from plansynth.grid.native.conditions import Enumeration
+from plansynth.grid.native.conditions import Enumeration, condition_limit
 from plansynth.grid.native.exact_depth import minimal_program
 from plansynth.grid.native.limits import check_clock
 from plansynth.grid.native.run import RunState
@@ -79,6 +80,7 @@ def answer_program(
     deadline = time.perf_counter() + seconds
     if seconds > 0 and depth(program) > 1:
         program = _smaller(run, arena, allowed, enum, graph, program, clock, deadline)
+    program = _keep_smaller(run, arena, allowed, inputs, graph, program, clock)
     run.counters["program_checks"] = graph.checks
     run.phase("improve")
     if depth_bound is not None and depth(program) > depth_bound:
@@ -88,6 +90,49 @@ def answer_program(
         raise AssertionError(f"native engine bug: synthesized program {program} does not win")
     run.phase("check")
     run.counters["program_depth"] = depth(program)
+    return program
+
+
+def _keep_smaller(
+    run: RunState, arena: Arena, allowed, inputs, graph: GameGraph | ArenaCheck, program: Term, clock: Clock
+) -> Term:
+    """The default answer or a plain greedy tree over the same strategy, whichever is
+    shallower (both checked on the game graph): the greedy tree over every condition up
+    to ``condition_depth`` (the answer's own tree uses depth <= 3, which is shallowest
+    on the reactive suite but not on every problem), simplified. Skipped when that
+    enumeration does not fit the budget or the states are too many for a quick tree."""
+    if not run.o.improve or run.o.condition_depth <= 3 or len(allowed) > run.o.improve_states:
+        return program
+    try:
+        run.check_conditions_fit(len(inputs), len(arena.variables()), arena.problem, clock)
+        if run.o.use_rust is not False and fast.available():
+            plain = fast.greedy_from_enumeration(
+                inputs,
+                arena.variables(),
+                arena.problem.max_constant,
+                run.o.condition_depth,
+                condition_limit(len(inputs)),
+                allowed,
+                len(arena.robot.moves),
+                10_000,
+            )
+        else:
+            enum = run.conditions(inputs, arena.variables(), arena.problem, run.o.condition_depth, clock)
+            plain = greedy_program(allowed, enum.conditions, len(arena.robot.moves), use_rust=False)
+    except BudgetExhausted:
+        if clock.exhausted():
+            raise
+        return program
+    if plain is None:
+        return program
+    if graph.check(plain) is not None:
+        raise AssertionError(f"native engine bug: greedy program {plain} does not win on the game graph")
+    if run.o.simplify:
+        plain = simplify(plain, graph, time.perf_counter() + max(0.0, min(clock.remaining() - 0.05, DEFAULT_EFFORT)))
+    run.counters["plain_greedy_depth"] = depth(plain)
+    if depth(plain) < depth(program):
+        run.counters["kept"] = "plain greedy"
+        return plain
     return program
 
 

@@ -82,9 +82,10 @@ class Engine:
         self.options = options if options is not None else NativeOptions.parse(**values)
 
     def solve_length(
-        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+        self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None
     ) -> LengthOutcome:
-        """Decide length ``steps`` within ``budget`` (a fresh run: nothing is kept)."""
+        """Decide length ``steps`` within ``budget`` (a fresh run: nothing is kept);
+        ``steps`` is None for the objectives without a path length."""
         return _Run(self.options).solve_length(problem, steps, budget, depth_bound=depth_bound)
 
 
@@ -93,7 +94,7 @@ class _Run(RunState):
     of the run (:class:`~plansynth.grid.native.run.RunState`)."""
 
     def solve_length(
-        self, problem: GridProblem, steps: int, budget: Budget, *, depth_bound: int | None = None
+        self, problem: GridProblem, steps: int | None, budget: Budget, *, depth_bound: int | None = None
     ) -> LengthOutcome:
         clock = budget.clock()
         t0 = time.perf_counter()
@@ -124,7 +125,12 @@ class _Run(RunState):
             witness=witness,
         )
 
-    def _solve(self, problem: GridProblem, steps: int, clock: Clock, depth_bound: int | None):
+    def _solve(self, problem: GridProblem, steps: int | None, clock: Clock, depth_bound: int | None):
+        if not problem.paper_model:
+            # another objective, or obstacles with a block, a period or glitches: the product game
+            from plansynth.grid.native.product.solve import solve_product
+
+            return solve_product(self, problem, steps, clock, depth_bound)
         cone = influence_cone(problem, steps, clock)
         self.counters["relevant_obstacles"] = len(cone.relevant)
         self.counters["dropped_obstacles"] = len(problem.obstacles) - len(cone.relevant)

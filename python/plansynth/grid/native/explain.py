@@ -30,20 +30,10 @@ from plansynth.budget import Budget
 from plansynth.grid.native.arena import Arena
 from plansynth.grid.native.cone import influence_cone
 from plansynth.grid.native.engine import Engine
+from plansynth.grid.native.turn import Turn, collision_text
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.result import GridStatus
 from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_move, step
-
-
-@dataclass(frozen=True)
-class Turn:
-    """One step of the play: the state seen, the robot's move, the obstacles' answer."""
-
-    t: int
-    state: State
-    robot_move: int
-    obstacle_moves: tuple[int, ...]
-    reason: str = ""  # set on the last turn: how the robot lost
 
 
 @dataclass(frozen=True)
@@ -60,18 +50,27 @@ class Explanation:
     final: State | None = None
     counters: dict = field(default_factory=dict)
     strategy: ObstacleStrategy | None = field(default=None, compare=False, repr=False)
+    #: the infinite objectives: the play's last state is that of step ``loop``, and the
+    #: steps from there repeat forever
+    loop: int | None = None
 
 
-def explain(problem: GridProblem, steps: int, budget: Budget = Budget(seconds=60)) -> Explanation:
-    """Decide ``steps`` with the native engine and explain an unrealizable answer."""
+def explain(problem: GridProblem, steps: int | None, budget: Budget = Budget(seconds=60)) -> Explanation:
+    """Decide ``steps`` (None for safety and recurrence) with the native engine and
+    explain an unrealizable answer."""
     out = Engine().solve_length(problem, steps, budget)
+    where = f"at l = {steps}" if steps is not None else f"for the {problem.objective.value} objective"
     if out.status is GridStatus.REALIZABLE:
-        return Explanation(
-            "realizable", steps, f"a controller exists at l = {steps}: {out.program}", counters=out.counters
-        )
+        return Explanation("realizable", steps, f"a controller exists {where}: {out.program}", counters=out.counters)
     if out.status is GridStatus.UNKNOWN:
         return Explanation("unknown", steps, out.message, counters=out.counters)
     ref = out.witness
+    if not problem.paper_model:
+        from plansynth.grid.native.product.witness import product_play
+
+        play, final, loop = product_play(problem, ref.strategy, steps)
+        summary = f"{ref.detail} (the obstacles' strategy is certified: {ref.certificate.reason})"
+        return Explanation("game", steps, summary, tuple(play), final, out.counters, loop=loop)
     if ref.kind == "goal":
         return Explanation("goal", steps, ref.detail, counters=out.counters)
     if ref.kind == "stationary":
@@ -203,19 +202,6 @@ def witness_play(
         f"not on the goal after step {steps - 1}: the robot is at {state.robot}",
     )
     return play, state
-
-
-def collision_text(problem: GridProblem, state: State, k: int, joint: tuple[int, ...], t: int) -> str:
-    _, r_swept = robot_move(problem, state.robot, k)
-    for c in r_swept:
-        if c in problem.walls:
-            return f"collision at step {t} with the wall at {c}"
-    for i, j in enumerate(joint):
-        _, swept = obstacle_move(problem, i, state.obstacles[i], j)
-        common = sorted(set(swept) & set(r_swept))
-        if common:
-            return f"collision at step {t} in cell {common[0]} with obstacle {i}"
-    return f"collision at step {t}"
 
 
 def check_witness_play(problem: GridProblem, play: tuple[Turn, ...], steps: int) -> bool:

@@ -84,3 +84,77 @@ def term_sizes(terms: Sequence[Term]) -> list[int]:
         return got
 
     return [size_of(t) for t in terms]
+
+
+def greedy_from_enumeration(
+    states: Sequence[Sequence[int]],
+    variables: Sequence[str],
+    max_constant: int,
+    max_depth: int,
+    limit: int | None,
+    allowed: Sequence[Sequence[int]],
+    n_moves: int,
+    max_nodes: int,
+) -> Term | None:
+    """:func:`~plansynth.grid.native.synth.greedy_program` over every condition up to
+    ``max_depth``, without building a term for each condition: the behaviours stay raw
+    between the enumeration and the tree, and only the conditions the tree splits on
+    become terms (an enumeration to depth 4 has tens of thousands of conditions; their
+    terms would cost more than the tree). None when the tree needs more than
+    ``max_nodes`` splits."""
+    rows = [list(s) for s in states]
+    terms_raw, conds_raw, _ = _core.enumerate_conditions(rows, len(variables), max_constant, max_depth, limit)
+    tsize: list[int] = []
+    for kind, a, b, _ in terms_raw:
+        tsize.append(1 if kind in (0, 1) else 1 + tsize[a] + tsize[b])
+    csize: list[int] = []
+    for _, op, a, b, _ in conds_raw:
+        csize.append(1 + (tsize[a] + tsize[b] if op in _CMP else csize[a] if op == 2 else csize[a] + csize[b]))
+    nbytes = max(1, (len(allowed) + 7) // 8)
+    masks = [m.ljust(nbytes, b"\0")[:nbytes] if len(m) != nbytes else m for m, *_ in conds_raw]
+    keys = [(d, sz) for (_, _, _, _, d), sz in zip(conds_raw, csize)]
+    bitmasks = [sum(1 << k for k in set(a)) for a in allowed]
+    nodes = _core.greedy_tree(masks, keys, bitmasks, n_moves, max_nodes)
+    if nodes is None:
+        return None
+    term_memo: dict[int, Term] = {}
+
+    def term(i: int) -> Term:
+        t = term_memo.get(i)
+        if t is None:
+            kind, a, b, _ = terms_raw[i]
+            t = (
+                Const(a)
+                if kind == 0
+                else Var(variables[a])
+                if kind == 1
+                else App("+" if kind == 2 else "-", (term(a), term(b)))
+            )
+            term_memo[i] = t
+        return t
+
+    cond_memo: dict[int, Term] = {}
+
+    def cond(i: int) -> Term:
+        t = cond_memo.get(i)
+        if t is None:
+            _, op, a, b, _ = conds_raw[i]
+            if op in _CMP:
+                t = App(_CMP[op], (term(a), term(b)))
+            elif op == 2:
+                t = App("not", (cond(a),))
+            else:
+                t = App(_BOOL[op], (cond(a), cond(b)))
+            cond_memo[i] = t
+        return t
+
+    it = iter(nodes)
+
+    def build() -> Term:
+        kind, x = next(it)
+        if kind == 0:
+            return Const(x)
+        then, other = build(), build()
+        return then if then == other else App("ite", (cond(x), then, other))
+
+    return build()

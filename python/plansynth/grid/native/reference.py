@@ -15,12 +15,11 @@ from __future__ import annotations
 
 from functools import cache
 
+from plansynth.grid.oracle import TooLarge, stationary_search
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.semantics import State, initial_state, obstacle_choices, step
 
-
-class TooLarge(Exception):
-    """The brute force gave up (more nodes than its limit)."""
+__all__ = ["game_won", "stationary_exists", "TooLarge"]
 
 
 def game_won(problem: GridProblem, steps: int) -> bool:
@@ -48,43 +47,6 @@ def game_won(problem: GridProblem, steps: int) -> bool:
 
 def stationary_exists(problem: GridProblem, steps: int, limit: int = 200_000, max_seconds: float | None = None) -> bool:
     """Is there a map from states to moves (a controller seeing positions only) that
-    wins at exactly ``steps``? Backtracking over the states the partial map reaches."""
-    import time
-
-    joints = list(obstacle_choices(problem))
-    n = len(problem.robot.moves)
-    nodes = [0]
-    deadline = None if max_seconds is None else time.perf_counter() + max_seconds
-
-    def simulate(f: dict[State, int]):
-        frontier = {initial_state(problem)}
-        for _ in range(steps):
-            nxt = set()
-            for s in frontier:
-                if s not in f:
-                    return s
-                for j in joints:
-                    out = step(problem, s, f[s], j)
-                    if out.collided:
-                        return False
-                    nxt.add(out.state)
-            frontier = nxt
-        return all(s.robot == problem.robot.goal for s in frontier)
-
-    def search(f: dict[State, int]) -> bool:
-        nodes[0] += 1
-        if nodes[0] > limit:
-            raise TooLarge(f"more than {limit} partial strategies")
-        if deadline is not None and nodes[0] % 64 == 0 and time.perf_counter() > deadline:
-            raise TooLarge(f"more than {max_seconds} s")
-        r = simulate(f)
-        if r is True or r is False:
-            return r
-        for k in range(n):
-            f[r] = k
-            if search(f):
-                return True
-            del f[r]
-        return False
-
-    return search({})
+    wins at exactly ``steps``? Backtracking over the states the partial map reaches
+    (the oracle's :func:`~plansynth.grid.oracle.stationary_search`)."""
+    return stationary_search(problem, steps, limit, max_seconds)

@@ -91,7 +91,17 @@ from typing import NamedTuple
 
 from plansynth.errors import InvalidProblem
 
-__all__ = ["MOVES", "PUBLISHED", "MovingObstacle", "State", "Cell", "Move", "circuit_name"]
+__all__ = [
+    "MOVES",
+    "PUBLISHED",
+    "MovingObstacle",
+    "State",
+    "Cell",
+    "Move",
+    "circuit_name",
+    "grid_document",
+    "KING_MOVES",
+]
 
 Cell = tuple[int, int]
 Move = tuple[int, int]
@@ -119,6 +129,43 @@ PUBLISHED: dict[tuple[int, int], tuple[bool | None, float | None]] = {
     (128, 59): (None, None),
     (128, 60): (None, None),
 }
+
+
+#: The nine moves of the robot and of the obstacle as the grid format's built-in names,
+#: staying first (the format's diagonals sweep their start and end cells only).
+KING_MOVES: tuple[str, ...] = ("stay", "up", "down", "left", "right", "up-right", "up-left", "down-right", "down-left")
+
+
+def grid_document(m: int, c: int) -> dict:
+    """The instance ``m x m`` with ``c`` glitches as a plansynth problem document
+    (docs/reference/grid-format.md), the rules of the module docstring written in the
+    format: objective ``safety``; ``collision: position`` (guarantee 1 reads positions
+    only); the robot at (0, 0) with the nine king moves; one 2 x 2 obstacle at
+    (m - 2, m - 2) with the same moves, ``period: 2`` on the ``rest`` schedule with the
+    default phase 1 (it may change cell at most every second step, with no fixed phase,
+    and must wait in the first step: the robot moves first) and ``glitches: c``.
+
+    At the border the format voids a move whose end cell is off the grid (the robot
+    stays), where the circuits move the other coordinate; both leave the robot the same
+    set of next cells (staying is a move), so the games are the same. The circuits'
+    environment may also raise the glitch counter without a glitch, which never helps
+    it; ``tests/grid/syntcomp/test_moving_obstacle_format.py`` checks both claims.
+
+    >>> d = grid_document(8, 1)
+    >>> d["objective"], d["collision"], d["obstacles"][0]["size"], d["obstacles"][0]["glitches"]
+    ('safety', 'position', [2, 2], 1)
+    """
+    obstacle: dict = {"start": [m - 2, m - 2], "size": [2, 2], "moves": list(KING_MOVES), "period": 2}
+    if c:
+        obstacle["glitches"] = c
+    return {
+        "name": f"moving-obstacle-{m}x{m}-{c}",
+        "grid": [m, m],
+        "objective": "safety",
+        "collision": "position",
+        "robot": {"start": [0, 0], "moves": list(KING_MOVES)},
+        "obstacles": [obstacle],
+    }
 
 
 def circuit_name(m: int, c: int) -> str:

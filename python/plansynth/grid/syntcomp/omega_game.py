@@ -49,7 +49,16 @@ from plansynth.errors import SolverUnavailable
 from plansynth.grid.result import GridStatus
 from plansynth.grid.syntcomp.moving_obstacle import MovingObstacle
 
-__all__ = ["automaton", "synthesize", "solve", "check_strategy", "OmegaSynthesis", "OmegaAnswer", "versions"]
+__all__ = [
+    "automaton",
+    "synthesize",
+    "solve",
+    "check_strategy",
+    "OmegaSynthesis",
+    "OmegaAnswer",
+    "versions",
+    "isolated",
+]
 
 ENV_VARS = ("rx", "ry", "ox", "oy", "g")
 SYS_VARS = ("mx", "my", "obsmove")
@@ -244,22 +253,36 @@ class OmegaAnswer:
     message: str = ""
 
 
-def _solve_here(game: MovingObstacle, strategy: bool) -> OmegaAnswer:
+def _solve_here(game: MovingObstacle, strategy: bool, checked: bool = False) -> OmegaAnswer:
     syn = synthesize(game, strategy=strategy)
     counters = {"winning_set_nodes": len(syn.winning), "bdd_nodes": len(syn.aut.bdd)}
     if syn.strategy is not None:
         counters["strategy_nodes"] = len(syn.strategy)
+        if checked:  # after the timed solve: the check is not part of omega's time
+            try:
+                check_strategy(syn)
+                counters["strategy_checked"] = 1
+            except AssertionError:
+                counters["strategy_checked"] = 0
     return OmegaAnswer(syn.status, syn.seconds["total"], syn.seconds, counters)
 
 
-def solve(game: MovingObstacle, budget: Budget | None = None, *, strategy: bool = True) -> OmegaAnswer:
+def solve(
+    game: MovingObstacle, budget: Budget | None = None, *, strategy: bool = True, checked: bool = False
+) -> OmegaAnswer:
     """Solve with omega in a child process within ``budget`` (time and memory); a budget
-    that runs out gives ``unknown``."""
+    that runs out gives ``unknown``. ``checked``: check the strategy (:func:`check_strategy`)
+    after the timed solve, reported as the counter ``strategy_checked``."""
+    return isolated(_solve_here, (game, strategy, checked), budget or Budget())
+
+
+def isolated(fn: Any, args: tuple, budget: Budget) -> OmegaAnswer:
+    """``fn(*args)`` (an :class:`OmegaAnswer`) in a child process within ``budget``;
+    ``unknown`` with the reason past it or when the child fails."""
     from plansynth.isolate import Finished, Timeout, run_isolated
 
-    budget = budget or Budget()
     start = time.perf_counter()
-    outcome = run_isolated(_solve_here, game, strategy, timeout=budget.seconds, memory_mb=budget.memory_mb)
+    outcome = run_isolated(fn, *args, timeout=budget.seconds, memory_mb=budget.memory_mb)
     if isinstance(outcome, Finished):
         return outcome.value
     elapsed = time.perf_counter() - start

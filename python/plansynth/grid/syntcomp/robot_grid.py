@@ -77,7 +77,7 @@ from pathlib import Path
 
 from plansynth.errors import InvalidProblem
 
-__all__ = ["RobotGridMap", "Door", "Delivery", "MovingObstacle", "parse", "read", "Cell"]
+__all__ = ["RobotGridMap", "Door", "Delivery", "MovingObstacle", "parse", "read", "Cell", "grid_document"]
 
 Cell = tuple[int, int]
 
@@ -302,6 +302,57 @@ def parse(text: str, *, name: str = "", file: str | None = None) -> RobotGridMap
         robot_fav,
         obstacle_fav,
     )
+
+
+def grid_document(m: RobotGridMap, *, period: int = 2, fair: bool = False) -> dict:
+    """A recurrence problem of plansynth's grid format after the map ``m``
+    (docs/reference/grid-format.md): the robot, from (0, 0), with the moves ``stay, up,
+    down, left, right``, must serve every delivery forever: visit its pickup cell, then
+    its drop cell, delivery after delivery in the order of the map's rows, infinitely
+    often (the goals of a ``recurrence`` objective); it must never stand on a wall or
+    on the moving obstacle's cell (``collision: position``: the TLSF guarantee
+    ``! (X mo = c && X robot = c)`` reads positions only). The obstacle starts on its
+    pixel, moves like the robot, never enters the cells the map blocks for it
+    (``keep_out``: the fence) and, with the default ``period: 2`` on the ``fixed``
+    schedule, may change cell only at odd ticks (the ``gr_*`` maps'
+    ``MOSpeederMonitor``); ``period: 1`` makes it move every step. ``fair``: the GR(1)
+    assumption that it changes cell infinitely often.
+
+    What the TLSF files have and this family leaves out: the doors (door cells are free
+    here), the delivery requests (every delivery is always pending), the ``pickup`` and
+    ``drop`` outputs (standing on the cell is the visit) and the robot's off-grid
+    commands (the format keeps the robot in place). So the family is *after*
+    robot_grid, not robot_grid itself.
+
+    >>> d = grid_document(parse(EXAMPLE))
+    >>> d["objective"], d["robot"]["goals"], d["obstacles"][0]["keep_out"]
+    ('recurrence', [[0, 0], [2, 0]], [])
+    """
+    if m.obstacle is None:
+        raise InvalidProblem(None, "moving obstacle", f"map {m.name!r} has no moving obstacle")
+    moves = ["stay", "up", "down", "left", "right"]
+    goals: list[list[int]] = []
+    for d in sorted(m.deliveries, key=lambda d: min(d.pickup)[::-1]):
+        goals += [list(min(d.pickup)), list(min(d.drop))]
+    obstacle: dict = {
+        "start": list(m.obstacle.start),
+        "moves": moves,
+        "keep_out": [list(c) for c in sorted(m.obstacle.blocked)],
+    }
+    if period > 1:
+        obstacle.update(period=period, schedule="fixed")
+    doc: dict = {
+        "name": f"robot-grid-{m.name}" + ("" if period == 2 else f"-p{period}") + ("-fair" if fair else ""),
+        "grid": [m.width, m.height],
+        "objective": "recurrence",
+        "collision": "position",
+        "robot": {"start": list(m.robot_start), "goals": goals, "moves": moves},
+        "obstacles": [obstacle],
+        "walls": [list(c) for c in sorted(m.walls)],
+    }
+    if fair:
+        doc["fair"] = True
+    return doc
 
 
 def _axis(conj: str, axis: str) -> int | None:

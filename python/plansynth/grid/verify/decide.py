@@ -6,10 +6,13 @@ from __future__ import annotations
 import time
 
 from plansynth.budget import Budget, BudgetExhausted
+from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term
+from plansynth.grid.verify.closed_loop import verify_closed_loop
 from plansynth.grid.verify.controller import check_controller
 from plansynth.grid.verify.counterexample import counterexample
+from plansynth.grid.verify.invariant import Invariant, check_invariant
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.search import PROBE_NODES, Search
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
@@ -28,11 +31,12 @@ PYTHON_OBSTACLES = 8
 def verify(
     problem: GridProblem,
     program: Term,
-    steps: int,
+    steps: int | None,
     *,
     probe_nodes: int | None = None,
     budget: Budget | None = None,
     tables: str | None = None,
+    invariant: Invariant | None = None,
 ) -> Verdict:
     """Decide exactly whether ``program`` wins ``problem`` at path length ``steps``.
 
@@ -53,10 +57,29 @@ def verify(
 
     Raises :class:`~plansynth.grid.programs.ProgramSyntaxError` when the program is not
     a controller of the problem's grammar (for example a move number with no move).
+
+    A problem outside the paper's model (another objective, obstacles with a block, a
+    period or glitches, position collisions: :attr:`GridProblem.paper_model`) is decided
+    by the closed-loop search of :mod:`.closed_loop` instead, for its objective;
+    ``steps`` is then the path length of ``exact`` and ``reach`` and None for
+    ``safety`` and ``recurrence``.
+
+    ``invariant`` (safety only): a set of states the program is claimed to keep
+    (:mod:`.invariant`); when it is inductive the program wins without a search of its
+    closed loop (what makes a 64 x 64 moving-obstacle game checkable); when it is not,
+    the closed-loop search decides within what is left of the budget.
     """
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
     check_controller(problem, program)
+    if invariant is not None and problem.objective is ObjectiveKind.SAFETY:
+        clock = None if budget is None else budget.clock()
+        verdict = check_invariant(problem, program, invariant, budget=budget)
+        if verdict.status is VerifyStatus.WINS or clock is not None and clock.exhausted():
+            return verdict
+        budget = None if clock is None else clock.left()
+    if not problem.paper_model:
+        return verify_closed_loop(problem, program, steps, budget=budget)
+    if steps is None or steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
     if tables is None:
         small = problem.width * problem.height <= PYTHON_CELLS and len(problem.obstacles) <= PYTHON_OBSTACLES
         tables = "python" if small else "numpy"

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from plansynth.grid.objective import CollisionRule
 from plansynth.grid.problem import Cell, GridProblem
 from plansynth.grid.semantics import State, initial_state, obstacle_move, robot_move, step
 
@@ -35,13 +36,18 @@ def replay(
 
 def collision_reason(problem: GridProblem, state: State, k: int, joint: Sequence[int], t: int) -> str:
     """Why the robot collides at step ``t`` from ``state`` (a wall, or the first obstacle)."""
-    _, swept = robot_move(problem, state.robot, k)
+    end, swept = robot_move(problem, state.robot, k)
     for c in swept:
         if c in problem.walls:
             return f"collision at step {t} with the wall at {_fmt(c)}"
+    position = problem.collision is CollisionRule.POSITION
     for i, (p, j) in enumerate(zip(state.obstacles, joint)):
-        _, o_swept = obstacle_move(problem, i, p, j)
-        common = [c for c in swept if c in o_swept]
+        o_end, o_swept = obstacle_move(problem, i, p, j)
+        common = (
+            ([end] if end in problem.obstacles[i].block(o_end) else [])
+            if position
+            else [c for c in swept if c in o_swept]
+        )
         if common:
             return f"collision at step {t} in cell {_fmt(common[0])} with obstacle {i}"
     raise ValueError(f"no collision at step {t}")

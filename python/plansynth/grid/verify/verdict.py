@@ -39,12 +39,15 @@ class Counterexample:
     ``states[t]`` is the state at the start of step t (``states[0]`` the initial one,
     the last one the state after the losing step); ``robot_moves[t]`` and
     ``obstacle_moves[t]`` are the moves taken at step t. ``reason`` says why it loses.
+    ``loop`` (recurrence objectives): the run is a lasso, the last state equals
+    ``states[loop]`` and the steps from there repeat forever.
     """
 
     obstacle_moves: tuple[tuple[int, ...], ...]
     states: tuple[State, ...]
     robot_moves: tuple[int, ...]
     reason: str
+    loop: int | None = None
 
 
 @dataclass(frozen=True)
@@ -58,7 +61,7 @@ class Verdict:
     """
 
     status: VerifyStatus
-    steps: int
+    steps: int | None
     counterexample: Counterexample | None
     states_explored: int
     seconds: float

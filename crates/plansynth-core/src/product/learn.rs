@@ -1,0 +1,278 @@
+//! Programs learnt on their own closed loop (the mirror of
+//! `plansynth.grid.native.product.program.learn_program`'s rounds): the greedy decision
+//! tree of `crate::tree` over the conditions of `crate::conditions` maps every sampled
+//! state to one of its allowed moves; the states its closed loop reaches join the
+//! sample; the rounds end when the closed loop plays allowed moves only.
+//!
+//! On large samples the conditions are enumerated on an evenly spaced part of the
+//! sample (their behaviours there decide which terms are kept) and then evaluated on
+//! every sampled state.
+
+use super::{Limits, ProductGame, Stop};
+use crate::conditions::{enumerate_conditions, Arith, Cond};
+use crate::game::Op;
+use crate::tree::{greedy_tree, GreedyError, Node};
+
+/// One round's outcome: whether the tree's closed loop plays allowed moves only, the
+/// sample's size after the round, the tree (pre-order nodes over `conds`, which are over
+/// `terms`) and the states its closed loop reached.
+#[derive(Clone, Debug)]
+pub struct Round {
+    pub closed: bool,
+    pub sample: usize,
+    pub reached: usize,
+    pub terms: Vec<(Arith, u32)>,
+    pub conds: Vec<(Cond, u32)>,
+    pub nodes: Vec<Node>,
+}
+
+impl ProductGame {
+    /// One round (see the module docs). `enum_states`: the part of the sample the
+    /// conditions are enumerated on.
+    pub fn learn_round(
+        &mut self,
+        cond_depth: u32,
+        max_constant: i64,
+        max_nodes: usize,
+        enum_states: usize,
+        limits: Limits,
+    ) -> Result<Round, Stop> {
+        if self.sample.is_empty() {
+            self.reset_sample();
+        }
+        let n_vars = self.spec.n_vars();
+        let n = self.sample.len();
+        let mut rows: Vec<Vec<i64>> = Vec::with_capacity(n);
+        let mut x = Vec::with_capacity(n_vars);
+        let mut allowed: Vec<u32> = Vec::with_capacity(n);
+        for &(id, r) in &self.sample {
+            self.sample_inputs(id, r as usize, &mut x);
+            rows.push(x.clone());
+            allowed.push(self.label(id, r as usize));
+        }
+        limits.check(self.bytes() + n * (n_vars * 8 + 40), "learning a program")?;
+        let stride = n.div_ceil(enum_states.max(1)).max(1);
+        let part: Vec<Vec<i64>> = rows.iter().step_by(stride).cloned().collect();
+        let e = enumerate_conditions(&part, n_vars, max_constant, cond_depth, Some(20_000));
+        let terms = e.terms;
+        let conds: Vec<(Cond, u32)> = e.conds.iter().map(|(_, c, d)| (*c, *d)).collect();
+        let masks = behaviours(&terms, &conds, &rows);
+        drop(rows);
+        limits.check(
+            self.bytes() + masks.len() * n.div_ceil(64) * 8,
+            "learning a program",
+        )?;
+        let keys: Vec<(u32, u32)> = {
+            let ts = term_sizes(&terms);
+            cond_sizes(&conds, &ts)
+                .into_iter()
+                .zip(&conds)
+                .map(|(s, (_, d))| (*d, s))
+                .collect()
+        };
+        let nodes = match greedy_tree(&masks, &keys, &allowed, self.spec.robot.len(), max_nodes) {
+            Ok(nodes) => nodes,
+            Err(GreedyError::TooLarge) => {
+                return Err(Stop {
+                    resource: "nodes",
+                    detail: format!("the greedy tree needs more than {max_nodes} splits"),
+                })
+            }
+            Err(GreedyError::NoSplit) => {
+                return Err(Stop {
+                    resource: "conditions",
+                    detail: "no condition separates two sampled states".into(),
+                })
+            }
+        };
+        drop(masks);
+        let ops = program_ops(&terms, &conds, &nodes);
+        let c = self.closure(&ops, true, limits)?;
+        Ok(Round {
+            closed: c.bad.is_empty(),
+            sample: self.sample.len(),
+            reached: c.reached,
+            terms,
+            conds,
+            nodes,
+        })
+    }
+}
+
+impl ProductGame {
+    /// Learn with the glitch counters projected out: the sample holds one state per
+    /// class of configurations that differ only in glitches left, labelled with the
+    /// moves allowed at the hardest level where the state still wins (most glitches
+    /// left). For the obstacles of the format a move allowed there is allowed at every
+    /// easier level of the class (fewer glitches left never help the obstacles), so a
+    /// program that does not read the glitches can follow the labels; the closed loop of
+    /// every round still checks the full states, so the projection is only a choice of
+    /// labels, never an assumption of the answer.
+    pub fn project_glitches(&mut self) {
+        let n = self.n_configs();
+        let mut index: crate::fx::HashMap<Vec<u64>, u32> = crate::fx::HashMap::default();
+        self.rep = vec![0; n];
+        for id in 0..n as u32 {
+            // cell and wait counter (bits 0..40) of every obstacle
+            let key: Vec<u64> = self
+                .config(id)
+                .iter()
+                .map(|&s| s & 0xff_ffff_ffff)
+                .collect();
+            self.rep[id as usize] = *index.entry(key).or_insert(id);
+        }
+        let left: Vec<u32> = (0..n as u32)
+            .map(|id| self.config(id).iter().map(|&s| super::unpack(s).2).sum())
+            .collect();
+        self.family = vec![vec![]; n];
+        for id in 0..n as u32 {
+            self.family[self.rep[id as usize] as usize].push(id);
+        }
+        for f in &mut self.family {
+            f.sort_by_key(|&i| std::cmp::Reverse(left[i as usize]));
+        }
+        self.sample.clear();
+        self.in_sample.clear();
+    }
+
+    /// The representative of configuration `id` in the learner's sample.
+    pub(super) fn representative(&self, id: u32) -> u32 {
+        if self.rep.is_empty() {
+            id
+        } else {
+            self.rep[id as usize]
+        }
+    }
+
+    /// The moves a sampled state is labelled with (see [`ProductGame::project_glitches`]).
+    pub(super) fn label(&self, id: u32, r: usize) -> u32 {
+        if self.rep.is_empty() {
+            return self.allowed(id, r);
+        }
+        for &m in &self.family[id as usize] {
+            if self.wins(m, r) {
+                return self.allowed(m, r);
+            }
+        }
+        0
+    }
+
+    /// A sampled state's inputs (under the projection, its glitches read as 0).
+    pub(super) fn sample_inputs(&self, id: u32, r: usize, out: &mut Vec<i64>) {
+        self.inputs(id, r, out);
+        if self.rep.is_empty() {
+            return;
+        }
+        let mut j = 2;
+        for o in &self.spec.obstacles {
+            j += 2 + o.periodic() as usize;
+            if o.glitching() {
+                out[j] = 0;
+                j += 1;
+            }
+        }
+    }
+}
+
+/// The behaviour of every condition on every row (bit i: true in row i).
+fn behaviours(terms: &[(Arith, u32)], conds: &[(Cond, u32)], rows: &[Vec<i64>]) -> Vec<Vec<u64>> {
+    let n = rows.len();
+    let nw = n.div_ceil(64).max(1);
+    let mut masks = vec![vec![0u64; nw]; conds.len()];
+    let mut tv = vec![0i64; terms.len()];
+    let mut cv = vec![false; conds.len()];
+    for (i, x) in rows.iter().enumerate() {
+        for (t, (a, _)) in terms.iter().enumerate() {
+            tv[t] = match *a {
+                Arith::Const(c) => c,
+                Arith::Var(j) => x[j],
+                Arith::Plus(p, q) => tv[p].wrapping_add(tv[q]),
+                Arith::Minus(p, q) => tv[p].wrapping_sub(tv[q]),
+            };
+        }
+        for (c, (cond, _)) in conds.iter().enumerate() {
+            cv[c] = match *cond {
+                Cond::Le(a, b) => tv[a] <= tv[b],
+                Cond::Eq(a, b) => tv[a] == tv[b],
+                Cond::Not(a) => !cv[a],
+                Cond::And(a, b) => cv[a] && cv[b],
+                Cond::Or(a, b) => cv[a] || cv[b],
+            };
+            if cv[c] {
+                masks[c][i / 64] |= 1 << (i % 64);
+            }
+        }
+    }
+    masks
+}
+
+fn term_sizes(terms: &[(Arith, u32)]) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::with_capacity(terms.len());
+    for (t, _) in terms {
+        let s = match *t {
+            Arith::Const(_) | Arith::Var(_) => 1,
+            Arith::Plus(a, b) | Arith::Minus(a, b) => 1 + out[a] + out[b],
+        };
+        out.push(s);
+    }
+    out
+}
+
+fn cond_sizes(conds: &[(Cond, u32)], ts: &[u32]) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::with_capacity(conds.len());
+    for (c, _) in conds {
+        let s = match *c {
+            Cond::Le(a, b) | Cond::Eq(a, b) => 1 + ts[a] + ts[b],
+            Cond::Not(a) => 1 + out[a],
+            Cond::And(a, b) | Cond::Or(a, b) => 1 + out[a] + out[b],
+        };
+        out.push(s);
+    }
+    out
+}
+
+/// The tree as program ops (children first, root last).
+pub fn program_ops(terms: &[(Arith, u32)], conds: &[(Cond, u32)], nodes: &[Node]) -> Vec<Op> {
+    let mut ops: Vec<Op> = vec![];
+    let mut term_at: Vec<usize> = vec![];
+    for (t, _) in terms {
+        let op = match *t {
+            Arith::Const(c) => Op::Const(c),
+            Arith::Var(j) => Op::Var(j),
+            Arith::Plus(a, b) => Op::Plus(term_at[a], term_at[b]),
+            Arith::Minus(a, b) => Op::Minus(term_at[a], term_at[b]),
+        };
+        ops.push(op);
+        term_at.push(ops.len() - 1);
+    }
+    let mut cond_at: Vec<usize> = vec![];
+    for (c, _) in conds {
+        let op = match *c {
+            Cond::Le(a, b) => Op::Le(term_at[a], term_at[b]),
+            Cond::Eq(a, b) => Op::Eq(term_at[a], term_at[b]),
+            Cond::Not(a) => Op::Not(cond_at[a]),
+            Cond::And(a, b) => Op::And(cond_at[a], cond_at[b]),
+            Cond::Or(a, b) => Op::Or(cond_at[a], cond_at[b]),
+        };
+        ops.push(op);
+        cond_at.push(ops.len() - 1);
+    }
+    let mut it = nodes.iter();
+    build(&mut it, &cond_at, &mut ops);
+    ops
+}
+
+fn build(it: &mut std::slice::Iter<'_, Node>, cond_at: &[usize], ops: &mut Vec<Op>) -> usize {
+    match *it.next().expect("a complete pre-order tree") {
+        Node::Leaf(k) => {
+            ops.push(Op::Const(k as i64));
+            ops.len() - 1
+        }
+        Node::Split(j) => {
+            let t = build(it, cond_at, ops);
+            let e = build(it, cond_at, ops);
+            ops.push(Op::Ite(cond_at[j], t, e));
+            ops.len() - 1
+        }
+    }
+}

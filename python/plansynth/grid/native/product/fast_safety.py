@@ -1,0 +1,120 @@
+"""The safety objective on the compiled product game (:mod:`.compiled`): solve, then
+learn a program on its own closed loop or certify the "no" with the obstacles' rank
+strategy, all in the core; Python keeps the stages and builds the answer.
+
+The stages and their guarantees are those of :mod:`.solve` (the pure-Python path, its
+reference): a program leaves only when its closed loop plays allowed moves only; its
+closed loop's states go with it as the witness, so that the solve loop's independent
+verifier can check them as an inductive invariant
+(:func:`plansynth.grid.verify.invariant.check_invariant`) instead of searching; an
+``unrealizable`` leaves only with a rank strategy the core's check accepts from the
+start (every robot move meets a collision or a reply of smaller rank).
+"""
+
+from __future__ import annotations
+
+import time
+
+from plansynth.budget import BudgetExhausted, Clock
+from plansynth.grid.native.check import simplify
+from plansynth.grid.native.product.compiled import CompiledCheck, CompiledSafety
+from plansynth.grid.native.run import RunState
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.programs import Term, depth
+from plansynth.grid.result import GridStatus
+
+__all__ = ["solve_safety_compiled", "ENUM_STATES", "MAX_ROUNDS"]
+
+#: The learner enumerates conditions on at most this many sampled states.
+ENUM_STATES = 20_000
+#: Rounds of the learner before it gives up.
+MAX_ROUNDS = 200
+
+
+def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, depth_bound: int | None):
+    game = CompiledSafety(problem, clock, run.memory_mb)
+    run.counters["configurations"] = game.n_configs
+    run.phase("explore")
+    won = game.solve()
+    run.counters["fixpoint_rounds"] = game.rounds()
+    run.phase("game")
+    if won:
+        run.counters["decided_seconds"] = _elapsed(run)
+    if not won:
+        valid, states, why = game.certify()
+        run.phase("certify")
+        if not valid:
+            return (
+                GridStatus.UNKNOWN,
+                None,
+                f"NATIVE ENGINE INTERNAL ERROR: the obstacles' rank strategy fails: {why}",
+                None,
+            )
+        run.counters["certificate_states"] = states
+        run.counters["decided_seconds"] = _elapsed(run)
+        run.counters["certified_by"] = "the obstacles' rank strategy"
+        from plansynth.grid.native.product.compiled_witness import CompiledRefutation
+
+        ref = CompiledRefutation(game, states)
+        return GridStatus.UNREALIZABLE, None, f"{ref.detail} (certified: {ref.reason})", ref
+    try:
+        program = _learn(run, game, problem, clock)
+    except BudgetExhausted as exc:
+        raise BudgetExhausted(
+            exc.phase,
+            exc.resource,
+            (
+                f"the robot wins the safety game (its winning region holds the start: decided in "
+                f"{sum(run.counters['phase_seconds'].values()):.3g} s, {game.rounds()} rounds), but no program was found "
+                f"within the budget ({exc})"
+            ),
+        ) from None
+    check = CompiledCheck(game)
+    if run.o.simplify:
+        # each check explores the program's closed loop: the simplifier gets the effort
+        from plansynth.grid.native.answer import effort
+
+        program = simplify(program, check, time.perf_counter() + effort(run, clock))
+    run.counters["first_depth"] = depth(program)
+    run.phase("answer")
+    reached, bad, _ = game.closure(program)
+    if bad:
+        raise AssertionError(f"native engine bug: program {program} misplays state {bad[0]}")
+    run.counters["program_checks"] = check.checks + 1
+    run.counters["program_depth"] = depth(program)
+    run.counters["program_closed_loop_states"] = reached
+    run.counters["stage"] = "product"
+    run.counters["depth_minimal"] = "not proved"
+    run.phase("check")
+    if depth_bound is not None and depth(program) > depth_bound:
+        return (
+            GridStatus.UNKNOWN,
+            None,
+            (
+                f"a winning program of depth {depth(program)} was found; smaller ones are "
+                "not searched for this objective"
+            ),
+            None,
+        )
+    return GridStatus.REALIZABLE, program, "safety objective won on the product game", game.reached_sets()
+
+
+def _elapsed(run: RunState) -> float:
+    """Seconds of the run's phases so far."""
+    return round(sum(run.counters.get("phase_seconds", {}).values()), 6)
+
+
+def _learn(run: RunState, game: CompiledSafety, problem: GridProblem, clock: Clock) -> Term:
+    if any(o.glitching for o in problem.obstacles):
+        game.core.project_glitches()  # labels from the hardest level: programs that need not read glitches
+        run.counters["glitches_projected"] = 1
+    for rnd in range(MAX_ROUNDS):
+        t0 = time.perf_counter()
+        closed, sample, reached, program = game.learn_round(min(3, run.o.condition_depth), 1_000_000, ENUM_STATES)
+        run.counters["learning_rounds"] = rnd + 1
+        run.counters["program_states"] = sample
+        run.counters["last_round_seconds"] = round(time.perf_counter() - t0, 4)
+        if closed:
+            run.counters["greedy_depth"] = depth(program)
+            return program
+    raise BudgetExhausted("learning a program", "iterations", f"no program closed in {MAX_ROUNDS} rounds")

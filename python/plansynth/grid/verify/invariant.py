@@ -1,0 +1,287 @@
+"""Safety by an inductive invariant: where the closed loop has too many states to search
+one by one, a set of states the program keeps is checked instead.
+
+An *invariant* is a set of states given as, per obstacle configuration (a key: per
+obstacle ((x, y), wait counter, glitches left), then the mode and the fairness
+counter), a bit set of robot cells (bit ``y * width + x``). The program wins the safety
+objective if the set holds the initial state and, from each of its states, the
+program's move collides with no legal obstacle reply and every reply leads back into
+the set (the inductive-invariant rule for safety properties: Manna and Pnueli,
+*Temporal Verification of Reactive Systems: Safety*, 1995, rule INV). The check is
+local, state by state, so it needs no search and no record of visited states; it is
+vectorized over the robot cells of each configuration (numpy).
+
+It is independent of whoever proposes the set (the native engine passes the states its
+own check of the program reached): the obstacles' replies come from
+:func:`~plansynth.grid.semantics.step` and the legal moves of
+:mod:`plansynth.grid.semantics`, the robot's moves from
+:func:`~plansynth.grid.semantics.robot_move`, the program's choice from its own
+vectorized evaluation. A set that is not inductive proves nothing either way: the
+verdict is then ``unknown`` (the solve loop falls back to the closed-loop search).
+
+>>> from plansynth.grid.problem import grid_problem_from_dict
+>>> from plansynth.grid.programs import parse_program
+>>> p = grid_problem_from_dict({"grid": [3, 1], "objective": "safety",
+...     "robot": {"start": [0, 0], "moves": ["stay", "right"]}, "obstacles": []})
+>>> check_invariant(p, parse_program("0"), {(): 0b001}).status.value
+'wins'
+>>> check_invariant(p, parse_program("1"), {(): 0b001}).message
+'not inductive: state (1, 0) after move 1 from (0, 0) is outside the invariant'
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+
+from plansynth.budget import Budget, BudgetExhausted
+from plansynth.grid.objective import CollisionRule, ObjectiveKind
+from plansynth.grid.problem import GridProblem
+from plansynth.grid.programs import App, Const, Term, Var
+from plansynth.grid.semantics import (
+    State,
+    controller_inputs,
+    initial_state,
+    joint_choices,
+    obstacle_move,
+    robot_move,
+    step,
+)
+from plansynth.grid.verify.meter import Meter
+from plansynth.grid.verify.verdict import Verdict, VerifyStatus
+
+__all__ = ["check_invariant", "Invariant", "state_key"]
+
+Invariant = Mapping[tuple, int]
+
+
+def state_key(problem: GridProblem, s: State) -> tuple:
+    """The invariant's key of ``s`` (everything but the robot's cell)."""
+    if s.phases:
+        key: tuple = tuple(zip(s.obstacles, s.phases, s.glitches, strict=True))
+    else:
+        key = tuple((c, 0, 0) for c in s.obstacles)
+    extra = ((s.mode,) if problem.mode_count > 1 else ()) + ((s.fair,) if problem.fair_count > 1 else ())
+    return key + extra
+
+
+def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:
+    n = len(problem.obstacles)
+    obs, rest = key[:n], key[n:]
+    mode = rest[0] if problem.mode_count > 1 else 0
+    fair = rest[-1] if problem.fair_count > 1 else 0
+    cells = tuple(o[0] for o in obs)
+    if problem.stateful:
+        return State(cell, cells, tuple(o[1] for o in obs), tuple(o[2] for o in obs), mode, fair)
+    return State(cell, cells, (), (), mode, fair)
+
+
+def check_invariant(
+    problem: GridProblem, program: Term, invariant: Invariant, *, budget: Budget | None = None
+) -> Verdict:
+    """``wins`` if ``invariant`` is an inductive invariant of ``program`` for the safety
+    objective holding the initial state; ``unknown`` (with the first failure) if not.
+
+    Vectorized over every state of the set at once: the program is evaluated once per
+    state (each state routed down its ``ite`` tree), then for each obstacle reply of each
+    configuration the robot's end cell is looked up in the set."""
+    import numpy as np
+
+    if problem.objective is not ObjectiveKind.SAFETY:
+        raise ValueError("an inductive invariant proves the safety objective only")
+    t0 = time.perf_counter()
+    meter = Meter(budget)
+    meter.phase = "checking the inductive invariant"
+    w, n = problem.width, problem.width * problem.height
+    n_moves = len(problem.robot.moves)
+    start = initial_state(problem)
+    keys = list(invariant)
+    key_id = {k: i for i, k in enumerate(keys)}
+    checked = 0
+    try:
+        if not invariant.get(state_key(problem, start), 0) >> (start.robot[1] * w + start.robot[0]) & 1:
+            return _unknown(t0, 0, "not inductive: the initial state is outside the invariant")
+        table = _bit_table(invariant, keys, n)  # (keys, n) bool
+        ends, swept, wall_hit = _robot_tables(problem)  # (moves, n), (moves, n, s), (moves, n)
+        kid, cells = np.nonzero(table)
+        checked = int(kid.size)
+        probes = [_state_of(problem, k, (0, 0)) for k in keys]
+        fixed = np.array([controller_inputs(problem, s)[2:] for s in probes], np.int64).reshape(len(keys), -1)
+        values = {v: fixed[kid, j] for j, v in enumerate(problem.variables[2:])}
+        values["rx"], values["ry"] = cells % w, cells // w
+        meter.phase = "evaluating the program on the invariant"
+        moves = _choose(program, values, kid.size)
+        bad = (moves < 0) | (moves >= n_moves)
+        if bad.any():
+            i = int(np.argmax(bad))
+            return _unknown(
+                t0, checked, f"the program returns no move in state {probes[kid[i]]._replace(robot=_xy(cells[i], w))}"
+            )
+        end = ends[moves, cells]
+        hit = wall_hit[moves, cells]
+        meter.phase = "the obstacles' replies on the invariant"
+        replies = [_replies(problem, s, key_id) for s in probes]
+        width = max(len(r) for r in replies)
+        position = problem.collision is CollisionRule.POSITION
+        robot_swept = swept[moves, cells]  # (states, s)
+        for j in range(width):
+            meter.check()
+            has = np.array([j < len(r) for r in replies])[kid]
+            nxt = np.array([r[j][0] if j < len(r) else -1 for r in replies], np.int64)[kid]
+            inside = np.zeros(kid.size, bool)
+            known = has & (nxt >= 0)
+            inside[known] = table[nxt[known], end[known]]
+            danger = [r[j][1] if j < len(r) else () for r in replies]
+            depth = max(1, max(len(d) for d in danger))
+            dcells = np.full((len(keys), depth), -1, np.int64)
+            for i, d in enumerate(danger):
+                dcells[i, : len(d)] = d
+            mine = dcells[kid]  # (states, depth)
+            if position:
+                collide = (mine == end[:, None]).any(axis=1)
+            else:
+                collide = (mine[:, :, None] == robot_swept[:, None, :]).any(axis=(1, 2))
+            hit |= has & collide
+            out = has & ~collide & ~inside
+            if out.any():
+                i = int(np.argmax(out))
+                return _unknown(
+                    t0,
+                    checked,
+                    f"not inductive: state {_xy(end[i], w)} after move {int(moves[i])} "
+                    f"from {_xy(cells[i], w)} is outside the invariant",
+                )
+        if hit.any():
+            i = int(np.argmax(hit))
+            return _unknown(
+                t0, checked, f"not inductive: the program's move {int(moves[i])} from {_xy(cells[i], w)} may collide"
+            )
+    except BudgetExhausted as out:
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            None,
+            None,
+            checked,
+            time.perf_counter() - t0,
+            out.phase,
+            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
+        )
+    except MemoryError:
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            None,
+            None,
+            checked,
+            time.perf_counter() - t0,
+            meter.phase,
+            f"the verifier's budget ran out in {meter.phase}: out of memory",
+        )
+    return Verdict(VerifyStatus.WINS, None, None, checked, time.perf_counter() - t0)
+
+
+def _bit_table(invariant: Invariant, keys: list, n: int):
+    import numpy as np
+
+    nbytes = (n + 7) // 8
+    raw = np.frombuffer(b"".join(invariant[k].to_bytes(nbytes, "little") for k in keys), np.uint8)
+    return np.unpackbits(raw.reshape(len(keys), nbytes), axis=1, bitorder="little")[:, :n].astype(bool)
+
+
+def _robot_tables(problem: GridProblem):
+    """Per robot move and cell: the end cell, the swept cells (padded with the first)
+    and whether a wall is swept, from :func:`~plansynth.grid.semantics.robot_move`."""
+    import numpy as np
+
+    w, n = problem.width, problem.width * problem.height
+    k_n = len(problem.robot.moves)
+    rows = [[robot_move(problem, (c % w, c // w), k) for c in range(n)] for k in range(k_n)]
+    width = max(len(sw) for row in rows for _, sw in row)
+    ends = np.zeros((k_n, n), np.int64)
+    swept = np.zeros((k_n, n, width), np.int64)
+    walls = np.zeros(n, bool)
+    for c in problem.walls:
+        walls[c[1] * w + c[0]] = True
+    for k, row in enumerate(rows):
+        for c, (e, sw) in enumerate(row):
+            ends[k, c] = e[1] * w + e[0]
+            idx = [x[1] * w + x[0] for x in sw]
+            swept[k, c] = idx + [idx[0]] * (width - len(idx))
+    return ends, swept, walls[swept].any(axis=2)
+
+
+def _replies(problem: GridProblem, probe: State, key_id: dict) -> list[tuple[int, tuple[int, ...]]]:
+    """Every legal joint reply from ``probe``'s configuration: (the next configuration's
+    index in the invariant, -1 if absent; the cells that collide with the robot: swept
+    cells, or under the position rule the blocks after the step)."""
+    w = problem.width
+    position = problem.collision is CollisionRule.POSITION
+    out: dict[tuple, tuple[int, tuple[int, ...]]] = {}
+    for joint in joint_choices(problem, probe):
+        nxt = step(problem, probe, 0, joint).state
+        cells: set[int] = set()
+        for i, o in enumerate(problem.obstacles):
+            o_end, o_swept = obstacle_move(problem, i, probe.obstacles[i], joint[i])
+            for c in o.block(o_end) if position else o_swept:
+                cells.add(c[1] * w + c[0])
+        key = (state_key(problem, nxt), tuple(sorted(cells)))
+        if key not in out:
+            out[key] = (key_id.get(key[0], -1), key[1])
+    return list(out.values())
+
+
+def _choose(t: Term, values: dict, n: int):
+    """The program's move in each of ``n`` states, each state routed down the ``ite``
+    tree (conditions evaluated on the states that reach them only)."""
+    import numpy as np
+
+    out = np.full(n, -1, np.int64)
+    todo = [(t, np.arange(n))]
+    while todo:
+        node, idx = todo.pop()
+        if idx.size == 0:
+            continue
+        if isinstance(node, App) and node.op == "ite":
+            sub = {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in values.items()}
+            c = np.broadcast_to(np.asarray(_evaluate(node.args[0], sub), bool), idx.shape)
+            todo.append((node.args[1], idx[c]))
+            todo.append((node.args[2], idx[~c]))
+        else:
+            out[idx] = _evaluate(node, {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in values.items()})
+    return out
+
+
+def _xy(c: int, w: int) -> tuple[int, int]:
+    return (int(c) % w, int(c) // w)
+
+
+def _unknown(t0: float, checked: int, why: str) -> Verdict:
+    return Verdict(VerifyStatus.UNKNOWN, None, None, checked, time.perf_counter() - t0, "the inductive invariant", why)
+
+
+def _evaluate(t: Term, values: dict):
+    """The program on arrays of inputs (numpy): integers and Booleans elementwise."""
+    import numpy as np
+
+    if isinstance(t, Const):
+        return t.value
+    if isinstance(t, Var):
+        return values[t.name]
+    a = [_evaluate(x, values) for x in t.args]
+    op = t.op
+    if op == "+":
+        return a[0] + a[1]
+    if op == "-":
+        return a[0] - a[1]
+    if op == "<=":
+        return a[0] <= a[1]
+    if op == "=":
+        return a[0] == a[1]
+    if op == "not":
+        return np.logical_not(a[0])
+    if op == "and":
+        return np.logical_and(a[0], a[1])
+    if op == "or":
+        return np.logical_or(a[0], a[1])
+    if op == "ite":
+        return np.where(a[0], a[1], a[2])
+    raise ValueError(f"unknown operator {op}")
