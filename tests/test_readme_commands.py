@@ -156,6 +156,14 @@ CASES: dict[str, Case] = {
         files=("why.html",),
         before=("plansynth grid solve examples/grid/traffic.yaml --steps 8 -o traffic-8.json",),
     ),
+    "plansynth reach solve examples/reach/team-crossing.yaml -o crossing.json": Case(
+        out=FOUND, json=(("crossing.json", "status", "found"), ("crossing.json", "validated", True))
+    ),
+    "plansynth view examples/reach/team-crossing.yaml --result crossing.json -o crossing.html": Case(
+        out=("page written to crossing.html",),
+        files=("crossing.html",),
+        before=("plansynth reach solve examples/reach/team-crossing.yaml -o crossing.json",),
+    ),
     # serves until stopped: tests/view/test_commands.py starts it, asks for the page and stops it
     "plansynth view examples/reach/maze-3.yaml --serve": Case(runs_in="tests/view/test_commands.py"),
     # grid commands (README, how-to guides)

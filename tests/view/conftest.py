@@ -24,7 +24,8 @@ CHROMEDRIVER = os.environ.get("PLANSYNTH_CHROMEDRIVER", "/usr/bin/chromedriver")
 @pytest.fixture(scope="session")
 def results(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """Result files of the examples the pages show, solved with the API as ``plansynth
-    grid solve -o`` and ``plansynth reach solve -o`` write them."""
+    grid solve -o`` and ``plansynth reach solve -o`` write them (a team's with its
+    planner, as ``reach solve`` picks it)."""
     from plansynth import grid, reach
 
     out = tmp_path_factory.mktemp("results")
@@ -39,6 +40,12 @@ def results(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     grid.solve(traffic.with_steps(8)).write(paths["traffic-8"])
     reach.solve(reach.load(EXAMPLES / "reach/mission-patrol.yaml")).write(paths["patrol"])
     reach.solve(reach.load(EXAMPLES / "reach/maze-1.yaml")).write(paths["maze-1"])
+    from plansynth.reach.solve import solve as solve_reach
+    from plansynth.reach.team.fileformat import load_problem
+
+    paths["team-crossing"] = out / "team-crossing.json"
+    solve_reach(load_problem(EXAMPLES / "reach/team-crossing.yaml"), "lazy-smt-team").write(paths["team-crossing"])
+    assert json.loads(paths["team-crossing"].read_text())["status"] == "found"
     assert json.loads(paths["traffic"].read_text())["status"] == "realizable"
     assert json.loads(paths["traffic-8"].read_text())["status"] == "unrealizable"
     return paths

@@ -222,3 +222,45 @@ def test_served_page_replans_a_dragged_start(browser: Any, plan_server: Any, tmp
     assert error == "error: " + plan_server.planned[-1][2]["error"]
     assert error.startswith("error: the edited problem: mission:")
     screenshot(browser, tmp_path / "view-serve.png")
+
+
+def test_team_page_shows_each_robot_and_the_moving_obstacle(browser: Any, results: dict, tmp_path: Path) -> None:
+    """The page ``plansynth view -o`` writes for a team: one trajectory per robot, each
+    robot where the result file has it, and the cart where the problem's waypoints put
+    it at each step's time (plansynth.reach.team.problem.MovingObstacle.position)."""
+    from typer.testing import CliRunner
+
+    from plansynth.cli import app
+    from plansynth.reach.team.fileformat import load_problem
+
+    problem_path = EXAMPLES / "reach/team-crossing.yaml"
+    problem = load_problem(problem_path)
+    doc = json.loads(results["team-crossing"].read_text())
+    page = tmp_path / "crossing.html"
+    run = CliRunner().invoke(
+        app, ["view", str(problem_path), "--result", str(results["team-crossing"]), "-o", str(page)]
+    )
+    assert run.exit_code == 0 and "page written to" in run.output, run.output
+    open_page(browser, page.as_uri(), "team")
+    paths = browser.find_elements("css selector", "#workspace .team-path")
+    assert len(paths) == len(doc["robots"]) == 2
+    assert len({p.get_attribute("stroke") for p in paths}) == 2  # each robot in its own colour
+    for p, robot in zip(paths, doc["robots"]):
+        assert len(p.get_attribute("points").split()) == len(robot["states"])
+    cart = problem.moving_obstacles[0]
+    for t in range(len(doc["robots"][0]["states"])):
+        _set_step(browser, t)
+        for i, robot in enumerate(doc["robots"]):
+            shown = browser.find_element("css selector", f"#now .team-robot[data-robot='{i}']")
+            assert (float(shown.get_attribute("data-x")), float(shown.get_attribute("data-y"))) == tuple(
+                robot["states"][t][:2]
+            ), f"robot {robot['name']}, step {t}"
+        moving = browser.find_element("css selector", "#now .moving")
+        shown = (float(moving.get_attribute("data-x")), float(moving.get_attribute("data-y")))
+        assert shown == pytest.approx(tuple(cart.position(problem.time_of(t))), abs=1e-12), f"cart, step {t}"
+    _set_step(browser, 3)
+    assert "cart at (3.5, 2)" in browser.find_element("id", "step-info").text  # t = 3 s: halfway up
+    words = browser.find_element("id", "words").text.splitlines()
+    assert words[0] == "status: found" and words[1].startswith(f"horizon: {doc['horizon']}")
+    assert browser.find_element("id", "validation").text.startswith("independent team validator: valid")
+    screenshot(browser, tmp_path / "view-team.png")

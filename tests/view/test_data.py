@@ -86,3 +86,57 @@ def test_a_controller_that_loses_comes_with_the_counterexample() -> None:
     d = grid_page_data(load_grid(TRAFFIC), {"status": "realizable", "steps": 9, "program": "2"})
     assert d["verdict"]["status"] == "loses"
     assert d["counterexample"]["reason"].startswith("collision at step")
+
+
+TEAM = EXAMPLES / "reach/team-crossing.yaml"
+
+
+def test_team_data_positions_per_robot_per_step_equal_the_result_file(results: dict) -> None:
+    from plansynth.reach.team.fileformat import load_problem
+    from plansynth.view.team_data import team_page_data
+
+    problem = load_problem(TEAM)
+    doc = json.loads(results["team-crossing"].read_text())
+    d = team_page_data(problem, doc, source="team-crossing.json")
+    assert d["kind"] == "team" and [r["name"] for r in d["robots"]] == [r["name"] for r in doc["robots"]]
+    assert len({r["colour"] for r in d["robots"]}) == len(d["robots"])
+    for shown, written in zip(d["trajectories"], doc["robots"]):
+        assert shown["positions"] == [s[:2] for s in written["states"]]  # single integrators: x, y
+        assert shown["inputs"] == written["inputs"]
+    assert d["steps"] == len(doc["robots"][0]["states"]) - 1
+    assert d["validation"]["ok"] is True and d["validation"]["summary"].startswith("valid, 2 robots")
+    assert d["words"][0] == "status: found" and d["words"][1].startswith(f"horizon: {doc['horizon']}")
+    cart = problem.moving_obstacles[0]
+    assert d["moving"] == [
+        {
+            "name": "cart",
+            "shape": {"box": [[-0.5, -0.5], [0.5, 0.5]]},
+            "times": list(cart.times),
+            "positions": [list(p) for p in cart.positions],
+        }
+    ]
+
+
+def test_a_team_result_and_a_single_robot_result_are_not_swapped(results: dict, tmp_path: Path) -> None:
+    _fails(TEAM, results["maze-1"], r"maze-1\.json: robots: missing: a single-robot result .*single-robot problem")
+    _fails(EXAMPLES / "reach/maze-1.yaml", results["team-crossing"], r"team-crossing\.json: states: missing: a team")
+    _fails(
+        EXAMPLES / "reach/team-swap.yaml",
+        results["team-crossing"],
+        r"team-crossing\.json: robots\[0\]\.states\[0\]: has 2 components, but robot A of team-swap has 4",
+    )
+    doc = json.loads(results["team-crossing"].read_text())
+    doc["robots"][1]["states"][0] = [7.0, 3.0]
+    (tmp_path / "moved.json").write_text(json.dumps(doc))
+    _fails(TEAM, tmp_path / "moved.json", r"moved\.json: robots\[1\]\.states\[0\]: \(7, 3\) is not the start")
+    with pytest.raises(InvalidProblem, match="only a single-robot reach page re-plans"):
+        build_page(TEAM, serve=True)
+
+
+def test_a_team_page_without_a_result_plays_the_moving_obstacles() -> None:
+    from plansynth.reach.team.fileformat import load_problem
+    from plansynth.view.team_data import team_page_data
+
+    d = team_page_data(load_problem(TEAM), None)
+    assert d["trajectories"] is None and d["status"] is None and d["steps"] == 12  # the cart's last waypoint
+    assert '"kind":"team"' in build_page(TEAM)

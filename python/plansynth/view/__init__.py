@@ -8,6 +8,8 @@
 * the reach page (:mod:`~plansynth.view.reach_data`, static/reach_page.js): the
   workspace, regions, labels and a trajectory (Shoukry et al., CDC 2016) with its
   states and inputs against their bounds and the labels holding at each step;
+* the team page (:mod:`~plansynth.view.team_data`, static/team_page.js): a team of
+  robots, each in its own colour, and the moving obstacles where they are at each step;
 * :mod:`~plansynth.view.server`: the reach page served on 127.0.0.1, re-planning the
   problem the user edits.
 
@@ -28,8 +30,9 @@ __all__ = ["build_page", "problem_kind", "read_result"]
 
 
 def problem_kind(path: str | Path) -> str:
-    """``"grid"`` or ``"reach"``: which half a problem file belongs to (its top-level
-    ``grid`` or ``workspace`` key); anything else is an InvalidProblem."""
+    """``"grid"``, ``"reach"`` or ``"team"``: which half a problem file belongs to (its
+    top-level ``grid`` or ``workspace`` key), a reach problem being a team's when it has
+    ``robots``, ``separation`` or ``moving_obstacles``; anything else is an InvalidProblem."""
     from plansynth.errors import InvalidProblem
     from plansynth.io import load_document
 
@@ -37,7 +40,9 @@ def problem_kind(path: str | Path) -> str:
     if isinstance(doc, dict) and "grid" in doc:
         return "grid"
     if isinstance(doc, dict) and "workspace" in doc:
-        return "reach"
+        from plansynth.reach.team.fileformat import is_team_document
+
+        return "team" if is_team_document(doc) else "reach"
     raise InvalidProblem(name, "<document>", "neither a grid problem (key grid) nor a reach problem (key workspace)")
 
 
@@ -57,11 +62,22 @@ def build_page(
 ) -> str:
     """The HTML page of the problem file ``problem`` and the result file ``result``
     (None: the problem alone). ``serve``: a reach page that re-plans through
-    :mod:`~plansynth.view.server`, asking ``timeout`` seconds per plan by default."""
+    :mod:`~plansynth.view.server`, asking ``timeout`` seconds per plan by default
+    (single-robot reach problems only)."""
     from plansynth.view.page import render_page
 
     kind = problem_kind(problem)
+    if serve and kind != "reach":
+        from plansynth.errors import InvalidProblem
+
+        raise InvalidProblem(str(problem), "<document>", f"a {kind} problem: only a single-robot reach page re-plans")
     doc, name = read_result(result) if result is not None else (None, "")
+    if kind == "team":
+        from plansynth.reach.team.fileformat import load_problem
+        from plansynth.view.team_data import team_page_data
+
+        team = load_problem(problem)
+        return render_page(team_page_data(team, doc, source=name), title=f"plansynth view: {team.name}")
     if kind == "grid":
         from plansynth.grid import load
         from plansynth.view.grid_data import check_recorded_problem, grid_page_data

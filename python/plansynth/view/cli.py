@@ -27,6 +27,10 @@ Examples:
 
   plansynth view examples/reach/maze-3.yaml --serve          # a local page that plans
 
+  plansynth reach solve examples/reach/team-crossing.yaml -o crossing.json
+
+  plansynth view examples/reach/team-crossing.yaml --result crossing.json -o crossing.html
+
 A page written with -o is one self-contained file: scripts, styles and data inlined, nothing loaded from the network. Without -o and --serve the page is written to PROBLEM's stem + .html in the current directory.
 
 --serve serves the page on 127.0.0.1 only (port 0: a free one, printed) and re-plans the problem when the page asks (reach problems); Ctrl-C stops it.
@@ -69,7 +73,7 @@ def _timeout(value: float) -> float:
 
 @app.callback(epilog=EPILOG)
 def view(
-    problem: Path = typer.Argument(..., help="Grid or reach problem file (YAML or JSON)."),
+    problem: Path = typer.Argument(..., help="Grid, reach or team problem file (YAML or JSON)."),
     result: Path | None = typer.Option(
         None, "--result", "-r", help="Result JSON of plansynth grid solve -o or reach solve -o for this problem."
     ),
@@ -88,7 +92,8 @@ def view(
     ),
 ) -> None:
     """Show a problem and its result as an interactive page: a grid controller against
-    obstacles you move, or a reach trajectory with its regions, labels and bounds."""
+    obstacles you move, a reach trajectory with its regions, labels and bounds, or a
+    team's trajectories among moving obstacles."""
     from rich.console import Console
     from rich.markup import escape
 
@@ -102,7 +107,9 @@ def view(
     try:
         kind = problem_kind(problem)
         if serve and kind != "reach":
-            raise typer.BadParameter("plans reach problems only; write a grid page with -o", param_hint="--serve")
+            raise typer.BadParameter(
+                f"plans single-robot reach problems only; write a {kind} page with -o", param_hint="--serve"
+            )
         if output is None and not serve:
             output = Path(problem.stem + ".html")
         if output is not None:

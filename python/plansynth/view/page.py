@@ -20,6 +20,7 @@ from typing import Any
 SCRIPTS: dict[str, tuple[str, ...]] = {
     "grid": ("common.js", "grid_semantics.js", "grid_page.js"),
     "reach": ("common.js", "plot.js", "reach_page.js"),
+    "team": ("common.js", "team_page.js"),
 }
 
 
@@ -55,7 +56,8 @@ def content_security_policy(*, connect: str = "'none'") -> str:
 
 def render_page(data: dict[str, Any], *, title: str, serve: bool = False) -> str:
     """The page for ``data`` (a dict of :mod:`~plansynth.view.grid_data` or
-    :mod:`~plansynth.view.reach_data`, its ``kind`` choosing the scripts).
+    :mod:`~plansynth.view.reach_data` or :mod:`~plansynth.view.team_data`, its ``kind``
+    choosing the scripts).
 
     ``serve``: the page plans through the server that sent it (``POST /plan``)."""
     from html import escape

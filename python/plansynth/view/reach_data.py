@@ -41,6 +41,18 @@ def shape_json(shape: Any) -> dict[str, Any]:
     return {"poly": [[float(x), float(y)] for x, y, *_ in np.asarray(shape.vertices, float)]}
 
 
+def world_json(problem: Any) -> dict[str, Any]:
+    """What a reach page and a team page both draw of a problem's world: its name and
+    dimension, the workspace, the static obstacles and the labels (the first two axes)."""
+    return {
+        "name": problem.name,
+        "dim": problem.dim,
+        "workspace": [list(problem.workspace.lo[:2]), list(problem.workspace.hi[:2])],
+        "obstacles": [shape_json(o) for o in problem.obstacles],
+        "labels": [{"name": name, "shape": shape_json(s)} for name, s in problem.labels],
+    }
+
+
 def planner_abstraction(problem: ReachProblem) -> Any:
     """The regions the planner plans in, the abstraction a result's ``regions`` index:
     the label-refined one for a mission, else that of the configuration space; under a
@@ -92,6 +104,12 @@ def read_reach_result(doc: Any, problem: ReachProblem, source: str) -> tuple[str
     from plansynth.reach.trajectory import trajectory_from_dict
 
     status = result_status(doc, source, "reach")
+    if "robots" in doc and "states" not in doc:
+        raise InvalidProblem(
+            source,
+            "states",
+            f"missing: a team result (robots), and {problem.name} has one robot: give it with a team problem",
+        )
     if doc.get("states") is None:
         return status, None
     trajectory = trajectory_from_dict(doc, source)
@@ -115,8 +133,8 @@ def read_reach_result(doc: Any, problem: ReachProblem, source: str) -> tuple[str
         raise InvalidProblem(
             source,
             "states[0]",
-            f"{_vector(trajectory.states[0])} is not the start "
-            f"{_vector(start)} of {problem.name}: a result of another problem",
+            f"{vector_text(trajectory.states[0])} is not the start "
+            f"{vector_text(start)} of {problem.name}: a result of another problem",
         )
     planned_mission = isinstance(doc.get("mission"), Mapping) and doc["mission"].get("formula") is not None
     if planned_mission != (problem.mission is not None):
@@ -130,7 +148,8 @@ def read_reach_result(doc: Any, problem: ReachProblem, source: str) -> tuple[str
     return status, trajectory
 
 
-def _vector(v: Any) -> str:
+def vector_text(v: Any) -> str:
+    """A vector as ``(1, 2.5)``, for messages."""
     return "(" + ", ".join(f"{float(x):g}" for x in v) + ")"
 
 
@@ -145,8 +164,9 @@ def reach_words(doc: Mapping[str, Any]) -> list[str]:
     if status == "infeasible":
         horizon = f"none up to {doc.get('horizon')}"
     if status == "found" and c.get("minimal") is not None:
-        if c["minimal"] and c.get("minimal_relative_to", "problem") == "decomposition":
-            horizon += " (minimal through the decomposition only)"
+        relative = c.get("minimal_relative_to", "problem")
+        if c["minimal"] and relative != "problem":
+            horizon += f" (minimal through the {relative} only)"
         else:
             horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     lines.append(f"horizon: {horizon}")
@@ -177,12 +197,8 @@ def reach_page_data(
     abstraction = planner_abstraction(problem)
     data: dict[str, Any] = {
         "kind": "reach",
-        "name": problem.name,
-        "dim": problem.dim,
-        "workspace": [list(problem.workspace.lo[:2]), list(problem.workspace.hi[:2])],
-        "obstacles": [shape_json(o) for o in problem.obstacles],
+        **world_json(problem),
         "goal": None if problem.goal is None else shape_json(problem.goal),
-        "labels": [{"name": name, "shape": shape_json(s)} for name, s in problem.labels],
         "mission_text": problem.mission,
         "start": [float(v) for v in problem.start],
         "position": list(dyn.position),
