@@ -31,13 +31,7 @@ from plansynth.reach.geometry import (
     polygon_problem,
     shape_to_shapely,
 )
-from plansynth.reach.limits import (
-    MAX_COORDINATE,
-    MAX_LABEL_VERTICES,
-    MAX_LABELS,
-    MISSION_ENDS,
-    MISSION_READINGS,
-)
+from plansynth.reach.limits import MAX_COORDINATE, MAX_LABEL_VERTICES, MAX_LABELS, MISSION_ENDS, MISSION_READINGS
 from plansynth.reach.robot import configuration_space
 
 __all__ = ["check_problem"]

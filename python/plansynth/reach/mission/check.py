@@ -70,14 +70,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from plansynth.reach.mission.failure import failure_reason, first_failure
-from plansynth.reach.mission.ltl import (
-    FiniteWord,
-    Lasso,
-    holds,
-    nnf,
-    parse,
-    robustness,
-)
+from plansynth.reach.mission.ltl import FiniteWord, Lasso, holds, nnf, parse, robustness
 from plansynth.reach.mission.touches import consistent_reading
 from plansynth.reach.mission.word import NEG, Label, trajectory_word
 from plansynth.reach.mission.word import literal_form as _literal_form

@@ -12,13 +12,7 @@ from shapely.geometry import LineString
 from shapely.geometry import Polygon as ShPolygon
 
 from plansynth.reach.geometry import Box, halfspaces, is_convex
-from plansynth.reach.mission.ltl import (
-    Formula,
-    Not,
-    Prop,
-    children,
-    subformulas,
-)
+from plansynth.reach.mission.ltl import Formula, Not, Prop, children, subformulas
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["NEG", "Label", "literal_form", "trajectory_word"]
