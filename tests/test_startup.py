@@ -41,6 +41,8 @@ NOT_ON_A_LAZY_SOLVE = {
     "plansynth.reach.mission.labels": "the label-refined abstraction",
     "plansynth.reach.mission.proof": "the mission's geometric proof",
     "plansynth.reach.mission.milp": "the mission MILP baseline",
+    "plansynth.reach.mission.milp_model": "the mission MILP's model",
+    "plansynth.reach.mission.milp_geometry": "the mission MILP's polytopes",
     "plansynth.reach.ltl": "the mission language (a problem without a mission has no formula)",
     "plansynth.reach.planners.milp": "the MILP planner",
     "plansynth.reach.planners.milp_bigm": "the big-M MILP baseline",

@@ -11,6 +11,10 @@ This module holds the AST, a parser and printer for SyGuS-IF v2 terms (including
 coordinate, written ``(get-x p)`` in the paper, has depth 2), size, and export as
 Python and C source that a robot could run.
 
+The terms and their measures are :mod:`plansynth.grid.terms`, the export
+:mod:`plansynth.grid.program_export`; this module holds the grammar check, the parser
+and the reference interpreter, and exports the others' names as it always has.
+
 >>> prog = parse_program("(ite (<= rx 3) 2 1)")
 >>> print(prog, depth(prog), size(prog))
 (ite (<= rx 3) 2 1) 4 6
@@ -22,104 +26,35 @@ Python and C source that a robot could run.
 
 from __future__ import annotations
 
-import keyword
 import re
-from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
 
 from plansynth.errors import PlansynthError
+from plansynth.grid.program_export import (  # noqa: F401 - the export, imported from here too
+    KEYWORDS,
+    compile_program,
+    function_name_problem,
+    to_c,
+    to_define_fun,
+    to_python,
+)
+from plansynth.grid.terms import (  # noqa: F401 - the terms and measures, imported from here too
+    SIGNATURES,
+    App,
+    Const,
+    Term,
+    Var,
+    depth,
+    ite,
+    reads_obstacles,
+    size,
+    subterms,
+    variables_of,
+)
 
 
 class ProgramSyntaxError(PlansynthError):
     """Text that is not a term of the controller grammar."""
-
-
-# -- AST -------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Const:
-    """An integer literal: a move number in Start position, a constant in T position."""
-
-    value: int
-
-    def __str__(self) -> str:
-        return f"(- {-self.value})" if self.value < 0 else str(self.value)
-
-
-@dataclass(frozen=True)
-class Var:
-    """A coordinate input: ``rx``, ``ry``, ``o0x``, ``o0y``, ..."""
-
-    name: str
-
-    def __str__(self) -> str:
-        return self.name
-
-
-@dataclass(frozen=True)
-class App:
-    """An operator application: ``ite``, ``and``, ``or``, ``not``, ``<=``, ``=``, ``+``, ``-``."""
-
-    op: str
-    args: tuple[Term, ...]
-
-    def __str__(self) -> str:
-        return f"({self.op} {' '.join(str(a) for a in self.args)})"
-
-
-Term = Const | Var | App
-
-#: Operator -> (argument sorts, result sort); sorts are "S" (Start), "B", "T".
-SIGNATURES: dict[str, tuple[tuple[str, ...], str]] = {
-    "ite": (("B", "S", "S"), "S"),
-    "and": (("B", "B"), "B"),
-    "or": (("B", "B"), "B"),
-    "not": (("B",), "B"),
-    "<=": (("T", "T"), "B"),
-    "=": (("T", "T"), "B"),
-    "+": (("T", "T"), "T"),
-    "-": (("T", "T"), "T"),
-}
-
-
-def ite(c: Term, t: Term, e: Term) -> App:
-    return App("ite", (c, t, e))
-
-
-# -- measures --------------------------------------------------------------------------
-
-
-def depth(t: Term) -> int:
-    """The paper's depth: literal 1, coordinate 2, application 1 + deepest argument."""
-    if isinstance(t, Const):
-        return 1
-    if isinstance(t, Var):
-        return 2
-    return 1 + max(depth(a) for a in t.args)
-
-
-def size(t: Term) -> int:
-    """Number of AST nodes."""
-    if isinstance(t, App):
-        return 1 + sum(size(a) for a in t.args)
-    return 1
-
-
-def subterms(t: Term) -> Iterator[Term]:
-    yield t
-    if isinstance(t, App):
-        for a in t.args:
-            yield from subterms(a)
-
-
-def variables_of(t: Term) -> frozenset[str]:
-    return frozenset(s.name for s in subterms(t) if isinstance(s, Var))
-
-
-def reads_obstacles(t: Term) -> bool:
-    """True when the program looks at some obstacle coordinate."""
-    return any(v.startswith("o") for v in variables_of(t))
 
 
 # -- grammar check ---------------------------------------------------------------------
@@ -268,7 +203,7 @@ def _term(sx: object) -> Term:
         if _INTEGER.fullmatch(sx):
             return Const(_literal(sx))
         if _NAME.fullmatch(sx) and sx not in SIGNATURES:
-            if sx in _KEYWORDS:
+            if sx in KEYWORDS:
                 raise ProgramSyntaxError(
                     f"{sx!r} cannot name an input: it is a keyword of Python or C, and programs are exported to both"
                 )
@@ -294,214 +229,6 @@ def _term(sx: object) -> Term:
     if len(args) != arity:
         raise ProgramSyntaxError(f"{op} takes {arity} arguments, got {len(args)}")
     return App(op, args)
-
-
-# -- evaluation and export -------------------------------------------------------------
-
-_PY = {"and": "and", "or": "or", "<=": "<=", "=": "==", "+": "+", "-": "-"}
-
-
-def _expr(t: Term, lang: str) -> str:
-    if isinstance(t, Const):
-        return str(t.value) if t.value >= 0 else f"({t.value})"
-    if isinstance(t, Var):
-        return t.name
-    a = [_expr(x, lang) for x in t.args]
-    if t.op == "ite":
-        if lang == "c":
-            return f"({a[0]} ? {a[1]} : {a[2]})"
-        return f"({a[1]} if {a[0]} else {a[2]})"
-    if t.op == "not":
-        return f"(!{a[0]})" if lang == "c" else f"(not {a[0]})"
-    if lang == "c":
-        op = {"and": "&&", "or": "||", "=": "=="}.get(t.op, t.op)
-    else:
-        op = _PY[t.op]
-    return f"({a[0]} {op} {a[1]})"
-
-
-_C_KEYWORDS = frozenset(
-    [
-        "auto",
-        "break",
-        "case",
-        "char",
-        "const",
-        "continue",
-        "default",
-        "do",
-        "double",
-        "else",
-        "enum",
-        "extern",
-        "float",
-        "for",
-        "goto",
-        "if",
-        "inline",
-        "int",
-        "long",
-        "register",
-        "restrict",
-        "return",
-        "short",
-        "signed",
-        "sizeof",
-        "static",
-        "struct",
-        "switch",
-        "typedef",
-        "union",
-        "unsigned",
-        "void",
-        "volatile",
-        "while",
-        "_Alignas",
-        "_Alignof",
-        "_Atomic",
-        "_Bool",
-        "_Complex",
-        "_Generic",
-        "_Imaginary",
-        "_Noreturn",
-        "_Static_assert",
-        "_Thread_local",
-        "alignas",
-        "alignof",
-        "bool",
-        "constexpr",
-        "false",
-        "nullptr",
-        "static_assert",
-        "thread_local",
-        "true",
-        "typeof",
-        "typeof_unqual",
-        "main",
-    ]
-)
-_SYGUS_RESERVED = frozenset(
-    [
-        "_",
-        "!",
-        "as",
-        "let",
-        "exists",
-        "forall",
-        "match",
-        "par",
-        "assert",
-        "check-sat",
-        "declare-const",
-        "declare-fun",
-        "define-fun",
-        "define-fun-rec",
-        "define-sort",
-        "set-logic",
-        "set-option",
-        "synth-fun",
-        "constraint",
-        "check-synth",
-        "declare-var",
-        "ite",
-        "and",
-        "or",
-        "not",
-        "xor",
-        "distinct",
-        "true",
-        "false",
-        "Int",
-        "Bool",
-    ]
-)
-
-
-_KEYWORDS = frozenset(keyword.kwlist) | _C_KEYWORDS  # an input's name is pasted into exported code
-
-
-def function_name_problem(name: str, lang: str, variables: Sequence[str] = ()) -> str | None:
-    """Why ``name`` cannot name the exported controller in ``lang`` (python, c or
-    sygus), or None: it must be an ASCII identifier (letters, digits, ``_``, not
-    starting with a digit), not a keyword or reserved word of the language, and not one
-    of the controller's inputs. Everything else would be pasted into the code as is.
-
-    >>> function_name_problem("move", "c") is None
-    True
-    >>> function_name_problem("f(); system(0); int g", "c")
-    "not an identifier: 'f(); system(0); int g'"
-    >>> function_name_problem("lambda", "python")
-    "'lambda' is a keyword in python"
-    """
-
-    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-        return f"not an identifier: {name!r}"
-    reserved = {"python": frozenset(keyword.kwlist), "c": _C_KEYWORDS, "sygus": _SYGUS_RESERVED}.get(lang)
-    if reserved is None:
-        return f"unknown language {lang!r}"
-    if name in reserved:
-        return f"{name!r} is a keyword in {lang}"
-    if name in variables:
-        return f"{name!r} is an input of the controller"
-    return None
-
-
-def _checked_name(name: str, lang: str, variables: Sequence[str]) -> None:
-    why = function_name_problem(name, lang, variables)
-    if why is not None:
-        raise ValueError(f"function name: {why}")
-
-
-def to_python(t: Term, variables: Sequence[str], name: str = "move") -> str:
-    """Python source of the controller as a function of the spec's inputs.
-
-    >>> print(to_python(parse_program("(ite (<= rx 3) 2 1)"), ["rx", "ry"]))
-    def move(rx: int, ry: int) -> int:
-        \"\"\"Controller synthesized by plansynth: returns the robot's move number.\"\"\"
-        return (2 if (rx <= 3) else 1)
-    <BLANKLINE>
-    """
-    _checked_name(name, "python", variables)
-    params = ", ".join(f"{v}: int" for v in variables)
-    return (
-        f"def {name}({params}) -> int:\n"
-        f'    """Controller synthesized by plansynth: returns the robot\'s move number."""\n'
-        f"    return {_expr(t, 'py')}\n"
-    )
-
-
-def to_c(t: Term, variables: Sequence[str], name: str = "move") -> str:
-    """C source of the controller.
-
-    >>> print(to_c(parse_program("(ite (<= rx 3) 2 1)"), ["rx", "ry"]))
-    /* Controller synthesized by plansynth: returns the robot's move number. */
-    int move(int rx, int ry) {
-        return ((rx <= 3) ? 2 : 1);
-    }
-    <BLANKLINE>
-    """
-    _checked_name(name, "c", variables)
-    params = ", ".join(f"int {v}" for v in variables) or "void"
-    return (
-        "/* Controller synthesized by plansynth: returns the robot's move number. */\n"
-        f"int {name}({params}) {{\n"
-        f"    return {_expr(t, 'c')};\n"
-        "}\n"
-    )
-
-
-def to_define_fun(t: Term, variables: Sequence[str], name: str = "move") -> str:
-    """The controller as a SyGuS-IF v2 ``define-fun``."""
-    _checked_name(name, "sygus", variables)
-    params = " ".join(f"({v} Int)" for v in variables)
-    return f"(define-fun {name} ({params}) Int {t})"
-
-
-def compile_program(t: Term, variables: Sequence[str]) -> Callable[..., int]:
-    """A fast Python callable taking the inputs positionally in ``variables`` order."""
-    namespace: dict[str, object] = {}
-    exec(to_python(t, variables, "_controller"), namespace)  # noqa: S102 - our own printer's output
-    return namespace["_controller"]  # type: ignore[return-value]
 
 
 def evaluate(t: Term, env: Mapping[str, int]) -> int | bool:

@@ -8,7 +8,7 @@ floor under any search over region sequences; a planner's total divided by it sh
 the search's overhead. The LP is built and solved as
 :class:`~plansynth.reach.lazy.conplan.ConPlan` solves a plan LP that has no basis to
 start from, in a fresh ConPlan: split into independent blocks (one per axis) beyond
-:data:`~plansynth.reach.lazy.conplan.lp.LONG_CHAIN_STATES` states, by the
+:data:`~plansynth.reach.lazy.conplan.layout.LONG_CHAIN_STATES` states, by the
 interior-point method first from
 :data:`~plansynth.reach.lazy.conplan.runs.INTERIOR_STATES` on (the parts on two
 threads at once, as the planner runs them), and without the

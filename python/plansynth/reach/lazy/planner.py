@@ -69,27 +69,15 @@ or iterations, one iteration = one SAT call and its theory check) runs out.
 
 from __future__ import annotations
 
-import math
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.lazy.axisreach import AxisReach
-from plansynth.reach.lazy.bounds import (
-    SEPARATOR_MAX_REGIONS,
-    ChainBounds,
-    chain_gaps,
-    physical_lower_bound,
-    proved_horizon_bound,
-    segment_adjacency,
-    separator_bounds,
-    step_adjacency,
-    time_windows,
-    touching,
-)
+from plansynth.reach.lazy.bounds import physical_lower_bound, segment_adjacency, step_adjacency, touching
 from plansynth.reach.lazy.bounds.segpairs import pair_boxes
 from plansynth.reach.lazy.claims import (
     DECOMPOSITION_ONLY,
@@ -104,6 +92,13 @@ from plansynth.reach.lazy.claims import (
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.lazy.guide import reference_plans, route
+from plansynth.reach.lazy.horizon_bounds import (
+    chain_bounds,
+    count_bound,
+    horizon_bounds,
+    refuted_by_bounds,
+    with_chains,
+)
 from plansynth.reach.lazy.loop import (
     DEAR_DEFER_AFTER,
     DEFER_AFTER,
@@ -118,14 +113,11 @@ from plansynth.reach.lazy.options import LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.lazy.timed import timed_route
-from plansynth.reach.lazy.transit import GOAL, START, TransitCheck
+from plansynth.reach.lazy.transit import START, TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
 
 __all__ = ["plan_lazy", "LazyOptions"]
-
-#: rounds of LP refinement of the critical separator chain (see _chain_bounds)
-CHAIN_ROUNDS = 4
 
 
 @contextmanager
@@ -138,20 +130,6 @@ def _timed(clock: Clock, timings: dict[str, float], key: str, phase: str) -> Ite
             yield
     finally:
         timings[key] = timings.get(key, 0.0) + time.perf_counter() - t0
-
-
-@dataclass(frozen=True)
-class _Bounds:
-    """The horizon bounds (see the module docstring): each as the counters record it,
-    the first horizon tried and DIS-PLAN's time windows (None: no windows)."""
-
-    bfs: float
-    physical: int
-    box: float
-    proved: float
-    first: int
-    earliest: Sequence[float] | None
-    to_go: Sequence[float] | None
 
 
 def plan_lazy(
@@ -252,7 +230,7 @@ def plan_lazy(
         if quick is not None and search == "window":  # no bounds needed: nothing below it is claimed
             physical = physical_lower_bound(problem)
             counters.update(
-                bfs_bound=_count(graph.horizon_lower_bound()),
+                bfs_bound=count_bound(graph.horizon_lower_bound()),
                 physical_bound=physical,
                 exact_abstraction=abstraction.exact,
             )
@@ -261,20 +239,18 @@ def plan_lazy(
             timings["highs"] = conplan.stats.seconds
             return result(out)
         with _timed(clock, timings, "bounds", "the horizon bounds (time windows)"):
-            bounds = _horizon_bounds(problem, abstraction, graph, opts, L_max)
+            bounds = horizon_bounds(problem, abstraction, graph, opts, L_max)
         counters.update(
-            proved_bound=_count(bounds.proved),
+            proved_bound=count_bound(bounds.proved),
             exact_abstraction=abstraction.exact,
-            bfs_bound=_count(bounds.bfs),
+            bfs_bound=count_bound(bounds.bfs),
             physical_bound=bounds.physical,
-            box_bound=_count(bounds.box),
+            box_bound=count_bound(bounds.box),
             first_horizon=bounds.first,
         )
         if bounds.earliest is not None and bounds.first <= L_max:
             with _timed(clock, timings, "bounds", "the separator chains (time windows)"):
-                bounds = _with_chains(
-                    bounds, _chain_bounds(problem, abstraction, graph, transit, path), L_max, counters
-                )
+                bounds = with_chains(bounds, chain_bounds(problem, abstraction, graph, transit, path), L_max, counters)
     except BudgetExhausted as exc:  # before the loop: in the abstraction or the bounds
         return result(LoopOutcome(ReachStatus.UNKNOWN, None, str(exc)))
 
@@ -296,7 +272,7 @@ def plan_lazy(
     else:
         displan = DisPlan(graph, **windows_kw)
     if proved > L_max or bounds.first > L_max:
-        out = _refuted_by_bounds(problem, bounds, L_max, exact, opts, counters)
+        out = refuted_by_bounds(problem, bounds, L_max, exact, opts, counters)
         if out.status is ReachStatus.UNKNOWN and opts.prove and opts.segment_safe:
             out = prove_claims(problem, out, proved, clock, counters)
     else:
@@ -337,38 +313,6 @@ def plan_lazy(
     return result(out)
 
 
-def _count(bound: float) -> int | None:
-    return None if math.isinf(bound) else int(bound)
-
-
-def _horizon_bounds(
-    problem: ReachProblem, abstraction: Abstraction, graph: RegionGraph, opts: LazyOptions, L_max: int
-) -> _Bounds:
-    """The lower bounds on the horizon and DIS-PLAN's time windows (module docstring)."""
-    bfs = graph.horizon_lower_bound()
-    phys = physical_lower_bound(problem) if opts.lower_bound else 0
-    windows = (
-        time_windows(problem, abstraction, L_max, adjacency=graph.adjacency)
-        if (opts.lower_bound and math.isfinite(bfs))
-        else None
-    )
-    proved = proved_horizon_bound(problem, abstraction, L_max, segment_safe=opts.segment_safe)
-    box = windows.horizon if windows is not None else 0
-    if not math.isfinite(bfs) or not math.isfinite(box):
-        first = L_max + 1
-    else:
-        first = int(max(bfs, phys, box)) if opts.lower_bound else 0
-    return _Bounds(
-        bfs,
-        phys,
-        box,
-        proved,
-        first,
-        None if windows is None else windows.earliest,
-        None if windows is None else windows.to_go,
-    )
-
-
 def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions, search: str, clock: Clock) -> ConPlan:
     """CON-PLAN as the options ask: ``farkas`` is ``trivial`` generalised."""
     counterexample, generalize = opts.counterexample, opts.generalize
@@ -389,57 +333,6 @@ def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions,
         slack_weights=opts.slack_weights,
         clock=clock,
         split=True if proof else None,
-    )
-
-
-def _with_chains(bounds: _Bounds, chain: ChainBounds | None, L_max: int, counters: dict) -> _Bounds:
-    """``bounds`` raised by the separator chains (when they apply)."""
-    if chain is None:
-        return bounds
-    counters["chain_bound"] = _count(chain.horizon)
-    first = L_max + 1 if math.isinf(chain.horizon) else max(bounds.first, int(chain.horizon))
-    counters["first_horizon"] = first
-    return replace(
-        bounds,
-        first=first,
-        earliest=tuple(max(a, b) for a, b in zip(bounds.earliest, chain.earliest)),
-        to_go=tuple(max(a, b) for a, b in zip(bounds.to_go, chain.to_go)),
-    )
-
-
-def _refuted_by_bounds(
-    problem: ReachProblem, bounds: _Bounds, L_max: int, exact: bool, opts: LazyOptions, counters: dict
-) -> LoopOutcome:
-    """The answer when the bounds alone exceed ``max_horizon``: ``infeasible`` when the
-    proved bound does (or the search is exact), else ``unknown`` (no plan through the
-    abstraction: not a proof)."""
-    proved, bfs, box = bounds.proved, bounds.bfs, bounds.box
-    if proved > L_max:
-        if (bounds.physical if opts.lower_bound else physical_lower_bound(problem)) >= 1 << 30:
-            why = "the dynamics and bounds allow no displacement toward the goal"
-        elif math.isinf(proved):
-            why = (
-                "the goal is not connected to the start in the free space"
-                if math.isinf(bfs)
-                else "no position reaches the goal by bounded displacements through the free space"
-            )
-        else:
-            why = f"every trajectory needs at least {int(proved)} steps (bounded displacement through the free space)"
-        return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why}")
-    if math.isinf(bfs):
-        why = "the goal regions are not connected to the start regions"
-    elif math.isinf(box):
-        why = f"no position in the regions reaches the goal within {L_max} steps of bounded displacement"
-    else:
-        why = f"the region-hop lower bound on the horizon ({bounds.first}) exceeds max_horizon"
-    if exact:
-        how = EXACT_SEGMENTS if opts.segment_safe else EXACT_SAMPLES
-        return LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max}: {why} ({how})")
-    counters["abstraction_refuted"] = L_max
-    return LoopOutcome(
-        ReachStatus.UNKNOWN,
-        L_max,
-        f"no plan through the abstraction up to horizon {L_max}: {why}; {not_a_proof(proved)}",
     )
 
 
@@ -546,51 +439,3 @@ def _count_run(
             segment_undecided=theory.undecided,
         )
         counters["lp_calls"] += theory.lp_calls
-
-
-def _chain_bounds(
-    problem: ReachProblem,
-    abstraction: Abstraction,
-    graph: RegionGraph,
-    transit: TransitCheck | None,
-    path: Sequence[int] | None,
-) -> ChainBounds | None:
-    """The separator chains of :func:`~plansynth.reach.lazy.bounds.separator_bounds` over
-    DIS-PLAN's region graph (beyond the paper), or None when they do
-    not apply: no multi-step displacement table (integrator chains, whose one-step
-    bounds the sweep of :func:`~plansynth.reach.lazy.bounds.time_windows` already
-    uses), or more than :data:`~plansynth.reach.lazy.bounds.SEPARATOR_MAX_REGIONS`
-    regions. The gaps are those of :func:`~plansynth.reach.lazy.bounds.chain_gaps`,
-    raised by the transit layer's LP bound
-    (:meth:`~plansynth.reach.lazy.transit.TransitCheck.first_gap`: every smaller gap
-    refuted by an LP; exact for a leg out of the start at rest) from the start into the
-    guide's first region (``path[1]``; the guide asks for it anyway) and on the legs of
-    the chain that gives the horizon bound, for up to :data:`CHAIN_ROUNDS` rounds
-    (the chain may move to other legs once these are raised). Each is a lower bound on
-    the steps between two samples of a plan through the region graph, as the chains
-    need; the transit layer reuses the LPs. Maze-3 with n = 4 random dynamics: horizon
-    bound 86 where the sweep gives 17 (no plan below 108); with n = 50, 93 (sweep: 22)."""
-    if graph.n_regions > SEPARATOR_MAX_REGIONS:
-        return None
-    base = chain_gaps(problem, abstraction)
-    if base is None:
-        return None
-    refined: dict[tuple[int, int], int] = {}
-
-    def gap(a: int, b: int) -> int:
-        return max(base(a, b), refined.get((a, b), 0))
-
-    if transit is not None and path is not None and len(path) > 1:
-        refined[(START, path[1])] = transit.first_gap(START, path[1])
-    out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
-    for _ in range(CHAIN_ROUNDS if transit is not None else 0):
-        # (start straight to goal, one region holding both: no leg LP, the box gap stands)
-        legs = [
-            (a, b) for a, b in zip(out.critical, out.critical[1:]) if (a, b) not in refined and (a, b) != (START, GOAL)
-        ]
-        if not legs:
-            break
-        for a, b in legs:
-            refined[(a, b)] = transit.first_gap(a, b)
-        out = separator_bounds(graph.adjacency, graph.start_regions, graph.goal_regions, gap)
-    return out

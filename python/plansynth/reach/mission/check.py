@@ -68,42 +68,17 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import shapely
-from shapely.geometry import LineString
-from shapely.geometry import Polygon as ShPolygon
 
-from plansynth.reach.geometry import Box, halfspaces, is_convex
-from plansynth.reach.mission.ltl import (
-    And,
-    Const,
-    Finally,
-    FiniteWord,
-    Formula,
-    Globally,
-    Lasso,
-    Next,
-    Not,
-    Or,
-    Prop,
-    Release,
-    Until,
-    WeakNext,
-    children,
-    holds,
-    holds_at,
-    nnf,
-    parse,
-    robustness,
-    subformulas,
-    unroll,
-)
+from plansynth.reach.mission.failure import failure_reason, first_failure
+from plansynth.reach.mission.ltl import FiniteWord, Lasso, holds, nnf, parse, robustness
+from plansynth.reach.mission.touches import consistent_reading
+from plansynth.reach.mission.word import NEG, Label, trajectory_word
+from plansynth.reach.mission.word import literal_form as _literal_form
 from plansynth.reach.problem import MISSION_ENDS, MISSION_READINGS, ReachProblem
 from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import component_tolerance, row_tolerance
 
 __all__ = ["MissionReport", "can_rest", "check_mission", "consistent_reading", "trajectory_word", "NEG"]
-
-NEG = "!"  # letters hold "a" (a may hold) and "!a" (not a may hold)
 
 
 @dataclass(frozen=True)
@@ -155,146 +130,6 @@ class MissionReport:
         }
 
 
-# --------------------------------------------------------------------------- the labels' margins
-
-
-class _Label:
-    """One label's geometry: its half-planes when convex, shapely's polygon otherwise."""
-
-    def __init__(self, shape) -> None:
-        self.convex = is_convex(shape)
-        if self.convex:
-            self.H, self.h = halfspaces(shape)
-        if isinstance(shape, Box):
-            self.geom = shapely.box(shape.lo[0], shape.lo[1], shape.hi[0], shape.hi[1])
-        else:
-            self.geom = ShPolygon(shape.vertices)
-        shapely.prepare(self.geom)
-
-    def at_points(self, P: np.ndarray) -> np.ndarray:
-        """The margin of ``a`` at each point (that of ``!a`` is its negative)."""
-        if self.convex:
-            return np.min(self.h[None, :] - P @ self.H.T, axis=1)
-        pts = shapely.points(P)
-        d = shapely.distance(self.geom.boundary, pts)
-        inside = shapely.contains(self.geom, pts)
-        return np.where(inside, d, -d)
-
-    def along(self, p: np.ndarray, q: np.ndarray) -> tuple[float, float]:
-        """(the least margin of ``a``, the least margin of ``!a``) along [p, q]."""
-        if np.array_equal(p, q):
-            v = float(self.at_points(p[None, :])[0])
-            return v, -v
-        if self.convex:
-            a = float(min(np.min(self.h - self.H @ p), np.min(self.h - self.H @ q)))
-            return a, _min_of_max(self.H @ p - self.h, self.H @ (q - p))
-        seg = LineString([tuple(p), tuple(q)])
-        P = np.array([p, q])
-        ends = self.at_points(P)
-        inside, boundary = self.geom.covers(seg), self.geom.boundary
-        if inside:
-            a = float(shapely.distance(boundary, seg))
-        else:  # leaves the label: the farthest of the endpoints and of the parts outside
-            out = seg.difference(self.geom)
-            pts = np.array([c for part in shapely.get_parts(out) for c in part.coords] or [p])
-            a = -max(float(np.max(-self.at_points(pts))), 1e-300)
-        if not shapely.relate_pattern(self.geom, seg, "T********"):
-            na = float(shapely.distance(self.geom, seg))
-        else:  # enters its interior: the deepest of the endpoints and of the parts inside
-            part_in = seg.intersection(self.geom)
-            pts = np.array([c for part in shapely.get_parts(part_in) for c in getattr(part, "coords", [])] or [p])
-            mids = (pts[:-1] + pts[1:]) / 2 if len(pts) > 1 else pts
-            na = -max(float(np.max(self.at_points(np.vstack([pts, mids])))), float(np.max(ends)), 1e-300)
-        return a, na
-
-
-def _min_of_max(c: np.ndarray, d: np.ndarray) -> float:
-    """min over s in [0, 1] of max_i (c_i + d_i s): a convex piecewise-linear function,
-    least at an end or where two of its lines cross."""
-    cand = [0.0, 1.0]
-    for i in range(len(c)):
-        for j in range(i + 1, len(c)):
-            if d[i] != d[j]:
-                s = (c[j] - c[i]) / (d[i] - d[j])
-                if 0.0 < s < 1.0:
-                    cand.append(float(s))
-    S = np.array(cand)
-    return float(np.min(np.max(c[None, :] + d[None, :] * S[:, None], axis=1)))
-
-
-def _step_margins(
-    problem: ReachProblem, P: np.ndarray, loop_start: int | None, reading: str, labels: dict[str, _Label]
-) -> list[dict[str, float]]:
-    """Per step of the word, each literal's margin (``"a"`` and ``"!a"``)."""
-    N = len(P) - 1
-    last = N - 1 if loop_start is not None else N
-    out: list[dict[str, float]] = [{} for _ in range(last + 1)]
-    for n, lab in labels.items():
-        if reading == "sample":
-            depth = lab.at_points(P[: last + 1])
-            for t in range(last + 1):
-                out[t][n], out[t][NEG + n] = float(depth[t]), float(-depth[t])
-            continue
-        for t in range(last + 1):
-            if t < N:
-                a, na = lab.along(P[t], P[t + 1])
-            else:
-                d = float(lab.at_points(P[t][None, :])[0])
-                a, na = d, -d
-            out[t][n], out[t][NEG + n] = a, na
-    return out
-
-
-def trajectory_word(
-    problem: ReachProblem,
-    positions: np.ndarray,
-    loop_start: int | None,
-    tol: float = 1e-6,
-    *,
-    reading: str | None = None,
-    labels: dict | None = None,
-) -> tuple[list[frozenset[str]], list[dict[str, float]]]:
-    """The letters (sets of "may hold" literals: ``a`` when its margin is >= the label's
-    margin - tol, ``!a`` likewise) of the trajectory's word in the reading (default: the
-    problem's), and each step's margins. A lasso's word has N letters (position N is
-    position k again). ``labels``: the labels' geometry (name -> ``_Label``), if the
-    caller has built it."""
-    reading = problem.reading if reading is None else reading
-    if labels is None:
-        labels = {n: _Label(s) for n, s in problem.mission_labels.items()}
-    P = np.asarray(positions, float)[:, :2]
-    values = _step_margins(problem, P, loop_start, reading, labels)
-    letters = []
-    for v in values:
-        letter = set()
-        for n in labels:
-            r = problem.label_margin(n)
-            if v[n] >= r - tol:
-                letter.add(n)
-            if v[NEG + n] >= r - tol:
-                letter.add(NEG + n)
-        letters.append(frozenset(letter))
-    return letters, values
-
-
-def _literal_form(f: Formula) -> Formula:
-    """NNF with ``!a`` turned into the proposition "!a" (read off the letters); iterative."""
-    done: dict[Formula, Formula] = {}
-    for g in subformulas(f):
-        if isinstance(g, Not):
-            done[g] = Prop(NEG + g.arg.name)
-        elif not children(g):
-            done[g] = g
-        else:
-            kids = [done[c] for c in children(g)]
-            fields = [getattr(g, k) for k in ("lo", "hi") if hasattr(g, k)]
-            done[g] = type(g)(*fields, *kids)
-    return done[f]
-
-
-# --------------------------------------------------------------------------- the check
-
-
 def check_mission(
     problem: ReachProblem,
     trajectory: Trajectory,
@@ -317,7 +152,7 @@ def check_mission(
     P = problem.position_of(X)
     N = len(X) - 1
     semantics = "finite" if loop_start is None else "lasso"
-    labels = {n: _Label(s) for n, s in problem.mission_labels.items()}  # each label's geometry once
+    labels = {n: Label(s) for n, s in problem.mission_labels.items()}  # each label's geometry once
     margins = {n: problem.label_margin(n) for n in labels}
     shown: tuple[tuple[str, ...], ...] = ()
 
@@ -344,8 +179,8 @@ def check_mission(
     rho = _finite(robustness(formula, valued))
     f = _literal_form(formula)
     if not holds(f, word):  # fails even with every boundary touch read both ways
-        step, lit = _first_failure(f, word, 0)
-        return fail(step, _why(lit, step, reading, P, N, values, margins, labels, loop_start), rho)
+        step, lit = first_failure(f, word, 0)
+        return fail(step, failure_reason(lit, step, reading, P, N, values, margins, labels, loop_start), rho)
     reading_found = consistent_reading(f, word)
     if reading_found is None:
         touched = sorted({t for t, a in enumerate(word.letters) for n in labels if n in a and NEG + n in a})
@@ -384,32 +219,6 @@ def _shown(letters, labels, loop_start: int | None, N: int) -> tuple[tuple[str, 
     return tuple(out[: N + 1])
 
 
-def _why(lit: str | None, step: int, reading: str, P, N: int, values, margins, labels, loop_start) -> str:
-    """The reason a literal fails at a step, from the geometry there."""
-    if lit is None:
-        return "false"
-    if lit.startswith(("never:", "text:")):
-        return lit.split(":", 1)[1]
-    neg = lit.startswith(NEG)
-    name = lit[len(NEG) :] if neg else lit
-    v = values[step]
-    r = margins[name]
-    here = v[lit]
-    start_depth = float(labels[name].at_points(np.asarray(P[step : step + 1], float)[:, :2])[0])
-    segment = reading == "segment" and step < N
-    if neg:
-        if here > -1e-9 and r > 0:
-            return f"within the margin {r:g} of label {name} (distance {here:.3g})"
-        if segment and start_depth <= 0:
-            return f"segment {step} crosses into label {name}"
-        return f"in label {name}"
-    if here > -1e-9 and r > 0:
-        return f"in label {name} at depth {here:.3g}, below its margin {r:g}"
-    if segment and start_depth >= 0:
-        return f"segment {step} crosses out of label {name}"
-    return f"not in label {name}"
-
-
 def can_rest(problem: ReachProblem, x: np.ndarray, tol: float = 1e-6) -> bool:
     """Some input u with |u|_inf <= the bound keeps the state x where it is:
     each row of x - (A x + B u) within tol max(1, sum_j |A_ij x_j| + sum_j |B_ij u_j|)
@@ -431,219 +240,6 @@ def can_rest(problem: ReachProblem, x: np.ndarray, tol: float = 1e-6) -> bool:
     u = np.linalg.lstsq(B, r, rcond=None)[0] if B.shape[1] else np.zeros(0)
     fits = bool(np.all(np.abs(B @ u - r) <= row_tolerance(A, B, x, u, tol)))
     return fits and (not u.size or float(np.max(np.abs(u))) <= problem.input_bound + tol)
-
-
-def consistent_reading(f: Formula, word: Lasso | FiniteWord) -> Lasso | FiniteWord | None:
-    """A consistent reading of the "may hold" word that satisfies ``f`` (NNF, with
-    ``!a`` as the proposition "!a", as :func:`_literal_form` writes it), or None when
-    there is none. A reading keeps, at each position, exactly one of ``a`` and ``!a``
-    for every label the letter has both of (and the letter's other literals); the
-    result's letters are those readings, so :func:`holds` can confirm it.
-
-    No ambiguous letter: the word itself (when f holds on it). Otherwise the two uniform
-    readings (every touch in, every touch out), then SAT over one variable per
-    ambiguous (position, label), on the formula with its bounded operators unrolled:
-    each subformula gets one literal per position, defined by exact (two-sided) Tseitin
-    gates; ``a U b`` on a loop position i is ``OR_j (b_{i+j} & a_i & ... & a_{i+j-1})``
-    over one turn of the loop (a witness that exists lies within one turn), on a prefix
-    position ``b_i | (a_i & (a U b)_{i+1})``, past the end of a finite word false;
-    ``a R b`` is ``!(!a U !b)``, ``F`` and ``G`` are ``U`` and ``R`` with a constant; ``X``
-    is false past the end of a finite word, its weak dual true.
-
-    >>> w = Lasso((), (frozenset({"a", "!a"}),))   # the robot rests on a's boundary
-    >>> consistent_reading(_literal_form(nnf(parse("F a & G !a"))), w) is None
-    True
-    >>> consistent_reading(_literal_form(nnf(parse("F a"))), w).loop
-    (frozenset({'a'}),)
-    """
-    letters = word.letters
-    ambiguous = sorted(
-        {(i, n[len(NEG) :]) for i, a in enumerate(letters) for n in a if n.startswith(NEG) and n[len(NEG) :] in a}
-    )
-    if not ambiguous:
-        return word if holds(f, word) else None
-    finite = isinstance(word, FiniteWord)
-
-    def reading(value) -> Lasso | FiniteWord:
-        out = [set(a) for a in letters]
-        for i, n in ambiguous:
-            out[i].discard(NEG + n if value(i, n) else n)
-        if finite:
-            return FiniteWord(tuple(out))
-        k = len(word.prefix)
-        return Lasso(tuple(out[:k]), tuple(out[k:]))
-
-    for uniform in (True, False):
-        w = reading(lambda i, n, u=uniform: u)
-        if holds(f, w):
-            return w
-    from pysat.solvers import Solver
-
-    n_pos = len(letters)
-    k = n_pos if finite else len(word.prefix)
-    m = n_pos - k
-    TRUE = 1
-    clauses: list[list[int]] = [[TRUE]]
-    top = [TRUE]
-
-    def new() -> int:
-        top[0] += 1
-        return top[0]
-
-    var = {key: new() for key in ambiguous}
-
-    def gate(xs: list[int], conj: bool) -> int:
-        xs = [x for x in xs if x != (TRUE if conj else -TRUE)]
-        if (-TRUE if conj else TRUE) in xs:
-            return -TRUE if conj else TRUE
-        if not xs:
-            return TRUE if conj else -TRUE
-        if len(xs) == 1:
-            return xs[0]
-        v = new()
-        s = 1 if conj else -1  # conj: v -> x for all x, (all x) -> v; disj: the dual
-        clauses.extend([-s * v, s * x] for x in xs)
-        clauses.append([s * v] + [-s * x for x in xs])
-        return v
-
-    def until(a: list[int], b: list[int]) -> list[int]:
-        out = [0] * n_pos
-        for i in range(k, n_pos):
-            terms, chain = [], TRUE
-            for j in range(m):
-                p = k + (i - k + j) % m
-                terms.append(gate([chain, b[p]], True))
-                chain = gate([chain, a[p]], True)
-            out[i] = gate(terms, False)
-        for i in range(k - 1, -1, -1):
-            later = out[i + 1] if i + 1 < n_pos else -TRUE  # past a finite word's end: no witness
-            out[i] = gate([b[i], gate([a[i], later], True)], False)
-        return out
-
-    enc: dict[Formula, list[int]] = {}
-    for g in subformulas(unroll(f)):
-        if isinstance(g, Const):
-            v = [TRUE if g.value else -TRUE] * n_pos
-        elif isinstance(g, Prop):
-            neg = g.name.startswith(NEG)
-            name = g.name[len(NEG) :] if neg else g.name
-            v = []
-            for i, a in enumerate(letters):
-                lit = var[(i, name)] if (i, name) in var else (TRUE if g.name in a else -TRUE)
-                v.append(-lit if neg and (i, name) in var else lit)
-        elif isinstance(g, (And, Or)):
-            v = [gate([x, y], isinstance(g, And)) for x, y in zip(enc[g.left], enc[g.right])]
-        elif isinstance(g, (Next, WeakNext)):
-            a = enc[g.arg]
-            past = -TRUE if isinstance(g, Next) else TRUE
-            v = [past if word.successor(i) is None else a[word.successor(i)] for i in range(n_pos)]
-        elif isinstance(g, (Finally, Until)):
-            a = [TRUE] * n_pos if isinstance(g, Finally) else enc[g.left]
-            v = until(a, enc[g.arg if isinstance(g, Finally) else g.right])
-        elif isinstance(g, (Globally, Release)):
-            a = [-TRUE] * n_pos if isinstance(g, Globally) else enc[g.left]
-            b = enc[g.arg if isinstance(g, Globally) else g.right]
-            v = [-x for x in until([-x for x in a], [-x for x in b])]
-        else:
-            raise TypeError(f"not in negation normal form: {type(g).__name__}")
-        enc[g] = v
-    clauses.append([enc[unroll(f)][0]])
-    with Solver(name="cadical195", bootstrap_with=clauses) as solver:
-        if not solver.solve():
-            return None
-        model = set(solver.get_model())
-    return reading(lambda i, n: var[(i, n)] in model)
-
-
-def _first_failure(f: Formula, word: Lasso | FiniteWord, i: int) -> tuple[int, str | None]:
-    """(the step where the descent from f at position i ends, the failing literal there,
-    or ``"never:<text>"`` / ``"text:<text>"`` for a reason that is no literal). A
-    disjunction fails where the last of its disjuncts fails. Iterative (explicit frames
-    for the disjunctions)."""
-    n = len(word.letters)
-    memo: dict[Formula, list[bool]] = {}
-
-    def val(g: Formula) -> list[bool]:
-        if g not in memo:
-            memo[g] = holds_at(g, word)
-        return memo[g]
-
-    def descend(g: Formula, i: int) -> tuple[int, str | None] | tuple[Formula, int, None]:
-        """Down to a result, or to a disjunction (returned as (g, i, None))."""
-        while True:
-            if isinstance(g, Const):
-                return i, None
-            if isinstance(g, Prop):
-                return i, g.name
-            if isinstance(g, Or):
-                return g, i, None
-            if isinstance(g, And):
-                g = g.left if not val(g.left)[i] else g.right
-                continue
-            if isinstance(g, (Next, WeakNext)):
-                j = word.successor(i)
-                if j is None:
-                    return i, f"text:{g} needs a step after the last"
-                g, i = g.arg, j
-                continue
-            if isinstance(g, (Globally, Release)):
-                b = g.arg if isinstance(g, Globally) else g.right
-                vb = val(b)
-                j, seen = i, set()
-                while j is not None and j not in seen and vb[j]:
-                    seen.add(j)
-                    j = word.successor(j)
-                if j is None or vb[j]:  # pragma: no cover - R fails only where b fails
-                    return i, f"text:{g} fails"
-                g, i = b, j
-                continue
-            if isinstance(g, (Finally, Until)):
-                b = g.arg if isinstance(g, Finally) else g.right
-                va = [True] * n if isinstance(g, Finally) else val(g.left)
-                j, seen = i, set()
-                while j is not None and j not in seen and va[j]:
-                    seen.add(j)
-                    j = word.successor(j)
-                if j is not None and not va[j]:
-                    g, i = g.left, j
-                    continue
-                if j is None:
-                    return n - 1, f"never:{b} never holds (the plan ends at step {n - 1})"
-                return len(
-                    word.prefix
-                ), f"never:{b} never holds (checked through the loop from step {len(word.prefix)})"
-            u = unroll(g)  # a bounded operator: its unrolling names the step
-            if u is g:  # pragma: no cover - only bounded operators are left
-                raise TypeError(f"not in negation normal form: {type(g).__name__}")
-            g = u
-
-    frames: list[list] = []  # [pending (disjunct, position) pairs, best result so far]
-    todo: tuple[Formula, int] = (f, i)
-    while True:
-        got = descend(*todo)
-        if got[-1] is None and isinstance(got[0], Or):
-            g, at, _ = got
-            parts, stack = [], [g]
-            while stack:  # the disjuncts of a chain of | (iteratively)
-                h = stack.pop()
-                if isinstance(h, Or):
-                    stack += [h.right, h.left]
-                else:
-                    parts.append(h)
-            frames.append([[(d, at) for d in reversed(parts[1:])], None])
-            todo = (parts[0], at)
-            continue
-        result = got
-        while frames:
-            frame = frames[-1]
-            frame[1] = result if frame[1] is None else max(frame[1], result, key=lambda x: x[0])
-            if frame[0]:
-                todo = frame[0].pop()
-                break
-            frames.pop()
-            result = frame[1]
-        else:
-            return result  # type: ignore[return-value]
 
 
 def validate_mission_file(

@@ -1,35 +1,14 @@
 """The joint CON-PLAN: the LP of a team plan, its counterexamples, and the engagement of
 pair steps (Shoukry et al., CDC 2016, Section V, for the robots; the SMC encoding of
-separation, CDC 2017, Section IV, for the pairs).
-
-For a :class:`~plansynth.reach.team.plans.TeamPlan` of horizon L the LP has, per robot,
-its states x_0..x_L and inputs u_0..u_{L-1} (x_0 the start, the inputs within the
-bound, the states within the state bounds and the robot's workspace), the dynamics, its
-regions at every sample and along every segment (the region of step t holds x_{t+1}
-too), its goal at L (a convex shape, or a point), and, when the robot must end where it
-can stay (``stop``, or a mission read on a finite plan), ``x_L = A x_L + B w`` for an
-admissible input w. Per engaged pair step (i, j, t) with side k:
-``A_k (p_i - p_j) >= b_k`` at samples t and t + 1 (relative motion within a step is
-linear, so the side holds along the step); per engaged robot-obstacle step, the same
-with the obstacle's known position at t, at every waypoint time inside the step (the
-robot's position there interpolated from its two samples) and at t + 1.
+separation, CDC 2017, Section IV, for the pairs). The LP of one component is
+:mod:`plansynth.reach.team.component_lp`, the counterexample of an infeasible one
+:mod:`plansynth.reach.team.counterexample`; this module is the checker that runs them.
 
 **Components.** Robots that no engaged pair step links have independent LPs: the plan's
 LP splits into one per component of the graph of engaged pairs, each solved on its own
 (a singleton's LP is the single-robot CON-PLAN), and a counterexample names the robots
 of its component only. Feasible component LPs are kept by their constraints, so that a
 robot whose part of the plan did not change is not solved again.
-
-**Counterexamples.** An infeasible component LP gives a Farkas certificate (HiGHS's dual
-ray), checked here in floating point: with ``d = A^T y``, the values ``y^T (A x)`` allows
-by the row bounds and ``d^T x`` allows by the column bounds must be disjoint intervals
-(coefficients below 1e-10 of the scale count as rounding). Its rows give the literals of
-the :class:`~plansynth.reach.team.plans.TeamConflict` (region rows: the robot, step and
-region; side rows: the pair, step and side) and its flags (goal and end-state rows:
-``goal``; moving-obstacle rows: ``timed``; the start columns, when the certificate fails
-without them: ``start``). Without a checked certificate the conflict is the whole
-component's plan at this horizon, marked uncertified (the planner then claims no
-infeasibility).
 
 **Engagement.** When every component is feasible, each pair step and robot-obstacle
 step that DIS-PLAN did not decide is checked on the trajectories: if no side holds at
@@ -40,19 +19,18 @@ is the answer (every step keeps a side: a plan of the full encoding).
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import highspy
 import numpy as np
 
-from plansynth.budget import BudgetExhausted, Clock
-from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.budget import Clock
 from plansynth.reach.lazy.conflict import Feasible
-from plansynth.reach.lazy.conplan.runs import LpFailure
+from plansynth.reach.team.component_lp import ComponentLp
+from plansynth.reach.team.component_lp import bend_fractions as _bend_fractions
+from plansynth.reach.team.counterexample import component_conflict
 from plansynth.reach.team.geometry import Facets
 from plansynth.reach.team.plans import Engage, TeamConflict, TeamPlan
 from plansynth.reach.team.problem import TeamProblem
@@ -60,14 +38,10 @@ from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["RobotModel", "TeamConPlan", "ENGAGE_AROUND"]
 
-INF = highspy.kHighsInf
-DYN, REG, GOAL, SIDE, MOVE = range(5)
 #: steps engaged on each side of a step where a pair breaks the separation
 ENGAGE_AROUND = 1
 #: a side "holds" when its margin is at least -this times the workspace's size
 HOLD_TOL = 1e-9
-#: the deletion filter runs on conflicts of at most this many literals
-MINIMIZE_MAX_LITERALS = 24
 
 
 @dataclass(frozen=True, eq=False)
@@ -218,7 +192,7 @@ class TeamConPlan:
         if hit is not None:
             self.stats.cached += 1
             return dict(zip(comp, hit))  # type: ignore[arg-type]
-        lp = _ComponentLp(self, plan, comp, dict(sides), dict(msides))
+        lp = ComponentLp(self, plan, comp, dict(sides), dict(msides))
         t0 = time.perf_counter()
         try:
             status, x, ray = lp.solve(self.clock)
@@ -227,7 +201,7 @@ class TeamConPlan:
                 self._cache[key] = tuple(out[r] for r in comp)  # type: ignore[assignment]
                 return out
             self.stats.infeasible += 1
-            conflict = lp.conflict(ray)
+            conflict = component_conflict(lp, ray)
             if self.elastic and (sides or msides):
                 guess = lp.elastic()
                 if guess is not None:
@@ -310,12 +284,6 @@ class TeamConPlan:
         return out
 
 
-def _bend_fractions(problem: TeamProblem, o: int, t: int) -> tuple[float, ...]:
-    """Where, as fractions of step t, moving obstacle o passes a waypoint."""
-    t0, t1 = problem.time_of(t), problem.time_of(t + 1)
-    return tuple((b - t0) / (t1 - t0) for b in problem.moving_obstacles[o].bends(t0, t1))
-
-
 def _components(n: int, plan: TeamPlan) -> list[tuple[int, ...]]:
     """The robots linked by the plan's engaged pair steps (union-find)."""
     parent = list(range(n))
@@ -334,463 +302,3 @@ def _components(n: int, plan: TeamPlan) -> list[tuple[int, ...]]:
     for r in range(n):
         groups.setdefault(find(r), []).append(r)
     return [tuple(g) for g in groups.values()]
-
-
-class _ComponentLp:
-    """The LP of one component (robots ``comp``) of a plan, its rows labelled with
-    the literals and flags a certificate maps back to."""
-
-    def __init__(self, owner: TeamConPlan, plan: TeamPlan, comp: tuple[int, ...], sides: dict, msides: dict) -> None:
-        self.owner, self.plan, self.comp = owner, plan, comp
-        self.sides, self.msides = sides, msides
-        L = plan.horizon
-        self.L = L
-        self.base: dict[int, int] = {}
-        ncol = 0
-        for r in comp:
-            self.base[r] = ncol
-            ncol += owner.models[r].columns(L)
-        self.ncol = ncol
-        self.rows = Rows()
-        self.kind: list[np.ndarray] = []
-        self.lit: list[np.ndarray] = []
-        self.t_lo: list[np.ndarray] = []
-        self.t_hi: list[np.ndarray] = []
-        self.literals: list[tuple] = []
-        for r in comp:
-            self._robot(r)
-        self._sides(sides)
-        for (r, o, t), k in msides.items():
-            self._mside(r, o, t, k)
-        self.n_effort = 0
-        if owner.objective == "effort":
-            self._effort()
-
-    # columns
-    def x(self, r: int, t: int) -> int:
-        return self.base[r] + t * self.owner.models[r].n
-
-    def u(self, r: int, t: int) -> int:
-        m = self.owner.models[r]
-        return self.base[r] + (self.L + 1) * m.n + t * m.m
-
-    def w(self, r: int) -> int:
-        m = self.owner.models[r]
-        return self.base[r] + (self.L + 1) * m.n + self.L * m.m
-
-    def _meta(self, count: int, kind: int, lit: tuple | None, t_lo: int, t_hi: int) -> None:
-        if lit is None:
-            idx = -1
-        else:
-            idx = len(self.literals)
-            self.literals.append(lit)
-        self.kind.append(np.full(count, kind))
-        self.lit.append(np.full(count, idx))
-        self.t_lo.append(np.full(count, t_lo))
-        self.t_hi.append(np.full(count, t_hi))
-
-    def _add(self, R, C, V, lo, hi, kind, lit, t_lo, t_hi) -> None:  # noqa: ANN001 - arrays
-        self.rows.add(R, C, V, lo, hi)
-        self._meta(len(lo), kind, lit, t_lo, t_hi)
-
-    def _block(self, R, C, V, lo, hi, kind, lits, t_lo, t_hi) -> None:  # noqa: ANN001 - arrays
-        """Many rows at once: ``lits``, ``t_lo``, ``t_hi`` per row (``lits`` indices into
-        :attr:`literals`, -1: none)."""
-        self.rows.add(R, C, V, lo, hi)
-        self.kind.append(np.full(len(lo), kind))
-        self.lit.append(np.asarray(lits))
-        self.t_lo.append(np.asarray(t_lo))
-        self.t_hi.append(np.asarray(t_hi))
-
-    def _robot(self, r: int) -> None:
-        m, L = self.owner.models[r], self.L
-        n = m.n
-        ai, bi = np.nonzero(m.A)
-        av = m.A[ai, bi]
-        ci, di = np.nonzero(m.B)
-        cv = m.B[ci, di]
-        if L:  # x_{t+1} - A x_t - B u_t = 0, every step at once
-            t = np.arange(L)
-            R = np.concatenate(
-                [np.add.outer(t * n, np.arange(n)), np.add.outer(t * n, ai), np.add.outer(t * n, ci)], axis=1
-            )
-            C = np.concatenate(
-                [
-                    np.add.outer(self.x(r, 0) + (t + 1) * n, np.arange(n)),
-                    np.add.outer(self.x(r, 0) + t * n, bi),
-                    np.add.outer(self.u(r, 0) + t * m.m, di),
-                ],
-                axis=1,
-            )
-            V = np.tile(np.concatenate([np.ones(n), -av, -cv]), L)
-            rows = L * n
-            self._block(
-                R.ravel(),
-                C.ravel(),
-                V,
-                np.zeros(rows),
-                np.zeros(rows),
-                DYN,
-                np.full(rows, -1),
-                np.repeat(t, n),
-                np.repeat(t + 1, n),
-            )
-        pos = np.asarray(m.pos)
-        d = len(pos)
-        regions = self.plan.regions[r]
-        base_idx = len(self.literals)
-        self.literals.extend(("at", r, t, regions[t]) for t in range(L + 1))
-        # blocks: (t, sample) for every sample, and (t, t + 1) for every segment's end
-        bt = np.concatenate([np.arange(L + 1), np.arange(L)])
-        btt = np.concatenate([np.arange(L + 1), np.arange(1, L + 1)])
-        Hs = [m.regions[regions[t]] for t in bt]
-        K = np.array([H.shape[0] for H, _ in Hs])
-        starts = np.concatenate([[0], np.cumsum(K)[:-1]])
-        count = int(K.sum())
-        row_of = np.repeat(starts, K) + np.concatenate([np.arange(k) for k in K])
-        R = np.repeat(row_of, d)
-        C = (np.repeat(self.x(r, 0) + btt * n, K * d) + np.tile(pos, count)).astype(np.int64)
-        V = np.concatenate([H.ravel() for H, _ in Hs])
-        hi = np.concatenate([h for _, h in Hs])
-        self._block(
-            R, C, V, np.full(count, -INF), hi, REG, np.repeat(base_idx + bt, K), np.repeat(bt, K), np.repeat(btt, K)
-        )
-        if m.goal is not None:
-            if m.goal[0] == "point":
-                p = np.asarray(m.goal[1], float)
-                self._add(np.arange(d), self.x(r, L) + pos, np.ones(d), p, p, GOAL, None, L, L)
-            else:
-                H, h = m.goal[1], m.goal[2]
-                K = H.shape[0]
-                self._add(
-                    np.repeat(np.arange(K), d),
-                    np.tile(self.x(r, L) + pos, K),
-                    H.ravel(),
-                    np.full(K, -INF),
-                    h,
-                    GOAL,
-                    None,
-                    L,
-                    L,
-                )
-        if m.rest:  # (I - A) x_L - B w = 0
-            I_A = np.eye(n) - m.A
-            ei, ej = np.nonzero(I_A)
-            R = np.concatenate([ei, ci])
-            C = np.concatenate([self.x(r, L) + ej, self.w(r) + di])
-            V = np.concatenate([I_A[ei, ej], -cv])
-            self._add(R, C, V, np.zeros(n), np.zeros(n), GOAL, None, L, L)
-
-    def _effort(self) -> None:
-        """Columns e >= |u| (one per input and step), the LP minimising their sum."""
-        first = self.ncol
-        for r in self.comp:
-            m = self.owner.models[r]
-            for t in range(self.L):
-                for j in range(m.m):
-                    e, u = self.ncol, self.u(r, t) + j
-                    self.ncol += 1
-                    R = np.array([0, 0, 1, 1])
-                    self._add(
-                        R,
-                        np.array([e, u, e, u]),
-                        np.array([1.0, -1.0, 1.0, 1.0]),
-                        np.zeros(2),
-                        np.full(2, INF),
-                        DYN,
-                        None,
-                        t,
-                        t + 1,
-                    )
-        self.n_effort = self.ncol - first
-
-    def _sides(self, sides: dict) -> None:
-        """The rows of every engaged pair step: ``A_k (p_i - p_j) >= b_k`` at t and t + 1."""
-        if not sides:
-            return
-        owner = self.owner
-        Rs, Cs, Vs, lo, lits, tl = [], [], [], [], [], []
-        row = 0
-        for (i, j, t), k in sides.items():
-            f = owner.pair_facets[(i, j)]
-            a = f.A[k]
-            d = len(a)
-            pi = np.asarray(owner.models[i].pos)
-            pj = np.asarray(owner.models[j].pos)
-            idx = len(self.literals)
-            self.literals.append(("side", i, j, t, k))
-            for tt in (t, t + 1):
-                Rs.append(np.full(2 * d, row))
-                Cs.append(np.concatenate([self.x(i, tt) + pi, self.x(j, tt) + pj]))
-                Vs.append(np.concatenate([a, -a]))
-                lo.append(f.b[k])
-                lits.append(idx)
-                tl.append(t)
-                row += 1
-        self._block(
-            np.concatenate(Rs),
-            np.concatenate(Cs),
-            np.concatenate(Vs),
-            np.asarray(lo, float),
-            np.full(row, INF),
-            SIDE,
-            np.asarray(lits),
-            np.asarray(tl),
-            np.asarray(tl) + 1,
-        )
-
-    def _mside(self, r: int, o: int, t: int, k: int) -> None:
-        owner = self.owner
-        f = owner.obstacle_facets[(r, o)]
-        a, b = f.A[k], f.b[k]
-        pos = np.asarray(owner.models[r].pos)
-        ob = owner.problem.moving_obstacles[o]
-        lit = ("mside", r, o, t, k)
-        d = len(a)
-        for lam in (0.0, *_bend_fractions(owner.problem, o, t), 1.0):
-            c = ob.position(owner.problem.time_of(t + lam))
-            rhs = b + float(a @ c)
-            if lam == 0.0 or lam == 1.0:
-                C = self.x(r, t + int(lam)) + pos
-                self._add(np.zeros(d, dtype=int), C, a, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
-            else:
-                C = np.concatenate([self.x(r, t) + pos, self.x(r, t + 1) + pos])
-                V = np.concatenate([(1 - lam) * a, lam * a])
-                self._add(np.zeros(2 * d, dtype=int), C, V, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
-
-    # bounds
-    def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
-        lo = np.empty(self.ncol)
-        hi = np.empty(self.ncol)
-        L = self.L
-        for r in self.comp:
-            m = self.owner.models[r]
-            b = self.base[r]
-            lo[b : b + (L + 1) * m.n] = np.tile(m.x_lo, L + 1)
-            hi[b : b + (L + 1) * m.n] = np.tile(m.x_hi, L + 1)
-            if start:
-                lo[b : b + m.n] = m.start
-                hi[b : b + m.n] = m.start
-            e = b + m.columns(L)
-            lo[b + (L + 1) * m.n : e] = -m.u_bound
-            hi[b + (L + 1) * m.n : e] = m.u_bound
-        if self.n_effort:
-            lo[self.ncol - self.n_effort :] = 0.0
-            hi[self.ncol - self.n_effort :] = INF
-        return np.where(np.isfinite(lo), lo, -INF), np.where(np.isfinite(hi), hi, INF)
-
-    def start_columns(self) -> np.ndarray:
-        return np.concatenate([self.x(r, 0) + np.arange(self.owner.models[r].n) for r in self.comp])
-
-    def solve(self, clock: Clock) -> tuple[str, np.ndarray | None, np.ndarray | None]:
-        R, C, V = self.rows.coo()
-        rlo, rhi = self.rows.bounds()
-        clo, chi = self.col_bounds()
-        self.coo = (R, C, V)
-        self.rb = (rlo, rhi)
-        self.cb = (clo, chi)
-        cost = np.zeros(self.ncol)
-        cost[self.ncol - self.n_effort :] = 1.0 if self.n_effort else 0.0
-        lp = csc_lp(self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
-        self.clock = clock
-        self.h = new_highs(presolve="off")
-        self.h.passModel(lp)
-        return self._run()
-
-    def _run(self) -> tuple[str, np.ndarray | None, np.ndarray | None]:
-        left = self.clock.remaining()
-        if left <= 0:
-            raise BudgetExhausted("the joint CON-PLAN", "time")
-        if not math.isinf(left):
-            self.h.setOptionValue("time_limit", max(left, 0.01))
-        self.h.run()
-        self.owner.stats.lp_calls += 1
-        st = self.h.getModelStatus()
-        if st == highspy.HighsModelStatus.kOptimal:
-            return "feasible", np.asarray(self.h.getSolution().col_value, float), None
-        if st == highspy.HighsModelStatus.kTimeLimit:
-            raise BudgetExhausted("the joint CON-PLAN", "time")
-        if st in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            _, has_ray, ray = self.h.getDualRay()
-            return "infeasible", None, np.asarray(ray, float) if has_ray else None
-        raise LpFailure(f"HiGHS answered {self.h.modelStatusToString(st)} on a joint CON-PLAN LP")
-
-    def split(self, x: np.ndarray) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-        out = {}
-        L = self.L
-        for r in self.comp:
-            m = self.owner.models[r]
-            X = x[self.x(r, 0) : self.x(r, 0) + (L + 1) * m.n].reshape(L + 1, m.n)
-            U = x[self.u(r, 0) : self.u(r, 0) + L * m.m].reshape(L, m.m)
-            X = X.copy()
-            X[0] = m.start  # exactly the start (the column is fixed)
-            out[r] = (X, U)
-        return out
-
-    def elastic(self) -> dict[int, tuple[np.ndarray, np.ndarray]] | None:
-        """The trajectories of the LP whose side rows may be broken at a cost (the sum
-        of how far each is broken): a guess at the sides to try next, or None when the
-        other rows alone are infeasible."""
-        kind = np.concatenate(self.kind)
-        soft = np.flatnonzero((kind == SIDE) | (kind == MOVE))
-        R, C, V = self.coo
-        n = self.ncol + len(soft)
-        R2 = np.concatenate([R, soft])
-        C2 = np.concatenate([C, self.ncol + np.arange(len(soft))])
-        V2 = np.concatenate([V, np.ones(len(soft))])
-        clo = np.concatenate([self.cb[0], np.zeros(len(soft))])
-        chi = np.concatenate([self.cb[1], np.full(len(soft), INF)])
-        cost = np.zeros(n)
-        cost[self.ncol :] = 1.0
-        lp = csc_lp(n, self.rows.n_row, R2, C2, V2, cost, clo, chi, *self.rb)
-        h = new_highs(presolve="off")
-        left = self.clock.remaining()
-        if not math.isinf(left):
-            h.setOptionValue("time_limit", max(left, 0.01))
-        h.passModel(lp)
-        h.run()
-        self.owner.stats.lp_calls += 1
-        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
-            return None
-        return self.split(np.asarray(h.getSolution().col_value, float)[: self.ncol])
-
-    # certificates
-    def _certifies(self, y: np.ndarray, rb: tuple, cb: tuple) -> bool:
-        """Does the ray ``y`` prove the LP with row bounds ``rb`` and column bounds ``cb``
-        infeasible? (the interval test of the module docstring)"""
-        R, C, V = self.coo
-        rlo, rhi = rb
-        clo, chi = cb
-        d = np.bincount(C, weights=V * y[R], minlength=self.ncol)
-        scale = float(np.sum(np.abs(y) * np.bincount(R, weights=np.abs(V), minlength=len(y)))) or 1.0
-        d[np.abs(d) <= 1e-10 * scale] = 0.0
-        nz = y != 0
-        yr, lo_r, hi_r = y[nz], rlo[nz], rhi[nz]
-        with np.errstate(invalid="ignore"):
-            row_min = float(np.sum(np.where(yr > 0, yr * lo_r, yr * hi_r)))
-            row_max = float(np.sum(np.where(yr > 0, yr * hi_r, yr * lo_r)))
-            dn = d != 0
-            dc, lo_c, hi_c = d[dn], clo[dn], chi[dn]
-            col_min = float(np.sum(np.where(dc > 0, dc * lo_c, dc * hi_c)))
-            col_max = float(np.sum(np.where(dc > 0, dc * hi_c, dc * lo_c)))
-        vals = (row_min, row_max, col_min, col_max)
-        if any(math.isnan(v) for v in vals):
-            return False
-        margin = 1e-7 * (1.0 + max((abs(v) for v in vals if math.isfinite(v)), default=0.0))
-        return col_max + margin < row_min or row_max + margin < col_min
-
-    def _ray_support(self, ray: np.ndarray | None, rb: tuple, cb: tuple) -> np.ndarray | None:
-        """The ray, its negligible entries dropped when it still certifies, or None
-        when it does not certify."""
-        if ray is None or len(ray) != self.rows.n_row:
-            return None
-        big = float(np.max(np.abs(ray))) if ray.size else 0.0
-        if big == 0.0:
-            return None
-        y = np.where(np.abs(ray) <= 1e-9 * big, 0.0, ray)
-        if self._certifies(y, rb, cb):
-            return y
-        return ray if self._certifies(ray, rb, cb) else None
-
-    def conflict(self, ray: np.ndarray | None) -> TeamConflict:
-        """The counterexample of the infeasible LP (see the module docstring): the
-        literals and flags of the certificate's support, shrunk by a deletion filter
-        (each literal, the goal rows and the start dropped in turn when the LP stays
-        infeasible without them), and the final certificate checked."""
-        kind = np.concatenate(self.kind)
-        lit = np.concatenate(self.lit)
-        t_lo, t_hi = np.concatenate(self.t_lo), np.concatenate(self.t_hi)
-        y = self._ray_support(ray, self.rb, self.cb)
-        if y is None:
-            return self._trivial()
-        groups: dict[tuple, list[int]] = {}
-        for row in np.flatnonzero(lit >= 0):
-            groups.setdefault(self.literals[lit[row]], []).append(int(row))
-        goal_rows = np.flatnonzero(kind == GOAL)
-        sup = np.flatnonzero(y)
-        keep = {self.literals[i] for i in lit[sup] if i >= 0}
-        use_goal = bool(np.any(kind[sup] == GOAL))
-        # the LP with only the support's literals (and the goal rows when used)
-        rlo, rhi = self.rb[0].copy(), self.rb[1].copy()
-        free = [r for key, rows in groups.items() if key not in keep for r in rows]
-        if not use_goal:
-            free += goal_rows.tolist()
-        rlo[free], rhi[free] = -INF, INF
-        clo, chi = self.cb[0].copy(), self.cb[1].copy()
-        order = sorted(keep, key=lambda k: (k[0] != "at", k))
-        # a conflict of one or two literals is small already: only its anchors are tried
-        candidates: list = (["goal"] if use_goal else []) + (order if len(keep) > 2 else []) + ["start"]
-        if len(keep) <= MINIMIZE_MAX_LITERALS:
-            self._set_bounds(rlo, rhi, clo, chi)
-            for c in candidates:
-                if (c == "goal" and not use_goal) or (c not in ("goal", "start") and c not in keep):
-                    continue
-                if c == "start":
-                    cols = self.start_columns()
-                    relaxed = self.col_bounds(start=False)
-                    c2, h2 = clo.copy(), chi.copy()
-                    c2[cols], h2[cols] = relaxed[0][cols], relaxed[1][cols]
-                    if self._certifies(y, (rlo, rhi), (c2, h2)):
-                        clo, chi = c2, h2
-                        continue
-                trial = (rlo.copy(), rhi.copy(), clo.copy(), chi.copy())
-                rows = goal_rows if c == "goal" else None if c == "start" else np.asarray(groups[c])
-                if rows is not None:
-                    trial[0][rows], trial[1][rows] = -INF, INF
-                else:
-                    cols = self.start_columns()
-                    relaxed = self.col_bounds(start=False)
-                    trial[2][cols], trial[3][cols] = relaxed[0][cols], relaxed[1][cols]
-                self._set_bounds(*trial)
-                status, _, trial_ray = self._run()
-                if status == "infeasible":
-                    rlo, rhi, clo, chi = trial
-                    if c == "goal":
-                        use_goal = False
-                    elif c != "start":
-                        keep.discard(c)
-                    y_new = self._ray_support(trial_ray, (rlo, rhi), (clo, chi))
-                    if y_new is not None:  # what the new certificate does not use goes too
-                        y = y_new
-                        used = {self.literals[i] for i in lit[np.flatnonzero(y)] if i >= 0}
-                        for gone in keep - used:
-                            rows = np.asarray(groups[gone])
-                            rlo[rows], rhi[rows] = -INF, INF
-                        keep &= used
-                        if use_goal and not np.any(kind[np.flatnonzero(y)] == GOAL):
-                            rlo[goal_rows], rhi[goal_rows] = -INF, INF
-                            use_goal = False
-            self._set_bounds(rlo, rhi, clo, chi)
-        final = self._ray_support(y, (rlo, rhi), (clo, chi))
-        if final is None:  # the filtered LP's last ray did not check: keep the first certificate
-            final = self._ray_support(ray, self.rb, self.cb)
-            if final is None:
-                return self._trivial()
-            rlo, rhi = self.rb
-            clo, chi = self.cb
-        sup = np.flatnonzero(final)
-        lits = {self.literals[i] for i in lit[sup] if i >= 0}
-        start_cols = self.start_columns()
-        relaxed = self.col_bounds(start=False)
-        clo2, chi2 = clo.copy(), chi.copy()
-        clo2[start_cols], chi2[start_cols] = relaxed[0][start_cols], relaxed[1][start_cols]
-        return TeamConflict(
-            tuple(lits),
-            start=not self._certifies(final, (rlo, rhi), (clo2, chi2)),
-            goal=bool(np.any(kind[sup] == GOAL)),
-            timed=bool(np.any(kind[sup] == MOVE)),
-            horizon=self.L,
-            first_time=int(t_lo[sup].min()),
-            last_time=int(t_hi[sup].max()),
-        )
-
-    def _set_bounds(self, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
-        n_row, n_col = len(rlo), len(clo)
-        self.h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
-        self.h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)
-
-    def _trivial(self) -> TeamConflict:
-        """No checked certificate: the whole plan of the component at this horizon."""
-        return TeamConflict(
-            tuple(set(self.literals)), start=True, goal=True, timed=True, horizon=self.L, certified=False
-        )

@@ -70,10 +70,10 @@ block per axis) the feasibility LPs are split into independent HiGHS models
 (``split``), each half the size, whose rays are mapped back to the whole LP.
 
 The package, by concern: :mod:`~plansynth.reach.lazy.conplan.check` (the check and its
-dispatch to the strategies), :mod:`~plansynth.reach.lazy.conplan.lp` (the LP layout and
-its edits in place), :mod:`~plansynth.reach.lazy.conplan.runs` (HiGHS runs and the retry
-ladder), :mod:`~plansynth.reach.lazy.conplan.certificates` (rays, shrinking, the
-deletion filter).
+dispatch to the strategies), :mod:`~plansynth.reach.lazy.conplan.layout` (the LP layout),
+:mod:`~plansynth.reach.lazy.conplan.lp` (its edits in place),
+:mod:`~plansynth.reach.lazy.conplan.runs` (HiGHS runs and the retry ladder),
+:mod:`~plansynth.reach.lazy.conplan.certificates` (rays, shrinking, the deletion filter).
 """
 
 from plansynth.reach.lazy.conplan.check import (

@@ -1,0 +1,368 @@
+"""The LP of one component of a team plan (Shoukry et al., CDC 2016, Section V, for the
+robots; the SMC encoding of separation, CDC 2017, Section IV, for the pairs), its rows
+labelled with the literals and flags a certificate maps back to
+(:mod:`plansynth.reach.team.counterexample`).
+
+For a :class:`~plansynth.reach.team.plans.TeamPlan` of horizon L the LP has, per robot,
+its states x_0..x_L and inputs u_0..u_{L-1} (x_0 the start, the inputs within the
+bound, the states within the state bounds and the robot's workspace), the dynamics, its
+regions at every sample and along every segment (the region of step t holds x_{t+1}
+too), its goal at L (a convex shape, or a point), and, when the robot must end where it
+can stay (``stop``, or a mission read on a finite plan), ``x_L = A x_L + B w`` for an
+admissible input w. Per engaged pair step (i, j, t) with side k:
+``A_k (p_i - p_j) >= b_k`` at samples t and t + 1 (relative motion within a step is
+linear, so the side holds along the step); per engaged robot-obstacle step, the same
+with the obstacle's known position at t, at every waypoint time inside the step (the
+robot's position there interpolated from its two samples) and at t + 1.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import highspy
+import numpy as np
+
+from plansynth.budget import BudgetExhausted, Clock
+from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.lazy.conplan.runs import LpFailure
+from plansynth.reach.team.plans import TeamPlan
+from plansynth.reach.team.problem import TeamProblem
+
+__all__ = ["ComponentLp", "bend_fractions"]
+
+INF = highspy.kHighsInf
+DYN, REG, GOAL, SIDE, MOVE = range(5)
+
+
+def bend_fractions(problem: TeamProblem, o: int, t: int) -> tuple[float, ...]:
+    """Where, as fractions of step t, moving obstacle o passes a waypoint."""
+    t0, t1 = problem.time_of(t), problem.time_of(t + 1)
+    return tuple((b - t0) / (t1 - t0) for b in problem.moving_obstacles[o].bends(t0, t1))
+
+
+class ComponentLp:
+    """The LP of one component (robots ``comp``) of a plan, its rows labelled with
+    the literals and flags a certificate maps back to. ``owner`` is the
+    :class:`~plansynth.reach.team.conplan.TeamConPlan` it checks a plan for (its robots'
+    models, sides, objective, clock and counters)."""
+
+    def __init__(self, owner: Any, plan: TeamPlan, comp: tuple[int, ...], sides: dict, msides: dict) -> None:
+        self.owner, self.plan, self.comp = owner, plan, comp
+        self.sides, self.msides = sides, msides
+        L = plan.horizon
+        self.L = L
+        self.base: dict[int, int] = {}
+        ncol = 0
+        for r in comp:
+            self.base[r] = ncol
+            ncol += owner.models[r].columns(L)
+        self.ncol = ncol
+        self.rows = Rows()
+        self.kind: list[np.ndarray] = []
+        self.lit: list[np.ndarray] = []
+        self.t_lo: list[np.ndarray] = []
+        self.t_hi: list[np.ndarray] = []
+        self.literals: list[tuple] = []
+        for r in comp:
+            self._robot(r)
+        self._sides(sides)
+        for (r, o, t), k in msides.items():
+            self._mside(r, o, t, k)
+        self.n_effort = 0
+        if owner.objective == "effort":
+            self._effort()
+
+    # columns
+    def x(self, r: int, t: int) -> int:
+        return self.base[r] + t * self.owner.models[r].n
+
+    def u(self, r: int, t: int) -> int:
+        m = self.owner.models[r]
+        return self.base[r] + (self.L + 1) * m.n + t * m.m
+
+    def w(self, r: int) -> int:
+        m = self.owner.models[r]
+        return self.base[r] + (self.L + 1) * m.n + self.L * m.m
+
+    def _meta(self, count: int, kind: int, lit: tuple | None, t_lo: int, t_hi: int) -> None:
+        if lit is None:
+            idx = -1
+        else:
+            idx = len(self.literals)
+            self.literals.append(lit)
+        self.kind.append(np.full(count, kind))
+        self.lit.append(np.full(count, idx))
+        self.t_lo.append(np.full(count, t_lo))
+        self.t_hi.append(np.full(count, t_hi))
+
+    def _add(self, R, C, V, lo, hi, kind, lit, t_lo, t_hi) -> None:  # noqa: ANN001 - arrays
+        self.rows.add(R, C, V, lo, hi)
+        self._meta(len(lo), kind, lit, t_lo, t_hi)
+
+    def _block(self, R, C, V, lo, hi, kind, lits, t_lo, t_hi) -> None:  # noqa: ANN001 - arrays
+        """Many rows at once: ``lits``, ``t_lo``, ``t_hi`` per row (``lits`` indices into
+        :attr:`literals`, -1: none)."""
+        self.rows.add(R, C, V, lo, hi)
+        self.kind.append(np.full(len(lo), kind))
+        self.lit.append(np.asarray(lits))
+        self.t_lo.append(np.asarray(t_lo))
+        self.t_hi.append(np.asarray(t_hi))
+
+    def _robot(self, r: int) -> None:
+        m, L = self.owner.models[r], self.L
+        n = m.n
+        ai, bi = np.nonzero(m.A)
+        av = m.A[ai, bi]
+        ci, di = np.nonzero(m.B)
+        cv = m.B[ci, di]
+        if L:  # x_{t+1} - A x_t - B u_t = 0, every step at once
+            t = np.arange(L)
+            R = np.concatenate(
+                [np.add.outer(t * n, np.arange(n)), np.add.outer(t * n, ai), np.add.outer(t * n, ci)], axis=1
+            )
+            C = np.concatenate(
+                [
+                    np.add.outer(self.x(r, 0) + (t + 1) * n, np.arange(n)),
+                    np.add.outer(self.x(r, 0) + t * n, bi),
+                    np.add.outer(self.u(r, 0) + t * m.m, di),
+                ],
+                axis=1,
+            )
+            V = np.tile(np.concatenate([np.ones(n), -av, -cv]), L)
+            rows = L * n
+            self._block(
+                R.ravel(),
+                C.ravel(),
+                V,
+                np.zeros(rows),
+                np.zeros(rows),
+                DYN,
+                np.full(rows, -1),
+                np.repeat(t, n),
+                np.repeat(t + 1, n),
+            )
+        pos = np.asarray(m.pos)
+        d = len(pos)
+        regions = self.plan.regions[r]
+        base_idx = len(self.literals)
+        self.literals.extend(("at", r, t, regions[t]) for t in range(L + 1))
+        # blocks: (t, sample) for every sample, and (t, t + 1) for every segment's end
+        bt = np.concatenate([np.arange(L + 1), np.arange(L)])
+        btt = np.concatenate([np.arange(L + 1), np.arange(1, L + 1)])
+        Hs = [m.regions[regions[t]] for t in bt]
+        K = np.array([H.shape[0] for H, _ in Hs])
+        starts = np.concatenate([[0], np.cumsum(K)[:-1]])
+        count = int(K.sum())
+        row_of = np.repeat(starts, K) + np.concatenate([np.arange(k) for k in K])
+        R = np.repeat(row_of, d)
+        C = (np.repeat(self.x(r, 0) + btt * n, K * d) + np.tile(pos, count)).astype(np.int64)
+        V = np.concatenate([H.ravel() for H, _ in Hs])
+        hi = np.concatenate([h for _, h in Hs])
+        self._block(
+            R, C, V, np.full(count, -INF), hi, REG, np.repeat(base_idx + bt, K), np.repeat(bt, K), np.repeat(btt, K)
+        )
+        if m.goal is not None:
+            if m.goal[0] == "point":
+                p = np.asarray(m.goal[1], float)
+                self._add(np.arange(d), self.x(r, L) + pos, np.ones(d), p, p, GOAL, None, L, L)
+            else:
+                H, h = m.goal[1], m.goal[2]
+                K = H.shape[0]
+                self._add(
+                    np.repeat(np.arange(K), d),
+                    np.tile(self.x(r, L) + pos, K),
+                    H.ravel(),
+                    np.full(K, -INF),
+                    h,
+                    GOAL,
+                    None,
+                    L,
+                    L,
+                )
+        if m.rest:  # (I - A) x_L - B w = 0
+            I_A = np.eye(n) - m.A
+            ei, ej = np.nonzero(I_A)
+            R = np.concatenate([ei, ci])
+            C = np.concatenate([self.x(r, L) + ej, self.w(r) + di])
+            V = np.concatenate([I_A[ei, ej], -cv])
+            self._add(R, C, V, np.zeros(n), np.zeros(n), GOAL, None, L, L)
+
+    def _effort(self) -> None:
+        """Columns e >= |u| (one per input and step), the LP minimising their sum."""
+        first = self.ncol
+        for r in self.comp:
+            m = self.owner.models[r]
+            for t in range(self.L):
+                for j in range(m.m):
+                    e, u = self.ncol, self.u(r, t) + j
+                    self.ncol += 1
+                    R = np.array([0, 0, 1, 1])
+                    self._add(
+                        R,
+                        np.array([e, u, e, u]),
+                        np.array([1.0, -1.0, 1.0, 1.0]),
+                        np.zeros(2),
+                        np.full(2, INF),
+                        DYN,
+                        None,
+                        t,
+                        t + 1,
+                    )
+        self.n_effort = self.ncol - first
+
+    def _sides(self, sides: dict) -> None:
+        """The rows of every engaged pair step: ``A_k (p_i - p_j) >= b_k`` at t and t + 1."""
+        if not sides:
+            return
+        owner = self.owner
+        Rs, Cs, Vs, lo, lits, tl = [], [], [], [], [], []
+        row = 0
+        for (i, j, t), k in sides.items():
+            f = owner.pair_facets[(i, j)]
+            a = f.A[k]
+            d = len(a)
+            pi = np.asarray(owner.models[i].pos)
+            pj = np.asarray(owner.models[j].pos)
+            idx = len(self.literals)
+            self.literals.append(("side", i, j, t, k))
+            for tt in (t, t + 1):
+                Rs.append(np.full(2 * d, row))
+                Cs.append(np.concatenate([self.x(i, tt) + pi, self.x(j, tt) + pj]))
+                Vs.append(np.concatenate([a, -a]))
+                lo.append(f.b[k])
+                lits.append(idx)
+                tl.append(t)
+                row += 1
+        self._block(
+            np.concatenate(Rs),
+            np.concatenate(Cs),
+            np.concatenate(Vs),
+            np.asarray(lo, float),
+            np.full(row, INF),
+            SIDE,
+            np.asarray(lits),
+            np.asarray(tl),
+            np.asarray(tl) + 1,
+        )
+
+    def _mside(self, r: int, o: int, t: int, k: int) -> None:
+        owner = self.owner
+        f = owner.obstacle_facets[(r, o)]
+        a, b = f.A[k], f.b[k]
+        pos = np.asarray(owner.models[r].pos)
+        ob = owner.problem.moving_obstacles[o]
+        lit = ("mside", r, o, t, k)
+        d = len(a)
+        for lam in (0.0, *bend_fractions(owner.problem, o, t), 1.0):
+            c = ob.position(owner.problem.time_of(t + lam))
+            rhs = b + float(a @ c)
+            if lam == 0.0 or lam == 1.0:
+                C = self.x(r, t + int(lam)) + pos
+                self._add(np.zeros(d, dtype=int), C, a, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
+            else:
+                C = np.concatenate([self.x(r, t) + pos, self.x(r, t + 1) + pos])
+                V = np.concatenate([(1 - lam) * a, lam * a])
+                self._add(np.zeros(2 * d, dtype=int), C, V, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
+
+    # bounds
+    def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        lo = np.empty(self.ncol)
+        hi = np.empty(self.ncol)
+        L = self.L
+        for r in self.comp:
+            m = self.owner.models[r]
+            b = self.base[r]
+            lo[b : b + (L + 1) * m.n] = np.tile(m.x_lo, L + 1)
+            hi[b : b + (L + 1) * m.n] = np.tile(m.x_hi, L + 1)
+            if start:
+                lo[b : b + m.n] = m.start
+                hi[b : b + m.n] = m.start
+            e = b + m.columns(L)
+            lo[b + (L + 1) * m.n : e] = -m.u_bound
+            hi[b + (L + 1) * m.n : e] = m.u_bound
+        if self.n_effort:
+            lo[self.ncol - self.n_effort :] = 0.0
+            hi[self.ncol - self.n_effort :] = INF
+        return np.where(np.isfinite(lo), lo, -INF), np.where(np.isfinite(hi), hi, INF)
+
+    def start_columns(self) -> np.ndarray:
+        return np.concatenate([self.x(r, 0) + np.arange(self.owner.models[r].n) for r in self.comp])
+
+    def solve(self, clock: Clock) -> tuple[str, np.ndarray | None, np.ndarray | None]:
+        R, C, V = self.rows.coo()
+        rlo, rhi = self.rows.bounds()
+        clo, chi = self.col_bounds()
+        self.coo = (R, C, V)
+        self.rb = (rlo, rhi)
+        self.cb = (clo, chi)
+        cost = np.zeros(self.ncol)
+        cost[self.ncol - self.n_effort :] = 1.0 if self.n_effort else 0.0
+        lp = csc_lp(self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
+        self.clock = clock
+        self.h = new_highs(presolve="off")
+        self.h.passModel(lp)
+        return self.run()
+
+    def run(self) -> tuple[str, np.ndarray | None, np.ndarray | None]:
+        left = self.clock.remaining()
+        if left <= 0:
+            raise BudgetExhausted("the joint CON-PLAN", "time")
+        if not math.isinf(left):
+            self.h.setOptionValue("time_limit", max(left, 0.01))
+        self.h.run()
+        self.owner.stats.lp_calls += 1
+        st = self.h.getModelStatus()
+        if st == highspy.HighsModelStatus.kOptimal:
+            return "feasible", np.asarray(self.h.getSolution().col_value, float), None
+        if st == highspy.HighsModelStatus.kTimeLimit:
+            raise BudgetExhausted("the joint CON-PLAN", "time")
+        if st in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
+            _, has_ray, ray = self.h.getDualRay()
+            return "infeasible", None, np.asarray(ray, float) if has_ray else None
+        raise LpFailure(f"HiGHS answered {self.h.modelStatusToString(st)} on a joint CON-PLAN LP")
+
+    def split(self, x: np.ndarray) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+        out = {}
+        L = self.L
+        for r in self.comp:
+            m = self.owner.models[r]
+            X = x[self.x(r, 0) : self.x(r, 0) + (L + 1) * m.n].reshape(L + 1, m.n)
+            U = x[self.u(r, 0) : self.u(r, 0) + L * m.m].reshape(L, m.m)
+            X = X.copy()
+            X[0] = m.start  # exactly the start (the column is fixed)
+            out[r] = (X, U)
+        return out
+
+    def elastic(self) -> dict[int, tuple[np.ndarray, np.ndarray]] | None:
+        """The trajectories of the LP whose side rows may be broken at a cost (the sum
+        of how far each is broken): a guess at the sides to try next, or None when the
+        other rows alone are infeasible."""
+        kind = np.concatenate(self.kind)
+        soft = np.flatnonzero((kind == SIDE) | (kind == MOVE))
+        R, C, V = self.coo
+        n = self.ncol + len(soft)
+        R2 = np.concatenate([R, soft])
+        C2 = np.concatenate([C, self.ncol + np.arange(len(soft))])
+        V2 = np.concatenate([V, np.ones(len(soft))])
+        clo = np.concatenate([self.cb[0], np.zeros(len(soft))])
+        chi = np.concatenate([self.cb[1], np.full(len(soft), INF)])
+        cost = np.zeros(n)
+        cost[self.ncol :] = 1.0
+        lp = csc_lp(n, self.rows.n_row, R2, C2, V2, cost, clo, chi, *self.rb)
+        h = new_highs(presolve="off")
+        left = self.clock.remaining()
+        if not math.isinf(left):
+            h.setOptionValue("time_limit", max(left, 0.01))
+        h.passModel(lp)
+        h.run()
+        self.owner.stats.lp_calls += 1
+        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+            return None
+        return self.split(np.asarray(h.getSolution().col_value, float)[: self.ncol])
+
+    def set_bounds(self, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
+        n_row, n_col = len(rlo), len(clo)
+        self.h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
+        self.h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)
