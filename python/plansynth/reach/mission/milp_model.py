@@ -356,6 +356,11 @@ def mission_milp(
                     cs += back
                     vs += [-1.0] * len(back)
                 mdl.row(cs, vs, -INF, 1.0)
+        if is_loop:  # position L is position j - 1 again: a boundary touch there is read one way
+            for name, neg in sorted(needed):
+                g = Not(Prop(name)) if neg else Prop(name)
+                if g in index and j - 1 != L:
+                    mdl.row([P(g, L), P(g, j - 1), s], [1.0, -1.0, 1.0], -INF, 1.0)
     # eventualities: an until true at L has its right side true at a loop position
     inloop = [int(c) for c in mdl.cols(L + 1, 0.0, 1.0)]
     for i in range(L + 1):
