@@ -1,13 +1,12 @@
 #!/usr/bin/env bash
 # Set up (if needed) and run the whole test suite: Rust core tests, then pytest in
-# three random orders (pytest-randomly), each seed printed, so that a test that only
-# passes after another one fails here:
+# two random orders (pytest-randomly; PLANSYNTH_TEST_ORDERS=3 for more), each seed
+# printed, so that a test that only passes after another one fails here:
 #   order 1: the whole suite, with its 20 slowest tests listed (CI keeps under 15 min);
-#   orders 2 and 3: the whole suite but the documentation-command tests (marker `commands`:
-#   each already runs in a fresh process, so their order cannot matter).
-# The three orders are independent pytest sessions, so they run at the same time (each
-# in its own --basetemp), so that two cores share the work of three orders: order 1
-# prints as it goes, orders 2 and 3 are printed when they end.
+#   the other orders: the whole suite but the documentation-command tests (marker
+#   `commands`: each already runs in a fresh process, so their order cannot matter).
+# The orders are independent pytest sessions, so they run at the same time (each in its
+# own --basetemp), one per core: order 1 prints as it goes, the others when they end.
 # PLANSYNTH_TEST_SERIAL=1 runs them one after another instead.
 # Before pytest: the documentation site builds without a warning (`mkdocs build --strict`,
 # into a temporary folder) and the code checks: the import contracts (`lint-imports`,
@@ -33,7 +32,8 @@ echo "== mkdocs build --strict"
 site=$(mktemp -d -t plansynth-site.XXXXXX)
 NO_MKDOCS_2_WARNING=1 mkdocs build --strict --quiet --site-dir "$site" || { rm -rf "$site"; echo "the documentation site does not build" >&2; exit 1; }
 rm -rf "$site"
-read -r -a seeds <<< "${PLANSYNTH_TEST_SEEDS:-$(python -c 'import random; print(*(random.randrange(1, 2**31) for _ in range(3)))')}"
+orders=${PLANSYNTH_TEST_ORDERS:-2}
+read -r -a seeds <<< "${PLANSYNTH_TEST_SEEDS:-$(python -c "import random; print(*(random.randrange(1, 2**31) for _ in range($orders)))")}"
 work=$(mktemp -d -t plansynth-test.XXXXXX)
 pids=()
 trap 'kill "${pids[@]}" 2>/dev/null || true; rm -rf "$work"' EXIT
@@ -45,18 +45,18 @@ pytest_order() {
 }
 if [ "${PLANSYNTH_TEST_SERIAL:-0}" = 1 ]; then
   pytest_order 1 "${seeds[0]}" "$@"
-  for i in 1 2; do
+  for ((i = 1; i < ${#seeds[@]}; i++)); do
     pytest_order $((i + 1)) "${seeds[$i]}" -m "not commands" "$@"
   done
   exit 0
 fi
-for i in 1 2; do
+for ((i = 1; i < ${#seeds[@]}; i++)); do
   pytest_order $((i + 1)) "${seeds[$i]}" -m "not commands" "$@" > "$work/order$((i + 1)).log" 2>&1 &
   pids+=($!)
 done
 status=0
 pytest_order 1 "${seeds[0]}" --durations=20 "$@" || status=$?
-for i in 1 2; do
+for ((i = 1; i < ${#seeds[@]}; i++)); do
   rc=0
   wait "${pids[$((i - 1))]}" || rc=$?
   cat "$work/order$((i + 1)).log"

@@ -282,12 +282,12 @@ def test_relaxation_admits_every_face_oracle_solution(p: ReachProblem, h: int, k
 
 # -- exact segment transitions -------------------------------------------------------
 
-EXACT_PROPS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+EXACT_PROPS = settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 #: seconds per exact-segments solve: a random world may take the search long (the
 #: claims are checked when it answers; out of budget it says so)
-EXACT_BUDGET = 30.0
+EXACT_BUDGET = 10.0
 
 
 def _exact(p: ReachProblem, L: int, search: str):
