@@ -162,3 +162,71 @@ def test_the_engine_hands_the_verifier_an_invariant():
     assert check_invariant(problem, out.program, out.witness).status is VerifyStatus.WINS
     result = solve(problem, "native", Budget(seconds=120))
     assert result.verified is True
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_tabulated_replies_equal_the_rules(data):
+    """The invariant check's obstacle replies (per cell tabulated) are those of playing
+    every joint move through the semantics' step, in states of random walks."""
+    from plansynth.grid.semantics import initial_state, step
+    from plansynth.grid.verify.replies import ObstacleReplies, replies_by_step
+
+    problem = data.draw(objective_problems("safety", max_obstacles=2))
+    by = ObstacleReplies(problem)
+    s = initial_state(problem)
+    for _ in range(data.draw(st.integers(1, 8))):
+        assert sorted(by.of(s)) == sorted(replies_by_step(problem, s))
+        joints = list(joint_choices(problem, s))
+        s = step(problem, s, 0, data.draw(st.sampled_from(joints))).state
+
+
+def _projected_winning(game: CompiledSafety) -> set[tuple]:
+    """The reference of the core's seeded sample: per class of configurations equal but
+    for their glitches left, the inputs (glitches read as 0) of every robot cell from
+    which some member of the class wins."""
+    problem = game.problem
+    w = problem.width
+    out: set[tuple] = set()
+    for oc in range(game.n_configs):
+        mask = game.winning(oc)
+        key = tuple(((c, p, 0) for c, p, _ in game.config_key(oc)))
+        for r in range(problem.width * problem.height):
+            if mask >> r & 1:
+                out.add((key, (r % w, r // w)))
+    return out
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_the_seeded_learner_closes_in_one_round(data):
+    """Seeded with every winning state of its glitch-projected game (compared with the
+    reference above), the learner's first tree closes, and its program wins."""
+    problem = data.draw(objective_problems("safety", max_obstacles=2, max_side=4))
+    game = CompiledSafety(problem, None, None)
+    if not game.solve():
+        reject()
+    if any(o.glitching for o in problem.obstacles):
+        game.core.project_glitches()
+    seeded = game.core.seed_winning(10_000)
+    assert seeded is not None and game.core.seed_winning(seeded - 1) is None
+    rows = game.core.sample()
+    assert len(rows) == seeded
+    index = {v: i for i, v in enumerate(problem.variables)}
+    got = set()
+    for x, allowed in rows:
+        assert allowed
+        cells, j = [], 2
+        for o in problem.obstacles:
+            cell = (x[j], x[j + 1])
+            j += 2
+            phase = x[j] if o.periodic else 0
+            j += o.periodic
+            assert not o.glitching or x[j] == 0
+            j += o.glitching
+            cells.append((cell, phase, 0))
+        got.add((tuple(cells), (x[index["rx"]], x[index["ry"]])))
+    assert got == _projected_winning(game)
+    closed, _, _, program = game.learn_round(3, 1_000_000, 20_000)
+    assert closed
+    assert verify(problem, program, None).status is VerifyStatus.WINS

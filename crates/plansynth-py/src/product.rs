@@ -226,6 +226,16 @@ impl PyProductGame {
         self.g.reset_sample()
     }
 
+    /// Seed the learner's sample with every winning state of its (projected) game:
+    /// the sample's size, or None (untouched) past `max_states` (see the core's
+    /// `seed_winning`).
+    fn seed_winning(&mut self, max_states: usize) -> PyResult<Option<usize>> {
+        if !self.g.solved {
+            return Err(bad_value("seeding the sample of an unsolved game"));
+        }
+        Ok(self.g.seed_winning(max_states))
+    }
+
     /// Learn with the glitch counters projected out (see the core's `project_glitches`).
     fn project_glitches(&mut self) {
         self.g.project_glitches()

@@ -276,3 +276,67 @@ fn build(it: &mut std::slice::Iter<'_, Node>, cond_at: &[usize], ops: &mut Vec<O
         }
     }
 }
+
+impl ProductGame {
+    /// Seed the learner's sample with every winning state of its (projected) game: per
+    /// representative configuration, the robot cells from which some configuration of
+    /// its class wins (those a label exists for, [`ProductGame::label`]). The greedy
+    /// tree fits every sampled state, so a program learnt on this sample plays a
+    /// labelled move in every state its closed loop can reach and closes in one round,
+    /// instead of growing the sample round by round through closures of its own
+    /// (each of which explores most of the game again). `None` (sample untouched) when
+    /// the states number more than `max_states`; else the sample's size.
+    pub fn seed_winning(&mut self, max_states: usize) -> Option<usize> {
+        assert!(self.solved, "seeding the sample of an unsolved game");
+        let (nw, n) = (self.nw, self.n_configs());
+        let mut union = vec![0u64; nw];
+        let mut total = 0usize;
+        for id in 0..n as u32 {
+            if self.representative(id) != id {
+                continue;
+            }
+            self.class_win(id, &mut union);
+            total += union.iter().map(|w| w.count_ones() as usize).sum::<usize>();
+            if total > max_states {
+                return None;
+            }
+        }
+        self.sample.clear();
+        self.sample.reserve_exact(total);
+        self.in_sample = vec![0; n * nw];
+        for id in 0..n as u32 {
+            if self.representative(id) != id {
+                continue;
+            }
+            self.class_win(id, &mut union);
+            for (i, &w) in union.iter().enumerate() {
+                self.in_sample[id as usize * nw + i] = w;
+                let mut bits = w;
+                while bits != 0 {
+                    let b = bits.trailing_zeros();
+                    self.sample.push((id, i as u32 * 64 + b));
+                    bits &= bits - 1;
+                }
+            }
+        }
+        Some(self.sample.len())
+    }
+
+    /// The union of the winning sets of representative `id`'s class.
+    fn class_win(&self, id: u32, out: &mut [u64]) {
+        let nw = self.nw;
+        out.iter_mut().for_each(|w| *w = 0);
+        let own = [id];
+        let members: &[u32] = if self.rep.is_empty() {
+            &own
+        } else {
+            &self.family[id as usize]
+        };
+        for &m in members {
+            let ws = &self.win[m as usize * nw..(m as usize + 1) * nw];
+            for i in 0..nw {
+                out[i] |= ws[i];
+            }
+        }
+    }
+}

@@ -42,12 +42,10 @@ from plansynth.grid.semantics import (
     State,
     controller_inputs,
     initial_state,
-    joint_choices,
-    obstacle_move,
     robot_move,
-    step,
 )
 from plansynth.grid.verify.meter import Meter
+from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
 __all__ = ["check_invariant", "Invariant", "state_key"]
@@ -120,7 +118,8 @@ def check_invariant(
         end = ends[moves, cells]
         hit = wall_hit[moves, cells]
         meter.phase = "the obstacles' replies on the invariant"
-        replies = [_replies(problem, s, key_id) for s in probes]
+        by = ObstacleReplies(problem)
+        replies = [_replies(problem, s, key_id, by) for s in probes]
         width = max(len(r) for r in replies)
         position = problem.collision is CollisionRule.POSITION
         robot_swept = swept[moves, cells]  # (states, s)
@@ -209,24 +208,17 @@ def _robot_tables(problem: GridProblem):
     return ends, swept, walls[swept].any(axis=2)
 
 
-def _replies(problem: GridProblem, probe: State, key_id: dict) -> list[tuple[int, tuple[int, ...]]]:
-    """Every legal joint reply from ``probe``'s configuration: (the next configuration's
-    index in the invariant, -1 if absent; the cells that collide with the robot: swept
-    cells, or under the position rule the blocks after the step)."""
+def _replies(
+    problem: GridProblem, probe: State, key_id: dict, by: ObstacleReplies
+) -> list[tuple[int, tuple[int, ...]]]:
+    """Every legal joint reply from ``probe``'s configuration (:mod:`.replies`): (the
+    next configuration's index in the invariant, -1 if absent; the cells that collide
+    with the robot: swept cells, or under the position rule the blocks after the step)."""
     w = problem.width
-    position = problem.collision is CollisionRule.POSITION
-    out: dict[tuple, tuple[int, tuple[int, ...]]] = {}
-    for joint in joint_choices(problem, probe):
-        nxt = step(problem, probe, 0, joint).state
-        cells: set[int] = set()
-        for i, o in enumerate(problem.obstacles):
-            o_end, o_swept = obstacle_move(problem, i, probe.obstacles[i], joint[i])
-            for c in o.block(o_end) if position else o_swept:
-                cells.add(c[1] * w + c[0])
-        key = (state_key(problem, nxt), tuple(sorted(cells)))
-        if key not in out:
-            out[key] = (key_id.get(key[0], -1), key[1])
-    return list(out.values())
+    out = []
+    for nxt, cells in by.of(probe):
+        out.append((key_id.get(state_key(problem, nxt), -1), tuple(c[1] * w + c[0] for c in cells)))
+    return out
 
 
 def _choose(t: Term, values: dict, n: int):
