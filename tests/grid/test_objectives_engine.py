@@ -151,6 +151,14 @@ def test_the_invariant_check_accepts_exactly_inductive_sets(data):
     wins = brute_force(problem, controller=lambda s: f(*controller_inputs(problem, s))) is GridStatus.REALIZABLE
     verdict = check_invariant(problem, program, invariant)
     assert (verdict.status is VerifyStatus.WINS) == wins, verdict.message
+    # the same verdict a few states at a time (a chunk of configurations holds at least one)
+    from plansynth.grid.verify import invariant as module
+
+    saved, module.CHUNK_STATES = module.CHUNK_STATES, data.draw(st.integers(1, 5))
+    try:
+        assert check_invariant(problem, program, invariant).status is verdict.status
+    finally:
+        module.CHUNK_STATES = saved
 
 
 def test_the_engine_hands_the_verifier_an_invariant():

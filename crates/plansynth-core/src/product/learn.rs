@@ -42,21 +42,26 @@ impl ProductGame {
         }
         let n_vars = self.spec.n_vars();
         let n = self.sample.len();
-        let mut rows: Vec<Vec<i64>> = Vec::with_capacity(n);
+        // the sample's inputs, one row of `n_vars` after another
+        limits.check(self.bytes() + n * (n_vars * 8 + 4), "learning a program")?;
+        let mut rows: Vec<i64> = Vec::with_capacity(n * n_vars);
         let mut x = Vec::with_capacity(n_vars);
         let mut allowed: Vec<u32> = Vec::with_capacity(n);
         for &(id, r) in &self.sample {
             self.sample_inputs(id, r as usize, &mut x);
-            rows.push(x.clone());
+            rows.extend_from_slice(&x);
             allowed.push(self.label(id, r as usize));
         }
-        limits.check(self.bytes() + n * (n_vars * 8 + 40), "learning a program")?;
         let stride = n.div_ceil(enum_states.max(1)).max(1);
-        let part: Vec<Vec<i64>> = rows.iter().step_by(stride).cloned().collect();
+        let part: Vec<Vec<i64>> = rows
+            .chunks_exact(n_vars)
+            .step_by(stride)
+            .map(|x| x.to_vec())
+            .collect();
         let e = enumerate_conditions(&part, n_vars, max_constant, cond_depth, Some(20_000));
         let terms = e.terms;
         let conds: Vec<(Cond, u32)> = e.conds.iter().map(|(_, c, d)| (*c, *d)).collect();
-        let masks = behaviours(&terms, &conds, &rows);
+        let masks = behaviours(&terms, &conds, &rows, n_vars);
         drop(rows);
         limits.check(
             self.bytes() + masks.len() * n.div_ceil(64) * 8,
@@ -174,14 +179,20 @@ impl ProductGame {
     }
 }
 
-/// The behaviour of every condition on every row (bit i: true in row i).
-fn behaviours(terms: &[(Arith, u32)], conds: &[(Cond, u32)], rows: &[Vec<i64>]) -> Vec<Vec<u64>> {
-    let n = rows.len();
+/// The behaviour of every condition on every row of `rows` (rows of `n_vars` inputs,
+/// one after another; bit i: true in row i).
+fn behaviours(
+    terms: &[(Arith, u32)],
+    conds: &[(Cond, u32)],
+    rows: &[i64],
+    n_vars: usize,
+) -> Vec<Vec<u64>> {
+    let n = rows.len() / n_vars;
     let nw = n.div_ceil(64).max(1);
     let mut masks = vec![vec![0u64; nw]; conds.len()];
     let mut tv = vec![0i64; terms.len()];
     let mut cv = vec![false; conds.len()];
-    for (i, x) in rows.iter().enumerate() {
+    for (i, x) in rows.chunks_exact(n_vars).enumerate() {
         for (t, (a, _)) in terms.iter().enumerate() {
             tv[t] = match *a {
                 Arith::Const(c) => c,

@@ -48,9 +48,14 @@ from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
-__all__ = ["check_invariant", "Invariant", "state_key"]
+__all__ = ["check_invariant", "Invariant", "state_key", "CHUNK_STATES"]
 
 Invariant = Mapping[tuple, int]
+
+#: The states checked at once (per chunk of configurations): the check's arrays take
+#: about 200 bytes a state, so a chunk stays under a gigabyte whatever the set's size
+#: (a 48 x 48 moving-obstacle program keeps some 70 million states).
+CHUNK_STATES = 4_000_000
 
 
 def state_key(problem: GridProblem, s: State) -> tuple:
@@ -80,9 +85,10 @@ def check_invariant(
     """``wins`` if ``invariant`` is an inductive invariant of ``program`` for the safety
     objective holding the initial state; ``unknown`` (with the first failure) if not.
 
-    Vectorized over every state of the set at once: the program is evaluated once per
-    state (each state routed down its ``ite`` tree), then for each obstacle reply of each
-    configuration the robot's end cell is looked up in the set."""
+    Vectorized over the states of the set, a chunk of configurations at a time
+    (:data:`CHUNK_STATES`): the program is evaluated once per state (each state routed
+    down its ``ite`` tree), then for each obstacle reply of each configuration the
+    robot's end cell is looked up in the set."""
     import numpy as np
 
     if problem.objective is not ObjectiveKind.SAFETY:
@@ -101,60 +107,79 @@ def check_invariant(
             return _unknown(t0, 0, "not inductive: the initial state is outside the invariant")
         table = _bit_table(invariant, keys, n)  # (keys, n) bool
         ends, swept, wall_hit = _robot_tables(problem)  # (moves, n), (moves, n, s), (moves, n)
-        kid, cells = np.nonzero(table)
-        checked = int(kid.size)
         probes = [_state_of(problem, k, (0, 0)) for k in keys]
         fixed = np.array([controller_inputs(problem, s)[2:] for s in probes], np.int64).reshape(len(keys), -1)
-        values = {v: fixed[kid, j] for j, v in enumerate(problem.variables[2:])}
-        values["rx"], values["ry"] = cells % w, cells // w
-        meter.phase = "evaluating the program on the invariant"
-        moves = _choose(program, values, kid.size)
-        bad = (moves < 0) | (moves >= n_moves)
-        if bad.any():
-            i = int(np.argmax(bad))
-            return _unknown(
-                t0, checked, f"the program returns no move in state {probes[kid[i]]._replace(robot=_xy(cells[i], w))}"
-            )
-        end = ends[moves, cells]
-        hit = wall_hit[moves, cells]
         meter.phase = "the obstacles' replies on the invariant"
         by = ObstacleReplies(problem)
         replies = [_replies(problem, s, key_id, by) for s in probes]
         width = max(len(r) for r in replies)
+        depth = max(1, max(len(d) for r in replies for _, d in r))
+        # per configuration and reply: the next configuration (-1: none) and the cells
+        # that collide with the robot (-1: padding)
+        r_next = np.full((len(keys), width), -1, np.int64)
+        r_has = np.zeros((len(keys), width), bool)
+        r_danger = np.full((len(keys), width, depth), -1, np.int64)
+        for i, r in enumerate(replies):
+            for j, (nxt, d) in enumerate(r):
+                r_next[i, j], r_has[i, j] = nxt, True
+                r_danger[i, j, : len(d)] = d
+        del replies
         position = problem.collision is CollisionRule.POSITION
-        robot_swept = swept[moves, cells]  # (states, s)
-        for j in range(width):
-            meter.check()
-            has = np.array([j < len(r) for r in replies])[kid]
-            nxt = np.array([r[j][0] if j < len(r) else -1 for r in replies], np.int64)[kid]
-            inside = np.zeros(kid.size, bool)
-            known = has & (nxt >= 0)
-            inside[known] = table[nxt[known], end[known]]
-            danger = [r[j][1] if j < len(r) else () for r in replies]
-            depth = max(1, max(len(d) for d in danger))
-            dcells = np.full((len(keys), depth), -1, np.int64)
-            for i, d in enumerate(danger):
-                dcells[i, : len(d)] = d
-            mine = dcells[kid]  # (states, depth)
-            if position:
-                collide = (mine == end[:, None]).any(axis=1)
-            else:
-                collide = (mine[:, :, None] == robot_swept[:, None, :]).any(axis=(1, 2))
-            hit |= has & collide
-            out = has & ~collide & ~inside
-            if out.any():
-                i = int(np.argmax(out))
+        counts = table.sum(axis=1)
+        first = 0
+        while first < len(keys):
+            # a chunk of configurations holding at most CHUNK_STATES states (or one)
+            last = first + max(1, int(np.searchsorted(np.cumsum(counts[first:]), CHUNK_STATES, side="right")))
+            kid, cells = np.nonzero(table[first:last])
+            kid += first
+            first = last
+            checked += int(kid.size)
+            values = {v: fixed[kid, j] for j, v in enumerate(problem.variables[2:])}
+            values["rx"], values["ry"] = cells % w, cells // w
+            meter.phase = "evaluating the program on the invariant"
+            moves = _choose(program, values, kid.size)
+            del values
+            bad = (moves < 0) | (moves >= n_moves)
+            if bad.any():
+                i = int(np.argmax(bad))
                 return _unknown(
                     t0,
                     checked,
-                    f"not inductive: state {_xy(end[i], w)} after move {int(moves[i])} "
-                    f"from {_xy(cells[i], w)} is outside the invariant",
+                    f"the program returns no move in state {probes[kid[i]]._replace(robot=_xy(cells[i], w))}",
                 )
-        if hit.any():
-            i = int(np.argmax(hit))
-            return _unknown(
-                t0, checked, f"not inductive: the program's move {int(moves[i])} from {_xy(cells[i], w)} may collide"
-            )
+            end = ends[moves, cells]
+            hit = wall_hit[moves, cells]
+            meter.phase = "the obstacles' replies on the invariant"
+            robot_swept = None if position else swept[moves, cells]  # (states, s)
+            for j in range(width):
+                meter.check()
+                has = r_has[kid, j]
+                nxt = r_next[kid, j]
+                inside = np.zeros(kid.size, bool)
+                known = has & (nxt >= 0)
+                inside[known] = table[nxt[known], end[known]]
+                mine = r_danger[kid, j]  # (states, depth)
+                if position:
+                    collide = (mine == end[:, None]).any(axis=1)
+                else:
+                    collide = (mine[:, :, None] == robot_swept[:, None, :]).any(axis=(1, 2))
+                hit |= has & collide
+                out = has & ~collide & ~inside
+                if out.any():
+                    i = int(np.argmax(out))
+                    return _unknown(
+                        t0,
+                        checked,
+                        f"not inductive: state {_xy(end[i], w)} after move {int(moves[i])} "
+                        f"from {_xy(cells[i], w)} is outside the invariant",
+                    )
+            if hit.any():
+                i = int(np.argmax(hit))
+                return _unknown(
+                    t0,
+                    checked,
+                    f"not inductive: the program's move {int(moves[i])} from {_xy(cells[i], w)} may collide",
+                )
     except BudgetExhausted as out:
         return Verdict(
             VerifyStatus.UNKNOWN,
@@ -232,14 +257,29 @@ def _choose(t: Term, values: dict, n: int):
         node, idx = todo.pop()
         if idx.size == 0:
             continue
+        sub = _Restricted(values, idx)
         if isinstance(node, App) and node.op == "ite":
-            sub = {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in values.items()}
             c = np.broadcast_to(np.asarray(_evaluate(node.args[0], sub), bool), idx.shape)
             todo.append((node.args[1], idx[c]))
             todo.append((node.args[2], idx[~c]))
         else:
-            out[idx] = _evaluate(node, {k: (v[idx] if isinstance(v, np.ndarray) else v) for k, v in values.items()})
+            out[idx] = _evaluate(node, sub)
     return out
+
+
+class _Restricted:
+    """The inputs of the states ``idx`` only, each variable restricted when a condition
+    first reads it (a node's condition reads one or two of them)."""
+
+    def __init__(self, values: dict, idx) -> None:
+        self.values, self.idx, self.got = values, idx, {}
+
+    def __getitem__(self, name: str):
+        v = self.got.get(name)
+        if v is None:
+            v = self.values[name]
+            v = self.got[name] = v[self.idx] if hasattr(v, "shape") else v
+        return v
 
 
 def _xy(c: int, w: int) -> tuple[int, int]:
