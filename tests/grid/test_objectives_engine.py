@@ -205,6 +205,20 @@ def _projected_winning(game: CompiledSafety) -> set[tuple]:
     return out
 
 
+def _central(problem, cell, allowed: int) -> int:
+    """The reference of the core's central labels: the moves of ``allowed`` whose end
+    (:func:`~plansynth.grid.semantics.robot_end`) is nearest the middle, in the max norm."""
+    from plansynth.grid.semantics import robot_end
+
+    def dist(k: int) -> int:
+        x, y = robot_end(problem, cell, k)
+        return max(abs(2 * x - (problem.width - 1)), abs(2 * y - (problem.height - 1)))
+
+    ks = [k for k in range(len(problem.robot.moves)) if allowed >> k & 1]
+    best = min(dist(k) for k in ks)
+    return sum(1 << k for k in ks if dist(k) == best)
+
+
 @settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())
 def test_the_seeded_learner_closes_in_one_round(data):
@@ -235,6 +249,12 @@ def test_the_seeded_learner_closes_in_one_round(data):
             cells.append((cell, phase, 0))
         got.add((tuple(cells), (x[index["rx"]], x[index["ry"]])))
     assert got == _projected_winning(game)
+    if data.draw(st.booleans()):
+        # labels of the moves that end nearest the middle only (compared with the rules)
+        game.core.prefer_central(True)
+        central = game.core.sample()
+        for (x, allowed), (y, kept) in zip(rows, central, strict=True):
+            assert x == y and kept == _central(problem, (x[0], x[1]), allowed)
     closed, _, _, program = game.learn_round(3, 1_000_000, 20_000)
     assert closed
     assert verify(problem, program, None).status is VerifyStatus.WINS

@@ -236,6 +236,17 @@ impl PyProductGame {
         Ok(self.g.seed_winning(max_states))
     }
 
+    /// Label the learner's states with the allowed moves that end nearest the middle
+    /// of the grid only (see the core's `prefer_central`).
+    fn prefer_central(&mut self, on: bool) {
+        self.g.prefer_central(on)
+    }
+
+    /// The moves of `mask` from cell `r` that end nearest the middle of the grid.
+    fn central_moves(&self, r: usize, mask: u32) -> u32 {
+        self.g.central_moves(r, mask)
+    }
+
     /// Learn with the glitch counters projected out (see the core's `project_glitches`).
     fn project_glitches(&mut self) {
         self.g.project_glitches()

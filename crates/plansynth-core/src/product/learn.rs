@@ -149,17 +149,51 @@ impl ProductGame {
         }
     }
 
-    /// The moves a sampled state is labelled with (see [`ProductGame::project_glitches`]).
+    /// The moves a sampled state is labelled with (see [`ProductGame::project_glitches`]
+    /// and [`ProductGame::prefer_central`]).
     pub(super) fn label(&self, id: u32, r: usize) -> u32 {
-        if self.rep.is_empty() {
-            return self.allowed(id, r);
+        let mask = if self.rep.is_empty() {
+            self.allowed(id, r)
+        } else {
+            self.family[id as usize]
+                .iter()
+                .find(|&&m| self.wins(m, r))
+                .map_or(0, |&m| self.allowed(m, r))
+        };
+        if self.central {
+            self.central_moves(r, mask)
+        } else {
+            mask
         }
-        for &m in &self.family[id as usize] {
-            if self.wins(m, r) {
-                return self.allowed(m, r);
-            }
-        }
-        0
+    }
+
+    /// Label the learner's states with the allowed moves that end nearest the middle of
+    /// the grid (in the max norm) only. Any allowed move keeps the robot winning; these
+    /// keep it where it has most room, so the program's closed loop (what the checks
+    /// and the verifier go through) is smaller: on the 16 x 16 moving-obstacle game a
+    /// strategy that prefers them reaches 51 thousand states, one that prefers staying
+    /// 361 thousand, out of 460 thousand.
+    pub fn prefer_central(&mut self, on: bool) {
+        self.central = on;
+    }
+
+    /// The moves of `mask` from cell `r` whose end is nearest the middle of the grid
+    /// (the max norm of twice the offset, so that it stays an integer).
+    pub fn central_moves(&self, r: usize, mask: u32) -> u32 {
+        let (w, h) = (self.spec.width as i64, self.spec.height as i64);
+        let dist = |k: usize| {
+            let e = self.robot_end(r, k) as i64;
+            (2 * (e % w) - (w - 1))
+                .abs()
+                .max((2 * (e / w) - (h - 1)).abs())
+        };
+        let n = self.spec.robot.len();
+        let Some(best) = (0..n).filter(|&k| mask >> k & 1 == 1).map(dist).min() else {
+            return 0;
+        };
+        (0..n)
+            .filter(|&k| mask >> k & 1 == 1 && dist(k) == best)
+            .fold(0, |acc, k| acc | 1 << k)
     }
 
     /// A sampled state's inputs (under the projection, its glitches read as 0).

@@ -102,6 +102,9 @@ pub struct ProductGame {
     /// counters), and per representative its class, most glitches left first
     rep: Vec<u32>,
     family: Vec<Vec<u32>>,
+    /// the learner's labels keep only the allowed moves that end nearest the grid's
+    /// middle (`learn::prefer_central`)
+    central: bool,
 }
 
 impl ProductGame {
@@ -127,6 +130,7 @@ impl ProductGame {
             seen: vec![],
             rep: vec![],
             family: vec![],
+            central: false,
         };
         let first: Vec<u64> = g
             .spec
