@@ -71,6 +71,11 @@ impl ProductGame {
     pub fn solve_safety(&mut self, limits: Limits) -> Result<bool, Stop> {
         let (nw, n) = (self.nw, self.n_configs());
         let n_cells = self.spec.n_cells();
+        // the winning sets and the ranks, before they are allocated
+        limits.check(
+            self.bytes() + n * nw * 8 + n * n_cells,
+            "the safety fixpoint",
+        )?;
         self.win = Vec::with_capacity(n * nw);
         for _ in 0..n {
             self.win.extend_from_slice(&self.spec.standing);
