@@ -25,8 +25,17 @@ pub enum GreedyError {
     NoSplit,
 }
 
-fn popcount_and(a: &[u64], b: &[u64], words: &[usize]) -> u32 {
-    words.iter().map(|&w| (a[w] & b[w]).count_ones()).sum()
+/// A set of states as its non-zero words only: (word index, bits), by index. A node
+/// deep in the tree holds few states, so every count at it costs what it holds, not
+/// the length of the whole sample.
+type Sparse = Vec<(usize, u64)>;
+
+/// |members & mask| (mask: a whole-sample bitset).
+fn count_in(members: &[(usize, u64)], mask: &[u64]) -> u32 {
+    members
+        .iter()
+        .map(|&(w, b)| (b & mask[w]).count_ones())
+        .sum()
 }
 
 /// The greedy tree over `n_states` states: a node whose states share a move becomes a
@@ -55,17 +64,22 @@ pub fn greedy_tree(
     for s in 0..n {
         full[s / 64] |= 1 << (s % 64);
     }
+    let full: Sparse = full
+        .into_iter()
+        .enumerate()
+        .filter(|&(_, b)| b != 0)
+        .collect();
     let mut out = Vec::new();
     let mut budget = max_nodes as i64;
     grow(&full, conds, keys, &by_move, &mut out, &mut budget)?;
     Ok(out)
 }
 
-fn best_common(members: &[u64], by_move: &[Vec<u64>], words: &[usize]) -> (u32, usize) {
+fn best_common(members: &[(usize, u64)], by_move: &[Vec<u64>]) -> (u32, usize) {
     // max over (count, -k): the smallest k among the largest counts
     let mut best = (0u32, 0usize);
     for (k, m) in by_move.iter().enumerate() {
-        let c = popcount_and(members, m, words);
+        let c = count_in(members, m);
         if k == 0 || c > best.0 {
             best = (c, k);
         }
@@ -74,16 +88,15 @@ fn best_common(members: &[u64], by_move: &[Vec<u64>], words: &[usize]) -> (u32, 
 }
 
 fn grow(
-    members: &[u64],
+    members: &[(usize, u64)],
     conds: &[Vec<u64>],
     keys: &[(u32, u32)],
     by_move: &[Vec<u64>],
     out: &mut Vec<Node>,
     budget: &mut i64,
 ) -> Result<(), GreedyError> {
-    let words: Vec<usize> = (0..members.len()).filter(|&w| members[w] != 0).collect();
-    let total: u32 = words.iter().map(|&w| members[w].count_ones()).sum();
-    let (c, k) = best_common(members, by_move, &words);
+    let total: u32 = members.iter().map(|&(_, b)| b.count_ones()).sum();
+    let (c, k) = best_common(members, by_move);
     if c == total {
         out.push(Node::Leaf(k));
         return Ok(());
@@ -96,44 +109,61 @@ fn grow(
     // most members first, then the next among the rest, ...; ties: the smaller move),
     // then pick the split of best Gini purity over these labels (an exact rational
     // comparison; ties: shallower condition, then smaller term, then the earliest).
-    let mut rest: Vec<u64> = members.to_vec();
+    // Labels are aligned with `members` (word by word).
+    let mut rest: Sparse = members.to_vec();
     let mut labels: Vec<Vec<u64>> = Vec::new();
     loop {
-        let rw: Vec<usize> = (0..rest.len()).filter(|&w| rest[w] != 0).collect();
-        if rw.is_empty() {
+        rest.retain(|&(_, b)| b != 0);
+        if rest.is_empty() {
             break;
         }
-        let (c, kbest) = best_common(&rest, by_move, &rw);
+        let (c, kbest) = best_common(&rest, by_move);
         if c == 0 {
             break; // members without any allowed move (not from a strategy): no label
         }
-        let lab: Vec<u64> = rest
-            .iter()
-            .zip(&by_move[kbest])
-            .map(|(a, b)| a & b)
-            .collect();
-        for (r, l) in rest.iter_mut().zip(&lab) {
-            *r &= !l;
+        let m = &by_move[kbest];
+        let mut lab = vec![0u64; members.len()];
+        let mut j = 0;
+        for (i, &(w, _)) in members.iter().enumerate() {
+            if j < rest.len() && rest[j].0 == w {
+                lab[i] = rest[j].1 & m[w];
+                rest[j].1 &= !lab[i];
+                j += 1;
+            }
         }
         labels.push(lab);
     }
     let lab_count: Vec<u64> = labels
         .iter()
-        .map(|m| words.iter().map(|&w| m[w].count_ones() as u64).sum())
+        .map(|m| m.iter().map(|b| b.count_ones() as u64).sum())
         .collect();
     // key = purity num/den (maximised), then (-depth, -size); first maximum wins
     let mut best: Option<((u128, u128), (i64, i64), usize)> = None;
+    let n_labels = labels.len();
+    let mut l = vec![0u64; n_labels];
     for (j, cond) in conds.iter().enumerate() {
-        let left = popcount_and(cond, members, &words) as u64;
+        // one pass over the node's words: the states on the condition's side, and how
+        // many of each label
+        l.iter_mut().for_each(|x| *x = 0);
+        let mut left = 0u64;
+        for (i, &(w, b)) in members.iter().enumerate() {
+            let c = b & cond[w];
+            if c == 0 {
+                continue;
+            }
+            left += c.count_ones() as u64;
+            for (kk, m) in labels.iter().enumerate() {
+                l[kk] += (c & m[i]).count_ones() as u64;
+            }
+        }
         if left == 0 || left == total as u64 {
             continue;
         }
         let right = total as u64 - left;
         let (mut sl, mut sr) = (0u128, 0u128);
-        for (kk, m) in labels.iter().enumerate() {
-            let l = popcount_and(cond, m, &words) as u128;
-            let r = lab_count[kk] as u128 - l;
-            sl += l * l;
+        for kk in 0..n_labels {
+            let (a, r) = (l[kk] as u128, (lab_count[kk] - l[kk]) as u128);
+            sl += a * a;
             sr += r * r;
         }
         // sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
@@ -155,8 +185,16 @@ fn grow(
         return Err(GreedyError::NoSplit);
     };
     let cond = &conds[j];
-    let left: Vec<u64> = members.iter().zip(cond).map(|(a, b)| a & b).collect();
-    let right: Vec<u64> = members.iter().zip(cond).map(|(a, b)| a & !b).collect();
+    let left: Sparse = members
+        .iter()
+        .map(|&(w, b)| (w, b & cond[w]))
+        .filter(|&(_, b)| b != 0)
+        .collect();
+    let right: Sparse = members
+        .iter()
+        .map(|&(w, b)| (w, b & !cond[w]))
+        .filter(|&(_, b)| b != 0)
+        .collect();
     out.push(Node::Split(j));
     grow(&left, conds, keys, by_move, out, budget)?;
     grow(&right, conds, keys, by_move, out, budget)
