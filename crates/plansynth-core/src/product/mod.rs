@@ -49,7 +49,8 @@ impl Limits {
             return Err(Stop {
                 resource: "memory",
                 detail: format!(
-                    "{what}: the game outgrows the memory budget ({} MB)",
+                    "{what}: the game outgrows the memory budget of {} MB ({} MB needed)",
+                    self.max_bytes.unwrap_or(0) >> 20,
                     bytes >> 20
                 ),
             });
