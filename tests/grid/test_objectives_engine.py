@@ -170,6 +170,7 @@ def test_the_engine_hands_the_verifier_an_invariant():
     assert check_invariant(problem, out.program, out.witness).status is VerifyStatus.WINS
     result = solve(problem, "native", Budget(seconds=120))
     assert result.verified is True
+    assert "an inductive invariant of" in result.message  # not a search of the closed loop
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -146,7 +146,10 @@ def solve(
                     steps=l,
                     program=outcome.program,
                     verified=True,
-                    message=f"verified by the independent verifier ({verdict.states_explored} states explored)",
+                    message=(
+                        f"verified by the independent verifier "
+                        f"({verdict.message or f'{verdict.states_explored} states explored'})"
+                    ),
                 )
             cex = verdict.counterexample
             reason = cex.reason if cex is not None else "no counterexample given"

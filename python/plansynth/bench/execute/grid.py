@@ -184,7 +184,9 @@ def _grid_in_process(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
     from plansynth.grid.solve import solve
 
     problem = inst.build()
-    budget = Budget(seconds=float(task["timeout"]))
+    # the sweep's memory limit is the solver's budget too (as for omega): without it the
+    # engines' default applies, and a game between the two stops at the default
+    budget = Budget(seconds=float(task["timeout"]), memory_mb=task.get("memory_mb"))
     options = dict(task.get("options") or {})
     if task["solver"] == "native":  # one NativeOptions value, built from the sweep's -O native:KEY=VALUE
         from plansynth.grid.native.options import NativeOptions

@@ -23,7 +23,7 @@ from plansynth.grid.native.stationary import Strategy
 from plansynth.grid.native.synth import greedy_program, program_depths, tree_program, useful_conditions
 from plansynth.grid.programs import Term, depth
 
-__all__ = ["answer_program", "effort", "DEFAULT_EFFORT"]
+__all__ = ["answer_program", "effort", "tree_within", "DEFAULT_EFFORT"]
 
 #: Default seconds spent making the first program smaller (answer-first mode). On the
 #: shared reactive suite's 28 realizable problems 0.05 s gives the same depth against the
@@ -42,6 +42,27 @@ def effort(run: RunState, clock: Clock) -> float:
         b = run.budget_seconds
         want = DEFAULT_EFFORT if b is None else min(DEFAULT_EFFORT, 0.1 * b)
     return max(0.0, min(want, clock.remaining() - 0.05))
+
+
+def tree_within(run: RunState, allowed, useful, d: int, n_moves: int, clock: Clock, left: float) -> Term | None:
+    """Tree SAT at depth ``d`` within ``left`` seconds and the run's clause and conflict
+    limits: a program, or None when there is none or the attempt ran out of its own
+    limits (the run's budget running out raises)."""
+    try:
+        return tree_program(
+            allowed,
+            useful,
+            d,
+            n_moves,
+            clock,
+            max_clauses=run.o.max_clauses,
+            max_conflicts=run.o.conflicts,
+            max_seconds=left,
+        )
+    except BudgetExhausted:
+        if clock.exhausted():
+            raise
+        return None
 
 
 def answer_program(
@@ -159,21 +180,7 @@ def _smaller(
         d = max(dd for dd in program_depths(depth(program) - 1))
         if d > run.o.max_tree_depth:
             break  # a tree SAT this deep does not fit a small effort
-        try:
-            better = tree_program(
-                allowed,
-                useful,
-                d,
-                n_moves,
-                clock,
-                max_clauses=run.o.max_clauses,
-                max_conflicts=run.o.conflicts,
-                max_seconds=left,
-            )
-        except BudgetExhausted:
-            if clock.exhausted():
-                raise
-            break
+        better = tree_within(run, allowed, useful, d, n_moves, clock, left)
         if better is None or graph.check(better) is not None:
             break
         if run.o.simplify:

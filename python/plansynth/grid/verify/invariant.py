@@ -200,7 +200,14 @@ def check_invariant(
             meter.phase,
             f"the verifier's budget ran out in {meter.phase}: out of memory",
         )
-    return Verdict(VerifyStatus.WINS, None, None, checked, time.perf_counter() - t0)
+    return Verdict(
+        VerifyStatus.WINS,
+        None,
+        None,
+        checked,
+        time.perf_counter() - t0,
+        message=f"an inductive invariant of {checked} states",
+    )
 
 
 def _bit_table(invariant: Invariant, keys: list, n: int):

@@ -56,7 +56,8 @@ class Verdict:
 
     ``status`` is exact when it is ``wins`` or ``loses``; ``unknown`` only when a budget
     ran out, with ``phase`` (where) and ``reason`` ("time" or "memory", with figures) in
-    ``message``. When it loses, ``counterexample`` shows a losing run.
+    ``message``. When it loses, ``counterexample`` shows a losing run. A win proved by an
+    inductive invariant instead of a search says so in ``message``.
     ``states_explored`` counts the (t, robot, read obstacles) nodes expanded.
     """
 

@@ -18,6 +18,7 @@ import time
 from plansynth.budget import BudgetExhausted, Clock
 from plansynth.grid.native.check import simplify
 from plansynth.grid.native.product.compiled import CompiledCheck, CompiledSafety
+from plansynth.grid.native.product.program import beyond_bound
 from plansynth.grid.native.run import RunState
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Term, depth
@@ -107,16 +108,9 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
     run.counters["stage"] = "product"
     run.counters["depth_minimal"] = "not proved"
     run.phase("check")
-    if depth_bound is not None and depth(program) > depth_bound:
-        return (
-            GridStatus.UNKNOWN,
-            None,
-            (
-                f"a winning program of depth {depth(program)} was found; smaller ones are "
-                "not searched for this objective"
-            ),
-            None,
-        )
+    too_deep = beyond_bound(program, depth_bound)
+    if too_deep is not None:
+        return too_deep
     return GridStatus.REALIZABLE, program, "safety objective won on the product game", game.reached_sets()
 
 

@@ -237,30 +237,27 @@ def recurrence(space: ProductSpace, clock: Clock | None = None) -> Solution:
     standing = _standing(space)
     z = [standing] * space.n_nodes
     sol = Solution(space, z)
+
+    def round_(z: list[int], y: list[int], x: list[int] | None) -> list[int]:
+        """One round: the states from which the robot forces the target of z, y (and x)."""
+        sol.rounds += 1
+        out = [
+            _or(controllable(space, n, _recurrence_target(space, n, z, y, x))) & standing for n in range(space.n_nodes)
+        ]
+        check_clock(clock, "the recurrence fixpoint", f" (round {sol.rounds})")
+        return out
+
     while True:
         y = [0] * space.n_nodes
         layers: list[list[int]] = []
         while True:
             if fair:
                 x = [standing] * space.n_nodes
-                while True:
-                    sol.rounds += 1
-                    nx = [
-                        _or(controllable(space, n, _recurrence_target(space, n, z, y, x))) & standing
-                        for n in range(space.n_nodes)
-                    ]
-                    check_clock(clock, "the recurrence fixpoint", f" (round {sol.rounds})")
-                    if nx == x:
-                        break
+                while (nx := round_(z, y, x)) != x:
                     x = nx
                 ny = x
             else:
-                sol.rounds += 1
-                ny = [
-                    _or(controllable(space, n, _recurrence_target(space, n, z, y, None))) & standing
-                    for n in range(space.n_nodes)
-                ]
-                check_clock(clock, "the recurrence fixpoint", f" (round {sol.rounds})")
+                ny = round_(z, y, None)
             if ny == y:
                 break
             y = ny

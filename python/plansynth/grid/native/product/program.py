@@ -28,10 +28,11 @@ from plansynth.grid.native.check import ops_program, simplify
 from plansynth.grid.native.limits import check_clock
 from plansynth.grid.native.product.strategy import RobotMoves
 from plansynth.grid.native.run import RunState
-from plansynth.grid.native.synth import greedy_program, program_depths, tree_program, useful_conditions
+from plansynth.grid.native.synth import greedy_program, program_depths, useful_conditions
 from plansynth.grid.programs import Const, Term, compile_program, depth
+from plansynth.grid.result import GridStatus
 
-__all__ = ["ProductCheck", "learn_program", "SIMPLIFY_SECONDS"]
+__all__ = ["ProductCheck", "learn_program", "beyond_bound", "SIMPLIFY_SECONDS"]
 
 #: Seconds (beyond the effort) the simplifier may spend on a learnt program: each of its
 #: checks explores the program's closed loop (milliseconds on the robot_grid maps, so a
@@ -112,6 +113,20 @@ class ProductCheck:
         return self.check(ops_program(ops, self.variables))
 
 
+def beyond_bound(program: Term, depth_bound: int | None) -> tuple | None:
+    """The ``unknown`` answer (status, program, message, witness) when ``program`` is
+    deeper than ``depth_bound``: the product game's objectives search no smaller
+    programs, so they cannot say that none exists. None within the bound."""
+    if depth_bound is None or depth(program) <= depth_bound:
+        return None
+    return (
+        GridStatus.UNKNOWN,
+        None,
+        f"a winning program of depth {depth(program)} was found; smaller ones are not searched for this objective",
+        None,
+    )
+
+
 def learn_program(
     moves: RobotMoves, run: RunState, clock: Clock, *, max_rounds: int = 200, horizon: int | None = None
 ) -> tuple[Term, ProductCheck]:
@@ -172,7 +187,7 @@ def _improve(
 ) -> Term:
     """Tree SAT at depths below the program's, on the final sample, within the effort;
     each candidate must pass :class:`ProductCheck` (its own closed loop may differ)."""
-    from plansynth.grid.native.answer import effort
+    from plansynth.grid.native.answer import effort, tree_within
 
     seconds = effort(run, clock) if run.o.improve else 0.0
     run.counters["effort_seconds"] = round(seconds, 3)
@@ -192,21 +207,7 @@ def _improve(
         d = max(program_depths(depth(program) - 1))
         if d > run.o.max_tree_depth:
             break
-        try:
-            better = tree_program(
-                allowed,
-                useful,
-                d,
-                check.n_moves,
-                clock,
-                max_clauses=run.o.max_clauses,
-                max_conflicts=run.o.conflicts,
-                max_seconds=left,
-            )
-        except BudgetExhausted:
-            if clock.exhausted():
-                raise
-            break
+        better = tree_within(run, allowed, useful, d, check.n_moves, clock, left)
         if better is None or check.check(better) is not None:
             break
         program = simplify(better, check, deadline) if run.o.simplify else better

@@ -19,13 +19,13 @@ from plansynth.budget import Clock
 from plansynth.grid.native.product import fixpoints
 from plansynth.grid.native.product.certify import Certificate, ObstacleStrategy, check_refutation
 from plansynth.grid.native.product.exact import ExactGame
-from plansynth.grid.native.product.program import learn_program
+from plansynth.grid.native.product.program import beyond_bound, learn_program
 from plansynth.grid.native.product.space import ProductSpace
 from plansynth.grid.native.product.strategy import ObstacleReplies, RobotMoves
 from plansynth.grid.native.run import RunState
 from plansynth.grid.objective import ObjectiveKind
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.programs import Term, depth
+from plansynth.grid.programs import Term
 from plansynth.grid.result import GridStatus
 
 __all__ = ["ProductRefutation", "solve_product"]
@@ -102,16 +102,9 @@ def solve_product(
         moves = RobotMoves(sol)
         horizon = None
     program, _ = learn_program(moves, run, clock, horizon=horizon)
-    if depth_bound is not None and depth(program) > depth_bound:
-        return (
-            GridStatus.UNKNOWN,
-            None,
-            (
-                f"a winning program of depth {depth(program)} was found; smaller ones are "
-                "not searched for this objective"
-            ),
-            None,
-        )
+    too_deep = beyond_bound(program, depth_bound)
+    if too_deep is not None:
+        return too_deep
     run.counters["stage"] = "product"
     run.counters["depth_minimal"] = "not proved"
     return GridStatus.REALIZABLE, program, f"{kind.value} objective won on the product game", None
