@@ -26,8 +26,10 @@ against the zone (sufficient, not necessary, as the single robot's segment check
 
 **Every robot and moving obstacle**: ``p_t + E_{r,t} - c(t)`` at each sample against the
 obstacle's zone; along a step split at the obstacle's waypoint times, each piece [a, b]
-inside the hull of ``X - c(a), X - c(b), Y - c(a), Y - c(b)`` (X, Y the step's two
-disturbed-position polygons: a point of the piece is a convex combination of those).
+inside the hull of ``Z_a`` and ``Z_b`` with ``Z_s = (1 - s) X + s Y - c(s)`` (X, Y the
+step's two disturbed-position polygons, Minkowski sum: with both samples' errors fixed,
+the relative motion is a straight segment on the piece, from a point of Z_a to one of
+Z_b).
 
 Violations name the robots (or the robot and the obstacle) and the step.
 
@@ -222,8 +224,9 @@ def _moving(
         Y = P[t + 1] + E[t + 1]
         cuts = [0.0] + [(b - t * dt) / dt for b in o.times if t * dt < b < (t + 1) * dt] + [1.0]
         for a, b in zip(cuts, cuts[1:]):
-            ca, cb = o.position((t + a) * dt), o.position((t + b) * dt)
-            g = convex_hull(np.vstack([X - ca, X - cb, Y - ca, Y - cb]))
+            Za = _sum((1 - a) * X, a * Y) - o.position((t + a) * dt)
+            Zb = _sum((1 - b) * X, b * Y) - o.position((t + b) * dt)
+            g = convex_hull(np.vstack([Za, Zb]))
             if test.enters(g):
                 rep.add(
                     "moving-obstacle",
