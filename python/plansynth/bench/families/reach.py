@@ -18,8 +18,9 @@ doors, target groups, dwell, stepping stones, obstacles as labels:
 the room's corners, the mazes with 2 and 4 robots, antipodal crossings, the patrolled
 gap, the narrow corridor).
 ``robust`` holds the mazes under bounded disturbances (:func:`plansynth.reach.families.windy_maze`):
-each maze at growing disturbance boxes, a mission under the same disturbance, and a
-disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`).
+each maze at growing disturbance boxes, a mission under the same disturbance, a
+disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`), and a team of two
+robots under disturbances (:mod:`plansynth.reach.team.robust`).
 The problems themselves are built by :mod:`plansynth.bench.families.reach_problems`.
 
 >>> [i.name for i in reach_family("chain", [1], orders=[1, 2])]
@@ -99,7 +100,9 @@ def reach_family(
     (:data:`plansynth.reach.team.families.TEAM_CASES`, default all). ``robust``: values are passage counts (default
     1..4), each maze at the disturbance scales of :data:`ROBUST_SCALES`, with the mission
     of :data:`ROBUST_MISSION` and maze-1 with a gap narrower than the disturbance's tube
-    (:func:`plansynth.reach.families.narrow_maze`: no robust plan, expected infeasible).
+    (:func:`plansynth.reach.families.narrow_maze`: no robust plan, expected infeasible),
+    and without values also the team of :func:`plansynth.reach.team.families.windy_swap`
+    (two robots under disturbances: the team planners).
     """
     out = []
     if name == "maze":
@@ -171,6 +174,10 @@ def reach_family(
                 Instance(
                     "reach", "robust", "maze-1-narrow-windy-x4", {"n": 1, "scale": 4.0, "narrow": True}, "infeasible"
                 )
+            )
+        if not values:  # a team: the corridor swap with a disturbance on each robot
+            out.append(
+                Instance("reach", "robust", "corridor-swap-windy", {"team": "windy-swap", "scale": 1.0}, "found")
             )
     elif name == "gcs-maze":
         for n in values or GCS_MAZE_SIZES:

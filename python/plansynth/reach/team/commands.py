@@ -104,11 +104,13 @@ def _robust_lines(
 def _nominal_runs(problem: TeamProblem, gains: Any, disturbances: int, seed: int, tol: float) -> str:
     """A nominal team plan (lazy-smt-team, the disturbances ignored) under the same sequences."""
     from plansynth.budget import Budget
-    from plansynth.reach.solve import solve
+    from plansynth.reach.team.lazy import plan_team_lazy
     from plansynth.reach.team.robust import without_disturbances
     from plansynth.reach.team.robust_simulate import simulate_team
+    from plansynth.reach.team.solve import validate_team_result
 
-    result = solve(without_disturbances(problem), "lazy-smt-team", Budget(seconds=60.0))
+    plain = without_disturbances(problem)
+    result = validate_team_result(plain, plan_team_lazy(plain, Budget(seconds=60.0)))
     if result.trajectories is None:
         return f"nominal plan: none ({result.message})"
     runs = simulate_team(problem, result.trajectories, gains, sequences=disturbances, seed=seed, tol=tol)
