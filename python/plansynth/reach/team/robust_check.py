@@ -42,7 +42,6 @@ Violations name the robots (or the robot and the obstacle) and the step.
 
 from __future__ import annotations
 
-import logging
 import math
 import time
 from collections.abc import Sequence
@@ -60,8 +59,6 @@ from plansynth.reach.trajectory import Trajectory
 from plansynth.reach.validate import Violation
 
 __all__ = ["check_robust_team", "team_gains", "annotated_team", "checked_team"]
-
-log = logging.getLogger("plansynth.reach")
 
 
 def team_gains(problem: TeamProblem, robust: dict[str, Any] | None) -> list[np.ndarray | None]:
@@ -260,20 +257,8 @@ def checked_team(problem: TeamProblem, result: Any, *, tol: float = 1e-6) -> Any
     plan that fails it is not reported as found."""
     if result.status is not ReachStatus.FOUND or result.trajectories is None or result.robust is None:
         return result
+    from plansynth.reach.robust.planning import with_check
+
     t0 = time.perf_counter()
     report = check_robust_team(problem, result.trajectories, team_gains(problem, result.robust), tol=tol)
-    seconds = time.perf_counter() - t0
-    timings = {**result.timings, "robust_check": seconds, "total": result.seconds + seconds}
-    robust = {**result.robust, "check": report.to_json_dict()}
-    if report.ok:
-        return replace(result, robust=robust, timings=timings, seconds=timings["total"])
-    log.error("planner %s returned a team plan that fails the robust check: %s", result.solver, report.summary())
-    return replace(
-        result,
-        status=ReachStatus.UNKNOWN,
-        robust=robust,
-        timings=timings,
-        seconds=timings["total"],
-        message=f"the {result.solver} plan fails the robust team check and is not reported as found: "
-        f"{report.summary()}",
-    )
+    return with_check(result, report, time.perf_counter() - t0, "the robust team check")
