@@ -136,6 +136,24 @@ def test_a_tube_wider_than_the_corridor_has_no_robust_plan_relative_to_the_desig
     assert r.robust is not None and set(r.robust["robots"]) == {"A", "B"}
 
 
+def test_robots_that_stop_rest_with_room_for_their_feedback() -> None:
+    """``stop`` under a disturbance: the nominal ends where it can stay, with a resting
+    input that leaves the feedback its largest share of the input bound."""
+    p = windy_swap()
+    p = replace(p, robots=tuple(replace(r, stop=True) for r in p.robots))
+    lazy, milp = solve(p, "lazy-smt-team"), solve(p, "milp-team")
+    assert lazy.status is milp.status is ReachStatus.FOUND and lazy.horizon == milp.horizon
+    for r in (lazy, milp):
+        assert r.robust["check"]["ok"]
+        for robot, traj in zip(p.robots, r.trajectories):
+            A, B = np.asarray(robot.dynamics.A), np.asarray(robot.dynamics.B)
+            x = traj.states[-1]
+            rest = np.linalg.lstsq(B, x - A @ x, rcond=None)[0]
+            share = max(r.robust["robots"][robot.name]["margins"]["input_bound_at_most"]["hi"])
+            assert np.allclose(B @ rest, x - A @ x, atol=1e-7)
+            assert np.max(np.abs(rest)) <= robot.input_bound - share + 1e-7
+
+
 def test_prioritized_refuses_a_team_under_disturbances() -> None:
     with pytest.raises(InvalidOption, match="plans no disturbance"):
         solve(windy_swap(), "prioritized")
