@@ -348,6 +348,9 @@ CASES: dict[str, Case] = {
         out=("valid", "worst case: robust", "0 of 200 random, 0 of 200 vertex runs violated", "nominal plan (horizon"),
         before=(SOLVED_WINDY_TEAM,),
     ),
+    "plansynth bench reach --family robust --values windy-swap --planners lazy-smt-team,milp-team": Case(
+        files=("bench-results.db",), out=("solved",)
+    ),
     "plansynth reach solve examples/reach/maze-3-windy.yaml --planner nominal-check": Case(
         exit=(3,), out=("unknown", "fails the robust check")
     ),

@@ -190,7 +190,10 @@ def robust_tasks(timeout: float = ROBUST_TIMEOUT) -> list[dict[str, Any]]:
     ['lazy-smt', 'lazy-smt-team', 'milp-bigm', 'milp-ltl', 'milp-team', 'nominal-check']
     """
     tasks: list[dict[str, Any]] = []
-    for inst in family("reach", "robust"):  # each instance's planners one after the other (interleaved)
+    from plansynth.bench.families.reach import ROBUST_TEAM
+
+    robust = family("reach", "robust") + family("reach", "robust", [ROBUST_TEAM])
+    for inst in robust:  # each instance's planners one after the other (interleaved)
         if "team" in inst.params:  # a team under disturbances: the team planners
             tasks += make_tasks([inst], ["lazy-smt-team", "milp-team"], timeout=timeout)
             continue
