@@ -100,8 +100,9 @@ class TeamConPlan:
     robot-obstacle couple (absent: nothing forbidden); ``pair_margins``,
     ``obstacle_margins``: under disturbances, how far each side moves out at each sample
     (:mod:`plansynth.reach.team.robust`; every conflict is then learned at later
-    placements only, :attr:`~plansynth.reach.team.plans.TeamConflict.later_only`). ``hints``: where the side each
-    engaged step keeps best in the latest trajectories is written (DIS-PLAN's phases).
+    placements only, :attr:`~plansynth.reach.team.plans.TeamConflict.later_only`).
+    ``hints``: where the side each engaged step keeps best in the latest trajectories
+    is written (DIS-PLAN's phases).
     """
 
     def __init__(

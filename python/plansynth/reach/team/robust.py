@@ -75,6 +75,7 @@ __all__ = [
     "pair_margins",
     "obstacle_margins",
     "record",
+    "without_disturbances",
 ]
 
 GUARANTEE = (
