@@ -57,7 +57,7 @@ from typing import Any
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
-from plansynth.reach.lazy.bounds import step_adjacency, time_windows
+from plansynth.reach.lazy.bounds import step_adjacency, time_windows, touching
 from plansynth.reach.lazy.claims import EXACT_SAMPLES
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import RegionGraph
@@ -138,7 +138,10 @@ def plan_mission(
     counters.update(regions=graph.n_regions, edges=ab.n_edges, step_edges=sum(map(len, graph.adjacency)) // 2)
     exact = not segment and ab.exact  # samples, steps between any regions one step connects
 
-    proved, why = timed_label_proof(problem, labelled, timings, counters, clock)
+    # what one step can reach: a path through the free space in the segment reading (regions
+    # whose closures meet), a step's displacement in the sample reading (the graph's pairs)
+    steps = touching(ab) if segment else graph.adjacency
+    proved, why = timed_label_proof(problem, labelled, timings, counters, clock, steps=steps)
     if proved:
         out = LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     elif not ab.start_regions:
