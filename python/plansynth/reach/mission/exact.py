@@ -122,6 +122,18 @@ class ExactMissionDisPlan(MissionDisPlan):
         while self.points.segments < t:  # position t completes segment t - 1
             self.points.encode_segment()
 
+    def _boundary(self, horizon: int) -> None:
+        new = horizon not in self.bounded
+        super()._boundary(horizon)
+        if not new:
+            return
+        # a lasso's position L is position k again (x_L = x_k): its letter is segment k's,
+        # so the literals that hold at L hold at k, where segment k's points read them
+        for s, j in self.selectors(horizon):
+            if s != self.stay(horizon):
+                for g in self._literal_subs:
+                    self._add([-s, -self.v(g, horizon), self.v(g, j - 1)])
+
     def _shift(self, c: Conflict, shift: int, horizon: int | None) -> None:
         if c.first_time + shift < 0 or c.last_time + shift > self.built:
             return
