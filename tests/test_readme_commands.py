@@ -347,6 +347,9 @@ CASES: dict[str, Case] = {
     ),
     "plansynth reach solve examples/reach/mission-unsat.yaml": Case(exit=(1,), out=("infeasible",)),
     "plansynth reach solve examples/reach/mission-ringed.yaml": Case(exit=(1,), out=("infeasible",)),
+    "plansynth reach solve examples/reach/mission-avoid-until.yaml -O exact_segments=true": Case(
+        out=("found", "24", "proved minimal")
+    ),
     # docs/how-to/missions.md: margins, readings
     "plansynth reach solve examples/reach/mission-visit.yaml --reading sample --margin 0.3": Case(
         out=("found", "achieved margin: 0.3")

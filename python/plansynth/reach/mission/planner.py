@@ -42,6 +42,11 @@ shortest horizon found is minimal through the decomposition only
 free space, the search is exact: every trajectory's samples lie in regions one step
 apart, each read as the checker reads its sample, so a refuted horizon is refuted for the
 problem and the shortest horizon found is minimal (``minimal_relative_to: problem``).
+With ``exact_segments`` in the segment reading (convex labels), DIS-PLAN and the theory
+are those of :mod:`plansynth.reach.mission.exact` (a step may cross several regions and
+labels, its letters read along its segment): refutations are then about the problem in
+the segment reading as well, unless a plan was given up without a proof
+(``counters["segment_undecided"]``; the claims then say so).
 
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = plan_mission(mission_problem("maze-1", "avoid-until"))
