@@ -60,6 +60,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 
 from plansynth.budget import checkpoint
+from plansynth.reach.lazy.regiongraph import reachable
 from plansynth.reach.mission.ltl import (
     And,
     Const,
@@ -85,7 +86,6 @@ __all__ = [
     "MAX_NODES",
     "label_proof",
     "timed_label_proof",
-    "reachable_regions",
     "NOT_A_PROOF",
     "MAX_LETTERS",
 ]
@@ -306,26 +306,6 @@ def _components(edges: dict) -> list[set[frozenset[Formula]]]:
 MAX_LETTERS = 20_000
 
 
-def reachable_regions(starts: Iterable[int], steps: Sequence[Sequence[int]]) -> list[bool]:
-    """The regions reachable from ``starts`` over ``steps`` (region -> the regions one
-    step reaches).
-
-    >>> reachable_regions([0], [(1,), (0,), ()])
-    [True, True, False]
-    """
-    seen = [False] * len(steps)
-    todo = list(starts)
-    for i in todo:
-        seen[i] = True
-    while todo:
-        i = todo.pop()
-        for j in steps[i]:
-            if not seen[j]:
-                seen[j] = True
-                todo.append(j)
-    return seen
-
-
 def geometry_letters(
     labelled,
     shapes: dict,
@@ -437,7 +417,7 @@ def label_proof(problem, labelled, *, steps: Sequence[Sequence[int]] | None = No
     # buffers and intersections of geometry_letters, most of its time): they are a
     # subset of the letters, so a word over them is a word over the letters, and the
     # mission, satisfiable over the subset, is over the whole set (the same verdict)
-    within = None if steps is None or not ab.start_regions else reachable_regions(ab.start_regions, steps)
+    within = None if steps is None or not ab.start_regions else reachable(ab.start_regions, steps)
     interior = list(dict.fromkeys(x for k, x in enumerate(labelled.letters) if within is None or within[k]))
     try:
         if satisfiable(mission, interior, finite=finite):
