@@ -177,3 +177,18 @@ def test_the_examples_minima_are_proved_for_the_problem(name, decomposition, exa
     assert r.status is ReachStatus.FOUND and r.horizon == exact and r.validated is True, r.message
     assert r.mission["ok"] is True and r.counters["minimal_relative_to"] == "problem"
     assert r.counters["exact_segments"] == "on"
+
+
+def test_stepping_stones_read_along_segments_are_infeasible_for_the_problem():
+    """Read along segments, ``G (bank | far | s1 | ..)`` asks every step's segment to lie
+    in one label, and a step from the bank to a stone crosses water: no trajectory
+    satisfies it. Through the decomposition that is ``unknown`` (not a proof); with exact
+    transitions the same refutation is about the problem."""
+    from plansynth.reach.lazy.claims import EXACT_SEGMENTS
+    from plansynth.reach.mission.literature import literature_problem
+
+    p = replace(literature_problem("stones-4"), reading="segment")
+    plain = solve(p, "lazy-smt", Budget(seconds=60))
+    assert plain.status is ReachStatus.UNKNOWN and "not a proof" in plain.message
+    r = solve(p, "lazy-smt", Budget(seconds=60), exact_segments=True)
+    assert r.status is ReachStatus.INFEASIBLE and EXACT_SEGMENTS in r.message, r.message
