@@ -88,6 +88,7 @@ class ExactMissionDisPlan(MissionDisPlan):
     ) -> None:
         super().__init__(graph, labels_of, formula, **kw)
         self._literal_subs = [f for f in self.subs if isinstance(f, (Prop, Not))]
+        self._holding = {id(g): self._regions_of(g) for g in self._literal_subs}
         self.points = SegmentPoints(
             self,
             graph.n_regions,
@@ -115,7 +116,7 @@ class ExactMissionDisPlan(MissionDisPlan):
         that holds at step t holds there (segment t exists once position t + 1 does, so
         position t is not the last one of any horizon asked from now on)."""
         for g in self._literal_subs:
-            self._add([-self.v(g, t)] + [self.points.via(t, f, r) for r in self._regions_of(g)])
+            self._add([-self.v(g, t)] + [self.points.via(t, f, r) for r in self._holding[id(g)]])
 
     def _position(self, t: int) -> None:
         super()._position(t)

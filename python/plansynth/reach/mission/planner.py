@@ -134,8 +134,14 @@ def plan_mission(
         negs_of=labelled.negs_of,
         end=problem.end,
     )
-    conplan = ConPlan(
-        pp, ab, segment_safe=segment, counterexample="trivial", generalize=True, minimize=True, clock=clock
+    conplan = ConPlan(  # (exact transitions: rows of samples only, for the transit layer's legs)
+        pp,
+        ab,
+        segment_safe=segment and not crossing,
+        counterexample="trivial",
+        generalize=True,
+        minimize=True,
+        clock=clock,
     )
     loop_lp = LoopLP(pp, ab, segment_safe=segment)
     seg_theory: SegmentTheory | None = None
@@ -150,7 +156,9 @@ def plan_mission(
             near=near,
             **encoding,
         )
-        seg_theory = SegmentTheory(pp, ab, clock=clock, labels=avoided_shapes(problem))
+        # the transit layer over CON-PLAN without segment rows: its legs hold for every trajectory
+        transit = MissionTransit(conplan, ab) if opts.transit else None
+        seg_theory = SegmentTheory(pp, ab, transit=transit, clock=clock, labels=avoided_shapes(problem))
         theory = MissionSegmentTheory(seg_theory, end=problem.end)
     else:
         displan = MissionDisPlan(graph, labelled.labels_of, formula, **encoding)
