@@ -360,6 +360,10 @@ CASES: dict[str, Case] = {
         fast="plansynth bench reach --family robust --values 1 --planners lazy-smt --timeout 60 --db b.db",
     ),
     "plansynth reach solve examples/reach/mission-unsat.yaml": Case(exit=(1,), out=("infeasible",)),
+    "plansynth reach solve examples/reach/mission-ringed.yaml": Case(exit=(1,), out=("infeasible",)),
+    "plansynth reach solve examples/reach/mission-avoid-until.yaml -O exact_segments=true": Case(
+        out=("found", "24", "proved minimal")
+    ),
     # docs/how-to/missions.md: margins, readings
     "plansynth reach solve examples/reach/mission-visit.yaml --reading sample --margin 0.3": Case(
         out=("found", "achieved margin: 0.3")

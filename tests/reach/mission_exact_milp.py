@@ -14,6 +14,14 @@ off each sample by one edge. The formula is in negation normal form, so one-side
 (a gate's value at most what its inputs allow) are exact. The least horizon with a
 feasible shape is the problem's shortest plan in the sample reading, as the checker
 judges plans.
+
+In the segment reading (``segments=True``) position t is the segment [p_t, p_{t+1}] (the
+last position of a finite plan its last sample; a lasso's positions are its N segments,
+x_N = x_k): ``a`` asks both ends inside the shrunk box (exact: a box is convex), ``!a``
+and every obstacle both ends beyond one common edge (sufficient, not necessary: a segment
+that passes a corner, its ends beyond two different edges, misses the box too). So a plan
+of this model is a plan of the problem, and its least horizon is an upper bound on the
+shortest: no claim "refuted for the problem" may lie at or above it.
 """
 
 from __future__ import annotations
@@ -108,8 +116,9 @@ def _gate(m: _Model, xs: list, conj: bool):
     return v
 
 
-def _shape_model(problem, N: int, shape: tuple[str, int | None]) -> _Model:
-    """The model of one horizon and shape: ("rest", None), ("free", None) or ("lasso", k)."""
+def _shape_model(problem, N: int, shape: tuple[str, int | None], segments: bool = False) -> _Model:
+    """The model of one horizon and shape: ("rest", None), ("free", None) or ("lasso", k).
+    ``segments``: the segment reading, by sufficient conditions (module docstring)."""
     kind, k = shape
     dyn = problem.dynamics
     n, mm = dyn.n_states, dyn.n_inputs
@@ -152,27 +161,34 @@ def _shape_model(problem, N: int, shape: tuple[str, int | None]) -> _Model:
     def point(t: int) -> list[int]:
         return [x[t][i] for i in pos]
 
+    def ends(t: int) -> tuple[int, ...]:
+        """The samples whose rows read position t: its segment's two ends in the segment
+        reading (a box is convex: both ends inside, or both beyond one edge, is enough),
+        the sample alone otherwise and at the last position of a finite plan."""
+        return (t, t + 1) if segments and t < N else (t,)
+
     def inside(t: int, lo, hi) -> int:
         z = m.var(0, 1, integer=True)
-        p = point(t)
-        for a in range(2):
-            m.row({p[a]: 1.0, z: big}, -INF, hi[a] + big)
-            m.row({p[a]: -1.0, z: big}, -INF, -lo[a] + big)
+        for q in ends(t):
+            p = point(q)
+            for a in range(2):
+                m.row({p[a]: 1.0, z: big}, -INF, hi[a] + big)
+                m.row({p[a]: -1.0, z: big}, -INF, -lo[a] + big)
         return z
 
     def beyond(t: int, lo, hi) -> list[int]:
-        p = point(t)
         ds = []
         for a in range(2):
             for sign, edge in ((1.0, hi[a]), (-1.0, lo[a])):
                 d = m.var(0, 1, integer=True)
-                m.row({p[a]: sign, d: -big}, sign * edge - big, INF)
+                for q in ends(t):
+                    m.row({point(q)[a]: sign, d: -big}, sign * edge - big, INF)
                 ds.append(d)
         return ds
 
     for ob in problem.obstacles:
         assert isinstance(ob, Box)
-        for t in range(N + 1):
+        for t in range(N if segments and N > 0 else N + 1):
             ds = beyond(t, ob.lo, ob.hi)
             m.row(dict.fromkeys(ds, 1.0), 1.0, INF)
     # the word: positions and successors of this shape
@@ -284,15 +300,17 @@ def _shape_model(problem, N: int, shape: tuple[str, int | None]) -> _Model:
     return m
 
 
-def shortest_horizon(problem, max_horizon: int, seconds: float = 30.0) -> int | None:
+def shortest_horizon(problem, max_horizon: int, seconds: float = 30.0, *, segments: bool = False) -> int | None:
     """The least N <= max_horizon with a plan of some shape that satisfies the mission in
     the sample reading (the problem's end for finite plans), or None (every horizon
-    refuted). Raises RuntimeError when HiGHS gives no answer in time."""
+    refuted). Raises RuntimeError when HiGHS gives no answer in time. ``segments``: in
+    the segment reading, by sufficient conditions (module docstring): the least N with
+    such a plan, an upper bound on the shortest."""
     end = "rest" if problem.end == "rest" else "free"
     for N in range(max_horizon + 1):
         shapes = [(end, None)] + [("lasso", k) for k in range(N)]
         for shape in shapes:
-            got = _shape_model(problem, N, shape).solve(seconds)
+            got = _shape_model(problem, N, shape, segments).solve(seconds)
             if got is None:
                 raise RuntimeError(f"no answer at horizon {N}, shape {shape}")
             if got:

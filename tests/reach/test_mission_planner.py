@@ -67,6 +67,35 @@ def test_the_unsatisfiable_example_is_infeasible_up_to_its_max_horizon(planner):
     assert r.counters["label_proof"] is True and "labels' geometry" in r.message
 
 
+@pytest.mark.parametrize("reading", ["segment", "sample"])
+@pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
+def test_a_label_ringed_by_walls_no_step_crosses_is_infeasible_for_the_problem(planner, reading):
+    """The vault lies behind walls 2 m thick, and a step covers at most 1 m: no region a
+    trajectory can reach from the start (in the segment reading: regions whose closures
+    meet; in the sample reading: the one-step pairs) holds it, so ``F vault`` is refuted
+    at every horizon, a proof for the problem in either reading (through the
+    decomposition alone it was ``unknown``)."""
+    p = replace(load_reach_problem(f"{EXAMPLES}/mission-ringed.yaml"), reading=reading)
+    r = solve(p, planner, Budget(seconds=60))
+    assert r.status is ReachStatus.INFEASIBLE and r.horizon == p.max_horizon, r.message
+    assert r.counters["label_proof"] is True and "regions a trajectory can reach" in r.message
+
+
+def test_a_label_behind_a_single_contact_point_is_not_refuted_by_reachability():
+    """Two obstacles meet at one corner, cutting the room into two halves that touch at
+    that point only: a segment through the point avoids both interiors, so the vault in
+    the other half is reachable in the segment reading and the proof claims nothing (the
+    regions' facet adjacency alone would have cut it off)."""
+    p = replace(
+        load_reach_problem(f"{EXAMPLES}/mission-ringed.yaml"),
+        obstacles=(Box((0, 5), (5, 10)), Box((5, 0), (10, 5))),
+        labels=(("vault", Box((7, 7), (8, 8))),),
+        max_horizon=4,
+    )
+    r = solve(p, "lazy-smt", Budget(seconds=60))
+    assert r.status is not ReachStatus.INFEASIBLE and r.counters["label_proof"] is False, r.message
+
+
 @pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
 def test_a_mission_out_of_reach_in_time_is_unknown_not_infeasible(planner):
     """Every horizon up to 10 refuted through the abstraction is no proof (a step may

@@ -98,3 +98,70 @@ def test_label_proof_gives_the_verdict_of_the_whole_letter_set(f, seed, rects):
     letters = geometry_letters(la, p.mission_labels, margin=1e-5 * max(1.0, max(h - l for l, h in zip(ws.lo, ws.hi))))
     verdict, _ = label_proof(p, la)
     assert verdict is (None if letters is None else not satisfiable(f, letters))
+
+
+def _ringed(thick: float, gap: float, side: int):
+    """The ringed-label example with walls ``thick`` m thick around the hole [4, 6]^2 and,
+    when ``gap`` > 0, a gap that wide in the middle of wall ``side`` (0..3)."""
+    from dataclasses import replace
+
+    from plansynth.reach.fileformat import load_reach_problem
+    from plansynth.reach.geometry import Box
+
+    p = load_reach_problem("examples/reach/mission-ringed.yaml")
+    lo, hi = 4.0 - thick, 6.0 + thick
+    walls = [  # overlapping at the corners (touching walls would leave a seam, a slit no region holds)
+        ((lo, lo), (hi, 4.0)),  # south
+        ((lo, 6.0), (hi, hi)),  # north
+        ((lo, lo), (4.0, hi)),  # west
+        ((6.0, lo), (hi, hi)),  # east
+    ]
+    boxes = []
+    for k, (a, b) in enumerate(walls):
+        if k == side and gap > 0:
+            axis = 0 if k < 2 else 1  # the wall's long axis
+            c0, c1 = 5.0 - gap / 2, 5.0 + gap / 2
+            first_hi, second_lo = list(b), list(a)
+            first_hi[axis], second_lo[axis] = c0, c1
+            boxes += [Box(a, tuple(first_hi)), Box(tuple(second_lo), b)]
+        else:
+            boxes.append(Box(a, b))
+    return replace(p, obstacles=tuple(boxes))
+
+
+@settings(max_examples=12, deadline=None)
+@given(
+    st.floats(0.3, 2.0),  # (thinner walls: the exact oracle's refinement runs for minutes)
+    st.sampled_from([0.0, 0.0, 0.3, 1.0]),
+    st.integers(0, 3),
+    st.sampled_from(["segment", "sample"]),
+)
+def test_a_label_no_trajectory_can_reach_is_refuted_only_when_no_trajectory_reaches_it(thick, gap, side, reading):
+    """The reachable-letters proof (``steps``: regions whose closures meet in the segment
+    reading, the one-step pairs in the sample reading) against an exact oracle: when it
+    proves ``F vault`` infeasible, no trajectory of up to 10 steps ends in the vault
+    (reach-avoid with the vault as goal: the exact segment-safe oracle, or the exact
+    samples MILP), whatever the walls' thickness and gap."""
+    from dataclasses import replace
+
+    from reach_oracles import oracle_exact, oracle_feasible
+
+    from plansynth.reach.lazy.bounds import step_adjacency, touching
+    from plansynth.reach.mission.labels import label_abstraction, planning_problem
+    from plansynth.reach.mission.proof import label_proof
+
+    p = replace(_ringed(thick, gap, side), reading=reading)
+    la = label_abstraction(p)
+    ab = la.abstraction
+    steps = touching(ab) if reading == "segment" else step_adjacency(planning_problem(p), ab)
+    proved, why = label_proof(p, la, steps=steps)
+    if gap == 0.0 and (reading == "segment" or thick > 1.5):  # closed, and too thick to jump
+        assert proved is True and "regions a trajectory can reach" in why, why
+    if proved is not True:
+        return
+    reach = replace(p, mission=None, labels=(), reading="segment", goal=p.mission_labels["vault"])
+    for N in range(1, 11):
+        if reading == "segment":
+            assert oracle_exact(reach, N, seconds=30) is not True, N
+        else:
+            assert oracle_feasible(reach, N, segments=False, seconds=30) is not True, N

@@ -74,9 +74,10 @@ class PointLP:
         start: bool,
         goal: bool,
         extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
+        closure: tuple | None = None,
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """:meth:`load`, then :meth:`run`."""
-        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra)
+        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra, closure=closure)
         return self.run()
 
     def load(
@@ -89,14 +90,19 @@ class PointLP:
         start: bool,
         goal: bool,
         extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
+        closure: tuple | None = None,
     ) -> None:
         """Put the LP into HiGHS: the states lo..hi (x_lo = start when ``start``, p_hi in
         the goal when ``goal``), the samples (t -> region) and points ((t, f) -> region)
         within them, and ``extra`` rows ``n . p(t, f) >= c`` as (t, f, n, c) (f over
-        DENOM, 0..DENOM)."""
+        DENOM, 0..DENOM). ``closure`` (a mission's plan): ``("loop", k)``, x_hi = x_k (a
+        lasso); ``("rest",)``, some admissible input keeps x_hi where it is (a finite
+        plan ending at rest: one more input column u with x_hi = A x_hi + B u); its rows
+        belong to the literal ``("closure",)``."""
         n, m, pos, d = self.n, self.m, self.pos, len(self.pos)
         T = hi - lo + 1
         n_x, n_u = T * n, (T - 1) * m
+        rest = closure is not None and closure[0] == "rest"
         rows = Rows()
         tags: list[tuple] = []
         ai, aj = np.nonzero(self.A)
@@ -157,12 +163,35 @@ class PointLP:
                 self.hg,
             )
             tags += [("goal",)] * kg
-        col_lo = np.concatenate([np.tile(self.state_lo, T), np.full(n_u, -self.problem.input_bound)])
-        col_hi = np.concatenate([np.tile(self.state_hi, T), np.full(n_u, self.problem.input_bound)])
+        if closure is not None and closure[0] == "loop":  # x_hi - x_k = 0
+            k = int(closure[1])
+            assert lo <= k <= hi
+            rows.add(
+                np.concatenate([np.arange(n), np.arange(n)]),
+                np.concatenate([(hi - lo) * n + np.arange(n), (k - lo) * n + np.arange(n)]),
+                np.concatenate([np.ones(n), -np.ones(n)]),
+                np.zeros(n),
+                np.zeros(n),
+            )
+            tags += [("closure",)] * n
+        elif rest:  # (A - I) x_hi + B u = 0, u the extra input columns
+            M = self.A - np.eye(n)
+            mi, mj = np.nonzero(M)
+            rows.add(
+                np.concatenate([mi, bi]),
+                np.concatenate([(hi - lo) * n + mj, n_x + n_u + bj]),
+                np.concatenate([M[mi, mj], self.B[bi, bj]]),
+                np.zeros(n),
+                np.zeros(n),
+            )
+            tags += [("closure",)] * n
+        extra_u = m if rest else 0
+        col_lo = np.concatenate([np.tile(self.state_lo, T), np.full(n_u + extra_u, -self.problem.input_bound)])
+        col_hi = np.concatenate([np.tile(self.state_hi, T), np.full(n_u + extra_u, self.problem.input_bound)])
         if start:
             assert lo == 0
             col_lo[:n] = col_hi[:n] = self.start
-        n_col = n_x + n_u
+        n_col = n_x + n_u + extra_u
         row_lo, row_hi = rows.bounds()
         lp = csc_lp(n_col, rows.n_row, *rows.coo(), np.zeros(n_col), col_lo, col_hi, row_lo, row_hi)
         self.highs.passModel(lp)
@@ -207,7 +236,7 @@ class PointLP:
         n, m, T = self.n, self.m, self._T
         if status == S.kOptimal:
             col = np.asarray(h.getSolution().col_value)
-            return col[: T * n].reshape(T, n), col[T * n :].reshape(T - 1, m)
+            return col[: T * n].reshape(T, n), col[T * n : T * n + (T - 1) * m].reshape(T - 1, m)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
             return None
         raise LpBudgetExhausted(f"the segment theory's LP ended with HiGHS status {h.modelStatusToString(status)}")
@@ -225,9 +254,9 @@ class PointLP:
 
 
 def _literals_of(tag: tuple) -> tuple[tuple, ...]:
-    """The literals (sample and point tags) a row of the point LP belongs to: a pair row
-    belongs to both samples of its step."""
-    if tag[0] in ("s", "v"):
+    """The literals (sample and point tags, and a mission plan's closure) a row of the
+    point LP belongs to: a pair row belongs to both samples of its step."""
+    if tag[0] in ("s", "v", "closure"):
         return (tag,)
     if tag[0] == "pair":
         _, t, i, j = tag

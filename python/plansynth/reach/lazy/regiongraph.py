@@ -16,7 +16,29 @@ from dataclasses import dataclass
 
 from plansynth.reach.abstraction import Abstraction
 
-__all__ = ["RegionGraph"]
+__all__ = ["RegionGraph", "reachable"]
+
+
+def reachable(starts: Sequence[int], adjacency: Sequence[Sequence[int]], blocked: int | None = None) -> list[bool]:
+    """Per region: does a walk over ``adjacency`` from ``starts`` reach it (never through
+    ``blocked``, which counts as reached)?
+
+    >>> reachable([0], [(1,), (0,), ()]), reachable([0], [(1,), (0, 2), (1,)], blocked=1)
+    ([True, True, False], [True, True, False])
+    """
+    seen = [False] * len(adjacency)
+    if blocked is not None:
+        seen[blocked] = True
+    stack = [s for s in starts if s != blocked]
+    for s in stack:
+        seen[s] = True
+    while stack:
+        i = stack.pop()
+        for j in adjacency[i]:
+            if not seen[j]:
+                seen[j] = True
+                stack.append(j)
+    return seen
 
 
 @dataclass(frozen=True)

@@ -53,9 +53,18 @@ from dataclasses import dataclass
 from pysat.card import CardEnc, EncType
 
 from plansynth.reach.lazy.conflict import Conflict
-from plansynth.reach.lazy.displan import CARDINALITY_ENCODINGS, PAIRWISE_MAX_REGIONS, DisPlan, RegionGraph, SatOutcome
+from plansynth.reach.lazy.displan import PAIRWISE_MAX_REGIONS, DisPlan, RegionGraph, SatOutcome
 
-__all__ = ["DENOM", "MAX_POINTS", "START_POINTS", "Refinement", "SegmentPlan", "SegmentDisPlan", "Adjacency"]
+__all__ = [
+    "DENOM",
+    "MAX_POINTS",
+    "START_POINTS",
+    "Refinement",
+    "SegmentPlan",
+    "SegmentPoints",
+    "SegmentDisPlan",
+    "Adjacency",
+]
 
 #: Fractions along a segment are f / DENOM, 0 < f < DENOM.
 DENOM = 1 << 16
@@ -91,12 +100,188 @@ class SegmentPlan(tuple):
         return plan
 
 
+class SegmentPoints:
+    """The points along the segments of a DIS-PLAN's encoding (see the module docstring):
+    variables ``("via", t, f, i)`` in the host's pool, clauses through the host's ``_add``,
+    the samples' variables through its ``at(t, i)``. :class:`SegmentDisPlan` and the
+    mission's DIS-PLAN (:class:`~plansynth.reach.mission.bmc.MissionDisPlan`) each hold
+    one; the host calls :meth:`encode_segment` once sample t + 1 has variables, and hands
+    shifted conflicts back through ``reinstantiate(conflict, shift)`` when a refinement
+    adds a point that free conflicts name.
+
+    ``ends`` (a mission's segment reading, where a segment reads its own letter): the
+    segment's end p_{t+1} is a point of its own (fraction DENOM, variables ``("via", t,
+    DENOM, i)``) in a region equal or touching (``near``) r_{t+1}'s, so that two
+    segments meeting on a label's edge each read it their way; the links run to it, not
+    to the sample. ``on_point(t, f)``: called for every point the host encodes (the host
+    adds its clauses about the point, a mission its letters)."""
+
+    def __init__(
+        self,
+        host,
+        n_regions: int,
+        relation: Callable[[float], Adjacency],
+        *,
+        fractions: Sequence[int] = START_POINTS,
+        pairwise: bool = True,
+        ends: bool = False,
+        near: Adjacency | None = None,
+        reinstantiate: Callable[[Conflict, int], None] | None = None,
+        on_point: Callable[[int, int], None] | None = None,
+    ) -> None:
+        self.host = host
+        self.n = n_regions
+        self._relation = functools.lru_cache(maxsize=None)(relation)
+        self.first = sorted({int(f) for f in fractions if 0 < int(f) < DENOM})
+        self.pairwise = pairwise
+        self.ends = bool(ends)
+        if self.ends and near is None:
+            raise ValueError("end points need the regions' touching relation")
+        self.near = near
+        self._reinstantiate = reinstantiate
+        self._on_point = on_point
+        self.points: list[list[int]] = []  # per encoded segment, its fractions
+        self._by_fraction: dict[int, list[Conflict]] = {}  # free conflicts by the fractions they name
+        self.refinements = 0
+        self.clauses = 0
+
+    @property
+    def segments(self) -> int:
+        return len(self.points)
+
+    @property
+    def most(self) -> int:
+        """The most points any segment has."""
+        return max(map(len, self.points), default=len(self.first))
+
+    def via(self, t: int, f: int, i: int) -> int:
+        """v[t, f, i]: the point at fraction f / DENOM of segment t lies in region i."""
+        return self.host.pool.id(("via", t, f, i))
+
+    def _point(self, t: int, f: int, i: int) -> int:
+        """The variable of the point at fraction f of segment t in region i (f = 0: the
+        sample t, f = DENOM: the sample t + 1)."""
+        if f == 0:
+            return self.host.at(t, i)
+        if f == DENOM and not self.ends:
+            return self.host.at(t + 1, i)
+        return self.via(t, f, i)
+
+    def _add(self, clause: list[int]) -> None:
+        self.host._add(clause)
+        self.clauses += 1
+
+    def encode_segment(self) -> None:
+        """The points of the next segment (its samples have their variables)."""
+        u = len(self.points)
+        self.points.append(list(self.first))
+        for f in self.first:
+            self._encode_point(u, f)
+        if self.ends:
+            self._encode_point(u, DENOM)
+            for q in range(self.n):  # p_{t+1} in q and in r_{t+1}: the same region or touching ones
+                self._add([-self.via(u, DENOM, q)] + [self.host.at(u + 1, j) for j in (q, *self.near[q])])
+        cuts = [0, *self.first, DENOM]
+        for k, a in enumerate(cuts):
+            for b in cuts[k + 1 :]:
+                if (a, b) != (0, DENOM) or self.ends:  # (sample to sample: DIS-PLAN's graph)
+                    self._link(u, a, b)
+
+    def _encode_point(self, t: int, f: int) -> None:
+        lits = [self.via(t, f, i) for i in range(self.n)]
+        enc = CardEnc.equals(
+            lits=lits,
+            bound=1,
+            vpool=self.host.pool,
+            encoding=EncType.pairwise if self.pairwise else EncType.seqcounter,
+        )
+        for c in enc.clauses:
+            self._add(c)
+        if self._on_point is not None:
+            self._on_point(t, f)
+
+    def _link(self, t: int, a: int, b: int) -> None:
+        """From the point at fraction a to the one at b of segment t: only the regions a
+        piece of (b - a) / DENOM of a step can connect."""
+        adj = self._relation((b - a) / DENOM)
+        for i in range(self.n):
+            self._add([-self._point(t, a, i), self._point(t, b, i)] + [self._point(t, b, j) for j in adj[i]])
+
+    def refine(self, points: Sequence[tuple[int, int]]) -> None:
+        """More points along segments, (t, f) each: the point's exactly-one and its links
+        to every other point of its segment and to the two samples (a straight piece
+        between any two of them is one segment of its share of the step). Points of
+        segments not encoded yet, past :data:`MAX_POINTS` or already there are
+        ignored."""
+        for t, f in sorted({(int(t), int(f)) for t, f in points}):
+            if not 0 <= t < len(self.points) or not 0 < f < DENOM:
+                continue
+            mine = self.points[t]
+            if f in mine or len(mine) >= MAX_POINTS:
+                continue
+            self._encode_point(t, f)
+            for g in [0, *mine, DENOM]:
+                self._link(t, min(f, g), max(f, g))
+            mine.append(f)
+            mine.sort()
+            self.refinements += 1
+            # the conflicts that hold at every shift and name a point at fraction f, now
+            # also where their point lands on this segment
+            if self._reinstantiate is not None:
+                for c in self._by_fraction.get(f, ()):
+                    for tv, fv, _ in c.vias:
+                        if fv == f:
+                            self._reinstantiate(c, t - tv)
+
+    def remember(self, conflict: Conflict) -> None:
+        """A free conflict (no start, no goal) that names points: kept by fraction, for
+        the segments that get those points later."""
+        if not conflict.anchored_start and not conflict.anchored_goal:
+            for f in {f for _, f, _ in conflict.vias}:
+                self._by_fraction.setdefault(f, []).append(conflict)
+
+    def has(self, t: int, f: int) -> bool:
+        """Is the point at fraction f of segment t encoded?"""
+        return 0 <= t < len(self.points) and (f in self.points[t] or (f == DENOM and self.ends))
+
+    def literals(self, vias: Sequence[tuple[int, int, int]], shift: int) -> list[int] | None:
+        """The variables of the point literals (t, f, i) shifted by ``shift``, or None when
+        a point does not exist there (then the clause is not added: sound, only weaker)."""
+        out = []
+        for t, f, i in vias:
+            u = t + shift
+            if u < 0 or not self.has(u, f):
+                return None
+            out.append(self.via(u, f, i))
+        return out
+
+    def read(self, true: set[int], horizon: int) -> dict[tuple[int, int], int]:
+        """The points' regions in a model (``true``: its true variables) up to ``horizon``."""
+        obj = self.host.pool.obj2id
+        vias: dict[tuple[int, int], int] = {}
+        for t in range(horizon):
+            for f in self.points[t] + ([DENOM] if self.ends else []):
+                i = next((i for i in range(self.n) if obj.get(("via", t, f, i)) in true), None)
+                if i is None:  # pragma: no cover - exactly-one forbids it
+                    raise AssertionError(f"SAT model leaves point ({t}, {f}) without a region")
+                vias[(t, f)] = i
+        return vias
+
+    def phases(self, plan: Sequence[int]) -> list[int]:
+        """Decision phases: each segment's points in the region of its first sample."""
+        out = [self.via(t, f, plan[t]) for t in range(len(plan) - 1) for f in self.points[t]]
+        if self.ends:
+            out += [self.via(t, DENOM, plan[t + 1]) for t in range(len(plan) - 1)]
+        return out
+
+
 class SegmentDisPlan(DisPlan):
     """DIS-PLAN (:class:`~plansynth.reach.lazy.displan.DisPlan`) with points along the
-    segments (see the module docstring). ``relation(scale)``: the regions a piece of a
-    segment of that share of one step can connect (``segment_adjacency``; ``graph``'s
-    adjacency is the one of a whole step). The dense encodings only (not ``paths``).
-    ``fractions``: each segment's first points. Counters: ``refinements`` (points added)."""
+    segments (see the module docstring; :class:`SegmentPoints`). ``relation(scale)``:
+    the regions a piece of a segment of that share of one step can connect
+    (``segment_adjacency``; ``graph``'s adjacency is the one of a whole step). The dense
+    encodings only (not ``paths``). ``fractions``: each segment's first points.
+    Counters: ``refinements`` (points added)."""
 
     def __init__(
         self,
@@ -109,96 +294,46 @@ class SegmentDisPlan(DisPlan):
     ) -> None:
         if cardinality in ("auto", "paths"):
             cardinality = "pairwise" if graph.n_regions <= PAIRWISE_MAX_REGIONS else "seqcounter"
+        self.segment_points = SegmentPoints(
+            self,
+            graph.n_regions,
+            relation,
+            fractions=fractions,
+            pairwise=cardinality == "pairwise",
+            reinstantiate=self._reinstantiate,
+        )
         super().__init__(graph, cardinality=cardinality, **kw)
-        self._relation = functools.lru_cache(maxsize=None)(relation)
-        self.first_points = sorted({int(f) for f in fractions if 0 < int(f) < DENOM})
-        self._points: list[list[int]] = []  # per encoded segment, its fractions
-        self._by_fraction: dict[int, list[Conflict]] = {}  # free conflicts by the fractions they name
-        self.refinements = 0
 
-    def points(self, t: int) -> list[int]:
-        """The fractions (over DENOM) of the points along segment t (encoded ones)."""
-        return list(self._points[t])
+    @property
+    def refinements(self) -> int:
+        return self.segment_points.refinements
 
     @property
     def most_points(self) -> int:
         """The most points any segment has."""
-        return max(map(len, self._points), default=len(self.first_points))
+        return self.segment_points.most
 
-    # -- variables ---------------------------------------------------------------
+    def points(self, t: int) -> list[int]:
+        """The fractions (over DENOM) of the points along segment t (encoded ones)."""
+        return list(self.segment_points.points[t])
+
     def via(self, t: int, f: int, i: int) -> int:
-        """v[t, f, i]: the point at fraction f / DENOM of segment t lies in region i."""
-        return self.pool.id(("via", t, f, i))
-
-    def _point(self, t: int, f: int, i: int) -> int:
-        """The variable of the point at fraction f of segment t in region i (f = 0: the
-        sample t, f = DENOM: the sample t + 1)."""
-        if f == 0:
-            return self.at(t, i)
-        if f == DENOM:
-            return self.at(t + 1, i)
-        return self.via(t, f, i)
+        return self.segment_points.via(t, f, i)
 
     # -- encoding ----------------------------------------------------------------
     def _built_to(self, t: int) -> None:
         # the points of the segments that step t completes come before the free conflicts
         # (which may name them) are instantiated there
-        while len(self._points) < t:
-            u = len(self._points)
-            self._points.append(list(self.first_points))
-            for f in self.first_points:
-                self._encode_point(u, f)
-            cuts = [0, *self.first_points, DENOM]
-            for k, a in enumerate(cuts):
-                for b in cuts[k + 1 :]:
-                    if (a, b) != (0, DENOM):  # (the samples' own transition: DIS-PLAN's graph)
-                        self._link(u, a, b)
+        while self.segment_points.segments < t:
+            self.segment_points.encode_segment()
         super()._built_to(t)
 
-    def _encode_point(self, t: int, f: int) -> None:
-        lits = [self.via(t, f, i) for i in range(self.graph.n_regions)]
-        enc = CardEnc.equals(
-            lits=lits,
-            bound=1,
-            vpool=self.pool,
-            encoding=EncType.pairwise if self.cardinality == "pairwise" else CARDINALITY_ENCODINGS[self.cardinality],
-        )
-        for c in enc.clauses:
-            self._add(c)
-        self.sat_clauses_encoding += len(enc.clauses)
-
-    def _link(self, t: int, a: int, b: int) -> None:
-        """From the point at fraction a to the one at b of segment t: only the regions a
-        piece of (b - a) / DENOM of a step can connect."""
-        adj = self._relation((b - a) / DENOM)
-        for i in range(self.graph.n_regions):
-            self._add([-self._point(t, a, i), self._point(t, b, i)] + [self._point(t, b, j) for j in adj[i]])
-        self.sat_clauses_encoding += self.graph.n_regions
+    def _reinstantiate(self, c: Conflict, shift: int) -> None:
+        if 0 <= c.first_time + shift and c.last_time + shift <= self.built:
+            self._clause(c, shift, None)
 
     def refine(self, points: Sequence[tuple[int, int]]) -> None:
-        """More points along segments, (t, f) each: the point's exactly-one and its links
-        to every other point of its segment and to the two samples (a straight piece
-        between any two of them is one segment of its share of the step). Points of
-        segments not encoded yet, past :data:`MAX_POINTS` or already there are
-        ignored."""
-        for t, f in sorted({(int(t), int(f)) for t, f in points}):
-            if not 0 <= t < len(self._points) or not 0 < f < DENOM:
-                continue
-            mine = self._points[t]
-            if f in mine or len(mine) >= MAX_POINTS:
-                continue
-            self._encode_point(t, f)
-            for g in [0, *mine, DENOM]:
-                self._link(t, min(f, g), max(f, g))
-            mine.append(f)
-            mine.sort()
-            self.refinements += 1
-            # the conflicts that hold at every shift and name a point at fraction f, now
-            # also where their point lands on this segment
-            for c in self._by_fraction.get(f, ()):
-                for tv, fv, _ in c.vias:
-                    if fv == f and 0 <= c.first_time + t - tv and c.last_time + t - tv <= self.built:
-                        self._clause(c, t - tv, None)
+        self.segment_points.refine(points)
 
     def _literals(self, c: Conflict, shift: int) -> list[int] | None:
         lits = []
@@ -206,25 +341,15 @@ class SegmentDisPlan(DisPlan):
             if not self.exists(t + shift, i):
                 return None
             lits.append(self.at(t + shift, i))
-        for t, f, i in c.vias:
-            u = t + shift
-            if u < 0:
-                return None
-            if u >= len(self._points):  # pragma: no cover - segments are encoded with their steps
-                raise AssertionError(f"segment {u} is not encoded")
-            if f not in self._points[u]:
-                return None  # (not added where the point is missing: sound, only weaker)
-            lits.append(self.via(u, f, i))
-        return lits
+        vias = self.segment_points.literals(c.vias, shift)
+        return None if vias is None else lits + vias
 
     def learn(self, conflict: Conflict | Refinement) -> None:  # type: ignore[override]
         """A conflict (as :meth:`DisPlan.learn`) or a request for more points."""
         if isinstance(conflict, Refinement):
             self.refine(conflict.points)
             return
-        if not conflict.anchored_start and not conflict.anchored_goal:
-            for f in {f for _, f, _ in conflict.vias}:
-                self._by_fraction.setdefault(f, []).append(conflict)
+        self.segment_points.remember(conflict)
         super().learn(conflict)
 
     # -- solving -----------------------------------------------------------------
@@ -233,18 +358,10 @@ class SegmentDisPlan(DisPlan):
         if outcome is not SatOutcome.SAT or plan is None:
             return outcome, plan
         true = {v for v in self.solver.get_model() if v > 0}
-        obj = self.pool.obj2id
-        vias: dict[tuple[int, int], int] = {}
-        for t in range(len(plan) - 1):
-            for f in self._points[t]:
-                i = next((i for i in range(self.graph.n_regions) if obj.get(("via", t, f, i)) in true), None)
-                if i is None:  # pragma: no cover - exactly-one forbids it
-                    raise AssertionError(f"SAT model leaves point ({t}, {f}) without a region")
-                vias[(t, f)] = i
-        return outcome, SegmentPlan(plan, vias)
+        return outcome, SegmentPlan(plan, self.segment_points.read(true, len(plan) - 1))
 
     def prefer(self, plan: Sequence[int]) -> None:
         """:meth:`DisPlan.prefer`, and each segment's points in the region of its first sample."""
         super().prefer(plan)
         self._extend(len(plan) - 1)
-        self.solver.set_phases([self.via(t, f, plan[t]) for t in range(len(plan) - 1) for f in self._points[t]])
+        self.solver.set_phases(self.segment_points.phases(plan))

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -62,7 +63,7 @@ from plansynth.reach.lazy.transit import TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["SegmentTheory", "PointLP", "ACCEPT_DEPTH", "TIGHTEN_ROUNDS", "FILTER_MAX"]
+__all__ = ["SegmentTheory", "ClosedConflict", "PointLP", "ACCEPT_DEPTH", "TIGHTEN_ROUNDS", "FILTER_MAX"]
 
 #: How deep a segment may enter an obstacle and still count as touching it (below the
 #: validator's default tolerance, 1e-6; HiGHS's feasibility tolerance is 1e-7).
@@ -77,9 +78,11 @@ class _Piece:
     """A convex obstacle piece: (H, h) without faces flush with the workspace's boundary,
     its bounding box and (2-D) its vertices."""
 
-    def __init__(self, H: np.ndarray, h: np.ndarray, ws_lo: np.ndarray, ws_hi: np.ndarray) -> None:
+    def __init__(
+        self, H: np.ndarray, h: np.ndarray, ws_lo: np.ndarray, ws_hi: np.ndarray, *, slits: bool = True
+    ) -> None:
         top = np.sum(np.maximum(H * ws_lo, H * ws_hi), axis=1)
-        keep = h < top - 1e-12  # beyond a flush face lies at most the boundary: a slit
+        keep = (h < top - 1e-12) if slits else np.ones(len(h), bool)  # beyond a flush face: a slit at most
         self.H_all, self.h_all = H, h
         self.H, self.h = H[keep], h[keep]
         d = H.shape[1]
@@ -128,13 +131,28 @@ class _Piece:
         return best[1], best[2]
 
 
+@dataclass(frozen=True)
+class ClosedConflict:
+    """A conflict whose proof needs a mission plan's closure (``("loop", k)`` or
+    ``("rest",)``, see :meth:`PointLP.load`): no trajectory realises its literals
+    together with the closure, at its horizon; the mission's DIS-PLAN blocks it with the
+    plan's loop or stay selector."""
+
+    conflict: Conflict
+    closure: tuple
+
+
 class SegmentTheory:
     """The :class:`~plansynth.reach.lazy.loop.TheoryChecker` of exact segment transitions
     (see the module docstring). ``transit`` (optional): the transit layer over CON-PLAN
     *without* segment rows (its leg conflicts are about samples only, which every
-    segment-safe trajectory keeps in its regions: sound here). Counters: ``lp_calls``,
-    ``plans_checked``, ``realised`` (plans whose point LP's trajectory was segment-safe),
-    ``separated`` (realised by the separating LP), ``refinements``, ``undecided``."""
+    segment-safe trajectory keeps in its regions: sound here). ``labels`` (a mission's
+    segment reading: name -> the shape a segment reading ``!name`` must stay out of, the
+    label grown by its margin): :meth:`check_closed` keeps segment t out of the labels
+    ``avoid[t]`` names as it keeps every segment off the obstacles. Counters:
+    ``lp_calls``, ``plans_checked``, ``realised`` (plans whose point LP's trajectory was
+    segment-safe), ``separated`` (realised by the separating LP), ``refinements``,
+    ``undecided``."""
 
     def __init__(
         self,
@@ -144,6 +162,7 @@ class SegmentTheory:
         transit: TransitCheck | None = None,
         clock: Clock | None = None,
         boxes: Mapping[tuple[int, int], tuple[np.ndarray, ...]] | None = None,
+        labels: Mapping[str, object] | None = None,
     ) -> None:
         self.problem = problem
         self.lp = PointLP(problem, abstraction, clock, boxes)
@@ -151,6 +170,13 @@ class SegmentTheory:
         self.expendable = False
         ws_lo, ws_hi = np.asarray(problem.workspace.lo, float), np.asarray(problem.workspace.hi, float)
         self.pieces = [_Piece(H, h, ws_lo, ws_hi) for o in problem.obstacles for H, h in convex_pieces(o)]
+        self.piece_label: list[str | None] = [None] * len(self.pieces)
+        for name, shape in (labels or {}).items():
+            for H, h in convex_pieces(shape):
+                self.pieces.append(_Piece(H, h, ws_lo, ws_hi, slits=False))
+                self.piece_label.append(name)
+        self._closure: tuple | None = None
+        self._avoid: Mapping[int, frozenset[str]] = {}
         self.plans_checked = 0
         self.realised = 0
         self.separated = 0
@@ -169,19 +195,40 @@ class SegmentTheory:
 
     # ---------------------------------------------------------------- the check
     def check(self, plan: Sequence[int]) -> Feasible | Conflict | Refinement | tuple:
+        """:meth:`check_closed` without a closure (reach-avoid)."""
+        return self.check_closed(plan)  # type: ignore[return-value]
+
+    def check_closed(
+        self,
+        plan: Sequence[int],
+        closure: tuple | None = None,
+        avoid: Mapping[int, frozenset[str]] | None = None,
+        vias: Vias | None = None,
+    ) -> Feasible | Conflict | ClosedConflict | Refinement | tuple:
+        """Realise ``plan`` (a :class:`~plansynth.reach.lazy.segments.SegmentPlan`, or a
+        region tuple with its points ``vias``), with a mission plan's ``closure`` and the
+        labels each segment must stay out of (``avoid``, t -> names) when given, or answer
+        with a sound conflict (a :class:`ClosedConflict` when its proof needs the closure)
+        or a :class:`~plansynth.reach.lazy.segments.Refinement` (module docstring)."""
         regions = tuple(int(r) for r in plan)
-        vias: Vias = plan.vias if isinstance(plan, SegmentPlan) else {}
+        decided = vias is not None or isinstance(plan, SegmentPlan)  # DIS-PLAN's plan, not a hint
+        if vias is None:
+            vias = plan.vias if isinstance(plan, SegmentPlan) else {}
         N = len(regions) - 1
+        self._closure = closure
+        self._avoid = {} if avoid is None else avoid
         if self.transit is not None:
             known = self.transit.violations(regions, known_only=True)
             if known:
                 return tuple(known)
         samples = dict(enumerate(regions))
         self.plans_checked += 1
-        sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True)
+        sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True, closure=closure)
         if sol is None:
             c = self._conflict(samples, vias, N)
             self.conflicts += 1
+            if isinstance(c, ClosedConflict):
+                return c
             if self.transit is not None:
                 span = (0 if c.anchored_start else c.first_time, N if c.anchored_goal else c.last_time)
                 return (c, *self.transit.violations(regions, span))
@@ -199,21 +246,23 @@ class SegmentTheory:
         if new:
             self.refinements += 1
             return Refinement(tuple(new))
-        if not isinstance(plan, SegmentPlan):
+        if not decided:
             return Refinement(())  # a hint, not DIS-PLAN's plan: nothing to block
         self.undecided += 1
-        return Conflict(
+        whole = Conflict(
             tuple(samples.items()),
             anchored_start=True,
             anchored_goal=True,
             horizon=N,
             vias=tuple((t, f, r) for (t, f), r in vias.items()),
         )
+        return whole if closure is None else ClosedConflict(whole, closure)
 
     # ---------------------------------------------------------------- exact check
     def _cuts(self, X: np.ndarray, vias: Vias) -> list[tuple[int, float, int, float]]:
-        """The segments of ``X`` that enter an obstacle deeper than :data:`ACCEPT_DEPTH`:
-        (t, deepest fraction, piece, depth), the deepest piece per segment."""
+        """The segments of ``X`` that enter an obstacle (or a label ``avoid`` keeps them out
+        of) deeper than :data:`ACCEPT_DEPTH`: (t, deepest fraction, piece, depth), the
+        deepest piece per segment."""
         P = X[:, self.pos]
         if len(P) < 2 or not self.pieces:
             return []
@@ -223,7 +272,11 @@ class SegmentTheory:
         for k, pc in enumerate(self.pieces):
             if not len(pc.h):
                 continue
-            near = np.nonzero(np.all(lo < pc.hi, axis=1) & np.all(hi > pc.lo, axis=1))[0]
+            near = np.all(lo < pc.hi, axis=1) & np.all(hi > pc.lo, axis=1)
+            name = self.piece_label[k]
+            if name is not None:  # a label: only the segments that must stay out of it
+                near &= np.array([name in self._avoid.get(t, ()) for t in range(len(a))], dtype=bool)
+            near = np.nonzero(near)[0]
             if not near.size:
                 continue
             depth, s = segment_depth(a[near], b[near], pc.H, pc.h)
@@ -253,7 +306,7 @@ class SegmentTheory:
                 pb = P[t] + b_f / DENOM * (P[t + 1] - P[t])
                 n, c = self.pieces[k].separators(pa, pb)
                 extra += [(t, a_f, n, c), (t, b_f, n, c)]
-            sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True, extra=extra)
+            sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True, extra=extra, closure=self._closure)
             if sol is None:
                 return None
             X, U = sol
@@ -270,7 +323,7 @@ class SegmentTheory:
         fr = _per_segment(vias)
         out: list[tuple[int, int]] = []
         for t, s, _, _ in cuts:
-            mine = fr.get(t, ())
+            mine = [f for f in fr.get(t, ()) if f < DENOM]
             a, b = _around(mine, s)
             if b - a < 2 or len(mine) >= MAX_POINTS:
                 continue
@@ -278,12 +331,15 @@ class SegmentTheory:
         return out
 
     # ---------------------------------------------------------------- conflicts
-    def _conflict(self, samples: dict[int, int], vias: Vias, N: int) -> Conflict:
+    def _conflict(self, samples: dict[int, int], vias: Vias, N: int) -> Conflict | ClosedConflict:
         """The conflict of the infeasible point LP just solved: its Farkas support, checked
         and shrunk (module docstring). Every conflict returned is the literals of an LP
-        that HiGHS found infeasible, over the states it claims."""
+        that HiGHS found infeasible, over the states it claims (with the closure when it
+        is among them: then a :class:`ClosedConflict`, start-anchored)."""
         sup = self.lp.support()
         every = {("s", t, r) for t, r in samples.items()} | {("v", t, f, r) for (t, f), r in vias.items()}
+        if self._closure is not None:
+            every.add(("closure",))
         lits, goal = every, True
         if sup is not None:
             lits, goal = every & sup, ("goal",) in sup
@@ -292,36 +348,41 @@ class SegmentTheory:
                 self._infeasible(lits, N, start=True, goal=True)  # (known infeasible: load it for the filter)
         if len(lits) <= FILTER_MAX:  # deletion filter, warm-started in the loaded LP
             off: set[tuple] = set()
-            for tag in sorted(lits, key=lambda g: (-g[1], g)):  # the latest first: shorter spans
+            for tag in sorted(lits, key=lambda g: (-g[1] if len(g) > 1 else 1, g)):  # the latest first
                 if self.lp.run(off | {tag}) is None:
                     off.add(tag)
             lits = lits - off
         span = self.lp.span  # (the states the last infeasible LP used)
+        closed = ("closure",) in lits
         start = True
-        if lits and self._infeasible(lits, N, start=False, goal=goal):
+        if not closed and lits and self._infeasible(lits, N, start=False, goal=goal):
             start, span = False, self.lp.span
         if goal and lits and self._infeasible(lits, N, start=start, goal=False):
             goal, span = False, self.lp.span
-        return Conflict(
-            tuple((t, r) for k, t, r in (g for g in lits if g[0] == "s")),
+        c = Conflict(
+            tuple((g[1], g[2]) for g in lits if g[0] == "s"),
             anchored_start=start,
             anchored_goal=goal,
             horizon=N,
             first_time=span[0],
-            last_time=span[1],
+            last_time=N if closed else span[1],
             vias=tuple(g[1:] for g in lits if g[0] == "v"),
         )
+        return ClosedConflict(c, self._closure) if closed else c
 
     def _infeasible(self, lits: set[tuple], N: int, *, start: bool, goal: bool) -> bool:
         """Is the point LP of exactly these literals (tags) infeasible, over the states a
-        conflict would claim (0 with the start, N with the goal, else the literals' span)?
-        The LP stays loaded."""
-        times = [g[1] for g in lits] + [g[1] + 1 for g in lits if g[0] == "v"]
+        conflict would claim (0 with the start, N with the goal or the closure, else the
+        literals' span)? The LP stays loaded."""
+        closed = ("closure",) in lits
+        times = [g[1] for g in lits if g[0] != "closure"] + [g[1] + 1 for g in lits if g[0] == "v"]
         lo = 0 if start or not times else min(times)
-        hi = N if goal or not times else max(times)
+        hi = N if goal or closed or not times else max(times)
+        if closed and self._closure is not None and self._closure[0] == "loop":
+            lo = min(lo, int(self._closure[1]))
         s = {g[1]: g[2] for g in lits if g[0] == "s"}
         v = {(g[1], g[2]): g[3] for g in lits if g[0] == "v"}
-        self.lp.load(s, v, lo, hi, start=start, goal=goal)
+        self.lp.load(s, v, lo, hi, start=start, goal=goal, closure=self._closure if closed else None)
         return self.lp.run() is None
 
 

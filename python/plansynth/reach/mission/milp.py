@@ -242,7 +242,8 @@ def plan_milp_ltl(
         boxes = ReachBoxes(planning)
     except BudgetExhausted as exc:
         return finish(ReachStatus.UNKNOWN, None, str(exc))
-    proved, why = timed_label_proof(problem, labelled, timings, counters, clock)
+    # (graph: the regions one step can connect, in either reading)
+    proved, why = timed_label_proof(problem, labelled, timings, counters, clock, steps=graph.adjacency)
     if proved:
         return finish(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     L0 = 0

@@ -62,6 +62,12 @@ class MissionOptions(_BoundedMission):
         "check a lasso's loop alone (any x_k with x_L = x_k) before CON-PLAN sees the "
         "plan: a refuted loop is refuted at every horizon and rotation",
     )
+    exact_segments: bool = option(
+        False,
+        "segment reading: let a step cross several regions and labels (DIS-PLAN also places "
+        "points along each segment, the letters read along them), so that infeasible and a "
+        "minimal horizon hold for the problem (convex labels)",
+    )
 
     def __post_init__(self) -> None:
         check_fields(self, "lazy-smt")

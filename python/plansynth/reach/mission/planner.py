@@ -42,6 +42,11 @@ shortest horizon found is minimal through the decomposition only
 free space, the search is exact: every trajectory's samples lie in regions one step
 apart, each read as the checker reads its sample, so a refuted horizon is refuted for the
 problem and the shortest horizon found is minimal (``minimal_relative_to: problem``).
+With ``exact_segments`` in the segment reading (convex labels), DIS-PLAN and the theory
+are those of :mod:`plansynth.reach.mission.exact` (a step may cross several regions and
+labels, its letters read along its segment): refutations are then about the problem in
+the segment reading as well, unless a plan was given up without a proof
+(``counters["segment_undecided"]``; the claims then say so).
 
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = plan_mission(mission_problem("maze-1", "avoid-until"))
@@ -57,12 +62,14 @@ from typing import Any
 
 from plansynth.budget import Budget, BudgetExhausted, Clock
 from plansynth.errors import InvalidOption
-from plansynth.reach.lazy.bounds import step_adjacency, time_windows
-from plansynth.reach.lazy.claims import EXACT_SAMPLES
+from plansynth.reach.lazy.bounds import segment_adjacency, step_adjacency, time_windows, touching
+from plansynth.reach.lazy.claims import EXACT_SAMPLES, EXACT_SEGMENTS, UNDECIDED, uncertified
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import RegionGraph
-from plansynth.reach.lazy.loop import LoopOutcome, ProgressFn, lazy_loop
+from plansynth.reach.lazy.loop import LoopOutcome, ProgressFn, TheoryChecker, lazy_loop
+from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.mission.bmc import MissionDisPlan
+from plansynth.reach.mission.exact import ExactMissionDisPlan, MissionSegmentTheory, avoided_shapes, convex_labels
 from plansynth.reach.mission.horizon import timed_horizon_bound
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
 from plansynth.reach.mission.looplp import LoopLP
@@ -105,8 +112,14 @@ def plan_mission(
     counters: dict[str, Any] = {}
     segment = problem.reading == "segment"
     formula = parse(problem.mission)
+    # exact segment transitions (mission/exact.py): a step may cross several regions and labels
+    crossing = segment and opts.exact_segments and convex_labels(problem)
+    if segment and opts.exact_segments and not crossing:
+        counters["exact_segments"] = "off: a label is not convex"
     try:
-        setup = mission_setup(problem, clock, timings, L_max, labelled=labelled, lower_bound=opts.lower_bound)
+        setup = mission_setup(
+            problem, clock, timings, L_max, labelled=labelled, lower_bound=opts.lower_bound, crossing=crossing
+        )
     except BudgetExhausted as exc:  # in the label refinement or the bounds
         timings["total"] = time.perf_counter() - t_start
         return _result(
@@ -114,31 +127,57 @@ def plan_mission(
         )
     pp, labelled, graph, earliest = setup
     ab = labelled.abstraction
-    displan = MissionDisPlan(
-        graph,
-        labelled.labels_of,
-        formula,
+    encoding = dict(
         semantics=opts.semantics,
         earliest=earliest,
         waits_at_start=opts.wait_shifts and problem.starts_at_rest,
         negs_of=labelled.negs_of,
         end=problem.end,
     )
-    conplan = ConPlan(
-        pp, ab, segment_safe=segment, counterexample="trivial", generalize=True, minimize=True, clock=clock
+    conplan = ConPlan(  # (exact transitions: rows of samples only, for the transit layer's legs)
+        pp,
+        ab,
+        segment_safe=segment and not crossing,
+        counterexample="trivial",
+        generalize=True,
+        minimize=True,
+        clock=clock,
     )
     loop_lp = LoopLP(pp, ab, segment_safe=segment)
-    theory = MissionTheory(
-        MissionTransit(conplan, ab) if opts.transit else conplan,
-        loop_lp,
-        clock,
-        loop_first=opts.loop_first,
-        end=problem.end,
-    )
+    seg_theory: SegmentTheory | None = None
+    theory: TheoryChecker
+    if crossing:
+        near = touching(ab)
+        displan: MissionDisPlan = ExactMissionDisPlan(
+            graph,
+            labelled.labels_of,
+            formula,
+            relation=lambda scale: segment_adjacency(pp, ab, scale, near=near),
+            near=near,
+            **encoding,
+        )
+        # the transit layer over CON-PLAN without segment rows: its legs hold for every trajectory
+        transit = MissionTransit(conplan, ab) if opts.transit else None
+        seg_theory = SegmentTheory(pp, ab, transit=transit, clock=clock, labels=avoided_shapes(problem))
+        theory = MissionSegmentTheory(seg_theory, end=problem.end)
+    else:
+        displan = MissionDisPlan(graph, labelled.labels_of, formula, **encoding)
+        theory = MissionTheory(
+            MissionTransit(conplan, ab) if opts.transit else conplan,
+            loop_lp,
+            clock,
+            loop_first=opts.loop_first,
+            end=problem.end,
+        )
     counters.update(regions=graph.n_regions, edges=ab.n_edges, step_edges=sum(map(len, graph.adjacency)) // 2)
-    exact = not segment and ab.exact  # samples, steps between any regions one step connects
+    # are the loop's refutations proofs for the problem? samples (steps between any regions
+    # one step connects), or segments with exact transitions; regions covering the free space
+    exact = (not segment or crossing) and ab.exact
 
-    proved, why = timed_label_proof(problem, labelled, timings, counters, clock)
+    # what one step can reach: a path through the free space in the segment reading (regions
+    # whose closures meet), a step's displacement in the sample reading (the graph's pairs)
+    steps = touching(ab) if segment else graph.adjacency
+    proved, why = timed_label_proof(problem, labelled, timings, counters, clock, steps=steps)
     if proved:
         out = LoopOutcome(ReachStatus.INFEASIBLE, L_max, f"infeasible up to horizon {L_max} (and beyond): {why}")
     elif not ab.start_regions:
@@ -169,7 +208,8 @@ def plan_mission(
             loop = "" if plan.loop_start is None else f" (loop from step {plan.loop_start})"
             out = replace(out, message=f"found {kind} at horizon {out.horizon}{loop}", minimal=True)
         elif out.status is ReachStatus.INFEASIBLE and exact:
-            out = replace(out, message=f"infeasible up to horizon {L_max}: every horizon refuted ({EXACT_SAMPLES})")
+            why = EXACT_SEGMENTS if crossing else EXACT_SAMPLES
+            out = replace(out, message=f"infeasible up to horizon {L_max}: every horizon refuted ({why})")
         elif out.status is ReachStatus.INFEASIBLE:
             # refuted through the label-refined decomposition only (one region per step):
             # a real trajectory may cross several regions in one step, so this is no
@@ -177,6 +217,9 @@ def plan_mission(
             counters["abstraction_refuted"] = L_max
             out = LoopOutcome(ReachStatus.UNKNOWN, L_max, f"{out.message}; {NOT_A_PROOF} ({why})")
 
+    if seg_theory is not None and seg_theory.undecided:  # plans given up without a proof: no claim
+        out = uncertified(out, seg_theory.undecided, None, why=UNDECIDED)
+        exact = False
     plan = out.regions if out.status is ReachStatus.FOUND else None
     st = conplan.stats
     counters.update(
@@ -189,14 +232,27 @@ def plan_mission(
         loop_lp_memo_hits=loop_lp.memo_hits,
         loop_lp_rest_answers=loop_lp.rest_answers,
         horizon=out.horizon,
-        minimal=out.status is ReachStatus.FOUND,
+        minimal=out.status is ReachStatus.FOUND and out.minimal is not False,
         # in the segment reading DIS-PLAN moves one region per step, and a real step may
         # cross several: the shortest horizon is the shortest through the label-refined
         # decomposition only; the sample reading's search is exact
-        minimal_relative_to=(("problem" if exact else "decomposition") if out.status is ReachStatus.FOUND else None),
+        minimal_relative_to=(
+            ("problem" if exact else "decomposition") if out.status is ReachStatus.FOUND and out.minimal else None
+        ),
     )
-    if theory.wrap_conflicts:
+    if isinstance(theory, MissionTheory) and theory.wrap_conflicts:
         counters["wrap_conflicts"] = theory.wrap_conflicts
+    if seg_theory is not None:
+        assert isinstance(displan, ExactMissionDisPlan)
+        counters.update(
+            exact_segments="on",
+            lp_calls=counters["lp_calls"] + seg_theory.lp_calls,
+            segment_points=displan.points.most,
+            segment_refinements=displan.refinements,
+            segment_separated=seg_theory.separated,
+            segment_undecided=seg_theory.undecided,
+        )
+        timings["highs"] = timings.get("highs", 0.0) + seg_theory.lp.seconds
     timings["highs"] = st.seconds + loop_lp.seconds
     timings["encoding"] = displan.encode_seconds  # part of "sat"
     timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
@@ -214,11 +270,13 @@ def mission_setup(
     labelled: LabelledAbstraction | None = None,
     lower_bound: bool = True,
     steps: bool = False,
+    crossing: bool = False,
 ) -> tuple[ReachProblem, LabelledAbstraction, RegionGraph, list | None]:
     """What both mission planners plan over, each step within the budget (raises
     :class:`~plansynth.budget.BudgetExhausted`): the planning problem, the label-refined
     decomposition, its region graph (in the sample reading, or with ``steps``: every pair
-    of regions one step can connect) and each region's earliest step (``lower_bound``)."""
+    of regions one step can connect; with ``crossing``: every pair one segment through
+    the free space can connect) and each region's earliest step (``lower_bound``)."""
     pp = planning_problem(problem)
     if labelled is None:
         t0 = time.perf_counter()
@@ -232,7 +290,9 @@ def mission_setup(
     t0 = time.perf_counter()
     try:
         with clock.phase("the one-step region pairs and time windows"):
-            if steps or problem.reading == "sample":  # every pair of regions one step can connect
+            if crossing:  # every pair of regions one segment through the free space can connect
+                graph = replace(graph, adjacency=segment_adjacency(pp, ab))
+            elif steps or problem.reading == "sample":  # every pair of regions one step can connect
                 graph = replace(graph, adjacency=step_adjacency(pp, ab))
             earliest = time_windows(pp, ab, max_horizon, adjacency=graph.adjacency).earliest if lower_bound else None
     finally:

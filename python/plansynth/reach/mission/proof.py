@@ -23,6 +23,16 @@ these letters satisfies it, no trajectory's word does (finite plans ending at re
 read as words that repeat their last letter, lassos as lassos: both are infinite words;
 with a free end, finite words are tried too).
 
+*Reachable letters* (``steps``, beyond the papers). A trajectory moves between regions
+one step can connect: in the segment reading along a path through the free space, so
+between regions whose closures meet (:func:`~plansynth.reach.lazy.bounds.touching`); in
+the sample reading between regions one step's displacement can connect
+(:func:`~plansynth.reach.lazy.bounds.step_adjacency`); both over-approximations. So
+every position of a trajectory lies in a region reachable from a start region over that
+relation, and only those regions' letters (with their boundaries') need be read: a label
+behind walls no step can cross gives no letter, and ``F label`` is refuted at every
+horizon.
+
 *Satisfiability over an alphabet* (:func:`satisfiable`): the tableau construction of
 LTL (Wolper, "Temporal logic can be more expressive", 1983; Vardi and Wolper, LICS
 1986) with one-sided obligations: a node is the set of formulas a position must
@@ -47,9 +57,10 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 from plansynth.budget import checkpoint
+from plansynth.reach.lazy.regiongraph import reachable
 from plansynth.reach.mission.ltl import (
     And,
     Const,
@@ -296,7 +307,12 @@ MAX_LETTERS = 20_000
 
 
 def geometry_letters(
-    labelled, shapes: dict, *, margin: float, margins: dict[str, float] | None = None
+    labelled,
+    shapes: dict,
+    *,
+    margin: float,
+    margins: dict[str, float] | None = None,
+    within: Sequence[bool] | None = None,
 ) -> list[Letter] | None:
     """Every letter a point of the free space may read (see the module doc), from the
     label-refined decomposition ``labelled``
@@ -307,7 +323,8 @@ def geometry_letters(
     the checker reads it); the edge of its shrunk shape (margin > 0) adds ``a``, that of
     its grown shape ``!a`` (closed sets). ``margins``: each label's margin (default 0).
     None when the decomposition does not cover the free space exactly (then the letters
-    prove nothing) or past :data:`MAX_LETTERS`."""
+    prove nothing) or past :data:`MAX_LETTERS`. ``within``: only the regions marked
+    (the reachable ones, see the module docstring)."""
     import shapely
 
     from plansynth.reach.geometry import shape_to_shapely
@@ -327,8 +344,10 @@ def geometry_letters(
             if shape is not None:
                 cuts.append((name, kind, shape_to_shapely(shape).boundary.buffer(margin)))
     out: list[Letter] = []
-    for reg, pos, neg in zip(ab.regions, labelled.labels_of, labelled.negs_of):
+    for k, (reg, pos, neg) in enumerate(zip(ab.regions, labelled.labels_of, labelled.negs_of)):
         checkpoint()
+        if within is not None and not within[k]:
+            continue
         area = shapely.Polygon(reg.vertices).buffer(margin)
         out.append((frozenset(pos), frozenset(neg)))
         close = [k for k, c in enumerate(cuts) if c[2].intersects(area)]
@@ -376,12 +395,15 @@ def _boundary_letters(pos, neg, cuts: list[tuple[str, str]]) -> list[Letter]:
     return out
 
 
-def label_proof(problem, labelled) -> tuple[bool | None, str]:
+def label_proof(problem, labelled, *, steps: Sequence[Sequence[int]] | None = None) -> tuple[bool | None, str]:
     """``(True, why)`` when no trajectory of ``problem`` satisfies its mission, at any
     horizon (no word over :func:`geometry_letters` satisfies it: no infinite word, nor,
     with a free end, a finite one); ``(False, why)`` when some word over the letters does
     (the geometry alone proves nothing); ``(None, why)`` when undecided (a decomposition
-    that does not cover the free space, or a tableau past :data:`MAX_NODES`)."""
+    that does not cover the free space, or a tableau past :data:`MAX_NODES`). ``steps``
+    (region -> the regions one step of a trajectory can reach, an over-approximation):
+    only the letters of the regions reachable from the start over it are read (the
+    module docstring); without it, every region's."""
     from plansynth.reach.mission.ltl import parse
 
     ws = problem.workspace
@@ -395,7 +417,8 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
     # buffers and intersections of geometry_letters, most of its time): they are a
     # subset of the letters, so a word over them is a word over the letters, and the
     # mission, satisfiable over the subset, is over the whole set (the same verdict)
-    interior = list(dict.fromkeys(labelled.letters))
+    within = None if steps is None or not ab.start_regions else reachable(ab.start_regions, steps)
+    interior = list(dict.fromkeys(x for k, x in enumerate(labelled.letters) if within is None or within[k]))
     try:
         if satisfiable(mission, interior, finite=finite):
             return False, (
@@ -405,7 +428,7 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
     except TooLarge:
         pass  # decided on the whole set below
     margins = {n: problem.label_margin(n) for n in labelled.names}
-    letters = geometry_letters(labelled, problem.mission_labels, margin=margin, margins=margins)
+    letters = geometry_letters(labelled, problem.mission_labels, margin=margin, margins=margins, within=within)
     if letters is None:
         return None, "the decomposition does not cover the free space exactly, or its letters are too many"
     try:
@@ -413,13 +436,16 @@ def label_proof(problem, labelled) -> tuple[bool | None, str]:
             return False, f"some word over the {len(letters)} letters of the labels' geometry satisfies the mission"
     except TooLarge as exc:
         return None, f"the LTL tableau is too large ({exc})"
+    reach = "" if within is None or all(within) else f" in the {sum(within)} regions a trajectory can reach"
     return True, (
-        f"no word over the {len(letters)} letters the labels' geometry allows satisfies the mission "
+        f"no word over the {len(letters)} letters the labels' geometry allows{reach} satisfies the mission "
         "(LTL tableau), so no trajectory does, at any horizon"
     )
 
 
-def timed_label_proof(problem, labelled, timings: dict, counters: dict, clock=None) -> tuple[bool | None, str]:
+def timed_label_proof(
+    problem, labelled, timings: dict, counters: dict, clock=None, *, steps: Sequence[Sequence[int]] | None = None
+) -> tuple[bool | None, str]:
     """:func:`label_proof` as both mission planners run it first: its time goes to
     ``timings["proof"]``, its verdict to ``counters["label_proof"]``; within ``clock``'s
     budget (run out: undecided)."""
@@ -430,10 +456,10 @@ def timed_label_proof(problem, labelled, timings: dict, counters: dict, clock=No
     t0 = time.perf_counter()
     try:
         if clock is None:
-            proved, why = label_proof(problem, labelled)
+            proved, why = label_proof(problem, labelled, steps=steps)
         else:
             with clock.phase("the labels' geometry's proof"):
-                proved, why = label_proof(problem, labelled)
+                proved, why = label_proof(problem, labelled, steps=steps)
     except BudgetExhausted as exc:
         proved, why = None, f"the labels' geometry's proof ran out of budget ({exc})"
     timings["proof"] = time.perf_counter() - t0

@@ -22,6 +22,7 @@ from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.dynamics import displacement_reach
 from plansynth.reach.lazy.bounds.step import MULTISTEP_TABLE, box_of, box_steps, shape_box, step_reach
+from plansynth.reach.lazy.regiongraph import reachable
 from plansynth.reach.problem import ReachProblem
 
 __all__ = ["SEPARATOR_MAX_REGIONS", "START_NODE", "GOAL_NODE", "ChainBounds", "separator_bounds", "chain_gaps"]
@@ -47,19 +48,8 @@ class ChainBounds:
 
 def _unreached(adjacency: Sequence[Sequence[int]], sources: Sequence[int], removed: int) -> set[int]:
     """The regions that no walk from ``sources`` reaches once ``removed`` is taken out."""
-    k = len(adjacency)
-    seen = [False] * k
-    seen[removed] = True
-    stack = [s for s in sources if s != removed]
-    for s in stack:
-        seen[s] = True
-    while stack:
-        i = stack.pop()
-        for j in adjacency[i]:
-            if not seen[j]:
-                seen[j] = True
-                stack.append(j)
-    return {j for j in range(k) if not seen[j] and j != removed}
+    seen = reachable(sources, adjacency, blocked=removed)
+    return {j for j in range(len(adjacency)) if not seen[j] and j != removed}
 
 
 def separator_bounds(
