@@ -74,9 +74,10 @@ class PointLP:
         start: bool,
         goal: bool,
         extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
+        soft: float | None = None,
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """:meth:`load`, then :meth:`run`."""
-        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra)
+        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra, soft=soft)
         return self.run()
 
     def load(
@@ -89,11 +90,14 @@ class PointLP:
         start: bool,
         goal: bool,
         extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
+        soft: float | None = None,
     ) -> None:
         """Put the LP into HiGHS: the states lo..hi (x_lo = start when ``start``, p_hi in
         the goal when ``goal``), the samples (t -> region) and points ((t, f) -> region)
         within them, and ``extra`` rows ``n . p(t, f) >= c`` as (t, f, n, c) (f over
-        DENOM, 0..DENOM)."""
+        DENOM, 0..DENOM). ``soft``: the extra rows and the goal's get a slack column each
+        (nonnegative), and the LP minimises ``soft`` times the extra rows' slacks plus the
+        goal's (a feasibility LP otherwise)."""
         n, m, pos, d = self.n, self.m, self.pos, len(self.pos)
         T = hi - lo + 1
         n_x, n_u = T * n, (T - 1) * m
@@ -164,7 +168,20 @@ class PointLP:
             col_lo[:n] = col_hi[:n] = self.start
         n_col = n_x + n_u
         row_lo, row_hi = rows.bounds()
-        lp = csc_lp(n_col, rows.n_row, *rows.coo(), np.zeros(n_col), col_lo, col_hi, row_lo, row_hi)
+        R, C, V = rows.coo()
+        cost = np.zeros(n_col)
+        if soft is not None:  # a slack column per extra and goal row: n.p + s >= c, Hg p - s <= hg
+            kind = np.array([tag[0] for tag in tags], dtype=object)
+            slack = np.nonzero((kind == "x") | (kind == "goal"))[0]
+            sign = np.where(kind[slack] == "x", 1.0, -1.0)
+            R = np.concatenate([R, slack])
+            C = np.concatenate([C, n_col + np.arange(len(slack))])
+            V = np.concatenate([V, sign])
+            cost = np.concatenate([cost, np.where(kind[slack] == "x", float(soft), 1.0)])
+            col_lo = np.concatenate([col_lo, np.zeros(len(slack))])
+            col_hi = np.concatenate([col_hi, np.full(len(slack), np.inf)])
+            n_col += len(slack)
+        lp = csc_lp(n_col, rows.n_row, R, C, V, cost, col_lo, col_hi, row_lo, row_hi)
         self.highs.passModel(lp)
         self.tags = tags
         self.span = (lo, hi)
@@ -207,7 +224,7 @@ class PointLP:
         n, m, T = self.n, self.m, self._T
         if status == S.kOptimal:
             col = np.asarray(h.getSolution().col_value)
-            return col[: T * n].reshape(T, n), col[T * n :].reshape(T - 1, m)
+            return col[: T * n].reshape(T, n), col[T * n : T * n + (T - 1) * m].reshape(T - 1, m)
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
             return None
         raise LpBudgetExhausted(f"the segment theory's LP ended with HiGHS status {h.modelStatusToString(status)}")

@@ -62,7 +62,7 @@ from plansynth.reach.lazy.transit import TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["SegmentTheory", "PointLP", "ACCEPT_DEPTH", "TIGHTEN_ROUNDS", "FILTER_MAX"]
+__all__ = ["SegmentTheory", "PointLP", "ObstaclePiece", "ACCEPT_DEPTH", "TIGHTEN_ROUNDS", "FILTER_MAX"]
 
 #: How deep a segment may enter an obstacle and still count as touching it (below the
 #: validator's default tolerance, 1e-6; HiGHS's feasibility tolerance is 1e-7).
@@ -73,7 +73,7 @@ TIGHTEN_ROUNDS = 4
 FILTER_MAX = 40
 
 
-class _Piece:
+class ObstaclePiece:
     """A convex obstacle piece: (H, h) without faces flush with the workspace's boundary,
     its bounding box and (2-D) its vertices."""
 
@@ -110,19 +110,22 @@ class _Piece:
 
     def separators(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, float]:
         """A half-space ``n.x >= c`` beyond which the piece lies (a face, or in 2-D the
-        line through a vertex along b - a) that the points a and b violate least."""
+        line through a vertex along b - a) with the widest margin ``min(n.a, n.b) - c``
+        for the points a and b (when both cannot be beyond one, the one they violate
+        least). In 2-D a segment [a, b] that avoids the piece has one with margin >= 0
+        (separating axes: the faces' normals and the segment's)."""
         best: tuple[float, np.ndarray, float] | None = None
         for n, c in zip(self.H_all, self.h_all):  # beyond face f: H_f x >= h_f
-            v = max(0.0, float(c - n @ a), float(c - n @ b))
-            if best is None or v < best[0]:
+            v = min(float(n @ a - c), float(n @ b - c))
+            if best is None or v > best[0]:
                 best = (v, n, float(c))
         d = b - a
         if len(a) == 2 and len(self.vertices) and float(np.hypot(*d)) > 0:
             for sign in (1.0, -1.0):
                 n = sign * np.array([-d[1], d[0]]) / float(np.hypot(*d))
                 c = float(np.max(self.vertices @ n))  # the supporting line with the piece below it
-                v = max(0.0, c - float(n @ a), c - float(n @ b))
-                if v < best[0]:
+                v = min(float(n @ a) - c, float(n @ b) - c)
+                if v > best[0]:
                     best = (v, n, c)
         assert best is not None
         return best[1], best[2]
@@ -150,7 +153,7 @@ class SegmentTheory:
         self.transit = transit
         self.expendable = False
         ws_lo, ws_hi = np.asarray(problem.workspace.lo, float), np.asarray(problem.workspace.hi, float)
-        self.pieces = [_Piece(H, h, ws_lo, ws_hi) for o in problem.obstacles for H, h in convex_pieces(o)]
+        self.pieces = [ObstaclePiece(H, h, ws_lo, ws_hi) for o in problem.obstacles for H, h in convex_pieces(o)]
         self.plans_checked = 0
         self.realised = 0
         self.separated = 0
@@ -211,6 +214,10 @@ class SegmentTheory:
         )
 
     # ---------------------------------------------------------------- exact check
+    def cuts(self, X: np.ndarray) -> list[tuple[int, float, int, float]]:
+        """The segments of the states ``X`` that cut an obstacle piece (see :meth:`_cuts`)."""
+        return self._cuts(X, {})
+
     def _cuts(self, X: np.ndarray, vias: Vias) -> list[tuple[int, float, int, float]]:
         """The segments of ``X`` that enter an obstacle deeper than :data:`ACCEPT_DEPTH`:
         (t, deepest fraction, piece, depth), the deepest piece per segment."""
