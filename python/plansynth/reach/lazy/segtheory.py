@@ -54,6 +54,7 @@ import numpy as np
 from plansynth.budget import Clock
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import convex_pieces
+from plansynth.reach.lazy.bounds import step_reach
 from plansynth.reach.lazy.bounds.depth import segment_depth
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.pointlp import PointLP, Vias
@@ -160,6 +161,16 @@ class SegmentTheory:
         self.refinements = 0
         self.undecided = 0
         self.conflicts = 0
+        self.too_far = 0
+        # the regions' bounding boxes and the largest change of position per step (finite)
+        down, up = step_reach(problem)
+        corners = [np.asarray(r.vertices, float) for r in abstraction.regions]  # (2-D polygons, 3-D boxes)
+        finite = bool(np.all(np.isfinite(down)) and np.all(np.isfinite(up)))
+        known = bool(corners) and all(len(v) for v in corners)
+        self._reach = (np.asarray(down, float), np.asarray(up, float)) if finite and known else None
+        self._box_lo = np.array([v.min(axis=0) for v in corners]) if known else None
+        self._box_hi = np.array([v.max(axis=0) for v in corners]) if known else None
+        self._span = float(np.max(np.asarray(problem.workspace.hi, float) - np.asarray(problem.workspace.lo, float)))
 
     @property
     def lp_calls(self) -> int:
@@ -180,6 +191,11 @@ class SegmentTheory:
             if known:
                 return tuple(known)
         samples = dict(enumerate(regions))
+        far = self._too_far(samples, vias, N)
+        if far is not None:
+            self.conflicts += 1
+            self.too_far += 1
+            return far
         self.plans_checked += 1
         sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True)
         if sol is None:
@@ -211,6 +227,45 @@ class SegmentTheory:
             anchored_goal=True,
             horizon=N,
             vias=tuple((t, f, r) for (t, f), r in vias.items()),
+        )
+
+    # ---------------------------------------------------------------- distances
+    def _too_far(self, samples: dict[int, int], vias: Vias, N: int) -> Conflict | None:
+        """Two points of the plan (samples or points along segments, at times t + f /
+        DENOM) whose regions' bounding boxes lie farther apart along some axis than the
+        time between them allows, or None: the position moves by at most ``up`` (and
+        ``down``) per step along each axis (:func:`~plansynth.reach.lazy.bounds.step_reach`),
+        so along a polyline of steps by at most that times the time between two of its
+        points. The conflict of the closest such pair in time (two literals, no start or
+        goal: it holds at every time shift); no LP."""
+        if self._reach is None:
+            return None
+        down, up = self._reach
+        lits = [("s", t, r) for t, r in samples.items()] + [("v", t, f, r) for (t, f), r in vias.items()]
+        tau = np.array([g[1] + (g[2] / DENOM if g[0] == "v" else 0.0) for g in lits])
+        reg = np.array([g[-1] for g in lits])
+        order = np.argsort(tau, kind="stable")
+        tau, reg = tau[order], reg[order]
+        lo, hi = self._box_lo[reg], self._box_hi[reg]
+        dt = tau[None, :] - tau[:, None]  # [i, j]: from point i to the later point j
+        rise = lo[None, :, :] - hi[:, None, :]  # the least change along each axis, i -> j
+        fall = lo[:, None, :] - hi[None, :, :]
+        slack = 1e-9 * (1.0 + self._span)
+        bad = np.any((rise > up * dt[:, :, None] + slack) | (fall > down * dt[:, :, None] + slack), axis=2)
+        bad &= dt > 0
+        if not bad.any():
+            return None
+        i, j = np.argwhere(bad)[np.argmin(dt[bad])]
+        pair = [lits[order[i]], lits[order[j]]]
+        times = [g[1] for g in pair] + [g[1] + 1 for g in pair if g[0] == "v"]
+        return Conflict(
+            tuple((g[1], g[2]) for g in pair if g[0] == "s"),
+            anchored_start=False,
+            anchored_goal=False,
+            horizon=N,
+            first_time=min(times),
+            last_time=max(times),
+            vias=tuple(g[1:] for g in pair if g[0] == "v"),
         )
 
     # ---------------------------------------------------------------- exact check
