@@ -99,7 +99,7 @@ class TransitCheck:
         # the start is an equilibrium: legs out of it are monotone in the gap
         self.start_at_rest = problem.starts_at_rest
         self._first: dict[tuple[int, int], int] = {}
-        self._box: dict[tuple[int, int], int] = {}  # box_gap's answers (the re-timing asks them a million times)
+        self._box: dict[tuple[int, int], int] = {}  # box_gap's answers (re-timing a plan asks a million)
         self._reported: set[tuple[int, int]] = set()
         self.conflicts = 0
         self.lp_calls = 0
@@ -117,6 +117,17 @@ class TransitCheck:
         self.inner.expendable = value
 
     # ---------------------------------------------------------------- gap bounds
+    @property
+    def reach_table(self) -> np.ndarray | None:
+        """The k-step displacement bounds (:func:`~plansynth.reach.dynamics.displacement_reach`)
+        the box gaps use, or None (one-step bounds only); setting it forgets the gaps."""
+        return self._reach_table
+
+    @reach_table.setter
+    def reach_table(self, table: np.ndarray | None) -> None:
+        self._reach_table = table
+        self._box = {}
+
     def box_gap(self, a: int, b: int) -> int:
         """The fewest steps of leg (a, b) that the displacement bounds allow."""
         gap = self._box.get((a, b))
