@@ -119,6 +119,7 @@ SOLVED_P = "plansynth grid solve p.yaml -o door.json"
 SOLVED_FIGURE1 = "plansynth grid solve examples/grid/figure1.yaml --out result.json"
 SOLVED_DOOR = "plansynth grid solve examples/grid/door.yaml -o door.json"
 SOLVED_WINDY = "plansynth reach solve examples/reach/maze-3-windy.yaml --out plan.json --plot plan.png"
+SOLVED_WINDY_TEAM = "plansynth reach solve examples/reach/team-swap-windy.yaml --out team.json --plot team.png"
 SOLVED_CROSSING = "plansynth grid solve examples/grid/crossing.yaml -o crossing.json"
 SOLVED_MAZE3 = "plansynth reach solve examples/reach/maze-3.yaml --out traj.json"
 SOLVED_PATROL = "plansynth reach solve examples/reach/mission-patrol.yaml --out plan.json"
@@ -336,6 +337,19 @@ CASES: dict[str, Case] = {
         out=("valid", "robust: worst case at every step", "0 of 1", " random, 0 of 1", " vertex runs violated"),
         before=(SOLVED_WINDY,),
         fast=(SOLVED_WINDY, "plansynth reach validate examples/reach/maze-3-windy.yaml plan.json --disturbances 100"),
+    ),
+    # a team under disturbances (docs/how-to/robust.md)
+    SOLVED_WINDY_TEAM: Case(
+        out=FOUND + ("each robot's W keeps every closed loop safe, separated and reaching", "feedback B"),
+        files=("team.json", "team.png"),
+        json=(("team.json", "status", "found"), ("team.json", "validated", True)),
+    ),
+    "plansynth reach validate examples/reach/team-swap-windy.yaml team.json --disturbances 200 --nominal": Case(
+        out=("valid", "worst case: robust", "0 of 200 random, 0 of 200 vertex runs violated", "nominal plan (horizon"),
+        before=(SOLVED_WINDY_TEAM,),
+    ),
+    "plansynth bench reach --family robust --values windy-swap --planners lazy-smt-team,milp-team": Case(
+        files=("bench-results.db",), out=("solved",)
     ),
     "plansynth reach solve examples/reach/maze-3-windy.yaml --planner nominal-check": Case(
         exit=(3,), out=("unknown", "fails the robust check")

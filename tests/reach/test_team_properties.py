@@ -8,12 +8,16 @@
   start, goal and time anchors) is refuted by an LP written here from scratch, at the
   shifts where DIS-PLAN adds it;
 * the teams include pairs that must wait and swap: two robots exchanging the ends of a
-  corridor they cannot pass each other in, with or without a bay to wait in.
+  corridor they cannot pass each other in, with or without a bay to wait in;
+* clause soundness for teams under disturbances, every row of the oracle tightened by
+  the error sets of its step (the lazy and MILP agreement under disturbances is
+  tests/reach/test_team_robust.py).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import highspy
 import numpy as np
@@ -24,10 +28,13 @@ from reach_oracles import feasible
 
 from plansynth.budget import Budget
 from plansynth.reach import ReachStatus, solve
+from plansynth.reach.disturbance import Disturbance
 from plansynth.reach.dynamics import double_integrator, single_integrator
 from plansynth.reach.geometry import Box, halfspaces
 from plansynth.reach.highs import new_highs
 from plansynth.reach.robot import RobotShape
+from plansynth.reach.robust.error_sets import error_supports
+from plansynth.reach.robust.feedback import design_feedback
 from plansynth.reach.team.displan import TeamDisPlan
 from plansynth.reach.team.plans import TeamConflict
 from plansynth.reach.team.problem import GoalPoint, MovingObstacle, Separation, TeamProblem, TeamRobot
@@ -142,27 +149,59 @@ def test_a_swap_with_a_bay_waits_and_one_without_has_no_plan() -> None:
 # ------------------------------------------------------------------ clause soundness
 
 
+def _supports(p: TeamProblem, L: int):  # noqa: ANN202 - a closure
+    """``grow(r, D, t)``: the support of robot r's error set E_t at the rows of D (its
+    states), from the independent validator's exact sums with the robot's designed gain
+    (zeros for a robot without a disturbance): the tightened team's margins, written
+    without the planner's tube."""
+    gains = [None if r.disturbance is None else design_feedback(r.dynamics, r.disturbance).K for r in p.robots]
+
+    def grow(r: int, D: np.ndarray, t: int) -> np.ndarray:
+        D = np.atleast_2d(np.asarray(D, float))
+        if gains[r] is None:
+            return np.zeros(len(D))
+        return error_supports(p.robot_problems[r], gains[r], D, max(t, 0))[t]
+
+    return grow
+
+
+def _on_positions(p: TeamProblem, r: int, a: np.ndarray) -> np.ndarray:
+    D = np.zeros(p.robots[r].dynamics.n_states)
+    D[list(p.robots[r].dynamics.position)] = a
+    return D
+
+
 def _oracle_refutes(p: TeamProblem, setup: TeamSetup, c: TeamConflict, L: int, s: int) -> bool:
     """Is ``c`` shifted by ``s`` infeasible in plans of horizon L? An LP over every robot
     (dynamics, input and state bounds, the robot's workspace), the starts when ``c`` uses
     them, the goals and end states when it does, and the rows of its literals; built
-    here from the problem, the robots' regions and the sides' facets only."""
+    here from the problem, the robots' regions and the sides' facets only. Under
+    disturbances every bound, goal and side tightened by the error sets of its step
+    (:func:`_supports`)."""
     inf = highspy.kHighsInf
+    grow = _supports(p, L)
     cols: list[tuple[float, float]] = []
     x: dict[tuple[int, int], int] = {}
     u: dict[tuple[int, int], int] = {}
     w: dict[int, int] = {}
     for r, robot in enumerate(p.robots):
         lo, hi = setup.robots[r].planning.state_box
+        n = robot.dynamics.n_states
+        K = None if robot.disturbance is None else design_feedback(robot.dynamics, robot.disturbance).K
         for t in range(L + 1):
             x[(r, t)] = len(cols)
-            for i in range(robot.dynamics.n_states):
+            up, down = grow(r, np.eye(n), t), grow(r, -np.eye(n), t)
+            for i in range(n):
                 fixed = c.start and t == 0
                 v = robot.start[i]
-                cols.append((v, v) if fixed else (max(lo[i], -1e9), min(hi[i], 1e9)))
+                cols.append((v, v) if fixed else (max(lo[i] + down[i], -1e9), min(hi[i] - up[i], 1e9)))
         for t in range(L):
             u[(r, t)] = len(cols)
-            cols += [(-robot.input_bound, robot.input_bound)] * robot.dynamics.n_inputs
+            if K is None:
+                cols += [(-robot.input_bound, robot.input_bound)] * robot.dynamics.n_inputs
+            else:
+                up, down = grow(r, K, t), grow(r, -K, t)
+                cols += [(-robot.input_bound + down[j], robot.input_bound - up[j]) for j in range(len(K))]
         w[r] = len(cols)
         cols += [(-robot.input_bound, robot.input_bound)] * robot.dynamics.n_inputs
     rows = []
@@ -191,7 +230,8 @@ def _oracle_refutes(p: TeamProblem, setup: TeamSetup, c: TeamConflict, L: int, s
             elif g is not None:
                 Hg, hg = halfspaces(g)
                 for row, b in zip(Hg, hg):
-                    rows.append(({k: a for k, a in zip(pos(r, L), row)}, -inf, float(b)))
+                    room = float(grow(r, _on_positions(p, r, row), L)[0])
+                    rows.append(({k: a for k, a in zip(pos(r, L), row)}, -inf, float(b) - room))
             if robot.stop or robot.mission is not None:
                 for i in range(n):
                     coef = {x[(r, L)] + j: (1.0 if i == j else 0.0) - A[i, j] for j in range(n)}
@@ -214,7 +254,8 @@ def _oracle_refutes(p: TeamProblem, setup: TeamSetup, c: TeamConflict, L: int, s
                 coef = {q: a for q, a in zip(pos(i, tt), f.A[k])}
                 for q, a in zip(pos(j, tt), f.A[k]):
                     coef[q] = coef.get(q, 0.0) - a
-                rows.append((coef, float(f.b[k]), inf))
+                both = grow(i, _on_positions(p, i, -f.A[k]), tt)[0] + grow(j, _on_positions(p, j, f.A[k]), tt)[0]
+                rows.append((coef, float(f.b[k] + both), inf))
         else:
             _, r, o, t, k = lit
             t += s
@@ -227,7 +268,10 @@ def _oracle_refutes(p: TeamProblem, setup: TeamSetup, c: TeamConflict, L: int, s
                 for q0, q1, a in zip(pos(r, t), pos(r, t + 1), f.A[k]):
                     coef[q0] = coef.get(q0, 0.0) + (1 - lam) * a
                     coef[q1] = coef.get(q1, 0.0) + lam * a
-                rows.append((coef, float(f.b[k] + f.A[k] @ cpos), inf))
+                room = (1 - lam) * grow(r, _on_positions(p, r, -f.A[k]), t)[0] + lam * grow(
+                    r, _on_positions(p, r, -f.A[k]), t + 1
+                )[0]
+                rows.append((coef, float(f.b[k] + f.A[k] @ cpos + room), inf))
     h = new_highs(presolve="off")
     h.addVars(len(cols), np.array([a for a, _ in cols]), np.array([b for _, b in cols]))
     return not feasible(h, rows)
@@ -272,6 +316,39 @@ def test_every_clause_of_the_joint_conplan_is_sound() -> None:
         a, b = _checked(p)
         refuted, with_pairs = refuted + a, with_pairs + b
     assert refuted >= 100 and with_pairs >= 20, (refuted, with_pairs)
+
+
+def windy_team(seed: int) -> TeamProblem:
+    """A random small team of two robots (:func:`random_team`) under a small disturbance
+    each (0.5 to 3 cm on the positions, 2 to 5 cm/s on the velocities, LQR feedback)."""
+    p = random_team(seed)
+    rng = np.random.default_rng(seed + 1)
+    robots = []
+    for r in p.robots[:2]:
+        pos_w, vel_w = float(rng.uniform(0.005, 0.03)), float(rng.uniform(0.02, 0.05))
+        box = (pos_w, pos_w) + ((vel_w, vel_w) if r.dynamics.n_states == 4 else ())
+        robots.append(replace(r, disturbance=Disturbance(box=box)))
+    moving = p.moving_obstacles
+    return replace(p, robots=tuple(robots), moving_obstacles=moving, name=f"windy-{seed}")
+
+
+def test_every_clause_of_a_tightened_team_is_sound() -> None:
+    """Clause soundness under disturbances: the oracle tightens every row by the error
+    sets of its own step (computed here from the validator's exact sums), and refutes
+    every clause at the (non-negative) shifts where DIS-PLAN adds it."""
+    refuted = with_pairs = 0
+    for p in (windy_team(s) for s in range(14)):
+        a, b = _checked(p)
+        refuted, with_pairs = refuted + a, with_pairs + b
+    assert refuted >= 60 and with_pairs >= 10, (refuted, with_pairs)
+
+
+def test_an_earlier_shift_of_a_tightened_clause_is_not_added() -> None:
+    """Under growing margins a clause holds at later placements only: ``later_only``
+    drops the negative shifts (a clause learned at steps 3-4 is not added at 0-1)."""
+    c = TeamConflict((("at", 0, 3, 1), ("side", 0, 1, 3, 2)), start=False, goal=False, timed=False, horizon=9)
+    assert min(c.shifts(9)) == -3
+    assert replace(c, later_only=True).shifts(9) == [0, 1, 2, 3, 4, 5]
 
 
 @pytest.mark.parametrize("seed", [3, 11])

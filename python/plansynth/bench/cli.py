@@ -56,7 +56,8 @@ Families: maze (Table I), chain (Figure 4: integrator chains, 2k states), random
 (Figure 4 with random controllable A, B of n states), random, missions (LTL missions on
 the mazes: use --planners lazy-smt,milp-ltl,milp-ltl-oneshot), gcs-maze, robust (the mazes
 under bounded disturbances: lazy-smt, milp-bigm on the same tightened problem,
-nominal-check, and milp-ltl for its mission), team (teams of robots and moving obstacles:
+nominal-check, and milp-ltl for its mission; --values windy-swap: a team under
+disturbances, --planners lazy-smt-team,milp-team), team (teams of robots and moving obstacles:
 --planners lazy-smt-team,milp-team,prioritized; --values are case names, e.g.
 smc-crossing), or all.
 Planners: lazy-smt, milp (region-graph MILP), milp-bigm (one-shot big-M MILP, the paper's LTL OPT stand-in), rrt, est, kpiece (OMPL).

@@ -183,13 +183,20 @@ def published_tasks(grid_timeout: float = 60.0, reach_timeout: float = 60.0, par
 def robust_tasks(timeout: float = ROBUST_TIMEOUT) -> list[dict[str, Any]]:
     """The robust family's runs: lazy-smt everywhere; on the mazes at scale 1 also the
     robust MILP (milp-bigm on the tightened problem) and the nominal plan followed by the
-    check; on the mission also milp-ltl; an instance's runs one after the other.
+    check; on the mission also milp-ltl; on the team lazy-smt-team and milp-team; an
+    instance's runs one after the other.
 
     >>> sorted({t["solver"] for t in robust_tasks()})
-    ['lazy-smt', 'milp-bigm', 'milp-ltl', 'nominal-check']
+    ['lazy-smt', 'lazy-smt-team', 'milp-bigm', 'milp-ltl', 'milp-team', 'nominal-check']
     """
     tasks: list[dict[str, Any]] = []
-    for inst in family("reach", "robust"):  # each instance's planners one after the other (interleaved)
+    from plansynth.bench.families.reach import ROBUST_TEAM
+
+    robust = family("reach", "robust") + family("reach", "robust", [ROBUST_TEAM])
+    for inst in robust:  # each instance's planners one after the other (interleaved)
+        if "team" in inst.params:  # a team under disturbances: the team planners
+            tasks += make_tasks([inst], ["lazy-smt-team", "milp-team"], timeout=timeout)
+            continue
         solvers = ["lazy-smt"]
         if "mission" in inst.params:
             solvers.append("milp-ltl")

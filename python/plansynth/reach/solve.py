@@ -282,6 +282,12 @@ def _solve_team(problem: Any, planner: str, budget: Budget, options: Any, progre
     opts = run.configure(options, **values)
     result = run.solve(team, budget, opts, progress=progress)
     result = replace(result, solver=name, solver_version=run.version(), options=_record(opts, result.options))
+    if any(r.disturbance is not None for r in team.robots):
+        # under disturbances: the tightened team's record, then the plan checked as it
+        # stands and in the worst case (plansynth.reach.team.robust_check)
+        from plansynth.reach.team.robust_check import annotated_team, checked_team
+
+        return checked_team(team, validate_team_result(team, annotated_team(team, result)))
     return validate_team_result(team, result)
 
 

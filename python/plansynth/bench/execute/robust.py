@@ -7,6 +7,8 @@ left of its wall-clock limit.
   run checked by the validator: how many broke a constraint, and the first violation.
   For a robust plan this shows nothing breaks; for the ``nominal-check`` baseline's
   nominal plan it shows what does (shown, not assumed).
+* a team's runs: every robot's closed loop under the same numbers of sequences, each team
+  run checked by the team validator (:mod:`plansynth.reach.team.robust_simulate`).
 * ``largest``: for ``lazy-smt`` on a maze at scale 1, the largest disturbance scale
   (times :data:`~plansynth.reach.families.WINDY_BOX`) that still has a robust plan,
   found by bisection between scale 1 (a plan) and :data:`TOP_SCALE` (none): the margins
@@ -77,6 +79,8 @@ def robust_attributes(inst: Any, task: Mapping[str, Any], problem: Any, result: 
         ]
     if "check" in record:
         out["worst_case"] = {"ok": record["check"]["ok"], "clearance": record["check"].get("clearance")}
+    if getattr(problem, "robots", None) is not None:  # a team (plansynth.reach.team.robust)
+        return _team_attributes(task, problem, result, record, out, deadline)
     if result.trajectory is not None and record.get("feedback") and deadline - time.perf_counter() > 10.0:
         K = np.asarray(record["feedback"]["gain"], float)
         mission = result.mission or {}
@@ -96,4 +100,27 @@ def robust_attributes(inst: Any, task: Mapping[str, Any], problem: Any, result: 
         and result.status.value == "found"
     ):
         out["largest"] = largest_scale(int(inst.params["n"]), deadline)
+    return out
+
+
+def _team_attributes(
+    task: Mapping[str, Any], problem: Any, result: Any, record: dict[str, Any], out: dict[str, Any], deadline: float
+) -> dict[str, Any]:
+    """A team's extras: the worst-case team check and every robot's closed loop under the
+    same numbers of sampled sequences (:func:`plansynth.reach.team.robust_simulate.simulate_team`)."""
+    from plansynth.reach.team.robust_check import team_gains
+    from plansynth.reach.team.robust_simulate import simulate_team
+
+    if "check" in record:
+        out["worst_case"] = {"ok": record["check"]["ok"], "clearance": record["check"].get("clearance")}
+    if result.trajectories is not None and record.get("robots") and deadline - time.perf_counter() > 10.0:
+        t0 = time.perf_counter()
+        runs = simulate_team(
+            problem,
+            result.trajectories,
+            team_gains(problem, record),
+            sequences=SEQUENCES,
+            seed=int(task.get("seed", 0)),
+        )
+        out["runs"] = {**runs.to_json_dict(), "seconds": time.perf_counter() - t0}
     return out

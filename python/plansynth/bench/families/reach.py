@@ -18,8 +18,9 @@ doors, target groups, dwell, stepping stones, obstacles as labels:
 the room's corners, the mazes with 2 and 4 robots, antipodal crossings, the patrolled
 gap, the narrow corridor).
 ``robust`` holds the mazes under bounded disturbances (:func:`plansynth.reach.families.windy_maze`):
-each maze at growing disturbance boxes, a mission under the same disturbance, and a
-disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`).
+each maze at growing disturbance boxes, a mission under the same disturbance, a
+disturbance wider than the mazes' gaps (:mod:`plansynth.reach.robust`), and a team of two
+robots under disturbances (:mod:`plansynth.reach.team.robust`).
 The problems themselves are built by :mod:`plansynth.bench.families.reach_problems`.
 
 >>> [i.name for i in reach_family("chain", [1], orders=[1, 2])]
@@ -40,6 +41,7 @@ __all__ = [
     "RANDOM_DYNAMICS_STATES",
     "GCS_MAZE_SIZES",
     "ROBUST_SCALES",
+    "ROBUST_TEAM",
     "reach_family",
 ]
 
@@ -69,6 +71,8 @@ MISSION_FAMILIES = ("missions", "missions-literature")
 ROBUST_SCALES = (1.0, 2.0, 4.0)
 #: its mission under disturbance
 ROBUST_MISSION = (2, "patrol")
+#: the value that names its team (planned by the team planners; only when asked for)
+ROBUST_TEAM = "windy-swap"
 RANDOM_DYNAMICS_STATES = (4, 10, 20, 50)
 #: The scale family's maze sides (cells): the GCS paper's 50 x 50 and sizes around it.
 GCS_MAZE_SIZES = (10, 20, 30, 50, 70, 100)
@@ -99,7 +103,9 @@ def reach_family(
     (:data:`plansynth.reach.team.families.TEAM_CASES`, default all). ``robust``: values are passage counts (default
     1..4), each maze at the disturbance scales of :data:`ROBUST_SCALES`, with the mission
     of :data:`ROBUST_MISSION` and maze-1 with a gap narrower than the disturbance's tube
-    (:func:`plansynth.reach.families.narrow_maze`: no robust plan, expected infeasible).
+    (:func:`plansynth.reach.families.narrow_maze`: no robust plan, expected infeasible);
+    the value :data:`ROBUST_TEAM` adds the team of :func:`plansynth.reach.team.families.windy_swap`
+    (two robots under disturbances, for the team planners).
     """
     out = []
     if name == "maze":
@@ -145,33 +151,45 @@ def reach_family(
                 raise ValueError(f"unknown scenario {key!r} (known: {', '.join(SCENARIOS)})")
             for inst in scenario_names(key):
                 out.append(Instance("reach", "missions-literature", inst, {"name": inst}, None))
-    elif name == "robust":  # values are passage counts
+    elif name == "robust":  # values are passage counts, or ROBUST_TEAM for the team
         from plansynth.reach.families import windy_name
 
-        for scale in ROBUST_SCALES:
-            for n in values or [1, 2, 3, 4]:
+        mazes = None if values is None else [v for v in values if v != ROBUST_TEAM]
+        if mazes is None or mazes:
+            for scale in ROBUST_SCALES:
+                for n in mazes or [1, 2, 3, 4]:
+                    out.append(
+                        Instance(
+                            "reach",
+                            "robust",
+                            windy_name(f"maze-{n}", scale),
+                            {"n": int(n), "scale": float(scale)},
+                            "found" if scale == 1 else None,
+                        )
+                    )
+            n, mission = ROBUST_MISSION
+            if not mazes or n in mazes:
                 out.append(
                     Instance(
                         "reach",
                         "robust",
-                        windy_name(f"maze-{n}", scale),
-                        {"n": int(n), "scale": float(scale)},
-                        "found" if scale == 1 else None,
+                        f"maze-{n}-{mission}-windy",
+                        {"n": n, "scale": 1.0, "mission": mission},
+                        "found",
                     )
                 )
-        n, mission = ROBUST_MISSION
-        if not values or n in values:
-            out.append(
-                Instance(
-                    "reach", "robust", f"maze-{n}-{mission}-windy", {"n": n, "scale": 1.0, "mission": mission}, "found"
+            if not mazes or 1 in mazes:  # maze-1 with a 1 m gap: the disturbance is wider than the passage
+                out.append(
+                    Instance(
+                        "reach",
+                        "robust",
+                        "maze-1-narrow-windy-x4",
+                        {"n": 1, "scale": 4.0, "narrow": True},
+                        "infeasible",
+                    )
                 )
-            )
-        if not values or 1 in values:  # maze-1 with a 1 m gap: the disturbance is wider than the passage
-            out.append(
-                Instance(
-                    "reach", "robust", "maze-1-narrow-windy-x4", {"n": 1, "scale": 4.0, "narrow": True}, "infeasible"
-                )
-            )
+        if values is not None and ROBUST_TEAM in values:  # two robots under disturbances: the team planners
+            out.append(Instance("reach", "robust", "corridor-swap-windy", {"team": ROBUST_TEAM, "scale": 1.0}, "found"))
     elif name == "gcs-maze":
         for n in values or GCS_MAZE_SIZES:
             out.append(Instance("reach", "gcs-maze", f"gcs-maze-{n}", {"n": int(n)}, "found"))

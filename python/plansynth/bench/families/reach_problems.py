@@ -66,11 +66,20 @@ def _missions_literature(name: str) -> Any:
     return literature_problem(name)
 
 
-def _robust(n: int, scale: float, mission: str | None = None, narrow: bool = False) -> Any:
+def _robust(
+    n: int | None = None, scale: float = 1.0, mission: str | None = None, narrow: bool = False, team: str | None = None
+) -> Any:
     from dataclasses import replace
 
     from plansynth.reach.families import narrow_maze, windy_box, windy_maze, windy_name
 
+    if team is not None:  # a team under disturbances (the only one: the windy corridor swap)
+        from plansynth.reach.team.families import windy_swap
+
+        if team != "windy-swap":
+            raise ValueError(f"unknown robust team {team!r} (known: windy-swap)")
+        return windy_swap(scale)
+    assert n is not None
     if narrow:
         return narrow_maze(scale)
     if mission is None:

@@ -97,25 +97,36 @@ def result_table(result: Any) -> Table:
 
 def _robust_rows(robust: dict[str, Any], found: bool) -> list[tuple[str, str]]:
     """The lines of a robust result: what it guarantees (or what a missing plan is
-    relative to), the feedback law and gain, the margins, the worst-case check."""
-    fb, mg = robust["feedback"], robust["margins"]
-    gain = "; ".join(", ".join(f"{v + 0.0:.4g}" for v in row) for row in fb["gain"])
-    grown = [max(a, b) for a, b in zip(mg["obstacles_grown_by"]["lo"], mg["obstacles_grown_by"]["hi"])]
-    u = max([*mg["input_bound_at_most"]["lo"], *mg["input_bound_at_most"]["hi"]], default=0.0)
-    rows = [
-        ("robust", robust["guarantee"] if found else robust["relative_to"]),
-        ("feedback", f"{robust['law']}, K = [{gain}]: {fb['how']}"),
-        (
-            "margins",
-            "obstacles grown by "
-            + ", ".join(f"{v:.4g}" for v in grown)
-            + f" (the tube's largest cross-section); state bounds, workspace, input bound (by up to {u:.4g}) "
-            f"and goal tightened by E_t at every step (exact for {mg['exact_steps']} steps, then bounded)",
-        ),
-    ]
+    relative to), the feedback law and gain, the margins, the worst-case check (a team:
+    per robot, and how the separation is tightened)."""
+    rows = [("robust", robust["guarantee"] if found else robust["relative_to"])]
+    if "robots" in robust:  # a team (plansynth.reach.team.robust)
+        for name, own in robust["robots"].items():
+            rows += _feedback_rows(robust["law"], own, f" {name}")
+        rows.append(("separation", robust["separation"]))
+    else:
+        rows += _feedback_rows(robust["law"], robust, "")
     check = robust.get("check")
     if check is not None:
         verdict = "passed" if check["ok"] else "FAILED"
         room = "" if check.get("clearance") is None else f", worst-case clearance {check['clearance']:.3g}"
         rows.append(("robust check", f"{verdict}: the worst case at every step{room}"))
     return rows
+
+
+def _feedback_rows(law: str, robust: dict[str, Any], who: str) -> list[tuple[str, str]]:
+    """The feedback law and gain and the margins of one robot's design."""
+    fb, mg = robust["feedback"], robust["margins"]
+    gain = "; ".join(", ".join(f"{v + 0.0:.4g}" for v in row) for row in fb["gain"])
+    grown = [max(a, b) for a, b in zip(mg["obstacles_grown_by"]["lo"], mg["obstacles_grown_by"]["hi"])]
+    u = max([*mg["input_bound_at_most"]["lo"], *mg["input_bound_at_most"]["hi"]], default=0.0)
+    return [
+        (f"feedback{who}", f"{law}, K = [{gain}]: {fb['how']}"),
+        (
+            f"margins{who}",
+            "obstacles grown by "
+            + ", ".join(f"{v:.4g}" for v in grown)
+            + f" (the tube's largest cross-section); state bounds, workspace, input bound (by up to {u:.4g}) "
+            f"and goal tightened by E_t at every step (exact for {mg['exact_steps']} steps, then bounded)",
+        ),
+    ]

@@ -27,10 +27,14 @@ Examples:
 
   plansynth reach validate examples/reach/maze-3-windy.yaml plan.json --disturbances 1000 --nominal
 
-A problem with a disturbance (robot.disturbance): the plan is also checked against the
-worst case at every step, with the gain K the result records (else the problem's
-design); --disturbances N simulates the closed loop under N random and N vertex
-disturbance sequences; --nominal runs a nominal plan under the same sequences.
+  plansynth reach validate examples/reach/team-swap-windy.yaml team.json --disturbances 200 --nominal
+
+A problem with a disturbance (robot.disturbance, or a team's robots[i].disturbance): the
+plan is also checked against the worst case at every step, with the gain K the result
+records (else the problem's design; a team: each robot's, and every pair's separation
+by the sum of both robots' error sets); --disturbances N simulates the closed loop (a
+team: every robot's) under N random and N vertex disturbance sequences; --nominal runs
+a nominal plan under the same sequences.
 
 Exit status: 0 valid, 1 invalid, 2 bad input.
 """
@@ -94,7 +98,15 @@ def validate_command(
             why = tolerance_problem(problem.robot_problems[0], tol)
             if why is not None:
                 raise typer.BadParameter(why, param_hint="--tol")
-            ok, lines = validate_file(problem, doc, str(result_file), tol=tol)
+            if disturbances and not any(r.disturbance is not None for r in problem.robots):
+                raise typer.BadParameter(
+                    "no robot of the team has a disturbance (robots[i].disturbance)", param_hint="--disturbances"
+                )
+            if nominal and not disturbances:
+                raise typer.BadParameter("needs --disturbances", param_hint="--nominal")
+            ok, lines = validate_file(
+                problem, doc, str(result_file), tol=tol, disturbances=disturbances, seed=seed, nominal=nominal
+            )
             for line in lines:
                 console.print(escape(line), highlight=False)
             raise typer.Exit(0 if ok else 1)

@@ -36,7 +36,9 @@ only when it plans. The planners and their modules:
 Under a disturbance (``robot.disturbance``) :func:`plansynth.reach.solve` hands a
 planner the problem tightened by the feedback's tube (:mod:`plansynth.reach.robust`);
 the planners that plan it say so (``disturbances``, :func:`robust_planners`), the others
-refuse the problem.
+refuse the problem. A team whose robots carry disturbances is planned tightened by
+``lazy-smt-team`` and ``milp-team`` (:mod:`plansynth.reach.team.robust`); ``prioritized``
+refuses it.
 
 The baselines' entries are in :mod:`~plansynth.reach.planners.baselines`. Plugins
 register with :func:`register_planner` (a :class:`Planner`, or a plain function

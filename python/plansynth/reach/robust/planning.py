@@ -15,15 +15,16 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
-from plansynth.reach.robust.check import check_robust
+from plansynth.reach.robust.check import RobustReport, check_robust
 from plansynth.reach.robust.tighten import RELATIVE, Tightened, robust_design, tightened
 
-__all__ = ["planned", "annotated", "checked", "no_plan", "nominal_problem"]
+__all__ = ["planned", "annotated", "checked", "no_plan", "nominal_problem", "with_check"]
 
 log = logging.getLogger("plansynth.reach")
 
@@ -99,17 +100,23 @@ def checked(problem: ReachProblem, result: ReachResult, *, tol: float = 1e-6) ->
         holds, why = mission_holds(problem, result.trajectory, K, loop, tol)
         if not holds:
             report = report.with_violation("mission", None, why)
-    seconds = time.perf_counter() - t0
+    return with_check(result, report, time.perf_counter() - t0)
+
+
+def with_check(result: Any, report: RobustReport, seconds: float, check: str = "the robust check") -> Any:
+    """``result`` (one robot's or a team's) with the worst-case check's ``report``
+    recorded in ``robust.check`` and its ``seconds`` counted; a plan that fails it is
+    ``unknown``, not found, and the message says so."""
     timings = {**result.timings, "robust_check": seconds, "total": result.seconds + seconds}
     robust = {**result.robust, "check": report.to_json_dict()}
     if report.ok:
         return replace(result, robust=robust, timings=timings, seconds=timings["total"])
-    log.error("planner %s returned a plan that fails the robust check: %s", result.solver, report.summary())
+    log.error("planner %s returned a plan that fails %s: %s", result.solver, check, report.summary())
     return replace(
         result,
         status=ReachStatus.UNKNOWN,
         robust=robust,
         timings=timings,
         seconds=timings["total"],
-        message=f"the {result.solver} plan fails the robust check and is not reported as found: {report.summary()}",
+        message=f"the {result.solver} plan fails {check} and is not reported as found: {report.summary()}",
     )

@@ -7,6 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from plansynth.reach.team.problem import TeamProblem
 
 __all__ = ["write_outputs", "validate_file", "plot_file"]
@@ -40,9 +42,21 @@ def write_outputs(
     return lines
 
 
-def validate_file(problem: TeamProblem, doc: Any, source: str, *, tol: float) -> tuple[bool, list[str]]:
+def validate_file(
+    problem: TeamProblem,
+    doc: Any,
+    source: str,
+    *,
+    tol: float,
+    disturbances: int = 0,
+    seed: int = 0,
+    nominal: bool = False,
+) -> tuple[bool, list[str]]:
     """``reach validate`` on a team result document: the verdict and the lines to print
-    (the team validator's summary and its violations, each naming robots and steps)."""
+    (the team validator's summary and its violations, each naming robots and steps).
+    A team under disturbances (:mod:`plansynth.reach.team.robust`): also the worst case
+    with each robot's gain (the result's, else its design), ``disturbances`` sampled
+    runs of each kind, and with ``nominal`` a nominal team plan under the same runs."""
     from plansynth.reach.team.result import team_trajectories_from_dict
     from plansynth.reach.team.validate import validate_team
 
@@ -52,7 +66,59 @@ def validate_file(problem: TeamProblem, doc: Any, source: str, *, tol: float) ->
     lines += [f"  {v}" for v in report.violations[:50]]
     if len(report.violations) > 50:
         lines.append(f"  ... and {len(report.violations) - 50} more")
-    return report.ok, lines
+    ok = report.ok
+    if any(r.disturbance is not None for r in problem.robots):
+        robust_ok, more = _robust_lines(problem, trajectories, doc, tol, disturbances, seed, nominal)
+        ok, lines = ok and robust_ok, lines + more
+    return ok, lines
+
+
+def _robust_lines(
+    problem: TeamProblem, trajectories: Any, doc: Any, tol: float, disturbances: int, seed: int, nominal: bool
+) -> tuple[bool, list[str]]:
+    """The worst case, the sampled runs and the nominal plan's runs of a robust team."""
+    from plansynth.reach.team.robust_check import check_robust_team, team_gains
+    from plansynth.reach.team.robust_simulate import simulate_team
+
+    robust = doc.get("robust") if isinstance(doc.get("robust"), dict) else None
+    gains = team_gains(problem, robust)
+    source = "the result's" if robust and robust.get("robots") else "the problem's designs"
+    lines = []
+    for robot, K in zip(problem.robots, gains):
+        if K is not None:
+            gain = "; ".join(", ".join(f"{v + 0.0:.4g}" for v in row) for row in np.asarray(K))
+            lines.append(f"feedback of robot {robot.name}: u = v + K (x - x_nom), K = [{gain}] ({source})")
+    report = check_robust_team(problem, trajectories, gains, tol=tol)
+    lines.append(f"worst case: {report.summary()}")
+    lines += [f"  {v}" for v in report.violations[:20]]
+    ok = report.ok
+    if disturbances:
+        runs = simulate_team(problem, trajectories, gains, sequences=disturbances, seed=seed, tol=tol)
+        lines.append(f"simulated: {runs.summary()}")
+        ok = ok and runs.violated == 0
+        if nominal:
+            lines.append(_nominal_runs(problem, gains, disturbances, seed, tol))
+    return ok, lines
+
+
+def _nominal_runs(problem: TeamProblem, gains: Any, disturbances: int, seed: int, tol: float) -> str:
+    """A nominal team plan (lazy-smt-team, the disturbances ignored) under the same sequences."""
+    from plansynth.budget import Budget
+    from plansynth.reach.team.lazy import plan_team_lazy
+    from plansynth.reach.team.robust import without_disturbances
+    from plansynth.reach.team.robust_simulate import simulate_team
+    from plansynth.reach.team.solve import validate_team_result
+
+    plain = without_disturbances(problem)
+    result = validate_team_result(plain, plan_team_lazy(plain, Budget(seconds=60.0)))
+    if result.trajectories is None:
+        return f"nominal plan: none ({result.message})"
+    runs = simulate_team(problem, result.trajectories, gains, sequences=disturbances, seed=seed, tol=tol)
+    kinds = ", ".join(f"{k} in {v}" for k, v in runs.kinds_violated.items())
+    return (
+        f"nominal plan (horizon {result.horizon}, the disturbances ignored), same gains and sequences: "
+        f"{runs.summary()}" + (f"; runs with each violation: {kinds}" if kinds else "")
+    )
 
 
 def plot_file(problem: TeamProblem, doc: Any | None, source: str | None, output: Path) -> None:

@@ -14,6 +14,11 @@ admissible input w. Per engaged pair step (i, j, t) with side k:
 linear, so the side holds along the step); per engaged robot-obstacle step, the same
 with the obstacle's known position at t, at every waypoint time inside the step (the
 robot's position there interpolated from its two samples) and at t + 1.
+
+Under disturbances (:mod:`plansynth.reach.team.robust`) each bound, the goal rows and
+each side's row are tightened by the margins of the step they constrain (the robots'
+:class:`~plansynth.reach.team.robust.RobotMargins`, the owner's ``pair_margins`` and
+``obstacle_margins``).
 """
 
 from __future__ import annotations
@@ -170,6 +175,8 @@ class ComponentLp:
             else:
                 H, h = m.goal[1], m.goal[2]
                 K = H.shape[0]
+                if m.margins is not None and m.margins.goal is not None:  # the final tube inside the goal
+                    h = h - m.margins.goal[L]
                 self._add(
                     np.repeat(np.arange(K), d),
                     np.tile(self.x(r, L) + pos, K),
@@ -221,6 +228,7 @@ class ComponentLp:
         row = 0
         for (i, j, t), k in sides.items():
             f = owner.pair_facets[(i, j)]
+            grow = owner.pair_margins.get((i, j))
             a = f.A[k]
             d = len(a)
             pi = np.asarray(owner.models[i].pos)
@@ -231,7 +239,7 @@ class ComponentLp:
                 Rs.append(np.full(2 * d, row))
                 Cs.append(np.concatenate([self.x(i, tt) + pi, self.x(j, tt) + pj]))
                 Vs.append(np.concatenate([a, -a]))
-                lo.append(f.b[k])
+                lo.append(f.b[k] + (0.0 if grow is None else grow[tt, k]))
                 lits.append(idx)
                 tl.append(t)
                 row += 1
@@ -250,6 +258,7 @@ class ComponentLp:
     def _mside(self, r: int, o: int, t: int, k: int) -> None:
         owner = self.owner
         f = owner.obstacle_facets[(r, o)]
+        grow = owner.obstacle_margins.get((r, o))
         a, b = f.A[k], f.b[k]
         pos = np.asarray(owner.models[r].pos)
         ob = owner.problem.moving_obstacles[o]
@@ -258,6 +267,8 @@ class ComponentLp:
         for lam in (0.0, *bend_fractions(owner.problem, o, t), 1.0):
             c = ob.position(owner.problem.time_of(t + lam))
             rhs = b + float(a @ c)
+            if grow is not None:  # the robot's tube, interpolated between the step's samples
+                rhs += (1 - lam) * grow[t, k] + lam * grow[t + 1, k]
             if lam == 0.0 or lam == 1.0:
                 C = self.x(r, t + int(lam)) + pos
                 self._add(np.zeros(d, dtype=int), C, a, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
@@ -282,6 +293,16 @@ class ComponentLp:
             e = b + m.columns(L)
             lo[b + (L + 1) * m.n : e] = -m.u_bound
             hi[b + (L + 1) * m.n : e] = m.u_bound
+            if m.margins is not None:  # under a disturbance: every bound tightened by the tube at its step
+                g = m.margins
+                lo[b : b + (L + 1) * m.n] += g.state_lo[: L + 1].ravel()
+                hi[b : b + (L + 1) * m.n] -= g.state_hi[: L + 1].ravel()
+                u0 = b + (L + 1) * m.n
+                lo[u0 : u0 + L * m.m] += g.input_lo[:L].ravel()
+                hi[u0 : u0 + L * m.m] -= g.input_hi[:L].ravel()
+                if m.rest:  # the resting input keeps room for the feedback's largest share
+                    lo[u0 + L * m.m : e] += g.rest_lo
+                    hi[u0 + L * m.m : e] -= g.rest_hi
         if self.n_effort:
             lo[self.ncol - self.n_effort :] = 0.0
             hi[self.ncol - self.n_effort :] = INF

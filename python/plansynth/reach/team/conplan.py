@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -34,6 +34,7 @@ from plansynth.reach.team.counterexample import component_conflict
 from plansynth.reach.team.geometry import Facets
 from plansynth.reach.team.plans import Engage, TeamConflict, TeamPlan
 from plansynth.reach.team.problem import TeamProblem
+from plansynth.reach.team.robust import RobotMargins
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["RobotModel", "TeamConPlan", "ENGAGE_AROUND"]
@@ -49,7 +50,9 @@ class RobotModel:
     """What CON-PLAN needs of one robot: dynamics, start, bounds of its states (its own
     workspace, a sized robot's shrunk one) and inputs, its regions ``(H, h)``, its goal
     (``("shape", H, h)``, ``("point", p)`` or None) and whether it must end where it
-    can stay (``rest``)."""
+    can stay (``rest``); ``margins``: under a disturbance, how much its state bounds,
+    inputs, resting input and goal tighten at each step
+    (:class:`~plansynth.reach.team.robust.RobotMargins`)."""
 
     A: np.ndarray
     B: np.ndarray
@@ -61,6 +64,7 @@ class RobotModel:
     regions: tuple[tuple[np.ndarray, np.ndarray], ...]
     goal: tuple | None
     rest: bool
+    margins: RobotMargins | None = None  # under a disturbance: the tube's, step by step
 
     @property
     def n(self) -> int:
@@ -93,8 +97,12 @@ class TeamConPlan:
     :class:`~plansynth.reach.lazy.loop.TheoryChecker` of team plans.
 
     ``pair_facets[(i, j)]``, ``obstacle_facets[(r, o)]``: the sides of each pair and
-    robot-obstacle couple (absent: nothing forbidden). ``hints``: where the side each
-    engaged step keeps best in the latest trajectories is written (DIS-PLAN's phases).
+    robot-obstacle couple (absent: nothing forbidden); ``pair_margins``,
+    ``obstacle_margins``: under disturbances, how far each side moves out at each sample
+    (:mod:`plansynth.reach.team.robust`; every conflict is then learned at later
+    placements only, :attr:`~plansynth.reach.team.plans.TeamConflict.later_only`).
+    ``hints``: where the side each engaged step keeps best in the latest trajectories
+    is written (DIS-PLAN's phases).
     """
 
     def __init__(
@@ -107,8 +115,14 @@ class TeamConPlan:
         hints: dict[tuple, int] | None = None,
         objective: str = "none",
         transit: Sequence[Any] | None = None,
+        pair_margins: dict[tuple[int, int], np.ndarray] | None = None,
+        obstacle_margins: dict[tuple[int, int], np.ndarray] | None = None,
     ) -> None:
         self.problem = problem
+        self.pair_margins = pair_margins or {}
+        self.obstacle_margins = obstacle_margins or {}
+        # under a tube the margins grow with time: a conflict holds at later placements only
+        self.later_only = bool(self.pair_margins or self.obstacle_margins) or any(m.margins is not None for m in models)
         self.transit = list(transit) if transit is not None else []
         self.objective = objective
         self.elastic = True
@@ -125,6 +139,12 @@ class TeamConPlan:
 
     # -- the TheoryChecker interface ---------------------------------------------------
     def check(self, plan: TeamPlan) -> Feasible | tuple:
+        out = self._check(plan)
+        if self.later_only and isinstance(out, tuple):
+            return tuple(replace(c, later_only=True) if isinstance(c, TeamConflict) else c for c in out)
+        return out
+
+    def _check(self, plan: TeamPlan) -> Feasible | tuple:
         L = plan.horizon
         legs = self._transit(plan)
         if legs:
@@ -222,12 +242,11 @@ class TeamConPlan:
         pos = {r: states[r][0][:, list(self.problem.robots[r].dynamics.position)] for r in comp}
         for i, j, t in plan.sides:
             if i in robots:
-                f = self.pair_facets[(i, j)]
-                k, _ = f.best_side(pos[i][t] - pos[j][t], pos[i][t + 1] - pos[j][t + 1])
-                self.hints[("side", i, j, t)] = k
+                M = self._pair_margins(i, j, pos[i][t : t + 2] - pos[j][t : t + 2], first=t)
+                self.hints[("side", i, j, t)] = int(np.minimum(M[0], M[1]).argmax())
         for r, o, t in plan.msides:
             if r in robots:
-                S = self._obstacle_margins(pos[r][t : t + 2], o, self.obstacle_facets[(r, o)], 1, first=t)
+                S = self._obstacle_margins(pos[r][t : t + 2], o, self.obstacle_facets[(r, o)], 1, first=t, r=r)
                 self.hints[("mside", r, o, t)] = int(S[0].argmax())
 
     # -- engagement -----------------------------------------------------------------
@@ -239,8 +258,8 @@ class TeamConPlan:
         pos = [states[r][0][:, list(P[r].position)] for r in range(len(self.models))]
         eps = HOLD_TOL * self.scale
         pairs: list[tuple[int, int, int]] = []
-        for (i, j), f in self.pair_facets.items():
-            M = f.margins(pos[i] - pos[j])
+        for i, j in self.pair_facets:
+            M = self._pair_margins(i, j, pos[i] - pos[j])
             S = np.minimum(M[:-1], M[1:])
             best = S.argmax(axis=1)
             ok = S[np.arange(L), best] >= -eps
@@ -254,7 +273,7 @@ class TeamConPlan:
                         self.hints[("side", i, j, u)] = int(best[u])
         obstacles: list[tuple[int, int, int]] = []
         for (r, o), f in self.obstacle_facets.items():
-            S = self._obstacle_margins(pos[r], o, f, L)
+            S = self._obstacle_margins(pos[r], o, f, L, r=r)
             best = S.argmax(axis=1)
             ok = S[np.arange(L), best] >= -eps
             for t in range(L):
@@ -269,17 +288,31 @@ class TeamConPlan:
             return None
         return Engage(tuple(sorted(set(pairs))), tuple(sorted(set(obstacles))))
 
-    def _obstacle_margins(self, P: np.ndarray, o: int, f: Facets, L: int, first: int = 0) -> np.ndarray:
+    def _pair_margins(self, i: int, j: int, Z: np.ndarray, first: int = 0) -> np.ndarray:
+        """Per sample (rows of Z, the relative positions from step ``first``) and side of
+        pair (i, j), ``a_k z - b_k`` less the side's growth under disturbances."""
+        M = self.pair_facets[(i, j)].margins(Z)
+        grow = self.pair_margins.get((i, j))
+        return M if grow is None else M - grow[first : first + len(Z)]
+
+    def _obstacle_margins(
+        self, P: np.ndarray, o: int, f: Facets, L: int, first: int = 0, r: int | None = None
+    ) -> np.ndarray:
         """Per step and side, the worst margin over the step's samples and the
-        obstacle's waypoint times inside it (``P[0]`` is the position at step ``first``)."""
+        obstacle's waypoint times inside it (``P[0]`` is the position at step ``first``;
+        ``r``: the robot, whose tube's growth of the sides counts under disturbances)."""
         ob = self.problem.moving_obstacles[o]
+        grow = None if r is None else self.obstacle_margins.get((r, o))
         out = np.empty((L, f.n_sides))
         for t in range(L):
             worst = np.full(f.n_sides, np.inf)
             for lam in (0.0, *_bend_fractions(self.problem, o, first + t), 1.0):
                 p = (1 - lam) * P[t] + lam * P[t + 1]
                 c = ob.position(self.problem.time_of(first + t + lam))
-                worst = np.minimum(worst, f.margins(p - c))
+                m = f.margins(p - c)
+                if grow is not None:
+                    m = m - ((1 - lam) * grow[first + t] + lam * grow[first + t + 1])
+                worst = np.minimum(worst, m)
             out[t] = worst
         return out
 

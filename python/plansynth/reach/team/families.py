@@ -17,6 +17,8 @@
 * :func:`patrol_gap`: maze-1 with a vehicle patrolling back and forth through the gap.
 * :func:`narrow_corridor`: two robots that must swap the ends of a corridor too narrow
   to pass, no bay: infeasible.
+* :func:`windy_swap`: the corridor swap with a bounded disturbance on each robot (the
+  ``robust`` benchmark family's team, :mod:`plansynth.reach.team.robust`).
 
 >>> [r.name for r in smc_crossing().robots], smc_crossing().separation.distance
 (['robot0', 'robot1'], 0.5)
@@ -27,9 +29,11 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
+from plansynth.reach.disturbance import Disturbance
 from plansynth.reach.dynamics import double_integrator, integrator_chain
 from plansynth.reach.geometry import Box
 from plansynth.reach.robot import RobotShape
@@ -43,6 +47,8 @@ __all__ = [
     "antipodal",
     "patrol_gap",
     "narrow_corridor",
+    "windy_swap",
+    "WINDY_SWAP_BOX",
     "TEAM_CASES",
     "INFEASIBLE_CASES",
     "team_case",
@@ -105,6 +111,20 @@ def corridor_swap() -> TeamProblem:
 def narrow_corridor() -> TeamProblem:
     """:func:`corridor_swap` without the bay: the robots cannot pass (infeasible)."""
     return _corridor(False, "narrow-corridor", 40)
+
+
+#: the windy swap's disturbance: 2 cm and 5 cm/s per 0.5 s step on each axis
+WINDY_SWAP_BOX = (0.02, 0.02, 0.05, 0.05)
+
+
+def windy_swap(scale: float = 1.0) -> TeamProblem:
+    """:func:`corridor_swap` with the disturbance ``scale`` times :data:`WINDY_SWAP_BOX`
+    on both robots (each its own LQR feedback): the robots, their separation and the
+    corridor's walls are kept under every disturbance sequence."""
+    p = corridor_swap()
+    w = Disturbance(box=tuple(scale * v for v in WINDY_SWAP_BOX))
+    suffix = "" if scale == 1.0 else f"-x{scale:g}"
+    return replace(p, robots=tuple(replace(r, disturbance=w) for r in p.robots), name=f"corridor-swap-windy{suffix}")
 
 
 def room_corners() -> TeamProblem:

@@ -34,8 +34,10 @@ from plansynth.errors import InvalidProblem
 from plansynth.io import Fields, as_float, as_float_vector, as_int, as_name, load_document, type_name
 from plansynth.reach.fileformat import (
     _box_to_dict,
+    _disturbance_to_dict,
     _num,
     _parse_box,
+    _parse_disturbance,
     _parse_dynamics,
     _parse_labels,
     _parse_polygon,
@@ -71,7 +73,7 @@ __all__ = [
 TEAM_KEYS = ("robots", "separation", "moving_obstacles")
 _TOP_KEYS = {"workspace", "obstacles", "goal", "robot", "robots", "separation", "moving_obstacles"}
 _TOP_KEYS |= {"max_horizon", "name", "labels", "mission"}
-_DEFAULT_KEYS = {"dynamics", "input_bound", "state_bounds", "radius", "half_extent", "stop"}
+_DEFAULT_KEYS = {"dynamics", "input_bound", "state_bounds", "radius", "half_extent", "stop", "disturbance"}
 _ROBOT_KEYS = _DEFAULT_KEYS | {"name", "start", "goal", "mission"}
 
 
@@ -195,6 +197,14 @@ def _parse_robot(raw: Any, defaults: Any, src: str | None, where: str, default_n
     if not isinstance(stop, bool):
         raise InvalidProblem(src, at("stop"), f"expected true or false, got {type_name(stop)}")
     name = as_name(merged.get("name", default_name), src, f"{where}.name")
+    disturbance = None
+    if merged.get("disturbance") is not None:
+        try:
+            disturbance = _parse_disturbance(merged["disturbance"], src, n, dynamics.n_inputs)
+        except InvalidProblem as exc:
+            raise InvalidProblem(
+                src, exc.field.replace("robot.disturbance", at("disturbance"), 1), f"robot {name}: {exc.reason}"
+            ) from None
     return TeamRobot(
         name=name,
         dynamics=dynamics,
@@ -205,6 +215,7 @@ def _parse_robot(raw: Any, defaults: Any, src: str | None, where: str, default_n
         robot_shape=robot_shape,
         mission=mission,
         stop=stop,
+        disturbance=disturbance,
     )
 
 
@@ -289,6 +300,8 @@ def team_problem_to_dict(problem: TeamProblem) -> dict:
             entry["mission"] = r.mission
         if r.stop:
             entry["stop"] = True
+        if r.disturbance is not None:
+            entry["disturbance"] = _disturbance_to_dict(r.disturbance)
         robots.append(entry)
     sep = problem.separation
     out: dict[str, Any] = {

@@ -60,12 +60,6 @@ class Facets:
         """``A z - b`` per side (rows of z: positions)."""
         return np.asarray(z, float) @ self.A.T - self.b
 
-    def best_side(self, z0: np.ndarray, z1: np.ndarray) -> tuple[int, float]:
-        """The side held best over the step z0 -> z1 and its worst margin."""
-        m = np.minimum(self.margins(z0), self.margins(z1))
-        k = int(np.argmax(m))
-        return k, float(m[k])
-
 
 def convex_hull(points: np.ndarray) -> np.ndarray:
     """The CCW convex hull of 2-D points (Andrew's monotone chain), collinear points dropped.

@@ -33,6 +33,12 @@ within a step), so ``infeasible`` is a claim about the encoding, and the result 
 (``counters["infeasible_relative_to"] = "encoding"``); the joint MILP
 (:mod:`plansynth.reach.team.milp`) decides the same encoding, and the property tests
 compare the two. Without a certificate for some clause the answer is ``unknown``.
+
+**Under disturbances** (a robot with ``disturbance``) the loop plans the team tightened by
+the robots' tubes (:mod:`plansynth.reach.team.robust`): the same DIS-PLAN, the
+CON-PLAN's bounds and sides tightened step by step, every counterexample learned at
+later placements only (the margins grow with time), and ``infeasible`` relative to the
+feedback designs as well as the encoding.
 """
 
 from __future__ import annotations
@@ -53,6 +59,7 @@ from plansynth.reach.team.options import TeamLazyOptions
 from plansynth.reach.team.plans import Engage
 from plansynth.reach.team.problem import TeamProblem
 from plansynth.reach.team.result import TeamResult
+from plansynth.reach.team.robust import is_disturbed, tightened_team
 from plansynth.reach.team.setup import TeamSetup, prepare
 from plansynth.reach.trajectory import Trajectory
 
@@ -169,6 +176,13 @@ def plan_team_lazy(
             names=tuple(r.name for r in problem.robots),
         )
 
+    if is_disturbed(problem):  # plan the team tightened by its robots' tubes (plansynth.reach.team.robust)
+        tight = tightened_team(problem)
+        if tight.status is not None:
+            status = ReachStatus.INFEASIBLE if tight.status == "infeasible" else ReachStatus.UNKNOWN
+            return result(LoopOutcome(status, None, tight.reason))
+        L_max = min(L_max, tight.max_horizon)
+        record["max_horizon"] = L_max
     t0 = time.perf_counter()
     try:
         with clock.phase("the robots' decompositions and bounds"):
@@ -206,8 +220,10 @@ def plan_team_lazy(
         hints=displan.side_hints,
         objective=options.objective,
         transit=_transit_layers(setup, clock) if options.transit else None,
+        pair_margins=setup.pair_margins,
+        obstacle_margins=setup.obstacle_margins,
     )
-    if seed is not None and seed.horizon is not None and first <= seed.horizon <= L_max:
+    if seed is not None and seed.horizon is not None and first <= seed.horizon <= L_max and not setup.tightened:
         # an incumbent: the horizons below it first, then its own
         horizons = [L for L in horizons if L < seed.horizon] + [seed.horizon]
         _engage_seed(setup, displan, seed)

@@ -18,7 +18,9 @@ The horizons run from the same lower bound as the lazy planner's
 (:func:`~plansynth.reach.team.setup.prepare`) to ``max_horizon``; the first feasible one
 is the smallest of the encoding, so ``found`` is minimal and ``infeasible`` means what
 the lazy planner's means (relative to the encoding). Robots with missions are not
-planned here.
+planned here. Under disturbances the MILP is the team tightened by the robots' tubes
+(:mod:`plansynth.reach.team.robust`): every bound, goal and side row tightened by the
+margins of its step, each big-M computed for the tightened row.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from plansynth.reach.team.lazy import ENCODING
 from plansynth.reach.team.options import TeamMilpOptions
 from plansynth.reach.team.problem import TeamProblem
 from plansynth.reach.team.result import TeamResult
+from plansynth.reach.team.robust import is_disturbed, tightened_team
 from plansynth.reach.team.setup import TeamSetup, prepare
 from plansynth.reach.trajectory import Trajectory
 
@@ -74,8 +77,19 @@ def plan_team_milp(
             message=message, guarantee="segments", names=names,
         )  # fmt: skip
 
+    if is_disturbed(problem):  # plan the team tightened by its robots' tubes (plansynth.reach.team.robust)
+        tight = tightened_team(problem)
+        if tight.status is not None:
+            status = ReachStatus.INFEASIBLE if tight.status == "infeasible" else ReachStatus.UNKNOWN
+            return result(status, None, tight.reason)
+        L_max = min(L_max, tight.max_horizon)
+        record["max_horizon"] = L_max
+        if options.horizon is not None and options.horizon > L_max:
+            return result(
+                ReachStatus.UNKNOWN, options.horizon, f"no robust plan of horizon {options.horizon}: {tight.note}"
+            )
     t0 = time.perf_counter()
-    setup = prepare(problem, L_max, clock)
+    setup = prepare(problem, max(L_max, options.horizon or 0), clock)
     timings["abstraction"] = time.perf_counter() - t0
     counters.update(setup.counters)
     first = setup.first
@@ -172,13 +186,15 @@ def _solve(setup: TeamSetup, L: int, seconds: float) -> tuple[str, np.ndarray | 
         lo = boxes[i][0] - boxes[j][1]
         hi = boxes[i][1] - boxes[j][0]
         pi, pj = setup.robots[i].model.pos, setup.robots[j].model.pos
+        grow = setup.pair_margins.get((i, j))
         for t in range(L):
             ks = [lay.side[(i, j)] + t * f.n_sides + k for k in range(f.n_sides)]
             rows.add(np.zeros(len(ks), int), np.array(ks), np.ones(len(ks)), np.ones(1), np.full(1, INF))
             for k in range(f.n_sides):
-                a, b = f.A[k], f.b[k]
-                M = max(0.0, b + _max_over_box(-a, lo, hi))
+                a = f.A[k]
                 for tt in (t, t + 1):
+                    b = f.b[k] + (0.0 if grow is None else grow[tt, k])  # (under disturbances: moved out)
+                    M = max(0.0, b + _max_over_box(-a, lo, hi))
                     C = np.concatenate(
                         [lay.x(setup, i, tt) + np.asarray(pi), lay.x(setup, j, tt) + np.asarray(pj), [ks[k]]]
                     )
@@ -195,6 +211,7 @@ def _solve(setup: TeamSetup, L: int, seconds: float) -> tuple[str, np.ndarray | 
         ob = problem.moving_obstacles[o]
         pos = np.asarray(setup.robots[r].model.pos)
         lo, hi = boxes[r]
+        grow = setup.obstacle_margins.get((r, o))
         for t in range(L):
             ks = [lay.mside[(r, o)] + t * f.n_sides + k for k in range(f.n_sides)]
             rows.add(np.zeros(len(ks), int), np.array(ks), np.ones(len(ks)), np.ones(1), np.full(1, INF))
@@ -203,6 +220,8 @@ def _solve(setup: TeamSetup, L: int, seconds: float) -> tuple[str, np.ndarray | 
                 for lam in (0.0, *_bend_fractions(problem, o, t), 1.0):
                     c = ob.position(problem.time_of(t + lam))
                     rhs = b + float(a @ c)
+                    if grow is not None:  # the robot's tube, interpolated between the step's samples
+                        rhs += (1 - lam) * grow[t, k] + lam * grow[t + 1, k]
                     M = max(0.0, rhs + _max_over_box(-a, lo, hi))
                     C = np.concatenate([lay.x(setup, r, t) + pos, lay.x(setup, r, t + 1) + pos, [ks[k]]])
                     V = np.concatenate([(1 - lam) * a, lam * a, [-M]])
@@ -234,13 +253,22 @@ def _robot(setup, lay, rows, r, s, col_lo, col_hi, box) -> None:  # noqa: ANN001
     m, g, L = s.model, s.graph, lay.L
     n = m.n
     x0 = lay.base[r]
+    tm = m.margins  # under a disturbance: every bound tightened by the tube at its step
     for t in range(L + 1):
-        col_lo[x0 + t * n : x0 + (t + 1) * n] = np.where(np.isfinite(m.x_lo), m.x_lo, -INF)
-        col_hi[x0 + t * n : x0 + (t + 1) * n] = np.where(np.isfinite(m.x_hi), m.x_hi, INF)
+        x_lo = m.x_lo if tm is None else m.x_lo + tm.state_lo[t]
+        x_hi = m.x_hi if tm is None else m.x_hi - tm.state_hi[t]
+        col_lo[x0 + t * n : x0 + (t + 1) * n] = np.where(np.isfinite(x_lo), x_lo, -INF)
+        col_hi[x0 + t * n : x0 + (t + 1) * n] = np.where(np.isfinite(x_hi), x_hi, INF)
     col_lo[x0 : x0 + n] = col_hi[x0 : x0 + n] = m.start
     u0 = x0 + (L + 1) * n
     end = x0 + m.columns(L)
     col_lo[u0:end], col_hi[u0:end] = -m.u_bound, m.u_bound
+    if tm is not None:
+        col_lo[u0 : u0 + L * m.m] += tm.input_lo[:L].ravel()
+        col_hi[u0 : u0 + L * m.m] -= tm.input_hi[:L].ravel()
+        if m.rest:  # the resting input keeps room for the feedback's largest share
+            col_lo[u0 + L * m.m : end] += tm.rest_lo
+            col_hi[u0 + L * m.m : end] -= tm.rest_hi
     for t in range(L):  # x_{t+1} = A x_t + B u_t
         for a in range(n):
             C = [x0 + (t + 1) * n + a] + [x0 + t * n + c for c in range(n) if m.A[a, c]]
@@ -286,6 +314,8 @@ def _robot(setup, lay, rows, r, s, col_lo, col_hi, box) -> None:  # noqa: ANN001
                 col_hi[c] = min(col_hi[c], v)
         else:
             H, h = m.goal[1], m.goal[2]
+            if tm is not None and tm.goal is not None:  # the final tube inside the goal
+                h = h - tm.goal[L]
             for k in range(H.shape[0]):
                 rows.add(np.zeros(len(pos), int), x0 + L * n + pos, H[k], np.full(1, -INF), np.array([h[k]]))
     if m.rest:  # (I - A) x_L = B w

@@ -67,7 +67,10 @@ class TeamConflict:
     ``goal`` (the goals or the end states at ``horizon``: for plans of that horizon, or
     shifted with the end), ``timed`` (a moving obstacle's position: at these absolute
     times). Without any, the clause holds at every time shift (the dynamics are
-    time-invariant). ``first_time``..``last_time``: the samples the proof uses."""
+    time-invariant). ``first_time``..``last_time``: the samples the proof uses.
+    ``later_only``: the constraints tighten with time (a team under disturbances,
+    :mod:`plansynth.reach.team.robust`), so the clause holds at non-negative shifts
+    only."""
 
     literals: tuple[Lit, ...]
     start: bool
@@ -77,6 +80,7 @@ class TeamConflict:
     first_time: int | None = None
     last_time: int | None = None
     certified: bool = True
+    later_only: bool = False
 
     def __post_init__(self) -> None:
         lits = tuple(sorted(set(self.literals)))
@@ -109,6 +113,11 @@ class TeamConflict:
 
     def shifts(self, horizon: int) -> list[int]:
         """The time shifts at which the clause holds for plans of ``horizon``."""
+        if self.later_only:
+            return [s for s in self._shifts(horizon) if s >= 0]
+        return self._shifts(horizon)
+
+    def _shifts(self, horizon: int) -> list[int]:
         if self.goal:
             s = horizon - self.horizon
             if (self.start or self.timed) and s != 0:

@@ -34,6 +34,7 @@ from plansynth.reach.team.lazy import plan_team_lazy
 from plansynth.reach.team.options import PrioritizedOptions, TeamLazyOptions
 from plansynth.reach.team.problem import MovingObstacle, TeamProblem, TeamRobot
 from plansynth.reach.team.result import TeamResult
+from plansynth.reach.team.robust import is_disturbed
 from plansynth.reach.team.setup import prepare
 from plansynth.reach.trajectory import Trajectory
 
@@ -96,6 +97,13 @@ def plan_prioritized(
     progress: Any = None,
 ) -> TeamResult:
     """Plan the robots one after the other (see the module docstring); unvalidated."""
+    if is_disturbed(problem):
+        raise InvalidOption(
+            "prioritized",
+            "planner",
+            "plans no disturbance (robots[i].disturbance); a team under disturbances is planned by lazy-smt-team "
+            "and milp-team",
+        )
     if problem.n_robots > 1 and problem.dt is None:
         raise InvalidOption(
             "prioritized", "planner", "the earlier robots become moving obstacles: the dynamics need a dt"

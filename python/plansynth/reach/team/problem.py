@@ -18,7 +18,10 @@ A goal is a convex shape, or a point (:class:`GoalPoint`: the final position equ
 ``stop`` asks the robot to end where it can stay (some admissible input keeps its last
 state where it is: every derivative 0 for an integrator chain), as SMC-LTL's robots end
 at rest. A robot with a mission (an LTL formula over the problem's labels, finite
-semantics: the last position held forever) needs no goal.
+semantics: the last position held forever) needs no goal. A robot may carry its own
+bounded disturbance (``disturbance``: its W and feedback design, as one robot's
+``robot.disturbance``); the team is then planned tightened by every robot's error tube
+(:mod:`plansynth.reach.team.robust`).
 
 The problem is checked when it is made: each robot's problem as a reach-avoid problem
 is (its fields renamed ``robots[i]....``), the robots share a time step, the norm is a
@@ -37,6 +40,7 @@ from functools import cached_property
 import numpy as np
 
 from plansynth.errors import InvalidProblem
+from plansynth.reach.disturbance import Disturbance
 from plansynth.reach.dynamics import LinearDynamics
 from plansynth.reach.geometry import Box, Polygon, Shape, _frozen_array, is_convex, polygon_problem
 from plansynth.reach.problem import DEFAULT_MAX_HORIZON, MAX_COORDINATE, ReachProblem
@@ -89,7 +93,8 @@ class GoalPoint:
 class TeamRobot:
     """One robot of a team: its own dynamics, start, input bound, goal (a convex shape,
     a :class:`GoalPoint`, or None with a mission), optional state bounds, size and
-    mission; ``stop``: it ends where it can stay."""
+    mission; ``stop``: it ends where it can stay; ``disturbance``: its own W and
+    feedback design (:mod:`plansynth.reach.team.robust`)."""
 
     name: str
     dynamics: LinearDynamics
@@ -100,6 +105,7 @@ class TeamRobot:
     robot_shape: RobotShape | None = None
     mission: str | None = None
     stop: bool = False
+    disturbance: Disturbance | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _frozen_array(np.asarray(self.start, dtype=float).reshape(-1)))
@@ -121,6 +127,7 @@ class TeamRobot:
             rs,
             self.mission,
             self.stop,
+            self.disturbance,
         )
 
     def __eq__(self, other: object) -> bool:
@@ -327,6 +334,7 @@ def _robot_problem(team: TeamProblem, i: int) -> ReachProblem:
         robot_shape=r.robot_shape,
         labels=team.labels if r.mission is not None else (),
         mission=r.mission,
+        disturbance=r.disturbance,
     )
 
 
@@ -358,6 +366,8 @@ def _check_team(p: TeamProblem) -> None:
                 raise InvalidProblem(src, f"robots[{i}].goal.point", f"must have {p.dim} coordinates, got {r.goal.dim}")
             if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in r.goal.point):
                 raise InvalidProblem(src, f"robots[{i}].goal.point", "coordinates must be finite numbers")
+        if r.disturbance is not None:
+            _check_disturbed(src, i, r)
     dts = {r.dynamics.dt for r in p.robots}
     if len(dts) > 1:
         shown = ", ".join("none" if d is None else f"{d:g}" for d in sorted(dts, key=lambda d: (d is None, d or 0)))
@@ -379,6 +389,23 @@ def _check_team(p: TeamProblem) -> None:
             raise InvalidProblem(src, _robot_field(exc.field, i), exc.reason) from None
     object.__setattr__(p, "robot_problems", tuple(problems))  # (the cached property, computed once)
     _check_starts(p)
+
+
+def _check_disturbed(src: str | None, i: int, r: TeamRobot) -> None:
+    """What a robot under a disturbance cannot ask for: a point goal (the disturbed
+    closed loop cannot end exactly at a point) or a mission (a team's robots plan their
+    missions without disturbances)."""
+    if isinstance(r.goal, GoalPoint):
+        raise InvalidProblem(
+            src,
+            f"robots[{i}].goal",
+            f"robot {r.name} has a disturbance: its goal must be a region (the disturbed closed loop cannot end "
+            "exactly at a point)",
+        )
+    if r.mission is not None:
+        raise InvalidProblem(
+            src, f"robots[{i}].disturbance", f"robot {r.name} has a mission: in a team, missions plan no disturbance"
+        )
 
 
 def _robot_field(field_name: str, i: int) -> str:

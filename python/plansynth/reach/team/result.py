@@ -55,6 +55,9 @@ class TeamResult:
     segment_safe: bool | None = None
     solver_version: str = ""
     names: tuple[str, ...] = ()
+    # under disturbances (plansynth.reach.team.robust): the law, the guarantee, each
+    # disturbed robot's gain and margins, and the worst-case team check's report
+    robust: dict[str, Any] | None = None
     # (what code written for single-robot results reads)
     curve: None = None
     curve_validation: None = None
@@ -104,6 +107,7 @@ class TeamResult:
             "options": jsonable(self.options),
             "message": self.message,
             "versions": solver_versions(),
+            **({} if self.robust is None else {"robust": jsonable(self.robust)}),
         }
 
     def write(self, path: str | Path) -> Path:

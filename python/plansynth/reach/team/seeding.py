@@ -10,7 +10,8 @@ below the incumbent's first, each set aside after a few refuted plans, and then 
 incumbent's own, where DIS-PLAN proposes the incumbent first. The search stays
 complete (a horizon set aside is revisited when the incumbent's fails); only its
 order changes. ``incumbent="auto"`` seeds teams of :data:`SEED_MIN_ROBOTS` robots or more,
-with at most :data:`SEED_SHARE` of the budget.
+with at most :data:`SEED_SHARE` of the budget. A team under disturbances is not seeded
+(prioritized planning plans no disturbance).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from plansynth.reach.team.options import PrioritizedOptions, TeamLazyOptions
 from plansynth.reach.team.prioritized import plan_prioritized
 from plansynth.reach.team.problem import TeamProblem
 from plansynth.reach.team.result import TeamResult
+from plansynth.reach.team.robust import is_disturbed
 
 __all__ = ["run", "SEED_MIN_ROBOTS", "SEED_SHARE"]
 
@@ -39,6 +41,8 @@ SEED_SHARE = 0.4
 def run(problem: TeamProblem, budget: Budget, options: TeamLazyOptions, progress: Any = None) -> TeamResult:
     """The registry's entry for ``lazy-smt-team`` (see the module docstring)."""
     seeded = options.incumbent == "prioritized" or (options.incumbent == "auto" and problem.n_robots >= SEED_MIN_ROBOTS)
+    if is_disturbed(problem):  # prioritized planning plans no disturbance: no incumbent
+        seeded = False
     if not seeded:
         return plan_team_lazy(problem, budget, options, progress)
     t0 = time.perf_counter()

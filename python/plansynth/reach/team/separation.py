@@ -55,6 +55,13 @@ class Zone:
         Positive: the segment enters the zone (by that much)."""
         return float(self.intrusions(np.asarray(z0, float)[None, :], np.asarray(z1, float)[None, :])[0])
 
+    def polygon(self) -> shapely.Geometry:
+        """The polygon ``{H z <= h}`` as a shapely geometry (the zone is its interior
+        grown by ``radius``; empty when it has no area)."""
+        if float(np.max(self.h + self.h[_opposite_rows(self.H)])) <= 0.0:
+            return shapely.Polygon()
+        return shapely.Polygon(_polygon_vertices(self.H, self.h))
+
     def intrusions(self, Z0: np.ndarray, Z1: np.ndarray) -> np.ndarray:
         """:meth:`intrusion` of each segment ``Z0[s] -> Z1[s]`` (rows)."""
         depth = _largest_depths(self.H, self.h, np.asarray(Z0, float), np.asarray(Z1, float))
@@ -81,6 +88,12 @@ def _largest_depths(H: np.ndarray, h: np.ndarray, Z0: np.ndarray, Z1: np.ndarray
     cand = np.concatenate([np.zeros((len(c), 1)), np.ones((len(c), 1)), s], axis=1)  # (T, C)
     vals = np.min(c[:, None, :] + cand[:, :, None] * g[:, None, :], axis=2)  # (T, C)
     return vals.max(axis=1)
+
+
+def _opposite_rows(H: np.ndarray) -> np.ndarray:
+    """Per row the row closest to its opposite (the width of the polygon across it is
+    ``h_k + h_opposite``)."""
+    return np.argmin(H @ H.T, axis=1)
 
 
 def _polygon_vertices(H: np.ndarray, h: np.ndarray) -> list[tuple[float, float]]:

@@ -9,6 +9,11 @@ robot-obstacle couple (:mod:`plansynth.reach.team.geometry`).
 
 A joint plan is a plan of every robot's own problem, so each robot's bounds hold for
 the team: the joint horizon is at least the largest of them.
+
+Under disturbances (:mod:`plansynth.reach.team.robust`) a disturbed robot's planning
+problem is its own problem tightened by the single-robot code (grown obstacles, the tube
+attached), its model carries the tube's step-wise margins, and every pair and
+robot-obstacle couple involving it the margins of its sides.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from plansynth.reach.team.conplan import RobotModel
 from plansynth.reach.team.geometry import Facets, obstacle_facets, pair_facets
 from plansynth.reach.team.plans import TeamConflict
 from plansynth.reach.team.problem import GoalPoint, TeamProblem
+from plansynth.reach.team.robust import obstacle_margins, pair_margins, robot_margins, tightened_team
 
 __all__ = ["RobotSetup", "TeamSetup", "prepare"]
 
@@ -60,6 +66,15 @@ class TeamSetup:
     obstacle_facets: dict[tuple[int, int], Facets]
     first: float
     counters: dict[str, Any] = field(default_factory=dict)
+    #: under disturbances: per pair / robot-obstacle couple, how far each side moves out
+    #: at each sample (rows t = 0..max_horizon, :func:`~plansynth.reach.team.robust.pair_margins`)
+    pair_margins: dict[tuple[int, int], np.ndarray] = field(default_factory=dict)
+    obstacle_margins: dict[tuple[int, int], np.ndarray] = field(default_factory=dict)
+
+    @property
+    def tightened(self) -> bool:
+        """Is this the setup of a team tightened by its robots' tubes?"""
+        return any(s.model.margins is not None for s in self.robots)
 
     def guide(self, r: int, L: int) -> tuple[int, ...] | None:
         """Robot r's reference region sequence for horizon L (None for a mission)."""
@@ -78,18 +93,26 @@ def prepare(problem: TeamProblem, max_horizon: int, clock: Clock | None = None) 
     """The :class:`TeamSetup` of ``problem`` for horizons up to ``max_horizon``."""
     clock = clock if clock is not None else Budget().clock()
     robots = [_robot(problem, r, max_horizon, clock) for r in range(problem.n_robots)]
-    pairs = {}
+    tubes = [s.planning.tube for s in robots]
+    pos = [tuple(r.dynamics.position) for r in problem.robots]
+    pairs, pm = {}, {}
     for i in range(problem.n_robots):
         for j in range(i + 1, problem.n_robots):
             f = pair_facets(problem, i, j)
             if f is not None:
                 pairs[(i, j)] = f
-    obstacles = {}
+                m = pair_margins(f, tubes[i], pos[i], tubes[j], pos[j], max_horizon)
+                if m is not None:
+                    pm[(i, j)] = m
+    obstacles, om = {}, {}
     for r in range(problem.n_robots):
         for o in range(len(problem.moving_obstacles)):
             f = obstacle_facets(problem, r, o)
             if f is not None:
                 obstacles[(r, o)] = f
+                m = obstacle_margins(f, tubes[r], pos[r], max_horizon)
+                if m is not None:
+                    om[(r, o)] = m
     first = max(s.bound for s in robots)
     counters = {
         "regions": sum(s.graph.n_regions for s in robots),
@@ -97,7 +120,7 @@ def prepare(problem: TeamProblem, max_horizon: int, clock: Clock | None = None) 
         "robot_bounds": [None if math.isinf(s.bound) else int(s.bound) for s in robots],
         "pairs": len(pairs),
     }
-    return TeamSetup(problem, robots, pairs, obstacles, first, counters)
+    return TeamSetup(problem, robots, pairs, obstacles, first, counters, pm, om)
 
 
 def alone_bound(problem: TeamProblem, r: int, model: RobotModel, lo: int, hi: int, clock: Clock) -> float:
@@ -109,8 +132,8 @@ def alone_bound(problem: TeamProblem, r: int, model: RobotModel, lo: int, hi: in
     from plansynth.reach.team.conplan import TeamConPlan
     from plansynth.reach.team.plans import TeamPlan
 
-    if not problem.robot_problems[r].starts_at_rest or lo > hi:
-        return lo
+    if not problem.robot_problems[r].starts_at_rest or model.margins is not None or lo > hi:
+        return lo  # (a tube's margins grow with time: a plan after a wait need not exist)
     ws = problem.robot_problems[r].workspace
     lo_s, hi_s = model.x_lo[list(model.pos)], model.x_hi[list(model.pos)]
     H, h = halfspaces(Box(tuple(np.maximum(lo_s, ws.lo)), tuple(np.minimum(hi_s, ws.hi))))
@@ -142,6 +165,11 @@ def _robot(problem: TeamProblem, r: int, max_horizon: int, clock: Clock) -> Robo
     own = problem.robot_problems[r]
     robot = problem.robots[r]
     cs = configuration_space(own)
+    if robot.disturbance is not None:  # its own problem tightened by its tube
+        tight = tightened_team(problem).planning[r]
+        if tight is None:
+            raise ValueError(f"robot {robot.name} has no tightened problem to plan (tightened_team says why)")
+        cs = tight
     labels_of = None
     if robot.mission is not None:
         from plansynth.reach.mission.labels import label_abstraction, planning_problem
@@ -161,6 +189,10 @@ def _robot(problem: TeamProblem, r: int, max_horizon: int, clock: Clock) -> Robo
     else:
         goal = ("shape", *halfspaces(robot.goal))
     lo, hi = planning.state_box
+    margins = None
+    if planning.tube is not None and planning.tube.varies:
+        goal_H = goal[1] if goal is not None and goal[0] == "shape" else None
+        margins = robot_margins(planning.tube, tuple(robot.dynamics.position), goal_H, max_horizon)
     model = RobotModel(
         A=np.asarray(robot.dynamics.A, float),
         B=np.asarray(robot.dynamics.B, float),
@@ -172,6 +204,7 @@ def _robot(problem: TeamProblem, r: int, max_horizon: int, clock: Clock) -> Robo
         regions=tuple((np.asarray(g.H, float), np.asarray(g.h, float)) for g in abstraction.regions),
         goal=goal,
         rest=robot.stop or robot.mission is not None,
+        margins=margins,
     )
     bound = w.horizon
     if math.isfinite(bound) and robot.mission is None:

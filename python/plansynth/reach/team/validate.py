@@ -98,12 +98,15 @@ def validate_team(
     require_segment_safe: bool = True,
     require_goals: bool = True,
     check_robots: bool = True,
+    dynamics: str = "exact",
 ) -> TeamValidationReport:
     """Check the team's trajectories (one per robot, in the problem's order).
     ``require_segment_safe``: each robot's segments must avoid the static obstacles (the
     separation is checked along segments whatever this says); ``require_goals`` False
     skips the goals and missions (a partial plan); ``check_robots`` False checks the
-    separation only."""
+    separation only; ``dynamics="curve"``: the robots' runs need not satisfy
+    ``x' = A x + B u`` (disturbed closed loops, :mod:`plansynth.reach.team.robust_simulate`)
+    nor end at rest."""
     names = [r.name for r in problem.robots]
     violations: list[Violation] = []
     if len(trajectories) != problem.n_robots:
@@ -122,7 +125,7 @@ def validate_team(
             reports.append(None)
             missions.append(None)
             continue
-        rep, extra, mission = _robot(problem, r, traj, tol, require_segment_safe, require_goals)
+        rep, extra, mission = _robot(problem, r, traj, tol, require_segment_safe, require_goals, dynamics)
         reports.append(rep)
         missions.append(mission)
         segment_safe = segment_safe and rep.segment_safe
@@ -171,7 +174,7 @@ def _report(
 
 
 def _robot(
-    problem: TeamProblem, r: int, traj: Trajectory, tol: float, segments: bool, goals: bool
+    problem: TeamProblem, r: int, traj: Trajectory, tol: float, segments: bool, goals: bool, dynamics: str = "exact"
 ) -> tuple[ValidationReport, list[Violation], dict | None]:
     """Robot r on its own problem; the point goal, stop and mission checked here."""
     robot = problem.robots[r]
@@ -181,7 +184,7 @@ def _robot(
         checked = replace(own, goal=own.workspace, labels=(), mission=None)
     elif robot.mission is not None:
         checked = replace(own, labels=(), mission=None)
-    rep = validate(checked, traj, require_segment_safe=segments, tol=tol)
+    rep = validate(checked, traj, require_segment_safe=segments, tol=tol, dynamics=dynamics)
     extra: list[Violation] = []
     if rep.violations and rep.violations[0].kind == "shape":
         return rep, extra, None
@@ -192,7 +195,7 @@ def _robot(
             extra.append(
                 Violation("goal", traj.horizon, f"robot {robot.name}: ends at {_fmt(last)}, not at its goal {_fmt(g)}")
             )
-    if robot.stop or (goals and robot.mission is not None):
+    if dynamics == "exact" and (robot.stop or (goals and robot.mission is not None)):
         from plansynth.reach.mission.check import can_rest
 
         if not can_rest(own, traj.states[-1], tol):
