@@ -514,7 +514,7 @@ def test_public_cases_exact_segments(name: str, seg_min: int) -> None:
     cases the planner finds the face oracle's segment-safe minimum and proves it minimal
     for the problem (not only through the decomposition), validated segment-safe."""
     p = load_reach_problem(CLAIMS / name)
-    for search in ("linear", "window"):
+    for search in ("linear", "window", "minimal"):
         r = solve(p, "lazy-smt", exact_segments=True, horizon_search=search)
         assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True, r.message
         assert (r.horizon, r.counters["minimal"], r.counters["minimal_relative_to"]) == (seg_min, True, "problem")
@@ -542,6 +542,22 @@ def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
     assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
     assert r.counters["minimal"] is True and r.counters["minimal_relative_to"] == "decomposition"
     assert "not proved for the problem" in r.message
+
+
+@pytest.mark.slow
+def test_gcs_maze_exact_segments_minimum() -> None:
+    """The GCS paper's 10 x 10 maze with exact segment transitions (about a minute): the
+    timed route's plan through the decomposition (50 steps) is lowered by separating
+    half-spaces and the shorter horizons refuted, so 39 is proved minimal for the
+    problem, validated segment-safe. The samples-only minimum (19) and the proved
+    bound below it (33, the per-axis reachable sets) bracket it."""
+    from plansynth import Budget
+
+    p = load_reach_problem(CLAIMS / "gcs-maze-10.yaml")
+    r = solve(p, "lazy-smt", Budget(seconds=300), exact_segments=True)
+    assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True, r.message
+    assert (r.horizon, r.counters["minimal"], r.counters["minimal_relative_to"]) == (39, True, "problem")
+    assert r.counters["reach_sets_bound"] == 33 and r.counters["descent_horizons"] > 0
 
 
 @pytest.mark.parametrize(
@@ -615,3 +631,32 @@ def test_the_goal_regions_end_plans_where_a_trajectory_can_end(doc, minimum):
     assert oracle_minimum(p, doc["max_horizon"], segments=False) == minimum
     r = solve(p, "lazy-smt", max_horizon=doc["max_horizon"], segment_safe=False, horizon_search="linear")
     assert r.status is ReachStatus.FOUND and r.horizon == minimum, r.message
+
+
+def test_points_too_far_apart_are_a_conflict_without_an_lp() -> None:
+    """Two points of a plan whose regions lie farther apart along an axis than the time
+    between them allows (at most the largest change per step, times the steps) are a
+    two-literal conflict at every shift, found without an LP; the exact oracle confirms
+    that no segment-safe trajectory realises it; a plan whose points keep within reach
+    gets none."""
+    from plansynth.reach.lazy.segments import DENOM
+    from plansynth.reach.lazy.segtheory import SegmentTheory
+
+    p = load_reach_problem(CLAIMS / "wall-gap.yaml")  # steps of at most 1 m per axis
+    ab = abstract(p)
+    th = SegmentTheory(p, ab)
+    lo = np.array([np.min(r.vertices, axis=0) for r in ab.regions])
+    hi = np.array([np.max(r.vertices, axis=0) for r in ab.regions])
+    a = int(np.argmin(hi[:, 1]))  # a region at the bottom, one at the top
+    b = int(np.argmax(lo[:, 1]))
+    assert lo[b, 1] - hi[a, 1] > 0.5 * th._reach[1][1]  # (the wall's 1 m against half a step)
+    c = th._too_far({0: a, 1: a, 2: a}, {(1, DENOM // 2): b}, 2)  # 0.5 steps apart
+    assert c is not None and th.lp_calls == 0
+    assert not c.anchored_start and not c.anchored_goal
+    assert set(c.literals) | {(t, r) for t, _, r in c.vias} <= {(0, a), (1, a), (2, a), (1, b)}
+    assert len(c.literals) + len(c.vias) == 2
+    lo_t = c.first_time
+    claims = tuple((t - lo_t, 0.0, ab.regions[r].H, ab.regions[r].h) for t, r in c.literals)
+    claims += tuple((t - lo_t, f / DENOM, ab.regions[r].H, ab.regions[r].h) for t, f, r in c.vias)
+    assert oracle_exact(p, c.last_time - lo_t, start=False, goal=False, claims=claims) is False
+    assert th._too_far({0: a, 1: a}, {}, 1) is None

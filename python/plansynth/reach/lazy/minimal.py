@@ -22,7 +22,7 @@ problem is :mod:`plansynth.reach.lazy.claims`'s.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from plansynth.budget import BudgetExhausted, Clock
@@ -51,6 +51,7 @@ def prove_minimal(
     monotone: bool,
     reach: AxisReach | None = None,
     counters: dict | None = None,
+    lower: Callable[[LoopOutcome, int], LoopOutcome] | None = None,
 ) -> tuple[LoopOutcome, int]:
     """Prove the horizon of ``found`` minimal (``horizon_search="minimal"``, beyond the
     paper), given that every horizon below ``bottom`` is refuted and DIS-PLAN holds every
@@ -90,7 +91,12 @@ def prove_minimal(
     plan found there is minimal. On maze-1..4 b is the minimum and the tube leaves 1-2
     steps per gap, so that probe costs a few iterations where the probes above took
     ~100 (``counters["reach_sets_bound"]``: b, or None when no horizon below the
-    plan's is reached). If b is refuted, the probes above continue from b + 1."""
+    plan's is reached). If b is refuted, the probes above continue from b + 1.
+
+    ``lower(best, bottom)`` (optional; exact segment transitions:
+    :meth:`~plansynth.reach.lazy.descent.Descent.lowered`) returns a plan at a horizon
+    down to ``bottom`` or ``best``; it runs wherever :func:`retimed` does, and before
+    the probe at b (a plan it finds at b needs no probe). It refutes nothing."""
     best, probes = found, 0
     assert best.horizon is not None
     if reach is not None and best.horizon > bottom:
@@ -116,6 +122,14 @@ def prove_minimal(
             if L not in displan.closed:
                 displan.close(L)  # no plan of these horizons: the sets do not reach the goal
         bottom = bound
+        if lower is not None:
+            best = lower(best, bound)
+            if best.horizon == bound:
+                return replace(
+                    best,
+                    minimal=True,
+                    message=f"found at horizon {bound} (proved minimal: every shorter horizon {REACH_SETS})",
+                ), probes
         if reach.reached and best.horizon > bound:  # (else the sweep stopped at its work cap: no probe there)
             if tube is not None:
                 displan.forbid(bound, tube)
@@ -141,7 +155,7 @@ def prove_minimal(
             if bound not in displan.closed:
                 displan.close(bound)
             bottom = bound + 1
-    best = retimed(displan, theory, best, bottom, clock, timings)
+    best = _lowered(retimed(displan, theory, best, bottom, clock, timings), bottom, lower)
     step, refuted = 1, False  # downward gallop from the best plan until a probe is refuted
     while best.horizon > bottom:
         top = best.horizon - 1
@@ -150,10 +164,12 @@ def prove_minimal(
         else:
             probe = max(bottom, top + 1 - step)
         window = [(probe, probe)] if monotone else [(bottom, top)]
+        if monotone and reach is not None and reach.reached:
+            _forbid_outside_tube(displan, reach, probe, timings)
         out = lazy_loop(displan, theory, window, clock, timings, None, lambda H, plan=best.regions: compressed(plan, H))
         probes += 1
         if out.status is ReachStatus.FOUND:
-            best = retimed(displan, theory, out, bottom, clock, timings)
+            best = _lowered(retimed(displan, theory, out, bottom, clock, timings), bottom, lower)
             step *= 2
         elif out.status is ReachStatus.INFEASIBLE:
             refuted = True
@@ -170,6 +186,23 @@ def prove_minimal(
         minimal=True,
         message=f"found at horizon {best.horizon} (proved minimal: every shorter horizon refuted{how})",
     ), probes
+
+
+def _forbid_outside_tube(displan: DisPlan, reach: AxisReach, horizon: int, timings: dict[str, float]) -> None:
+    """The per-axis reachable sets' tube of ``horizon`` as clauses for that horizon only
+    (a single-horizon probe's plans keep to it; no plan of another horizon is affected)."""
+    t0 = time.perf_counter()
+    try:
+        tube = reach.tube(horizon)
+    finally:
+        timings["reach_sets"] = timings.get("reach_sets", 0.0) + time.perf_counter() - t0
+    if tube is not None:
+        displan.forbid(horizon, tube)
+
+
+def _lowered(best: LoopOutcome, bottom: int, lower: Callable[[LoopOutcome, int], LoopOutcome] | None) -> LoopOutcome:
+    """``best`` lowered by ``lower`` (prove_minimal's), if any."""
+    return best if lower is None else lower(best, bottom)
 
 
 def retimed(

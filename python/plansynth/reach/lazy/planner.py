@@ -90,6 +90,7 @@ from plansynth.reach.lazy.claims import (
     uncertified,
 )
 from plansynth.reach.lazy.conplan import ConPlan
+from plansynth.reach.lazy.descent import Descent
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
 from plansynth.reach.lazy.guide import reference_plans, route
 from plansynth.reach.lazy.horizon_bounds import (
@@ -161,7 +162,9 @@ def plan_lazy(
     # the relaxation can only prove a horizon that is minimal through the decomposition
     # (it refutes h - 1): the window search's plan sits at its window's top; with exact
     # transitions, a window whose plans need points along their segments is deferred
-    # and the plan found lies far above the minimum (the GCS paper's 10 x 10 maze: 200)
+    # and the plan found lies far above the minimum (the GCS paper's 10 x 10 maze: 200):
+    # the minimal search, from the timed route's plan lowered by separating half-spaces
+    # (lazy/descent.py)
     search = "minimal" if (opts.prove or crossing) and opts.horizon_search == "window" else opts.horizon_search
     t_start = time.perf_counter()
     clock = budget.clock()
@@ -195,21 +198,15 @@ def plan_lazy(
         if not opts.segment_safe:  # samples only: every pair of regions one step can connect (exact search)
             with _timed(clock, timings, "bounds", "the one-step region pairs"):
                 graph = replace(graph, adjacency=step_adjacency(problem, abstraction))
-        elif crossing:  # every pair of regions one segment through the free space can connect
-            with _timed(clock, timings, "bounds", "the one-segment region pairs"):
-                graph = replace(graph, adjacency=segment_adjacency(problem, abstraction))
         counters.update(regions=graph.n_regions, edges=sum(map(len, graph.adjacency)) // 2)
-        conplan = _conplan(problem, abstraction, opts, search, clock)
+        # (with exact segments: first CON-PLAN with segment rows, which checks the timed
+        # route, a plan through the decomposition, as without them; the loop's below)
+        conplan = _conplan(problem, abstraction, opts, search, clock, segment_rows=opts.segment_safe)
         transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
         theory: TheoryChecker = conplan if transit is None else transit
-        if crossing:  # CON-PLAN above has no segment rows: its transit legs hold for every segment-safe step
-            with _timed(clock, timings, "bounds", "the ends of steps between regions that do not touch"):
-                boxes = pair_boxes(problem, abstraction, graph.adjacency)
-            theory = SegmentTheory(problem, abstraction, transit=transit, clock=clock, boxes=boxes)
         path = route(problem, abstraction) if (opts.guided or opts.timed_route) else None
         quick = None
-        # (not with exact segments: the timed route's LP keeps the samples, not the segments, off the obstacles)
-        if opts.timed_route and search != "linear" and not conplan.dear and not crossing:
+        if opts.timed_route and search != "linear" and not conplan.dear:
             with clock.phase("the timed route"):
                 first_leg = (  # (exact and a few LPs from rest; else a scan of up to REFINE_SPAN LPs)
                     transit.first_gap(START, path[1])
@@ -238,6 +235,17 @@ def plan_lazy(
             _count_run(counters, clock, None, conplan, theory, out)
             timings["highs"] = conplan.stats.seconds
             return result(out)
+        if crossing:
+            # every pair of regions one segment through the free space can connect
+            with _timed(clock, timings, "bounds", "the one-segment region pairs"):
+                graph = replace(graph, adjacency=segment_adjacency(problem, abstraction))
+            counters.update(edges=sum(map(len, graph.adjacency)) // 2)
+            # CON-PLAN without segment rows: its transit legs hold for every segment-safe step
+            conplan = _conplan(problem, abstraction, opts, search, clock)
+            transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
+            with _timed(clock, timings, "bounds", "the ends of steps between regions that do not touch"):
+                boxes = pair_boxes(problem, abstraction, graph.adjacency)
+            theory = SegmentTheory(problem, abstraction, transit=transit, clock=clock, boxes=boxes)
         with _timed(clock, timings, "bounds", "the horizon bounds (time windows)"):
             bounds = horizon_bounds(problem, abstraction, graph, opts, L_max)
         counters.update(
@@ -313,8 +321,17 @@ def plan_lazy(
     return result(out)
 
 
-def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions, search: str, clock: Clock) -> ConPlan:
-    """CON-PLAN as the options ask: ``farkas`` is ``trivial`` generalised."""
+def _conplan(
+    problem: ReachProblem,
+    abstraction: Abstraction,
+    opts: LazyOptions,
+    search: str,
+    clock: Clock,
+    *,
+    segment_rows: bool | None = None,
+) -> ConPlan:
+    """CON-PLAN as the options ask: ``farkas`` is ``trivial`` generalised. ``segment_rows``:
+    keep each segment in one region (default: segment-safe without exact transitions)."""
     counterexample, generalize = opts.counterexample, opts.generalize
     if counterexample == "farkas":
         counterexample, generalize = "trivial", True
@@ -326,7 +343,7 @@ def _conplan(problem: ReachProblem, abstraction: Abstraction, opts: LazyOptions,
     return ConPlan(
         problem,
         abstraction,
-        segment_safe=opts.segment_safe and not opts.exact_segments,  # (exact: rows of samples only)
+        segment_safe=(opts.segment_safe and not opts.exact_segments) if segment_rows is None else segment_rows,
         counterexample=counterexample,
         generalize=generalize,
         minimize=opts.minimize,
@@ -369,9 +386,22 @@ def _prove_minimal(
         if opts.reach_sets
         else None
     )
+    descent = Descent(theory, abstraction, clock) if isinstance(theory, SegmentTheory) else None
     out, counters["minimal_probes"] = prove_minimal(
-        displan, theory, out, bottom, clock, timings, monotone=problem.starts_at_rest, reach=reach, counters=counters
+        displan,
+        theory,
+        out,
+        bottom,
+        clock,
+        timings,
+        monotone=problem.starts_at_rest,
+        reach=reach,
+        counters=counters,
+        lower=None if descent is None else descent.lowered,
     )
+    if descent is not None:
+        counters.update(descent_lp_calls=descent.lp_calls, descent_horizons=descent.horizons)
+        timings["descent"] = descent.seconds
     timings["minimal"] = time.perf_counter() - t0
     return out
 

@@ -75,9 +75,10 @@ class PointLP:
         goal: bool,
         extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
         closure: tuple | None = None,
+        soft: float | None = None,
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """:meth:`load`, then :meth:`run`."""
-        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra, closure=closure)
+        self.load(samples, vias, lo, hi, start=start, goal=goal, extra=extra, closure=closure, soft=soft)
         return self.run()
 
     def load(
@@ -91,6 +92,7 @@ class PointLP:
         goal: bool,
         extra: Sequence[tuple[int, int, np.ndarray, float]] = (),
         closure: tuple | None = None,
+        soft: float | None = None,
     ) -> None:
         """Put the LP into HiGHS: the states lo..hi (x_lo = start when ``start``, p_hi in
         the goal when ``goal``), the samples (t -> region) and points ((t, f) -> region)
@@ -98,7 +100,9 @@ class PointLP:
         DENOM, 0..DENOM). ``closure`` (a mission's plan): ``("loop", k)``, x_hi = x_k (a
         lasso); ``("rest",)``, some admissible input keeps x_hi where it is (a finite
         plan ending at rest: one more input column u with x_hi = A x_hi + B u); its rows
-        belong to the literal ``("closure",)``."""
+        belong to the literal ``("closure",)``. ``soft``: the extra rows and the goal's
+        get a slack column each (nonnegative), and the LP minimises ``soft`` times the
+        extra rows' slacks plus the goal's (a feasibility LP otherwise)."""
         n, m, pos, d = self.n, self.m, self.pos, len(self.pos)
         T = hi - lo + 1
         n_x, n_u = T * n, (T - 1) * m
@@ -193,7 +197,20 @@ class PointLP:
             col_lo[:n] = col_hi[:n] = self.start
         n_col = n_x + n_u + extra_u
         row_lo, row_hi = rows.bounds()
-        lp = csc_lp(n_col, rows.n_row, *rows.coo(), np.zeros(n_col), col_lo, col_hi, row_lo, row_hi)
+        R, C, V = rows.coo()
+        cost = np.zeros(n_col)
+        if soft is not None:  # a slack column per extra and goal row: n.p + s >= c, Hg p - s <= hg
+            kind = np.array([tag[0] for tag in tags], dtype=object)
+            slack = np.nonzero((kind == "x") | (kind == "goal"))[0]
+            sign = np.where(kind[slack] == "x", 1.0, -1.0)
+            R = np.concatenate([R, slack])
+            C = np.concatenate([C, n_col + np.arange(len(slack))])
+            V = np.concatenate([V, sign])
+            cost = np.concatenate([cost, np.where(kind[slack] == "x", float(soft), 1.0)])
+            col_lo = np.concatenate([col_lo, np.zeros(len(slack))])
+            col_hi = np.concatenate([col_hi, np.full(len(slack), np.inf)])
+            n_col += len(slack)
+        lp = csc_lp(n_col, rows.n_row, R, C, V, cost, col_lo, col_hi, row_lo, row_hi)
         self.highs.passModel(lp)
         self.tags = tags
         self.span = (lo, hi)

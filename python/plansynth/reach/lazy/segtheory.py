@@ -55,6 +55,7 @@ import numpy as np
 from plansynth.budget import Clock
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import convex_pieces
+from plansynth.reach.lazy.bounds import step_reach
 from plansynth.reach.lazy.bounds.depth import segment_depth
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.pointlp import PointLP, Vias
@@ -63,7 +64,15 @@ from plansynth.reach.lazy.transit import TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
-__all__ = ["SegmentTheory", "ClosedConflict", "PointLP", "ACCEPT_DEPTH", "TIGHTEN_ROUNDS", "FILTER_MAX"]
+__all__ = [
+    "SegmentTheory",
+    "ClosedConflict",
+    "PointLP",
+    "ObstaclePiece",
+    "ACCEPT_DEPTH",
+    "TIGHTEN_ROUNDS",
+    "FILTER_MAX",
+]
 
 #: How deep a segment may enter an obstacle and still count as touching it (below the
 #: validator's default tolerance, 1e-6; HiGHS's feasibility tolerance is 1e-7).
@@ -74,7 +83,7 @@ TIGHTEN_ROUNDS = 4
 FILTER_MAX = 40
 
 
-class _Piece:
+class ObstaclePiece:
     """A convex obstacle piece: (H, h) without faces flush with the workspace's boundary,
     its bounding box and (2-D) its vertices."""
 
@@ -113,19 +122,22 @@ class _Piece:
 
     def separators(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, float]:
         """A half-space ``n.x >= c`` beyond which the piece lies (a face, or in 2-D the
-        line through a vertex along b - a) that the points a and b violate least."""
+        line through a vertex along b - a) with the widest margin ``min(n.a, n.b) - c``
+        for the points a and b (when both cannot be beyond one, the one they violate
+        least). In 2-D a segment [a, b] that avoids the piece has one with margin >= 0
+        (separating axes: the faces' normals and the segment's)."""
         best: tuple[float, np.ndarray, float] | None = None
         for n, c in zip(self.H_all, self.h_all):  # beyond face f: H_f x >= h_f
-            v = max(0.0, float(c - n @ a), float(c - n @ b))
-            if best is None or v < best[0]:
+            v = min(float(n @ a - c), float(n @ b - c))
+            if best is None or v > best[0]:
                 best = (v, n, float(c))
         d = b - a
         if len(a) == 2 and len(self.vertices) and float(np.hypot(*d)) > 0:
             for sign in (1.0, -1.0):
                 n = sign * np.array([-d[1], d[0]]) / float(np.hypot(*d))
                 c = float(np.max(self.vertices @ n))  # the supporting line with the piece below it
-                v = max(0.0, c - float(n @ a), c - float(n @ b))
-                if v < best[0]:
+                v = min(float(n @ a) - c, float(n @ b) - c)
+                if v > best[0]:
                     best = (v, n, c)
         assert best is not None
         return best[1], best[2]
@@ -169,11 +181,11 @@ class SegmentTheory:
         self.transit = transit
         self.expendable = False
         ws_lo, ws_hi = np.asarray(problem.workspace.lo, float), np.asarray(problem.workspace.hi, float)
-        self.pieces = [_Piece(H, h, ws_lo, ws_hi) for o in problem.obstacles for H, h in convex_pieces(o)]
+        self.pieces = [ObstaclePiece(H, h, ws_lo, ws_hi) for o in problem.obstacles for H, h in convex_pieces(o)]
         self.piece_label: list[str | None] = [None] * len(self.pieces)
         for name, shape in (labels or {}).items():
             for H, h in convex_pieces(shape):
-                self.pieces.append(_Piece(H, h, ws_lo, ws_hi, slits=False))
+                self.pieces.append(ObstaclePiece(H, h, ws_lo, ws_hi, slits=False))
                 self.piece_label.append(name)
         self._closure: tuple | None = None
         self._avoid: Mapping[int, frozenset[str]] = {}
@@ -183,6 +195,16 @@ class SegmentTheory:
         self.refinements = 0
         self.undecided = 0
         self.conflicts = 0
+        self.too_far = 0
+        # the regions' bounding boxes and the largest change of position per step (finite)
+        down, up = step_reach(problem)
+        corners = [np.asarray(r.vertices, float) for r in abstraction.regions]  # (2-D polygons, 3-D boxes)
+        finite = bool(np.all(np.isfinite(down)) and np.all(np.isfinite(up)))
+        known = bool(corners) and all(len(v) for v in corners)
+        self._reach = (np.asarray(down, float), np.asarray(up, float)) if finite and known else None
+        self._box_lo = np.array([v.min(axis=0) for v in corners]) if known else None
+        self._box_hi = np.array([v.max(axis=0) for v in corners]) if known else None
+        self._span = float(np.max(np.asarray(problem.workspace.hi, float) - np.asarray(problem.workspace.lo, float)))
 
     @property
     def lp_calls(self) -> int:
@@ -222,6 +244,11 @@ class SegmentTheory:
             if known:
                 return tuple(known)
         samples = dict(enumerate(regions))
+        far = self._too_far(samples, vias, N)
+        if far is not None:
+            self.conflicts += 1
+            self.too_far += 1
+            return far
         self.plans_checked += 1
         sol = self.lp.solve(samples, vias, 0, N, start=True, goal=True, closure=closure)
         if sol is None:
@@ -258,7 +285,50 @@ class SegmentTheory:
         )
         return whole if closure is None else ClosedConflict(whole, closure)
 
+    # ---------------------------------------------------------------- distances
+    def _too_far(self, samples: dict[int, int], vias: Vias, N: int) -> Conflict | None:
+        """Two points of the plan (samples or points along segments, at times t + f /
+        DENOM) whose regions' bounding boxes lie farther apart along some axis than the
+        time between them allows, or None: the position moves by at most ``up`` (and
+        ``down``) per step along each axis (:func:`~plansynth.reach.lazy.bounds.step_reach`),
+        so along a polyline of steps by at most that times the time between two of its
+        points. The conflict of the closest such pair in time (two literals, no start or
+        goal: it holds at every time shift); no LP."""
+        if self._reach is None:
+            return None
+        down, up = self._reach
+        lits = [("s", t, r) for t, r in samples.items()] + [("v", t, f, r) for (t, f), r in vias.items()]
+        tau = np.array([g[1] + (g[2] / DENOM if g[0] == "v" else 0.0) for g in lits])
+        reg = np.array([g[-1] for g in lits])
+        order = np.argsort(tau, kind="stable")
+        tau, reg = tau[order], reg[order]
+        lo, hi = self._box_lo[reg], self._box_hi[reg]
+        dt = tau[None, :] - tau[:, None]  # [i, j]: from point i to the later point j
+        rise = lo[None, :, :] - hi[:, None, :]  # the least change along each axis, i -> j
+        fall = lo[:, None, :] - hi[None, :, :]
+        slack = 1e-9 * (1.0 + self._span)
+        bad = np.any((rise > up * dt[:, :, None] + slack) | (fall > down * dt[:, :, None] + slack), axis=2)
+        bad &= dt > 0
+        if not bad.any():
+            return None
+        i, j = np.argwhere(bad)[np.argmin(dt[bad])]
+        pair = [lits[order[i]], lits[order[j]]]
+        times = [g[1] for g in pair] + [g[1] + 1 for g in pair if g[0] == "v"]
+        return Conflict(
+            tuple((g[1], g[2]) for g in pair if g[0] == "s"),
+            anchored_start=False,
+            anchored_goal=False,
+            horizon=N,
+            first_time=min(times),
+            last_time=max(times),
+            vias=tuple(g[1:] for g in pair if g[0] == "v"),
+        )
+
     # ---------------------------------------------------------------- exact check
+    def cuts(self, X: np.ndarray) -> list[tuple[int, float, int, float]]:
+        """The segments of the states ``X`` that cut an obstacle piece (see :meth:`_cuts`)."""
+        return self._cuts(X, {})
+
     def _cuts(self, X: np.ndarray, vias: Vias) -> list[tuple[int, float, int, float]]:
         """The segments of ``X`` that enter an obstacle (or a label ``avoid`` keeps them out
         of) deeper than :data:`ACCEPT_DEPTH`: (t, deepest fraction, piece, depth), the

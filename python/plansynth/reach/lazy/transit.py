@@ -99,6 +99,7 @@ class TransitCheck:
         # the start is an equilibrium: legs out of it are monotone in the gap
         self.start_at_rest = problem.starts_at_rest
         self._first: dict[tuple[int, int], int] = {}
+        self._box: dict[tuple[int, int], int] = {}  # box_gap's answers (re-timing a plan asks a million)
         self._reported: set[tuple[int, int]] = set()
         self.conflicts = 0
         self.lp_calls = 0
@@ -116,9 +117,25 @@ class TransitCheck:
         self.inner.expendable = value
 
     # ---------------------------------------------------------------- gap bounds
+    @property
+    def reach_table(self) -> np.ndarray | None:
+        """The k-step displacement bounds (:func:`~plansynth.reach.dynamics.displacement_reach`)
+        the box gaps use, or None (one-step bounds only); setting it forgets the gaps."""
+        return self._reach_table
+
+    @reach_table.setter
+    def reach_table(self, table: np.ndarray | None) -> None:
+        self._reach_table = table
+        self._box = {}
+
     def box_gap(self, a: int, b: int) -> int:
         """The fewest steps of leg (a, b) that the displacement bounds allow."""
-        return box_steps(self.boxes[a], self.boxes[b], self.step_down, self.step_up, self.reach_table)
+        gap = self._box.get((a, b))
+        if gap is None:
+            gap = self._box[(a, b)] = box_steps(
+                self.boxes[a], self.boxes[b], self.step_down, self.step_up, self.reach_table
+            )
+        return gap
 
     def first_gap(self, a: int, b: int) -> int:
         """The smallest gap of leg (a, b) not proved impossible: the box bound, then one
