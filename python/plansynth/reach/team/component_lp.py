@@ -30,7 +30,7 @@ from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
 
-__all__ = ["ComponentLp", "bend_fractions"]
+__all__ = ["ComponentLp", "bend_fractions", "run_lp"]
 
 INF = highspy.kHighsInf
 DYN, REG, GOAL, SIDE, MOVE = range(5)
@@ -40,6 +40,27 @@ def bend_fractions(problem: TeamProblem, o: int, t: int) -> tuple[float, ...]:
     """Where, as fractions of step t, moving obstacle o passes a waypoint."""
     t0, t1 = problem.time_of(t), problem.time_of(t + 1)
     return tuple((b - t0) / (t1 - t0) for b in problem.moving_obstacles[o].bends(t0, t1))
+
+
+def run_lp(h: highspy.Highs, clock: Clock, stats: Any) -> tuple[str, np.ndarray | None, np.ndarray | None]:
+    """Run the loaded LP within the clock: ``("feasible", x, None)`` or ``("infeasible",
+    None, dual ray or None)``; ``stats.lp_calls`` counts it."""
+    left = clock.remaining()
+    if left <= 0:
+        raise BudgetExhausted("the joint CON-PLAN", "time")
+    if not math.isinf(left):
+        h.setOptionValue("time_limit", max(left, 0.01))
+    h.run()
+    stats.lp_calls += 1
+    st = h.getModelStatus()
+    if st == highspy.HighsModelStatus.kOptimal:
+        return "feasible", np.asarray(h.getSolution().col_value, float), None
+    if st == highspy.HighsModelStatus.kTimeLimit:
+        raise BudgetExhausted("the joint CON-PLAN", "time")
+    if st in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
+        _, has_ray, ray = h.getDualRay()
+        return "infeasible", None, np.asarray(ray, float) if has_ray else None
+    raise LpFailure(f"HiGHS answered {h.modelStatusToString(st)} on a joint CON-PLAN LP")
 
 
 class ComponentLp:
@@ -305,23 +326,12 @@ class ComponentLp:
         self.h.passModel(lp)
         return self.run()
 
+    @property
+    def n_row(self) -> int:
+        return self.rows.n_row
+
     def run(self) -> tuple[str, np.ndarray | None, np.ndarray | None]:
-        left = self.clock.remaining()
-        if left <= 0:
-            raise BudgetExhausted("the joint CON-PLAN", "time")
-        if not math.isinf(left):
-            self.h.setOptionValue("time_limit", max(left, 0.01))
-        self.h.run()
-        self.owner.stats.lp_calls += 1
-        st = self.h.getModelStatus()
-        if st == highspy.HighsModelStatus.kOptimal:
-            return "feasible", np.asarray(self.h.getSolution().col_value, float), None
-        if st == highspy.HighsModelStatus.kTimeLimit:
-            raise BudgetExhausted("the joint CON-PLAN", "time")
-        if st in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            _, has_ray, ray = self.h.getDualRay()
-            return "infeasible", None, np.asarray(ray, float) if has_ray else None
-        raise LpFailure(f"HiGHS answered {self.h.modelStatusToString(st)} on a joint CON-PLAN LP")
+        return run_lp(self.h, self.clock, self.owner.stats)
 
     def split(self, x: np.ndarray) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         out = {}
@@ -338,29 +348,20 @@ class ComponentLp:
     def elastic(self) -> dict[int, tuple[np.ndarray, np.ndarray]] | None:
         """The trajectories of the LP whose side rows may be broken at a cost (the sum
         of how far each is broken): a guess at the sides to try next, or None when the
-        other rows alone are infeasible."""
+        other rows alone are infeasible. It is solved in this LP's own model, after its
+        infeasible run (a slack column per side row, warm-started from that basis): the
+        model is not used for the component LP again."""
         kind = np.concatenate(self.kind)
-        soft = np.flatnonzero((kind == SIDE) | (kind == MOVE))
-        R, C, V = self.coo
-        n = self.ncol + len(soft)
-        R2 = np.concatenate([R, soft])
-        C2 = np.concatenate([C, self.ncol + np.arange(len(soft))])
-        V2 = np.concatenate([V, np.ones(len(soft))])
-        clo = np.concatenate([self.cb[0], np.zeros(len(soft))])
-        chi = np.concatenate([self.cb[1], np.full(len(soft), INF)])
-        cost = np.zeros(n)
-        cost[self.ncol :] = 1.0
-        lp = csc_lp(n, self.rows.n_row, R2, C2, V2, cost, clo, chi, *self.rb)
-        h = new_highs(presolve="off")
-        left = self.clock.remaining()
-        if not math.isinf(left):
-            h.setOptionValue("time_limit", max(left, 0.01))
-        h.passModel(lp)
-        h.run()
-        self.owner.stats.lp_calls += 1
-        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+        soft = np.flatnonzero((kind == SIDE) | (kind == MOVE)).astype(np.int32)
+        k = len(soft)
+        if self.n_effort:
+            effort = np.arange(self.ncol - self.n_effort, self.ncol, dtype=np.int32)
+            self.h.changeColsCost(len(effort), effort, np.zeros(len(effort)))
+        self.h.addCols(k, np.ones(k), np.zeros(k), np.full(k, INF), k, np.arange(k, dtype=np.int32), soft, np.ones(k))
+        status, x, _ = run_lp(self.h, self.clock, self.owner.stats)
+        if status != "feasible" or x is None:
             return None
-        return self.split(np.asarray(h.getSolution().col_value, float)[: self.ncol])
+        return self.split(x[: self.ncol])
 
     def set_bounds(self, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
         n_row, n_col = len(rlo), len(clo)
