@@ -31,7 +31,7 @@ from plansynth.reach.team.result import TeamResult
 __all__ = ["run", "SEED_MIN_ROBOTS", "SEED_SHARE"]
 
 #: ``incumbent="auto"`` seeds teams of at least this many robots
-SEED_MIN_ROBOTS = 12
+SEED_MIN_ROBOTS = 4
 #: the share of the budget that the seed may take
 SEED_SHARE = 0.4
 
