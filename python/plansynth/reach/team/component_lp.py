@@ -89,8 +89,7 @@ class ComponentLp:
         for r in comp:
             self._robot(r)
         self._sides(sides)
-        for (r, o, t), k in msides.items():
-            self._mside(r, o, t, k)
+        self._msides(msides)
         self.n_effort = 0
         if owner.objective == "effort":
             self._effort()
@@ -238,54 +237,77 @@ class ComponentLp:
         if not sides:
             return
         owner = self.owner
+        keys = list(sides.items())
+        facets = [owner.pair_facets[(i, j)] for (i, j, _), _ in keys]
+        a = np.array([f.A[k] for f, (_, k) in zip(facets, keys)])  # one row per pair step
+        b = np.array([f.b[k] for f, (_, k) in zip(facets, keys)])
+        d = a.shape[1]
+        first = len(self.literals)
+        self.literals.extend(("side", i, j, t, k) for (i, j, t), k in keys)
+        ci = np.array([[self.x(i, t), owner.models[i].n] for (i, _, t), _ in keys])
+        cj = np.array([[self.x(j, t), owner.models[j].n] for (_, j, t), _ in keys])
+        pi = np.array([owner.models[i].pos for (i, _, _), _ in keys])
+        pj = np.array([owner.models[j].pos for (_, j, _), _ in keys])
+        E = len(keys)
+        # rows 2e (sample t) and 2e + 1 (sample t + 1), each a on p_i and -a on p_j
+        C = np.empty((E, 2, 2 * d), dtype=np.int64)
+        for s in (0, 1):
+            C[:, s, :d] = ci[:, :1] + s * ci[:, 1:] + pi
+            C[:, s, d:] = cj[:, :1] + s * cj[:, 1:] + pj
+        V = np.broadcast_to(np.concatenate([a, -a], axis=1)[:, None, :], (E, 2, 2 * d))
+        t = np.array([t for (_, _, t), _ in keys])
+        self._block(
+            np.repeat(np.arange(2 * E), 2 * d),
+            C.ravel(),
+            V.ravel(),
+            np.repeat(b, 2).astype(float),
+            np.full(2 * E, INF),
+            SIDE,
+            np.repeat(first + np.arange(E), 2),
+            np.repeat(t, 2),
+            np.repeat(t + 1, 2),
+        )
+
+    def _msides(self, msides: dict) -> None:
+        """The rows of every engaged robot-obstacle step: ``A_k (p_r - c) >= b_k`` at t,
+        at each of the obstacle's waypoint times inside the step (p_r there
+        interpolated from its samples) and at t + 1."""
+        if not msides:
+            return
+        owner = self.owner
         Rs, Cs, Vs, lo, lits, tl = [], [], [], [], [], []
         row = 0
-        for (i, j, t), k in sides.items():
-            f = owner.pair_facets[(i, j)]
-            a = f.A[k]
-            d = len(a)
-            pi = np.asarray(owner.models[i].pos)
-            pj = np.asarray(owner.models[j].pos)
+        for (r, o, t), k in msides.items():
+            f = owner.obstacle_facets[(r, o)]
+            a, b = f.A[k], f.b[k]
+            pos = np.asarray(owner.models[r].pos)
+            lams, centres = owner.obstacle_step(o, t)
+            q, d = len(lams), len(a)
             idx = len(self.literals)
-            self.literals.append(("side", i, j, t, k))
-            for tt in (t, t + 1):
-                Rs.append(np.full(2 * d, row))
-                Cs.append(np.concatenate([self.x(i, tt) + pi, self.x(j, tt) + pj]))
-                Vs.append(np.concatenate([a, -a]))
-                lo.append(f.b[k])
-                lits.append(idx)
-                tl.append(t)
-                row += 1
+            self.literals.append(("mside", r, o, t, k))
+            V = np.concatenate([np.outer(1 - lams, a), np.outer(lams, a)], axis=1).ravel()
+            C = np.tile(np.concatenate([self.x(r, t) + pos, self.x(r, t + 1) + pos]), q)
+            R = np.repeat(row + np.arange(q), 2 * d)
+            nz = V != 0
+            Rs.append(R[nz])
+            Cs.append(C[nz])
+            Vs.append(V[nz])
+            lo.append(b + centres @ a)
+            lits.append(np.full(q, idx))
+            tl.append(np.full(q, t))
+            row += q
+        t_lo = np.concatenate(tl)
         self._block(
             np.concatenate(Rs),
             np.concatenate(Cs),
             np.concatenate(Vs),
-            np.asarray(lo, float),
+            np.concatenate(lo),
             np.full(row, INF),
-            SIDE,
-            np.asarray(lits),
-            np.asarray(tl),
-            np.asarray(tl) + 1,
+            MOVE,
+            np.concatenate(lits),
+            t_lo,
+            t_lo + 1,
         )
-
-    def _mside(self, r: int, o: int, t: int, k: int) -> None:
-        owner = self.owner
-        f = owner.obstacle_facets[(r, o)]
-        a, b = f.A[k], f.b[k]
-        pos = np.asarray(owner.models[r].pos)
-        ob = owner.problem.moving_obstacles[o]
-        lit = ("mside", r, o, t, k)
-        d = len(a)
-        for lam in (0.0, *bend_fractions(owner.problem, o, t), 1.0):
-            c = ob.position(owner.problem.time_of(t + lam))
-            rhs = b + float(a @ c)
-            if lam == 0.0 or lam == 1.0:
-                C = self.x(r, t + int(lam)) + pos
-                self._add(np.zeros(d, dtype=int), C, a, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
-            else:
-                C = np.concatenate([self.x(r, t) + pos, self.x(r, t + 1) + pos])
-                V = np.concatenate([(1 - lam) * a, lam * a])
-                self._add(np.zeros(2 * d, dtype=int), C, V, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
 
     # bounds
     def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:

@@ -120,8 +120,21 @@ class TeamConPlan:
         self.stats = TeamLpStats()
         self.plans_checked = 0  # plans with an infeasible LP (the lazy loop's deferral counts them)
         self._cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        self._steps: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
         ws = problem.workspace
         self.scale = max(1.0, max(abs(v) for v in ws.lo + ws.hi))
+
+    def obstacle_step(self, o: int, t: int) -> tuple[np.ndarray, np.ndarray]:
+        """Where moving obstacle o is checked in step t: the fractions of the step (0,
+        each waypoint time inside it, 1) and its centre at each (kept: every LP with an
+        engaged step of o at t asks again)."""
+        hit = self._steps.get((o, t))
+        if hit is None:
+            lams = np.array((0.0, *_bend_fractions(self.problem, o, t), 1.0))
+            ob = self.problem.moving_obstacles[o]
+            centres = np.array([ob.position(self.problem.time_of(t + lam)) for lam in lams], float)
+            hit = self._steps[(o, t)] = (lams, centres)
+        return hit
 
     # -- the TheoryChecker interface ---------------------------------------------------
     def check(self, plan: TeamPlan) -> Feasible | tuple:
@@ -272,15 +285,11 @@ class TeamConPlan:
     def _obstacle_margins(self, P: np.ndarray, o: int, f: Facets, L: int, first: int = 0) -> np.ndarray:
         """Per step and side, the worst margin over the step's samples and the
         obstacle's waypoint times inside it (``P[0]`` is the position at step ``first``)."""
-        ob = self.problem.moving_obstacles[o]
         out = np.empty((L, f.n_sides))
         for t in range(L):
-            worst = np.full(f.n_sides, np.inf)
-            for lam in (0.0, *_bend_fractions(self.problem, o, first + t), 1.0):
-                p = (1 - lam) * P[t] + lam * P[t + 1]
-                c = ob.position(self.problem.time_of(first + t + lam))
-                worst = np.minimum(worst, f.margins(p - c))
-            out[t] = worst
+            lams, centres = self.obstacle_step(o, first + t)
+            p = (1 - lams)[:, None] * P[t] + lams[:, None] * P[t + 1]
+            out[t] = f.margins(p - centres).min(axis=0)
         return out
 
 
