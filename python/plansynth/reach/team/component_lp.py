@@ -278,22 +278,14 @@ class ComponentLp:
         Rs, Cs, Vs, lo, lits, tl = [], [], [], [], [], []
         row = 0
         for (r, o, t), k in msides.items():
-            f = owner.obstacle_facets[(r, o)]
-            a, b = f.A[k], f.b[k]
-            pos = np.asarray(owner.models[r].pos)
-            lams, centres = owner.obstacle_step(o, t)
-            q, d = len(lams), len(a)
-            idx = len(self.literals)
+            R, C, V, lo_k = owner.mside_rows(r, o, t, k)
+            q = len(lo_k)
+            Rs.append(R + row)
+            Cs.append(C + self.base[r])
+            Vs.append(V)
+            lo.append(lo_k)
+            lits.append(np.full(q, len(self.literals)))
             self.literals.append(("mside", r, o, t, k))
-            V = np.concatenate([np.outer(1 - lams, a), np.outer(lams, a)], axis=1).ravel()
-            C = np.tile(np.concatenate([self.x(r, t) + pos, self.x(r, t + 1) + pos]), q)
-            R = np.repeat(row + np.arange(q), 2 * d)
-            nz = V != 0
-            Rs.append(R[nz])
-            Cs.append(C[nz])
-            Vs.append(V[nz])
-            lo.append(b + centres @ a)
-            lits.append(np.full(q, idx))
             tl.append(np.full(q, t))
             row += q
         t_lo = np.concatenate(tl)

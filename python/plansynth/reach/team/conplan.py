@@ -121,6 +121,7 @@ class TeamConPlan:
         self.plans_checked = 0  # plans with an infeasible LP (the lazy loop's deferral counts them)
         self._cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self._steps: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+        self._mside_rows: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
         ws = problem.workspace
         self.scale = max(1.0, max(abs(v) for v in ws.lo + ws.hi))
 
@@ -134,6 +135,27 @@ class TeamConPlan:
             ob = self.problem.moving_obstacles[o]
             centres = np.array([ob.position(self.problem.time_of(t + lam)) for lam in lams], float)
             hit = self._steps[(o, t)] = (lams, centres)
+        return hit
+
+    def mside_rows(self, r: int, o: int, t: int, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The rows of robot r keeping side k of moving obstacle o during step t
+        (``A_k (p_r - c) >= b_k`` at each fraction of :meth:`obstacle_step`, p_r
+        interpolated from its samples): rows from 0, columns counted from the robot's
+        first column, values and lower bounds (kept)."""
+        key = (r, o, t, k)
+        hit = self._mside_rows.get(key)
+        if hit is None:
+            f = self.obstacle_facets[(r, o)]
+            a, b = f.A[k], f.b[k]
+            m = self.models[r]
+            pos = np.asarray(m.pos)
+            lams, centres = self.obstacle_step(o, t)
+            q, d = len(lams), len(a)
+            V = np.concatenate([np.outer(1 - lams, a), np.outer(lams, a)], axis=1).ravel()
+            C = np.tile(np.concatenate([t * m.n + pos, (t + 1) * m.n + pos]), q)
+            R = np.repeat(np.arange(q), 2 * d)
+            nz = V != 0
+            hit = self._mside_rows[key] = (R[nz], C[nz], V[nz], b + centres @ a)
         return hit
 
     # -- the TheoryChecker interface ---------------------------------------------------
