@@ -12,6 +12,14 @@ region; side rows: the pair, step and side) and its flags (goal and end-state ro
 without them: ``start``). Without a checked certificate the conflict is the whole
 component's plan at this horizon, marked uncertified (the planner then claims no
 infeasibility).
+
+**Shrinking.** The deletion filter (:func:`shrink`) does not rerun the component LP: it
+runs on a :class:`RowSubset`, the rows of the certificate's literals and the
+literal-free rows within the steps its support spans, a small LP next to the component's
+over the whole horizon. Each of its LPs is a relaxation of the component LP with the
+literals kept, so an infeasible one refutes them, and each of its certificates, zero on
+the other rows, is one of the component LP (its rows touch no other column); the final
+certificate is checked on the component LP itself.
 """
 
 from __future__ import annotations
@@ -25,7 +33,7 @@ from plansynth.reach.highs import csc_lp, new_highs
 from plansynth.reach.team.component_lp import GOAL, INF, MOVE, ComponentLp, run_lp
 from plansynth.reach.team.plans import TeamConflict
 
-__all__ = ["component_conflict"]
+__all__ = ["component_conflict", "shrink", "RowSubset", "certifies", "ray_support"]
 
 #: the deletion filter runs on conflicts of at most this many literals
 MINIMIZE_MAX_LITERALS = 24
