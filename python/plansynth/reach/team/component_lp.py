@@ -30,7 +30,7 @@ from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
 
-__all__ = ["ComponentLp", "bend_fractions", "run_lp"]
+__all__ = ["ComponentLp", "bend_fractions", "run_lp", "load_bounds"]
 
 INF = highspy.kHighsInf
 DYN, REG, GOAL, SIDE, MOVE = range(5)
@@ -61,6 +61,13 @@ def run_lp(h: highspy.Highs, clock: Clock, stats: Any) -> tuple[str, np.ndarray 
         _, has_ray, ray = h.getDualRay()
         return "infeasible", None, np.asarray(ray, float) if has_ray else None
     raise LpFailure(f"HiGHS answered {h.modelStatusToString(st)} on a joint CON-PLAN LP")
+
+
+def load_bounds(h: highspy.Highs, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
+    """Every row's and column's bounds of the loaded LP replaced (the basis kept)."""
+    n_row, n_col = len(rlo), len(clo)
+    h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
+    h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)
 
 
 class ComponentLp:
@@ -376,8 +383,3 @@ class ComponentLp:
         if status != "feasible" or x is None:
             return None
         return self.split(x[: self.ncol])
-
-    def set_bounds(self, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
-        n_row, n_col = len(rlo), len(clo)
-        self.h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
-        self.h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)

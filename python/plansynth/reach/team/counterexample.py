@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from plansynth.reach.highs import csc_lp, new_highs
-from plansynth.reach.team.component_lp import GOAL, INF, MOVE, ComponentLp, run_lp
+from plansynth.reach.team.component_lp import GOAL, INF, MOVE, ComponentLp, load_bounds, run_lp
 from plansynth.reach.team.plans import TeamConflict
 
 __all__ = ["component_conflict", "shrink", "RowSubset", "certifies", "ray_support"]
@@ -108,9 +108,7 @@ class RowSubset:
         return run_lp(self.h, self.clock, self.stats)
 
     def set_bounds(self, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
-        n_row, n_col = len(rlo), len(clo)
-        self.h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
-        self.h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)
+        load_bounds(self.h, rlo, rhi, clo, chi)
 
     def full(self, y: np.ndarray, n_row: int) -> np.ndarray:
         """A ray of this LP as one of the component LP (``n_row`` rows)."""
