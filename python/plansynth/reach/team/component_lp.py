@@ -35,7 +35,7 @@ from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
 
-__all__ = ["ComponentLp", "bend_fractions"]
+__all__ = ["ComponentLp", "bend_fractions", "run_lp", "load_bounds"]
 
 INF = highspy.kHighsInf
 DYN, REG, GOAL, SIDE, MOVE = range(5)
@@ -45,6 +45,34 @@ def bend_fractions(problem: TeamProblem, o: int, t: int) -> tuple[float, ...]:
     """Where, as fractions of step t, moving obstacle o passes a waypoint."""
     t0, t1 = problem.time_of(t), problem.time_of(t + 1)
     return tuple((b - t0) / (t1 - t0) for b in problem.moving_obstacles[o].bends(t0, t1))
+
+
+def run_lp(h: highspy.Highs, clock: Clock, stats: Any) -> tuple[str, np.ndarray | None, np.ndarray | None]:
+    """Run the loaded LP within the clock: ``("feasible", x, None)`` or ``("infeasible",
+    None, dual ray or None)``; ``stats.lp_calls`` counts it."""
+    left = clock.remaining()
+    if left <= 0:
+        raise BudgetExhausted("the joint CON-PLAN", "time")
+    if not math.isinf(left):
+        h.setOptionValue("time_limit", max(left, 0.01))
+    h.run()
+    stats.lp_calls += 1
+    st = h.getModelStatus()
+    if st == highspy.HighsModelStatus.kOptimal:
+        return "feasible", np.asarray(h.getSolution().col_value, float), None
+    if st == highspy.HighsModelStatus.kTimeLimit:
+        raise BudgetExhausted("the joint CON-PLAN", "time")
+    if st in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
+        _, has_ray, ray = h.getDualRay()
+        return "infeasible", None, np.asarray(ray, float) if has_ray else None
+    raise LpFailure(f"HiGHS answered {h.modelStatusToString(st)} on a joint CON-PLAN LP")
+
+
+def load_bounds(h: highspy.Highs, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
+    """Every row's and column's bounds of the loaded LP replaced (the basis kept)."""
+    n_row, n_col = len(rlo), len(clo)
+    h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
+    h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)
 
 
 class ComponentLp:
@@ -73,8 +101,7 @@ class ComponentLp:
         for r in comp:
             self._robot(r)
         self._sides(sides)
-        for (r, o, t), k in msides.items():
-            self._mside(r, o, t, k)
+        self._msides(msides)
         self.n_effort = 0
         if owner.objective == "effort":
             self._effort()
@@ -224,58 +251,74 @@ class ComponentLp:
         if not sides:
             return
         owner = self.owner
+        keys = list(sides.items())
+        facets = [owner.pair_facets[(i, j)] for (i, j, _), _ in keys]
+        a = np.array([f.A[k] for f, (_, k) in zip(facets, keys)])  # one row per pair step
+        b = np.array([f.b[k] for f, (_, k) in zip(facets, keys)])
+        d = a.shape[1]
+        first = len(self.literals)
+        self.literals.extend(("side", i, j, t, k) for (i, j, t), k in keys)
+        ci = np.array([[self.x(i, t), owner.models[i].n] for (i, _, t), _ in keys])
+        cj = np.array([[self.x(j, t), owner.models[j].n] for (_, j, t), _ in keys])
+        pi = np.array([owner.models[i].pos for (i, _, _), _ in keys])
+        pj = np.array([owner.models[j].pos for (_, j, _), _ in keys])
+        E = len(keys)
+        # rows 2e (sample t) and 2e + 1 (sample t + 1), each a on p_i and -a on p_j
+        C = np.empty((E, 2, 2 * d), dtype=np.int64)
+        for s in (0, 1):
+            C[:, s, :d] = ci[:, :1] + s * ci[:, 1:] + pi
+            C[:, s, d:] = cj[:, :1] + s * cj[:, 1:] + pj
+        V = np.broadcast_to(np.concatenate([a, -a], axis=1)[:, None, :], (E, 2, 2 * d))
+        t = np.array([t for (_, _, t), _ in keys])
+        lo = np.repeat(b, 2).astype(float).reshape(E, 2)
+        for e, ((i, j, te), k) in enumerate(keys):  # under disturbances, the sides move out
+            grow = owner.pair_margins.get((i, j))
+            if grow is not None:
+                lo[e] += grow[te : te + 2, k]
+        self._block(
+            np.repeat(np.arange(2 * E), 2 * d),
+            C.ravel(),
+            V.ravel(),
+            lo.ravel(),
+            np.full(2 * E, INF),
+            SIDE,
+            np.repeat(first + np.arange(E), 2),
+            np.repeat(t, 2),
+            np.repeat(t + 1, 2),
+        )
+
+    def _msides(self, msides: dict) -> None:
+        """The rows of every engaged robot-obstacle step: ``A_k (p_r - c) >= b_k`` at t,
+        at each of the obstacle's waypoint times inside the step (p_r there
+        interpolated from its samples) and at t + 1."""
+        if not msides:
+            return
+        owner = self.owner
         Rs, Cs, Vs, lo, lits, tl = [], [], [], [], [], []
         row = 0
-        for (i, j, t), k in sides.items():
-            f = owner.pair_facets[(i, j)]
-            grow = owner.pair_margins.get((i, j))
-            a = f.A[k]
-            d = len(a)
-            pi = np.asarray(owner.models[i].pos)
-            pj = np.asarray(owner.models[j].pos)
-            idx = len(self.literals)
-            self.literals.append(("side", i, j, t, k))
-            for tt in (t, t + 1):
-                Rs.append(np.full(2 * d, row))
-                Cs.append(np.concatenate([self.x(i, tt) + pi, self.x(j, tt) + pj]))
-                Vs.append(np.concatenate([a, -a]))
-                lo.append(f.b[k] + (0.0 if grow is None else grow[tt, k]))
-                lits.append(idx)
-                tl.append(t)
-                row += 1
+        for (r, o, t), k in msides.items():
+            R, C, V, lo_k = owner.mside_rows(r, o, t, k)
+            q = len(lo_k)
+            Rs.append(R + row)
+            Cs.append(C + self.base[r])
+            Vs.append(V)
+            lo.append(lo_k)
+            lits.append(np.full(q, len(self.literals)))
+            self.literals.append(("mside", r, o, t, k))
+            tl.append(np.full(q, t))
+            row += q
+        t_lo = np.concatenate(tl)
         self._block(
             np.concatenate(Rs),
             np.concatenate(Cs),
             np.concatenate(Vs),
-            np.asarray(lo, float),
+            np.concatenate(lo),
             np.full(row, INF),
-            SIDE,
-            np.asarray(lits),
-            np.asarray(tl),
-            np.asarray(tl) + 1,
+            MOVE,
+            np.concatenate(lits),
+            t_lo,
+            t_lo + 1,
         )
-
-    def _mside(self, r: int, o: int, t: int, k: int) -> None:
-        owner = self.owner
-        f = owner.obstacle_facets[(r, o)]
-        grow = owner.obstacle_margins.get((r, o))
-        a, b = f.A[k], f.b[k]
-        pos = np.asarray(owner.models[r].pos)
-        ob = owner.problem.moving_obstacles[o]
-        lit = ("mside", r, o, t, k)
-        d = len(a)
-        for lam in (0.0, *bend_fractions(owner.problem, o, t), 1.0):
-            c = ob.position(owner.problem.time_of(t + lam))
-            rhs = b + float(a @ c)
-            if grow is not None:  # the robot's tube, interpolated between the step's samples
-                rhs += (1 - lam) * grow[t, k] + lam * grow[t + 1, k]
-            if lam == 0.0 or lam == 1.0:
-                C = self.x(r, t + int(lam)) + pos
-                self._add(np.zeros(d, dtype=int), C, a, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
-            else:
-                C = np.concatenate([self.x(r, t) + pos, self.x(r, t + 1) + pos])
-                V = np.concatenate([(1 - lam) * a, lam * a])
-                self._add(np.zeros(2 * d, dtype=int), C, V, np.array([rhs]), np.array([INF]), MOVE, lit, t, t + 1)
 
     # bounds
     def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -326,23 +369,12 @@ class ComponentLp:
         self.h.passModel(lp)
         return self.run()
 
+    @property
+    def n_row(self) -> int:
+        return self.rows.n_row
+
     def run(self) -> tuple[str, np.ndarray | None, np.ndarray | None]:
-        left = self.clock.remaining()
-        if left <= 0:
-            raise BudgetExhausted("the joint CON-PLAN", "time")
-        if not math.isinf(left):
-            self.h.setOptionValue("time_limit", max(left, 0.01))
-        self.h.run()
-        self.owner.stats.lp_calls += 1
-        st = self.h.getModelStatus()
-        if st == highspy.HighsModelStatus.kOptimal:
-            return "feasible", np.asarray(self.h.getSolution().col_value, float), None
-        if st == highspy.HighsModelStatus.kTimeLimit:
-            raise BudgetExhausted("the joint CON-PLAN", "time")
-        if st in (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            _, has_ray, ray = self.h.getDualRay()
-            return "infeasible", None, np.asarray(ray, float) if has_ray else None
-        raise LpFailure(f"HiGHS answered {self.h.modelStatusToString(st)} on a joint CON-PLAN LP")
+        return run_lp(self.h, self.clock, self.owner.stats)
 
     def split(self, x: np.ndarray) -> dict[int, tuple[np.ndarray, np.ndarray]]:
         out = {}
@@ -359,31 +391,17 @@ class ComponentLp:
     def elastic(self) -> dict[int, tuple[np.ndarray, np.ndarray]] | None:
         """The trajectories of the LP whose side rows may be broken at a cost (the sum
         of how far each is broken): a guess at the sides to try next, or None when the
-        other rows alone are infeasible."""
+        other rows alone are infeasible. It is solved in this LP's own model, after its
+        infeasible run (a slack column per side row, warm-started from that basis): the
+        model is not used for the component LP again."""
         kind = np.concatenate(self.kind)
-        soft = np.flatnonzero((kind == SIDE) | (kind == MOVE))
-        R, C, V = self.coo
-        n = self.ncol + len(soft)
-        R2 = np.concatenate([R, soft])
-        C2 = np.concatenate([C, self.ncol + np.arange(len(soft))])
-        V2 = np.concatenate([V, np.ones(len(soft))])
-        clo = np.concatenate([self.cb[0], np.zeros(len(soft))])
-        chi = np.concatenate([self.cb[1], np.full(len(soft), INF)])
-        cost = np.zeros(n)
-        cost[self.ncol :] = 1.0
-        lp = csc_lp(n, self.rows.n_row, R2, C2, V2, cost, clo, chi, *self.rb)
-        h = new_highs(presolve="off")
-        left = self.clock.remaining()
-        if not math.isinf(left):
-            h.setOptionValue("time_limit", max(left, 0.01))
-        h.passModel(lp)
-        h.run()
-        self.owner.stats.lp_calls += 1
-        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+        soft = np.flatnonzero((kind == SIDE) | (kind == MOVE)).astype(np.int32)
+        k = len(soft)
+        if self.n_effort:
+            effort = np.arange(self.ncol - self.n_effort, self.ncol, dtype=np.int32)
+            self.h.changeColsCost(len(effort), effort, np.zeros(len(effort)))
+        self.h.addCols(k, np.ones(k), np.zeros(k), np.full(k, INF), k, np.arange(k, dtype=np.int32), soft, np.ones(k))
+        status, x, _ = run_lp(self.h, self.clock, self.owner.stats)
+        if status != "feasible" or x is None:
             return None
-        return self.split(np.asarray(h.getSolution().col_value, float)[: self.ncol])
-
-    def set_bounds(self, rlo: np.ndarray, rhi: np.ndarray, clo: np.ndarray, chi: np.ndarray) -> None:
-        n_row, n_col = len(rlo), len(clo)
-        self.h.changeRowsBounds(n_row, np.arange(n_row, dtype=np.int32), rlo, rhi)
-        self.h.changeColsBounds(n_col, np.arange(n_col, dtype=np.int32), clo, chi)
+        return self.split(x[: self.ncol])

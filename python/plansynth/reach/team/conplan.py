@@ -134,8 +134,47 @@ class TeamConPlan:
         self.stats = TeamLpStats()
         self.plans_checked = 0  # plans with an infeasible LP (the lazy loop's deferral counts them)
         self._cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        self._steps: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+        self._mside_rows: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
         ws = problem.workspace
         self.scale = max(1.0, max(abs(v) for v in ws.lo + ws.hi))
+
+    def obstacle_step(self, o: int, t: int) -> tuple[np.ndarray, np.ndarray]:
+        """Where moving obstacle o is checked in step t: the fractions of the step (0,
+        each waypoint time inside it, 1) and its centre at each (kept: every LP with an
+        engaged step of o at t asks again)."""
+        hit = self._steps.get((o, t))
+        if hit is None:
+            lams = np.array((0.0, *_bend_fractions(self.problem, o, t), 1.0))
+            ob = self.problem.moving_obstacles[o]
+            centres = np.array([ob.position(self.problem.time_of(t + lam)) for lam in lams], float)
+            hit = self._steps[(o, t)] = (lams, centres)
+        return hit
+
+    def mside_rows(self, r: int, o: int, t: int, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The rows of robot r keeping side k of moving obstacle o during step t
+        (``A_k (p_r - c) >= b_k`` at each fraction of :meth:`obstacle_step`, p_r
+        interpolated from its samples): rows from 0, columns counted from the robot's
+        first column, values and lower bounds (kept)."""
+        key = (r, o, t, k)
+        hit = self._mside_rows.get(key)
+        if hit is None:
+            f = self.obstacle_facets[(r, o)]
+            a, b = f.A[k], f.b[k]
+            m = self.models[r]
+            pos = np.asarray(m.pos)
+            lams, centres = self.obstacle_step(o, t)
+            q, d = len(lams), len(a)
+            V = np.concatenate([np.outer(1 - lams, a), np.outer(lams, a)], axis=1).ravel()
+            C = np.tile(np.concatenate([t * m.n + pos, (t + 1) * m.n + pos]), q)
+            R = np.repeat(np.arange(q), 2 * d)
+            nz = V != 0
+            lo = b + centres @ a
+            grow = self.obstacle_margins.get((r, o))
+            if grow is not None:  # the robot's tube, interpolated between the step's samples
+                lo = lo + (1 - lams) * grow[t, k] + lams * grow[t + 1, k]
+            hit = self._mside_rows[key] = (R[nz], C[nz], V[nz], lo)
+        return hit
 
     # -- the TheoryChecker interface ---------------------------------------------------
     def check(self, plan: TeamPlan) -> Feasible | tuple:
@@ -301,19 +340,15 @@ class TeamConPlan:
         """Per step and side, the worst margin over the step's samples and the
         obstacle's waypoint times inside it (``P[0]`` is the position at step ``first``;
         ``r``: the robot, whose tube's growth of the sides counts under disturbances)."""
-        ob = self.problem.moving_obstacles[o]
         grow = None if r is None else self.obstacle_margins.get((r, o))
         out = np.empty((L, f.n_sides))
         for t in range(L):
-            worst = np.full(f.n_sides, np.inf)
-            for lam in (0.0, *_bend_fractions(self.problem, o, first + t), 1.0):
-                p = (1 - lam) * P[t] + lam * P[t + 1]
-                c = ob.position(self.problem.time_of(first + t + lam))
-                m = f.margins(p - c)
-                if grow is not None:
-                    m = m - ((1 - lam) * grow[first + t] + lam * grow[first + t + 1])
-                worst = np.minimum(worst, m)
-            out[t] = worst
+            lams, centres = self.obstacle_step(o, first + t)
+            p = (1 - lams)[:, None] * P[t] + lams[:, None] * P[t + 1]
+            M = f.margins(p - centres)
+            if grow is not None:
+                M = M - ((1 - lams)[:, None] * grow[first + t] + lams[:, None] * grow[first + t + 1])
+            out[t] = M.min(axis=0)
         return out
 
 

@@ -37,6 +37,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Mapping, Sequence
 
+import numpy as np
 from pysat.card import CardEnc, EncType
 from pysat.formula import IDPool
 from pysat.solvers import Solver
@@ -73,6 +74,10 @@ class _Frame:
         self.engaged_added = 0
         self.engaged_added_o = 0
         self.clauses = 0
+        #: per robot, the variables at[r, t, i] as an array (t, i)
+        self.at_ids: dict[int, np.ndarray] = {}
+        #: the reference plans' phases (fixed for the frame), computed at its first question
+        self.guide_phases: list[int] | None = None
 
     def add(self, clause: list[int]) -> None:
         self.solver.add_clause(clause)
@@ -210,8 +215,9 @@ class TeamDisPlan:
 
     def _robot(self, frame: _Frame, r: int, g: RegionGraph, L: int) -> None:
         mission = self.missions[r]
+        frame.at_ids[r] = np.array([[self.at(frame, r, t, i) for i in range(g.n_regions)] for t in range(L + 1)])
         for t in range(L + 1):
-            lits = [self.at(frame, r, t, i) for i in range(g.n_regions)]
+            lits = frame.at_ids[r][t].tolist()
             for i in range(g.n_regions):
                 if not self._allowed(r, t, i, L):
                     frame.add([-lits[i]])
@@ -333,16 +339,17 @@ class TeamDisPlan:
 
     def _phases(self, frame: _Frame) -> list[int]:
         L = frame.horizon
-        out: list[int] = []
-        if self.guide is not None:
-            for r, g in enumerate(self.graphs):
+        if frame.guide_phases is None:
+            frame.guide_phases = []
+            for r in range(self.n) if self.guide is not None else ():
                 ref = self.guide(r, L)
-                if ref is None:
-                    continue
-                for t, i in enumerate(ref):
-                    for j in range(g.n_regions):
-                        v = self.at(frame, r, t, j)
-                        out.append(v if j == i else -v)
+                if ref is not None:
+                    ref = tuple(ref)[: L + 1]
+                    ids = frame.at_ids[r]
+                    signs = -np.ones(ids.shape, dtype=np.int64)
+                    signs[np.arange(len(ref)), np.asarray(ref)] = 1
+                    frame.guide_phases.extend((ids[: len(ref)] * signs[: len(ref)]).ravel().tolist())
+        out = list(frame.guide_phases)
         hints = {**self.side_hints, **self.horizon_hints.get(L, {})}
         for key, k in hints.items():
             kind, a, b, t = key
@@ -361,15 +368,12 @@ class TeamDisPlan:
         return own[key] if key in own else self.side_hints.get(key)
 
     def _read(self, frame: _Frame) -> TeamPlan:
-        model = frame.solver.get_model()
-        true = {v for v in model if v > 0}
+        model = np.asarray(frame.solver.get_model())
+        true = set(model[model > 0].tolist())
+        value = np.zeros(max(len(model), frame.pool.top) + 1, dtype=bool)
+        value[model[model > 0]] = True
         L = frame.horizon
-        regions = []
-        for r, g in enumerate(self.graphs):
-            seq = []
-            for t in range(L + 1):
-                seq.append(next(i for i in range(g.n_regions) if self.at(frame, r, t, i) in true))
-            regions.append(tuple(seq))
+        regions = [tuple(value[frame.at_ids[r]].argmax(axis=1).tolist()) for r in range(self.n)]
         sides = {}
         for i, j, t in self.engaged_pairs:
             if t < L:

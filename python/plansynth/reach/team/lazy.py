@@ -66,7 +66,7 @@ from plansynth.reach.trajectory import Trajectory
 __all__ = ["plan_team_lazy", "split_trajectory", "ENCODING", "SEEDED_DEFER_AFTER"]
 
 #: with an incumbent, a horizon below it is set aside after this many refuted plans
-SEEDED_DEFER_AFTER = 8
+SEEDED_DEFER_AFTER = 3
 
 #: what an ``infeasible`` of the team planners is relative to
 ENCODING = (

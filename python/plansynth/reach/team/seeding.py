@@ -33,9 +33,9 @@ from plansynth.reach.team.robust import is_disturbed
 __all__ = ["run", "SEED_MIN_ROBOTS", "SEED_SHARE"]
 
 #: ``incumbent="auto"`` seeds teams of at least this many robots
-SEED_MIN_ROBOTS = 12
+SEED_MIN_ROBOTS = 4
 #: the share of the budget that the seed may take
-SEED_SHARE = 0.4
+SEED_SHARE = 0.7
 
 
 def run(problem: TeamProblem, budget: Budget, options: TeamLazyOptions, progress: Any = None) -> TeamResult:
