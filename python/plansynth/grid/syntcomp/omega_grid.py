@@ -9,10 +9,11 @@ The game of :mod:`plansynth.grid.semantics`, written in omega's TLA+ fragment:
 
 * ``env`` owns the robot's cell ``rx, ry`` (it must move it as the robot's move ``k``
   says: the move's offset when the end cell is on the grid, else no move), each
-  obstacle's cell ``o<i>x, o<i>y`` (it stays, or, when its wait counter ``o<i>p`` is 0,
-  takes one of its moves to a cell on the grid that is neither a wall nor kept out),
-  the wait counters (by the obstacle's schedule; a move whose start or end cell is a wall
-  or kept out is void, as a move sweeping one is) and, under ``fair``, a flag
+  obstacle's cell ``o<i>x, o<i>y`` (when its wait counter ``o<i>p`` is 0, one of its
+  listed moves, and no others: a move off the grid or whose start or end cell is a wall
+  or kept out leaves it where it is, as a move sweeping one does; while it waits, it
+  stays where one of its moves would leave it there, a ``stay`` or a void move), the
+  wait counters (by the obstacle's schedule) and, under ``fair``, a flag
   ``o<i>moved`` per obstacle (it changed cell in the last step);
 * ``sys`` owns ``k``, the robot's next move;
 * ``SysNext``: the robot is on no wall and collides with no obstacle (``position``:
@@ -59,8 +60,30 @@ def supports(problem: GridProblem) -> str | None:
 
 
 def _cells(x: str, y: str, cells) -> str:
+    """``(x, y)`` is one of ``cells``: a disjunction nested as a balanced tree (omega's
+    parser recurses once per level, and a flat one of hundreds of cells is too deep)."""
     parts = [f"({x} = {c[0]} /\\ {y} = {c[1]})" for c in sorted(cells)]
-    return " \\/ ".join(parts) if parts else "FALSE"
+    if not parts:
+        return "FALSE"
+    while len(parts) > 1:
+        parts = [
+            f"({parts[i]} \\/ {parts[i + 1]})" if i + 1 < len(parts) else parts[i]
+            for i in range(0, len(parts), 2)
+        ]
+    return parts[0]
+
+
+def _void_cells(w: int, h: int, d: tuple[int, int], blocked: set) -> set[tuple[int, int]]:
+    """The cells from which a one-cell obstacle's move by offset ``d`` is void (it stays):
+    its end is off the grid, or its start or end cell (the cells it sweeps) is
+    ``blocked`` (:func:`plansynth.grid.semantics.obstacle_move`)."""
+    out = set()
+    for cx in range(w):
+        for cy in range(h):
+            ex, ey = cx + d[0], cy + d[1]
+            if not (0 <= ex < w and 0 <= ey < h) or (cx, cy) in blocked or (ex, ey) in blocked:
+                out.add((cx, cy))
+    return out
 
 
 def _offset(v: str, d: int) -> str:
@@ -100,10 +123,22 @@ def automaton(problem: GridProblem) -> Any:
         init += [f"{x} = {o.start[0]}", f"{y} = {o.start[1]}"]
         types += [f"{x} \\in 0..{w - 1}", f"{y} \\in 0..{h - 1}"]
         stay = f"({x}' = {x} /\\ {y}' = {y})"
-        steps = [f"({x}' = {_offset(x, m.to[0])} /\\ {y}' = {_offset(y, m.to[1])})" for m in o.moves if m.to != (0, 0)]
         blocked = set(problem.walls) | set(o.keep_out)
-        # a move sweeps its start and end cells: one on a wall or a kept-out cell is void
-        free = f"~ ({_cells(x, y, blocked)}) /\\ ~ ({_cells(x + chr(39), y + chr(39), blocked)})" if blocked else "TRUE"
+        options: list[str] = []  # one per listed move: its offset, or no move where it is void
+        in_place: list[str] = []  # where each move leaves the obstacle on its cell
+        for m in o.moves:
+            dx, dy = m.to
+            if (dx, dy) == (0, 0):
+                options.append(stay)
+                in_place.append("TRUE")
+                continue
+            void = _void_cells(w, h, (dx, dy), blocked)
+            moved = f"({x}' = {_offset(x, dx)} /\\ {y}' = {_offset(y, dy)})"
+            if void:
+                options.append(f"((~ ({_cells(x, y, void)}) /\\ {moved}) \\/ (({_cells(x, y, void)}) /\\ {stay}))")
+                in_place.append(_cells(x, y, void))
+            else:
+                options.append(moved)
         may = "TRUE"
         if o.period > 1:
             decl[p] = (0, o.period - 1)
@@ -120,8 +155,11 @@ def automaton(problem: GridProblem) -> Any:
                 act.append(f"{changed} => ({p}' = {top})")
                 act.append(f"(~ {changed} /\\ {p} > 0) => ({p}' = {p} - 1)")
                 act.append(f"(~ {changed} /\\ {p} = 0) => ({p}' = 0)")
-        options = " \\/ ".join(steps) if steps else "FALSE"
-        act.append(f"{stay} \\/ ({may} /\\ ({options}) /\\ {free})")
+        # the listed moves when the obstacle may change its cell; else only those that
+        # leave it where it is (semantics.legal_moves)
+        any_move = " \\/ ".join(options)
+        any_in_place = " \\/ ".join(in_place) or "FALSE"
+        act.append(f"(({may}) /\\ ({any_move})) \\/ (~ ({may}) /\\ {stay} /\\ ({any_in_place}))")
         if problem.fair:
             mv = f"o{i}moved"
             decl[mv] = "bool"
