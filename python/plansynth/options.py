@@ -140,47 +140,76 @@ def configure(
     return dataclasses.replace(base, **values) if values else base  # type: ignore[type-var]
 
 
-def _kind(annotation: Any) -> tuple[str, bool]:
-    """(base type name, None allowed) of a field's annotation, as written."""
+def _kind(annotation: Any) -> tuple[tuple[str, ...], bool]:
+    """(base type names, None allowed) of a field's annotation, as written: ``bool | str``
+    is either (a three-valued option: ``True``, ``False`` or a word such as ``"auto"``)."""
     text = annotation if isinstance(annotation, str) else getattr(annotation, "__name__", str(annotation))
     parts = [p.strip() for p in text.split("|")]
     optional = "None" in parts
     parts = [p for p in parts if p != "None"]
-    return (parts[0] if parts else "None"), optional
+    return (tuple(parts) if parts else ("None",)), optional
+
+
+def _is(kind: str, v: Any) -> bool:
+    """``v`` is a value of the annotation's type ``kind`` (a type this module does not
+    check, such as tuples or a solver's own values, takes anything)."""
+    if kind == "bool":
+        return isinstance(v, bool)
+    if kind == "int":
+        return isinstance(v, int) and not isinstance(v, bool)
+    if kind == "float":
+        return isinstance(v, (int, float)) and not isinstance(v, bool) and not math.isnan(v)
+    if kind == "str":
+        return isinstance(v, str)
+    return True
 
 
 def check_fields(value: Any, solver: str) -> None:
     """Check every field of the dataclass ``value`` against its annotation (``bool``,
-    ``int``, ``float``, ``str``, optionally ``| None``) and its :func:`option` checks;
-    the first that fails is :class:`~plansynth.errors.InvalidOption`."""
+    ``int``, ``float``, ``str``, a union of them such as ``bool | str``, optionally
+    ``| None``) and its :func:`option` checks;
+    the first that fails is :class:`~plansynth.errors.InvalidOption`.
+
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class Tri:
+    ...     exact: bool | str = option("auto", "exact when asked", choices=("auto", True, False))
+    ...     def __post_init__(self) -> None:
+    ...         check_fields(self, "demo")
+    >>> Tri(True).exact, Tri().exact
+    (True, 'auto')
+    >>> Tri(1)
+    Traceback (most recent call last):
+    ...
+    plansynth.errors.InvalidOption: demo: option 'exact': expected bool or str, got 1
+    >>> Tri("sometimes")
+    Traceback (most recent call last):
+    ...
+    plansynth.errors.InvalidOption: demo: option 'exact': unknown value 'sometimes' (known: auto, true, false)
+    """
     for f in dataclasses.fields(value):
         v = getattr(value, f.name)
-        kind, optional = _kind(f.type)
+        kinds, optional = _kind(f.type)
         if v is None:
             if not optional:
                 raise InvalidOption(solver, f.name, "a value is needed")
             continue
-        if kind == "bool":
-            ok = isinstance(v, bool)
-        elif kind == "int":
-            ok = isinstance(v, int) and not isinstance(v, bool)
-        elif kind == "float":
-            ok = isinstance(v, (int, float)) and not isinstance(v, bool) and not math.isnan(v)
-        elif kind == "str":
-            ok = isinstance(v, str)
-        else:  # a type this module does not check (tuples, values of the solver's own)
-            ok = True
-        if not ok:
-            raise InvalidOption(solver, f.name, f"expected {kind}, got {v!r}")
+        if not any(_is(kind, v) for kind in kinds):
+            raise InvalidOption(solver, f.name, f"expected {' or '.join(kinds)}, got {v!r}")
         meta = f.metadata
         choices = meta.get("choices")
         if choices is not None and v not in choices:
-            raise InvalidOption(solver, f.name, f"unknown value {v!r} (known: {', '.join(map(str, choices))})")
+            raise InvalidOption(solver, f.name, f"unknown value {v!r} (known: {', '.join(map(_word, choices))})")
         minimum = meta.get("minimum")
         if minimum is not None and v < minimum:
             raise InvalidOption(solver, f.name, f"{v} is below its minimum {minimum}")
         if meta.get("positive") and not (0 < v < math.inf):
             raise InvalidOption(solver, f.name, f"must be positive and finite, got {v}")
+
+
+def _word(value: Any) -> str:
+    """A value as ``KEY=VALUE`` spells it (``true``, ``false``, ``none``, else as is)."""
+    return "none" if value is None else str(value).lower() if isinstance(value, bool) else str(value)
 
 
 def describe(cls: Any) -> list[tuple[str, Any, str]]:
@@ -198,7 +227,7 @@ def help_lines(cls: Any) -> list[str]:
     """One line per option, ``name (default: value): help``, for ``--help`` and docs."""
     lines = []
     for name, default, doc in describe(cls):
-        shown = "none" if default is None else str(default).lower() if isinstance(default, bool) else default
+        shown = _word(default)
         lines.append(f"{name} (default {shown}): {doc}" if doc else f"{name} (default {shown})")
     return lines
 

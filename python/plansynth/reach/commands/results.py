@@ -28,6 +28,8 @@ def result_table(result: Any) -> Table:
         else:
             horizon += " (proved minimal)" if c["minimal"] else " (not proved minimal)"
     table.add_row("horizon", horizon)
+    if c.get("transitions") is not None:  # the lazy planner's transition relation (lazy/exactmode.py)
+        table.add_row("transitions", escape(f"{c['transitions']}: exact segments {c.get('exact_segments', '-')}"))
     for key in (
         "regions",
         "first_horizon",

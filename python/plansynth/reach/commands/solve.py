@@ -42,6 +42,8 @@ Examples:
 
   plansynth reach solve p.yaml --no-segment-safe        # the paper's guarantee: samples only
 
+  plansynth reach solve examples/reach/claims/narrow-passage.yaml --prove   # its minimal horizon, for the problem
+
 Exit status: 0 found (validated), 1 infeasible up to the max horizon, 2 bad input, 3 unknown (budget ran out).
 """
 
@@ -97,9 +99,11 @@ SOLVE_EPILOG = SOLVE_EXAMPLES + "\n" + planner_options_help()
 _SHARED_FLAGS = {"max_horizon": "--max-horizon", "segment_safe": "--segment-safe/--no-segment-safe"}
 
 
-def _planner_options(ctx: typer.Context, planner: str, items: list[str], paper: bool, mission: bool) -> Any:
+def _planner_options(
+    ctx: typer.Context, planner: str, items: list[str], paper: bool, mission: bool, prove: bool = False
+) -> Any:
     """The planner's options value, built once from ``-O KEY=VALUE`` and the shared flags
-    given (the flags win); an option the planner does not take is
+    given (the flags win; ``--prove`` is ``-O prove=true``); an option the planner does not take is
     :class:`~plansynth.errors.InvalidOption` (exit 2, one line naming the planner and its
     options), never dropped. (For a mission ``--segment-safe`` is its reading: see
     :func:`mission_readings`.)"""
@@ -109,6 +113,14 @@ def _planner_options(ctx: typer.Context, planner: str, items: list[str], paper: 
     values = parse_assignments(items, planner)
     flags = [n for n in _SHARED_FLAGS if not (mission and n == "segment_safe")]
     values.update({name: ctx.params[name] for name in flags if given(ctx, name)})
+    if prove:
+        if planner != "lazy-smt" or mission:
+            raise typer.BadParameter(
+                f"applies to the lazy-smt planner on a reach-avoid problem only, not {planner}"
+                f"{' on a mission' if mission else ''} (-O prove=true)",
+                param_hint="--prove",
+            )
+        values["prove"] = True
     base = None
     if paper:
         if planner != "lazy-smt" or mission:
@@ -159,6 +171,11 @@ def solve_command(
         "--paper",
         help="lazy-smt: start from the paper's loop and counterexamples (ZEROPREFIX, one horizon at a time, no refinements beyond the paper); the options given apply on top.",
     ),
+    prove: bool = typer.Option(
+        False,
+        "--prove",
+        help="lazy-smt: ask for claims about the problem: the horizon found proved minimal, or infeasible, for the problem, not only through the decomposition (the option prove; with exact_segments=auto, the default, a step may then cross several regions); within the budget.",
+    ),
     reading: str | None = typer.Option(
         None,
         "--reading",
@@ -206,7 +223,7 @@ def solve_command(
         else:
             problem = mission_readings(ctx, problem, reading, end, margin, obstacle_margin)
         # an option the planner does not take, a planner this problem cannot use
-        options = _planner_options(ctx, planner, option, paper, problem.mission is not None)
+        options = _planner_options(ctx, planner, option, paper, problem.mission is not None, prove)
     except PlansynthError as exc:
         raise fail(err, exc) from None
     with Progress(

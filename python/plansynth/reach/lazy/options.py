@@ -28,6 +28,7 @@ __all__ = [
     "CONFIGURATIONS",
     "COUNTEREXAMPLES",
     "HORIZON_SEARCHES",
+    "EXACT_MODES",
     "SLACK_WEIGHTS",
     "CARDINALITIES",
     "WINDOW_GROWTH",
@@ -40,6 +41,9 @@ __all__ = [
 #: certificate; see :mod:`plansynth.reach.lazy.conplan`).
 COUNTEREXAMPLES = ("farkas", "zeroprefix", "trivial", "iis")
 HORIZON_SEARCHES = ("window", "linear", "minimal")
+#: ``exact_segments``: exact segment transitions where a claim is asked (``auto``), always
+#: or never (see :mod:`plansynth.reach.lazy.exactmode`).
+EXACT_MODES = ("auto", True, False)
 #: The window search's growth (``window_growth=None``): each window this fraction longer
 #: than its start, or, on an abstraction of more than LARGE_REGIONS regions, twice as
 #: long. There the region-hop and displacement bounds ignore turning, the first feasible
@@ -147,11 +151,15 @@ class LazyOptions:
         "horizon_search=minimal: refute shorter horizons by per-axis reachable sets "
         "first, where the dynamics separate by axis",
     )
-    exact_segments: bool = option(
-        False,
+    exact_segments: bool | str = option(
+        "auto",
         "segment-safe: let a step cross several regions (DIS-PLAN also places points along "
         "each segment, more where a segment of a solution cuts an obstacle), so that "
-        "infeasible and a minimal horizon hold for the problem",
+        "infeasible and a minimal horizon hold for the problem: true, false (one region per "
+        "step: claims through the decomposition) or auto (exact where a claim is asked: prove, "
+        "horizon_search minimal or linear, and after every horizon up to max_horizon is "
+        "refuted through the decomposition)",
+        choices=EXACT_MODES,
     )
 
     def __post_init__(self) -> None:
@@ -161,7 +169,9 @@ class LazyOptions:
     def paper(cls, **values: Any) -> LazyOptions:
         """The paper's loop and counterexamples: the refinements beyond the paper off,
         except the abstraction, segment safety and the (sound) horizon lower bound,
-        which both modes share."""
+        which both modes share; one region per step (the paper's abstraction, not exact
+        segment transitions), so its claims are through the decomposition."""
+        values.setdefault("exact_segments", False)
         return cls(
             counterexample="zeroprefix",
             generalize=False,

@@ -92,6 +92,7 @@ from plansynth.reach.lazy.claims import (
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.descent import Descent
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
+from plansynth.reach.lazy.exactmode import REGIONS, SEGMENTS, STEPS, continued, exact_mode, should_continue
 from plansynth.reach.lazy.guide import reference_plans, route
 from plansynth.reach.lazy.horizon_bounds import (
     chain_bounds,
@@ -155,10 +156,39 @@ def plan_lazy(
     the budget). ``prove`` (segment-safe; it turns the window search into ``minimal``):
     after the loop, try to prove its claims for the problem with the MILP relaxation of
     :mod:`plansynth.reach.lazy.relaxation` (:func:`~plansynth.reach.lazy.claims.prove_claims`).
+    ``exact_segments`` (segment-safe): a step may cross several regions, always (True),
+    never (False) or where a claim is asked (``"auto"``, the default: ``prove`` or a
+    minimal or linear search from the start, the window search after it refuted every
+    horizon through the decomposition; :mod:`plansynth.reach.lazy.exactmode`).
     """
     opts = LazyOptions() if options is None else options
-    # segment-safe with exact transitions: a step may cross several regions (lazy/segments.py)
-    crossing = opts.segment_safe and opts.exact_segments
+    mode = exact_mode(opts)
+    clock = budget.clock()
+    out, abstraction = _plan(problem, budget, clock, opts, progress, abstraction, crossing=mode.first)
+    if should_continue(mode, out, time_left=not clock.exhausted()):
+        # every horizon refuted through the decomposition: on with exact transitions (the
+        # timed route, a plan through the decomposition, cannot be one)
+        again, _ = _plan(problem, budget, clock, opts, progress, abstraction, crossing=True, timed=False)
+        return continued(out, again)
+    out.counters["exact_segments"] = mode.why
+    return out
+
+
+def _plan(
+    problem: ReachProblem,
+    budget: Budget,
+    clock: Clock,
+    opts: LazyOptions,
+    progress: ProgressFn | None,
+    abstraction: Abstraction | None,
+    *,
+    crossing: bool,
+    timed: bool = True,
+) -> tuple[ReachResult, Abstraction | None]:
+    """One search of :func:`plan_lazy` on ``clock``, with exact segment transitions
+    (``crossing``: a step may cross several regions, lazy/segments.py) or without,
+    with the timed route (``timed`` and ``opts.timed_route``) or without; also the
+    abstraction it planned over (None when the budget ran out before it)."""
     # the relaxation can only prove a horizon that is minimal through the decomposition
     # (it refutes h - 1): the window search's plan sits at its window's top; with exact
     # transitions, a window whose plans need points along their segments is deferred
@@ -167,15 +197,15 @@ def plan_lazy(
     # (lazy/descent.py)
     search = "minimal" if (opts.prove or crossing) and opts.horizon_search == "window" else opts.horizon_search
     t_start = time.perf_counter()
-    clock = budget.clock()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
     record = opts.record(L_max, budget)
     timings = {"abstraction": 0.0, "bounds": 0.0, "guide": 0.0, "sat": 0.0, "lp": 0.0}
     counters: dict = {}
     guarantee = "segments" if opts.segment_safe else "samples"
 
-    def result(out: LoopOutcome) -> ReachResult:
+    def result(out: LoopOutcome) -> tuple[ReachResult, Abstraction | None]:
         timings["total"] = time.perf_counter() - t_start
+        counters.update(transitions=SEGMENTS if crossing else REGIONS if opts.segment_safe else STEPS)
         return ReachResult(
             status=out.status,
             solver="lazy-smt",
@@ -188,7 +218,7 @@ def plan_lazy(
             options=record,
             message=out.message,
             guarantee=guarantee,
-        )
+        ), abstraction
 
     try:
         if abstraction is None:
@@ -206,7 +236,7 @@ def plan_lazy(
         theory: TheoryChecker = conplan if transit is None else transit
         path = route(problem, abstraction) if (opts.guided or opts.timed_route) else None
         quick = None
-        if opts.timed_route and search != "linear" and not conplan.dear:
+        if timed and opts.timed_route and search != "linear" and not conplan.dear:
             with clock.phase("the timed route"):
                 first_leg = (  # (exact and a few LPs from rest; else a scan of up to REFINE_SPAN LPs)
                     transit.first_gap(START, path[1])
@@ -241,7 +271,7 @@ def plan_lazy(
                 graph = replace(graph, adjacency=segment_adjacency(problem, abstraction))
             counters.update(edges=sum(map(len, graph.adjacency)) // 2)
             # CON-PLAN without segment rows: its transit legs hold for every segment-safe step
-            conplan = _conplan(problem, abstraction, opts, search, clock)
+            conplan = _conplan(problem, abstraction, opts, search, clock, segment_rows=False)
             transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
             with _timed(clock, timings, "bounds", "the ends of steps between regions that do not touch"):
                 boxes = pair_boxes(problem, abstraction, graph.adjacency)
@@ -328,10 +358,10 @@ def _conplan(
     search: str,
     clock: Clock,
     *,
-    segment_rows: bool | None = None,
+    segment_rows: bool,
 ) -> ConPlan:
     """CON-PLAN as the options ask: ``farkas`` is ``trivial`` generalised. ``segment_rows``:
-    keep each segment in one region (default: segment-safe without exact transitions)."""
+    keep each segment in one region (segment-safe without exact transitions)."""
     counterexample, generalize = opts.counterexample, opts.generalize
     if counterexample == "farkas":
         counterexample, generalize = "trivial", True
@@ -343,7 +373,7 @@ def _conplan(
     return ConPlan(
         problem,
         abstraction,
-        segment_safe=(opts.segment_safe and not opts.exact_segments) if segment_rows is None else segment_rows,
+        segment_safe=segment_rows,
         counterexample=counterexample,
         generalize=generalize,
         minimize=opts.minimize,
@@ -381,7 +411,7 @@ def _prove_minimal(
             graph.adjacency,
             graph.start_regions,
             graph.goal_regions,
-            segment_safe=opts.segment_safe and not opts.exact_segments,
+            segment_safe=opts.segment_safe and not isinstance(theory, SegmentTheory),
         )
         if opts.reach_sets
         else None
