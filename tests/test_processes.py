@@ -105,7 +105,7 @@ def test_ctrl_c_during_a_reach_solve_exits_130(tmp_path):
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     startup = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     # one horizon at a time: about 13 s of LPs (the default window search plans it in ~2 s)
-    proc = start("reach", "solve", str(problem), "-O", "horizon_search=linear")
+    proc = start("reach", "solve", str(problem), "-O", "horizon_search=linear", "-O", "exact_segments=false")
     try:
 
         def solving() -> bool:  # started up, then a CPU second into the solve (it needs far more)

@@ -233,11 +233,17 @@ CASES: dict[str, Case] = {
     "plansynth reach solve examples/reach/maze-1.yaml --animate run.gif": Case(
         out=FOUND, files=("run.gif",), fast="plansynth reach solve small.yaml --animate run.gif"
     ),
-    "plansynth reach solve examples/reach/maze-4.yaml --planner lazy-smt-minimal": Case(
-        out=("found", "141 (minimal through the decomposition only)")
+    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --prove": Case(
+        out=("found", "8 (proved minimal)", "segments")
     ),
-    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --planner lazy-smt-minimal --no-segment-safe": Case(
+    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --planner lazy-smt-minimal": Case(
         out=("found", "8 (proved minimal)")
+    ),
+    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --prove -O exact_segments=false": Case(
+        out=("found", "9 (minimal through the decomposition only)", "regions")
+    ),
+    "plansynth reach solve examples/reach/claims/narrow-passage.yaml --max-horizon 7": Case(
+        exit=(1,), out=("infeasible", "a proof for the problem")
     ),
     "plansynth reach solve examples/reach/maze-1.yaml --planner lazy-smt-paper": Case(
         out=("found", "57 (minimal through the decomposition only)")

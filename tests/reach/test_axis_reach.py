@@ -40,7 +40,7 @@ def test_the_maze_bound_is_the_minimum(passages: int, minimum: int) -> None:
     ab, adj, ar = _sets(p)
     assert ar is not None and ar.first_horizon(minimum + 10) == minimum
     tube = ar.tube(minimum)
-    r = plan_lazy(p, options=LazyOptions(horizon_search="minimal"), abstraction=ab)
+    r = plan_lazy(p, options=LazyOptions(horizon_search="minimal", exact_segments=False), abstraction=ab)
     assert r.horizon == minimum and r.counters["reach_sets_bound"] == minimum
     assert all((t, i) in tube for t, i in enumerate(r.regions))
     assert len(tube) < 0.5 * (minimum + 1) * len(ab.regions)  # it does prune
@@ -175,7 +175,7 @@ def test_the_minimal_search_with_the_sets_is_the_milp_minimum(problem: ReachProb
         ab = abstract(problem)
     except ValueError:
         return
-    r = plan_lazy(problem, options=LazyOptions(horizon_search="minimal"), abstraction=ab)
+    r = plan_lazy(problem, options=LazyOptions(horizon_search="minimal", exact_segments=False), abstraction=ab)
     if r.status is ReachStatus.FOUND:
         assert r.counters["minimal"] is True, r.message
         assert solve_horizon(problem, ab, r.horizon)[0] == "found"
@@ -189,7 +189,7 @@ def test_a_capped_sweep_is_a_bound_and_the_probes_continue(monkeypatch: pytest.M
     from plansynth.reach.lazy import axisreach
 
     monkeypatch.setattr(axisreach, "MAX_SWEEPS", 20)
-    r = plan_lazy(maze(1), options=LazyOptions(horizon_search="minimal"))
+    r = plan_lazy(maze(1), options=LazyOptions(horizon_search="minimal", exact_segments=False))
     assert r.status is ReachStatus.FOUND and r.horizon == 57 and r.counters["minimal"] is True
     assert r.counters["reach_sets_reached"] is False and 0 < r.counters["reach_sets_bound"] < 57
     assert "monotonicity" in r.message

@@ -52,7 +52,7 @@ def test_maze1_end_to_end(timed_route: bool) -> None:
 
 def test_maze1_horizon_is_minimal_by_the_milp() -> None:
     p = maze(1)
-    r = plan_lazy(p, options=LazyOptions(horizon_search="linear"))
+    r = plan_lazy(p, options=LazyOptions(horizon_search="linear", exact_segments=False))
     assert r.counters["minimal"] is True
     ab = abstract(p)
     assert solve_horizon(p, ab, r.horizon)[0] == "found"
@@ -82,9 +82,11 @@ def test_refuting_every_horizon_through_the_abstraction_is_not_infeasible() -> N
     """Connected, but the double integrator needs more than 55 steps around the wall
     through maze-1's three regions (the MILP test above pins the shortest horizon);
     searched from horizon 0. Refuting plans through the abstraction proves nothing
-    about trajectories that cross several regions per step: ``unknown``, saying why."""
+    about trajectories that cross several regions per step: ``unknown``, saying why
+    (``exact_segments=False``; under ``auto`` the search continues exactly:
+    tests/reach/test_exact_auto.py)."""
     p = maze(1)
-    r = plan_lazy(p, options=LazyOptions(max_horizon=55, lower_bound=False))
+    r = plan_lazy(p, options=LazyOptions(max_horizon=55, lower_bound=False, exact_segments=False))
     assert r.status is ReachStatus.UNKNOWN and r.horizon == 55
     assert "every horizon up to 55 refuted for plans through the abstraction" in r.message
     assert "not a proof" in r.message and r.counters["abstraction_refuted"] == 55
@@ -99,7 +101,9 @@ def test_too_short_max_horizon_is_infeasible_by_the_proved_bound() -> None:
 
 
 def test_region_hop_bound_alone_gives_unknown() -> None:
-    r = plan_lazy(maze(1), options=LazyOptions(max_horizon=40))  # region hops say 50, proved only 38
+    r = plan_lazy(
+        maze(1), options=LazyOptions(max_horizon=40, exact_segments=False)
+    )  # region hops say 50, proved only 38
     assert r.status is ReachStatus.UNKNOWN and r.counters["iterations"] == 0
     assert "no plan through the abstraction up to horizon 40" in r.message
 
@@ -136,9 +140,14 @@ def test_strategies_agree_on_the_horizon(counterexample: str, generalize: bool) 
         state_bounds=Box((0, 0, -1.5, -1.5), (10, 6, 1.5, 1.5)),
     )
     # the paper's loop finds the smallest horizon whatever the counterexamples
-    r = solve(p, counterexample=counterexample, generalize=generalize, horizon_search="linear")
+    r = solve(p, counterexample=counterexample, generalize=generalize, horizon_search="linear", exact_segments=False)
     reference = solve(
-        p, counterexample="zeroprefix", generalize=False, slack_weights="uniform", horizon_search="linear"
+        p,
+        counterexample="zeroprefix",
+        generalize=False,
+        slack_weights="uniform",
+        horizon_search="linear",
+        exact_segments=False,
     )
     assert r.status is ReachStatus.FOUND and r.validated
     assert r.horizon == reference.horizon

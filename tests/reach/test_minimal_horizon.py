@@ -29,7 +29,9 @@ from plansynth.reach.validate import validate
 def test_minimal_on_maze_1_is_the_milp_minimum() -> None:
     p = maze(1)
     window = plan_lazy(p)
-    r = plan_lazy(p, options=LazyOptions(horizon_search="minimal", reach_sets=False))  # the probes alone
+    r = plan_lazy(
+        p, options=LazyOptions(horizon_search="minimal", reach_sets=False, exact_segments=False)
+    )  # the probes alone
     assert window.counters["minimal"] is False and window.horizon > r.horizon  # the window's top, not minimal
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is True and r.counters["minimal_probes"] >= 1
     assert "proved minimal" in r.message and "monotonicity" in r.message
@@ -58,8 +60,8 @@ def moving_start() -> ReachProblem:
 @pytest.mark.parametrize("reach_sets", [True, False], ids=["reach-sets", "probes"])
 @pytest.mark.parametrize("problem", [maze(2), moving_start()], ids=["maze-2", "moving-start"])
 def test_minimal_equals_the_linear_search(problem: ReachProblem, reach_sets: bool) -> None:
-    linear = plan_lazy(problem, options=LazyOptions(horizon_search="linear"))
-    r = plan_lazy(problem, options=LazyOptions(horizon_search="minimal", reach_sets=reach_sets))
+    linear = plan_lazy(problem, options=LazyOptions(horizon_search="linear", exact_segments=False))
+    r = plan_lazy(problem, options=LazyOptions(horizon_search="minimal", reach_sets=reach_sets, exact_segments=False))
     assert linear.counters["minimal"] is True and r.counters["minimal"] is True
     assert r.horizon == linear.horizon
     if reach_sets:  # the sets prove it: their bound is the minimum (one probe, under the tube), or,
@@ -74,7 +76,7 @@ def test_minimal_equals_the_linear_search(problem: ReachProblem, reach_sets: boo
 def test_minimal_within_an_iteration_budget_is_not_proved() -> None:
     from plansynth.budget import Budget
 
-    r = plan_lazy(maze(2), Budget(iterations=3), options=LazyOptions(horizon_search="minimal"))
+    r = plan_lazy(maze(2), Budget(iterations=3), options=LazyOptions(horizon_search="minimal", exact_segments=False))
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is False and "not proved minimal" in r.message
 
 
@@ -167,7 +169,7 @@ def test_minimal_is_the_region_milp_minimum(problem: ReachProblem) -> None:
     """On random walls with gaps (start at rest: probes; moving: windows), the horizon
     the minimal search proves minimal is the region MILP's minimum: a plan at h, none at
     h - 1 (an independent formulation over the same region graph)."""
-    r = plan_lazy(problem, Budget(seconds=60), options=LazyOptions(horizon_search="minimal"))
+    r = plan_lazy(problem, Budget(seconds=60), options=LazyOptions(horizon_search="minimal", exact_segments=False))
     assert r.status is ReachStatus.FOUND and r.counters["minimal"] is True, r.message
     assert validate(problem, r.trajectory, require_segment_safe=True).ok
     ab = abstract(problem)

@@ -183,12 +183,17 @@ def test_stepping_stones_read_along_segments_are_infeasible_for_the_problem():
     """Read along segments, ``G (bank | far | s1 | ..)`` asks every step's segment to lie
     in one label, and a step from the bank to a stone crosses water: no trajectory
     satisfies it. Through the decomposition that is ``unknown`` (not a proof); with exact
-    transitions the same refutation is about the problem."""
+    transitions the same refutation is about the problem, and under ``auto`` (the
+    default) the decomposition's refutation is continued exactly to reach it."""
     from plansynth.reach.lazy.claims import EXACT_SEGMENTS
     from plansynth.reach.mission.literature import literature_problem
 
     p = replace(literature_problem("stones-4"), reading="segment")
-    plain = solve(p, "lazy-smt", Budget(seconds=60))
+    plain = solve(p, "lazy-smt", Budget(seconds=60), exact_segments=False)
     assert plain.status is ReachStatus.UNKNOWN and "not a proof" in plain.message
-    r = solve(p, "lazy-smt", Budget(seconds=60), exact_segments=True)
-    assert r.status is ReachStatus.INFEASIBLE and EXACT_SEGMENTS in r.message, r.message
+    assert plain.counters["transitions"] == "regions"
+    for mode in (True, "auto"):
+        r = solve(p, "lazy-smt", Budget(seconds=60), exact_segments=mode)
+        assert r.status is ReachStatus.INFEASIBLE and EXACT_SEGMENTS in r.message, r.message
+        assert r.counters["transitions"] == "segments"
+    assert r.counters["decomposition_refuted"] == p.max_horizon

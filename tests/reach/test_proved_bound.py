@@ -88,7 +88,7 @@ def test_exact_sliver_abstraction_is_not_infeasible() -> None:
     p = ring(400)
     ab = abstract(p, coarsen=False)
     assert ab.exact and ab.n_regions >= 300
-    r = solve(p, "lazy-smt", abstraction=ab)
+    r = solve(p, "lazy-smt", abstraction=ab, exact_segments=False)  # (auto: tests/reach/test_exact_auto.py)
     assert r.status is ReachStatus.UNKNOWN and "no plan through the abstraction" in r.message
     assert proved_horizon_bound(p, ab, 30) <= 4
 
@@ -133,7 +133,13 @@ def test_proved_bound_never_exceeds_a_found_horizon(p: ReachProblem, max_horizon
     bound = proved_horizon_bound(p, ab, max_horizon, segment_safe=segment_safe)
     for r in (
         solve(
-            p, "lazy-smt", abstraction=ab, max_horizon=max_horizon, segment_safe=segment_safe, horizon_search="linear"
+            p,
+            "lazy-smt",
+            abstraction=ab,
+            max_horizon=max_horizon,
+            segment_safe=segment_safe,
+            horizon_search="linear",
+            exact_segments=False,
         ),
         solve(p, "milp", abstraction=ab, max_horizon=max_horizon, segment_safe=segment_safe),
     ):

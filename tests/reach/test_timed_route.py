@@ -81,7 +81,7 @@ def test_it_gives_up_and_the_loop_decides() -> None:
     a = abstract(p)
     out = timed_route(p, a, route(p, a), ConPlan(p, a), Budget().clock(), {}, max_horizon=40)
     assert out is None
-    r = plan_lazy(p, options=LazyOptions(max_horizon=55, lower_bound=False))
+    r = plan_lazy(p, options=LazyOptions(max_horizon=55, lower_bound=False, exact_segments=False))
     assert r.status is ReachStatus.UNKNOWN and r.counters["sat_calls"] > 0
 
 
@@ -100,6 +100,6 @@ def test_every_timed_plan_validates(seed: int, order: int) -> None:
     assert out.status is ReachStatus.FOUND and out.minimal is False
     assert validate(p, out.trajectory, require_segment_safe=True).ok
     assert all(b == c or c in a.adjacency[b] for b, c in zip(out.regions, out.regions[1:]))
-    m = plan_lazy(p, Budget(seconds=60), LazyOptions(horizon_search="minimal"))
+    m = plan_lazy(p, Budget(seconds=60), LazyOptions(horizon_search="minimal", exact_segments=False))
     if m.status is ReachStatus.FOUND and m.counters.get("minimal"):
         assert m.horizon <= out.horizon

@@ -21,8 +21,9 @@ step can connect), exact already. ``exact_segments=True`` and ``False`` pick one
 * the window search (no claim asked: a plan is wanted): ``regions``, as fast as without
   the option, and only if it refutes every horizon up to ``max_horizon`` through the
   decomposition (which it would answer with ``unknown``, "not a proof") does the search
-  :func:`continue <continued>` with ``segments`` in the budget left, so that a too-low
-  ``max_horizon`` is answered about the problem (a plan, or ``infeasible``).
+  :func:`continue <continued>` with ``segments`` in the budget left (at most
+  :data:`CONTINUE_SECONDS` without a time limit), so that a too-low ``max_horizon`` is
+  answered about the problem (a plan, or ``infeasible``).
 
 The result says which relation ran (``counters["transitions"]``) and why
 (``counters["exact_segments"]``); what each claim is relative to stays in
@@ -39,16 +40,36 @@ The result says which relation ran (``counters["transitions"]``) and why
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from plansynth.budget import Budget, Clock
 from plansynth.reach.lazy.options import LazyOptions
 from plansynth.reach.result import ReachResult, ReachStatus
 
-__all__ = ["ExactMode", "exact_mode", "should_continue", "continued", "REGIONS", "SEGMENTS", "STEPS"]
+__all__ = [
+    "ExactMode",
+    "exact_mode",
+    "should_continue",
+    "continuation_budget",
+    "continued",
+    "REGIONS",
+    "SEGMENTS",
+    "STEPS",
+    "AUTO_OFF",
+    "CONTINUE_SECONDS",
+]
 
 #: ``counters["transitions"]``: DIS-PLAN's transition relation (see the module docstring).
 REGIONS, SEGMENTS, STEPS = "regions", "segments", "steps"
+#: Seconds an exact continuation gets when the budget has no time limit: the window search
+#: asked for no claim, and on some decompositions the exact relation alone costs minutes
+#: (a circle as a 400-vertex polygon, its regions left as slivers: the segment pairs'
+#: step ends take over 2 minutes where the decomposition's search answers in 0.5 s).
+CONTINUE_SECONDS = 60.0
+#: ``counters["exact_segments"]`` of an ``auto`` run that never needed exact transitions.
+AUTO_OFF = "off (auto: no claim asked, and no refutation through the decomposition to continue from)"
 
 
 @dataclass(frozen=True)
@@ -89,7 +110,7 @@ def exact_mode(opts: LazyOptions) -> ExactMode:
     asked = claim_asked(opts)
     if asked is not None:
         return ExactMode(SEGMENTS, False, f"on (auto: {asked} asks for a claim about the problem)")
-    return ExactMode(REGIONS, True, "off (auto: no claim asked, and no refutation through the decomposition)")
+    return ExactMode(REGIONS, True, AUTO_OFF)
 
 
 def should_continue(mode: ExactMode, first: ReachResult, time_left: bool) -> bool:
@@ -107,6 +128,19 @@ def should_continue(mode: ExactMode, first: ReachResult, time_left: bool) -> boo
     )
 
 
+def continuation_budget(budget: Budget, clock: Clock) -> Budget:
+    """What an exact continuation may spend: what is left of ``budget`` on ``clock``
+    (time and iterations, the same memory), or :data:`CONTINUE_SECONDS` without a time
+    limit."""
+    left = clock.remaining()
+    its = None if budget.iterations is None else max(budget.iterations - clock.iterations, 0)
+    return Budget(
+        seconds=CONTINUE_SECONDS if math.isinf(left) else max(left, 1e-3),
+        iterations=its,
+        memory_mb=budget.memory_mb,
+    )
+
+
 def continued(first: ReachResult, second: ReachResult) -> ReachResult:
     """The answer of a search continued exactly: ``second`` (the exact search, on the
     same clock), with the first search's refutation recorded
@@ -116,6 +150,7 @@ def continued(first: ReachResult, second: ReachResult) -> ReachResult:
     refuted = first.counters["abstraction_refuted"]
     counters: dict[str, Any] = dict(second.counters)
     counters.update(
+        iterations=first.counters.get("iterations", 0) + second.counters.get("iterations", 0),
         decomposition_refuted=refuted,
         exact_segments=f"on (auto: every horizon up to {refuted} refuted through the decomposition; "
         "continued with exact transitions)",
@@ -127,4 +162,7 @@ def continued(first: ReachResult, second: ReachResult) -> ReachResult:
     timings = dict(second.timings)
     timings["decomposition_search"] = first.seconds
     timings["total"] = first.seconds + second.seconds
-    return replace(second, counters=counters, timings=timings, seconds=timings["total"], message=message)
+    # (the options as asked, with the whole budget: the continuation ran on what was left)
+    return replace(
+        second, counters=counters, timings=timings, seconds=timings["total"], message=message, options=first.options
+    )

@@ -92,7 +92,15 @@ from plansynth.reach.lazy.claims import (
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.descent import Descent
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
-from plansynth.reach.lazy.exactmode import REGIONS, SEGMENTS, STEPS, continued, exact_mode, should_continue
+from plansynth.reach.lazy.exactmode import (
+    REGIONS,
+    SEGMENTS,
+    STEPS,
+    continuation_budget,
+    continued,
+    exact_mode,
+    should_continue,
+)
 from plansynth.reach.lazy.guide import reference_plans, route
 from plansynth.reach.lazy.horizon_bounds import (
     chain_bounds,
@@ -168,7 +176,8 @@ def plan_lazy(
     if should_continue(mode, out, time_left=not clock.exhausted()):
         # every horizon refuted through the decomposition: on with exact transitions (the
         # timed route, a plan through the decomposition, cannot be one)
-        again, _ = _plan(problem, budget, clock, opts, progress, abstraction, crossing=True, timed=False)
+        more = continuation_budget(budget, clock)
+        again, _ = _plan(problem, more, more.clock(), opts, progress, abstraction, crossing=True, timed=False)
         return continued(out, again)
     out.counters["exact_segments"] = mode.why
     return out

@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 
 from plansynth.reach.lazy.conflict import Conflict, Feasible
 from plansynth.reach.lazy.displan import PAIRWISE_MAX_REGIONS
+from plansynth.reach.lazy.exactmode import AUTO_OFF, REGIONS, SEGMENTS, STEPS, ExactMode
 from plansynth.reach.lazy.regiongraph import RegionGraph
 from plansynth.reach.lazy.segments import Adjacency, Refinement, SegmentPoints
 from plansynth.reach.lazy.segtheory import ClosedConflict, SegmentTheory
@@ -56,7 +57,14 @@ from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.ltl import Formula, Not, Prop
 from plansynth.reach.mission.plans import LoopConflict, MissionPlan, StayConflict
 
-__all__ = ["ExactMissionDisPlan", "MissionSegmentTheory", "SegmentMissionPlan", "convex_labels", "avoided_shapes"]
+__all__ = [
+    "ExactMissionDisPlan",
+    "MissionSegmentTheory",
+    "SegmentMissionPlan",
+    "convex_labels",
+    "avoided_shapes",
+    "mission_exact_mode",
+]
 
 
 @dataclass(frozen=True)
@@ -212,6 +220,25 @@ def convex_labels(problem) -> bool:
     from plansynth.reach.geometry import convex_pieces
 
     return all(len(convex_pieces(s)) == 1 for s in problem.mission_labels.values())
+
+
+def mission_exact_mode(problem, opts) -> ExactMode:
+    """What ``opts.exact_segments`` means for this mission (as
+    :func:`~plansynth.reach.lazy.exactmode.exact_mode` for a reach-avoid problem): the
+    sample reading's steps are exact already; in the segment reading ``True`` and
+    ``"auto"`` need convex labels (else the decomposition's relation, and the result says
+    why); ``"auto"`` starts through the decomposition (a mission asks for no claim up
+    front) and continues exactly after a refutation through it."""
+    if problem.reading != "segment":
+        return ExactMode(STEPS, False, "off: the sample reading, steps between any two regions one step can connect")
+    if opts.exact_segments is False:
+        return ExactMode(REGIONS, False, "off: one region per step, claims through the decomposition")
+    auto = " (auto)" if opts.exact_segments == "auto" else ""
+    if not convex_labels(problem):
+        return ExactMode(REGIONS, False, f"off{auto}: a label is not convex")
+    if auto:
+        return ExactMode(REGIONS, True, AUTO_OFF)
+    return ExactMode(SEGMENTS, False, "on")
 
 
 def avoided_shapes(problem) -> dict[str, object]:

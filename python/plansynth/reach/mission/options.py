@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from plansynth.options import check_fields, option
-from plansynth.reach.lazy.options import MAX_HORIZON_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
+from plansynth.reach.lazy.options import EXACT_MODES, MAX_HORIZON_DOC, TRANSIT_DOC, WAIT_SHIFTS_DOC
 
 __all__ = ["MissionOptions", "MilpLtlOptions", "SEMANTICS"]
 
@@ -62,11 +62,13 @@ class MissionOptions(_BoundedMission):
         "check a lasso's loop alone (any x_k with x_L = x_k) before CON-PLAN sees the "
         "plan: a refuted loop is refuted at every horizon and rotation",
     )
-    exact_segments: bool = option(
-        False,
+    exact_segments: bool | str = option(
+        "auto",
         "segment reading: let a step cross several regions and labels (DIS-PLAN also places "
         "points along each segment, the letters read along them), so that infeasible and a "
-        "minimal horizon hold for the problem (convex labels)",
+        "minimal horizon hold for the problem (convex labels): true, false or auto (after "
+        "every horizon is refuted through the decomposition)",
+        choices=EXACT_MODES,
     )
 
     def __post_init__(self) -> None:

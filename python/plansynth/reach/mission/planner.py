@@ -46,7 +46,13 @@ With ``exact_segments`` in the segment reading (convex labels), DIS-PLAN and the
 are those of :mod:`plansynth.reach.mission.exact` (a step may cross several regions and
 labels, its letters read along its segment): refutations are then about the problem in
 the segment reading as well, unless a plan was given up without a proof
-(``counters["segment_undecided"]``; the claims then say so).
+(``counters["segment_undecided"]``; the claims then say so). ``exact_segments="auto"``
+(the default) plans through the decomposition first and continues with exact
+transitions, in the budget left, only when that refutes every horizon (an answer that
+would be "not a proof"), as the reach-avoid planner's window search does
+(:mod:`plansynth.reach.lazy.exactmode`); ``counters["transitions"]`` and
+``counters["exact_segments"]`` say which relation ran and why (with a label that is not
+convex: the decomposition's, and the claims stay relative to it).
 
 >>> from plansynth.reach.mission.families import mission_problem
 >>> r = plan_mission(mission_problem("maze-1", "avoid-until"))
@@ -66,10 +72,11 @@ from plansynth.reach.lazy.bounds import segment_adjacency, step_adjacency, time_
 from plansynth.reach.lazy.claims import EXACT_SAMPLES, EXACT_SEGMENTS, UNDECIDED, uncertified
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import RegionGraph
+from plansynth.reach.lazy.exactmode import REGIONS, SEGMENTS, STEPS, continuation_budget, continued, should_continue
 from plansynth.reach.lazy.loop import LoopOutcome, ProgressFn, TheoryChecker, lazy_loop
 from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.mission.bmc import MissionDisPlan
-from plansynth.reach.mission.exact import ExactMissionDisPlan, MissionSegmentTheory, avoided_shapes, convex_labels
+from plansynth.reach.mission.exact import ExactMissionDisPlan, MissionSegmentTheory, avoided_shapes, mission_exact_mode
 from plansynth.reach.mission.horizon import timed_horizon_bound
 from plansynth.reach.mission.labels import LabelledAbstraction, label_abstraction, planning_problem
 from plansynth.reach.mission.looplp import LoopLP
@@ -105,26 +112,46 @@ def plan_mission(
     opts = MissionOptions() if options is None else options
     if problem.mission is None:
         raise InvalidOption("lazy-smt", "options", "mission options for a problem without a mission")
-    t_start = time.perf_counter()
+    mode = mission_exact_mode(problem, opts)
     clock = budget.clock()
+    out, labelled = _plan(problem, budget, clock, opts, progress, labelled, crossing=mode.first)
+    if should_continue(mode, out, time_left=not clock.exhausted()):
+        # every horizon refuted through the label-refined decomposition: on with exact transitions
+        more = continuation_budget(budget, clock)
+        again, _ = _plan(problem, more, more.clock(), opts, progress, labelled, crossing=True)
+        return continued(out, again)
+    out.counters["exact_segments"] = mode.why
+    return out
+
+
+def _plan(
+    problem: ReachProblem,
+    budget: Budget,
+    clock: Clock,
+    opts: MissionOptions,
+    progress: ProgressFn | None,
+    labelled: LabelledAbstraction | None,
+    *,
+    crossing: bool,
+) -> tuple[ReachResult, LabelledAbstraction | None]:
+    """One search of :func:`plan_mission` on ``clock``, with exact segment transitions
+    (``crossing``, mission/exact.py: a step may cross several regions and labels) or
+    without; also the label-refined decomposition (None when the budget ran out first)."""
+    t_start = time.perf_counter()
     L_max = problem.max_horizon if opts.max_horizon is None else int(opts.max_horizon)
     timings = {"abstraction": 0.0, "bounds": 0.0, "sat": 0.0, "lp": 0.0}
     counters: dict[str, Any] = {}
     segment = problem.reading == "segment"
     formula = parse(problem.mission)
-    # exact segment transitions (mission/exact.py): a step may cross several regions and labels
-    crossing = segment and opts.exact_segments and convex_labels(problem)
-    if segment and opts.exact_segments and not crossing:
-        counters["exact_segments"] = "off: a label is not convex"
+    counters["transitions"] = SEGMENTS if crossing else REGIONS if segment else STEPS
     try:
         setup = mission_setup(
             problem, clock, timings, L_max, labelled=labelled, lower_bound=opts.lower_bound, crossing=crossing
         )
     except BudgetExhausted as exc:  # in the label refinement or the bounds
         timings["total"] = time.perf_counter() - t_start
-        return _result(
-            problem, opts, L_max, budget, timings, counters, LoopOutcome(ReachStatus.UNKNOWN, None, str(exc))
-        )
+        out = LoopOutcome(ReachStatus.UNKNOWN, None, str(exc))
+        return _result(problem, opts, L_max, budget, timings, counters, out), labelled
     pp, labelled, graph, earliest = setup
     ab = labelled.abstraction
     encoding = dict(
@@ -169,7 +196,12 @@ def plan_mission(
             loop_first=opts.loop_first,
             end=problem.end,
         )
-    counters.update(regions=graph.n_regions, edges=ab.n_edges, step_edges=sum(map(len, graph.adjacency)) // 2)
+    counters.update(
+        regions=graph.n_regions,
+        edges=ab.n_edges,
+        step_edges=sum(map(len, graph.adjacency)) // 2,
+        exact_abstraction=ab.exact,
+    )
     # are the loop's refutations proofs for the problem? samples (steps between any regions
     # one step connects), or segments with exact transitions; regions covering the free space
     exact = (not segment or crossing) and ab.exact
@@ -245,7 +277,6 @@ def plan_mission(
     if seg_theory is not None:
         assert isinstance(displan, ExactMissionDisPlan)
         counters.update(
-            exact_segments="on",
             lp_calls=counters["lp_calls"] + seg_theory.lp_calls,
             segment_points=displan.points.most,
             segment_refinements=displan.refinements,
@@ -258,7 +289,7 @@ def plan_mission(
     timings["loop_lp_highs"] = loop_lp.seconds  # part of "highs"
     timings["total"] = time.perf_counter() - t_start
     displan.delete()
-    return _result(problem, opts, L_max, budget, timings, counters, out, plan)
+    return _result(problem, opts, L_max, budget, timings, counters, out, plan), labelled
 
 
 def mission_setup(
