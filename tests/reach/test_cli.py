@@ -155,15 +155,18 @@ def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
             "window-growth=0.5",
             "-O",
             "wait_shifts=no",
+            "-O",
+            "exact_segments=false",
             "--out",
             str(out),
         ],
     )
     assert r.exit_code == 0, r.output
-    # segment-safe: the horizon is minimal among plans whose consecutive samples share a
-    # region, above the proved bound for the problem
+    # segment-safe, one region per step: the horizon is minimal among plans whose
+    # consecutive samples share a region, above the proved bound for the problem
     assert "(minimal through the decomposition only)" in r.output and "(proved minimal)" not in r.output
     assert json.loads(out.read_text())["counters"]["minimal_relative_to"] == "decomposition"
+    assert json.loads(out.read_text())["counters"]["transitions"] == "regions"
     opts = json.loads(out.read_text())["options"]
     assert (
         opts["horizon_search"],
@@ -178,6 +181,8 @@ def test_search_options_and_the_paper_mode(maze1: Path, tmp_path: Path) -> None:
     opts = json.loads(out.read_text())["options"]
     assert opts["counterexample"] == "zeroprefix" and opts["generalize"] is False and opts["horizon_search"] == "linear"
     assert opts["transit"] is False and opts["slack_weights"] == "uniform" and opts["wait_shifts"] is False
+    assert opts["exact_segments"] is False  # the paper's abstraction: one region per step
+    assert "57 (minimal through the decomposition only)" in r.output
 
 
 def test_bad_options_exit_2(maze1: Path) -> None:

@@ -283,11 +283,15 @@ def test_three_dimensional_boxes() -> None:
         state_bounds=Box((0, 0, 0, -1, -1, -1), (4, 4, 4, 1, 1, 1)),
     )
     r = solve(p)
-    m = solve(p, "lazy-smt-minimal")
-    milp = solve(p, "milp", max_horizon=r.horizon)
+    m = solve(p, "lazy-smt", horizon_search="minimal", exact_segments=False)  # through the decomposition
+    milp = solve(p, "milp", max_horizon=r.horizon)  # (the region MILP)
     assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe
     assert m.status is ReachStatus.FOUND and m.validated and m.counters["minimal"] is True
     assert milp.status is ReachStatus.FOUND and milp.horizon == m.horizon <= r.horizon
+    # lazy-smt-minimal (exact_segments=auto): a step may cross regions, proved for the problem
+    e = solve(p, "lazy-smt-minimal", Budget(seconds=120))
+    assert e.status is ReachStatus.FOUND and e.validated and e.segment_safe and e.counters["minimal"] is True
+    assert e.counters["minimal_relative_to"] == "problem" and e.horizon <= m.horizon
     assert np.max(r.trajectory.states[:, 0]) >= 3 - 1e-6  # around the wall's end at x = 3
 
 

@@ -23,6 +23,7 @@ from plansynth.reach import ReachStatus, solve
 from plansynth.reach.families import random_workspace
 from plansynth.reach.fileformat import load_reach_problem
 from plansynth.reach.geometry import Box
+from plansynth.reach.lazy.claims import EXACT_SEGMENTS
 from plansynth.reach.lazy.conflict import Conflict
 from plansynth.reach.mission.bmc import MissionDisPlan
 from plansynth.reach.mission.check import check_mission
@@ -92,8 +93,16 @@ def test_a_label_behind_a_single_contact_point_is_not_refuted_by_reachability():
         labels=(("vault", Box((7, 7), (8, 8))),),
         max_horizon=4,
     )
-    r = solve(p, "lazy-smt", Budget(seconds=60))
+    r = solve(p, "lazy-smt", Budget(seconds=60), exact_segments=False)
     assert r.status is not ReachStatus.INFEASIBLE and r.counters["label_proof"] is False, r.message
+    # exact transitions (auto: after the decomposition's refutation) take the corner: the
+    # vault is out of reach in 4 steps (from rest at (1, 1): a proof for the problem) and
+    # reached in 10, the trajectory through the contact point
+    r = solve(p, "lazy-smt", Budget(seconds=60))
+    assert r.status is ReachStatus.INFEASIBLE and r.counters["label_proof"] is False, r.message
+    assert r.counters["transitions"] == "segments" and r.counters["decomposition_refuted"] == 4
+    r = solve(replace(p, max_horizon=12), "lazy-smt", Budget(seconds=60))
+    assert r.status is ReachStatus.FOUND and r.horizon == 10 and r.mission["ok"] and r.segment_safe, r.message
 
 
 @pytest.mark.parametrize("planner", ["lazy-smt", "milp-ltl"])
@@ -101,9 +110,12 @@ def test_a_mission_out_of_reach_in_time_is_unknown_not_infeasible(planner):
     """Every horizon up to 10 refuted through the abstraction is no proof (a step may
     cross several regions): ``unknown``, saying so, with the counter."""
     p = replace(load_reach_problem(f"{EXAMPLES}/mission-visit.yaml"), max_horizon=10)
-    r = solve(p, planner, Budget(seconds=60))
+    r = solve(p, planner, Budget(seconds=60), **({"exact_segments": False} if planner == "lazy-smt" else {}))
     assert r.status is ReachStatus.UNKNOWN and r.counters["abstraction_refuted"] == 10
     assert r.counters["label_proof"] is False and "not a proof" in r.message
+    if planner == "lazy-smt":  # auto (the default): continued exactly, a proof for the problem
+        r = solve(p, planner, Budget(seconds=60))
+        assert r.status is ReachStatus.INFEASIBLE and EXACT_SEGMENTS in r.message, r.message
 
 
 @pytest.mark.parametrize("name, semantics", [("mission-visit", {"finite", "lasso"}), ("mission-patrol", {"lasso"})])
@@ -235,11 +247,14 @@ def test_lazy_and_milp_ltl_are_sound_and_agree_where_both_are_exact(p, reading, 
             assert r.validated is True and r.mission["ok"] is True
             assert check_mission(p, r.trajectory, r.mission["loop_start"]).ok
         if r.status is ReachStatus.INFEASIBLE:  # claimed only with a proof
-            assert r.counters["label_proof"] is True or reading == "sample"
+            exact = r.counters.get("transitions") == "segments"  # lazy-smt continued exactly
+            assert r.counters["label_proof"] is True or reading == "sample" or exact
     if reading == "sample":
         assert lazy.status is milp.status and lazy.horizon == milp.horizon
-    elif ReachStatus.INFEASIBLE in (lazy.status, milp.status):  # the geometry's proof is shared
+    elif milp.status is ReachStatus.INFEASIBLE or lazy.counters["label_proof"]:  # the geometry's proof is shared
         assert lazy.status is milp.status
+    elif lazy.status is ReachStatus.INFEASIBLE:  # exact: no plan of the problem, so none of the MILP's
+        assert milp.status is not ReachStatus.FOUND, (milp.horizon, lazy.message)
     # the horizon bound prunes nothing the search from 0 would find: the MILP from 0 agrees
     unbounded = solve(p, "milp-ltl", Budget(seconds=60), horizon_bound=False)
     assert unbounded.status is milp.status and unbounded.horizon == milp.horizon
@@ -473,7 +488,9 @@ def test_every_learned_clause_excludes_only_infeasible_plans(which):
 
     MissionDisPlan.learn, MissionDisPlan.learn_loop = learn, learn_loop
     try:
-        plan_mission(p, Budget(seconds=60, iterations=150), MissionOptions(lower_bound=False), labelled=la)
+        plan_mission(
+            p, Budget(seconds=60, iterations=150), MissionOptions(lower_bound=False, exact_segments=False), labelled=la
+        )
     finally:
         MissionDisPlan.learn, MissionDisPlan.learn_loop = orig_learn, orig_loop
     assert conflicts and loops  # both kinds are learned, so both are checked below
