@@ -41,8 +41,9 @@ The result says which relation ran (``counters["transitions"]``) and why
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, TypeVar
 
 from plansynth.budget import Budget, Clock
 from plansynth.reach.lazy.options import LazyOptions
@@ -51,6 +52,7 @@ from plansynth.reach.result import ReachResult, ReachStatus
 __all__ = [
     "ExactMode",
     "exact_mode",
+    "searched",
     "should_continue",
     "continuation_budget",
     "continued",
@@ -60,6 +62,8 @@ __all__ = [
     "AUTO_OFF",
     "CONTINUE_SECONDS",
 ]
+
+D = TypeVar("D")
 
 #: ``counters["transitions"]``: DIS-PLAN's transition relation (see the module docstring).
 REGIONS, SEGMENTS, STEPS = "regions", "segments", "steps"
@@ -111,6 +115,28 @@ def exact_mode(opts: LazyOptions) -> ExactMode:
     if asked is not None:
         return ExactMode(SEGMENTS, False, f"on (auto: {asked} asks for a claim about the problem)")
     return ExactMode(REGIONS, True, AUTO_OFF)
+
+
+def searched(
+    mode: ExactMode,
+    budget: Budget,
+    search: Callable[[Budget, Clock, bool, D | None, bool], tuple[ReachResult, D | None]],
+    decomposition: D | None = None,
+) -> ReachResult:
+    """Run ``search(budget, clock, crossing, decomposition, continuing)`` (a planner's
+    search, with exact segment transitions or without, over a decomposition computed
+    before or None; it returns its result and the decomposition it planned over) as
+    ``mode`` says: once, and under ``auto`` once more with exact transitions when the
+    first refuted every horizon through the decomposition (:func:`should_continue`), in
+    :func:`continuation_budget`, the two answers :func:`continued`."""
+    clock = budget.clock()
+    out, decomposition = search(budget, clock, mode.first, decomposition, False)
+    if should_continue(mode, out, time_left=not clock.exhausted()):
+        more = continuation_budget(budget, clock)
+        again, _ = search(more, more.clock(), True, decomposition, True)
+        return continued(out, again)
+    out.counters["exact_segments"] = mode.why
+    return out
 
 
 def should_continue(mode: ExactMode, first: ReachResult, time_left: bool) -> bool:

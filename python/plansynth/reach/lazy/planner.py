@@ -92,15 +92,7 @@ from plansynth.reach.lazy.claims import (
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.descent import Descent
 from plansynth.reach.lazy.displan import DisPlan, RegionGraph
-from plansynth.reach.lazy.exactmode import (
-    REGIONS,
-    SEGMENTS,
-    STEPS,
-    continuation_budget,
-    continued,
-    exact_mode,
-    should_continue,
-)
+from plansynth.reach.lazy.exactmode import REGIONS, SEGMENTS, STEPS, exact_mode, searched
 from plansynth.reach.lazy.guide import reference_plans, route
 from plansynth.reach.lazy.horizon_bounds import (
     chain_bounds,
@@ -170,17 +162,16 @@ def plan_lazy(
     horizon through the decomposition; :mod:`plansynth.reach.lazy.exactmode`).
     """
     opts = LazyOptions() if options is None else options
-    mode = exact_mode(opts)
-    clock = budget.clock()
-    out, abstraction = _plan(problem, budget, clock, opts, progress, abstraction, crossing=mode.first)
-    if should_continue(mode, out, time_left=not clock.exhausted()):
-        # every horizon refuted through the decomposition: on with exact transitions (the
-        # timed route, a plan through the decomposition, cannot be one)
-        more = continuation_budget(budget, clock)
-        again, _ = _plan(problem, more, more.clock(), opts, progress, abstraction, crossing=True, timed=False)
-        return continued(out, again)
-    out.counters["exact_segments"] = mode.why
-    return out
+    # (continuing after a refutation through the decomposition: the timed route, a plan
+    # through the decomposition, cannot be one)
+    return searched(
+        exact_mode(opts),
+        budget,
+        lambda budget, clock, crossing, ab, continuing: _plan(
+            problem, budget, clock, opts, progress, ab, crossing=crossing, timed=not continuing
+        ),
+        abstraction,
+    )
 
 
 def _plan(

@@ -72,7 +72,7 @@ from plansynth.reach.lazy.bounds import segment_adjacency, step_adjacency, time_
 from plansynth.reach.lazy.claims import EXACT_SAMPLES, EXACT_SEGMENTS, UNDECIDED, uncertified
 from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.displan import RegionGraph
-from plansynth.reach.lazy.exactmode import REGIONS, SEGMENTS, STEPS, continuation_budget, continued, should_continue
+from plansynth.reach.lazy.exactmode import REGIONS, SEGMENTS, STEPS, searched
 from plansynth.reach.lazy.loop import LoopOutcome, ProgressFn, TheoryChecker, lazy_loop
 from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.mission.bmc import MissionDisPlan
@@ -112,16 +112,12 @@ def plan_mission(
     opts = MissionOptions() if options is None else options
     if problem.mission is None:
         raise InvalidOption("lazy-smt", "options", "mission options for a problem without a mission")
-    mode = mission_exact_mode(problem, opts)
-    clock = budget.clock()
-    out, labelled = _plan(problem, budget, clock, opts, progress, labelled, crossing=mode.first)
-    if should_continue(mode, out, time_left=not clock.exhausted()):
-        # every horizon refuted through the label-refined decomposition: on with exact transitions
-        more = continuation_budget(budget, clock)
-        again, _ = _plan(problem, more, more.clock(), opts, progress, labelled, crossing=True)
-        return continued(out, again)
-    out.counters["exact_segments"] = mode.why
-    return out
+    return searched(
+        mission_exact_mode(problem, opts),
+        budget,
+        lambda budget, clock, crossing, la, _: _plan(problem, budget, clock, opts, progress, la, crossing=crossing),
+        labelled,
+    )
 
 
 def _plan(
