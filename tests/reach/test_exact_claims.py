@@ -186,7 +186,11 @@ def _solve(p: ReachProblem, L: int, segment_safe: bool, search: str):
     try:
         if search == "milp":
             return solve(p, "milp", max_horizon=L, segment_safe=segment_safe)
-        return solve(p, "lazy-smt", max_horizon=L, segment_safe=segment_safe, horizon_search=search)
+        # (one region per step: the decomposition's claims; the exact ones are
+        # test_exact_segment_claims_hold_for_the_problem's)
+        return solve(
+            p, "lazy-smt", max_horizon=L, segment_safe=segment_safe, horizon_search=search, exact_segments=False
+        )
     except Exception as exc:  # pragma: no cover - a planner crash is a failure with its problem
         raise AssertionError(f"the planner failed on {p!r}") from exc
 
@@ -252,7 +256,7 @@ def test_segment_safe_claims_hold_for_the_problem(p: ReachProblem, L: int, searc
 def test_proved_segment_claims_hold_for_the_problem(p: ReachProblem, L: int) -> None:
     """``prove=True`` (the relaxation MILP of lazy/relaxation.py): every claim for the
     problem, now also above the proved bound, is a refutation for the face oracle."""
-    r = solve(p, "lazy-smt", max_horizon=L, prove=True)
+    r = solve(p, "lazy-smt", max_horizon=L, prove=True, exact_segments=False)
     event(f"prove: {r.status.value}, {r.counters.get('relaxation')}")
     if r.status is ReachStatus.FOUND:
         assert r.validated is True and r.segment_safe is True
@@ -497,14 +501,14 @@ def test_public_cases_minimal_horizons(name: str, seg_min: int, samples_min: int
     assert r.status is ReachStatus.FOUND and r.validated is True
     assert (r.horizon, r.counters["minimal"], r.counters["minimal_relative_to"]) == (samples_min, True, "problem")
     for search in ("linear", "window"):
-        r = solve(p, "lazy-smt", horizon_search=search)
+        r = solve(p, "lazy-smt", horizon_search=search, exact_segments=False)
         assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
         assert r.horizon >= seg_min
         if r.counters["minimal_relative_to"] == "problem":
             assert r.horizon == seg_min
         elif r.counters["minimal"]:
             assert r.counters["minimal_relative_to"] == "decomposition" and "not proved for the problem" in r.message
-    r = solve(p, "lazy-smt", max_horizon=seg_min, horizon_search="linear")  # was "infeasible"
+    r = solve(p, "lazy-smt", max_horizon=seg_min, horizon_search="linear", exact_segments=False)  # was "infeasible"
     assert r.status is not ReachStatus.INFEASIBLE
 
 
@@ -538,7 +542,7 @@ def test_gcs_maze_samples_minimum_and_the_segment_claim() -> None:
         "problem",
     )
     assert oracle_feasible(p, 18, segments=False) is False and oracle_feasible(p, 19, segments=False) is True
-    r = solve(p, "lazy-smt", horizon_search="linear")
+    r = solve(p, "lazy-smt", horizon_search="linear", exact_segments=False)
     assert r.status is ReachStatus.FOUND and r.validated is True and r.segment_safe is True
     assert r.counters["minimal"] is True and r.counters["minimal_relative_to"] == "decomposition"
     assert "not proved for the problem" in r.message
@@ -584,7 +588,7 @@ def test_smc_ltl_map_targets(target: str, goal: tuple, seg_min: int, samples_min
         samples_min,
         "problem",
     )
-    r = solve(p, "lazy-smt", horizon_search="linear")
+    r = solve(p, "lazy-smt", horizon_search="linear", exact_segments=False)
     assert r.status is ReachStatus.FOUND and r.validated is True and r.horizon >= seg_min
     assert r.counters["minimal_relative_to"] != "problem" or r.horizon == seg_min
 
