@@ -3,9 +3,9 @@ Shoukry et al., CDC 2016, whose DIS-PLAN moves one region of the abstraction per
 
 Segment-safe, DIS-PLAN's transition relation is one of two:
 
-* ``regions``: consecutive samples in one convex region (Section IV's abstraction
-  with segment safety). Fast, but a refuted horizon is refuted only through the
-  decomposition (:mod:`plansynth.reach.lazy.claims`), so ``infeasible`` and a minimal
+* ``regions``: consecutive samples in one convex region (Section IV's DIS-PLAN over
+  Section III's abstraction, with segment safety). Fast, but a refuted horizon is
+  refuted only through the decomposition (:mod:`plansynth.reach.lazy.claims`), so ``infeasible`` and a minimal
   horizon are claims about the decomposition, not the problem;
 * ``segments``: a step between any two regions one free segment can connect, with
   points along each segment (:mod:`plansynth.reach.lazy.segments`,
