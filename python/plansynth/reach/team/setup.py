@@ -34,7 +34,6 @@ from plansynth.reach.problem import ReachProblem
 from plansynth.reach.robot import configuration_space
 from plansynth.reach.team.conplan import RobotModel
 from plansynth.reach.team.geometry import Facets, obstacle_facets, pair_facets
-from plansynth.reach.team.plans import TeamConflict
 from plansynth.reach.team.problem import GoalPoint, TeamProblem
 from plansynth.reach.team.robust import obstacle_margins, pair_margins, robot_margins, tightened_team
 
@@ -128,7 +127,11 @@ def alone_bound(problem: TeamProblem, r: int, model: RobotModel, lo: int, hi: in
     there) obstacles ignored: the least L in lo..hi whose LP (dynamics, bounds, the
     robot's workspace, its goal and end state) is feasible (inf: none). Found by
     bisection, sound when the robot starts at rest (a plan of L steps, after a wait at
-    the start, is one of L + 1); otherwise ``lo``."""
+    the start, is one of L + 1); otherwise ``lo``. Each L asks only whether its LP is
+    feasible: an infeasible one is not turned into a counterexample (no certificate,
+    no deletion filter), which halves the cost of the search on a slow robot
+    (SMC-LTL's crossing: 10 LPs per robot from a window bound of 1 to 29)."""
+    from plansynth.reach.team.component_lp import ComponentLp
     from plansynth.reach.team.conplan import TeamConPlan
     from plansynth.reach.team.plans import TeamPlan
 
@@ -142,7 +145,8 @@ def alone_bound(problem: TeamProblem, r: int, model: RobotModel, lo: int, hi: in
 
     def feasible(L: int) -> bool:
         plan = TeamPlan(((0,) * (L + 1),) * (r + 1))
-        return not isinstance(owner._component(plan, (r,)), TeamConflict)
+        status, _, _ = ComponentLp(owner, plan, (r,), {}, {}).solve(clock)
+        return status == "feasible"
 
     top, step = lo, 0
     while not feasible(top):  # widen geometrically from the lower bound, then bisect
