@@ -136,6 +136,8 @@ class TeamConPlan:
         self._cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self._steps: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
         self._mside_rows: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
+        #: what the component LPs of a robot share at a horizon (:class:`~plansynth.reach.team.component_lp.RobotRows`)
+        self.row_cache: dict[tuple, Any] = {}
         ws = problem.workspace
         self.scale = max(1.0, max(abs(v) for v in ws.lo + ws.hi))
 
