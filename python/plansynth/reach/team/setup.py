@@ -19,6 +19,7 @@ robot-obstacle couple involving it the margins of its sides.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -69,6 +70,14 @@ class TeamSetup:
     #: at each sample (rows t = 0..max_horizon, :func:`~plansynth.reach.team.robust.pair_margins`)
     pair_margins: dict[tuple[int, int], np.ndarray] = field(default_factory=dict)
     obstacle_margins: dict[tuple[int, int], np.ndarray] = field(default_factory=dict)
+    #: the largest horizon it was prepared for, and the seconds its preparation took
+    max_horizon: int | None = None
+    seconds: float = 0.0
+
+    def serves(self, problem: TeamProblem, max_horizon: int) -> bool:
+        """Is this the setup :func:`prepare` makes of ``problem`` for ``max_horizon``?
+        (A planner given a setup, the seeded lazy planner's from its seed's, checks.)"""
+        return self.problem is problem and self.max_horizon == max_horizon
 
     @property
     def tightened(self) -> bool:
@@ -91,6 +100,7 @@ def _reference(setup: TeamSetup, r: int, L: int) -> tuple[int, ...] | None:
 def prepare(problem: TeamProblem, max_horizon: int, clock: Clock | None = None) -> TeamSetup:
     """The :class:`TeamSetup` of ``problem`` for horizons up to ``max_horizon``."""
     clock = clock if clock is not None else Budget().clock()
+    t0 = time.perf_counter()
     robots = [_robot(problem, r, max_horizon, clock) for r in range(problem.n_robots)]
     tubes = [s.planning.tube for s in robots]
     pos = [tuple(r.dynamics.position) for r in problem.robots]
@@ -119,7 +129,7 @@ def prepare(problem: TeamProblem, max_horizon: int, clock: Clock | None = None) 
         "robot_bounds": [None if math.isinf(s.bound) else int(s.bound) for s in robots],
         "pairs": len(pairs),
     }
-    return TeamSetup(problem, robots, pairs, obstacles, first, counters, pm, om)
+    return TeamSetup(problem, robots, pairs, obstacles, first, counters, pm, om, max_horizon, time.perf_counter() - t0)
 
 
 def alone_bound(problem: TeamProblem, r: int, model: RobotModel, lo: int, hi: int, clock: Clock) -> float:
