@@ -30,7 +30,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import BudgetExhausted, Clock
-from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.highs import Rows, csc_lp
 from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
@@ -53,8 +53,7 @@ def run_lp(h: highspy.Highs, clock: Clock, stats: Any) -> tuple[str, np.ndarray 
     left = clock.remaining()
     if left <= 0:
         raise BudgetExhausted("the joint CON-PLAN", "time")
-    if not math.isinf(left):
-        h.setOptionValue("time_limit", max(left, 0.01))
+    h.setOptionValue("time_limit", INF if math.isinf(left) else max(left, 0.01))  # (instances are reused)
     h.run()
     stats.lp_calls += 1
     st = h.getModelStatus()
@@ -352,7 +351,7 @@ class ComponentLp:
         cost[self.ncol - self.n_effort :] = 1.0 if self.n_effort else 0.0
         lp = csc_lp(self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
         self.clock = clock
-        self.h = new_highs(presolve="off")
+        self.h = self.owner.highs("component")
         self.h.passModel(lp)
         return self.run()
 
