@@ -360,7 +360,9 @@ CASES: dict[str, Case] = {
         fast="plansynth bench reach --family robust --values 1 --planners lazy-smt --timeout 60 --db b.db",
     ),
     "plansynth reach solve examples/reach/mission-unsat.yaml": Case(exit=(1,), out=("infeasible",)),
-    "plansynth reach solve examples/reach/mission-ringed.yaml": Case(exit=(1,), out=("infeasible",)),
+    "plansynth reach solve examples/reach/mission-ringed.yaml --plot ringed.png": Case(
+        exit=(1,), out=("infeasible", "picture of the problem written to ringed.png"), files=("ringed.png",)
+    ),
     "plansynth reach solve examples/reach/mission-avoid-until.yaml -O exact_segments=true": Case(
         out=("found", "24", "proved minimal")
     ),

@@ -174,3 +174,19 @@ def test_grid_solve_gives_its_verifier_the_budget_left_and_reports_no_unverified
     (attempt,) = r.attempts
     assert attempt.status is GridStatus.UNKNOWN and attempt.program is None
     assert "not verified" in attempt.message and "budget ran out" in attempt.message
+    assert BIG_PROGRAM in attempt.message  # short: quoted
+
+
+def test_a_long_program_is_named_by_its_measures_in_messages() -> None:
+    """The verifier's reason stays in view (the bench keeps a message's first 2,000
+    characters): a program too long to read is named by its depth and size."""
+    from plansynth.grid.programs import depth, size
+    from plansynth.grid.solve import QUOTED_PROGRAM, _shown
+
+    text = "1"
+    for k in range(40):
+        text = f"(ite (<= rx {k}) {k % 9} {text})"
+    program = parse_program(text)
+    assert len(text) > QUOTED_PROGRAM
+    assert _shown(program) == f"a program of depth {depth(program)} and {size(program)} nodes"
+    assert _shown(parse_program(BIG_PROGRAM)) == str(parse_program(BIG_PROGRAM))

@@ -69,6 +69,16 @@ def test_plot_with_and_without_result(maze1: Path, solved: tuple[Path, Path, obj
         assert png.read_bytes()[:4] == b"\x89PNG"
 
 
+def test_solve_without_a_trajectory_draws_the_problem(tmp_path: Path) -> None:
+    problem = Path(__file__).resolve().parents[2] / "examples" / "reach" / "mission-ringed.yaml"
+    png, gif = tmp_path / "ringed.png", tmp_path / "ringed.gif"
+    r = runner.invoke(app, ["reach", "solve", str(problem), "--plot", str(png), "--animate", str(gif)])
+    assert r.exit_code == 1 and "infeasible" in r.output, r.output
+    assert "picture of the problem written to" in r.output and "no trajectory to animate" in r.output
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    assert not gif.exists()
+
+
 def test_bad_problem_file_exits_2_with_the_field(tmp_path: Path) -> None:
     doc = reach_problem_to_dict(maze(1))
     doc["robot"]["input_bound"] = -1

@@ -41,7 +41,7 @@ from typing import Any
 
 from plansynth.budget import Budget
 from plansynth.grid.problem import GridProblem
-from plansynth.grid.programs import depth
+from plansynth.grid.programs import depth, size
 from plansynth.grid.result import GridResult, GridStatus, LengthOutcome, get_backend
 from plansynth.jsonable import jsonable as _jsonable
 
@@ -52,6 +52,19 @@ CERTIFIER = "native"
 
 #: Called after each path length with (l, what the backend said, after verification).
 Progress = Callable[[int, LengthOutcome], None]
+
+
+#: Longest program text a message quotes; a longer one is named by its depth and size
+#: (a message is read, and the bench keeps its first 2,000 characters).
+QUOTED_PROGRAM = 240
+
+
+def _shown(program: Any) -> str:
+    """``program`` as a message quotes it: its text when short, else its measures."""
+    text = str(program)
+    if len(text) <= QUOTED_PROGRAM:
+        return text
+    return f"a program of depth {depth(program)} and {size(program)} nodes"
 
 
 def solve(
@@ -129,7 +142,8 @@ def solve(
                     program=None,
                     counters=counters,
                     message=(
-                        f"{backend.name} returned {outcome.program} for {_at(l)}, not verified: {verdict.message}"
+                        f"{backend.name} returned {_shown(outcome.program)} for {_at(l)}, not verified: "
+                        f"{verdict.message}"
                     ),
                 )
                 attempts.append(outcome)
@@ -159,8 +173,9 @@ def solve(
                 status=GridStatus.UNKNOWN,
                 counters={**counters, "refuted_by_verifier": 1},  # (bench records the run invalid)
                 message=(
-                    f"BACKEND BUG: {backend.name} returned {outcome.program} for {_at(l)}, but the independent "
-                    f"verifier refutes it: {reason}{moves}. The program is not reported."
+                    f"BACKEND BUG: {backend.name} returned {_shown(outcome.program)} for {_at(l)}, but the "
+                    f"independent verifier refutes it: {reason}{moves}. The program is not reported"
+                    + ("." if _shown(outcome.program) == str(outcome.program) else f": {outcome.program}")
                 ),
                 witness=cex,
             )

@@ -246,39 +246,38 @@ def _write_outputs(
     if out is not None:
         result.write(out)
         console.print(f"result written to {escape(str(out))}", highlight=False)
-    if (plot is not None or animate is not None) and result.trajectory is not None:
-        from plansynth.reach.abstraction import abstract
-        from plansynth.reach.plot import animate as make_gif
-        from plansynth.reach.plot import plot_problem
+    if plot is None and animate is None:
+        return
+    from plansynth.reach.commands.plot import regions_seen
+    from plansynth.reach.plot import animate as make_gif
+    from plansynth.reach.plot import plot_problem
 
-        if problem.disturbance is not None:  # the regions of the tightened problem (plansynth.reach.robust)
-            from plansynth.reach.robust.picture import plot_robust, robust_abstraction
-
-            abstraction = robust_abstraction(problem)
-            if plot is not None and getattr(result, "robust", None):
-                plot_robust(problem, result, path=plot)
-                console.print(f"picture written to {escape(str(plot))}", highlight=False)
-                plot = None
-        elif problem.mission is not None:  # missions plan in the label-refined regions
-            from plansynth.reach.mission.labels import label_abstraction
-
-            abstraction = label_abstraction(problem).abstraction
-        else:
-            from plansynth.reach.robot import configuration_space
-
-            abstraction = abstract(configuration_space(problem))  # the regions the planner saw
+    abstraction = regions_seen(problem)
+    if result.trajectory is None:  # the world the answer is about, titled with the answer
+        if animate is not None:
+            console.print("no trajectory to animate", highlight=False)
         if plot is not None:
             plot_problem(
-                problem,
-                abstraction,
-                result.regions,
-                result.trajectory,
-                path=plot,
-                title=f"{problem.name}: {result.solver}, horizon {result.horizon}, {abstraction.n_regions} regions",
+                problem, abstraction, path=plot, title=f"{problem.name}: {result.solver}, {result.status.value}"
             )
-            console.print(f"picture written to {escape(str(plot))}", highlight=False)
-        if animate is not None:
-            make_gif(problem, abstraction, result.trajectory, result.regions, animate)
-            console.print(f"animation written to {escape(str(animate))}", highlight=False)
-    elif plot is not None or animate is not None:
-        console.print("no trajectory to draw", highlight=False)
+            console.print(f"picture of the problem written to {escape(str(plot))} (no trajectory)", highlight=False)
+        return
+    if problem.disturbance is not None and plot is not None and getattr(result, "robust", None):
+        from plansynth.reach.robust.picture import plot_robust
+
+        plot_robust(problem, result, path=plot)
+        console.print(f"picture written to {escape(str(plot))}", highlight=False)
+        plot = None
+    if plot is not None:
+        plot_problem(
+            problem,
+            abstraction,
+            result.regions,
+            result.trajectory,
+            path=plot,
+            title=f"{problem.name}: {result.solver}, horizon {result.horizon}, {abstraction.n_regions} regions",
+        )
+        console.print(f"picture written to {escape(str(plot))}", highlight=False)
+    if animate is not None:
+        make_gif(problem, abstraction, result.trajectory, result.regions, animate)
+        console.print(f"animation written to {escape(str(animate))}", highlight=False)
