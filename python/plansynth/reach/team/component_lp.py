@@ -97,6 +97,7 @@ class ComponentLp:
         self.t_lo: list[np.ndarray] = []
         self.t_hi: list[np.ndarray] = []
         self.literals: list[tuple] = []
+        self._bounds: dict[bool, tuple[np.ndarray, np.ndarray]] = {}  # col_bounds's, per flag
         for r in comp:
             self._robot(r)
         self._sides(sides)
@@ -299,10 +300,9 @@ class ComponentLp:
     def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The columns' bounds (``start``: the start columns fixed at the start), built
         once per LP and flag (the counterexample asks again for them without the start)."""
-        cache = self.__dict__.setdefault("_bounds", {})
-        hit = cache.get(start)
+        hit = self._bounds.get(start)
         if hit is None:
-            hit = cache[start] = self._col_bounds(start)
+            hit = self._bounds[start] = self._col_bounds(start)
             for a in hit:
                 a.setflags(write=False)
         return hit
