@@ -30,11 +30,12 @@ __all__ = ["solve_safety_compiled", "ENUM_STATES", "MAX_ROUNDS", "SEED_STATES", 
 ENUM_STATES = 20_000
 #: The learner starts from every winning state of its (glitch-projected) game when they
 #: are at most this many (the 32 x 32 moving-obstacle game has 1.5 million, the 48 x 48
-#: one some 8 million): one round
-#: then closes, where growing the sample from the start took 8 rounds of closures of
-#: most of the game (24 x 24: 11 s of learning instead of 2.5 s). Past it the sample
-#: grows round by round.
-SEED_STATES = 16_000_000
+#: one some 8 million, the 64 x 64 one 32.5 million): one round then closes, where
+#: growing the sample from the start took 8 rounds of closures of most of the game
+#: (24 x 24: 11 s of learning instead of 2.5 s; 64 x 64: a program in one round of
+#: 283 s, where the growing sample did not close in 600 s). Past it the sample grows
+#: round by round.
+SEED_STATES = 40_000_000
 #: On games whose seeded sample has at least this many states, the learner's labels keep
 #: only the allowed moves that end nearest the middle of the grid (the core's
 #: ``prefer_central``): the program then keeps to fewer states, and its closed loop,
