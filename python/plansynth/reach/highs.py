@@ -110,7 +110,8 @@ def csc_lp(
 ) -> highspy.HighsLp:
     """A HiGHS LP (a MILP with ``integrality``) with the column-wise matrix of the COO
     entries (R, C, V): the one assembly of CON-PLAN, the region MILP and the mission LP."""
-    order = np.lexsort((R, C))
+    # by column, then row (one stable sort of a single key: np.lexsort((R, C))'s order, in half the time)
+    order = np.argsort(np.asarray(C, np.int64) * max(n_row, 1) + R, kind="stable")
     starts = np.zeros(n_col + 1, dtype=np.int32)
     np.cumsum(np.bincount(C, minlength=n_col), out=starts[1:])
     lp = highspy.HighsLp()

@@ -67,8 +67,7 @@ def _cells(x: str, y: str, cells) -> str:
         return "FALSE"
     while len(parts) > 1:
         parts = [
-            f"({parts[i]} \\/ {parts[i + 1]})" if i + 1 < len(parts) else parts[i]
-            for i in range(0, len(parts), 2)
+            f"({parts[i]} \\/ {parts[i + 1]})" if i + 1 < len(parts) else parts[i] for i in range(0, len(parts), 2)
         ]
     return parts[0]
 

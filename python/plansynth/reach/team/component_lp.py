@@ -30,7 +30,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import BudgetExhausted, Clock
-from plansynth.reach.highs import Rows, csc_lp, new_highs
+from plansynth.reach.highs import Rows, csc_lp
 from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
@@ -53,8 +53,7 @@ def run_lp(h: highspy.Highs, clock: Clock, stats: Any) -> tuple[str, np.ndarray 
     left = clock.remaining()
     if left <= 0:
         raise BudgetExhausted("the joint CON-PLAN", "time")
-    if not math.isinf(left):
-        h.setOptionValue("time_limit", max(left, 0.01))
+    h.setOptionValue("time_limit", INF if math.isinf(left) else max(left, 0.01))  # (instances are reused)
     h.run()
     stats.lp_calls += 1
     st = h.getModelStatus()
@@ -98,6 +97,7 @@ class ComponentLp:
         self.t_lo: list[np.ndarray] = []
         self.t_hi: list[np.ndarray] = []
         self.literals: list[tuple] = []
+        self._bounds: dict[bool, tuple[np.ndarray, np.ndarray]] = {}  # col_bounds's, per flag
         for r in comp:
             self._robot(r)
         self._sides(sides)
@@ -145,56 +145,32 @@ class ComponentLp:
     def _robot(self, r: int) -> None:
         m, L = self.owner.models[r], self.L
         n = m.n
-        ai, bi = np.nonzero(m.A)
-        av = m.A[ai, bi]
-        ci, di = np.nonzero(m.B)
-        cv = m.B[ci, di]
+        rows = _robot_rows(self.owner, r, L)
         if L:  # x_{t+1} - A x_t - B u_t = 0, every step at once
-            t = np.arange(L)
-            R = np.concatenate(
-                [np.add.outer(t * n, np.arange(n)), np.add.outer(t * n, ai), np.add.outer(t * n, ci)], axis=1
-            )
-            C = np.concatenate(
-                [
-                    np.add.outer(self.x(r, 0) + (t + 1) * n, np.arange(n)),
-                    np.add.outer(self.x(r, 0) + t * n, bi),
-                    np.add.outer(self.u(r, 0) + t * m.m, di),
-                ],
-                axis=1,
-            )
-            V = np.tile(np.concatenate([np.ones(n), -av, -cv]), L)
-            rows = L * n
-            self._block(
-                R.ravel(),
-                C.ravel(),
-                V,
-                np.zeros(rows),
-                np.zeros(rows),
-                DYN,
-                np.full(rows, -1),
-                np.repeat(t, n),
-                np.repeat(t + 1, n),
-            )
+            R, C, V, zeros, none, t_lo, t_hi = rows.dynamics
+            self._block(R, C + self.x(r, 0), V, zeros, zeros, DYN, none, t_lo, t_hi)
         pos = np.asarray(m.pos)
         d = len(pos)
         regions = self.plan.regions[r]
         base_idx = len(self.literals)
         self.literals.extend(("at", r, t, regions[t]) for t in range(L + 1))
         # blocks: (t, sample) for every sample, and (t, t + 1) for every segment's end
-        bt = np.concatenate([np.arange(L + 1), np.arange(L)])
-        btt = np.concatenate([np.arange(L + 1), np.arange(1, L + 1)])
-        Hs = [m.regions[regions[t]] for t in bt]
-        K = np.array([H.shape[0] for H, _ in Hs])
-        starts = np.concatenate([[0], np.cumsum(K)[:-1]])
+        table = rows.table
+        bt, btt = rows.bt, rows.btt
+        reg = np.asarray(regions)[bt]
+        K = table.K[reg]
         count = int(K.sum())
-        row_of = np.repeat(starts, K) + np.concatenate([np.arange(k) for k in K])
-        R = np.repeat(row_of, d)
-        C = (np.repeat(self.x(r, 0) + btt * n, K * d) + np.tile(pos, count)).astype(np.int64)
-        V = np.concatenate([H.ravel() for H, _ in Hs])
-        hi = np.concatenate([h for _, h in Hs])
+        first = np.cumsum(K) - K  # each block's first row
+        facet = np.repeat(table.offset[reg] - first, K) + np.arange(count)  # its rows of the stacked H
+        R = np.repeat(np.arange(count), d)
+        C = np.repeat(self.x(r, 0) + btt * n, K * d) + np.tile(pos, count)
+        V = table.H[facet].ravel()
+        hi = table.h[facet]
         self._block(
             R, C, V, np.full(count, -INF), hi, REG, np.repeat(base_idx + bt, K), np.repeat(bt, K), np.repeat(btt, K)
         )
+        ci, di = np.nonzero(m.B)
+        cv = m.B[ci, di]
         if m.goal is not None:
             if m.goal[0] == "point":
                 p = np.asarray(m.goal[1], float)
@@ -322,6 +298,16 @@ class ComponentLp:
 
     # bounds
     def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """The columns' bounds (``start``: the start columns fixed at the start), built
+        once per LP and flag (the counterexample asks again for them without the start)."""
+        hit = self._bounds.get(start)
+        if hit is None:
+            hit = self._bounds[start] = self._col_bounds(start)
+            for a in hit:
+                a.setflags(write=False)
+        return hit
+
+    def _col_bounds(self, start: bool) -> tuple[np.ndarray, np.ndarray]:
         lo = np.empty(self.ncol)
         hi = np.empty(self.ncol)
         L = self.L
@@ -365,7 +351,7 @@ class ComponentLp:
         cost[self.ncol - self.n_effort :] = 1.0 if self.n_effort else 0.0
         lp = csc_lp(self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
         self.clock = clock
-        self.h = new_highs(presolve="off")
+        self.h = self.owner.highs("component")
         self.h.passModel(lp)
         return self.run()
 
@@ -405,3 +391,69 @@ class ComponentLp:
         if status != "feasible" or x is None:
             return None
         return self.split(x[: self.ncol])
+
+
+class RegionTable:
+    """A robot's regions stacked once: ``H`` (every region's rows, region after region),
+    ``h``, ``K`` (rows per region) and ``offset`` (each region's first row)."""
+
+    def __init__(self, regions: tuple[tuple[np.ndarray, np.ndarray], ...]) -> None:
+        self.K = np.array([H.shape[0] for H, _ in regions], dtype=np.int64)
+        self.offset = np.cumsum(self.K) - self.K
+        self.H = np.concatenate([H for H, _ in regions]) if regions else np.zeros((0, 0))
+        self.h = np.concatenate([h for _, h in regions]) if regions else np.zeros(0)
+
+
+class RobotRows:
+    """What the rows of robot r at horizon L share in every plan, built once per
+    (r, L) by :func:`_robot_rows`: the dynamics block (columns counted from the
+    robot's first), the blocks' steps ``bt`` and ``btt`` (samples, then segment
+    ends) and the robot's :class:`RegionTable`."""
+
+    def __init__(self, m: Any, L: int, table: RegionTable) -> None:
+        n = m.n
+        ai, bi = np.nonzero(m.A)
+        av = m.A[ai, bi]
+        ci, di = np.nonzero(m.B)
+        cv = m.B[ci, di]
+        t = np.arange(L)
+        R = np.concatenate(
+            [np.add.outer(t * n, np.arange(n)), np.add.outer(t * n, ai), np.add.outer(t * n, ci)], axis=1
+        )
+        C = np.concatenate(
+            [
+                np.add.outer((t + 1) * n, np.arange(n)),
+                np.add.outer(t * n, bi),
+                np.add.outer((L + 1) * n + t * m.m, di),
+            ],
+            axis=1,
+        )
+        V = np.tile(np.concatenate([np.ones(n), -av, -cv]), L)
+        rows = L * n
+        self.dynamics = (
+            R.ravel(),
+            C.ravel(),
+            V,
+            np.zeros(rows),
+            np.full(rows, -1),
+            np.repeat(t, n),
+            np.repeat(t + 1, n),
+        )
+        self.bt = np.concatenate([np.arange(L + 1), np.arange(L)])
+        self.btt = np.concatenate([np.arange(L + 1), np.arange(1, L + 1)])
+        self.table = table
+        for a in (*self.dynamics, self.bt, self.btt):  # shared by every LP: never written
+            a.setflags(write=False)
+
+
+def _robot_rows(owner: Any, r: int, L: int) -> RobotRows:
+    """Robot r's :class:`RobotRows` at horizon L, kept by ``owner`` (its ``row_cache``)."""
+    cache = owner.row_cache
+    hit = cache.get((r, L))
+    if hit is None:
+        m = owner.models[r]
+        table = cache.get(("table", r))
+        if table is None:
+            table = cache[("table", r)] = RegionTable(m.regions)
+        hit = cache[(r, L)] = RobotRows(m, L, table)
+    return hit

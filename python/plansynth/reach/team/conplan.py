@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from plansynth.budget import Clock
+from plansynth.reach.highs import new_highs
 from plansynth.reach.lazy.conflict import Feasible
 from plansynth.reach.team.component_lp import ComponentLp
 from plansynth.reach.team.component_lp import bend_fractions as _bend_fractions
@@ -136,8 +137,21 @@ class TeamConPlan:
         self._cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self._steps: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
         self._mside_rows: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._highs: dict[str, Any] = {}
+        #: what the component LPs of a robot share at a horizon (:class:`~plansynth.reach.team.component_lp.RobotRows`)
+        self.row_cache: dict[tuple, Any] = {}
         ws = problem.workspace
         self.scale = max(1.0, max(abs(v) for v in ws.lo + ws.hi))
+
+    def highs(self, role: str) -> Any:
+        """The HiGHS instance of ``role`` (``"component"``: the component LP and its
+        elastic LP; ``"subset"``: the deletion filter's), made once and reused: each
+        LP is passed whole (``passModel`` drops the previous model, basis and
+        solution), so it is solved as by a new instance, without the cost of making one."""
+        h = self._highs.get(role)
+        if h is None:
+            h = self._highs[role] = new_highs(presolve="off")
+        return h
 
     def obstacle_step(self, o: int, t: int) -> tuple[np.ndarray, np.ndarray]:
         """Where moving obstacle o is checked in step t: the fractions of the step (0,

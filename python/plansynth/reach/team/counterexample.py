@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from plansynth.reach.highs import csc_lp, new_highs
+from plansynth.reach.highs import csc_lp
 from plansynth.reach.team.component_lp import GOAL, INF, MOVE, ComponentLp, load_bounds, run_lp
 from plansynth.reach.team.plans import TeamConflict
 
@@ -92,7 +92,7 @@ class RowSubset:
         new_row = np.full(lp.n_row, -1)
         new_row[rows] = np.arange(len(rows))
         entries = new_row[R] >= 0
-        self.cols = np.unique(C[entries])
+        self.cols = np.flatnonzero(np.bincount(C[entries], minlength=lp.ncol))  # (np.unique, without numpy.ma)
         new_col = np.full(lp.ncol, -1)
         new_col[self.cols] = np.arange(len(self.cols))
         self.rows = rows
@@ -101,7 +101,7 @@ class RowSubset:
         self.rb = (lp.rb[0][rows], lp.rb[1][rows])
         self.cb = (lp.cb[0][self.cols], lp.cb[1][self.cols])
         self.clock, self.stats = lp.clock, lp.owner.stats
-        self.h = new_highs(presolve="off")
+        self.h = lp.owner.highs("subset")
         self.h.passModel(csc_lp(self.ncol, self.n_row, *self.coo, np.zeros(self.ncol), *self.cb, *self.rb))
 
     def run(self) -> tuple[str, np.ndarray | None, np.ndarray | None]:
@@ -164,17 +164,22 @@ def shrink(
     sup = np.flatnonzero(y)
     keep = {lp.literals[i] for i in lit[sup] if i >= 0}
     use_goal = bool(np.any(kind[sup] == GOAL))
-    wanted = np.array([key in keep for key in lp.literals] + [True])  # index -1: no literal
+    # each literal index's key among those kept (-1: another literal; the last entry: index -1, none)
+    key_id = {key: k for k, key in enumerate(keep)}
+    kept_as = np.array([key_id.get(key, -1) for key in lp.literals] + [-1], dtype=np.int64)
+    wanted = kept_as >= 0
+    wanted[-1] = True  # index -1: no literal
     inside = (t_lo >= t_lo[sup].min()) & (t_hi <= t_hi[sup].max())
     rows = np.flatnonzero(inside & wanted[lit] & ((kind != GOAL) | use_goal))
     sub = RowSubset(lp, rows)
     ys = y[rows]
     sub_lit, sub_kind = lit[rows], kind[rows]
-    groups: dict[tuple, np.ndarray] = {}
-    for key in keep:
-        groups[key] = np.flatnonzero(np.array([i >= 0 and lp.literals[i] == key for i in sub_lit]))
+    sub_key = kept_as[sub_lit]
+    groups = {key: np.flatnonzero(sub_key == k) for key, k in key_id.items()}
     goal_rows = np.flatnonzero(sub_kind == GOAL)
-    start_cols = np.flatnonzero(np.isin(sub.cols, lp.start_columns()))
+    is_start = np.zeros(lp.ncol, dtype=bool)
+    is_start[lp.start_columns()] = True
+    start_cols = np.flatnonzero(is_start[sub.cols])
     relaxed = lp.col_bounds(start=False)
     relaxed_lo, relaxed_hi = relaxed[0][sub.cols[start_cols]], relaxed[1][sub.cols[start_cols]]
     rlo, rhi = sub.rb[0].copy(), sub.rb[1].copy()

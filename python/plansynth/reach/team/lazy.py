@@ -144,13 +144,16 @@ def plan_team_lazy(
     *,
     horizons: range | None = None,
     seed: TeamResult | None = None,
+    setup: TeamSetup | None = None,
 ) -> TeamResult:
     """Plan the team (see the module docstring); the answer is not validated here
     (:func:`plansynth.reach.solve` validates). ``horizons``: try only these (tests; an
     ``infeasible`` then covers only them). ``seed``: an incumbent plan of the encoding
     (:mod:`plansynth.reach.team.seeding`): the horizons below it are tried first, each
     set aside after :data:`SEEDED_DEFER_AFTER` refuted plans, then its own, where
-    DIS-PLAN proposes it first."""
+    DIS-PLAN proposes it first. ``setup``: the problem's :func:`~plansynth.reach.team.setup.prepare`
+    for this ``max_horizon`` when the caller has it already (the seed's: the same robots,
+    decompositions and bounds); another is not used."""
     options = TeamLazyOptions() if options is None else options
     clock = budget.clock()
     t_start = time.perf_counter()
@@ -183,13 +186,13 @@ def plan_team_lazy(
             return result(LoopOutcome(status, None, tight.reason))
         L_max = min(L_max, tight.max_horizon)
         record["max_horizon"] = L_max
-    t0 = time.perf_counter()
-    try:
-        with clock.phase("the robots' decompositions and bounds"):
-            setup = prepare(problem, L_max, clock)
-    except BudgetExhausted as exc:
-        return result(LoopOutcome(ReachStatus.UNKNOWN, None, str(exc)))
-    timings["abstraction"] = time.perf_counter() - t0
+    if setup is None or not setup.serves(problem, L_max):
+        try:
+            with clock.phase("the robots' decompositions and bounds"):
+                setup = prepare(problem, L_max, clock)
+        except BudgetExhausted as exc:
+            return result(LoopOutcome(ReachStatus.UNKNOWN, None, str(exc)))
+    timings["abstraction"] = setup.seconds
     counters.update(setup.counters)
     first = setup.first
     counters["first_horizon"] = None if math.isinf(first) else int(first)

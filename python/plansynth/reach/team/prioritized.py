@@ -35,7 +35,7 @@ from plansynth.reach.team.options import PrioritizedOptions, TeamLazyOptions
 from plansynth.reach.team.problem import MovingObstacle, TeamProblem, TeamRobot
 from plansynth.reach.team.result import TeamResult
 from plansynth.reach.team.robust import is_disturbed
-from plansynth.reach.team.setup import prepare
+from plansynth.reach.team.setup import TeamSetup, prepare
 from plansynth.reach.trajectory import Trajectory
 
 __all__ = ["plan_prioritized", "run", "held"]
@@ -95,8 +95,12 @@ def plan_prioritized(
     budget: Budget = Budget(),
     options: PrioritizedOptions | None = None,
     progress: Any = None,
+    *,
+    setup: TeamSetup | None = None,
 ) -> TeamResult:
-    """Plan the robots one after the other (see the module docstring); unvalidated."""
+    """Plan the robots one after the other (see the module docstring); unvalidated.
+    ``setup``: the problem's :func:`~plansynth.reach.team.setup.prepare` for this
+    ``max_horizon``, when the caller has it (the seeded lazy planner shares it)."""
     if is_disturbed(problem):
         raise InvalidOption(
             "prioritized",
@@ -124,7 +128,9 @@ def plan_prioritized(
             message=message, guarantee="segments", names=names,
         )  # fmt: skip
 
-    bounds = prepare(problem, L_max, clock).robots
+    if setup is None or not setup.serves(problem, L_max):
+        setup = prepare(problem, L_max, clock)
+    bounds = setup.robots
     trajs: list[Trajectory] = []
     regions: list[tuple[int, ...]] = []
     horizon = 0

@@ -11,7 +11,8 @@ incumbent's own, where DIS-PLAN proposes the incumbent first. The search stays
 complete (a horizon set aside is revisited when the incumbent's fails); only its
 order changes. ``incumbent="auto"`` seeds teams of :data:`SEED_MIN_ROBOTS` robots or more,
 with at most :data:`SEED_SHARE` of the budget. A team under disturbances is not seeded
-(prioritized planning plans no disturbance).
+(prioritized planning plans no disturbance). The robots' decompositions and bounds
+(:func:`~plansynth.reach.team.setup.prepare`) are made once, for the seed and the search.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import time
 from dataclasses import replace
 from typing import Any
 
-from plansynth.budget import Budget
+from plansynth.budget import Budget, BudgetExhausted
 from plansynth.reach.result import ReachStatus
 from plansynth.reach.team.lazy import plan_team_lazy
 from plansynth.reach.team.options import PrioritizedOptions, TeamLazyOptions
@@ -29,6 +30,7 @@ from plansynth.reach.team.prioritized import plan_prioritized
 from plansynth.reach.team.problem import TeamProblem
 from plansynth.reach.team.result import TeamResult
 from plansynth.reach.team.robust import is_disturbed
+from plansynth.reach.team.setup import prepare
 
 __all__ = ["run", "SEED_MIN_ROBOTS", "SEED_SHARE"]
 
@@ -49,11 +51,17 @@ def run(problem: TeamProblem, budget: Budget, options: TeamLazyOptions, progress
     clock = budget.clock()
     share = None if budget.seconds is None else max(SEED_SHARE * budget.seconds, 0.01)
     L_max = problem.max_horizon if options.max_horizon is None else options.max_horizon
-    seed = plan_prioritized(problem, Budget(seconds=share), PrioritizedOptions(max_horizon=L_max))
+    seed_budget = Budget(seconds=share)
+    try:  # the robots' decompositions and bounds, once for the seed and the search
+        setup = prepare(problem, L_max, seed_budget.clock())
+    except BudgetExhausted:
+        setup = None
+    seed = plan_prioritized(problem, seed_budget, PrioritizedOptions(max_horizon=L_max), setup=setup)
     spent = time.perf_counter() - t0
     left = clock.remaining()
     rest = Budget(seconds=None if math.isinf(left) else max(left, 0.01))
-    out = plan_team_lazy(problem, rest, options, progress, seed=seed if seed.status is ReachStatus.FOUND else None)
+    found = seed if seed.status is ReachStatus.FOUND else None
+    out = plan_team_lazy(problem, rest, options, progress, seed=found, setup=setup)
     counters = {
         **out.counters,
         "seed_seconds": spent,
