@@ -288,8 +288,8 @@ def test_three_dimensional_boxes() -> None:
     assert r.status is ReachStatus.FOUND and r.validated and r.segment_safe
     assert m.status is ReachStatus.FOUND and m.validated and m.counters["minimal"] is True
     assert milp.status is ReachStatus.FOUND and milp.horizon == m.horizon <= r.horizon
-    # lazy-smt-minimal (exact_segments=auto): a step may cross regions, proved for the problem
-    e = solve(p, "lazy-smt-minimal", Budget(seconds=120))
+    # the minimal search under exact_segments=auto: a step may cross regions, proved for the problem
+    e = solve(p, "lazy-smt", Budget(seconds=120), horizon_search="minimal")
     assert e.status is ReachStatus.FOUND and e.validated and e.segment_safe and e.counters["minimal"] is True
     assert e.counters["minimal_relative_to"] == "problem" and e.horizon <= m.horizon
     assert np.max(r.trajectory.states[:, 0]) >= 3 - 1e-6  # around the wall's end at x = 3
