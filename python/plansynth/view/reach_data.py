@@ -29,7 +29,8 @@ import numpy as np
 
 from plansynth.errors import InvalidProblem
 from plansynth.io import show
-from plansynth.reach import Box, ReachProblem, abstract, validate
+from plansynth.reach import Box, ReachProblem, validate
+from plansynth.reach.planner_regions import planner_abstraction
 from plansynth.view.status import result_status
 
 
@@ -51,25 +52,6 @@ def world_json(problem: Any) -> dict[str, Any]:
         "obstacles": [shape_json(o) for o in problem.obstacles],
         "labels": [{"name": name, "shape": shape_json(s)} for name, s in problem.labels],
     }
-
-
-def planner_abstraction(problem: ReachProblem) -> Any:
-    """The regions the planner plans in, the abstraction a result's ``regions`` index:
-    the label-refined one for a mission, else that of the configuration space; under a
-    disturbance, the tightened problem's (plansynth.reach.robust)."""
-    if problem.disturbance is not None:
-        from plansynth.reach.robust.picture import robust_abstraction
-
-        robust = robust_abstraction(problem)
-        if robust is not None:
-            return robust
-    if problem.mission is not None:
-        from plansynth.reach.mission.labels import label_abstraction
-
-        return label_abstraction(problem).abstraction
-    from plansynth.reach.robot import configuration_space
-
-    return abstract(configuration_space(problem))
 
 
 def _region_outline(vertices: np.ndarray) -> list[list[float]]:

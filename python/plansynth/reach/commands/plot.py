@@ -31,31 +31,13 @@ def configuration_space_of(problem: Any) -> Any:
     return configuration_space(problem)
 
 
-def regions_seen(problem: Any) -> Any:
-    """The regions the planners see in ``problem``, as an abstraction: the tightened
-    problem's under a disturbance (:mod:`plansynth.reach.robust`), the label-refined ones
-    for a mission, else the configuration space's convex decomposition."""
-    from plansynth.reach.abstraction import abstract
-
-    if problem.disturbance is not None:
-        from plansynth.reach.robust.picture import robust_abstraction
-
-        abstraction = robust_abstraction(problem)
-        if abstraction is not None:
-            return abstraction
-    elif problem.mission is not None:
-        from plansynth.reach.mission.labels import label_abstraction
-
-        return label_abstraction(problem).abstraction
-    return abstract(configuration_space_of(problem))
-
-
 def plot_command(
     file: Path = typer.Argument(..., help="Reach problem file."),
     result_file: Path | None = typer.Argument(None, help="Optional result JSON (trajectory and regions)."),
     output: Path = typer.Option(..., "--output", "-o", help="PNG file to write."),
 ) -> None:
     """Draw the workspace, the convex regions and (with a result) the trajectory."""
+    from plansynth.reach.planner_regions import planner_abstraction
     from plansynth.reach.plot import plot_problem
     from plansynth.reach.team.fileformat import load_problem
     from plansynth.reach.trajectory import trajectory_from_dict
@@ -83,7 +65,7 @@ def plot_command(
                 regions = tuple(raw)
     except PlansynthError as exc:
         raise fail(err, exc) from None
-    abstraction = regions_seen(problem)
+    abstraction = planner_abstraction(problem)
     if regions is not None and any(not 0 <= r < abstraction.n_regions for r in regions):
         err.print(
             f"[bold red]error:[/bold red] {escape(str(result_file))}: regions: indices outside 0..{abstraction.n_regions - 1}"

@@ -265,11 +265,11 @@ def _write_outputs(
         console.print(f"result written to {escape(str(out))}", highlight=False)
     if plot is None and animate is None:
         return
-    from plansynth.reach.commands.plot import regions_seen
+    from plansynth.reach.planner_regions import planner_abstraction
     from plansynth.reach.plot import animate as make_gif
     from plansynth.reach.plot import plot_problem
 
-    abstraction = regions_seen(problem)
+    abstraction = planner_abstraction(problem)
     if result.trajectory is None:  # the world the answer is about, titled with the answer
         if animate is not None:
             console.print("no trajectory to animate", highlight=False)
