@@ -175,7 +175,7 @@ def solve(
                 message=(
                     f"BACKEND BUG: {backend.name} returned {_shown(outcome.program)} for {_at(l)}, but the "
                     f"independent verifier refutes it: {reason}{moves}. The program is not reported"
-                    + ("." if _shown(outcome.program) == str(outcome.program) else f": {outcome.program}")
+                    + ("." if len(str(outcome.program)) <= QUOTED_PROGRAM else f": {outcome.program}")
                 ),
                 witness=cex,
             )
