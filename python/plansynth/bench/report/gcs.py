@@ -116,7 +116,9 @@ def gcs_maze_table(cells: Mapping[tuple[str, str], Cell]) -> list[str]:
         "",
         " ".join((gcs_maze.__doc__ or "").split("\n\n")[0].split()),
         "",
-        "Every planner on the same instances in one run (`plansynth bench reach --family gcs-maze`). A time is a "
+        "Every planner on the same instances (`plansynth bench reach --family gcs-maze`), each with the limit "
+        "`bench publish` gives it (gcs and fpp 300 s: Drake fixes each solver's share of the budget before it "
+        "starts; an unknown cell shows its own limit). A time is a "
         "solved run: planned and validated (lazy-smt: the exact discrete dynamics, every sample and segment "
         "free; gcs and fpp: their continuous-time curves, see the section above). `lazy-smt` plans with the "
         "timed route (the shortest route timed by an LP and repaired where CON-PLAN finds it too tight), "
