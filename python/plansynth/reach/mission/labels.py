@@ -47,6 +47,7 @@ import numpy as np
 import shapely
 from shapely.geometry import Point
 from shapely.geometry import Polygon as ShPolygon
+from shapely.prepared import prep as prepared
 
 from plansynth.budget import checkpoint
 from plansynth.reach.abstraction import Abstraction, abstract
@@ -117,33 +118,43 @@ class LabelledAbstraction:
         return tuple(zip(self.labels_of, self.negs_of))
 
 
-def _split_convex(piece: list[Pt], H: np.ndarray, h: np.ndarray, tiny: float) -> list[list[Pt]]:
-    """``piece`` cut into the part inside the convex ``{H p <= h}`` and the convex parts
-    outside it (one per half-plane, each cut off before the next)."""
+def _split_convex(piece: list[Pt], H: np.ndarray, h: np.ndarray, tiny: float, deep: float) -> list[list[Pt]]:
+    """``piece`` cut into the part inside the convex ``{H p <= h}`` (unit rows) and the
+    convex parts outside it (one per half-plane, each cut off before the next).
+
+    A side is cut when the piece reaches beyond it by more than ``deep``: depth, not
+    area, decides, since a sliver of tiny area can still reach far past a label's edge
+    (a region 2e-7 wide that ran 4e-3 past it was once read as inside). An outside part
+    of area at most ``tiny`` is dropped (a sliver of free space lost: the pieces then
+    cover a little less, never more, than the region)."""
     out = []
     rest = piece
     for n, c in zip(H, h):
+        if max(n[0] * x + n[1] * y for x, y in rest) - c <= deep:
+            continue  # the piece stays on this side (within deep): nothing to cut
         outside = clip(rest, -n, -c)
         if _area(outside) > tiny:
             out.append(outside)
-            rest = clip(rest, n, c)
+        rest = clip(rest, n, c)
         if _area(rest) <= tiny:
             return out
     out.append(rest)
     return out
 
 
-def _split_polygon(piece: list[Pt], label: ShPolygon, tiny: float) -> list[list[Pt]]:
-    """``piece`` cut along the non-convex ``label``: its parts inside and outside, each
-    decomposed into convex pieces (Hertel-Mehlhorn over a constrained triangulation)."""
+def _split_polygon(piece: list[Pt], cut: _Cut, tiny: float, deep: float) -> list[list[Pt]]:
+    """``piece`` cut along the non-convex label of ``cut``: its parts inside and outside,
+    each decomposed into convex pieces (Hertel-Mehlhorn over a constrained
+    triangulation). Uncut when the piece lies within ``deep`` of the label
+    (:meth:`_Cut.near`) or reaches no deeper than ``deep`` into it (:meth:`_Cut.core`):
+    depth, not area, decides, as in :func:`_split_convex`."""
+    label = cut.geom
+    assert label is not None
     g = ShPolygon(piece)
-    inside = g.intersection(label)
-    if inside.area <= tiny:
-        return [piece]
-    if g.area - inside.area <= tiny:
+    if cut.near(deep).contains(g) or g.intersection(cut.core(deep)).area <= 0.0:
         return [piece]
     out: list[list[Pt]] = []
-    for part in (inside, g.difference(label)):
+    for part in (g.intersection(label), g.difference(label)):
         polys = [q for q in shapely.get_parts(part) if isinstance(q, ShPolygon) and q.area > tiny]
         if not polys:
             continue
@@ -167,6 +178,15 @@ class _Cut:
         g = shape_to_shapely(shape)
         rows = halfspaces(shape) if is_convex(shape) else None
         return cls(shape, rows, None if rows is not None else g, tuple(g.bounds))  # type: ignore[arg-type]
+
+    def near(self, deep: float) -> ShPolygon:
+        """The shape grown by ``deep``: a region inside it lies in the shape up to ``deep``."""
+        return shape_to_shapely(self.shape).buffer(deep)
+
+    def core(self, deep: float) -> ShPolygon:
+        """The shape shrunk by ``deep``: a region that does not overlap it reaches no
+        deeper than ``deep`` into the shape."""
+        return shape_to_shapely(self.shape).buffer(-deep)
 
     def contains(self, c: np.ndarray) -> bool:
         """Is the interior point c of a region inside the cut (the region then is)?"""
@@ -231,6 +251,7 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
     scale = max(h - l for l, h in zip(ws.lo, ws.hi))
     tiny = 1e-10 * scale * scale
     tol = 1e-7 * scale
+    deep = 1e-9 * scale  # how far a region may reach past a cut and still count as on its side
     cut_of = _cuts(problem, names)
     cuts = [c for n in names for c in cut_of[n] if c is not None]
     cuts = list({c.shape: c for c in cuts}.values())  # without a margin a label is one cut
@@ -249,27 +270,16 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
             nxt = []
             for pc in cur:
                 if cut.rows is not None:
-                    nxt += _split_convex(pc, cut.rows[0], cut.rows[1], tiny)
+                    nxt += _split_convex(pc, cut.rows[0], cut.rows[1], tiny, deep)
                 else:
-                    nxt += _split_polygon(pc, cut.geom, tiny)
+                    nxt += _split_polygon(pc, cut, tiny, deep)
             cur = nxt
             checkpoint()
         for pc in cur:
             pieces.append(pc)
             parent.append(reg.index)
     regions = [region_from_cycle(i, pc) for i, pc in enumerate(pieces)]
-    labels_of, negs_of = [], []
-    for r in regions:
-        c = r.center
-        holds, fails = set(), set()
-        for n in names:
-            inner, outer = cut_of[n]
-            if inner is not None and inner.contains(c):
-                holds.add(n)
-            if not outer.contains(c):
-                fails.add(n)
-        labels_of.append(frozenset(holds))
-        negs_of.append(frozenset(fails))
+    labels_of, negs_of = _letters(regions, names, cut_of, deep)
     nbrs = _adjacency(regions, parent, base, tol)
     start = problem.start_position
     start_regions = tuple(r.index for r in regions if r.contains(start, 1e-9 * scale))
@@ -284,6 +294,32 @@ def label_abstraction(problem: ReachProblem, base: Abstraction | None = None) ->
         exact=base.exact,  # the pieces tile the base regions: they cover what those cover
     )
     return LabelledAbstraction(abstraction, names, tuple(labels_of), tuple(parent), tuple(negs_of))
+
+
+def _letters(regions, names: tuple[str, ...], cut_of: dict, deep: float) -> tuple[list, list]:
+    """Per region, the labels that hold there and those whose negation does. A region's
+    interior point decides which side of each cut it lies on (the pieces do not straddle
+    a cut); each claim is then checked on the whole region, exactly (shapely): ``a``
+    holds only if the region lies within ``deep`` of a's inner shape, ``!a`` only if it
+    reaches no deeper than ``deep`` into a's outer shape. A claim that fails the check
+    is not made: the region is then in a's band, where neither literal is used, so an
+    error of the cutting can cost plans, never admit a wrong one."""
+    near = {n: (None if inner is None else prepared(inner.near(deep))) for n, (inner, _) in cut_of.items()}
+    core = {n: outer.core(deep) for n, (_, outer) in cut_of.items()}
+    labels_of, negs_of = [], []
+    for r in regions:
+        c = r.center
+        poly = ShPolygon(r.vertices)
+        holds, fails = set(), set()
+        for n in names:
+            inner, outer = cut_of[n]
+            if inner is not None and inner.contains(c) and near[n].contains(poly):
+                holds.add(n)
+            if not outer.contains(c) and poly.intersection(core[n]).area <= 0.0:
+                fails.add(n)
+        labels_of.append(frozenset(holds))
+        negs_of.append(frozenset(fails))
+    return labels_of, negs_of
 
 
 def _adjacency(regions, parent: list[int], base: Abstraction, tol: float) -> list[list[int]]:
