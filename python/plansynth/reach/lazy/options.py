@@ -139,6 +139,12 @@ class LazyOptions:
         "window and minimal searches: first check the shortest route timed by an LP and repaired where "
         "CON-PLAN finds it too tight, before DIS-PLAN is built",
     )
+    shorten: float = option(
+        2.0,
+        "window search: after the timed route's plan is found, shorten its stays (its regions kept) "
+        "by CON-PLAN's slack LPs, for at most this many times the timed route's seconds (0: off)",
+        minimum=0,
+    )
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")
     wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
     prove: bool = option(
@@ -180,6 +186,7 @@ class LazyOptions:
             transit=False,
             guided=False,
             timed_route=False,
+            shorten=0.0,
             widen=False,
             wait_shifts=False,
             **values,
@@ -205,6 +212,7 @@ class LazyOptions:
             "transit": self.transit,
             "guided": self.guided,
             "timed_route": self.timed_route,
+            "shorten": self.shorten,
             "widen": self.widen,
             "wait_shifts": self.wait_shifts,
             "window_growth": self.window_growth,

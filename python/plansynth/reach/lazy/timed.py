@@ -197,13 +197,15 @@ def timed_route(
     max_horizon: int | None = None,
     first_leg: int | None = None,
     counters: dict | None = None,
+    first_stays: list[float] | None = None,
 ) -> LoopOutcome | None:
     """The timed route's plan and trajectory (see the module doc), or None when the
     repair does not converge, CON-PLAN refutes the repaired plan or the budget runs out
     (the lazy loop then runs as before), or when a plan would be longer than
     ``max_horizon`` (default: the problem's). ``first_leg``: the fewest steps from the
     start into ``path[1]``. Each repair round is one iteration of the budget (one
-    theory check, no SAT call)."""
+    theory check, no SAT call). ``first_stays``, when given, receives the stays before
+    the repair (step 2's, the lower end :mod:`~plansynth.reach.lazy.shorten` starts from)."""
     if path is None or len(path) < 2:
         return None  # (the start's region meets the goal: the loop decides the short horizons)
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -220,6 +222,8 @@ def timed_route(
             per_step = math.inf
         if first_leg is not None and len(stays) > 1:
             stays[0] = max(stays[0], float(first_leg))
+        if first_stays is not None:
+            first_stays[:] = stays.tolist()
         scale = max(h - lo for lo, h in zip(problem.workspace.lo, problem.workspace.hi))
         while rounds < MAX_ROUNDS:
             plan = stays_plan(path, stays)
