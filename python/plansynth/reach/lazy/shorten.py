@@ -53,12 +53,14 @@ from plansynth.reach.lazy.loop import LoopOutcome
 from plansynth.reach.lazy.timed import SLACK_TOL
 from plansynth.reach.result import ReachStatus
 
-__all__ = ["shorten_plan", "runs_of", "plan_of", "MARGIN", "STRIKES"]
+__all__ = ["shorten_plan", "runs_of", "plan_of", "MARGIN", "STRIKES", "STRIDE"]
 
 #: Runs on either side of a run with slack whose cuts are halved with its own.
 MARGIN = 1
 #: A run whose one-step cut failed this many times proposes none again.
 STRIKES = 2
+#: The last phase cuts one step from every STRIDE-th run at once.
+STRIDE = 3
 
 
 def runs_of(plan: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -129,7 +131,7 @@ def shorten_plan(
             low = np.minimum(np.maximum(np.asarray(lower, float), 1.0), n)
             low[-1] = min(low[-1] + 1.0, n[-1])  # (the plan's last sample, one more in the last region)
             lo, hi = 0.0, 1.0
-            while going():
+            while going() and (hi - lo) * float((n - low).sum()) >= 1.0:
                 mid = (lo + hi) / 2
                 trial = _rounded(low + mid * (n - low))
                 if trial.sum() >= n.sum():
@@ -150,17 +152,26 @@ def shorten_plan(
                 # the same cuts again, and one step from every run not yet struck out
                 cut = np.minimum(np.where((cut == 0) & (strikes < STRIKES), 1, cut), n - 1)
                 continue
-            near = np.zeros(len(n), dtype=bool)
-            if out is not None:
-                run = np.repeat(np.arange(len(n)), trial)  # the run of each sample
-                bad = np.unique(run[np.flatnonzero(out > tol)])
-                for d in range(-MARGIN, MARGIN + 1):
-                    near[np.clip(bad + d, 0, len(n) - 1)] = True
-                near &= cut > 0
+            near = _near(out, trial, tol) & (cut > 0) if out is not None else np.zeros(len(n), dtype=bool)
             if not near.any():  # (refuted by the dynamics and bounds alone, or slack far from every cut)
                 near = cut > 0
             strikes[near & (cut == 1)] += 1
             cut[near] //= 2
+        # phase 3: one step from every STRIDE-th run not struck out, in turn
+        strikes[:] = 0
+        k, idle, index = 0, 0, np.arange(len(n))
+        while idle < STRIDE and going():
+            one = ((strikes < STRIKES) & (n > 1) & (index % STRIDE == k)).astype(np.int64)
+            if not one.any():
+                k, idle = (k + 1) % STRIDE, idle + 1
+                continue
+            out = realised(n - one)
+            if isinstance(out, LoopOutcome):
+                best, n = out, n - one
+                k, idle = (k + 1) % STRIDE, 0
+                continue
+            near = _near(out, n - one, tol) & (one > 0) if out is not None else one > 0
+            strikes[near if near.any() else one > 0] += 1
     except (BudgetExhausted, LpFailure):
         pass  # the shortest plan realised so far stands
     if counters is not None:
@@ -168,6 +179,17 @@ def shorten_plan(
     if best is found:
         return found
     return replace(best, message=f"{found.message}; shortened from {found.horizon} by {lps} LPs over its stays")
+
+
+def _near(slack: np.ndarray, lengths: np.ndarray, tol: float) -> np.ndarray:
+    """The runs (of ``lengths`` samples) within :data:`MARGIN` runs of a sample whose
+    slack exceeds ``tol``."""
+    run = np.repeat(np.arange(len(lengths)), lengths)  # the run of each sample
+    bad = np.unique(run[np.flatnonzero(slack > tol)])
+    near = np.zeros(len(lengths), dtype=bool)
+    for d in range(-MARGIN, MARGIN + 1):
+        near[np.clip(bad + d, 0, len(lengths) - 1)] = True
+    return near
 
 
 def _rounded(stays: np.ndarray) -> np.ndarray:

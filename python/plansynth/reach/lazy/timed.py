@@ -204,8 +204,8 @@ def timed_route(
     (the lazy loop then runs as before), or when a plan would be longer than
     ``max_horizon`` (default: the problem's). ``first_leg``: the fewest steps from the
     start into ``path[1]``. Each repair round is one iteration of the budget (one
-    theory check, no SAT call). ``first_stays``, when given, receives the stays before
-    the repair (step 2's, the lower end :mod:`~plansynth.reach.lazy.shorten` starts from)."""
+    theory check, no SAT call). ``first_stays``, when given, receives step 2's stays
+    with turns free (the lower end :mod:`~plansynth.reach.lazy.shorten` starts from)."""
     if path is None or len(path) < 2:
         return None  # (the start's region meets the goal: the loop decides the short horizons)
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -213,6 +213,8 @@ def timed_route(
     rounds = 0
     try:
         stays = crossing_times(problem, abstraction, path)
+        if first_stays is not None:  # (turns free: the lower end)
+            first_stays[:] = np.maximum(stays, float(first_leg or 1))[:1].tolist() + stays[1:].tolist()
         if first_leg is not None and len(stays) > 1 and first_leg > stays[0]:
             # a turn costs about what the start loses accelerating from rest
             stays = crossing_times(problem, abstraction, path, turn=first_leg - stays[0])
@@ -222,8 +224,6 @@ def timed_route(
             per_step = math.inf
         if first_leg is not None and len(stays) > 1:
             stays[0] = max(stays[0], float(first_leg))
-        if first_stays is not None:
-            first_stays[:] = stays.tolist()
         scale = max(h - lo for lo, h in zip(problem.workspace.lo, problem.workspace.hi))
         while rounds < MAX_ROUNDS:
             plan = stays_plan(path, stays)
