@@ -140,9 +140,10 @@ class LazyOptions:
         "CON-PLAN finds it too tight, before DIS-PLAN is built",
     )
     shorten: float = option(
-        2.0,
-        "window search: after the timed route's plan is found, shorten its stays (its regions kept) "
-        "by CON-PLAN's slack LPs, for at most this many times the timed route's seconds (0: off)",
+        3.0,
+        "window search, abstractions of more than 200 regions: shorten the timed route's plan "
+        "(its regions kept) by CON-PLAN's slack LPs, for at most this many times the timed "
+        "route's seconds (0: off)",
         minimum=0,
     )
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")

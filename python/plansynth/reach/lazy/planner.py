@@ -111,7 +111,7 @@ from plansynth.reach.lazy.loop import (
     lazy_loop,
 )
 from plansynth.reach.lazy.minimal import prove_minimal, shortened
-from plansynth.reach.lazy.options import LazyOptions, window_growth_for
+from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.lazy.shorten import shorten_plan
@@ -236,7 +236,7 @@ def _plan(
         transit = TransitCheck(conplan, abstraction, widen=opts.widen) if opts.transit else None
         theory: TheoryChecker = conplan if transit is None else transit
         path = route(problem, abstraction) if (opts.guided or opts.timed_route) else None
-        quick, first_stays = None, []
+        quick = None
         if timed and opts.timed_route and search != "linear" and not conplan.dear:
             with clock.phase("the timed route"):
                 first_leg = (  # (exact and a few LPs from rest; else a scan of up to REFINE_SPAN LPs)
@@ -254,7 +254,6 @@ def _plan(
                     max_horizon=L_max,
                     first_leg=first_leg,
                     counters=counters,
-                    first_stays=first_stays,
                 )
         if quick is not None and search == "window":  # no bounds needed: nothing below it is claimed
             physical = physical_lower_bound(problem)
@@ -263,7 +262,7 @@ def _plan(
                 physical_bound=physical,
                 exact_abstraction=abstraction.exact,
             )
-            if opts.shorten > 0:
+            if opts.shorten > 0 and graph.n_regions > LARGE_REGIONS:
                 with clock.phase("shortening the timed route's plan"):
                     t0 = time.perf_counter()
                     quick = shorten_plan(
@@ -271,7 +270,6 @@ def _plan(
                         quick,
                         clock,
                         opts.shorten * timings.get("timed_route", 0.0),
-                        lower=first_stays,
                         scale=max(h - lo for lo, h in zip(problem.workspace.lo, problem.workspace.hi)),
                         counters=counters,
                     )

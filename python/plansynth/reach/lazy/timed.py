@@ -197,15 +197,13 @@ def timed_route(
     max_horizon: int | None = None,
     first_leg: int | None = None,
     counters: dict | None = None,
-    first_stays: list[float] | None = None,
 ) -> LoopOutcome | None:
     """The timed route's plan and trajectory (see the module doc), or None when the
     repair does not converge, CON-PLAN refutes the repaired plan or the budget runs out
     (the lazy loop then runs as before), or when a plan would be longer than
     ``max_horizon`` (default: the problem's). ``first_leg``: the fewest steps from the
     start into ``path[1]``. Each repair round is one iteration of the budget (one
-    theory check, no SAT call). ``first_stays``, when given, receives step 2's stays
-    with turns free (the lower end :mod:`~plansynth.reach.lazy.shorten` starts from)."""
+    theory check, no SAT call)."""
     if path is None or len(path) < 2:
         return None  # (the start's region meets the goal: the loop decides the short horizons)
     L_max = problem.max_horizon if max_horizon is None else int(max_horizon)
@@ -213,8 +211,6 @@ def timed_route(
     rounds = 0
     try:
         stays = crossing_times(problem, abstraction, path)
-        if first_stays is not None:  # (turns free: the lower end)
-            first_stays[:] = np.maximum(stays, float(first_leg or 1))[:1].tolist() + stays[1:].tolist()
         if first_leg is not None and len(stays) > 1 and first_leg > stays[0]:
             # a turn costs about what the start loses accelerating from rest
             stays = crossing_times(problem, abstraction, path, turn=first_leg - stays[0])
