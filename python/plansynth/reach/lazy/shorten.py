@@ -38,7 +38,7 @@ maze: 46 steps, where gcs's curve takes 39): 50 x 50, 423 -> 385 steps in 29 LPs
 >>> long = timed_route(p, a, route(p, a), cp, Budget().clock(), {})
 >>> short = shorten_plan(cp, long, Budget().clock(), 5.0)
 >>> long.horizon, short.horizon <= long.horizon, short.minimal
-(144, True, False)
+(143, True, False)
 """
 
 from __future__ import annotations
