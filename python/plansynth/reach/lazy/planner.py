@@ -114,8 +114,9 @@ from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
-from plansynth.reach.lazy.shorten import shorten_plan
+from plansynth.reach.lazy.shorten import VIAS, shorten_plan
 from plansynth.reach.lazy.timed import timed_route
+from plansynth.reach.lazy.vialp import ViaLP
 from plansynth.reach.lazy.transit import START, TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -206,7 +207,8 @@ def _plan(
 
     def result(out: LoopOutcome) -> tuple[ReachResult, Abstraction | None]:
         timings["total"] = time.perf_counter() - t_start
-        counters.update(transitions=SEGMENTS if crossing else REGIONS if opts.segment_safe else STEPS)
+        if counters.get("transitions") != VIAS:  # (a shortened plan's steps cross faces between samples)
+            counters.update(transitions=SEGMENTS if crossing else REGIONS if opts.segment_safe else STEPS)
         return ReachResult(
             status=out.status,
             solver="lazy-smt",
@@ -262,15 +264,14 @@ def _plan(
                 physical_bound=physical,
                 exact_abstraction=abstraction.exact,
             )
-            if opts.shorten > 0 and graph.n_regions > LARGE_REGIONS:
+            if opts.shorten > 0:
                 with clock.phase("shortening the timed route's plan"):
                     t0 = time.perf_counter()
                     quick = shorten_plan(
-                        conplan,
+                        ViaLP(problem, abstraction, clock),
                         quick,
                         clock,
                         opts.shorten * timings.get("timed_route", 0.0),
-                        scale=max(h - lo for lo, h in zip(problem.workspace.lo, problem.workspace.hi)),
                         counters=counters,
                     )
                     timings["shorten"] = time.perf_counter() - t0

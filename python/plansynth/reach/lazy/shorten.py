@@ -50,18 +50,20 @@ from dataclasses import replace
 import numpy as np
 
 from plansynth.budget import BudgetExhausted, Clock
-from plansynth.reach.lazy.conplan import ConPlan
 from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.lazy.loop import LoopOutcome
-from plansynth.reach.lazy.timed import SLACK_TOL
+from plansynth.reach.lazy.vialp import SLACK_TOL, ViaLP, crossing_fractions
 from plansynth.reach.result import ReachStatus
 
-__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE"]
+__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "VIAS"]
 
 #: A run whose one-step cut was struck this many times proposes none again.
 STRIKES = 2
 #: One step is cut from every STRIDE-th run at once.
 STRIDE = 3
+#: The result's ``counters["transitions"]`` for a shortened plan: its segments cross
+#: between regions through a via (:mod:`plansynth.reach.lazy.vialp`), not at a sample.
+VIAS = "vias"
 
 
 def runs_of(plan: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -87,28 +89,35 @@ def plan_of(regions: np.ndarray, lengths: np.ndarray) -> tuple[int, ...]:
 
 
 def shorten_plan(
-    conplan: ConPlan,
+    vialp: ViaLP,
     found: LoopOutcome,
     clock: Clock,
     seconds: float,
     *,
-    scale: float = 1.0,
     counters: dict | None = None,
 ) -> LoopOutcome:
     """``found`` with its stays shortened as the module doc says, within ``seconds``
     (and ``clock``; one iteration per LP): the shortest plan realised, with its
-    trajectory, or ``found`` itself when no run could lose a step. ``scale``: the
-    workspace's size (the slack tolerance is relative to it, as the timed route's).
-    Never claims minimality. ``counters`` gets ``shorten_lps`` and ``shortened_from``."""
-    if found.status is not ReachStatus.FOUND or found.regions is None or found.horizon is None or seconds <= 0:
+    trajectory, or ``found`` itself when no run could lose a step. Never claims
+    minimality. ``counters`` gets ``shorten_lps``, ``shortened_from`` and (when
+    shortened) ``transitions`` = :data:`VIAS`."""
+    if (
+        found.status is not ReachStatus.FOUND
+        or found.regions is None
+        or found.horizon is None
+        or found.trajectory is None
+        or seconds <= 0
+    ):
         return found
     regions, n = runs_of(found.regions)
     deadline = time.perf_counter() + seconds
-    tol = SLACK_TOL * max(1.0, scale)
-    best, lps = found, 0
+    fractions = crossing_fractions(vialp, found.regions, np.asarray(found.trajectory.states)[:, vialp.pos])
+    best_n = None
+    lps0 = vialp.lp_calls
     strikes = np.zeros(len(n), dtype=np.int64)
     index = np.arange(len(n))
     k, idle = 0, 0
+    result = found
     try:
         while idle < STRIDE and time.perf_counter() < deadline and not clock.exhausted():
             one = ((strikes < STRIKES) & (n > 1) & (index % STRIDE == k)).astype(np.int64)
@@ -117,24 +126,39 @@ def shorten_plan(
                 continue
             trial = n - one
             plan = plan_of(regions, trial)
-            lps += 1
             clock.tick()
-            elastic = conplan.violations(plan, tol)
-            if elastic is not None and elastic[1] is not None:  # realised
-                best = LoopOutcome(ReachStatus.FOUND, len(plan) - 1, "", elastic[1].trajectory, plan, minimal=False)
-                n, k, idle = trial, (k + 1) % STRIDE, 0
+            # (the same regions, so the same transitions, in the same order)
+            out = vialp.solve(plan, fractions)
+            if out is not None and out[1] is not None:  # realised
+                n, k, idle, best_n = trial, (k + 1) % STRIDE, 0, trial
+                fractions = crossing_fractions(vialp, plan, np.asarray(out[1].states)[:, vialp.pos], fractions)
                 continue
             cuts = np.flatnonzero(one)
-            if elastic is None:  # (the dynamics and bounds alone refute it)
+            if out is None:  # (the dynamics and bounds alone refute it)
                 strikes[cuts] += 1
                 continue
             run = np.repeat(index, trial)  # (the run of each sample)
-            bad = np.unique(run[elastic[0] > tol])
+            bad = np.unique(run[out[0] > SLACK_TOL])
+            # the cut nearest each run with slack is struck
             strikes[np.unique(cuts[np.abs(bad[:, None] - cuts[None, :]).argmin(axis=1)])] += 1
+        if best_n is not None:
+            plan = plan_of(regions, best_n)
+            out = vialp.solve(plan, fractions, strict=True)
+            if out is not None and out[1] is not None:
+                h = len(plan) - 1
+                result = LoopOutcome(
+                    ReachStatus.FOUND,
+                    h,
+                    f"{found.message}; shortened from {found.horizon} by {vialp.lp_calls - lps0} LPs over its stays "
+                    "(segments crossing faces between samples)",
+                    out[1],
+                    plan,
+                    minimal=False,
+                )
     except (BudgetExhausted, LpFailure):
-        pass  # the shortest plan realised so far stands
+        pass  # the plan found stands
     if counters is not None:
-        counters.update(shorten_lps=lps, shortened_from=found.horizon)
-    if best is found:
-        return found
-    return replace(best, message=f"{found.message}; shortened from {found.horizon} by {lps} LPs over its stays")
+        counters.update(shorten_lps=vialp.lp_calls - lps0, shortened_from=found.horizon)
+        if result is not found:
+            counters["transitions"] = VIAS
+    return result
