@@ -114,9 +114,9 @@ from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
-from plansynth.reach.lazy.shorten import VIAS, shorten_plan
+from plansynth.reach.lazy.shorten import PRISMS, shorten_plan
 from plansynth.reach.lazy.timed import timed_route
-from plansynth.reach.lazy.vialp import ViaLP
+from plansynth.reach.lazy.prismlp import PrismLP
 from plansynth.reach.lazy.transit import START, TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus
@@ -207,7 +207,7 @@ def _plan(
 
     def result(out: LoopOutcome) -> tuple[ReachResult, Abstraction | None]:
         timings["total"] = time.perf_counter() - t_start
-        if counters.get("transitions") != VIAS:  # (a shortened plan's steps cross faces between samples)
+        if counters.get("transitions") != PRISMS:  # (a shortened plan's steps cross faces between samples)
             counters.update(transitions=SEGMENTS if crossing else REGIONS if opts.segment_safe else STEPS)
         return ReachResult(
             status=out.status,
@@ -268,7 +268,7 @@ def _plan(
                 with clock.phase("shortening the timed route's plan"):
                     t0 = time.perf_counter()
                     quick = shorten_plan(
-                        ViaLP(problem, abstraction, clock),
+                        PrismLP(problem, abstraction, clock),
                         quick,
                         clock,
                         opts.shorten * timings.get("timed_route", 0.0),

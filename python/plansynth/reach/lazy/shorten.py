@@ -52,10 +52,10 @@ import numpy as np
 from plansynth.budget import BudgetExhausted, Clock
 from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.lazy.loop import LoopOutcome
-from plansynth.reach.lazy.vialp import SLACK_TOL, ViaLP, crossing_fractions
+from plansynth.reach.lazy.prismlp import SLACK_TOL, PrismLP
 from plansynth.reach.result import ReachStatus
 
-__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "VIAS"]
+__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "PRISMS"]
 
 #: A run whose one-step cut was struck this many times proposes none again.
 STRIKES = 2
@@ -63,7 +63,7 @@ STRIKES = 2
 STRIDE = 3
 #: The result's ``counters["transitions"]`` for a shortened plan: its segments cross
 #: between regions through a via (:mod:`plansynth.reach.lazy.vialp`), not at a sample.
-VIAS = "vias"
+PRISMS = "prisms"
 
 
 def runs_of(plan: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -89,7 +89,7 @@ def plan_of(regions: np.ndarray, lengths: np.ndarray) -> tuple[int, ...]:
 
 
 def shorten_plan(
-    vialp: ViaLP,
+    lp: PrismLP,
     found: LoopOutcome,
     clock: Clock,
     seconds: float,
@@ -100,7 +100,7 @@ def shorten_plan(
     (and ``clock``; one iteration per LP): the shortest plan realised, with its
     trajectory, or ``found`` itself when no run could lose a step. Never claims
     minimality. ``counters`` gets ``shorten_lps``, ``shortened_from`` and (when
-    shortened) ``transitions`` = :data:`VIAS`."""
+    shortened) ``transitions`` = :data:`PRISMS`."""
     if (
         found.status is not ReachStatus.FOUND
         or found.regions is None
@@ -109,29 +109,69 @@ def shorten_plan(
         or seconds <= 0
     ):
         return found
-    regions, n = runs_of(found.regions)
+    reg, n = runs_of(found.regions)
+    K = len(n)
     deadline = time.perf_counter() + seconds
-    fractions = crossing_fractions(vialp, found.regions, np.asarray(found.trajectory.states)[:, vialp.pos])
-    best_n = None
-    lps0 = vialp.lp_calls
-    strikes = np.zeros(len(n), dtype=np.int64)
-    index = np.arange(len(n))
+    lps0 = lp.lp_calls
+    nan = np.full(lp.d, np.nan)
+    pair = [lp.prism(reg[i : i + 2]) for i in range(K - 1)]  # the prism of runs i, i + 1
+    pair_lo = np.array([nan if a is None else a for a, _ in pair]).reshape(K - 1, lp.d)
+    pair_hi = np.array([nan if b is None else b for _, b in pair]).reshape(K - 1, lp.d)
+    skip = [lp.prism(reg[k - 1 : k + 2]) if 0 < k < K - 1 and reg[k - 1] != reg[k + 1] else (None, None) for k in range(K)]
+    skip_lo = np.array([nan if a is None else a for a, _ in skip]).reshape(K, lp.d)
+    skip_hi = np.array([nan if b is None else b for _, b in skip]).reshape(K, lp.d)
+    skippable = np.isfinite(skip_lo).all(axis=1)
+
+    def prisms(lengths: np.ndarray, wide: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The prism rows of the plan of ``lengths``: a skipped run's prism, else the
+        pair's where ``wide``, else none (CON-PLAN's row)."""
+        full = np.flatnonzero(lengths > 0)
+        a, b = full[:-1], full[1:]
+        lo = np.where(((b - a) == 2)[:, None], skip_lo[np.minimum(a + 1, K - 1)], np.where(wide[a][:, None], pair_lo[a], nan))
+        hi = np.where(((b - a) == 2)[:, None], skip_hi[np.minimum(a + 1, K - 1)], np.where(wide[a][:, None], pair_hi[a], nan))
+        return lo, hi
+
+    def holding(plan: tuple[int, ...], lengths: np.ndarray, states: np.ndarray) -> np.ndarray:
+        """The pairs of runs (both kept) whose prism holds both ends of their step."""
+        P = np.asarray(states)[:, lp.pos]
+        full = np.flatnonzero(lengths > 0)
+        a = full[:-1][(full[1:] - full[:-1]) == 1]
+        t = np.cumsum(lengths)[a] - 1  # the last sample of run a
+        ok = np.isfinite(pair_lo[a]).all(axis=1)
+        for dt in (0, 1):
+            ok &= np.all((P[t + dt] >= pair_lo[a] - 1e-9) & (P[t + dt] <= pair_hi[a] + 1e-9), axis=1)
+        out = np.zeros(K - 1, dtype=bool)
+        out[a[ok]] = True
+        return out
+
+    wide = holding(tuple(found.regions), n, np.asarray(found.trajectory.states))
+    best_n, best_wide = None, wide
+    strikes = np.zeros(K, dtype=np.int64)
+    index = np.arange(K)
     k, idle = 0, 0
     result = found
     try:
+        every = np.isfinite(pair_lo).all(axis=1)
+        if (every & ~wide).any():  # every pair's prism, where it has one, if that realises the plan
+            clock.tick()
+            out = lp.solve(found.regions, *prisms(n, every))
+            if out is not None and out[1] is not None:
+                wide = every
         while idle < STRIDE and time.perf_counter() < deadline and not clock.exhausted():
-            one = ((strikes < STRIKES) & (n > 1) & (index % STRIDE == k)).astype(np.int64)
+            kept = n > 0
+            can_skip = skippable & (n == 1) & np.r_[False, kept[:-1]] & np.r_[kept[1:], False]
+            one = ((strikes < STRIKES) & ((n > 1) | can_skip) & (index % STRIDE == k)).astype(np.int64)
             if not one.any():
                 k, idle = (k + 1) % STRIDE, idle + 1
                 continue
             trial = n - one
-            plan = plan_of(regions, trial)
+            plan = plan_of(reg, trial)
             clock.tick()
-            # (the same regions, so the same transitions, in the same order)
-            out = vialp.solve(plan, fractions)
+            out = lp.solve(plan, *prisms(trial, wide))
             if out is not None and out[1] is not None:  # realised
                 n, k, idle, best_n = trial, (k + 1) % STRIDE, 0, trial
-                fractions = crossing_fractions(vialp, plan, np.asarray(out[1].states)[:, vialp.pos], fractions)
+                wide = wide | holding(plan, n, np.asarray(out[1].states))
+                best_wide = wide
                 continue
             cuts = np.flatnonzero(one)
             if out is None:  # (the dynamics and bounds alone refute it)
@@ -142,15 +182,15 @@ def shorten_plan(
             # the cut nearest each run with slack is struck
             strikes[np.unique(cuts[np.abs(bad[:, None] - cuts[None, :]).argmin(axis=1)])] += 1
         if best_n is not None:
-            plan = plan_of(regions, best_n)
-            out = vialp.solve(plan, fractions, strict=True)
+            plan = plan_of(reg, best_n)
+            out = lp.solve(plan, *prisms(best_n, best_wide), strict=True)
             if out is not None and out[1] is not None:
                 h = len(plan) - 1
                 result = LoopOutcome(
                     ReachStatus.FOUND,
                     h,
-                    f"{found.message}; shortened from {found.horizon} by {vialp.lp_calls - lps0} LPs over its stays "
-                    "(segments crossing faces between samples)",
+                    f"{found.message}; shortened from {found.horizon} by {lp.lp_calls - lps0} LPs over its stays "
+                    f"(steps crossing box faces anywhere, {int((best_n == 0).sum())} regions skipped)",
                     out[1],
                     plan,
                     minimal=False,
@@ -158,7 +198,7 @@ def shorten_plan(
     except (BudgetExhausted, LpFailure):
         pass  # the plan found stands
     if counters is not None:
-        counters.update(shorten_lps=vialp.lp_calls - lps0, shortened_from=found.horizon)
+        counters.update(shorten_lps=lp.lp_calls - lps0, shortened_from=found.horizon)
         if result is not found:
-            counters["transitions"] = VIAS
+            counters["transitions"] = PRISMS
     return result
