@@ -61,6 +61,8 @@ __all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "PRISMS"]
 STRIKES = 2
 #: One step is cut from every STRIDE-th run at once.
 STRIDE = 3
+#: Rounds of turning pairs' prisms on before the cuts (those near slack off again).
+WIDEN_ROUNDS = 4
 #: The result's ``counters["transitions"]`` for a shortened plan: its segments cross
 #: between regions through a via (:mod:`plansynth.reach.lazy.vialp`), not at a sample.
 PRISMS = "prisms"
@@ -145,22 +147,33 @@ def shorten_plan(
         return out
 
     wide = holding(tuple(found.regions), n, np.asarray(found.trajectory.states))
+    index = np.arange(K)
     best_n, best_wide = None, wide
     strikes = np.zeros(K, dtype=np.int64)
-    index = np.arange(K)
+    paused = np.zeros(K, dtype=bool)  # (struck since the last plan kept)
     k, idle = 0, 0
     result = found
     try:
-        every = np.isfinite(pair_lo).all(axis=1)
-        if (every & ~wide).any():  # every pair's prism, where it has one, if that realises the plan
+        # every pair's prism where it has one, but those around slack (a few rounds)
+        every = np.isfinite(pair_lo).all(axis=1) | wide
+        for _ in range(WIDEN_ROUNDS):
+            if not (every & ~wide).any():
+                break
             clock.tick()
             out = lp.solve(found.regions, *prisms(n, every))
-            if out is not None and out[1] is not None:
+            if out is None:
+                break
+            if out[1] is not None:
                 wide = every
+                break
+            bad = np.unique(np.repeat(index, n)[out[0] > SLACK_TOL])
+            off = np.zeros(K - 1, dtype=bool)
+            off[np.clip(np.r_[bad - 1, bad], 0, K - 2)] = True
+            every &= ~off | wide
         while idle < STRIDE and time.perf_counter() < deadline and not clock.exhausted():
             kept = n > 0
             can_skip = skippable & (n == 1) & np.r_[False, kept[:-1]] & np.r_[kept[1:], False]
-            one = ((strikes < STRIKES) & ((n > 1) | can_skip) & (index % STRIDE == k)).astype(np.int64)
+            one = ((strikes < STRIKES) & ~paused & ((n > 1) | can_skip) & (index % STRIDE == k)).astype(np.int64)
             if not one.any():
                 k, idle = (k + 1) % STRIDE, idle + 1
                 continue
@@ -170,17 +183,18 @@ def shorten_plan(
             out = lp.solve(plan, *prisms(trial, wide))
             if out is not None and out[1] is not None:  # realised
                 n, k, idle, best_n = trial, (k + 1) % STRIDE, 0, trial
+                paused[:] = False
                 wide = wide | holding(plan, n, np.asarray(out[1].states))
                 best_wide = wide
                 continue
             cuts = np.flatnonzero(one)
             if out is None:  # (the dynamics and bounds alone refute it)
-                strikes[cuts] += 1
-                continue
-            run = np.repeat(index, trial)  # (the run of each sample)
-            bad = np.unique(run[out[0] > SLACK_TOL])
-            # the cut nearest each run with slack is struck
-            strikes[np.unique(cuts[np.abs(bad[:, None] - cuts[None, :]).argmin(axis=1)])] += 1
+                struck = cuts
+            else:  # the cut nearest each run with slack
+                bad = np.unique(np.repeat(index, trial)[out[0] > SLACK_TOL])
+                struck = np.unique(cuts[np.abs(bad[:, None] - cuts[None, :]).argmin(axis=1)])
+            strikes[struck] += 1
+            paused[struck] = True
         if best_n is not None:
             plan = plan_of(reg, best_n)
             out = lp.solve(plan, *prisms(best_n, best_wide), strict=True)
