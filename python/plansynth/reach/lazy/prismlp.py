@@ -136,7 +136,6 @@ class PrismLP:
         prism_hi: np.ndarray | None = None,
         *,
         strict: bool = False,
-        fixed: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> tuple[np.ndarray, Trajectory | None] | None:
         """The elastic LP of ``plan`` (r_0..r_N): for the i-th change of region
         (``transitions(plan)[i]`` = t), both ends of the step in the box
@@ -144,9 +143,7 @@ class PrismLP:
         Returns the slacks s_0..s_N and, when none exceeds :data:`SLACK_TOL`, a
         trajectory realising the plan (``strict``: the slacks fixed at zero, so its rows
         hold to HiGHS's tolerance); None when even the slacks do not make it feasible.
-        ``fixed``: times and their states (a k-vector and a k x n array), held there
-        (the LP then splits into independent pieces between them). Raises
-        LpBudgetExhausted when the budget runs out."""
+        Raises LpBudgetExhausted when the budget runs out."""
         r = np.asarray(plan, dtype=np.int64)
         n, m, d = self.n, self.m, self.d
         N = len(r) - 1
@@ -216,9 +213,6 @@ class PrismLP:
             ]
         )
         col_lo[:n] = col_hi[:n] = self.start
-        if fixed is not None:
-            at = (np.asarray(fixed[0], dtype=np.int64)[:, None] * n + np.arange(n)[None, :]).ravel()
-            col_lo[at] = col_hi[at] = np.asarray(fixed[1], float).ravel()
         cost = np.zeros(n_col)
         cost[s0:] = 1.0
         lp = csc_lp(n_col, row, Ra[keep], Ca[keep], Va[keep], cost, col_lo, col_hi, row_lo, row_hi)
