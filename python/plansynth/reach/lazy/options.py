@@ -140,10 +140,11 @@ class LazyOptions:
         "CON-PLAN finds it too tight, before DIS-PLAN is built",
     )
     shorten: float = option(
-        3.0,
+        1.0,
         "window search, abstractions of more than 200 regions: shorten the timed route's plan "
-        "(its regions kept) by CON-PLAN's slack LPs, for at most this many times the timed "
-        "route's seconds (0: off)",
+        "(fewer steps per region; steps crossing box regions' faces anywhere, skipping thin "
+        "boxes), by LPs, for at most this many times the seconds the plan took to find (at "
+        "least 1 s; 0: off)",
         minimum=0,
     )
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")

@@ -114,7 +114,7 @@ from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
-from plansynth.reach.lazy.shorten import PRISMS, shorten_plan
+from plansynth.reach.lazy.shorten import MIN_SECONDS, PRISMS, shorten_plan
 from plansynth.reach.lazy.timed import timed_route
 from plansynth.reach.lazy.prismlp import PrismLP
 from plansynth.reach.lazy.transit import START, TransitCheck
@@ -264,14 +264,14 @@ def _plan(
                 physical_bound=physical,
                 exact_abstraction=abstraction.exact,
             )
-            if opts.shorten > 0:
+            if opts.shorten > 0 and graph.n_regions > LARGE_REGIONS:
                 with clock.phase("shortening the timed route's plan"):
                     t0 = time.perf_counter()
                     quick = shorten_plan(
                         PrismLP(problem, abstraction, clock),
                         quick,
                         clock,
-                        opts.shorten * timings.get("timed_route", 0.0),
+                        opts.shorten * max(time.perf_counter() - t_start, MIN_SECONDS),
                         counters=counters,
                     )
                     timings["shorten"] = time.perf_counter() - t0

@@ -216,7 +216,7 @@ class PrismLP:
         cost = np.zeros(n_col)
         cost[s0:] = 1.0
         lp = csc_lp(n_col, row, Ra[keep], Ca[keep], Va[keep], cost, col_lo, col_hi, row_lo, row_hi)
-        h = new_highs()
+        h = new_highs(presolve="off")  # (a cold dual simplex: faster without, 1.0 -> 0.7 s at 4,000 steps)
         if self.clock is not None:
             left = self.clock.remaining()
             if left <= 0:

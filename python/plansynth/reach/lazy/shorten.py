@@ -55,12 +55,14 @@ from plansynth.reach.lazy.loop import LoopOutcome
 from plansynth.reach.lazy.prismlp import SLACK_TOL, PrismLP
 from plansynth.reach.result import ReachStatus
 
-__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "PRISMS"]
+__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "PRISMS", "MIN_SECONDS"]
 
 #: A run whose one-step cut was struck this many times proposes none again.
 STRIKES = 2
 #: One step is cut from every STRIDE-th run at once.
 STRIDE = 3
+#: The pass's time is ``shorten`` times the seconds the plan took, or this, whichever is more.
+MIN_SECONDS = 1.0
 #: Rounds of turning pairs' prisms on before the cuts (those near slack off again).
 WIDEN_ROUNDS = 4
 #: The result's ``counters["transitions"]`` for a shortened plan: its segments cross
@@ -151,7 +153,8 @@ def shorten_plan(
     best_n, best_wide = None, wide
     strikes = np.zeros(K, dtype=np.int64)
     paused = np.zeros(K, dtype=bool)  # (struck since the last plan kept)
-    k, idle = 0, 0
+    size = np.ones(K, dtype=np.int64)  # the steps each run proposes to give
+    k, idle, lp_seconds = 0, 0, 0.0
     result = found
     try:
         # every pair's prism where it has one, but those around slack (a few rounds)
@@ -170,20 +173,24 @@ def shorten_plan(
             off = np.zeros(K - 1, dtype=bool)
             off[np.clip(np.r_[bad - 1, bad], 0, K - 2)] = True
             every &= ~off | wide
-        while idle < STRIDE and time.perf_counter() < deadline and not clock.exhausted():
+        while idle < STRIDE and time.perf_counter() + lp_seconds < deadline and not clock.exhausted():
             kept = n > 0
             can_skip = skippable & (n == 1) & np.r_[False, kept[:-1]] & np.r_[kept[1:], False]
-            one = ((strikes < STRIKES) & ~paused & ((n > 1) | can_skip) & (index % STRIDE == k)).astype(np.int64)
+            mine = (strikes < STRIKES) & ~paused & ((n > 1) | can_skip) & (index % STRIDE == k)
+            one = np.where(mine, np.where(n > 1, np.minimum(size, n - 1), 1), 0)
             if not one.any():
                 k, idle = (k + 1) % STRIDE, idle + 1
                 continue
             trial = n - one
             plan = plan_of(reg, trial)
             clock.tick()
+            t0 = time.perf_counter()
             out = lp.solve(plan, *prisms(trial, wide))
+            lp_seconds = time.perf_counter() - t0  # (no LP is started that would end past the deadline)
             if out is not None and out[1] is not None:  # realised
                 n, k, idle, best_n = trial, (k + 1) % STRIDE, 0, trial
                 paused[:] = False
+                size[one > 0] *= 2  # (a run that gave a step may give two next time)
                 wide = wide | holding(plan, n, np.asarray(out[1].states))
                 best_wide = wide
                 continue
@@ -193,6 +200,9 @@ def shorten_plan(
             else:  # the cut nearest each run with slack
                 bad = np.unique(np.repeat(index, trial)[out[0] > SLACK_TOL])
                 struck = np.unique(cuts[np.abs(bad[:, None] - cuts[None, :]).argmin(axis=1)])
+            big = struck[one[struck] > 1]  # (a cut of several steps: one step next)
+            size[big] = 1
+            struck = struck[one[struck] == 1]
             strikes[struck] += 1
             paused[struck] = True
         if best_n is not None:
