@@ -114,7 +114,7 @@ from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
-from plansynth.reach.lazy.shorten import MIN_SECONDS, PRISMS, shorten_plan
+from plansynth.reach.lazy.shorten import MIN_SECONDS, shorten_plan
 from plansynth.reach.lazy.timed import timed_route
 from plansynth.reach.lazy.prismlp import PrismLP
 from plansynth.reach.lazy.transit import START, TransitCheck
@@ -207,8 +207,7 @@ def _plan(
 
     def result(out: LoopOutcome) -> tuple[ReachResult, Abstraction | None]:
         timings["total"] = time.perf_counter() - t_start
-        if counters.get("transitions") != PRISMS:  # (a shortened plan's steps cross faces between samples)
-            counters.update(transitions=SEGMENTS if crossing else REGIONS if opts.segment_safe else STEPS)
+        counters.update(transitions=SEGMENTS if crossing else REGIONS if opts.segment_safe else STEPS)
         return ReachResult(
             status=out.status,
             solver="lazy-smt",

@@ -55,7 +55,7 @@ from plansynth.reach.lazy.loop import LoopOutcome
 from plansynth.reach.lazy.prismlp import SLACK_TOL, PrismLP
 from plansynth.reach.result import ReachStatus
 
-__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "PRISMS", "MIN_SECONDS"]
+__all__ = ["shorten_plan", "runs_of", "plan_of", "STRIKES", "STRIDE", "MIN_SECONDS"]
 
 #: A run whose one-step cut was struck this many times proposes none again.
 STRIKES = 2
@@ -65,9 +65,6 @@ STRIDE = 3
 MIN_SECONDS = 1.0
 #: Rounds of turning pairs' prisms on before the cuts (those near slack off again).
 WIDEN_ROUNDS = 4
-#: The result's ``counters["transitions"]`` for a shortened plan: its segments cross
-#: between regions through a via (:mod:`plansynth.reach.lazy.vialp`), not at a sample.
-PRISMS = "prisms"
 
 
 def runs_of(plan: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -103,8 +100,8 @@ def shorten_plan(
     """``found`` with its stays shortened as the module doc says, within ``seconds``
     (and ``clock``; one iteration per LP): the shortest plan realised, with its
     trajectory, or ``found`` itself when no run could lose a step. Never claims
-    minimality. ``counters`` gets ``shorten_lps``, ``shortened_from`` and (when
-    shortened) ``transitions`` = :data:`PRISMS`."""
+    minimality. ``counters`` gets ``shorten_lps``, and when the plan is shortened
+    ``shortened_from`` (its horizon before) and ``skipped_regions``."""
     if (
         found.status is not ReachStatus.FOUND
         or found.regions is None
@@ -222,7 +219,7 @@ def shorten_plan(
     except (BudgetExhausted, LpFailure):
         pass  # the plan found stands
     if counters is not None:
-        counters.update(shorten_lps=lp.lp_calls - lps0, shortened_from=found.horizon)
+        counters["shorten_lps"] = lp.lp_calls - lps0
         if result is not found:
-            counters["transitions"] = PRISMS
+            counters.update(shortened_from=found.horizon, skipped_regions=int((best_n == 0).sum()))
     return result
