@@ -1,44 +1,52 @@
-"""Shortening a found plan by re-timing its stays, several at once (beyond Shoukry et
-al., CDC 2016: a pass after the lazy loop of Algorithm 1 has its plan, each candidate
-checked by CON-PLAN's LP of Section V).
+"""Shortening a found plan: fewer samples in its regions, steps crossing box faces
+anywhere, thin boxes skipped (beyond Shoukry et al., CDC 2016: a pass after the lazy
+loop of Algorithm 1 has its plan, each candidate checked by an LP as CON-PLAN's of
+Section V).
 
 The timed route (:mod:`plansynth.reach.lazy.timed`) lengthens the stays around every
-place CON-PLAN's slack LP finds too tight by a fraction of its span, and stops at the
-first timing CON-PLAN realises, so its plan is long (the GCS paper's 50 x 50 maze: 423
-steps of 0.5 s, 1.33 times the 159 s of gcs-decomposition's curve). Lowering the stays
-one step and one LP at a time (:func:`~plansynth.reach.lazy.minimal.retimed`) costs an
-LP per step removed. This pass keeps the plan's regions and their order (its runs
-r_0^{n_0} .. r_K^{n_K}: n_k samples in region r_k, consecutive regions distinct) and
-removes one step from every :data:`STRIDE`-th run at once (k = j mod STRIDE, j taking
-turns), each candidate one slack LP
-(:meth:`~plansynth.reach.lazy.conplan.ConPlan.violations`, warm-started: the plans
-shrink inside its frame):
+place CON-PLAN finds too tight by a fraction of its span and stops at the first timing
+CON-PLAN realises, so its plan is long: the GCS paper's 50 x 50 maze, 423 steps of
+0.5 s, 1.33 times the 159 s of gcs-decomposition's curve. Two things keep it there:
+the stays, and CON-PLAN's rule that a step changing region ends on the regions' common
+face with a sample in every region on the way (each of the maze's doorways is a box
+0.1 m deep). Even re-timed to the last step, plans under that rule stay long (10 x 10:
+46 steps proved minimal through the decomposition, where gcs's curve takes 39).
+
+This pass keeps the plan's regions and their order, its runs r_0^{n_0} .. r_K^{n_K}
+(n_k samples in region r_k), and checks each candidate with the prism LP
+(:class:`~plansynth.reach.lazy.prismlp.PrismLP`), where a step between box regions
+that follow each other across one axis may have both ends anywhere in their prism
+instead: it crosses the faces anywhere and may skip a run whole (a doorway). First the
+pairs' prisms are switched on wherever the plan stays realised (a few LPs, those near
+slack switched off again); then, in turn for j = 0, 1, 2, every run k = j mod
+:data:`STRIDE` gives up steps at once (one, twice as many after each success; a run
+of one sample in a box between two boxes across one axis gives itself up):
 
 * no slack left: its trajectory realises the shorter plan, which is kept;
-* slack left: for every run with slack, the cut run nearest it is struck; a run struck
-  :data:`STRIKES` times proposes no cut again.
+* slack left: for each run with slack the cut run nearest it is struck (it proposes
+  nothing until a plan is kept; a cut of several steps drops to one instead); a run
+  struck :data:`STRIKES` times proposes no cut again.
 
-Every LP either shortens the plan or strikes a run, so the pass ends (when no run can
-lose a step, or at its time, ``shorten`` times the timed route's seconds, or at the
-budget's end). Each plan kept is one CON-PLAN realised, its consecutive regions equal
-or adjacent as before: a DIS-PLAN plan with CON-PLAN's trajectory (one region per
-sample, so the bench's oracle LP reads it as before), validated as every answer is.
-Nothing shorter is refuted, so a shortened plan is never claimed minimal. The regions
-stay those of the timed route and each sample stays in one region of its run, so the
-plan cannot get below the decomposition's minimal horizon (the GCS paper's 10 x 10
-maze: 46 steps, where gcs's curve takes 39): 50 x 50, 423 -> 385 steps in 29 LPs.
+Every LP shortens the plan, halves a cut or strikes a run, so the pass ends: when no
+run can give a step, or when its time is up (``shorten`` times the seconds the plan
+took, at least :data:`MIN_SECONDS`; no LP is started that would end after it), or the
+budget's. The plan kept is solved once more with no slack (its trajectory holds every
+row to HiGHS's tolerance) and validated as every answer is; nothing shorter is refuted,
+so a shortened plan is never claimed minimal. Its samples are one region each, but
+consecutive regions may be a skipped box apart and a step need not end on a face, so it
+is no plan of CON-PLAN's (the bench records no oracle LP for it). The GCS paper's
+50 x 50 maze: 423 -> 347 steps (173.5 s, 1.09 times gcs-decomposition's) in about 25
+LPs, 1 s.
 
->>> from plansynth.reach.families import maze
->>> from plansynth.reach.abstraction import abstract
->>> from plansynth.reach.lazy.conplan import ConPlan
->>> from plansynth.reach.lazy.guide import route
->>> from plansynth.reach.lazy.timed import timed_route
+>>> from plansynth.reach.families import gcs_maze
+>>> from plansynth.reach.lazy.planner import plan_lazy
+>>> from plansynth.reach.lazy.options import LazyOptions
 >>> from plansynth.budget import Budget
->>> p = maze(4); a = abstract(p); cp = ConPlan(p, a, generalize=True)
->>> long = timed_route(p, a, route(p, a), cp, Budget().clock(), {})
->>> short = shorten_plan(cp, long, Budget().clock(), 5.0)
->>> long.horizon, short.horizon <= long.horizon, short.minimal
-(143, True, False)
+>>> p = gcs_maze(20)
+>>> long = plan_lazy(p, options=LazyOptions(shorten=0))
+>>> short = plan_lazy(p, Budget(seconds=60))
+>>> long.horizon, short.horizon < long.horizon, short.counters["shortened_from"], short.counters["minimal"]
+(398, True, 398, False)
 """
 
 from __future__ import annotations
