@@ -188,7 +188,6 @@ class LazyOptions:
             transit=False,
             guided=False,
             timed_route=False,
-            shorten=0.0,
             widen=False,
             wait_shifts=False,
             **values,
