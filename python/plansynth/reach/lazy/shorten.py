@@ -71,6 +71,8 @@ STRIKES = 2
 STRIDE = 3
 #: The pass's time is ``shorten`` times the seconds the plan took, or this, whichever is more.
 MIN_SECONDS = 1.0
+#: Sweeps over the runs (each ending when every run is struck out; the next forgets the strikes).
+SWEEPS = 2
 #: Rounds of turning pairs' prisms on before the cuts (those near slack off again).
 WIDEN_ROUNDS = 4
 
@@ -178,7 +180,13 @@ def shorten_plan(
             off = np.zeros(K - 1, dtype=bool)
             off[np.clip(np.r_[bad - 1, bad], 0, K - 2)] = True
             every &= ~off | wide
-        while idle < STRIDE and time.perf_counter() + lp_seconds < deadline and not clock.exhausted():
+        sweeps = 1
+        while time.perf_counter() + lp_seconds < deadline and not clock.exhausted():
+            if idle >= STRIDE:  # no run can give a step: once more with the strikes forgotten
+                if sweeps >= SWEEPS or best_n is None:
+                    break
+                sweeps, idle = sweeps + 1, 0
+                strikes[:], paused[:], size[:] = 0, False, 1
             kept = n > 0
             can_skip = skippable & (n == 1) & np.r_[False, kept[:-1]] & np.r_[kept[1:], False]
             mine = (strikes < STRIKES) & ~paused & ((n > 1) | can_skip) & (index % STRIDE == k)
