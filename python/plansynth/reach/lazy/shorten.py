@@ -73,8 +73,10 @@ STRIDE = 3
 MIN_SECONDS = 1.0
 #: Sweeps over the runs (each ending when every run is struck out; the next forgets the strikes).
 SWEEPS = 2
-#: Rounds of turning pairs' prisms on before the cuts (those near slack off again).
-WIDEN_ROUNDS = 4
+#: Rounds of turning pairs' prisms on before the cuts (those within WIDEN_MARGIN runs
+#: of slack off again).
+WIDEN_ROUNDS = 2
+WIDEN_MARGIN = 1
 
 
 def runs_of(plan: Sequence[int]) -> tuple[np.ndarray, np.ndarray]:
@@ -178,7 +180,7 @@ def shorten_plan(
                 break
             bad = np.unique(np.repeat(index, n)[out[0] > SLACK_TOL])
             off = np.zeros(K - 1, dtype=bool)
-            off[np.clip(np.r_[bad - 1, bad], 0, K - 2)] = True
+            off[np.clip((bad[:, None] + np.arange(-WIDEN_MARGIN - 1, WIDEN_MARGIN + 1)[None, :]).ravel(), 0, K - 2)] = True
             every &= ~off | wide
         sweeps = 1
         while time.perf_counter() + lp_seconds < deadline and not clock.exhausted():
