@@ -90,19 +90,21 @@ class PrismLP:
         self.state_lo, self.state_hi = (np.asarray(b, float) for b in problem.state_box)
         self.start = np.asarray(problem.start, float)
         self.lp_calls = 0
-        # the box regions' bounds (NaN: not a box)
+        # the box regions' bounds (NaN: not a box; a region whose rows are +-e_j, one per side)
+        unit = (np.abs(self.H).sum(axis=2) == 1.0) & (np.abs(self.H).max(axis=2) == 1.0)  # regions x K
+        axis = np.abs(self.H).argmax(axis=2)
+        sign = np.take_along_axis(self.H, axis[:, :, None], axis=2)[:, :, 0]
         self.box_lo = np.full((len(Hs), self.d), np.nan)
         self.box_hi = np.full((len(Hs), self.d), np.nan)
-        for i, (H, h) in enumerate(zip(Hs, hs)):
-            if H.shape[0] == 2 * self.d and np.all(np.abs(H).sum(axis=1) == 1.0) and np.all(np.abs(H).max(axis=1) == 1.0):
-                lo, hi = np.full(self.d, np.nan), np.full(self.d, np.nan)
-                for row, rhs in zip(H, h):
-                    j = int(np.argmax(np.abs(row)))
-                    if row[j] > 0:
-                        hi[j] = rhs
-                    else:
-                        lo[j] = -rhs
-                self.box_lo[i], self.box_hi[i] = lo, hi
+        rows = np.array([H.shape[0] for H in Hs])
+        box = (rows == 2 * self.d) & np.all(unit | ~np.isfinite(self.h), axis=1)
+        for j in range(self.d):
+            up = (axis == j) & (sign > 0) & unit
+            dn = (axis == j) & (sign < 0) & unit
+            box &= (up.sum(axis=1) == 1) & (dn.sum(axis=1) == 1)
+            self.box_hi[:, j] = np.where(up, self.h, np.inf).min(axis=1)
+            self.box_lo[:, j] = -np.where(dn, self.h, np.inf).min(axis=1)
+        self.box_lo[~box], self.box_hi[~box] = np.nan, np.nan
 
     def prism(self, chain: Sequence[int]) -> tuple[np.ndarray | None, np.ndarray | None]:
         """The prism of the box regions ``chain`` (module doc): lower and upper bounds,
