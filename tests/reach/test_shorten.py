@@ -119,3 +119,18 @@ def test_every_shortened_plan_validates(seed: int, order: int, polygons: bool) -
         return
     short = shorten_plan(PrismLP(p, a), long, Budget(seconds=30).clock(), 5.0)
     _check(p, long, short)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(3, 6), st.integers(0, 10_000))
+def test_every_shortened_maze_plan_validates(n: int, seed: int) -> None:
+    """Random small mazes (box regions, doorways: the prisms and the skips at work):
+    the pass's plan runs through the timed route's regions in order and validates."""
+    p = gcs_maze(n, seed=seed)
+    a = abstract(p)
+    long = timed_route(p, a, route(p, a), ConPlan(p, a, generalize=True), Budget(seconds=30).clock(), {})
+    if long is None:
+        return
+    counters: dict = {}
+    short = shorten_plan(PrismLP(p, a), long, Budget(seconds=30).clock(), 5.0, counters=counters)
+    _check(p, long, short)
