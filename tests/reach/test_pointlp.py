@@ -13,6 +13,7 @@ def test_the_point_lps_time_limit_is_relative_to_its_run_time() -> None:
     the segment theory's point LP, run again and again, sets it past that sum: with the
     seconds left as an absolute limit, an instance that had run longer than them in all
     stopped at once ("budget ran out") though each solve takes milliseconds."""
+
     class Left:  # a clock with a fixed number of seconds left
         seconds = 1.0
 

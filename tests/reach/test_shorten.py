@@ -134,4 +134,3 @@ def test_every_shortened_maze_plan_validates(n: int, seed: int) -> None:
     counters: dict = {}
     short = shorten_plan(PrismLP(p, a), long, Budget(seconds=30).clock(), 5.0, counters=counters)
     _check(p, long, short)
-

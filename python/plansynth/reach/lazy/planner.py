@@ -112,11 +112,11 @@ from plansynth.reach.lazy.loop import (
 )
 from plansynth.reach.lazy.minimal import prove_minimal, shortened
 from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
+from plansynth.reach.lazy.prismlp import PrismLP
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
 from plansynth.reach.lazy.shorten import MIN_SECONDS, shorten_plan
 from plansynth.reach.lazy.timed import timed_route
-from plansynth.reach.lazy.prismlp import PrismLP
 from plansynth.reach.lazy.transit import START, TransitCheck
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.result import ReachResult, ReachStatus

@@ -53,7 +53,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import replace
 
 import numpy as np
 
@@ -130,7 +129,9 @@ def shorten_plan(
     pair = [lp.prism(reg[i : i + 2]) for i in range(K - 1)]  # the prism of runs i, i + 1
     pair_lo = np.array([nan if a is None else a for a, _ in pair]).reshape(K - 1, lp.d)
     pair_hi = np.array([nan if b is None else b for _, b in pair]).reshape(K - 1, lp.d)
-    skip = [lp.prism(reg[k - 1 : k + 2]) if 0 < k < K - 1 and reg[k - 1] != reg[k + 1] else (None, None) for k in range(K)]
+    skip = [
+        lp.prism(reg[k - 1 : k + 2]) if 0 < k < K - 1 and reg[k - 1] != reg[k + 1] else (None, None) for k in range(K)
+    ]
     skip_lo = np.array([nan if a is None else a for a, _ in skip]).reshape(K, lp.d)
     skip_hi = np.array([nan if b is None else b for _, b in skip]).reshape(K, lp.d)
     skippable = np.isfinite(skip_lo).all(axis=1)
@@ -140,8 +141,12 @@ def shorten_plan(
         pair's where ``wide``, else none (CON-PLAN's row)."""
         full = np.flatnonzero(lengths > 0)
         a, b = full[:-1], full[1:]
-        lo = np.where(((b - a) == 2)[:, None], skip_lo[np.minimum(a + 1, K - 1)], np.where(wide[a][:, None], pair_lo[a], nan))
-        hi = np.where(((b - a) == 2)[:, None], skip_hi[np.minimum(a + 1, K - 1)], np.where(wide[a][:, None], pair_hi[a], nan))
+        lo = np.where(
+            ((b - a) == 2)[:, None], skip_lo[np.minimum(a + 1, K - 1)], np.where(wide[a][:, None], pair_lo[a], nan)
+        )
+        hi = np.where(
+            ((b - a) == 2)[:, None], skip_hi[np.minimum(a + 1, K - 1)], np.where(wide[a][:, None], pair_hi[a], nan)
+        )
         return lo, hi
 
     def holding(plan: tuple[int, ...], lengths: np.ndarray, states: np.ndarray) -> np.ndarray:
@@ -180,7 +185,9 @@ def shorten_plan(
                 break
             bad = np.unique(np.repeat(index, n)[out[0] > SLACK_TOL])
             off = np.zeros(K - 1, dtype=bool)
-            off[np.clip((bad[:, None] + np.arange(-WIDEN_MARGIN - 1, WIDEN_MARGIN + 1)[None, :]).ravel(), 0, K - 2)] = True
+            off[np.clip((bad[:, None] + np.arange(-WIDEN_MARGIN - 1, WIDEN_MARGIN + 1)[None, :]).ravel(), 0, K - 2)] = (
+                True
+            )
             every &= ~off | wide
         sweeps = 1
         while time.perf_counter() + lp_seconds < deadline and not clock.exhausted():
