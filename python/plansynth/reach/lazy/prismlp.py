@@ -46,7 +46,7 @@ from plansynth.budget import Clock
 from plansynth.reach.abstraction import Abstraction
 from plansynth.reach.geometry import halfspaces
 from plansynth.reach.highs import csc_lp, new_highs
-from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted
+from plansynth.reach.lazy.conplan.runs import LpBudgetExhausted, LpFailure
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.trajectory import Trajectory
 
@@ -145,7 +145,8 @@ class PrismLP:
         Returns the slacks s_0..s_N and, when none exceeds :data:`SLACK_TOL`, a
         trajectory realising the plan (``strict``: the slacks fixed at zero, so its rows
         hold to HiGHS's tolerance); None when even the slacks do not make it feasible.
-        Raises LpBudgetExhausted when the budget runs out."""
+        Raises LpBudgetExhausted when the budget runs out, LpFailure when HiGHS gives no
+        answer."""
         r = np.asarray(plan, dtype=np.int64)
         n, m, d = self.n, self.m, self.d
         N = len(r) - 1
@@ -233,8 +234,10 @@ class PrismLP:
         S = highspy.HighsModelStatus
         if status in (S.kInfeasible, S.kUnboundedOrInfeasible):
             return None
+        if status == S.kTimeLimit:
+            raise LpBudgetExhausted("budget ran out in the prism LP")
         if status != S.kOptimal:
-            raise LpBudgetExhausted(f"the prism LP ended with HiGHS status {h.modelStatusToString(status)}")
+            raise LpFailure(f"the prism LP ended with HiGHS status {h.modelStatusToString(status)}")
         col = np.asarray(h.getSolution().col_value)
         slack = np.maximum(col[s0:], 0.0)
         if slack.max(initial=0.0) > SLACK_TOL:
