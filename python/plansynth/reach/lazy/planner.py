@@ -18,7 +18,10 @@ region graph, timed by an LP and repaired where CON-PLAN's slack LP finds it too
 (:mod:`~plansynth.reach.lazy.timed`), is the first plan checked; realised, it is the
 answer (the window search), or the plan the minimal search proves minimal from the
 horizon bounds up. Only no horizon below it is refuted, so it is not claimed minimal.
-When it gives up, the loop below runs as before.
+When it gives up, the loop below runs as before. With the window search on an
+abstraction of more than 200 regions its plan is then shortened (``shorten``;
+:mod:`~plansynth.reach.lazy.shorten`, checked by the prism LP of
+:mod:`~plansynth.reach.lazy.prismlp`), never claimed minimal either.
 
 **Horizon search.** ``horizon_search="linear"`` is the paper's loop above: one horizon
 at a time, so the trajectory found has the smallest horizon any region sequence
