@@ -6,7 +6,9 @@ configurations, ``milp``, ``milp-bigm``, ``rrt``, ``est``, ``kpiece``, ``gcs``,
 validator's ``dynamics="curve"`` mode; a mission also by the mission checker). For
 every solved run whose regions are one per time step, the run also records
 ``oracle_lp``: the time of one cold LP over its final region sequence
-(:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with. A run
+(:func:`plansynth.reach.oracle.oracle_lp`), the limit its total is compared with (not
+for a plan lazy-smt shortened, :mod:`plansynth.reach.lazy.shorten`, whose steps may
+cross regions' faces between samples: CON-PLAN's LP over its regions is not its LP). A run
 of the ``robust`` family also records the closed loop under sampled disturbances and,
 for lazy-smt at scale 1, the largest disturbance with a plan
 (:mod:`plansynth.bench.execute.robust`).
@@ -93,6 +95,9 @@ def run_reach(inst: Any, task: Mapping[str, Any]) -> dict[str, Any]:
         and getattr(problem, "robots", None) is None  # (a team's regions are one sequence per robot)
         and len(res.regions) == res.horizon + 1
         and getattr(res, "guarantee", None) in ("segments", "samples")
+        # (a shortened plan's steps may cross regions' faces between samples and skip a
+        # region, lazy/shorten.py: not CON-PLAN's LP over its regions, which the limit is)
+        and (res.counters or {}).get("shortened_from") is None
     ):
         from plansynth.reach.oracle import oracle_lp
 

@@ -139,6 +139,14 @@ class LazyOptions:
         "window and minimal searches: first check the shortest route timed by an LP and repaired where "
         "CON-PLAN finds it too tight, before DIS-PLAN is built",
     )
+    shorten: float = option(
+        1.0,
+        "window search, abstractions of more than 200 regions: shorten the timed route's plan "
+        "(fewer steps per region; steps crossing box regions' faces anywhere, skipping thin "
+        "boxes), by LPs, for at most this many times the seconds the plan took to find (at "
+        "least 1 s; 0: off)",
+        minimum=0,
+    )
     widen: bool = option(False, "also widen LP counterexamples in time (more LPs, fewer iterations)")
     wait_shifts: bool = option(True, WAIT_SHIFTS_DOC)
     prove: bool = option(
@@ -205,6 +213,7 @@ class LazyOptions:
             "transit": self.transit,
             "guided": self.guided,
             "timed_route": self.timed_route,
+            "shorten": self.shorten,
             "widen": self.widen,
             "wait_shifts": self.wait_shifts,
             "window_growth": self.window_growth,

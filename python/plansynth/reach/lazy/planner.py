@@ -18,7 +18,10 @@ region graph, timed by an LP and repaired where CON-PLAN's slack LP finds it too
 (:mod:`~plansynth.reach.lazy.timed`), is the first plan checked; realised, it is the
 answer (the window search), or the plan the minimal search proves minimal from the
 horizon bounds up. Only no horizon below it is refuted, so it is not claimed minimal.
-When it gives up, the loop below runs as before.
+When it gives up, the loop below runs as before. With the window search on an
+abstraction of more than 200 regions its plan is then shortened (``shorten``;
+:mod:`~plansynth.reach.lazy.shorten`, checked by the prism LP of
+:mod:`~plansynth.reach.lazy.prismlp`), never claimed minimal either.
 
 **Horizon search.** ``horizon_search="linear"`` is the paper's loop above: one horizon
 at a time, so the trajectory found has the smallest horizon any region sequence
@@ -111,9 +114,11 @@ from plansynth.reach.lazy.loop import (
     lazy_loop,
 )
 from plansynth.reach.lazy.minimal import prove_minimal, shortened
-from plansynth.reach.lazy.options import LazyOptions, window_growth_for
+from plansynth.reach.lazy.options import LARGE_REGIONS, LazyOptions, window_growth_for
+from plansynth.reach.lazy.prismlp import PrismLP
 from plansynth.reach.lazy.segments import SegmentDisPlan
 from plansynth.reach.lazy.segtheory import SegmentTheory
+from plansynth.reach.lazy.shorten import MIN_SECONDS, shorten_plan
 from plansynth.reach.lazy.timed import timed_route
 from plansynth.reach.lazy.transit import START, TransitCheck
 from plansynth.reach.problem import ReachProblem
@@ -261,6 +266,17 @@ def _plan(
                 physical_bound=physical,
                 exact_abstraction=abstraction.exact,
             )
+            if opts.shorten > 0 and graph.n_regions > LARGE_REGIONS:
+                with clock.phase("shortening the timed route's plan"):
+                    t0 = time.perf_counter()
+                    quick = shorten_plan(
+                        PrismLP(problem, abstraction, clock),
+                        quick,
+                        clock,
+                        opts.shorten * max(time.perf_counter() - t_start, MIN_SECONDS),
+                        counters=counters,
+                    )
+                    timings["shorten"] = time.perf_counter() - t0
             out = _claims(quick, conplan, physical, False, counters, theory)
             _count_run(counters, clock, None, conplan, theory, out)
             timings["highs"] = conplan.stats.seconds

@@ -243,7 +243,8 @@ class PointLP:
             left = self.clock.remaining()
             if left <= 0:
                 raise LpBudgetExhausted("budget ran out in the segment theory's LP")
-            h.setOptionValue("time_limit", float(min(left, 1e9)))
+            # HiGHS compares time_limit with the instance's run time summed over its runs
+            h.setOptionValue("time_limit", float(h.getRunTime() + min(left, 1e9)))
         t0 = time.perf_counter()
         h.run()
         self.seconds += time.perf_counter() - t0
