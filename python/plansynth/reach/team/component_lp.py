@@ -30,7 +30,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import BudgetExhausted, Clock
-from plansynth.reach.highs import Rows, csc_lp
+from plansynth.reach.highs import Rows, pass_csc
 from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
@@ -349,10 +349,9 @@ class ComponentLp:
         self.cb = (clo, chi)
         cost = np.zeros(self.ncol)
         cost[self.ncol - self.n_effort :] = 1.0 if self.n_effort else 0.0
-        lp = csc_lp(self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
         self.clock = clock
         self.h = self.owner.highs("component")
-        self.h.passModel(lp)
+        pass_csc(self.h, self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
         return self.run()
 
     @property
