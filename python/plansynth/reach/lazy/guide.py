@@ -145,7 +145,7 @@ def reference_plan(
     # on the leg from path[w] to path[w + 1]: the next region once the point is in it
     nxt = np.minimum(w + 1, len(path) - 1)
     inside = np.zeros(horizon + 1, dtype=bool)
-    for j in np.unique(nxt).tolist():
+    for j in sorted(set(nxt.tolist())):  # (not np.unique, which imports numpy.ma: 25 ms of a first run)
         at = nxt == j
         reg = regions[path[j]]
         inside[at] = np.all(pts[at] @ np.asarray(reg.H, float).T <= np.asarray(reg.h, float) + 1e-9, axis=1)
