@@ -308,12 +308,17 @@ class ComponentLp:
     # bounds
     def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The columns' bounds (``start``: the start columns fixed at the start), built
-        once per LP and flag (the counterexample asks again for them without the start)."""
+        once per component, horizon and flag (they do not depend on the plan: every LP
+        of the component at that horizon shares them, read-only)."""
         hit = self._bounds.get(start)
         if hit is None:
-            hit = self._bounds[start] = self._col_bounds(start)
-            for a in hit:
-                a.setflags(write=False)
+            key = ("bounds", self.comp, self.L, start, self.n_effort)
+            hit = self.owner.row_cache.get(key)
+            if hit is None:
+                hit = self.owner.row_cache[key] = self._col_bounds(start)
+                for a in hit:
+                    a.setflags(write=False)
+            self._bounds[start] = hit
         return hit
 
     def _col_bounds(self, start: bool) -> tuple[np.ndarray, np.ndarray]:
