@@ -7,10 +7,7 @@ For a :class:`~plansynth.reach.team.plans.TeamPlan` of horizon L the LP has, per
 its states x_0..x_L and inputs u_0..u_{L-1} (x_0 the start, the inputs within the
 bound, the states within the state bounds and the robot's workspace), the dynamics, its
 regions at every sample and along every segment (the region of step t holds x_{t+1}
-too; a segment's end in the region of the next sample is that sample's block, not
-repeated, and a region's rows the state bounds imply are left out, :class:`RegionTable`:
-each LP keeps its feasible set with fewer rows), its goal at L (a convex shape, or a
-point), and, when the robot must end where it
+too), its goal at L (a convex shape, or a point), and, when the robot must end where it
 can stay (``stop``, or a mission read on a finite plan), ``x_L = A x_L + B w`` for an
 admissible input w. Per engaged pair step (i, j, t) with side k:
 ``A_k (p_i - p_j) >= b_k`` at samples t and t + 1 (relative motion within a step is
@@ -158,14 +155,8 @@ class ComponentLp:
         base_idx = len(self.literals)
         self.literals.extend(("at", r, t, regions[t]) for t in range(L + 1))
         # blocks: (t, sample) for every sample, and (t, t + 1) for every segment's end
-        # where the next sample's region differs (where it is the same region, the
-        # segment's end is that sample's block again: the same rows, once)
         table = rows.table
         bt, btt = rows.bt, rows.btt
-        if L:
-            ra = np.asarray(regions)
-            moves = np.concatenate([np.ones(L + 1, bool), ra[:-1] != ra[1:]])
-            bt, btt = bt[moves], btt[moves]
         reg = np.asarray(regions)[bt]
         K = table.K[reg]
         count = int(K.sum())
@@ -408,36 +399,9 @@ class ComponentLp:
 
 class RegionTable:
     """A robot's regions stacked once: ``H`` (every region's rows, region after region),
-    ``h``, ``K`` (rows per region) and ``offset`` (each region's first row).
+    ``h``, ``K`` (rows per region) and ``offset`` (each region's first row)."""
 
-    With the box ``lo``..``hi`` of the robot's position (its state bounds, columns'
-    bounds in every LP of the robot), the rows the box implies are left out: a region's
-    side on the workspace's edge (a third to all of the rows of the team family's
-    regions) would only repeat a column bound in every sample's and segment's block.
-    Every LP keeps its feasible set, and a certificate that needed such a row uses the
-    bound instead (a conflict without that region's literal: it holds in every plan).
-
-    >>> box = (np.array([0.0, 0.0]), np.array([10.0, 2.0]))
-    >>> t = RegionTable(((np.array([[1.0, 0], [-1, 0], [0, 1], [0, -1]]), np.array([4.0, 0, 2, 0])),), *box)
-    >>> t.K.tolist(), t.H.tolist(), t.h.tolist()
-    ([1], [[1.0, 0.0]], [4.0])
-    """
-
-    def __init__(
-        self,
-        regions: tuple[tuple[np.ndarray, np.ndarray], ...],
-        lo: np.ndarray | None = None,
-        hi: np.ndarray | None = None,
-    ) -> None:
-        kept = []
-        for H, h in regions:
-            if lo is not None and hi is not None and H.shape[0]:
-                with np.errstate(invalid="ignore"):  # (an unbounded side: nan or inf, kept)
-                    most = np.where(H > 0, H * hi, H * lo).sum(axis=1)  # (the largest H p over the box)
-                need = ~(most <= h)
-                H, h = H[need], h[need]
-            kept.append((H, h))
-        regions = tuple(kept)
+    def __init__(self, regions: tuple[tuple[np.ndarray, np.ndarray], ...]) -> None:
         self.K = np.array([H.shape[0] for H, _ in regions], dtype=np.int64)
         self.offset = np.cumsum(self.K) - self.K
         self.H = np.concatenate([H for H, _ in regions]) if regions else np.zeros((0, 0))
@@ -494,7 +458,6 @@ def _robot_rows(owner: Any, r: int, L: int) -> RobotRows:
         m = owner.models[r]
         table = cache.get(("table", r))
         if table is None:
-            pos = list(m.pos)
-            table = cache[("table", r)] = RegionTable(m.regions, m.x_lo[pos], m.x_hi[pos])
+            table = cache[("table", r)] = RegionTable(m.regions)
         hit = cache[(r, L)] = RobotRows(m, L, table)
     return hit
