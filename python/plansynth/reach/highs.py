@@ -40,7 +40,7 @@ from typing import Any
 import highspy
 import numpy as np
 
-__all__ = ["THREADS", "new_highs", "reset_scheduler", "csc_lp", "Rows"]
+__all__ = ["THREADS", "new_highs", "reset_scheduler", "csc_lp", "pass_csc", "Rows"]
 
 #: The ``threads`` option of every HiGHS instance plansynth makes.
 THREADS = 1
@@ -110,10 +110,7 @@ def csc_lp(
 ) -> highspy.HighsLp:
     """A HiGHS LP (a MILP with ``integrality``) with the column-wise matrix of the COO
     entries (R, C, V): the one assembly of CON-PLAN, the region MILP and the mission LP."""
-    # by column, then row (one stable sort of a single key: np.lexsort((R, C))'s order, in half the time)
-    order = np.argsort(np.asarray(C, np.int64) * max(n_row, 1) + R, kind="stable")
-    starts = np.zeros(n_col + 1, dtype=np.int32)
-    np.cumsum(np.bincount(C, minlength=n_col), out=starts[1:])
+    starts, index, value = _csc(n_col, n_row, R, C, V)
     lp = highspy.HighsLp()
     lp.num_col_, lp.num_row_ = n_col, n_row
     lp.col_cost_ = cost
@@ -121,11 +118,58 @@ def csc_lp(
     lp.row_lower_, lp.row_upper_ = row_lo, row_hi
     lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
     lp.a_matrix_.start_ = starts
-    lp.a_matrix_.index_ = R[order].astype(np.int32)
-    lp.a_matrix_.value_ = V[order]
+    lp.a_matrix_.index_ = index
+    lp.a_matrix_.value_ = value
     if integrality is not None:
         lp.integrality_ = integrality
     return lp
+
+
+def _csc(n_col: int, n_row: int, R: np.ndarray, C: np.ndarray, V: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The column starts, row indices and values of the COO entries (R, C, V)."""
+    # by column, then row (one stable sort of a single key: np.lexsort((R, C))'s order, in half the time)
+    order = np.argsort(np.asarray(C, np.int64) * max(n_row, 1) + R, kind="stable")
+    starts = np.zeros(n_col + 1, dtype=np.int32)
+    np.cumsum(np.bincount(C, minlength=n_col), out=starts[1:])
+    return starts, np.asarray(R)[order].astype(np.int32), np.asarray(V, float)[order]
+
+
+def pass_csc(
+    h: highspy.Highs,
+    n_col: int,
+    n_row: int,
+    R: np.ndarray,
+    C: np.ndarray,
+    V: np.ndarray,
+    cost: np.ndarray,
+    col_lo: np.ndarray,
+    col_hi: np.ndarray,
+    row_lo: np.ndarray,
+    row_hi: np.ndarray,
+) -> None:
+    """Load the LP of :func:`csc_lp` into ``h`` (a minimisation, its previous model,
+    basis and solution dropped) from the arrays themselves: :func:`csc_lp`'s
+    ``HighsLp`` copies each array into HiGHS element by element through Python
+    (a fifth of a small team's run went there), ``passModel``'s array form by pointer."""
+    starts, index, value = _csc(n_col, n_row, R, C, V)
+    f64 = np.float64
+    h.passModel(
+        int(n_col),
+        int(n_row),
+        int(len(value)),
+        int(highspy.MatrixFormat.kColwise),
+        int(highspy.ObjSense.kMinimize),
+        0.0,
+        np.ascontiguousarray(cost, f64),
+        np.ascontiguousarray(col_lo, f64),
+        np.ascontiguousarray(col_hi, f64),
+        np.ascontiguousarray(row_lo, f64),
+        np.ascontiguousarray(row_hi, f64),
+        starts,
+        index,
+        np.ascontiguousarray(value, f64),
+        np.zeros(n_col, np.int32),  # (every column continuous)
+    )
 
 
 class Rows:

@@ -87,7 +87,13 @@ def trajectory_to_lists(trajectory: Trajectory) -> tuple[list[list[float]], list
 
 
 def trajectory_from_dict(doc: Any, source: str | None = None) -> Trajectory:
-    """Read ``states`` and ``inputs`` from a result document; other keys are ignored."""
+    """Read ``states`` and ``inputs`` from a result document; other keys are ignored.
+
+    >>> trajectory_from_dict({"states": [[0, 0], [1, 0]], "inputs": [[]]}, "r.json")
+    Traceback (most recent call last):
+    ...
+    plansynth.errors.InvalidProblem: r.json: inputs[0]: empty input
+    """
     f = Fields(doc, source, "")
     states_raw = f.require("states")
     if states_raw is None:
@@ -113,6 +119,8 @@ def trajectory_from_dict(doc: Any, source: str | None = None) -> Trajectory:
             f"expected {len(states) - 1} inputs (one per step between {len(states)} states), got {len(inputs)}",
         )
     m = len(inputs[0]) if inputs else 0
+    if inputs and m == 0:  # (else the arrays' shapes disagree, and Trajectory's ValueError names no field)
+        raise InvalidProblem(source, "inputs[0]", "empty input")
     for i, u in enumerate(inputs):
         if len(u) != m:
             raise InvalidProblem(source, f"inputs[{i}]", f"has {len(u)} components, inputs[0] has {m}")

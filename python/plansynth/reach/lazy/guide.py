@@ -121,33 +121,38 @@ def reference_plan(
     total = sum(seg) or 1.0
     cum = np.concatenate([[0.0], np.cumsum(seg)]) / total
 
-    def point(s: float) -> tuple[int, np.ndarray]:
-        """The leg and the point at route fraction s."""
-        w = min(max(int(np.searchsorted(cum, s, side="right")) - 1, 0), len(points) - 2)
-        frac = 1.0 if seg[w] == 0 else min(max((s - cum[w]) * total / seg[w], 0.0), 1.0)
-        return w, points[w] + frac * (points[w + 1] - points[w])
-
     # time warp: route fraction s(t), linear; with depart, linear in two pieces that
     # meet where the first leg enters the route's second region
-    knot = (0.0, 0)
+    s1, t1 = 0.0, 0
     if depart is not None and len(path) > 1 and 0 < depart < horizon:
-        s1 = _entry_fraction(regions[path[1]], points[0], points[1], seg[0] / total)
-        if s1 * horizon < depart:  # constant speed would enter earlier: hold it back
-            knot = (s1, depart)
-
-    def fraction(t: int) -> float:
-        s1, t1 = knot
-        if t1 and t <= t1:
-            return s1 * t / t1
-        return s1 + (1.0 - s1) * (t - t1) / (horizon - t1) if horizon > t1 else 1.0
-
+        e1 = _entry_fraction(regions[path[1]], points[0], points[1], seg[0] / total)
+        if e1 * horizon < depart:  # constant speed would enter earlier: hold it back
+            s1, t1 = e1, depart
+    t = np.arange(horizon + 1, dtype=float)
+    if horizon > t1:
+        s = s1 + (1.0 - s1) * (t - t1) / (horizon - t1)
+    else:
+        s = np.ones(horizon + 1)
+    if t1:
+        s = np.where(t <= t1, s1 * t / t1, s)
+    # the leg and the point at each step's route fraction
+    P = np.asarray(points, float)
+    seg_a = np.asarray(seg)
+    w = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(points) - 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        frac = np.where(seg_a[w] == 0, 1.0, np.clip((s - cum[w]) * total / seg_a[w], 0.0, 1.0))
+    pts = P[w] + frac[:, None] * (P[w + 1] - P[w])
+    # on the leg from path[w] to path[w + 1]: the next region once the point is in it
+    nxt = np.minimum(w + 1, len(path) - 1)
+    inside = np.zeros(horizon + 1, dtype=bool)
+    for j in sorted(set(nxt.tolist())):  # (not np.unique, which imports numpy.ma: 25 ms of a first run)
+        at = nxt == j
+        reg = regions[path[j]]
+        inside[at] = np.all(pts[at] @ np.asarray(reg.H, float).T <= np.asarray(reg.h, float) + 1e-9, axis=1)
+    targets = np.where(inside, nxt, w).tolist()
     plan = []
     k = 0  # index into path of the current region; it moves on by at most one per step
-    for t in range(horizon + 1):
-        w, p = point(fraction(t))
-        # on the leg from path[w] to path[w + 1]: the next region once the point is in it
-        nxt = min(w + 1, len(path) - 1)
-        target = nxt if regions[path[nxt]].contains(p, tol=1e-9) else w
+    for target in targets:
         k = min(k + 1, max(k, target))
         plan.append(path[k])
     return tuple(plan)

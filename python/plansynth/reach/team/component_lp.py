@@ -30,7 +30,7 @@ import highspy
 import numpy as np
 
 from plansynth.budget import BudgetExhausted, Clock
-from plansynth.reach.highs import Rows, csc_lp
+from plansynth.reach.highs import Rows, pass_csc
 from plansynth.reach.lazy.conplan.runs import LpFailure
 from plansynth.reach.team.plans import TeamPlan
 from plansynth.reach.team.problem import TeamProblem
@@ -299,12 +299,17 @@ class ComponentLp:
     # bounds
     def col_bounds(self, *, start: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The columns' bounds (``start``: the start columns fixed at the start), built
-        once per LP and flag (the counterexample asks again for them without the start)."""
+        once per component, horizon and flag (they do not depend on the plan: every LP
+        of the component at that horizon shares them, read-only)."""
         hit = self._bounds.get(start)
         if hit is None:
-            hit = self._bounds[start] = self._col_bounds(start)
-            for a in hit:
-                a.setflags(write=False)
+            key = ("bounds", self.comp, self.L, start, self.n_effort)
+            hit = self.owner.row_cache.get(key)
+            if hit is None:
+                hit = self.owner.row_cache[key] = self._col_bounds(start)
+                for a in hit:
+                    a.setflags(write=False)
+            self._bounds[start] = hit
         return hit
 
     def _col_bounds(self, start: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -349,10 +354,9 @@ class ComponentLp:
         self.cb = (clo, chi)
         cost = np.zeros(self.ncol)
         cost[self.ncol - self.n_effort :] = 1.0 if self.n_effort else 0.0
-        lp = csc_lp(self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
         self.clock = clock
         self.h = self.owner.highs("component")
-        self.h.passModel(lp)
+        pass_csc(self.h, self.ncol, self.rows.n_row, R, C, V, cost, clo, chi, rlo, rhi)
         return self.run()
 
     @property

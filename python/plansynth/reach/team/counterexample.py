@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from plansynth.reach.highs import csc_lp
+from plansynth.reach.highs import pass_csc
 from plansynth.reach.team.component_lp import GOAL, INF, MOVE, ComponentLp, load_bounds, run_lp
 from plansynth.reach.team.plans import TeamConflict
 
@@ -102,7 +102,7 @@ class RowSubset:
         self.cb = (lp.cb[0][self.cols], lp.cb[1][self.cols])
         self.clock, self.stats = lp.clock, lp.owner.stats
         self.h = lp.owner.highs("subset")
-        self.h.passModel(csc_lp(self.ncol, self.n_row, *self.coo, np.zeros(self.ncol), *self.cb, *self.rb))
+        pass_csc(self.h, self.ncol, self.n_row, *self.coo, np.zeros(self.ncol), *self.cb, *self.rb)
 
     def run(self) -> tuple[str, np.ndarray | None, np.ndarray | None]:
         return run_lp(self.h, self.clock, self.stats)

@@ -181,7 +181,10 @@ class TeamDisPlan:
     # -- variables ------------------------------------------------------------------
     @staticmethod
     def at(frame: _Frame, r: int, t: int, i: int) -> int:
-        return frame.pool.id(("at", r, t, i))
+        ids = frame.at_ids.get(r)
+        if ids is not None and 0 <= t < ids.shape[0] and 0 <= i < ids.shape[1]:
+            return int(ids[t, i])
+        return frame.pool.id(("at", r, t, i))  # (outside the frame's steps: a fresh variable)
 
     @staticmethod
     def side(frame: _Frame, i: int, j: int, t: int, k: int) -> int:
@@ -192,6 +195,8 @@ class TeamDisPlan:
         return frame.pool.id(("mside", r, o, t, k))
 
     def _var(self, frame: _Frame, lit: tuple) -> int:
+        if lit[0] == "at":
+            return self.at(frame, *lit[1:])
         return frame.pool.id(lit)
 
     # -- encoding -------------------------------------------------------------------
@@ -206,32 +211,64 @@ class TeamDisPlan:
         self.frames[L] = frame
         return frame
 
-    def _allowed(self, r: int, t: int, i: int, L: int) -> bool:
+    def _robot(self, frame: _Frame, r: int, g: RegionGraph, L: int) -> None:
+        """Robot r's clauses at horizon L. Its variables ``at[r, t, i]`` are numbered
+        as :meth:`at` would number them one by one (t-major, next in the pool), and its
+        clauses come in the order of the step-by-step encoding, built from lists of
+        numbers rather than one pool look-up per literal (the horizon's frame is made
+        anew for every horizon tried)."""
+        mission = self.missions[r]
+        N = g.n_regions
+        pool = frame.pool
+        first = pool.top + 1
+        pool.top += (L + 1) * N
+        ids = np.arange(first, first + (L + 1) * N, dtype=np.int64).reshape(L + 1, N)
+        frame.at_ids[r] = ids
+        rows = ids.tolist()
+        forbidden = self._forbidden(r, N, L)
+        pairwise = N <= PAIRWISE_MAX
+        pairs = _pairs(N) if pairwise else ()
+        nbrs = self._neighbours(r, g)
+        clauses: list[list[int]] = []
+        add = clauses.append
+        for t in range(L + 1):
+            lits = rows[t]
+            for i in forbidden[t]:
+                add([-lits[i]])
+            if pairwise:  # exactly one: CardEnc's pairwise clauses, in its order
+                add(list(lits))
+                clauses.extend([-lits[a], -lits[b]] for a, b in pairs)
+            else:
+                clauses.extend(CardEnc.equals(lits=lits, bound=1, vpool=pool, encoding=EncType.seqcounter).clauses)
+            if t < L:
+                nxt = rows[t + 1]
+                clauses.extend([-lits[i], *[nxt[j] for j in nb]] for i, nb in enumerate(nbrs))
+        add([rows[0][i] for i in g.start_regions])
+        if mission is None:
+            add([rows[L][i] for i in g.goal_regions])
+        solver = frame.solver
+        for c in clauses:
+            solver.add_clause(c)
+        frame.clauses += len(clauses)
+        if mission is not None:
+            self._mission(frame, r, mission, L)
+
+    def _forbidden(self, r: int, N: int, L: int) -> list[list[int]]:
+        """Per step t, the regions robot r's time windows rule out at horizon L."""
         w = self.windows[r]
         if w is None:
-            return True
-        earliest, to_go = w
-        return t >= earliest[i] and L - t >= to_go[i]
+            return [[] for _ in range(L + 1)]
+        earliest, to_go = (np.asarray(a, float) for a in w)
+        t = np.arange(L + 1)[:, None]
+        ok = (t >= earliest[None, :]) & (L - t >= to_go[None, :])
+        return [np.flatnonzero(~row).tolist() for row in ok]
 
-    def _robot(self, frame: _Frame, r: int, g: RegionGraph, L: int) -> None:
-        mission = self.missions[r]
-        frame.at_ids[r] = np.array([[self.at(frame, r, t, i) for i in range(g.n_regions)] for t in range(L + 1)])
-        for t in range(L + 1):
-            lits = frame.at_ids[r][t].tolist()
-            for i in range(g.n_regions):
-                if not self._allowed(r, t, i, L):
-                    frame.add([-lits[i]])
-            enc = EncType.pairwise if g.n_regions <= PAIRWISE_MAX else EncType.seqcounter
-            for c in CardEnc.equals(lits=lits, bound=1, vpool=frame.pool, encoding=enc).clauses:
-                frame.add(c)
-            if t < L:
-                for i in range(g.n_regions):
-                    frame.add([-lits[i]] + [self.at(frame, r, t + 1, j) for j in (i, *g.adjacency[i])])
-        frame.add([self.at(frame, r, 0, i) for i in g.start_regions])
-        if mission is None:
-            frame.add([self.at(frame, r, L, i) for i in g.goal_regions])
-        else:
-            self._mission(frame, r, mission, L)
+    def _neighbours(self, r: int, g: RegionGraph) -> list[tuple[int, ...]]:
+        """Per region of robot r, itself and its neighbours (the next step's choices)."""
+        cache = self.__dict__.setdefault("_nbrs", {})
+        if r not in cache:
+            cache[r] = [(i, *g.adjacency[i]) for i in range(g.n_regions)]
+        return cache[r]
 
     def _mission(self, frame: _Frame, r: int, mission: RobotMission, L: int) -> None:
         """The finite-trace bounded encoding of robot r's mission (NNF): ``[[f]]_t ->``
@@ -389,6 +426,11 @@ class TeamDisPlan:
                     true, frame, ("mside", r, o, t), n_sides, self._hint(L, ("mside", r, o, t))
                 )
         return TeamPlan(tuple(regions), sides, msides)
+
+
+def _pairs(n: int) -> list[tuple[int, int]]:
+    """The pairs a < b of n items, in lexicographic order (the at-most-one clauses)."""
+    return [(a, b) for a in range(n) for b in range(a + 1, n)]
 
 
 def _first_true(true: set[int], frame: _Frame, head: tuple, n_sides: int, hint: int | None) -> int:

@@ -56,7 +56,8 @@ class TeamLazyOptions:
     incumbent: str = option(
         "auto",
         "prioritized (a plan of prioritized planning first: an incumbent the search tries the horizons below, "
-        "then its own, first), none, or auto (prioritized for teams of 4 robots or more)",
+        "then its own, first), none, or auto (prioritized for teams of 4 robots or more whose robots times "
+        "first horizon is at least 100)",
         choices=TEAM_INCUMBENTS,
     )
     transit: bool = option(

@@ -30,7 +30,7 @@ from plansynth.reach.abstraction import Abstraction, abstract
 from plansynth.reach.geometry import Box, halfspaces
 from plansynth.reach.lazy.bounds import time_windows
 from plansynth.reach.lazy.displan import RegionGraph
-from plansynth.reach.lazy.guide import reference_plan
+from plansynth.reach.lazy.guide import reference_plan, route
 from plansynth.reach.problem import ReachProblem
 from plansynth.reach.robot import configuration_space
 from plansynth.reach.team.conplan import RobotModel
@@ -90,10 +90,18 @@ class TeamSetup:
 
 
 def _reference(setup: TeamSetup, r: int, L: int) -> tuple[int, ...] | None:
+    """Robot r's reference plan for horizon L, kept; its route (the same at every
+    horizon) is found once."""
     cache = setup.__dict__.setdefault("_refs", {})
     if (r, L) not in cache:
         s = setup.robots[r]
-        cache[(r, L)] = None if s.labels_of is not None else reference_plan(s.planning, s.abstraction, L)
+        if s.labels_of is not None:
+            cache[(r, L)] = None
+        else:
+            if ("route", r) not in cache:
+                cache[("route", r)] = route(s.planning, s.abstraction)
+            path = cache[("route", r)]
+            cache[(r, L)] = None if path is None else reference_plan(s.planning, s.abstraction, L, path=path)
     return cache[(r, L)]
 
 

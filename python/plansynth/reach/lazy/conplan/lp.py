@@ -10,7 +10,7 @@ from collections.abc import Mapping
 import highspy
 import numpy as np
 
-from plansynth.reach.highs import csc_lp
+from plansynth.reach.highs import pass_csc
 from plansynth.reach.lazy.conplan.layout import (  # noqa: F401 - the layout's names, imported from here too
     DYN,
     GOAL,
@@ -100,7 +100,10 @@ class _LpEdits:
             slot.col_local[cols] = np.arange(cols.size)
             mine = row_part[R] == p
             r, c, v = slot.row_local[R[mine]], slot.col_local[C[mine]], V[mine]
-            lp = csc_lp(
+            h = self._new_highs()
+            h.passOptions(options)
+            pass_csc(
+                h,
                 int(cols.size),
                 int(rows.size),
                 r,
@@ -112,9 +115,6 @@ class _LpEdits:
                 b.row_lo[rows],
                 b.row_hi[rows],
             )
-            h = self._new_highs()
-            h.passOptions(options)
-            h.passModel(lp)
             h.setOptionValue("simplex_iteration_limit", max(5000, 2 * int(rows.size)))
             slot.parts.append(_Part(h, rows, cols))
         slot.infeasible_part = 0
@@ -207,16 +207,22 @@ class _LpEdits:
             np.concatenate(vals).astype(float),
         )
 
-    def _lp(
-        self, lay: _Layout, coo: tuple[np.ndarray, np.ndarray, np.ndarray], b: _Bounds, cost: np.ndarray
-    ) -> highspy.HighsLp:
-        return csc_lp(lay.n_col, lay.n_row, *coo, cost, b.col_lo, b.col_hi, b.row_lo, b.row_hi)
+    def _pass(
+        self,
+        h: highspy.Highs,
+        lay: _Layout,
+        coo: tuple[np.ndarray, np.ndarray, np.ndarray],
+        b: _Bounds,
+        cost: np.ndarray,
+    ) -> None:
+        """Load the LP into ``h`` (:func:`~plansynth.reach.highs.pass_csc`: the arrays by pointer)."""
+        pass_csc(h, lay.n_col, lay.n_row, *coo, cost, b.col_lo, b.col_hi, b.row_lo, b.row_hi)
 
     def _pass_cold(self, lay: _Layout, assignment: Mapping[int, int], *, goal: bool, anchored_start: bool) -> _Bounds:
         """Put the feasibility LP of ``assignment`` over ``lay`` into the one-off model."""
         b = self.bounds(lay, assignment, goal=goal, anchored_start=anchored_start, slack=False)
         coo = self._matrix(lay, self._coef_for(lay, assignment))
-        self.cold.passModel(self._lp(lay, coo, b, np.zeros(lay.n_col)))
+        self._pass(self.cold, lay, coo, b, np.zeros(lay.n_col))
         return b
 
     def _cost(self, lay: _Layout) -> np.ndarray:
@@ -312,7 +318,7 @@ class _LpEdits:
             if slot.splits:
                 self._split(slot, lay, b)
             else:
-                h.passModel(self._lp(lay, slot.coo, b, self._cost(lay)))
+                self._pass(h, lay, slot.coo, b, self._cost(lay))
                 if self.n > LONG_CHAIN_STATES:  # a cold simplex run on a long chain needs ~ a row count of iterations
                     h.setOptionValue("simplex_iteration_limit", max(5000, 2 * lay.n_row))
         else:
