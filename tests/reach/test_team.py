@@ -408,3 +408,41 @@ def test_a_team_planner_refuses_a_problem_with_a_disturbance() -> None:
     assert p.disturbance is not None
     with pytest.raises(InvalidOption, match="disturbances"):
         solve(p, "lazy-smt-team", Budget(seconds=30))
+
+
+def test_a_reused_component_lps_time_limit_is_relative_to_its_run_time():
+    """HiGHS compares ``time_limit`` with the instance's run time summed over its runs;
+    the joint CON-PLAN reuses its instances, so ``run_lp`` sets the limit past that sum:
+    with the seconds left as the limit, an instance that had run longer than them in all
+    stopped at once (a ``BudgetExhausted`` though each solve takes milliseconds)."""
+    import highspy
+
+    from plansynth.reach.team.component_lp import run_lp
+
+    class Left:  # a clock with a fixed number of seconds left
+        seconds = 1.0
+
+        def remaining(self) -> float:
+            return self.seconds
+
+    class Stats:
+        lp_calls = 0
+
+    rng = np.random.default_rng(0)
+    h = highspy.Highs()
+    h.silent()
+    n = 400
+    for _ in range(n):
+        h.addVariable(0.0, 10.0)
+    for _ in range(120):
+        idx = np.nonzero(rng.uniform(size=n) > 0.6)[0].astype(np.int32)
+        h.addRow(-highspy.kHighsInf, 50.0, len(idx), idx, rng.uniform(size=len(idx)))
+    h.changeColsCost(n, np.arange(n, dtype=np.int32), -rng.uniform(size=n))
+    clock, stats = Left(), Stats()
+    while h.getRunTime() < 0.05:
+        h.clearSolver()  # a cold solve each time
+        assert run_lp(h, clock, stats)[0] == "feasible"
+    clock.seconds = 0.5 * h.getRunTime()  # less than the instance has run, more than a solve
+    for _ in range(3):
+        h.clearSolver()
+        assert run_lp(h, clock, stats)[0] == "feasible"

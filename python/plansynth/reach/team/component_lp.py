@@ -53,7 +53,9 @@ def run_lp(h: highspy.Highs, clock: Clock, stats: Any) -> tuple[str, np.ndarray 
     left = clock.remaining()
     if left <= 0:
         raise BudgetExhausted("the joint CON-PLAN", "time")
-    h.setOptionValue("time_limit", INF if math.isinf(left) else max(left, 0.01))  # (instances are reused)
+    # HiGHS compares time_limit with the instance's run time summed over its runs, and
+    # instances are reused: the limit is the seconds left past that sum
+    h.setOptionValue("time_limit", INF if math.isinf(left) else float(h.getRunTime() + max(left, 0.01)))
     h.run()
     stats.lp_calls += 1
     st = h.getModelStatus()
