@@ -256,6 +256,6 @@ def test_the_seeded_learner_closes_in_one_round(data):
         central = game.core.sample()
         for (x, allowed), (y, kept) in zip(rows, central, strict=True):
             assert x == y and kept == _central(problem, (x[0], x[1]), allowed)
-    closed, _, _, program = game.learn_round(3, 1_000_000, 20_000)
+    closed, _, _, program, _ = game.learn_round(3, 1_000_000, 20_000)
     assert closed
     assert verify(problem, program, None).status is VerifyStatus.WINS

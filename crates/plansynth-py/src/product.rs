@@ -47,6 +47,7 @@ type RoundOut = (
     Vec<TermRow>,
     Vec<CondRow>,
     Vec<(u8, usize)>,
+    [f64; 5],
 );
 
 /// The product game (see `plansynth_core::product`).
@@ -253,7 +254,7 @@ impl PyProductGame {
     }
 
     /// One round of the learner: (closed, sample size, states reached, terms, conditions,
-    /// tree nodes). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
+    /// tree nodes, seconds of its steps: labels, conditions, behaviours, tree, closure). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
     /// conditions `(op, a, b, depth)`: 0 `<=`, 1 `=`, 2 not, 3 and, 4 or; nodes pre-order
     /// `(0, k)` a leaf, `(1, j)` a split on condition j.
     #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None))]
@@ -289,7 +290,7 @@ impl PyProductGame {
             Node::Leaf(k) => (0u8, k),
             Node::Split(j) => (1u8, j),
         });
-        Ok((r.closed, r.sample, r.reached, terms, conds, nodes.collect()))
+        Ok((r.closed, r.sample, r.reached, terms, conds, nodes.collect(), r.seconds))
     }
 
     /// Check the obstacles' rank strategy from the start: (valid, states checked, why not).

@@ -24,6 +24,8 @@ pub struct Round {
     pub terms: Vec<(Arith, u32)>,
     pub conds: Vec<(Cond, u32)>,
     pub nodes: Vec<Node>,
+    /// seconds of the round's steps: labels, conditions, behaviours, tree, closure
+    pub seconds: [f64; 5],
 }
 
 impl ProductGame {
@@ -42,6 +44,12 @@ impl ProductGame {
         }
         let n_vars = self.spec.n_vars();
         let n = self.sample.len();
+        let mut seconds = [0.0f64; 5];
+        let mut t = std::time::Instant::now();
+        let mut lap = |i: usize, t: &mut std::time::Instant| {
+            seconds[i] += t.elapsed().as_secs_f64();
+            *t = std::time::Instant::now();
+        };
         // the sample's inputs, one row of `n_vars` after another
         limits.check(self.bytes() + n * (n_vars * 8 + 4), "learning a program")?;
         let mut rows: Vec<i64> = Vec::with_capacity(n * n_vars);
@@ -52,6 +60,7 @@ impl ProductGame {
             rows.extend_from_slice(&x);
             allowed.push(self.label(id, r as usize));
         }
+        lap(0, &mut t);
         let stride = n.div_ceil(enum_states.max(1)).max(1);
         let part: Vec<Vec<i64>> = rows
             .chunks_exact(n_vars)
@@ -61,7 +70,9 @@ impl ProductGame {
         let e = enumerate_conditions(&part, n_vars, max_constant, cond_depth, Some(20_000));
         let terms = e.terms;
         let conds: Vec<(Cond, u32)> = e.conds.iter().map(|(_, c, d)| (*c, *d)).collect();
+        lap(1, &mut t);
         let masks = behaviours(&terms, &conds, &rows, n_vars);
+        lap(2, &mut t);
         drop(rows);
         limits.check(
             self.bytes() + masks.len() * n.div_ceil(64) * 8,
@@ -91,8 +102,10 @@ impl ProductGame {
             }
         };
         drop(masks);
+        lap(3, &mut t);
         let ops = program_ops(&terms, &conds, &nodes);
         let c = self.closure(&ops, true, limits)?;
+        lap(4, &mut t);
         Ok(Round {
             closed: c.bad.is_empty(),
             sample: self.sample.len(),
@@ -100,6 +113,7 @@ impl ProductGame {
             terms,
             conds,
             nodes,
+            seconds,
         })
     }
 }

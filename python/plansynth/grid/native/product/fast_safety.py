@@ -132,7 +132,10 @@ def _learn(run: RunState, game: CompiledSafety, problem: GridProblem, clock: Clo
             run.counters["central_labels"] = 1
     for rnd in range(MAX_ROUNDS):
         t0 = time.perf_counter()
-        closed, sample, reached, program = game.learn_round(min(3, run.o.condition_depth), 1_000_000, ENUM_STATES)
+        closed, sample, reached, program, steps = game.learn_round(
+            min(3, run.o.condition_depth), 1_000_000, ENUM_STATES
+        )
+        run.counters["last_round_steps"] = steps
         run.counters["learning_rounds"] = rnd + 1
         run.counters["program_states"] = sample
         run.counters["last_round_seconds"] = round(time.perf_counter() - t0, 4)
