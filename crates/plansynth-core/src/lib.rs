@@ -8,6 +8,8 @@ pub mod bits;
 pub mod conditions;
 pub mod fx;
 pub mod game;
+pub mod inductive;
+pub mod par;
 pub mod product;
 pub mod tree;
 

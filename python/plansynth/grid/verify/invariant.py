@@ -80,19 +80,43 @@ def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:
 
 
 def check_invariant(
-    problem: GridProblem, program: Term, invariant: Invariant, *, budget: Budget | None = None
+    problem: GridProblem,
+    program: Term,
+    invariant: Invariant,
+    *,
+    budget: Budget | None = None,
+    compiled: bool | None = None,
 ) -> Verdict:
     """``wins`` if ``invariant`` is an inductive invariant of ``program`` for the safety
     objective holding the initial state; ``unknown`` (with the first failure) if not.
 
-    Vectorized over the states of the set, a chunk of configurations at a time
-    (:data:`CHUNK_STATES`): the program is evaluated once per state (each state routed
-    down its ``ite`` tree), then for each obstacle reply of each configuration the
-    robot's end cell is looked up in the set."""
+    ``compiled``: walk the states in the compiled core
+    (:mod:`.invariant_compiled`; by default when it is built) or with numpy (False, the
+    reference). Both build the same tables from the rules and give the same verdicts;
+    the failure named when the set is not inductive may differ (the core reports the
+    first failing state in order, numpy the first of a chunk's first failing reply).
+
+    The numpy check is vectorized over the states of the set, a chunk of
+    configurations at a time (:data:`CHUNK_STATES`): the program is evaluated once per
+    state (each state routed down its ``ite`` tree), then for each obstacle reply of
+    each configuration the robot's end cell is looked up in the set."""
     import numpy as np
 
     if problem.objective is not ObjectiveKind.SAFETY:
         raise ValueError("an inductive invariant proves the safety objective only")
+    if compiled is not False:
+        from plansynth.grid.verify import invariant_compiled
+
+        if compiled and not invariant_compiled.available():
+            raise ValueError("the compiled invariant check is not built")
+        if invariant_compiled.available():
+            start = initial_state(problem)
+            t0 = time.perf_counter()
+            if not invariant.get(state_key(problem, start), 0) >> (start.robot[1] * problem.width + start.robot[0]) & 1:
+                return _unknown(t0, 0, "not inductive: the initial state is outside the invariant")
+            keys = list(invariant)
+            probes = [_state_of(problem, k, (0, 0)) for k in keys]
+            return invariant_compiled.check_invariant_compiled(problem, program, invariant, keys, probes, budget)
     t0 = time.perf_counter()
     meter = Meter(budget)
     meter.phase = "checking the inductive invariant"

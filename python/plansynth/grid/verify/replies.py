@@ -67,6 +67,9 @@ class ObstacleReplies:
     def __init__(self, problem: GridProblem) -> None:
         self.problem = problem
         self.position = problem.collision is CollisionRule.POSITION
+        # read once: the problem's properties recompute on every access
+        self.stateful = problem.stateful
+        self.fair = problem.fair_count > 1
         self._moves: dict[tuple[int, Cell], tuple[tuple[Cell, tuple[Cell, ...]], ...]] = {}
 
     def _cell_moves(self, i: int, p: Cell) -> tuple[tuple[Cell, tuple[Cell, ...]], ...]:
@@ -91,7 +94,7 @@ class ObstacleReplies:
             moved = end != p
             if moved and not free:
                 continue
-            if problem.stateful:
+            if self.stateful:
                 ph, gl = counters_after(problem, i, probe.phases[i], probe.glitches[i], moved)
             else:
                 ph, gl = 0, 0
@@ -105,10 +108,10 @@ class ObstacleReplies:
         out: dict[Reply, None] = {}
         for joint in itertools.product(*per):
             fair = probe.fair
-            if problem.fair_count > 1 and joint[fair][3]:
+            if self.fair and joint[fair][3]:
                 fair = (fair + 1) % problem.fair_count
             ends = tuple(j[0] for j in joint)
-            if problem.stateful:
+            if self.stateful:
                 nxt = State(probe.robot, ends, tuple(j[1] for j in joint), tuple(j[2] for j in joint), probe.mode, fair)
             else:
                 nxt = State(probe.robot, ends, (), (), probe.mode, fair)
