@@ -265,6 +265,7 @@ def test_the_seeded_learner_closes_in_one_round(data):
     assert seeded is not None and game.core.seed_winning(seeded - 1) is None
     rows = game.core.sample()
     assert len(rows) == seeded
+    assert game.core.sample_labels() == [a for _, a in rows]  # on cell sets, as per state
     index = {v: i for i, v in enumerate(problem.variables)}
     got = set()
     for x, allowed in rows:
@@ -286,6 +287,7 @@ def test_the_seeded_learner_closes_in_one_round(data):
         central = game.core.sample()
         for (x, allowed), (y, kept) in zip(rows, central, strict=True):
             assert x == y and kept == _central(problem, (x[0], x[1]), allowed)
+        assert game.core.sample_labels() == [a for _, a in central]
     closed, _, _, program, _ = game.learn_round(3, 1_000_000, 20_000)
     assert closed
     assert verify(problem, program, None).status is VerifyStatus.WINS

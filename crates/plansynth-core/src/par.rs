@@ -44,6 +44,25 @@ where
     })
 }
 
+/// `f` on each part, one thread a part (in parallel up to [`threads`]: the callers
+/// make at most that many parts).
+pub fn run_parts<T, F>(parts: Vec<T>, f: F)
+where
+    T: Send,
+    F: Fn(T) + Sync,
+{
+    if parts.len() <= 1 {
+        parts.into_iter().for_each(f);
+        return;
+    }
+    std::thread::scope(|s| {
+        for p in parts {
+            let f = &f;
+            s.spawn(move || f(p));
+        }
+    });
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -223,6 +223,12 @@ impl PyProductGame {
         self.g.sample_rows()
     }
 
+    /// The sampled states' labels computed on cell sets (the learner's; `sample()`'s
+    /// labels are their per-state reference).
+    fn sample_labels(&self) -> Vec<u32> {
+        self.g.sample_labels()
+    }
+
     fn reset_sample(&mut self) {
         self.g.reset_sample()
     }

@@ -54,12 +54,11 @@ impl ProductGame {
         limits.check(self.bytes() + n * (n_vars * 8 + 4), "learning a program")?;
         let mut rows: Vec<i64> = Vec::with_capacity(n * n_vars);
         let mut x = Vec::with_capacity(n_vars);
-        let mut allowed: Vec<u32> = Vec::with_capacity(n);
         for &(id, r) in &self.sample {
             self.sample_inputs(id, r as usize, &mut x);
             rows.extend_from_slice(&x);
-            allowed.push(self.label(id, r as usize));
         }
+        let allowed = self.sample_labels();
         lap(0, &mut t);
         let stride = n.div_ceil(enum_states.max(1)).max(1);
         let part: Vec<Vec<i64>> = rows
@@ -181,6 +180,68 @@ impl ProductGame {
         }
     }
 
+    /// The labels of the sampled states (those of [`ProductGame::label`], its reference),
+    /// computed a configuration at a time on cell sets: per member of a sampled
+    /// configuration's class, the cells where each move keeps the robot winning are
+    /// those of the safety fixpoint's step (`good`), so a state costs a few bit tests
+    /// instead of a lookup per move and reply. The sample is split among the threads of
+    /// [`crate::par`].
+    pub fn sample_labels(&self) -> Vec<u32> {
+        let parts = crate::par::map_ranges(self.sample.len(), 1 << 16, |range| {
+            let (nw, n_moves) = (self.nw, self.spec.robot.len());
+            let mut sets = vec![0u64; n_moves * nw];
+            let mut scratch = (vec![0u64; nw], vec![0u64; nw], vec![0u64; nw]);
+            let mut cur: Option<u32> = None;
+            let mut out = Vec::with_capacity(range.len());
+            for &(id, r) in &self.sample[range] {
+                if cur != Some(id) {
+                    self.label_sets(id, &mut sets, &mut scratch);
+                    cur = Some(id);
+                }
+                let (w, b) = (r as usize / 64, r % 64);
+                let mask = (0..n_moves).fold(0u32, |acc, k| acc | ((sets[k * nw + w] >> b & 1) as u32) << k);
+                out.push(if self.central {
+                    self.central_moves(r as usize, mask)
+                } else {
+                    mask
+                });
+            }
+            out
+        });
+        parts.concat()
+    }
+
+    /// Per move, the robot cells of sampled configuration `id` it is labelled with
+    /// (before `prefer_central`): `n_moves` sets of `nw` words.
+    fn label_sets(&self, id: u32, sets: &mut [u64], scratch: &mut (Vec<u64>, Vec<u64>, Vec<u64>)) {
+        let nw = self.nw;
+        let (target, tmp, left) = scratch;
+        sets.iter_mut().for_each(|w| *w = 0);
+        left.iter_mut().for_each(|w| *w = !0);
+        let own = [id];
+        let members: &[u32] = if self.rep.is_empty() {
+            &own
+        } else {
+            &self.family[id as usize]
+        };
+        for &m in members {
+            let win = &self.win[m as usize * nw..(m as usize + 1) * nw];
+            if win.iter().zip(left.iter()).all(|(a, b)| a & b == 0) {
+                continue;
+            }
+            self.target(m, target);
+            for k in 0..self.spec.robot.len() {
+                self.good_move(m, k, target, tmp);
+                for i in 0..nw {
+                    sets[k * nw + i] |= tmp[i] & win[i] & left[i];
+                }
+            }
+            for i in 0..nw {
+                left[i] &= !win[i];
+            }
+        }
+    }
+
     /// Label the learner's states with the allowed moves that end nearest the middle of
     /// the grid (in the max norm) only. Any allowed move keeps the robot winning; these
     /// keep it where it has most room, so the program's closed loop (what the checks
@@ -228,7 +289,9 @@ impl ProductGame {
 }
 
 /// The behaviour of every condition on every row of `rows` (rows of `n_vars` inputs,
-/// one after another; bit i: true in row i).
+/// one after another; bit i: true in row i). Evaluated 64 rows at a time, a column
+/// per term and a word per condition (each operation a loop over the block's rows,
+/// not a dispatch per row), the words split among the threads of [`crate::par`].
 fn behaviours(
     terms: &[(Arith, u32)],
     conds: &[(Cond, u32)],
@@ -238,31 +301,69 @@ fn behaviours(
     let n = rows.len() / n_vars;
     let nw = n.div_ceil(64).max(1);
     let mut masks = vec![vec![0u64; nw]; conds.len()];
-    let mut tv = vec![0i64; terms.len()];
-    let mut cv = vec![false; conds.len()];
-    for (i, x) in rows.chunks_exact(n_vars).enumerate() {
-        for (t, (a, _)) in terms.iter().enumerate() {
-            tv[t] = match *a {
-                Arith::Const(c) => c,
-                Arith::Var(j) => x[j],
-                Arith::Plus(p, q) => tv[p].wrapping_add(tv[q]),
-                Arith::Minus(p, q) => tv[p].wrapping_sub(tv[q]),
-            };
-        }
-        for (c, (cond, _)) in conds.iter().enumerate() {
-            cv[c] = match *cond {
-                Cond::Le(a, b) => tv[a] <= tv[b],
-                Cond::Eq(a, b) => tv[a] == tv[b],
-                Cond::Not(a) => !cv[a],
-                Cond::And(a, b) => cv[a] && cv[b],
-                Cond::Or(a, b) => cv[a] || cv[b],
-            };
-            if cv[c] {
-                masks[c][i / 64] |= 1 << (i % 64);
-            }
+    let threads = crate::par::threads().min(nw.div_ceil(256)).max(1);
+    let step = nw.div_ceil(threads);
+    // per thread: its range of words of every condition
+    let mut parts: Vec<(usize, Vec<&mut [u64]>)> = (0..threads).map(|t| (t * step, vec![])).collect();
+    for m in masks.iter_mut() {
+        for (t, chunk) in m.chunks_mut(step).enumerate() {
+            parts[t].1.push(chunk);
         }
     }
+    crate::par::run_parts(parts, |(w0, mut out)| {
+        let mut tv = vec![[0i64; 64]; terms.len()];
+        let mut cv = vec![0u64; conds.len()];
+        let len = out.first().map_or(0, |c| c.len());
+        for dw in 0..len {
+            let r0 = (w0 + dw) * 64;
+            let m = 64.min(n - r0);
+            let valid = if m == 64 { !0u64 } else { (1u64 << m) - 1 };
+            for t in 0..terms.len() {
+                let (lo, hi) = tv.split_at_mut(t);
+                let col = &mut hi[0];
+                match terms[t].0 {
+                    Arith::Const(c) => col.iter_mut().for_each(|v| *v = c),
+                    Arith::Var(j) => {
+                        for (i, v) in col.iter_mut().enumerate().take(m) {
+                            *v = rows[(r0 + i) * n_vars + j];
+                        }
+                    }
+                    Arith::Plus(p, q) => {
+                        for i in 0..64 {
+                            col[i] = lo[p][i].wrapping_add(lo[q][i]);
+                        }
+                    }
+                    Arith::Minus(p, q) => {
+                        for i in 0..64 {
+                            col[i] = lo[p][i].wrapping_sub(lo[q][i]);
+                        }
+                    }
+                }
+            }
+            for c in 0..conds.len() {
+                let word = match conds[c].0 {
+                    Cond::Le(a, b) => pack(|i| tv[a][i] <= tv[b][i]),
+                    Cond::Eq(a, b) => pack(|i| tv[a][i] == tv[b][i]),
+                    Cond::Not(a) => !cv[a],
+                    Cond::And(a, b) => cv[a] & cv[b],
+                    Cond::Or(a, b) => cv[a] | cv[b],
+                };
+                cv[c] = word & valid;
+                out[c][dw] = cv[c];
+            }
+        }
+    });
     masks
+}
+
+/// The 64 truth values of `f` as a word (bit i: `f(i)`).
+#[inline]
+fn pack(f: impl Fn(usize) -> bool) -> u64 {
+    let mut w = 0u64;
+    for i in 0..64 {
+        w |= (f(i) as u64) << i;
+    }
+    w
 }
 
 fn term_sizes(terms: &[(Arith, u32)]) -> Vec<u32> {

@@ -75,7 +75,7 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
         ref = CompiledRefutation(game, states)
         return GridStatus.UNREALIZABLE, None, f"{ref.detail} (certified: {ref.reason})", ref
     try:
-        program = _learn(run, game, problem, clock)
+        program, reached, closure_seconds = _learn(run, game, problem, clock)
     except BudgetExhausted as exc:
         raise BudgetExhausted(
             exc.phase,
@@ -87,9 +87,9 @@ def solve_safety_compiled(run: RunState, problem: GridProblem, clock: Clock, dep
             ),
         ) from None
     check = CompiledCheck(game)
-    t0 = time.perf_counter()
-    reached, bad, _ = game.closure(program)
-    closure_seconds = time.perf_counter() - t0
+    # the last round's closure is the program's (its states stay marked in the core for
+    # the witness): it played allowed moves only
+    bad: list = []
     if run.o.simplify:
         # each check explores the program's closed loop: the simplifier gets the effort,
         # and is skipped when one check alone costs more
@@ -120,7 +120,9 @@ def _elapsed(run: RunState) -> float:
     return round(sum(run.counters.get("phase_seconds", {}).values()), 6)
 
 
-def _learn(run: RunState, game: CompiledSafety, problem: GridProblem, clock: Clock) -> Term:
+def _learn(run: RunState, game: CompiledSafety, problem: GridProblem, clock: Clock) -> tuple[Term, int, float]:
+    """The first program whose closed loop plays allowed moves only, the states its
+    closed loop reached and the seconds that closure took."""
     if any(o.glitching for o in problem.obstacles):
         game.core.project_glitches()  # labels from the hardest level: programs that need not read glitches
         run.counters["glitches_projected"] = 1
@@ -141,5 +143,5 @@ def _learn(run: RunState, game: CompiledSafety, problem: GridProblem, clock: Clo
         run.counters["last_round_seconds"] = round(time.perf_counter() - t0, 4)
         if closed:
             run.counters["greedy_depth"] = depth(program)
-            return program
+            return program, reached, steps["closure"]
     raise BudgetExhausted("learning a program", "iterations", f"no program closed in {MAX_ROUNDS} rounds")
