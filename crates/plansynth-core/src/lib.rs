@@ -12,6 +12,7 @@ pub mod inductive;
 pub mod par;
 pub mod product;
 pub mod tree;
+pub mod tree_rows;
 
 /// Version of the core, reported in results so a run can be traced to its build.
 pub fn version() -> &'static str {

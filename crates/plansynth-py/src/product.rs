@@ -47,7 +47,7 @@ type RoundOut = (
     Vec<TermRow>,
     Vec<CondRow>,
     Vec<(u8, usize)>,
-    [f64; 5],
+    [f64; 4],
 );
 
 /// The product game (see `plansynth_core::product`).
@@ -260,7 +260,7 @@ impl PyProductGame {
     }
 
     /// One round of the learner: (closed, sample size, states reached, terms, conditions,
-    /// tree nodes, seconds of its steps: labels, conditions, behaviours, tree, closure). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
+    /// tree nodes, seconds of its steps: labels, conditions, tree, closure). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
     /// conditions `(op, a, b, depth)`: 0 `<=`, 1 `=`, 2 not, 3 and, 4 or; nodes pre-order
     /// `(0, k)` a leaf, `(1, j)` a split on condition j.
     #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None))]

@@ -5,13 +5,15 @@
 //! sample; the rounds end when the closed loop plays allowed moves only.
 //!
 //! On large samples the conditions are enumerated on an evenly spaced part of the
-//! sample (their behaviours there decide which terms are kept) and then evaluated on
-//! every sampled state.
+//! sample (their behaviours there decide which terms are kept); the tree is then grown
+//! over every sampled state's inputs (`crate::tree_rows`: the same tree as over the
+//! conditions' behaviour bit sets, without them).
 
 use super::{Limits, ProductGame, Stop};
 use crate::conditions::{enumerate_conditions, Arith, Cond};
 use crate::game::Op;
-use crate::tree::{greedy_tree, GreedyError, Node};
+use crate::tree::{GreedyError, Node};
+use crate::tree_rows::greedy_tree_rows;
 
 /// One round's outcome: whether the tree's closed loop plays allowed moves only, the
 /// sample's size after the round, the tree (pre-order nodes over `conds`, which are over
@@ -24,8 +26,8 @@ pub struct Round {
     pub terms: Vec<(Arith, u32)>,
     pub conds: Vec<(Cond, u32)>,
     pub nodes: Vec<Node>,
-    /// seconds of the round's steps: labels, conditions, behaviours, tree, closure
-    pub seconds: [f64; 5],
+    /// seconds of the round's steps: labels, conditions, tree, closure
+    pub seconds: [f64; 4],
 }
 
 impl ProductGame {
@@ -44,7 +46,7 @@ impl ProductGame {
         }
         let n_vars = self.spec.n_vars();
         let n = self.sample.len();
-        let mut seconds = [0.0f64; 5];
+        let mut seconds = [0.0f64; 4];
         let mut t = std::time::Instant::now();
         let mut lap = |i: usize, t: &mut std::time::Instant| {
             seconds[i] += t.elapsed().as_secs_f64();
@@ -70,13 +72,6 @@ impl ProductGame {
         let terms = e.terms;
         let conds: Vec<(Cond, u32)> = e.conds.iter().map(|(_, c, d)| (*c, *d)).collect();
         lap(1, &mut t);
-        let masks = behaviours(&terms, &conds, &rows, n_vars);
-        lap(2, &mut t);
-        drop(rows);
-        limits.check(
-            self.bytes() + masks.len() * n.div_ceil(64) * 8,
-            "learning a program",
-        )?;
         let keys: Vec<(u32, u32)> = {
             let ts = term_sizes(&terms);
             cond_sizes(&conds, &ts)
@@ -85,7 +80,16 @@ impl ProductGame {
                 .map(|(s, (_, d))| (*d, s))
                 .collect()
         };
-        let nodes = match greedy_tree(&masks, &keys, &allowed, self.spec.robot.len(), max_nodes) {
+        let nodes = match greedy_tree_rows(
+            &terms,
+            &conds,
+            &keys,
+            &rows,
+            n_vars,
+            &allowed,
+            self.spec.robot.len(),
+            max_nodes,
+        ) {
             Ok(nodes) => nodes,
             Err(GreedyError::TooLarge) => {
                 return Err(Stop {
@@ -100,11 +104,11 @@ impl ProductGame {
                 })
             }
         };
-        drop(masks);
-        lap(3, &mut t);
+        drop(rows);
+        lap(2, &mut t);
         let ops = program_ops(&terms, &conds, &nodes);
         let c = self.closure(&ops, true, limits)?;
-        lap(4, &mut t);
+        lap(3, &mut t);
         Ok(Round {
             closed: c.bad.is_empty(),
             sample: self.sample.len(),
@@ -286,84 +290,6 @@ impl ProductGame {
             }
         }
     }
-}
-
-/// The behaviour of every condition on every row of `rows` (rows of `n_vars` inputs,
-/// one after another; bit i: true in row i). Evaluated 64 rows at a time, a column
-/// per term and a word per condition (each operation a loop over the block's rows,
-/// not a dispatch per row), the words split among the threads of [`crate::par`].
-fn behaviours(
-    terms: &[(Arith, u32)],
-    conds: &[(Cond, u32)],
-    rows: &[i64],
-    n_vars: usize,
-) -> Vec<Vec<u64>> {
-    let n = rows.len() / n_vars;
-    let nw = n.div_ceil(64).max(1);
-    let mut masks = vec![vec![0u64; nw]; conds.len()];
-    let threads = crate::par::threads().min(nw.div_ceil(256)).max(1);
-    let step = nw.div_ceil(threads);
-    // per thread: its range of words of every condition
-    let mut parts: Vec<(usize, Vec<&mut [u64]>)> = (0..threads).map(|t| (t * step, vec![])).collect();
-    for m in masks.iter_mut() {
-        for (t, chunk) in m.chunks_mut(step).enumerate() {
-            parts[t].1.push(chunk);
-        }
-    }
-    crate::par::run_parts(parts, |(w0, mut out)| {
-        let mut tv = vec![[0i64; 64]; terms.len()];
-        let mut cv = vec![0u64; conds.len()];
-        let len = out.first().map_or(0, |c| c.len());
-        for dw in 0..len {
-            let r0 = (w0 + dw) * 64;
-            let m = 64.min(n - r0);
-            let valid = if m == 64 { !0u64 } else { (1u64 << m) - 1 };
-            for t in 0..terms.len() {
-                let (lo, hi) = tv.split_at_mut(t);
-                let col = &mut hi[0];
-                match terms[t].0 {
-                    Arith::Const(c) => col.iter_mut().for_each(|v| *v = c),
-                    Arith::Var(j) => {
-                        for (i, v) in col.iter_mut().enumerate().take(m) {
-                            *v = rows[(r0 + i) * n_vars + j];
-                        }
-                    }
-                    Arith::Plus(p, q) => {
-                        for i in 0..64 {
-                            col[i] = lo[p][i].wrapping_add(lo[q][i]);
-                        }
-                    }
-                    Arith::Minus(p, q) => {
-                        for i in 0..64 {
-                            col[i] = lo[p][i].wrapping_sub(lo[q][i]);
-                        }
-                    }
-                }
-            }
-            for c in 0..conds.len() {
-                let word = match conds[c].0 {
-                    Cond::Le(a, b) => pack(|i| tv[a][i] <= tv[b][i]),
-                    Cond::Eq(a, b) => pack(|i| tv[a][i] == tv[b][i]),
-                    Cond::Not(a) => !cv[a],
-                    Cond::And(a, b) => cv[a] & cv[b],
-                    Cond::Or(a, b) => cv[a] | cv[b],
-                };
-                cv[c] = word & valid;
-                out[c][dw] = cv[c];
-            }
-        }
-    });
-    masks
-}
-
-/// The 64 truth values of `f` as a word (bit i: `f(i)`).
-#[inline]
-fn pack(f: impl Fn(usize) -> bool) -> u64 {
-    let mut w = 0u64;
-    for i in 0..64 {
-        w |= (f(i) as u64) << i;
-    }
-    w
 }
 
 fn term_sizes(terms: &[(Arith, u32)]) -> Vec<u32> {

@@ -22,7 +22,7 @@ from plansynth.grid.programs import App, Const, Term, Var
 __all__ = ["available", "CompiledSafety", "LEARN_STEPS"]
 
 #: The steps of one round of the core's learner, whose seconds it reports.
-LEARN_STEPS = ("labels", "conditions", "behaviours", "tree", "closure")
+LEARN_STEPS = ("labels", "conditions", "tree", "closure")
 
 
 def available() -> bool:
