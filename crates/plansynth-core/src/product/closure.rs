@@ -51,7 +51,7 @@ impl ProductGame {
             }
             self.inputs(id, r as usize, &mut x);
             let k = eval(prog, root, &x);
-            if !(0..n_moves).contains(&k) || self.allowed(id, r as usize) >> k & 1 == 0 {
+            if !(0..n_moves).contains(&k) || !self.allows(id, r as usize, k as usize) {
                 out.bad.push((id, r));
                 continue;
             }

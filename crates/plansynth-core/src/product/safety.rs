@@ -189,6 +189,19 @@ impl ProductGame {
         mask
     }
 
+    /// Whether move `k` keeps state (configuration `id`, cell `r`) winning: bit k of
+    /// [`ProductGame::allowed`], for that move only.
+    pub fn allows(&self, id: u32, r: usize, k: usize) -> bool {
+        let m = &self.spec.robot[k];
+        if !self.wins(id, r) || m.free[r / 64] >> (r % 64) & 1 == 0 || self.hits(id, r, k) {
+            return false;
+        }
+        let e = self.robot_end(r, k);
+        self.successors(id)
+            .iter()
+            .all(|&s| self.wins(s, e) && !(self.spec.position && self.in_blocks(s, e)))
+    }
+
     /// Whether move `k` from `r` sweeps a cell some reply of `id` sweeps (sweep rule).
     pub fn hits(&self, id: u32, r: usize, k: usize) -> bool {
         if self.spec.position {
