@@ -48,7 +48,7 @@ from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
-__all__ = ["check_invariant", "Invariant", "state_key", "CHUNK_STATES"]
+__all__ = ["check_invariant", "Invariant", "state_key", "key_of", "CHUNK_STATES"]
 
 Invariant = Mapping[tuple, int]
 
@@ -60,12 +60,26 @@ CHUNK_STATES = 4_000_000
 
 def state_key(problem: GridProblem, s: State) -> tuple:
     """The invariant's key of ``s`` (everything but the robot's cell)."""
-    if s.phases:
-        key: tuple = tuple(zip(s.obstacles, s.phases, s.glitches, strict=True))
-    else:
-        key = tuple((c, 0, 0) for c in s.obstacles)
-    extra = ((s.mode,) if problem.mode_count > 1 else ()) + ((s.fair,) if problem.fair_count > 1 else ())
-    return key + extra
+    return key_of(problem)(s)
+
+
+def key_of(problem: GridProblem):
+    """:func:`state_key` for ``problem`` as a function of the state (the problem's
+    properties read once, for the check's loops over every configuration)."""
+    mode, fair = problem.mode_count > 1, problem.fair_count > 1
+
+    def key(s: State) -> tuple:
+        if s.phases:
+            out: tuple = tuple(zip(s.obstacles, s.phases, s.glitches, strict=True))
+        else:
+            out = tuple((c, 0, 0) for c in s.obstacles)
+        if mode:
+            out += (s.mode,)
+        if fair:
+            out += (s.fair,)
+        return out
+
+    return key
 
 
 def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:

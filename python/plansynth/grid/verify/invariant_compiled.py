@@ -22,7 +22,7 @@ from plansynth.grid.objective import CollisionRule
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Const, Term, Var
 from plansynth.grid.semantics import controller_inputs
-from plansynth.grid.verify.invariant import _robot_tables, _unknown, _xy, state_key
+from plansynth.grid.verify.invariant import _robot_tables, _unknown, _xy, key_of
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
@@ -92,13 +92,18 @@ def check_invariant_compiled(
     key_id = {k: i for i, k in enumerate(keys)}
     try:
         by = ObstacleReplies(problem)
+        key = key_of(problem)
+        index: dict[tuple, list[int]] = {}  # cells as indices, per tuple of cells
         reply_off, reply_next, danger_off, danger = [0], [], [0], []
         for i, s in enumerate(probes):
             if i % 1024 == 0:
                 meter.check()
             for nxt, cells in by.of(s):
-                reply_next.append(key_id.get(state_key(problem, nxt), -1))
-                danger.extend(c[1] * w + c[0] for c in cells)
+                reply_next.append(key_id.get(key(nxt), -1))
+                got = index.get(cells)
+                if got is None:
+                    got = index[cells] = [c[1] * w + c[0] for c in cells]
+                danger += got
                 danger_off.append(len(danger))
             reply_off.append(len(reply_next))
         fixed = np.array([controller_inputs(problem, s)[2:] for s in probes], np.int64).reshape(len(keys), -1)

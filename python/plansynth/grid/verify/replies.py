@@ -70,6 +70,8 @@ class ObstacleReplies:
         # read once: the problem's properties recompute on every access
         self.stateful = problem.stateful
         self.fair = problem.fair_count > 1
+        # the sorted union of the obstacles' colliding cells, per tuple of their cells
+        self._union: dict[tuple, tuple[Cell, ...]] = {}
         self._moves: dict[tuple[int, Cell], tuple[tuple[Cell, tuple[Cell, ...]], ...]] = {}
 
     def _cell_moves(self, i: int, p: Cell) -> tuple[tuple[Cell, tuple[Cell, ...]], ...]:
@@ -115,6 +117,9 @@ class ObstacleReplies:
                 nxt = State(probe.robot, ends, tuple(j[1] for j in joint), tuple(j[2] for j in joint), probe.mode, fair)
             else:
                 nxt = State(probe.robot, ends, (), (), probe.mode, fair)
-            cells = sorted({c for j in joint for c in j[4]})
-            out[(nxt, tuple(cells))] = None
+            parts = tuple(j[4] for j in joint)
+            cells = self._union.get(parts)
+            if cells is None:
+                cells = self._union[parts] = tuple(sorted({c for part in parts for c in part}))
+            out[(nxt, cells)] = None
         return list(out)
