@@ -31,12 +31,13 @@ struct Ctx<'a> {
     conds: &'a [(Cond, u32)],
     kinds: Vec<Kind>,
     /// per state, the value of every form less the form's least value (`n_forms` a
-    /// state), and per form its number of values
-    vals: Vec<u16>,
+    /// state, a byte each), and per form its number of values
+    vals: Vec<u8>,
     n_forms: usize,
     width: Vec<usize>,
     keys: &'a [(u32, u32)],
-    rows: &'a [i64],
+    /// the inputs, kept for the conditions evaluated state by state only
+    rows: Vec<i64>,
     n_vars: usize,
     allowed: &'a [u32],
     n_moves: usize,
@@ -61,17 +62,19 @@ fn better(a: &Score, b: &Option<Score>) -> bool {
 /// Work (states times forms) below which a node is scored on one thread.
 const PAR_WORK: usize = 1 << 16;
 /// The widest range of a form's values scored by a histogram (its values are kept as
-/// 16-bit offsets); the conditions over a wider one are scored condition by condition.
-const MAX_RANGE: i64 = 1 << 15;
+/// byte offsets: coordinates and their differences on grids up to 128 x 128); the
+/// conditions over a wider one are scored condition by condition.
+const MAX_RANGE: i64 = 1 << 8;
 
 /// The greedy tree over `rows` (`n_vars` inputs a state) for the conditions `conds`
 /// over `terms`, with `keys[j]` (depth, size) of condition j and `allowed[s]` the
-/// moves state s may play: [`crate::tree::greedy_tree`]'s tree.
+/// moves state s may play: [`crate::tree::greedy_tree`]'s tree. The rows are dropped
+/// once the forms' values are read, unless some condition needs them.
 pub fn greedy_tree_rows(
     terms: &[(Arith, u32)],
     conds: &[(Cond, u32)],
     keys: &[(u32, u32)],
-    rows: &[i64],
+    rows: Vec<i64>,
     n_vars: usize,
     allowed: &[u32],
     n_moves: usize,
@@ -163,14 +166,19 @@ pub fn greedy_tree_rows(
         })
         .collect();
     let n_forms = kept.len();
-    let mut vals: Vec<u16> = Vec::with_capacity(n * n_forms);
+    let mut vals: Vec<u8> = Vec::with_capacity(n * n_forms);
     for x in rows.chunks_exact(n_vars.max(1)).take(n) {
         for &f in &kept {
             let v: i64 = forms[f].iter().map(|&(j, a)| a * x[j]).sum();
-            vals.push((v - lo[f]) as u16);
+            vals.push((v - lo[f]) as u8);
         }
     }
     let width: Vec<usize> = kept.iter().map(|&f| (hi[f] - lo[f] + 1) as usize).collect();
+    let rows = if kinds.iter().any(|k| matches!(k, Kind::General)) {
+        rows
+    } else {
+        Vec::new()
+    };
     let ctx = Ctx {
         terms,
         conds,
@@ -459,7 +467,11 @@ mod tests {
             let n_vars = 1 + (rng.next() % 3) as usize;
             let n = 1 + (rng.next() % 150) as usize;
             let n_moves = 1 + (rng.next() % 4) as usize;
-            let rows: Vec<i64> = (0..n * n_vars).map(|_| (rng.next() % 7) as i64 - 2).collect();
+            // a wide variable now and then: its forms' conditions are scored one by one
+            let wide = if case % 3 == 0 { 100 } else { 1 };
+            let rows: Vec<i64> = (0..n * n_vars)
+                .map(|i| ((rng.next() % 7) as i64 - 2) * if i % n_vars == 0 { wide } else { 1 })
+                .collect();
             let allowed: Vec<u32> = (0..n)
                 .map(|_| (rng.next() as u32 % ((1 << n_moves) - 1)) + 1)
                 .collect();
@@ -501,7 +513,7 @@ mod tests {
                 })
                 .collect();
             let a = greedy_tree(&masks, &keys, &allowed, n_moves, 10_000);
-            let b = greedy_tree_rows(&terms, &conds, &keys, &rows, n_vars, &allowed, n_moves, 10_000);
+            let b = greedy_tree_rows(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000);
             assert_eq!(a, b, "case {case}");
             oks += a.is_ok() as usize;
         }

@@ -84,7 +84,7 @@ impl ProductGame {
             &terms,
             &conds,
             &keys,
-            &rows,
+            rows,
             n_vars,
             &allowed,
             self.spec.robot.len(),
@@ -104,7 +104,6 @@ impl ProductGame {
                 })
             }
         };
-        drop(rows);
         lap(2, &mut t);
         let ops = program_ops(&terms, &conds, &nodes);
         let c = self.closure(&ops, true, limits)?;
