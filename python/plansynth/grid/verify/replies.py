@@ -108,6 +108,20 @@ class ObstacleReplies:
         problem = self.problem
         per = [self._local(probe, i) for i in range(len(problem.obstacles))]
         out: dict[Reply, None] = {}
+        if len(per) == 1 and not self.fair:
+            # one obstacle (the common case, written out: a third of the check's time)
+            robot, mode, fair = probe.robot, probe.mode, probe.fair
+            for end, ph, gl, _, cells in per[0]:
+                if self.stateful:
+                    nxt = State(robot, (end,), (ph,), (gl,), mode, fair)
+                else:
+                    nxt = State(robot, (end,), (), (), mode, fair)
+                single = (cells,)
+                got = self._union.get(single)
+                if got is None:
+                    got = self._union[single] = tuple(sorted(set(cells)))
+                out[(nxt, got)] = None
+            return list(out)
         for joint in itertools.product(*per):
             fair = probe.fair
             if self.fair and joint[fair][3]:
