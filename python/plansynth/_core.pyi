@@ -154,6 +154,7 @@ class ProductGame:
         enum_states: int,
         seconds: float | None = None,
         max_bytes: int | None = None,
+        tree_states: int | None = None,
     ) -> tuple[
         bool,
         int,

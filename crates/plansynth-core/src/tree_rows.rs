@@ -70,6 +70,73 @@ const MAX_RANGE: i64 = 1 << 8;
 /// over `terms`, with `keys[j]` (depth, size) of condition j and `allowed[s]` the
 /// moves state s may play: [`crate::tree::greedy_tree`]'s tree. The rows are dropped
 /// once the forms' values are read, unless some condition needs them.
+///
+/// With `part` (`Some(k)`, k > 1) the tree is grown on every k-th state only, then
+/// refined on all of them: every state goes down the tree, and a leaf whose move some
+/// of the states reaching it may not play is replaced by the greedy tree grown over all
+/// the states that reach it (counterexample-guided: the part proposes, the whole
+/// corrects). The result plays an allowed move in every state, as the tree over all
+/// states does, for a fraction of the passes; it may differ from that tree.
+#[allow(clippy::too_many_arguments)]
+pub fn greedy_tree_rows_part(
+    terms: &[(Arith, u32)],
+    conds: &[(Cond, u32)],
+    keys: &[(u32, u32)],
+    rows: Vec<i64>,
+    n_vars: usize,
+    allowed: &[u32],
+    n_moves: usize,
+    max_nodes: usize,
+    part: Option<usize>,
+) -> Result<Vec<Node>, GreedyError> {
+    let ctx = Ctx::new(terms, conds, keys, rows, n_vars, allowed, n_moves);
+    let n = allowed.len() as u32;
+    let mut budget = max_nodes as i64;
+    let live: Vec<usize> = (0..conds.len()).collect();
+    let mut out = Vec::new();
+    match part {
+        Some(k) if k > 1 => {
+            let mut first = Vec::new();
+            grow(&ctx, (0..n).step_by(k).collect(), &live, &mut first, &mut budget)?;
+            let mut it = first.into_iter();
+            refine(&ctx, &mut it, (0..n).collect(), &live, &mut out, &mut budget)?;
+        }
+        _ => grow(&ctx, (0..n).collect(), &live, &mut out, &mut budget)?,
+    }
+    Ok(out)
+}
+
+/// Copy the pre-order tree `it` to `out`, with each leaf that does not fit every state
+/// of `members` reaching it replaced by the tree grown over those states.
+fn refine(
+    ctx: &Ctx<'_>,
+    it: &mut std::vec::IntoIter<Node>,
+    members: Vec<u32>,
+    live: &[usize],
+    out: &mut Vec<Node>,
+    budget: &mut i64,
+) -> Result<(), GreedyError> {
+    match it.next().expect("a complete pre-order tree") {
+        Node::Leaf(k) => {
+            if members.iter().all(|&s| ctx.allowed[s as usize] >> k & 1 == 1) {
+                out.push(Node::Leaf(k));
+                Ok(())
+            } else {
+                grow(ctx, members, live, out, budget)
+            }
+        }
+        Node::Split(j) => {
+            let (left, right): (Vec<u32>, Vec<u32>) = members.iter().partition(|&&s| ctx.holds(j, s));
+            drop(members);
+            out.push(Node::Split(j));
+            refine(ctx, it, left, live, out, budget)?;
+            refine(ctx, it, right, live, out, budget)
+        }
+    }
+}
+
+/// [`greedy_tree_rows_part`] over every state.
+#[allow(clippy::too_many_arguments)]
 pub fn greedy_tree_rows(
     terms: &[(Arith, u32)],
     conds: &[(Cond, u32)],
@@ -80,123 +147,132 @@ pub fn greedy_tree_rows(
     n_moves: usize,
     max_nodes: usize,
 ) -> Result<Vec<Node>, GreedyError> {
-    let n = allowed.len();
-    // the terms as linear forms (coefficients, constant) with a bound on their values
-    // over the rows: only terms far from overflow are read as forms
-    let big = rows.iter().map(|v| v.unsigned_abs()).max().unwrap_or(0) as u128;
-    let mut lin: Vec<(Vec<i64>, i64, u128)> = Vec::with_capacity(terms.len());
-    for (t, _) in terms {
-        let v = match *t {
-            Arith::Const(c) => (vec![0; n_vars], c, c.unsigned_abs() as u128),
-            Arith::Var(j) => {
-                let mut e = vec![0; n_vars];
-                e[j] = 1;
-                (e, 0, big)
+    greedy_tree_rows_part(terms, conds, keys, rows, n_vars, allowed, n_moves, max_nodes, None)
+}
+
+impl<'a> Ctx<'a> {
+    fn new(
+        terms: &'a [(Arith, u32)],
+        conds: &'a [(Cond, u32)],
+        keys: &'a [(u32, u32)],
+        rows: Vec<i64>,
+        n_vars: usize,
+        allowed: &'a [u32],
+        n_moves: usize,
+    ) -> Ctx<'a> {
+        let n = allowed.len();
+        // the terms as linear forms (coefficients, constant) with a bound on their values
+        // over the rows: only terms far from overflow are read as forms
+        let big = rows.iter().map(|v| v.unsigned_abs()).max().unwrap_or(0) as u128;
+        let mut lin: Vec<(Vec<i64>, i64, u128)> = Vec::with_capacity(terms.len());
+        for (t, _) in terms {
+            let v = match *t {
+                Arith::Const(c) => (vec![0; n_vars], c, c.unsigned_abs() as u128),
+                Arith::Var(j) => {
+                    let mut e = vec![0; n_vars];
+                    e[j] = 1;
+                    (e, 0, big)
+                }
+                Arith::Plus(a, b) | Arith::Minus(a, b) => {
+                    let s = if matches!(*t, Arith::Plus(..)) { 1 } else { -1 };
+                    let (ca, ka, ba) = &lin[a];
+                    let (cb, kb, bb) = &lin[b];
+                    let coef: Vec<i64> = ca
+                        .iter()
+                        .zip(cb)
+                        .map(|(x, y)| x.saturating_add(s * y))
+                        .collect();
+                    (coef, ka.saturating_add(s * kb), ba.saturating_add(*bb))
+                }
+            };
+            lin.push(v);
+        }
+        let safe = |t: usize| lin[t].2 < 1u128 << 60;
+        let mut form_of: HashMap<Vec<i64>, usize> = HashMap::new();
+        let mut forms: Vec<Vec<(usize, i64)>> = vec![];
+        let kinds: Vec<Kind> = conds
+            .iter()
+            .map(|(c, _)| match *c {
+                Cond::Le(a, b) | Cond::Eq(a, b) if safe(a) && safe(b) => {
+                    let coef: Vec<i64> = lin[a].0.iter().zip(&lin[b].0).map(|(x, y)| x - y).collect();
+                    let next = forms.len();
+                    let form = *form_of.entry(coef.clone()).or_insert(next);
+                    if form == next {
+                        forms.push(
+                            coef.iter()
+                                .enumerate()
+                                .filter(|&(_, &v)| v != 0)
+                                .map(|(j, &v)| (j, v))
+                                .collect(),
+                        );
+                    }
+                    Kind::Atom {
+                        form,
+                        c: lin[b].1 - lin[a].1,
+                        eq: matches!(*c, Cond::Eq(..)),
+                    }
+                }
+                _ => Kind::General,
+            })
+            .collect();
+        // the forms' values, state by state; a form with too wide a range is dropped and its
+        // conditions evaluated state by state
+        let n_all = forms.len();
+        let mut lo = vec![i64::MAX; n_all];
+        let mut hi = vec![i64::MIN; n_all];
+        for x in rows.chunks_exact(n_vars.max(1)).take(n) {
+            for (f, form) in forms.iter().enumerate() {
+                let v: i64 = form.iter().map(|&(j, a)| a * x[j]).sum();
+                lo[f] = lo[f].min(v);
+                hi[f] = hi[f].max(v);
             }
-            Arith::Plus(a, b) | Arith::Minus(a, b) => {
-                let s = if matches!(*t, Arith::Plus(..)) { 1 } else { -1 };
-                let (ca, ka, ba) = &lin[a];
-                let (cb, kb, bb) = &lin[b];
-                let coef: Vec<i64> = ca
-                    .iter()
-                    .zip(cb)
-                    .map(|(x, y)| x.saturating_add(s * y))
-                    .collect();
-                (coef, ka.saturating_add(s * kb), ba.saturating_add(*bb))
+        }
+        let mut keep: Vec<Option<usize>> = vec![None; n_all];
+        let mut kept: Vec<usize> = vec![];
+        for f in 0..n_all {
+            if n > 0 && hi[f] - lo[f] < MAX_RANGE {
+                keep[f] = Some(kept.len());
+                kept.push(f);
             }
+        }
+        let kinds: Vec<Kind> = kinds
+            .into_iter()
+            .map(|k| match k {
+                Kind::Atom { form, c, eq } => match keep[form] {
+                    Some(f) => Kind::Atom { form: f, c: c - lo[form], eq },
+                    None => Kind::General,
+                },
+                Kind::General => Kind::General,
+            })
+            .collect();
+        let n_forms = kept.len();
+        let mut vals: Vec<u8> = Vec::with_capacity(n * n_forms);
+        for x in rows.chunks_exact(n_vars.max(1)).take(n) {
+            for &f in &kept {
+                let v: i64 = forms[f].iter().map(|&(j, a)| a * x[j]).sum();
+                vals.push((v - lo[f]) as u8);
+            }
+        }
+        let width: Vec<usize> = kept.iter().map(|&f| (hi[f] - lo[f] + 1) as usize).collect();
+        let rows = if kinds.iter().any(|k| matches!(k, Kind::General)) {
+            rows
+        } else {
+            Vec::new()
         };
-        lin.push(v);
-    }
-    let safe = |t: usize| lin[t].2 < 1u128 << 60;
-    let mut form_of: HashMap<Vec<i64>, usize> = HashMap::new();
-    let mut forms: Vec<Vec<(usize, i64)>> = vec![];
-    let kinds: Vec<Kind> = conds
-        .iter()
-        .map(|(c, _)| match *c {
-            Cond::Le(a, b) | Cond::Eq(a, b) if safe(a) && safe(b) => {
-                let coef: Vec<i64> = lin[a].0.iter().zip(&lin[b].0).map(|(x, y)| x - y).collect();
-                let next = forms.len();
-                let form = *form_of.entry(coef.clone()).or_insert(next);
-                if form == next {
-                    forms.push(
-                        coef.iter()
-                            .enumerate()
-                            .filter(|&(_, &v)| v != 0)
-                            .map(|(j, &v)| (j, v))
-                            .collect(),
-                    );
-                }
-                Kind::Atom {
-                    form,
-                    c: lin[b].1 - lin[a].1,
-                    eq: matches!(*c, Cond::Eq(..)),
-                }
-            }
-            _ => Kind::General,
-        })
-        .collect();
-    // the forms' values, state by state; a form with too wide a range is dropped and its
-    // conditions evaluated state by state
-    let n_all = forms.len();
-    let mut lo = vec![i64::MAX; n_all];
-    let mut hi = vec![i64::MIN; n_all];
-    for x in rows.chunks_exact(n_vars.max(1)).take(n) {
-        for (f, form) in forms.iter().enumerate() {
-            let v: i64 = form.iter().map(|&(j, a)| a * x[j]).sum();
-            lo[f] = lo[f].min(v);
-            hi[f] = hi[f].max(v);
+        Ctx {
+            terms,
+            conds,
+            kinds,
+            vals,
+            n_forms,
+            width,
+            keys,
+            rows,
+            n_vars,
+            allowed,
+            n_moves,
         }
     }
-    let mut keep: Vec<Option<usize>> = vec![None; n_all];
-    let mut kept: Vec<usize> = vec![];
-    for f in 0..n_all {
-        if n > 0 && hi[f] - lo[f] < MAX_RANGE {
-            keep[f] = Some(kept.len());
-            kept.push(f);
-        }
-    }
-    let kinds: Vec<Kind> = kinds
-        .into_iter()
-        .map(|k| match k {
-            Kind::Atom { form, c, eq } => match keep[form] {
-                Some(f) => Kind::Atom { form: f, c: c - lo[form], eq },
-                None => Kind::General,
-            },
-            Kind::General => Kind::General,
-        })
-        .collect();
-    let n_forms = kept.len();
-    let mut vals: Vec<u8> = Vec::with_capacity(n * n_forms);
-    for x in rows.chunks_exact(n_vars.max(1)).take(n) {
-        for &f in &kept {
-            let v: i64 = forms[f].iter().map(|&(j, a)| a * x[j]).sum();
-            vals.push((v - lo[f]) as u8);
-        }
-    }
-    let width: Vec<usize> = kept.iter().map(|&f| (hi[f] - lo[f] + 1) as usize).collect();
-    let rows = if kinds.iter().any(|k| matches!(k, Kind::General)) {
-        rows
-    } else {
-        Vec::new()
-    };
-    let ctx = Ctx {
-        terms,
-        conds,
-        kinds,
-        vals,
-        n_forms,
-        width,
-        keys,
-        rows,
-        n_vars,
-        allowed,
-        n_moves,
-    };
-    let mut out = Vec::new();
-    let mut budget = max_nodes as i64;
-    let live: Vec<usize> = (0..conds.len()).collect();
-    grow(&ctx, (0..n as u32).collect(), &live, &mut out, &mut budget)?;
-    Ok(out)
 }
 
 impl Ctx<'_> {
@@ -513,11 +589,42 @@ mod tests {
                 })
                 .collect();
             let a = greedy_tree(&masks, &keys, &allowed, n_moves, 10_000);
+            if a.is_ok() {
+                // grown on a part and refined, the tree still fits every state
+                let k = 2 + case % 4;
+                let t = greedy_tree_rows_part(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000, Some(k))
+                    .expect("a tree over the part and its refinement");
+                for s in 0..n {
+                    let x = &rows[s * n_vars..(s + 1) * n_vars];
+                    let mut i = 0;
+                    let leaf = play(&t, &mut i, &|j| eval_cond(&terms, &conds, j, x));
+                    assert!(allowed[s] >> leaf & 1 == 1, "case {case}: state {s} plays {leaf}");
+                }
+            }
             let b = greedy_tree_rows(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000);
             assert_eq!(a, b, "case {case}");
             oks += a.is_ok() as usize;
         }
         assert!(oks > 20, "too few cases with a tree: {oks}");
+    }
+
+    /// The move the pre-order tree from node `*i` plays (`holds`: the conditions).
+    fn play(t: &[Node], i: &mut usize, holds: &dyn Fn(usize) -> bool) -> usize {
+        let node = t[*i];
+        *i += 1;
+        match node {
+            Node::Leaf(k) => k,
+            Node::Split(j) => {
+                let yes = holds(j);
+                let a = play(t, i, holds);
+                let b = play(t, i, holds);
+                if yes {
+                    a
+                } else {
+                    b
+                }
+            }
+        }
     }
 
     fn eval_cond(terms: &[(Arith, u32)], conds: &[(Cond, u32)], j: usize, x: &[i64]) -> bool {

@@ -262,8 +262,10 @@ impl PyProductGame {
     /// One round of the learner: (closed, sample size, states reached, terms, conditions,
     /// tree nodes, seconds of its steps: labels, conditions, tree, closure). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
     /// conditions `(op, a, b, depth)`: 0 `<=`, 1 `=`, 2 not, 3 and, 4 or; nodes pre-order
-    /// `(0, k)` a leaf, `(1, j)` a split on condition j.
-    #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None))]
+    /// `(0, k)` a leaf, `(1, j)` a split on condition j. `tree_states`: on a larger
+    /// sample the tree is grown on a part of about this many states, then refined on the
+    /// whole (see the core's `learn_round`).
+    #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None, tree_states=None))]
     #[allow(clippy::too_many_arguments)]
     fn learn_round(
         &mut self,
@@ -274,6 +276,7 @@ impl PyProductGame {
         enum_states: usize,
         seconds: Option<f64>,
         max_bytes: Option<usize>,
+        tree_states: Option<usize>,
     ) -> PyResult<RoundOut> {
         if !self.g.solved {
             return Err(bad_value("learning on an unsolved game"));
@@ -281,7 +284,7 @@ impl PyProductGame {
         let lim = limits(seconds, max_bytes);
         let g = &mut self.g;
         let r = py
-            .detach(|| g.learn_round(cond_depth, max_constant, max_nodes, enum_states, lim))
+            .detach(|| g.learn_round(cond_depth, max_constant, max_nodes, enum_states, tree_states, lim))
             .map_err(|s| stopped("learning a program", s))?;
         let terms = term_rows(&r.terms);
         let conds = r

@@ -13,7 +13,7 @@ use super::{Limits, ProductGame, Stop};
 use crate::conditions::{enumerate_conditions, Arith, Cond};
 use crate::game::Op;
 use crate::tree::{GreedyError, Node};
-use crate::tree_rows::greedy_tree_rows;
+use crate::tree_rows::greedy_tree_rows_part;
 
 /// One round's outcome: whether the tree's closed loop plays allowed moves only, the
 /// sample's size after the round, the tree (pre-order nodes over `conds`, which are over
@@ -32,13 +32,17 @@ pub struct Round {
 
 impl ProductGame {
     /// One round (see the module docs). `enum_states`: the part of the sample the
-    /// conditions are enumerated on.
+    /// conditions are enumerated on; `tree_states`: on a larger sample the tree is grown
+    /// on an evenly spaced part of about this many states, then refined on the whole
+    /// sample (`crate::tree_rows::greedy_tree_rows_part`).
+    #[allow(clippy::too_many_arguments)]
     pub fn learn_round(
         &mut self,
         cond_depth: u32,
         max_constant: i64,
         max_nodes: usize,
         enum_states: usize,
+        tree_states: Option<usize>,
         limits: Limits,
     ) -> Result<Round, Stop> {
         if self.sample.is_empty() {
@@ -80,7 +84,8 @@ impl ProductGame {
                 .map(|(s, (_, d))| (*d, s))
                 .collect()
         };
-        let nodes = match greedy_tree_rows(
+        let part = tree_states.filter(|&m| m > 0 && n > m).map(|m| n.div_ceil(m));
+        let nodes = match greedy_tree_rows_part(
             &terms,
             &conds,
             &keys,
@@ -89,6 +94,7 @@ impl ProductGame {
             &allowed,
             self.spec.robot.len(),
             max_nodes,
+            part,
         ) {
             Ok(nodes) => nodes,
             Err(GreedyError::TooLarge) => {

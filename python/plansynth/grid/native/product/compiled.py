@@ -121,12 +121,18 @@ class CompiledSafety:
         return self.core.closure(ops, len(self.problem.variables), grow, **_budget(self.clock, self.memory_mb))
 
     def learn_round(
-        self, cond_depth: int, max_nodes: int, enum_states: int
+        self, cond_depth: int, max_nodes: int, enum_states: int, tree_states: int | None = None
     ) -> tuple[bool, int, int, Term, dict[str, float]]:
         """One round of the core's learner: (closed, sample size, states reached, the
-        program, seconds of its steps by name)."""
+        program, seconds of its steps by name). ``tree_states``: on a larger sample the
+        tree is grown on a part of about this many states and refined on the whole."""
         closed, sample, reached, terms, conds, nodes, seconds = self.core.learn_round(
-            cond_depth, self.problem.max_constant, max_nodes, enum_states, **_budget(self.clock, self.memory_mb)
+            cond_depth,
+            self.problem.max_constant,
+            max_nodes,
+            enum_states,
+            **_budget(self.clock, self.memory_mb),
+            tree_states=tree_states,
         )
         steps = dict(zip(LEARN_STEPS, (round(s, 4) for s in seconds), strict=True))
         return closed, sample, reached, _tree(terms, conds, nodes, self.problem.variables), steps
