@@ -35,6 +35,17 @@ struct Ctx<'a> {
     vals: Vec<u8>,
     n_forms: usize,
     width: Vec<usize>,
+    /// the states' allowed-move sets as classes (empty when there are more than 255):
+    /// per state its class, per class its moves; a large node's histograms count
+    /// classes, from which its labels and their counts follow, so that a child's are
+    /// its parent's less its sibling's (only the smaller child is counted)
+    class_of: Vec<u8>,
+    class_moves: Vec<u32>,
+    /// per form, where its values start in a class histogram (`width * classes` each),
+    /// the histogram's size, and the node size from which class histograms are used
+    hoff: Vec<usize>,
+    hsize: usize,
+    min_hist: usize,
     keys: &'a [(u32, u32)],
     /// the inputs, kept for the conditions evaluated state by state only
     rows: Vec<i64>,
@@ -259,6 +270,39 @@ impl<'a> Ctx<'a> {
         } else {
             Vec::new()
         };
+        let mut index: HashMap<u32, u8> = HashMap::new();
+        let mut class_moves: Vec<u32> = vec![];
+        let mut class_of: Vec<u8> = Vec::with_capacity(n);
+        for &a in allowed {
+            let next = class_moves.len();
+            let c = *index.entry(a).or_insert(next.min(255) as u8);
+            if c as usize == next {
+                class_moves.push(a);
+            }
+            class_of.push(c);
+        }
+        if class_moves.len() > 255 {
+            class_moves.clear();
+            class_of.clear();
+        }
+        let m = class_moves.len();
+        let mut hoff = Vec::with_capacity(n_forms);
+        let mut hsize = 0usize;
+        for &w in &width {
+            hoff.push(hsize);
+            hsize += w * m;
+        }
+        let min_hist = if m == 0 || n_forms == 0 {
+            usize::MAX
+        } else {
+            (2 * hsize / n_forms).max(1)
+        };
+        #[cfg(test)]
+        let min_hist = if ALWAYS_CLASSES.with(|c| c.get()) && m > 0 && n_forms > 0 {
+            1
+        } else {
+            min_hist
+        };
         Ctx {
             terms,
             conds,
@@ -266,6 +310,11 @@ impl<'a> Ctx<'a> {
             vals,
             n_forms,
             width,
+            class_of,
+            class_moves,
+            hoff,
+            hsize,
+            min_hist,
             keys,
             rows,
             n_vars,
@@ -342,6 +391,12 @@ impl Ctx<'_> {
 
 const NO_LABEL: u8 = u8::MAX;
 
+#[cfg(test)]
+thread_local! {
+    /// Tests: every node with class histograms.
+    static ALWAYS_CLASSES: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 fn grow(
     ctx: &Ctx<'_>,
     members: Vec<u32>,
@@ -349,6 +404,26 @@ fn grow(
     out: &mut Vec<Node>,
     budget: &mut i64,
 ) -> Result<(), GreedyError> {
+    grow_with(ctx, members, live, None, out, budget)
+}
+
+/// [`grow`] with the node's class histogram when its parent passed one.
+fn grow_with(
+    ctx: &Ctx<'_>,
+    members: Vec<u32>,
+    live: &[usize],
+    hist: Option<Vec<u32>>,
+    out: &mut Vec<Node>,
+    budget: &mut i64,
+) -> Result<(), GreedyError> {
+    let hist = match hist {
+        Some(h) => Some(h),
+        None if members.len() >= ctx.min_hist => Some(ctx.class_hist(&members)),
+        None => None,
+    };
+    if let Some(h) = hist {
+        return grow_classes(ctx, members, live, h, out, budget);
+    }
     let total = members.len() as u64;
     let (c, k) = ctx.best_common(&members);
     if c as u64 == total {
@@ -521,6 +596,223 @@ fn grow(
     grow(ctx, right, &split, out, budget)
 }
 
+impl Ctx<'_> {
+    /// The class histogram of `members`: per form, value and class, the states.
+    fn class_hist(&self, members: &[u32]) -> Vec<u32> {
+        let m = self.class_moves.len();
+        let fill = |range: std::ops::Range<usize>| -> Vec<u32> {
+            let mut h = vec![0u32; self.hsize];
+            for &s in &members[range] {
+                let s = s as usize;
+                let c = self.class_of[s] as usize;
+                let row = &self.vals[s * self.n_forms..(s + 1) * self.n_forms];
+                for (f, &v) in row.iter().enumerate() {
+                    h[self.hoff[f] + v as usize * m + c] += 1;
+                }
+            }
+            h
+        };
+        if members.len().saturating_mul(self.n_forms) < PAR_WORK {
+            return fill(0..members.len());
+        }
+        let parts = crate::par::map_ranges(members.len(), 1 << 14, fill);
+        let mut it = parts.into_iter();
+        let mut h = it.next().unwrap_or_default();
+        for p in it {
+            for (x, y) in h.iter_mut().zip(p) {
+                *x += y;
+            }
+        }
+        h
+    }
+}
+
+/// [`grow`] on a node with its class histogram `hist`: the same leaf, labels, scores
+/// and split, read from the histogram (the labels per class, their counts per value).
+fn grow_classes(
+    ctx: &Ctx<'_>,
+    members: Vec<u32>,
+    live: &[usize],
+    hist: Vec<u32>,
+    out: &mut Vec<Node>,
+    budget: &mut i64,
+) -> Result<(), GreedyError> {
+    let m = ctx.class_moves.len();
+    let total = members.len() as u64;
+    // the states per class (form 0's histogram holds every state once)
+    let mut per_class = vec![0u64; m];
+    for v in 0..ctx.width[0] {
+        for (c, x) in per_class.iter_mut().enumerate() {
+            *x += hist[ctx.hoff[0] + v * m + c] as u64;
+        }
+    }
+    let counts = |classes: &mut dyn Iterator<Item = usize>| -> (u64, usize) {
+        let mut cnt = [0u64; 32];
+        for c in classes {
+            let mut a = ctx.class_moves[c];
+            while a != 0 {
+                cnt[a.trailing_zeros() as usize] += per_class[c];
+                a &= a - 1;
+            }
+        }
+        let mut best = (0u64, 0usize);
+        for (k, &x) in cnt.iter().enumerate().take(ctx.n_moves) {
+            if k == 0 || x > best.0 {
+                best = (x, k);
+            }
+        }
+        best
+    };
+    let (c, k) = counts(&mut (0..m).filter(|&c| per_class[c] > 0));
+    if c == total {
+        out.push(Node::Leaf(k));
+        return Ok(());
+    }
+    *budget -= 1;
+    if *budget < 0 {
+        return Err(GreedyError::TooLarge);
+    }
+    // greedy set cover, a class at a time
+    let mut label_of = vec![NO_LABEL; m];
+    let mut rest: Vec<usize> = (0..m).filter(|&c| per_class[c] > 0).collect();
+    let mut lab_count: Vec<u64> = vec![];
+    while !rest.is_empty() {
+        let (c, kbest) = counts(&mut rest.iter().copied());
+        if c == 0 {
+            break;
+        }
+        let kk = lab_count.len() as u8;
+        lab_count.push(c);
+        rest.retain(|&cl| {
+            if ctx.class_moves[cl] >> kbest & 1 == 1 {
+                label_of[cl] = kk;
+                false
+            } else {
+                true
+            }
+        });
+    }
+    let n_labels = lab_count.len();
+    let score_of = |j: usize, left: u64, l: &[u64]| -> Score {
+        let right = total - left;
+        let (mut sl, mut sr) = (0u128, 0u128);
+        for kk in 0..n_labels {
+            let (a, r) = (l[kk] as u128, (lab_count[kk] - l[kk]) as u128);
+            sl += a * a;
+            sr += r * r;
+        }
+        let num = sl * right as u128 + sr * left as u128;
+        let den = left as u128 * right as u128;
+        ((num, den), (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)), j)
+    };
+    let mut by_form: HashMap<usize, Vec<usize>> = HashMap::new();
+    let mut general: Vec<usize> = vec![];
+    for &j in live {
+        match ctx.kinds[j] {
+            Kind::Atom { form, .. } => by_form.entry(form).or_default().push(j),
+            Kind::General => general.push(j),
+        }
+    }
+    let mut groups: Vec<(usize, Vec<usize>)> = by_form.into_iter().collect();
+    groups.sort_unstable();
+    let mut best: Option<Score> = None;
+    let mut split: Vec<usize> = vec![];
+    let stride = n_labels + 1;
+    let mut l = vec![0u64; n_labels];
+    for (f, js) in &groups {
+        let width = ctx.width[*f];
+        let mut prefix = vec![0u64; (width + 1) * stride];
+        for v in 0..width {
+            let (done, next) = prefix.split_at_mut((v + 1) * stride);
+            let row = &mut next[..stride];
+            row.copy_from_slice(&done[v * stride..]);
+            let at = ctx.hoff[*f] + v * m;
+            for c in 0..m {
+                let x = hist[at + c] as u64;
+                if x != 0 {
+                    row[0] += x;
+                    if label_of[c] != NO_LABEL {
+                        row[1 + label_of[c] as usize] += x;
+                    }
+                }
+            }
+        }
+        let upto = |c: i64| -> usize { (c.clamp(-1, width as i64 - 1) + 1) as usize };
+        for &j in js {
+            let Kind::Atom { c, eq, .. } = ctx.kinds[j] else {
+                unreachable!("a form's conditions are comparisons")
+            };
+            let (a, b) = if !eq {
+                (0, upto(c))
+            } else if c < 0 || c >= width as i64 {
+                (0, 0)
+            } else {
+                (upto(c - 1), upto(c))
+            };
+            let left = prefix[b * stride] - prefix[a * stride];
+            if left == 0 || left == total {
+                continue;
+            }
+            for kk in 0..n_labels {
+                l[kk] = prefix[b * stride + 1 + kk] - prefix[a * stride + 1 + kk];
+            }
+            split.push(j);
+            let s = score_of(j, left, &l);
+            if better(&s, &best) {
+                best = Some(s);
+            }
+        }
+    }
+    for &j in &general {
+        let mut l = vec![0u64; n_labels];
+        let mut left = 0u64;
+        for &s in &members {
+            if ctx.holds(j, s) {
+                left += 1;
+                let lab = label_of[ctx.class_of[s as usize] as usize];
+                if lab != NO_LABEL {
+                    l[lab as usize] += 1;
+                }
+            }
+        }
+        if left == 0 || left == total {
+            continue;
+        }
+        split.push(j);
+        let s = score_of(j, left, &l);
+        if better(&s, &best) {
+            best = Some(s);
+        }
+    }
+    split.sort_unstable();
+    let Some((_, _, j)) = best else {
+        return Err(GreedyError::NoSplit);
+    };
+    let (left, right): (Vec<u32>, Vec<u32>) = members.iter().partition(|&&s| ctx.holds(j, s));
+    drop(members);
+    // the children's histograms: the smaller one's counted, the larger one's the rest
+    let (mut hl, mut hr) = (None, None);
+    if left.len().max(right.len()) >= ctx.min_hist {
+        let left_small = left.len() <= right.len();
+        let small = ctx.class_hist(if left_small { &left } else { &right });
+        let mut large = hist;
+        for (x, y) in large.iter_mut().zip(&small) {
+            *x -= y;
+        }
+        let small = (small.len() > 0 && left.len().min(right.len()) >= ctx.min_hist).then_some(small);
+        if left_small {
+            (hl, hr) = (small, Some(large));
+        } else {
+            (hl, hr) = (Some(large), small);
+        }
+    } else {
+        drop(hist);
+    }
+    out.push(Node::Split(j));
+    grow_with(ctx, left, &split, hl, out, budget)?;
+    grow_with(ctx, right, &split, hr, out, budget)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -602,6 +894,10 @@ mod tests {
                 }
             }
             let b = greedy_tree_rows(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000);
+            ALWAYS_CLASSES.with(|c| c.set(true));
+            let b2 = greedy_tree_rows(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000);
+            ALWAYS_CLASSES.with(|c| c.set(false));
+            assert_eq!(a, b2, "case {case}, class histograms");
             assert_eq!(a, b, "case {case}");
             oks += a.is_ok() as usize;
         }
