@@ -53,7 +53,12 @@ pub enum Failure {
     /// the move may collide (a wall, or an obstacle reply)
     Collides { key: u32, cell: u32, mv: u32 },
     /// a reply leads out of the set
-    Leaves { key: u32, cell: u32, mv: u32, end: u32 },
+    Leaves {
+        key: u32,
+        cell: u32,
+        mv: u32,
+        end: u32,
+    },
 }
 
 /// Why the check stopped before its answer.

@@ -108,9 +108,22 @@ pub fn greedy_tree_rows_part(
     match part {
         Some(k) if k > 1 => {
             let mut first = Vec::new();
-            grow(&ctx, (0..n).step_by(k).collect(), &live, &mut first, &mut budget)?;
+            grow(
+                &ctx,
+                (0..n).step_by(k).collect(),
+                &live,
+                &mut first,
+                &mut budget,
+            )?;
             let mut it = first.into_iter();
-            refine(&ctx, &mut it, (0..n).collect(), &live, &mut out, &mut budget)?;
+            refine(
+                &ctx,
+                &mut it,
+                (0..n).collect(),
+                &live,
+                &mut out,
+                &mut budget,
+            )?;
         }
         _ => grow(&ctx, (0..n).collect(), &live, &mut out, &mut budget)?,
     }
@@ -129,7 +142,10 @@ fn refine(
 ) -> Result<(), GreedyError> {
     match it.next().expect("a complete pre-order tree") {
         Node::Leaf(k) => {
-            if members.iter().all(|&s| ctx.allowed[s as usize] >> k & 1 == 1) {
+            if members
+                .iter()
+                .all(|&s| ctx.allowed[s as usize] >> k & 1 == 1)
+            {
                 out.push(Node::Leaf(k));
                 Ok(())
             } else {
@@ -137,7 +153,8 @@ fn refine(
             }
         }
         Node::Split(j) => {
-            let (left, right): (Vec<u32>, Vec<u32>) = members.iter().partition(|&&s| ctx.holds(j, s));
+            let (left, right): (Vec<u32>, Vec<u32>) =
+                members.iter().partition(|&&s| ctx.holds(j, s));
             drop(members);
             out.push(Node::Split(j));
             refine(ctx, it, left, live, out, budget)?;
@@ -158,7 +175,9 @@ pub fn greedy_tree_rows(
     n_moves: usize,
     max_nodes: usize,
 ) -> Result<Vec<Node>, GreedyError> {
-    greedy_tree_rows_part(terms, conds, keys, rows, n_vars, allowed, n_moves, max_nodes, None)
+    greedy_tree_rows_part(
+        terms, conds, keys, rows, n_vars, allowed, n_moves, max_nodes, None,
+    )
 }
 
 impl<'a> Ctx<'a> {
@@ -205,7 +224,8 @@ impl<'a> Ctx<'a> {
             .iter()
             .map(|(c, _)| match *c {
                 Cond::Le(a, b) | Cond::Eq(a, b) if safe(a) && safe(b) => {
-                    let coef: Vec<i64> = lin[a].0.iter().zip(&lin[b].0).map(|(x, y)| x - y).collect();
+                    let coef: Vec<i64> =
+                        lin[a].0.iter().zip(&lin[b].0).map(|(x, y)| x - y).collect();
                     let next = forms.len();
                     let form = *form_of.entry(coef.clone()).or_insert(next);
                     if form == next {
@@ -250,7 +270,11 @@ impl<'a> Ctx<'a> {
             .into_iter()
             .map(|k| match k {
                 Kind::Atom { form, c, eq } => match keep[form] {
-                    Some(f) => Kind::Atom { form: f, c: c - lo[form], eq },
+                    Some(f) => Kind::Atom {
+                        form: f,
+                        c: c - lo[form],
+                        eq,
+                    },
                     None => Kind::General,
                 },
                 Kind::General => Kind::General,
@@ -481,7 +505,11 @@ fn grow_with(
         // sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
         let num = sl * right as u128 + sr * left as u128;
         let den = left as u128 * right as u128;
-        ((num, den), (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)), j)
+        (
+            (num, den),
+            (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)),
+            j,
+        )
     };
     let mut best: Option<Score> = None;
     let mut split: Vec<usize> = vec![];
@@ -502,7 +530,11 @@ fn grow_with(
         for i in range {
             let s = members[i] as usize;
             let row = &ctx.vals[s * f_n..(s + 1) * f_n];
-            let slot = 1 + if label[i] == NO_LABEL { n_labels } else { label[i] as usize };
+            let slot = 1 + if label[i] == NO_LABEL {
+                n_labels
+            } else {
+                label[i] as usize
+            };
             for (g, (f, _)) in groups.iter().enumerate() {
                 let at = base[g] + row[*f] as usize * stride;
                 h[at] += 1;
@@ -533,7 +565,8 @@ fn grow_with(
         let mut prefix = vec![0u64; (width + 1) * stride];
         for v in 0..width {
             for x in 0..stride {
-                prefix[(v + 1) * stride + x] = prefix[v * stride + x] + hist[base[g] + v * stride + x] as u64;
+                prefix[(v + 1) * stride + x] =
+                    prefix[v * stride + x] + hist[base[g] + v * stride + x] as u64;
             }
         }
         let upto = |c: i64| -> usize { (c.clamp(-1, width as i64 - 1) + 1) as usize };
@@ -703,7 +736,11 @@ fn grow_classes(
         }
         let num = sl * right as u128 + sr * left as u128;
         let den = left as u128 * right as u128;
-        ((num, den), (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)), j)
+        (
+            (num, den),
+            (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)),
+            j,
+        )
     };
     let mut by_form: HashMap<usize, Vec<usize>> = HashMap::new();
     let mut general: Vec<usize> = vec![];
@@ -799,7 +836,8 @@ fn grow_classes(
         for (x, y) in large.iter_mut().zip(&small) {
             *x -= y;
         }
-        let small = (small.len() > 0 && left.len().min(right.len()) >= ctx.min_hist).then_some(small);
+        let small =
+            (small.len() > 0 && left.len().min(right.len()) >= ctx.min_hist).then_some(small);
         if left_small {
             (hl, hr) = (small, Some(large));
         } else {
@@ -822,7 +860,10 @@ mod tests {
     struct Lcg(u64);
     impl Lcg {
         fn next(&mut self) -> u64 {
-            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             self.0 >> 33
         }
     }
@@ -866,7 +907,10 @@ mod tests {
                 };
                 conds.push((c, 3));
             }
-            let keys: Vec<(u32, u32)> = conds.iter().map(|_| ((rng.next() % 3) as u32, (rng.next() % 3) as u32)).collect();
+            let keys: Vec<(u32, u32)> = conds
+                .iter()
+                .map(|_| ((rng.next() % 3) as u32, (rng.next() % 3) as u32))
+                .collect();
             let ctx_rows = &rows;
             let masks: Vec<Vec<u64>> = (0..conds.len())
                 .map(|j| {
@@ -884,18 +928,49 @@ mod tests {
             if a.is_ok() {
                 // grown on a part and refined, the tree still fits every state
                 let k = 2 + case % 4;
-                let t = greedy_tree_rows_part(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000, Some(k))
-                    .expect("a tree over the part and its refinement");
+                let t = greedy_tree_rows_part(
+                    &terms,
+                    &conds,
+                    &keys,
+                    rows.clone(),
+                    n_vars,
+                    &allowed,
+                    n_moves,
+                    10_000,
+                    Some(k),
+                )
+                .expect("a tree over the part and its refinement");
                 for s in 0..n {
                     let x = &rows[s * n_vars..(s + 1) * n_vars];
                     let mut i = 0;
                     let leaf = play(&t, &mut i, &|j| eval_cond(&terms, &conds, j, x));
-                    assert!(allowed[s] >> leaf & 1 == 1, "case {case}: state {s} plays {leaf}");
+                    assert!(
+                        allowed[s] >> leaf & 1 == 1,
+                        "case {case}: state {s} plays {leaf}"
+                    );
                 }
             }
-            let b = greedy_tree_rows(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000);
+            let b = greedy_tree_rows(
+                &terms,
+                &conds,
+                &keys,
+                rows.clone(),
+                n_vars,
+                &allowed,
+                n_moves,
+                10_000,
+            );
             ALWAYS_CLASSES.with(|c| c.set(true));
-            let b2 = greedy_tree_rows(&terms, &conds, &keys, rows.clone(), n_vars, &allowed, n_moves, 10_000);
+            let b2 = greedy_tree_rows(
+                &terms,
+                &conds,
+                &keys,
+                rows.clone(),
+                n_vars,
+                &allowed,
+                n_moves,
+                10_000,
+            );
             ALWAYS_CLASSES.with(|c| c.set(false));
             assert_eq!(a, b2, "case {case}, class histograms");
             assert_eq!(a, b, "case {case}");

@@ -58,7 +58,9 @@ pub fn check_invariant(
     let n_keys = reply_off.len().saturating_sub(1);
     let table_bytes = table.as_bytes();
     if width == 0 || n_cells == 0 || reply_off.is_empty() || table_bytes.len() != n_keys * nw * 8 {
-        return Err(bad_value("the invariant's table needs nw words per configuration"));
+        return Err(bad_value(
+            "the invariant's table needs nw words per configuration",
+        ));
     }
     let table = words(table_bytes, n_keys * nw);
     let fixed = i64s(&fixed);

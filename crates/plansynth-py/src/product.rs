@@ -284,7 +284,16 @@ impl PyProductGame {
         let lim = limits(seconds, max_bytes);
         let g = &mut self.g;
         let r = py
-            .detach(|| g.learn_round(cond_depth, max_constant, max_nodes, enum_states, tree_states, lim))
+            .detach(|| {
+                g.learn_round(
+                    cond_depth,
+                    max_constant,
+                    max_nodes,
+                    enum_states,
+                    tree_states,
+                    lim,
+                )
+            })
             .map_err(|s| stopped("learning a program", s))?;
         let terms = term_rows(&r.terms);
         let conds = r
@@ -299,7 +308,15 @@ impl PyProductGame {
             Node::Leaf(k) => (0u8, k),
             Node::Split(j) => (1u8, j),
         });
-        Ok((r.closed, r.sample, r.reached, terms, conds, nodes.collect(), r.seconds))
+        Ok((
+            r.closed,
+            r.sample,
+            r.reached,
+            terms,
+            conds,
+            nodes.collect(),
+            r.seconds,
+        ))
     }
 
     /// Check the obstacles' rank strategy from the start: (valid, states checked, why not).

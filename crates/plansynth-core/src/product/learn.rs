@@ -84,7 +84,9 @@ impl ProductGame {
                 .map(|(s, (_, d))| (*d, s))
                 .collect()
         };
-        let part = tree_states.filter(|&m| m > 0 && n > m).map(|m| n.div_ceil(m));
+        let part = tree_states
+            .filter(|&m| m > 0 && n > m)
+            .map(|m| n.div_ceil(m));
         let nodes = match greedy_tree_rows_part(
             &terms,
             &conds,
@@ -208,7 +210,9 @@ impl ProductGame {
                     cur = Some(id);
                 }
                 let (w, b) = (r as usize / 64, r % 64);
-                let mask = (0..n_moves).fold(0u32, |acc, k| acc | ((sets[k * nw + w] >> b & 1) as u32) << k);
+                let mask = (0..n_moves).fold(0u32, |acc, k| {
+                    acc | ((sets[k * nw + w] >> b & 1) as u32) << k
+                });
                 out.push(if self.central {
                     self.central_moves(r as usize, mask)
                 } else {

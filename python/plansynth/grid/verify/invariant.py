@@ -42,8 +42,11 @@ from plansynth.grid.semantics import (
     State,
     controller_inputs,
     initial_state,
-    robot_move,
 )
+from plansynth.grid.verify.invariant_tables import key_of, state_key
+from plansynth.grid.verify.invariant_tables import robot_tables as _robot_tables
+from plansynth.grid.verify.invariant_tables import unknown as _unknown
+from plansynth.grid.verify.invariant_tables import xy as _xy
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
@@ -56,30 +59,6 @@ Invariant = Mapping[tuple, int]
 #: about 200 bytes a state, so a chunk stays under a gigabyte whatever the set's size
 #: (a 48 x 48 moving-obstacle program keeps some 70 million states).
 CHUNK_STATES = 4_000_000
-
-
-def state_key(problem: GridProblem, s: State) -> tuple:
-    """The invariant's key of ``s`` (everything but the robot's cell)."""
-    return key_of(problem)(s)
-
-
-def key_of(problem: GridProblem):
-    """:func:`state_key` for ``problem`` as a function of the state (the problem's
-    properties read once, for the check's loops over every configuration)."""
-    mode, fair = problem.mode_count > 1, problem.fair_count > 1
-
-    def key(s: State) -> tuple:
-        if s.phases:
-            out: tuple = tuple(zip(s.obstacles, s.phases, s.glitches, strict=True))
-        else:
-            out = tuple((c, 0, 0) for c in s.obstacles)
-        if mode:
-            out += (s.mode,)
-        if fair:
-            out += (s.fair,)
-        return out
-
-    return key
 
 
 def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:
@@ -256,28 +235,6 @@ def _bit_table(invariant: Invariant, keys: list, n: int):
     return np.unpackbits(raw.reshape(len(keys), nbytes), axis=1, bitorder="little")[:, :n].astype(bool)
 
 
-def _robot_tables(problem: GridProblem):
-    """Per robot move and cell: the end cell, the swept cells (padded with the first)
-    and whether a wall is swept, from :func:`~plansynth.grid.semantics.robot_move`."""
-    import numpy as np
-
-    w, n = problem.width, problem.width * problem.height
-    k_n = len(problem.robot.moves)
-    rows = [[robot_move(problem, (c % w, c // w), k) for c in range(n)] for k in range(k_n)]
-    width = max(len(sw) for row in rows for _, sw in row)
-    ends = np.zeros((k_n, n), np.int64)
-    swept = np.zeros((k_n, n, width), np.int64)
-    walls = np.zeros(n, bool)
-    for c in problem.walls:
-        walls[c[1] * w + c[0]] = True
-    for k, row in enumerate(rows):
-        for c, (e, sw) in enumerate(row):
-            ends[k, c] = e[1] * w + e[0]
-            idx = [x[1] * w + x[0] for x in sw]
-            swept[k, c] = idx + [idx[0]] * (width - len(idx))
-    return ends, swept, walls[swept].any(axis=2)
-
-
 def _replies(
     problem: GridProblem, probe: State, key_id: dict, by: ObstacleReplies
 ) -> list[tuple[int, tuple[int, ...]]]:
@@ -325,14 +282,6 @@ class _Restricted:
             v = self.values[name]
             v = self.got[name] = v[self.idx] if hasattr(v, "shape") else v
         return v
-
-
-def _xy(c: int, w: int) -> tuple[int, int]:
-    return (int(c) % w, int(c) // w)
-
-
-def _unknown(t0: float, checked: int, why: str) -> Verdict:
-    return Verdict(VerifyStatus.UNKNOWN, None, None, checked, time.perf_counter() - t0, "the inductive invariant", why)
 
 
 def _evaluate(t: Term, values: dict):

@@ -22,7 +22,7 @@ from plansynth.grid.objective import CollisionRule
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import Const, Term, Var
 from plansynth.grid.semantics import controller_inputs
-from plansynth.grid.verify.invariant import _robot_tables, _unknown, _xy, key_of
+from plansynth.grid.verify.invariant_tables import key_of, robot_tables, unknown, xy
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
@@ -107,7 +107,7 @@ def check_invariant_compiled(
                 danger_off.append(len(danger))
             reply_off.append(len(reply_next))
         fixed = np.array([controller_inputs(problem, s)[2:] for s in probes], np.int64).reshape(len(keys), -1)
-        ends, swept, wall_hit = _robot_tables(problem)
+        ends, swept, wall_hit = robot_tables(problem)
         table = b"".join(invariant[k].to_bytes(nw * 8, "little") for k in keys)
         meter.phase = "checking the inductive invariant"
         meter.check()
@@ -155,14 +155,14 @@ def check_invariant_compiled(
     if failure is not None:
         kind, key, cell, move, end = failure
         if kind == 0:
-            where = probes[key]._replace(robot=_xy(cell, w))
-            return _unknown(t0, 0, f"the program returns no move in state {where}")
+            where = probes[key]._replace(robot=xy(cell, w))
+            return unknown(t0, 0, f"the program returns no move in state {where}")
         if kind == 1:
-            return _unknown(t0, 0, f"not inductive: the program's move {move} from {_xy(cell, w)} may collide")
-        return _unknown(
+            return unknown(t0, 0, f"not inductive: the program's move {move} from {xy(cell, w)} may collide")
+        return unknown(
             t0,
             0,
-            f"not inductive: state {_xy(end, w)} after move {move} from {_xy(cell, w)} is outside the invariant",
+            f"not inductive: state {xy(end, w)} after move {move} from {xy(cell, w)} is outside the invariant",
         )
     return Verdict(
         VerifyStatus.WINS,
