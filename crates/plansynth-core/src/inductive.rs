@@ -10,11 +10,13 @@
 //! program's inputs that do not depend on the robot's cell, the robot's end cell, swept
 //! cells and wall hits per move and cell, and per configuration the obstacles' replies
 //! (next configuration, cells that collide). It shares nothing with the native engine
-//! but the program evaluator [`crate::game::eval`]: no game is solved here, and
-//! nothing the engine computed is read.
+//! but the program evaluator ([`crate::game::eval`], walked as a tree by
+//! [`crate::program_tree`]): no game is solved here, and nothing the engine computed is
+//! read.
 
-use crate::game::{eval, Op};
+use crate::game::Op;
 use crate::par::map_ranges;
+use crate::program_tree::ProgramTree;
 use std::time::Instant;
 
 /// The invariant's tables (see the module docs). `nw` words per configuration in
@@ -92,7 +94,7 @@ fn check_range(
     keys: std::ops::Range<usize>,
     deadline: Option<Instant>,
 ) -> Result<Result<usize, Failure>, OutOfTime> {
-    let root = prog.len() - 1;
+    let tree = ProgramTree::new(prog);
     let mut x = vec![0i64; 2 + t.n_fixed];
     let mut checked = 0usize;
     for key in keys {
@@ -110,7 +112,7 @@ fn check_range(
                 checked += 1;
                 x[0] = (cell % t.width) as i64;
                 x[1] = (cell / t.width) as i64;
-                let k = eval(prog, root, &x);
+                let k = tree.run(&x);
                 let (key32, cell32) = (key as u32, cell as u32);
                 if !(0..t.n_moves as i64).contains(&k) {
                     return Ok(Err(Failure::NoMove {

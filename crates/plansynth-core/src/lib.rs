@@ -11,6 +11,7 @@ pub mod game;
 pub mod inductive;
 pub mod par;
 pub mod product;
+pub mod program_tree;
 pub mod tree;
 pub mod tree_rows;
 
