@@ -161,6 +161,36 @@ def test_the_invariant_check_accepts_exactly_inductive_sets(data):
         module.CHUNK_STATES = saved
 
 
+@settings(
+    max_examples=150,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(data=st.data())
+def test_the_compiled_invariant_check_equals_numpy(data, monkeypatch):
+    """The core's invariant check (on one or two threads) gives the numpy reference's
+    verdict, on closed loops and on sets with states added or dropped."""
+    problem = data.draw(objective_problems("safety"))
+    program = data.draw(programs(problem, 5))
+    f = compile_program(program, problem.variables)
+    graph = game_graph(problem, 50_000, lambda s: f(*controller_inputs(problem, s)))
+    invariant: dict = {}
+    for s in graph:
+        key = state_key(problem, s)
+        invariant[key] = invariant.get(key, 0) | 1 << (s.robot[1] * problem.width + s.robot[0])
+    keys = sorted(invariant)
+    n = problem.width * problem.height
+    for _ in range(data.draw(st.integers(0, 3))):
+        key = data.draw(st.sampled_from(keys))
+        invariant[key] ^= 1 << data.draw(st.integers(0, n - 1))  # a state added or dropped
+    reference = check_invariant(problem, program, invariant, compiled=False)
+    monkeypatch.setenv("PLANSYNTH_THREADS", data.draw(st.sampled_from(["1", "2"])))
+    compiled = check_invariant(problem, program, invariant, compiled=True)
+    assert compiled.status is reference.status, (compiled.message, reference.message)
+    if reference.status is VerifyStatus.WINS:
+        assert compiled.states_explored == reference.states_explored
+
+
 def test_the_engine_hands_the_verifier_an_invariant():
     from plansynth.grid.syntcomp.moving_obstacle import grid_document
 
@@ -235,6 +265,7 @@ def test_the_seeded_learner_closes_in_one_round(data):
     assert seeded is not None and game.core.seed_winning(seeded - 1) is None
     rows = game.core.sample()
     assert len(rows) == seeded
+    assert game.core.sample_labels() == [a for _, a in rows]  # on cell sets, as per state
     index = {v: i for i, v in enumerate(problem.variables)}
     got = set()
     for x, allowed in rows:
@@ -256,6 +287,7 @@ def test_the_seeded_learner_closes_in_one_round(data):
         central = game.core.sample()
         for (x, allowed), (y, kept) in zip(rows, central, strict=True):
             assert x == y and kept == _central(problem, (x[0], x[1]), allowed)
-    closed, _, _, program = game.learn_round(3, 1_000_000, 20_000)
+        assert game.core.sample_labels() == [a for _, a in central]
+    closed, _, _, program, _ = game.learn_round(3, 1_000_000, 20_000)
     assert closed
     assert verify(problem, program, None).status is VerifyStatus.WINS

@@ -8,8 +8,12 @@ pub mod bits;
 pub mod conditions;
 pub mod fx;
 pub mod game;
+pub mod inductive;
+pub mod par;
 pub mod product;
+pub mod program_tree;
 pub mod tree;
+pub mod tree_rows;
 
 /// Version of the core, reported in results so a run can be traced to its build.
 pub fn version() -> &'static str {

@@ -71,7 +71,8 @@ pub fn greedy_tree(
         .collect();
     let mut out = Vec::new();
     let mut budget = max_nodes as i64;
-    grow(&full, conds, keys, &by_move, &mut out, &mut budget)?;
+    let live: Vec<usize> = (0..conds.len()).collect();
+    grow(&full, &live, conds, keys, &by_move, &mut out, &mut budget)?;
     Ok(out)
 }
 
@@ -87,8 +88,28 @@ fn best_common(members: &[(usize, u64)], by_move: &[Vec<u64>]) -> (u32, usize) {
     best
 }
 
+/// A split's score: Gini purity as a fraction (num, den), maximised; ties broken by
+/// (-depth, -size) of the condition, then by the earliest condition.
+type Score = ((u128, u128), (i64, i64), usize);
+
+fn better(a: &Score, b: &Option<Score>) -> bool {
+    match b {
+        None => true,
+        Some(((bn, bd), bt, _)) => {
+            let ((num, den), tie, _) = a;
+            let (x, y) = (num * bd, bn * den);
+            x > y || (x == y && *tie > *bt)
+        }
+    }
+}
+
+/// Work (member words times conditions) below which a node's conditions are scored on
+/// one thread: threads cost more than they save on the small nodes deep in the tree.
+const PAR_WORK: usize = 1 << 18;
+
 fn grow(
     members: &[(usize, u64)],
+    live: &[usize],
     conds: &[Vec<u64>],
     keys: &[(u32, u32)],
     by_move: &[Vec<u64>],
@@ -109,9 +130,9 @@ fn grow(
     // most members first, then the next among the rest, ...; ties: the smaller move),
     // then pick the split of best Gini purity over these labels (an exact rational
     // comparison; ties: shallower condition, then smaller term, then the earliest).
-    // Labels are aligned with `members` (word by word).
+    // Labels are interleaved with `members` (word i of label kk at i * n_labels + kk).
     let mut rest: Sparse = members.to_vec();
-    let mut labels: Vec<Vec<u64>> = Vec::new();
+    let mut label_sets: Vec<Vec<u64>> = Vec::new();
     loop {
         rest.retain(|&(_, b)| b != 0);
         if rest.is_empty() {
@@ -131,56 +152,81 @@ fn grow(
                 j += 1;
             }
         }
-        labels.push(lab);
+        label_sets.push(lab);
     }
-    let lab_count: Vec<u64> = labels
+    let n_labels = label_sets.len();
+    let lab_count: Vec<u64> = label_sets
         .iter()
         .map(|m| m.iter().map(|b| b.count_ones() as u64).sum())
         .collect();
-    // key = purity num/den (maximised), then (-depth, -size); first maximum wins
-    let mut best: Option<((u128, u128), (i64, i64), usize)> = None;
-    let n_labels = labels.len();
-    let mut l = vec![0u64; n_labels];
-    for (j, cond) in conds.iter().enumerate() {
-        // one pass over the node's words: the states on the condition's side, and how
-        // many of each label
-        l.iter_mut().for_each(|x| *x = 0);
-        let mut left = 0u64;
-        for (i, &(w, b)) in members.iter().enumerate() {
-            let c = b & cond[w];
-            if c == 0 {
-                continue;
-            }
-            left += c.count_ones() as u64;
-            for (kk, m) in labels.iter().enumerate() {
-                l[kk] += (c & m[i]).count_ones() as u64;
-            }
-        }
-        if left == 0 || left == total as u64 {
-            continue;
-        }
-        let right = total as u64 - left;
-        let (mut sl, mut sr) = (0u128, 0u128);
-        for kk in 0..n_labels {
-            let (a, r) = (l[kk] as u128, (lab_count[kk] - l[kk]) as u128);
-            sl += a * a;
-            sr += r * r;
-        }
-        // sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
-        let num = sl * right as u128 + sr * left as u128;
-        let den = left as u128 * right as u128;
-        let tie = (-(keys[j].0 as i64), -(keys[j].1 as i64));
-        let better = match &best {
-            None => true,
-            Some(((bn, bd), bt, _)) => {
-                let (a, b) = (num * bd, bn * den);
-                a > b || (a == b && tie > *bt)
-            }
-        };
-        if better {
-            best = Some(((num, den), tie, j));
+    let mut labels = vec![0u64; members.len() * n_labels];
+    for (kk, m) in label_sets.iter().enumerate() {
+        for (i, &b) in m.iter().enumerate() {
+            labels[i * n_labels + kk] = b;
         }
     }
+    drop(label_sets);
+    // Score the live conditions (those that split this node; a condition constant on a
+    // node is constant on its descendants, so they score the conditions that split it
+    // only), in ranges on the threads of `crate::par` when the node is large: each
+    // range's best in order, then the first best of those, which is the first best of
+    // all.
+    let score = |range: std::ops::Range<usize>| -> (Option<Score>, Vec<usize>) {
+        let mut best: Option<Score> = None;
+        let mut split: Vec<usize> = Vec::new();
+        let mut l = vec![0u64; n_labels];
+        for &j in &live[range] {
+            let cond = &conds[j];
+            l.iter_mut().for_each(|x| *x = 0);
+            let mut left = 0u64;
+            for (i, &(w, b)) in members.iter().enumerate() {
+                let c = b & cond[w];
+                if c == 0 {
+                    continue;
+                }
+                left += c.count_ones() as u64;
+                let row = &labels[i * n_labels..(i + 1) * n_labels];
+                for (x, &m) in l.iter_mut().zip(row) {
+                    *x += (c & m).count_ones() as u64;
+                }
+            }
+            if left == 0 || left == total as u64 {
+                continue;
+            }
+            split.push(j);
+            let right = total as u64 - left;
+            let (mut sl, mut sr) = (0u128, 0u128);
+            for kk in 0..n_labels {
+                let (a, r) = (l[kk] as u128, (lab_count[kk] - l[kk]) as u128);
+                sl += a * a;
+                sr += r * r;
+            }
+            // sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
+            let num = sl * right as u128 + sr * left as u128;
+            let den = left as u128 * right as u128;
+            let s: Score = ((num, den), (-(keys[j].0 as i64), -(keys[j].1 as i64)), j);
+            if better(&s, &best) {
+                best = Some(s);
+            }
+        }
+        (best, split)
+    };
+    let parts = if members.len().saturating_mul(live.len()) < PAR_WORK {
+        vec![score(0..live.len())]
+    } else {
+        crate::par::map_ranges(live.len(), 16, score)
+    };
+    let mut best: Option<Score> = None;
+    let mut split: Vec<usize> = Vec::new();
+    for (b, s) in parts {
+        if let Some(b) = b {
+            if better(&b, &best) {
+                best = Some(b);
+            }
+        }
+        split.extend(s);
+    }
+    drop(labels);
     let Some((_, _, j)) = best else {
         return Err(GreedyError::NoSplit);
     };
@@ -196,8 +242,8 @@ fn grow(
         .filter(|&(_, b)| b != 0)
         .collect();
     out.push(Node::Split(j));
-    grow(&left, conds, keys, by_move, out, budget)?;
-    grow(&right, conds, keys, by_move, out, budget)
+    grow(&left, &split, conds, keys, by_move, out, budget)?;
+    grow(&right, &split, conds, keys, by_move, out, budget)
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 //! PyO3 binding of `plansynth-core`: conversions and exceptions only, one module per
-//! core module (`conditions`, `tree`, `game`, `arena`). Running out of a budget raises
+//! core module (`conditions`, `tree`, `game`, `arena`, `product`, `inductive`). Running out of a budget raises
 //! `plansynth.budget.BudgetExhausted`, the one exception of every budget in plansynth.
 use pyo3::prelude::*;
 
@@ -8,6 +8,7 @@ mod conditions;
 mod convert;
 mod errors;
 mod game;
+mod inductive;
 mod product;
 mod tree;
 
@@ -25,5 +26,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     game::register(m)?;
     arena::register(m)?;
     product::register(m)?;
+    inductive::register(m)?;
     Ok(())
 }

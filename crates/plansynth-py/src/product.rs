@@ -47,6 +47,7 @@ type RoundOut = (
     Vec<TermRow>,
     Vec<CondRow>,
     Vec<(u8, usize)>,
+    [f64; 4],
 );
 
 /// The product game (see `plansynth_core::product`).
@@ -222,6 +223,12 @@ impl PyProductGame {
         self.g.sample_rows()
     }
 
+    /// The sampled states' labels computed on cell sets (the learner's; `sample()`'s
+    /// labels are their per-state reference).
+    fn sample_labels(&self) -> Vec<u32> {
+        self.g.sample_labels()
+    }
+
     fn reset_sample(&mut self) {
         self.g.reset_sample()
     }
@@ -253,10 +260,12 @@ impl PyProductGame {
     }
 
     /// One round of the learner: (closed, sample size, states reached, terms, conditions,
-    /// tree nodes). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
+    /// tree nodes, seconds of its steps: labels, conditions, tree, closure). Terms `(kind, a, b, depth)`: 0 const a, 1 var a, 2 plus, 3 minus;
     /// conditions `(op, a, b, depth)`: 0 `<=`, 1 `=`, 2 not, 3 and, 4 or; nodes pre-order
-    /// `(0, k)` a leaf, `(1, j)` a split on condition j.
-    #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None))]
+    /// `(0, k)` a leaf, `(1, j)` a split on condition j. `tree_states`: on a larger
+    /// sample the tree is grown on a part of about this many states, then refined on the
+    /// whole (see the core's `learn_round`).
+    #[pyo3(signature = (cond_depth, max_constant, max_nodes, enum_states, seconds=None, max_bytes=None, tree_states=None))]
     #[allow(clippy::too_many_arguments)]
     fn learn_round(
         &mut self,
@@ -267,6 +276,7 @@ impl PyProductGame {
         enum_states: usize,
         seconds: Option<f64>,
         max_bytes: Option<usize>,
+        tree_states: Option<usize>,
     ) -> PyResult<RoundOut> {
         if !self.g.solved {
             return Err(bad_value("learning on an unsolved game"));
@@ -274,7 +284,16 @@ impl PyProductGame {
         let lim = limits(seconds, max_bytes);
         let g = &mut self.g;
         let r = py
-            .detach(|| g.learn_round(cond_depth, max_constant, max_nodes, enum_states, lim))
+            .detach(|| {
+                g.learn_round(
+                    cond_depth,
+                    max_constant,
+                    max_nodes,
+                    enum_states,
+                    tree_states,
+                    lim,
+                )
+            })
             .map_err(|s| stopped("learning a program", s))?;
         let terms = term_rows(&r.terms);
         let conds = r
@@ -289,7 +308,15 @@ impl PyProductGame {
             Node::Leaf(k) => (0u8, k),
             Node::Split(j) => (1u8, j),
         });
-        Ok((r.closed, r.sample, r.reached, terms, conds, nodes.collect()))
+        Ok((
+            r.closed,
+            r.sample,
+            r.reached,
+            terms,
+            conds,
+            nodes.collect(),
+            r.seconds,
+        ))
     }
 
     /// Check the obstacles' rank strategy from the start: (valid, states checked, why not).

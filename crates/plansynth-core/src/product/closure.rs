@@ -6,7 +6,8 @@
 //! winning strategy.
 
 use super::{Limits, ProductGame, Stop};
-use crate::game::{eval, Op};
+use crate::game::Op;
+use crate::program_tree::ProgramTree;
 
 /// What one exploration of a program's closed loop found.
 #[derive(Clone, Debug, Default)]
@@ -26,7 +27,7 @@ impl ProductGame {
     pub fn closure(&mut self, prog: &[Op], grow: bool, limits: Limits) -> Result<Closure, Stop> {
         assert!(self.solved, "closure of an unsolved game");
         let (nw, n) = (self.nw, self.n_configs());
-        let root = prog.len() - 1;
+        let tree = ProgramTree::new(prog);
         self.seen.clear();
         self.seen.resize(n * nw, 0);
         if self.in_sample.len() != n * nw {
@@ -50,8 +51,8 @@ impl ProductGame {
                 out.fresh += 1;
             }
             self.inputs(id, r as usize, &mut x);
-            let k = eval(prog, root, &x);
-            if !(0..n_moves).contains(&k) || self.allowed(id, r as usize) >> k & 1 == 0 {
+            let k = tree.run(&x);
+            if !(0..n_moves).contains(&k) || !self.allows(id, r as usize, k as usize) {
                 out.bad.push((id, r));
                 continue;
             }

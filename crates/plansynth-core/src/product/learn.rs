@@ -5,13 +5,15 @@
 //! sample; the rounds end when the closed loop plays allowed moves only.
 //!
 //! On large samples the conditions are enumerated on an evenly spaced part of the
-//! sample (their behaviours there decide which terms are kept) and then evaluated on
-//! every sampled state.
+//! sample (their behaviours there decide which terms are kept); the tree is then grown
+//! over every sampled state's inputs (`crate::tree_rows`: the same tree as over the
+//! conditions' behaviour bit sets, without them).
 
 use super::{Limits, ProductGame, Stop};
 use crate::conditions::{enumerate_conditions, Arith, Cond};
 use crate::game::Op;
-use crate::tree::{greedy_tree, GreedyError, Node};
+use crate::tree::{GreedyError, Node};
+use crate::tree_rows::greedy_tree_rows_part;
 
 /// One round's outcome: whether the tree's closed loop plays allowed moves only, the
 /// sample's size after the round, the tree (pre-order nodes over `conds`, which are over
@@ -24,17 +26,23 @@ pub struct Round {
     pub terms: Vec<(Arith, u32)>,
     pub conds: Vec<(Cond, u32)>,
     pub nodes: Vec<Node>,
+    /// seconds of the round's steps: labels, conditions, tree, closure
+    pub seconds: [f64; 4],
 }
 
 impl ProductGame {
     /// One round (see the module docs). `enum_states`: the part of the sample the
-    /// conditions are enumerated on.
+    /// conditions are enumerated on; `tree_states`: on a larger sample the tree is grown
+    /// on an evenly spaced part of about this many states, then refined on the whole
+    /// sample (`crate::tree_rows::greedy_tree_rows_part`).
+    #[allow(clippy::too_many_arguments)]
     pub fn learn_round(
         &mut self,
         cond_depth: u32,
         max_constant: i64,
         max_nodes: usize,
         enum_states: usize,
+        tree_states: Option<usize>,
         limits: Limits,
     ) -> Result<Round, Stop> {
         if self.sample.is_empty() {
@@ -42,16 +50,22 @@ impl ProductGame {
         }
         let n_vars = self.spec.n_vars();
         let n = self.sample.len();
+        let mut seconds = [0.0f64; 4];
+        let mut t = std::time::Instant::now();
+        let mut lap = |i: usize, t: &mut std::time::Instant| {
+            seconds[i] += t.elapsed().as_secs_f64();
+            *t = std::time::Instant::now();
+        };
         // the sample's inputs, one row of `n_vars` after another
         limits.check(self.bytes() + n * (n_vars * 8 + 4), "learning a program")?;
         let mut rows: Vec<i64> = Vec::with_capacity(n * n_vars);
         let mut x = Vec::with_capacity(n_vars);
-        let mut allowed: Vec<u32> = Vec::with_capacity(n);
         for &(id, r) in &self.sample {
             self.sample_inputs(id, r as usize, &mut x);
             rows.extend_from_slice(&x);
-            allowed.push(self.label(id, r as usize));
         }
+        let allowed = self.sample_labels();
+        lap(0, &mut t);
         let stride = n.div_ceil(enum_states.max(1)).max(1);
         let part: Vec<Vec<i64>> = rows
             .chunks_exact(n_vars)
@@ -61,12 +75,7 @@ impl ProductGame {
         let e = enumerate_conditions(&part, n_vars, max_constant, cond_depth, Some(20_000));
         let terms = e.terms;
         let conds: Vec<(Cond, u32)> = e.conds.iter().map(|(_, c, d)| (*c, *d)).collect();
-        let masks = behaviours(&terms, &conds, &rows, n_vars);
-        drop(rows);
-        limits.check(
-            self.bytes() + masks.len() * n.div_ceil(64) * 8,
-            "learning a program",
-        )?;
+        lap(1, &mut t);
         let keys: Vec<(u32, u32)> = {
             let ts = term_sizes(&terms);
             cond_sizes(&conds, &ts)
@@ -75,7 +84,20 @@ impl ProductGame {
                 .map(|(s, (_, d))| (*d, s))
                 .collect()
         };
-        let nodes = match greedy_tree(&masks, &keys, &allowed, self.spec.robot.len(), max_nodes) {
+        let part = tree_states
+            .filter(|&m| m > 0 && n > m)
+            .map(|m| n.div_ceil(m));
+        let nodes = match greedy_tree_rows_part(
+            &terms,
+            &conds,
+            &keys,
+            rows,
+            n_vars,
+            &allowed,
+            self.spec.robot.len(),
+            max_nodes,
+            part,
+        ) {
             Ok(nodes) => nodes,
             Err(GreedyError::TooLarge) => {
                 return Err(Stop {
@@ -90,9 +112,10 @@ impl ProductGame {
                 })
             }
         };
-        drop(masks);
+        lap(2, &mut t);
         let ops = program_ops(&terms, &conds, &nodes);
         let c = self.closure(&ops, true, limits)?;
+        lap(3, &mut t);
         Ok(Round {
             closed: c.bad.is_empty(),
             sample: self.sample.len(),
@@ -100,6 +123,7 @@ impl ProductGame {
             terms,
             conds,
             nodes,
+            seconds,
         })
     }
 }
@@ -167,6 +191,70 @@ impl ProductGame {
         }
     }
 
+    /// The labels of the sampled states (those of [`ProductGame::label`], its reference),
+    /// computed a configuration at a time on cell sets: per member of a sampled
+    /// configuration's class, the cells where each move keeps the robot winning are
+    /// those of the safety fixpoint's step (`good`), so a state costs a few bit tests
+    /// instead of a lookup per move and reply. The sample is split among the threads of
+    /// [`crate::par`].
+    pub fn sample_labels(&self) -> Vec<u32> {
+        let parts = crate::par::map_ranges(self.sample.len(), 1 << 16, |range| {
+            let (nw, n_moves) = (self.nw, self.spec.robot.len());
+            let mut sets = vec![0u64; n_moves * nw];
+            let mut scratch = (vec![0u64; nw], vec![0u64; nw], vec![0u64; nw]);
+            let mut cur: Option<u32> = None;
+            let mut out = Vec::with_capacity(range.len());
+            for &(id, r) in &self.sample[range] {
+                if cur != Some(id) {
+                    self.label_sets(id, &mut sets, &mut scratch);
+                    cur = Some(id);
+                }
+                let (w, b) = (r as usize / 64, r % 64);
+                let mask = (0..n_moves).fold(0u32, |acc, k| {
+                    acc | ((sets[k * nw + w] >> b & 1) as u32) << k
+                });
+                out.push(if self.central {
+                    self.central_moves(r as usize, mask)
+                } else {
+                    mask
+                });
+            }
+            out
+        });
+        parts.concat()
+    }
+
+    /// Per move, the robot cells of sampled configuration `id` it is labelled with
+    /// (before `prefer_central`): `n_moves` sets of `nw` words.
+    fn label_sets(&self, id: u32, sets: &mut [u64], scratch: &mut (Vec<u64>, Vec<u64>, Vec<u64>)) {
+        let nw = self.nw;
+        let (target, tmp, left) = scratch;
+        sets.iter_mut().for_each(|w| *w = 0);
+        left.iter_mut().for_each(|w| *w = !0);
+        let own = [id];
+        let members: &[u32] = if self.rep.is_empty() {
+            &own
+        } else {
+            &self.family[id as usize]
+        };
+        for &m in members {
+            let win = &self.win[m as usize * nw..(m as usize + 1) * nw];
+            if win.iter().zip(left.iter()).all(|(a, b)| a & b == 0) {
+                continue;
+            }
+            self.target(m, target);
+            for k in 0..self.spec.robot.len() {
+                self.good_move(m, k, target, tmp);
+                for i in 0..nw {
+                    sets[k * nw + i] |= tmp[i] & win[i] & left[i];
+                }
+            }
+            for i in 0..nw {
+                left[i] &= !win[i];
+            }
+        }
+    }
+
     /// Label the learner's states with the allowed moves that end nearest the middle of
     /// the grid (in the max norm) only. Any allowed move keeps the robot winning; these
     /// keep it where it has most room, so the program's closed loop (what the checks
@@ -211,44 +299,6 @@ impl ProductGame {
             }
         }
     }
-}
-
-/// The behaviour of every condition on every row of `rows` (rows of `n_vars` inputs,
-/// one after another; bit i: true in row i).
-fn behaviours(
-    terms: &[(Arith, u32)],
-    conds: &[(Cond, u32)],
-    rows: &[i64],
-    n_vars: usize,
-) -> Vec<Vec<u64>> {
-    let n = rows.len() / n_vars;
-    let nw = n.div_ceil(64).max(1);
-    let mut masks = vec![vec![0u64; nw]; conds.len()];
-    let mut tv = vec![0i64; terms.len()];
-    let mut cv = vec![false; conds.len()];
-    for (i, x) in rows.chunks_exact(n_vars).enumerate() {
-        for (t, (a, _)) in terms.iter().enumerate() {
-            tv[t] = match *a {
-                Arith::Const(c) => c,
-                Arith::Var(j) => x[j],
-                Arith::Plus(p, q) => tv[p].wrapping_add(tv[q]),
-                Arith::Minus(p, q) => tv[p].wrapping_sub(tv[q]),
-            };
-        }
-        for (c, (cond, _)) in conds.iter().enumerate() {
-            cv[c] = match *cond {
-                Cond::Le(a, b) => tv[a] <= tv[b],
-                Cond::Eq(a, b) => tv[a] == tv[b],
-                Cond::Not(a) => !cv[a],
-                Cond::And(a, b) => cv[a] && cv[b],
-                Cond::Or(a, b) => cv[a] || cv[b],
-            };
-            if cv[c] {
-                masks[c][i / 64] |= 1 << (i % 64);
-            }
-        }
-    }
-    masks
 }
 
 fn term_sizes(terms: &[(Arith, u32)]) -> Vec<u32> {

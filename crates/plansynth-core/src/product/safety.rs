@@ -14,17 +14,24 @@ impl ProductGame {
     /// successors' winning sets, blocks cleared under the position rule).
     fn good(&self, id: u32, target: &[u64], tmp: &mut [u64], out: &mut [u64]) {
         out.iter_mut().for_each(|w| *w = 0);
-        for (k, m) in self.spec.robot.iter().enumerate() {
-            shift(target, -m.to, tmp);
-            for i in 0..self.nw {
-                tmp[i] = ((tmp[i] & m.valid[i]) | (target[i] & !m.valid[i])) & m.free[i];
-            }
-            if !self.spec.position {
-                self.clear_hits(id, k, tmp);
-            }
+        for k in 0..self.spec.robot.len() {
+            self.good_move(id, k, target, tmp);
             for i in 0..self.nw {
                 out[i] |= tmp[i];
             }
+        }
+    }
+
+    /// Robot cells of configuration `id` from which move `k` is safe against every
+    /// reply and ends in `target` (its [`ProductGame::target`]), into `out`.
+    pub(super) fn good_move(&self, id: u32, k: usize, target: &[u64], out: &mut [u64]) {
+        let m = &self.spec.robot[k];
+        shift(target, -m.to, out);
+        for i in 0..self.nw {
+            out[i] = ((out[i] & m.valid[i]) | (target[i] & !m.valid[i])) & m.free[i];
+        }
+        if !self.spec.position {
+            self.clear_hits(id, k, out);
         }
     }
 
@@ -180,6 +187,19 @@ impl ProductGame {
             mask |= 1 << k;
         }
         mask
+    }
+
+    /// Whether move `k` keeps state (configuration `id`, cell `r`) winning: bit k of
+    /// [`ProductGame::allowed`], for that move only.
+    pub fn allows(&self, id: u32, r: usize, k: usize) -> bool {
+        let m = &self.spec.robot[k];
+        if !self.wins(id, r) || m.free[r / 64] >> (r % 64) & 1 == 0 || self.hits(id, r, k) {
+            return false;
+        }
+        let e = self.robot_end(r, k);
+        self.successors(id)
+            .iter()
+            .all(|&s| self.wins(s, e) && !(self.spec.position && self.in_blocks(s, e)))
     }
 
     /// Whether move `k` from `r` sweeps a cell some reply of `id` sweeps (sweep rule).

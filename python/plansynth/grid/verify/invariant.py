@@ -42,13 +42,16 @@ from plansynth.grid.semantics import (
     State,
     controller_inputs,
     initial_state,
-    robot_move,
 )
+from plansynth.grid.verify.invariant_tables import key_of, state_key
+from plansynth.grid.verify.invariant_tables import robot_tables as _robot_tables
+from plansynth.grid.verify.invariant_tables import unknown as _unknown
+from plansynth.grid.verify.invariant_tables import xy as _xy
 from plansynth.grid.verify.meter import Meter
 from plansynth.grid.verify.replies import ObstacleReplies
 from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
-__all__ = ["check_invariant", "Invariant", "state_key", "CHUNK_STATES"]
+__all__ = ["check_invariant", "Invariant", "state_key", "key_of", "CHUNK_STATES"]
 
 Invariant = Mapping[tuple, int]
 
@@ -56,16 +59,6 @@ Invariant = Mapping[tuple, int]
 #: about 200 bytes a state, so a chunk stays under a gigabyte whatever the set's size
 #: (a 48 x 48 moving-obstacle program keeps some 70 million states).
 CHUNK_STATES = 4_000_000
-
-
-def state_key(problem: GridProblem, s: State) -> tuple:
-    """The invariant's key of ``s`` (everything but the robot's cell)."""
-    if s.phases:
-        key: tuple = tuple(zip(s.obstacles, s.phases, s.glitches, strict=True))
-    else:
-        key = tuple((c, 0, 0) for c in s.obstacles)
-    extra = ((s.mode,) if problem.mode_count > 1 else ()) + ((s.fair,) if problem.fair_count > 1 else ())
-    return key + extra
 
 
 def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:
@@ -80,19 +73,43 @@ def _state_of(problem: GridProblem, key: tuple, cell: tuple[int, int]) -> State:
 
 
 def check_invariant(
-    problem: GridProblem, program: Term, invariant: Invariant, *, budget: Budget | None = None
+    problem: GridProblem,
+    program: Term,
+    invariant: Invariant,
+    *,
+    budget: Budget | None = None,
+    compiled: bool | None = None,
 ) -> Verdict:
     """``wins`` if ``invariant`` is an inductive invariant of ``program`` for the safety
     objective holding the initial state; ``unknown`` (with the first failure) if not.
 
-    Vectorized over the states of the set, a chunk of configurations at a time
-    (:data:`CHUNK_STATES`): the program is evaluated once per state (each state routed
-    down its ``ite`` tree), then for each obstacle reply of each configuration the
-    robot's end cell is looked up in the set."""
+    ``compiled``: walk the states in the compiled core
+    (:mod:`.invariant_compiled`; by default when it is built) or with numpy (False, the
+    reference). Both build the same tables from the rules and give the same verdicts;
+    the failure named when the set is not inductive may differ (the core reports the
+    first failing state in order, numpy the first of a chunk's first failing reply).
+
+    The numpy check is vectorized over the states of the set, a chunk of
+    configurations at a time (:data:`CHUNK_STATES`): the program is evaluated once per
+    state (each state routed down its ``ite`` tree), then for each obstacle reply of
+    each configuration the robot's end cell is looked up in the set."""
     import numpy as np
 
     if problem.objective is not ObjectiveKind.SAFETY:
         raise ValueError("an inductive invariant proves the safety objective only")
+    if compiled is not False:
+        from plansynth.grid.verify import invariant_compiled
+
+        if compiled and not invariant_compiled.available():
+            raise ValueError("the compiled invariant check is not built")
+        if invariant_compiled.available():
+            start = initial_state(problem)
+            t0 = time.perf_counter()
+            if not invariant.get(state_key(problem, start), 0) >> (start.robot[1] * problem.width + start.robot[0]) & 1:
+                return _unknown(t0, 0, "not inductive: the initial state is outside the invariant")
+            keys = list(invariant)
+            probes = [_state_of(problem, k, (0, 0)) for k in keys]
+            return invariant_compiled.check_invariant_compiled(problem, program, invariant, keys, probes, budget)
     t0 = time.perf_counter()
     meter = Meter(budget)
     meter.phase = "checking the inductive invariant"
@@ -218,28 +235,6 @@ def _bit_table(invariant: Invariant, keys: list, n: int):
     return np.unpackbits(raw.reshape(len(keys), nbytes), axis=1, bitorder="little")[:, :n].astype(bool)
 
 
-def _robot_tables(problem: GridProblem):
-    """Per robot move and cell: the end cell, the swept cells (padded with the first)
-    and whether a wall is swept, from :func:`~plansynth.grid.semantics.robot_move`."""
-    import numpy as np
-
-    w, n = problem.width, problem.width * problem.height
-    k_n = len(problem.robot.moves)
-    rows = [[robot_move(problem, (c % w, c // w), k) for c in range(n)] for k in range(k_n)]
-    width = max(len(sw) for row in rows for _, sw in row)
-    ends = np.zeros((k_n, n), np.int64)
-    swept = np.zeros((k_n, n, width), np.int64)
-    walls = np.zeros(n, bool)
-    for c in problem.walls:
-        walls[c[1] * w + c[0]] = True
-    for k, row in enumerate(rows):
-        for c, (e, sw) in enumerate(row):
-            ends[k, c] = e[1] * w + e[0]
-            idx = [x[1] * w + x[0] for x in sw]
-            swept[k, c] = idx + [idx[0]] * (width - len(idx))
-    return ends, swept, walls[swept].any(axis=2)
-
-
 def _replies(
     problem: GridProblem, probe: State, key_id: dict, by: ObstacleReplies
 ) -> list[tuple[int, tuple[int, ...]]]:
@@ -287,14 +282,6 @@ class _Restricted:
             v = self.values[name]
             v = self.got[name] = v[self.idx] if hasattr(v, "shape") else v
         return v
-
-
-def _xy(c: int, w: int) -> tuple[int, int]:
-    return (int(c) % w, int(c) // w)
-
-
-def _unknown(t0: float, checked: int, why: str) -> Verdict:
-    return Verdict(VerifyStatus.UNKNOWN, None, None, checked, time.perf_counter() - t0, "the inductive invariant", why)
 
 
 def _evaluate(t: Term, values: dict):

@@ -67,6 +67,11 @@ class ObstacleReplies:
     def __init__(self, problem: GridProblem) -> None:
         self.problem = problem
         self.position = problem.collision is CollisionRule.POSITION
+        # read once: the problem's properties recompute on every access
+        self.stateful = problem.stateful
+        self.fair = problem.fair_count > 1
+        # the sorted union of the obstacles' colliding cells, per tuple of their cells
+        self._union: dict[tuple, tuple[Cell, ...]] = {}
         self._moves: dict[tuple[int, Cell], tuple[tuple[Cell, tuple[Cell, ...]], ...]] = {}
 
     def _cell_moves(self, i: int, p: Cell) -> tuple[tuple[Cell, tuple[Cell, ...]], ...]:
@@ -91,7 +96,7 @@ class ObstacleReplies:
             moved = end != p
             if moved and not free:
                 continue
-            if problem.stateful:
+            if self.stateful:
                 ph, gl = counters_after(problem, i, probe.phases[i], probe.glitches[i], moved)
             else:
                 ph, gl = 0, 0
@@ -103,15 +108,32 @@ class ObstacleReplies:
         problem = self.problem
         per = [self._local(probe, i) for i in range(len(problem.obstacles))]
         out: dict[Reply, None] = {}
+        if len(per) == 1 and not self.fair:
+            # one obstacle (the common case, written out: a third of the check's time)
+            robot, mode, fair = probe.robot, probe.mode, probe.fair
+            for end, ph, gl, _, cells in per[0]:
+                if self.stateful:
+                    nxt = State(robot, (end,), (ph,), (gl,), mode, fair)
+                else:
+                    nxt = State(robot, (end,), (), (), mode, fair)
+                single = (cells,)
+                got = self._union.get(single)
+                if got is None:
+                    got = self._union[single] = tuple(sorted(set(cells)))
+                out[(nxt, got)] = None
+            return list(out)
         for joint in itertools.product(*per):
             fair = probe.fair
-            if problem.fair_count > 1 and joint[fair][3]:
+            if self.fair and joint[fair][3]:
                 fair = (fair + 1) % problem.fair_count
             ends = tuple(j[0] for j in joint)
-            if problem.stateful:
+            if self.stateful:
                 nxt = State(probe.robot, ends, tuple(j[1] for j in joint), tuple(j[2] for j in joint), probe.mode, fair)
             else:
                 nxt = State(probe.robot, ends, (), (), probe.mode, fair)
-            cells = sorted({c for j in joint for c in j[4]})
-            out[(nxt, tuple(cells))] = None
+            parts = tuple(j[4] for j in joint)
+            cells = self._union.get(parts)
+            if cells is None:
+                cells = self._union[parts] = tuple(sorted({c for part in parts for c in part}))
+            out[(nxt, cells)] = None
         return list(out)

@@ -19,7 +19,10 @@ from plansynth.grid.objective import CollisionRule, Schedule
 from plansynth.grid.problem import GridProblem
 from plansynth.grid.programs import App, Const, Term, Var
 
-__all__ = ["available", "CompiledSafety"]
+__all__ = ["available", "CompiledSafety", "LEARN_STEPS"]
+
+#: The steps of one round of the core's learner, whose seconds it reports.
+LEARN_STEPS = ("labels", "conditions", "tree", "closure")
 
 
 def available() -> bool:
@@ -117,11 +120,22 @@ class CompiledSafety:
         ops = program_ops(program, self.problem.variables)
         return self.core.closure(ops, len(self.problem.variables), grow, **_budget(self.clock, self.memory_mb))
 
-    def learn_round(self, cond_depth: int, max_nodes: int, enum_states: int) -> tuple[bool, int, int, Term]:
-        closed, sample, reached, terms, conds, nodes = self.core.learn_round(
-            cond_depth, self.problem.max_constant, max_nodes, enum_states, **_budget(self.clock, self.memory_mb)
+    def learn_round(
+        self, cond_depth: int, max_nodes: int, enum_states: int, tree_states: int | None = None
+    ) -> tuple[bool, int, int, Term, dict[str, float]]:
+        """One round of the core's learner: (closed, sample size, states reached, the
+        program, seconds of its steps by name). ``tree_states``: on a larger sample the
+        tree is grown on a part of about this many states and refined on the whole."""
+        closed, sample, reached, terms, conds, nodes, seconds = self.core.learn_round(
+            cond_depth,
+            self.problem.max_constant,
+            max_nodes,
+            enum_states,
+            **_budget(self.clock, self.memory_mb),
+            tree_states=tree_states,
         )
-        return closed, sample, reached, _tree(terms, conds, nodes, self.problem.variables)
+        steps = dict(zip(LEARN_STEPS, (round(s, 4) for s in seconds), strict=True))
+        return closed, sample, reached, _tree(terms, conds, nodes, self.problem.variables), steps
 
     def reached_sets(self) -> dict[tuple, int]:
         """The last closure's states as the verifier's invariant: configuration key ->
