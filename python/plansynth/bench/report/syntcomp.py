@@ -64,7 +64,7 @@ def _moving_obstacle(cells, insts) -> list[str]:
         "Safety games: a 2 x 2 obstacle that moves at most every second step except for c glitches; the robot must "
         "never be in its block. *native*: decided, a program learnt and verified (an inductive invariant checked by "
         'the independent verifier), or the "no" certified by the obstacles\' rank strategy; *decided*: when its '
-        "answer was known. *omega*: realizability and, if realizable, its BDD strategy (checked), in the same run. "
+        "answer was known. *omega*: realizability and, if realizable, its BDD strategy (checked), in the same run. Neither time counts module imports (omega's clock starts after omega and dd are imported, native's after its engine and verifier are). "
         + SLUGS_NOTE,
         "",
         "| instance | published | slugs (s) | native (s) | native decided (s) | native depth | omega (s) | "
