@@ -28,6 +28,28 @@ def enumerate_conditions(
     """``(terms, conditions, complete_to)``: terms ``(kind, a, b, depth)``, conditions
     ``(behaviour bytes, op, a, b, depth)`` (see plansynth_core::conditions)."""
 
+def check_invariant(
+    width: int,
+    n_cells: int,
+    table: bytes,
+    n_fixed: int,
+    fixed: bytes,
+    n_moves: int,
+    ends: bytes,
+    wall_hit: bytes,
+    n_swept: int,
+    swept: bytes,
+    reply_off: bytes,
+    reply_next: bytes,
+    danger_off: bytes,
+    danger: bytes,
+    position: bool,
+    ops: _ProgramRows,
+    seconds: float | None = None,
+) -> tuple[int, tuple[int, int, int, int, int] | None]:
+    """Check an inductive invariant (see plansynth_core::inductive): ``(states checked,
+    None)`` when it is one, else ``(0, the first failure)``."""
+
 def greedy_tree(
     conds: Sequence[bytes],
     keys: Sequence[tuple[int, int]],

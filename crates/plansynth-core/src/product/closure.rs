@@ -47,6 +47,11 @@ impl ProductGame {
             let key = (self.representative(id), r);
             if grow && !get(&self.in_sample, nw, key) {
                 set(&mut self.in_sample, nw, key);
+                if self.sample.len() == self.sample.capacity() {
+                    let more = self.sample.len().max(1024);
+                    let held = self.bytes();
+                    reserve_within(&mut self.sample, more, held, &limits)?;
+                }
                 self.sample.push(key);
                 out.fresh += 1;
             }
@@ -61,6 +66,10 @@ impl ProductGame {
                 let s = self.successors(id)[j];
                 if !get(&self.seen, nw, (s, e)) {
                     set(&mut self.seen, nw, (s, e));
+                    if queue.len() == queue.capacity() {
+                        let more = queue.len().max(1024);
+                        reserve_within(&mut queue, more, self.bytes(), &limits)?;
+                    }
                     queue.push((s, e));
                 }
             }
@@ -121,4 +130,59 @@ fn get(bits: &[u64], nw: usize, (id, r): (u32, u32)) -> bool {
 #[inline]
 fn set(bits: &mut [u64], nw: usize, (id, r): (u32, u32)) {
     bits[id as usize * nw + r as usize / 64] |= 1 << (r % 64);
+}
+
+/// Reserve `more` elements in `v` within the byte budget (`held`: the bytes the game
+/// holds already): a vector that doubles needs its old and its new buffer at once, and
+/// an allocation the process cannot get (its address-space limit) is a `Stop` for
+/// memory, not an abort of the whole process.
+fn reserve_within<T>(
+    v: &mut Vec<T>,
+    more: usize,
+    held: usize,
+    limits: &Limits,
+) -> Result<(), Stop> {
+    let size = std::mem::size_of::<T>();
+    let need = v
+        .capacity()
+        .saturating_mul(2)
+        .saturating_add(more)
+        .saturating_mul(size);
+    limits.check(held.saturating_add(need), "the program's closed loop")?;
+    v.try_reserve_exact(more).map_err(|_| Stop {
+        resource: "memory",
+        detail: format!(
+            "the program's closed loop: {} MB more could not be allocated",
+            more.saturating_mul(size) >> 20
+        ),
+    })
+}
+
+#[cfg(test)]
+mod reserve_tests {
+    use super::{reserve_within, Limits};
+
+    #[test]
+    fn growth_past_the_byte_budget_is_a_memory_stop() {
+        let mut v: Vec<u64> = Vec::with_capacity(1024);
+        let limits = Limits {
+            deadline: None,
+            max_bytes: Some(64 << 10),
+        };
+        assert!(reserve_within(&mut v, 1024, 0, &limits).is_ok());
+        let stop = reserve_within(&mut v, 1 << 20, 0, &limits).unwrap_err();
+        assert_eq!(stop.resource, "memory");
+    }
+
+    #[test]
+    fn an_allocation_the_process_cannot_get_is_a_memory_stop() {
+        let mut v: Vec<u64> = Vec::new();
+        let limits = Limits {
+            deadline: None,
+            max_bytes: None,
+        };
+        let stop = reserve_within(&mut v, usize::MAX / 16, 0, &limits).unwrap_err();
+        assert_eq!(stop.resource, "memory");
+        assert!(stop.detail.contains("could not be allocated"));
+    }
 }
