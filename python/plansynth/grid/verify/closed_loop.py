@@ -103,26 +103,8 @@ def verify_closed_loop(
             cex = search.stationary(cycles=False)
         else:
             cex = search.stationary(cycles=True)
-    except BudgetExhausted as out:
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            steps,
-            None,
-            search.explored,
-            time.perf_counter() - t0,
-            out.phase,
-            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
-        )
-    except MemoryError:
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            steps,
-            None,
-            search.explored,
-            time.perf_counter() - t0,
-            meter.phase,
-            f"the verifier's budget ran out in {meter.phase}: out of memory",
-        )
+    except (BudgetExhausted, MemoryError) as out:
+        return meter.ran_out(out, steps, search.explored, t0)
     status = VerifyStatus.WINS if cex is None else VerifyStatus.LOSES
     return Verdict(status, steps, cex, search.explored, time.perf_counter() - t0)
 

@@ -95,27 +95,8 @@ def verify(
         loss = search.run()
         meter.phase = "building the counterexample"
         cex = None if loss is None else counterexample(search, loss)
-    except BudgetExhausted as out:
+    except (BudgetExhausted, MemoryError) as out:
         explored = 0 if search is None else search.explored
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            steps,
-            None,
-            explored,
-            time.perf_counter() - t0,
-            out.phase,
-            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
-        )
-    except MemoryError:
-        explored = 0 if search is None else search.explored
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            steps,
-            None,
-            explored,
-            time.perf_counter() - t0,
-            meter.phase,
-            f"the verifier's budget ran out in {meter.phase}: out of memory",
-        )
+        return meter.ran_out(out, steps, explored, t0)
     status = VerifyStatus.WINS if loss is None else VerifyStatus.LOSES
     return Verdict(status, steps, cex, search.explored, time.perf_counter() - t0)

@@ -197,26 +197,8 @@ def check_invariant(
                     checked,
                     f"not inductive: the program's move {int(moves[i])} from {_xy(cells[i], w)} may collide",
                 )
-    except BudgetExhausted as out:
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            None,
-            None,
-            checked,
-            time.perf_counter() - t0,
-            out.phase,
-            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
-        )
-    except MemoryError:
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            None,
-            None,
-            checked,
-            time.perf_counter() - t0,
-            meter.phase,
-            f"the verifier's budget ran out in {meter.phase}: out of memory",
-        )
+    except (BudgetExhausted, MemoryError) as out:
+        return meter.ran_out(out, None, checked, t0)
     return Verdict(
         VerifyStatus.WINS,
         None,

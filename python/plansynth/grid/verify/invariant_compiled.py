@@ -132,26 +132,8 @@ def check_invariant_compiled(
             program_nodes(program, problem.variables),
             left,
         )
-    except BudgetExhausted as out:
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            None,
-            None,
-            0,
-            time.perf_counter() - t0,
-            out.phase,
-            f"the verifier's budget ran out in {out.phase}: {meter.reason(out)}",
-        )
-    except MemoryError:
-        return Verdict(
-            VerifyStatus.UNKNOWN,
-            None,
-            None,
-            0,
-            time.perf_counter() - t0,
-            meter.phase,
-            f"the verifier's budget ran out in {meter.phase}: out of memory",
-        )
+    except (BudgetExhausted, MemoryError) as out:
+        return meter.ran_out(out, None, 0, t0)
     if failure is not None:
         kind, key, cell, move, end = failure
         if kind == 0:

@@ -3,9 +3,11 @@ inner loops: a work counter in front of the shared :class:`~plansynth.budget.Clo
 
 from __future__ import annotations
 
+import time
 from dataclasses import replace
 
 from plansynth.budget import DEFAULT_MEMORY_MB, Budget, BudgetExhausted
+from plansynth.grid.verify.verdict import Verdict, VerifyStatus
 
 __all__ = ["Meter"]
 
@@ -58,3 +60,20 @@ class Meter:
         if exc.resource == "memory":
             return f"memory (it grew by {self.clock.memory_used() >> 20} MB, over the budget of {budget.memory_mb} MB)"
         return f"{exc.resource} ({budget.seconds:g} s)" if exc.resource == "time" else exc.resource
+
+    def ran_out(self, exc: BudgetExhausted | MemoryError, steps: int | None, explored: int, t0: float) -> Verdict:
+        """The ``unknown`` verdict of a check that ``exc`` stopped (the budget's exception,
+        or a ``MemoryError``), started at ``t0``: the phase it stopped in and what ran out."""
+        if isinstance(exc, BudgetExhausted):
+            phase, why = exc.phase, self.reason(exc)
+        else:
+            phase, why = self.phase, "out of memory"
+        return Verdict(
+            VerifyStatus.UNKNOWN,
+            steps,
+            None,
+            explored,
+            time.perf_counter() - t0,
+            phase,
+            f"the verifier's budget ran out in {phase}: {why}",
+        )
