@@ -421,6 +421,86 @@ thread_local! {
     static ALWAYS_CLASSES: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
+/// The [`Score`] of condition j splitting the node's `total` states into `left` (with
+/// `l[k]` of label k) and the rest: its Gini purity
+/// sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
+/// as an exact fraction, then j's key.
+fn score(ctx: &Ctx<'_>, j: usize, total: u64, left: u64, l: &[u64], lab_count: &[u64]) -> Score {
+    let right = total - left;
+    let (mut sl, mut sr) = (0u128, 0u128);
+    for (kk, &lk) in l.iter().enumerate() {
+        let (a, r) = (lk as u128, (lab_count[kk] - lk) as u128);
+        sl += a * a;
+        sr += r * r;
+    }
+    let num = sl * right as u128 + sr * left as u128;
+    let den = left as u128 * right as u128;
+    (
+        (num, den),
+        (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)),
+        j,
+    )
+}
+
+/// The live conditions by linear form, in form order, and the general ones apart.
+fn by_form(ctx: &Ctx<'_>, live: &[usize]) -> (Vec<(usize, Vec<usize>)>, Vec<usize>) {
+    let mut forms: HashMap<usize, Vec<usize>> = HashMap::new();
+    let mut general: Vec<usize> = vec![];
+    for &j in live {
+        match ctx.kinds[j] {
+            Kind::Atom { form, .. } => forms.entry(form).or_default().push(j),
+            Kind::General => general.push(j),
+        }
+    }
+    let mut groups: Vec<(usize, Vec<usize>)> = forms.into_iter().collect();
+    groups.sort_unstable();
+    (groups, general)
+}
+
+/// Score the comparisons `js` of one linear form (`width` values) from `prefix`: per
+/// value v, `stride` slots summed over the values below v (the states, then per label).
+/// A condition that splits the node's `total` states joins `split`; `best` keeps the
+/// best score (`l`: scratch, one slot per label).
+#[allow(clippy::too_many_arguments)]
+fn score_form(
+    ctx: &Ctx<'_>,
+    js: &[usize],
+    width: usize,
+    prefix: &[u64],
+    stride: usize,
+    total: u64,
+    l: &mut [u64],
+    score_of: &dyn Fn(usize, u64, &[u64]) -> Score,
+    split: &mut Vec<usize>,
+    best: &mut Option<Score>,
+) {
+    let upto = |c: i64| -> usize { (c.clamp(-1, width as i64 - 1) + 1) as usize };
+    for &j in js {
+        let Kind::Atom { c, eq, .. } = ctx.kinds[j] else {
+            unreachable!("a form's conditions are comparisons")
+        };
+        let (a, b) = if !eq {
+            (0, upto(c))
+        } else if c < 0 || c >= width as i64 {
+            (0, 0)
+        } else {
+            (upto(c - 1), upto(c))
+        };
+        let left = prefix[b * stride] - prefix[a * stride];
+        if left == 0 || left == total {
+            continue;
+        }
+        for (kk, lk) in l.iter_mut().enumerate() {
+            *lk = prefix[b * stride + 1 + kk] - prefix[a * stride + 1 + kk];
+        }
+        split.push(j);
+        let s = score_of(j, left, l);
+        if better(&s, best) {
+            *best = Some(s);
+        }
+    }
+}
+
 fn grow(
     ctx: &Ctx<'_>,
     members: Vec<u32>,
@@ -484,33 +564,8 @@ fn grow_with(
     }
     let n_labels = lab_count.len();
     // the live conditions by form (the general ones apart)
-    let mut by_form: HashMap<usize, Vec<usize>> = HashMap::new();
-    let mut general: Vec<usize> = vec![];
-    for &j in live {
-        match ctx.kinds[j] {
-            Kind::Atom { form, .. } => by_form.entry(form).or_default().push(j),
-            Kind::General => general.push(j),
-        }
-    }
-    let mut groups: Vec<(usize, Vec<usize>)> = by_form.into_iter().collect();
-    groups.sort_unstable();
-    let score_of = |j: usize, left: u64, l: &[u64]| -> Score {
-        let right = total - left;
-        let (mut sl, mut sr) = (0u128, 0u128);
-        for kk in 0..n_labels {
-            let (a, r) = (l[kk] as u128, (lab_count[kk] - l[kk]) as u128);
-            sl += a * a;
-            sr += r * r;
-        }
-        // sum_k l_k^2 / left + sum_k r_k^2 / right = (sl * right + sr * left) / (left * right)
-        let num = sl * right as u128 + sr * left as u128;
-        let den = left as u128 * right as u128;
-        (
-            (num, den),
-            (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)),
-            j,
-        )
-    };
+    let (groups, general) = by_form(ctx, live);
+    let score_of = |j: usize, left: u64, l: &[u64]| score(ctx, j, total, left, l, &lab_count);
     let mut best: Option<Score> = None;
     let mut split: Vec<usize> = vec![];
     // One histogram per live form: per value (less the form's least), the states, then
@@ -569,31 +624,9 @@ fn grow_with(
                     prefix[v * stride + x] + hist[base[g] + v * stride + x] as u64;
             }
         }
-        let upto = |c: i64| -> usize { (c.clamp(-1, width as i64 - 1) + 1) as usize };
-        for &j in js {
-            let Kind::Atom { c, eq, .. } = ctx.kinds[j] else {
-                unreachable!("a form's conditions are comparisons")
-            };
-            let (a, b) = if !eq {
-                (0, upto(c))
-            } else if c < 0 || c >= width as i64 {
-                (0, 0)
-            } else {
-                (upto(c - 1), upto(c))
-            };
-            let left = prefix[b * stride] - prefix[a * stride];
-            if left == 0 || left == total {
-                continue;
-            }
-            for kk in 0..n_labels {
-                l[kk] = prefix[b * stride + 1 + kk] - prefix[a * stride + 1 + kk];
-            }
-            split.push(j);
-            let s = score_of(j, left, &l);
-            if better(&s, &best) {
-                best = Some(s);
-            }
-        }
+        score_form(
+            ctx, js, width, &prefix, stride, total, &mut l, &score_of, &mut split, &mut best,
+        );
     }
     drop(hist);
     // the other conditions, state by state
@@ -726,32 +759,8 @@ fn grow_classes(
         });
     }
     let n_labels = lab_count.len();
-    let score_of = |j: usize, left: u64, l: &[u64]| -> Score {
-        let right = total - left;
-        let (mut sl, mut sr) = (0u128, 0u128);
-        for kk in 0..n_labels {
-            let (a, r) = (l[kk] as u128, (lab_count[kk] - l[kk]) as u128);
-            sl += a * a;
-            sr += r * r;
-        }
-        let num = sl * right as u128 + sr * left as u128;
-        let den = left as u128 * right as u128;
-        (
-            (num, den),
-            (-(ctx.keys[j].0 as i64), -(ctx.keys[j].1 as i64)),
-            j,
-        )
-    };
-    let mut by_form: HashMap<usize, Vec<usize>> = HashMap::new();
-    let mut general: Vec<usize> = vec![];
-    for &j in live {
-        match ctx.kinds[j] {
-            Kind::Atom { form, .. } => by_form.entry(form).or_default().push(j),
-            Kind::General => general.push(j),
-        }
-    }
-    let mut groups: Vec<(usize, Vec<usize>)> = by_form.into_iter().collect();
-    groups.sort_unstable();
+    let score_of = |j: usize, left: u64, l: &[u64]| score(ctx, j, total, left, l, &lab_count);
+    let (groups, general) = by_form(ctx, live);
     let mut best: Option<Score> = None;
     let mut split: Vec<usize> = vec![];
     let stride = n_labels + 1;
@@ -774,31 +783,9 @@ fn grow_classes(
                 }
             }
         }
-        let upto = |c: i64| -> usize { (c.clamp(-1, width as i64 - 1) + 1) as usize };
-        for &j in js {
-            let Kind::Atom { c, eq, .. } = ctx.kinds[j] else {
-                unreachable!("a form's conditions are comparisons")
-            };
-            let (a, b) = if !eq {
-                (0, upto(c))
-            } else if c < 0 || c >= width as i64 {
-                (0, 0)
-            } else {
-                (upto(c - 1), upto(c))
-            };
-            let left = prefix[b * stride] - prefix[a * stride];
-            if left == 0 || left == total {
-                continue;
-            }
-            for kk in 0..n_labels {
-                l[kk] = prefix[b * stride + 1 + kk] - prefix[a * stride + 1 + kk];
-            }
-            split.push(j);
-            let s = score_of(j, left, &l);
-            if better(&s, &best) {
-                best = Some(s);
-            }
-        }
+        score_form(
+            ctx, js, width, &prefix, stride, total, &mut l, &score_of, &mut split, &mut best,
+        );
     }
     for &j in &general {
         let mut l = vec![0u64; n_labels];
